@@ -1,0 +1,344 @@
+"""The case contract (one trajectory): pydantic models shared by the Python API, the CLI and the REST API.
+
+Each model converts itself into the core's plain types (`to_spec`). Every quantity names its unit;
+every number is bounded, and a value out of range is reported as "field: value is outside ...".
+"""
+
+from dataclasses import replace
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from footprint.core import constants as K
+from footprint.core.aero import builtin_vehicle, vehicle_from_definition
+from footprint.core.controls import pack_controls
+from footprint.core.errors import InputError
+from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
+
+
+def bounded(lo: float, hi: float, unit: str = ""):
+    """A float in [lo, hi]; the error names the range and the unit."""
+
+    def check(v: float) -> float:
+        if not lo <= v <= hi:
+            raise ValueError(f"{v:g} is outside the allowed range {lo:g} to {hi:g}{' ' + unit if unit else ''}")
+        return v
+
+    return Annotated[float, AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+# ----------------------------------------------------------------------------------------- vehicle
+class VehicleCase(Strict):
+    builtin: str | None = None
+    name: str | None = None
+    wing_loading_psf: bounded(1, 2000, "lb/ft^2") | None = None
+    weight_lb: bounded(1, 1e7, "lb") | None = None
+    reference_area_ft2: bounded(0.01, 1e5, "ft^2") | None = None
+    aero: dict[str, Any] | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if self.builtin is None and self.aero is None:
+            raise ValueError("give either 'builtin' (a built-in vehicle id) or 'aero' with a wing loading")
+        return self
+
+    def to_vehicle(self):
+        if self.builtin is not None:
+            v = builtin_vehicle(self.builtin)
+            d = self.model_dump(exclude_none=True, exclude={"builtin"})
+            return replace(v, wing_loading_psf=_wing_loading(d, v.wing_loading_psf))
+        return vehicle_from_definition(self.model_dump(exclude_none=True), field="vehicle")
+
+
+def _wing_loading(d, default):
+    if "wing_loading_psf" in d:
+        return d["wing_loading_psf"]
+    if "weight_lb" in d and "reference_area_ft2" in d:
+        return d["weight_lb"] / d["reference_area_ft2"]
+    if "weight_lb" in d or "reference_area_ft2" in d:
+        raise InputError("vehicle", "give weight_lb and reference_area_ft2 together, or wing_loading_psf")
+    return default
+
+
+# ------------------------------------------------------------------------------------------ planet
+class AtmosphereCase(Strict):
+    model: Literal["ardc1959", "us1976", "exponential"] = "ardc1959"
+    rho0_slug_ft3: bounded(1e-12, 1.0, "slug/ft^3") = 0.0027
+    scale_height_ft: bounded(1_000, 1_000_000, "ft") = 23_800.0
+    temperature_R: bounded(50, 10_000, "degR") | None = None
+
+
+class PlanetCase(Strict):
+    rotating: bool = True
+    oblate: bool = True
+    atmosphere: AtmosphereCase = AtmosphereCase()
+    radius_ft: bounded(1e5, 1e9, "ft") = K.RADIUS_EQUATORIAL_FT
+    polar_radius_ft: bounded(1e5, 1e9, "ft") | None = None
+    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = K.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = K.OMEGA_EARTH_DEG_S
+    j: bounded(-0.1, 0.1) = K.J_REPORT
+    h: bounded(-0.1, 0.1) = K.H_REPORT
+    k: bounded(-0.1, 0.1) = K.K_REPORT
+
+    @model_validator(mode="after")
+    def _polar(self):
+        if self.polar_radius_ft is not None and not 0.9 * self.radius_ft <= self.polar_radius_ft <= self.radius_ft:
+            raise ValueError(f"polar_radius_ft {self.polar_radius_ft:g} must lie between 0.9 and 1 times radius_ft")
+        return self
+
+    def to_planet(self) -> Planet:
+        polar = self.polar_radius_ft
+        if polar is None:  # scale the default flattening to the given equatorial radius
+            polar = self.radius_ft * K.RADIUS_POLAR_FT / K.RADIUS_EQUATORIAL_FT
+        a = self.atmosphere
+        return Planet(rotating=self.rotating, oblate=self.oblate, radius_ft=self.radius_ft, polar_radius_ft=polar,
+                      mu_ft3_s2=self.mu_ft3_s2, rotation_rate_deg_s=self.rotation_rate_deg_s, j=self.j, h=self.h,
+                      k=self.k, atmosphere=a.model, rho0_slug_ft3=a.rho0_slug_ft3,
+                      scale_height_ft=a.scale_height_ft, temperature_R=a.temperature_R)
+
+
+# ------------------------------------------------------------------------------------------- entry
+SENSIBLE_ATMOSPHERE_FT = 295_000.0  # Section II.7: "the beginning of the sensible atmosphere, 295K ft"
+
+
+class EntryCase(Strict):
+    altitude_ft: bounded(1_000, 3_000_000, "ft")
+    velocity_fps: bounded(1_000, 40_000, "ft/s")
+    velocity_frame: Literal["relative", "inertial"] = "relative"
+    gamma_deg: bounded(-90, 10, "deg")
+    heading_deg: bounded(-360, 360, "deg") = 90.0
+    latitude_deg: bounded(-90, 90, "deg") = 0.0
+    longitude_deg: bounded(-360, 360, "deg") = 0.0
+
+    @model_validator(mode="after")
+    def _enters(self):
+        if self.gamma_deg > 0 and self.altitude_ft > SENSIBLE_ATMOSPHERE_FT:
+            raise ValueError(f"gamma_deg {self.gamma_deg:g} > 0 above {SENSIBLE_ATMOSPHERE_FT:,.0f} ft climbs away "
+                             "with no atmosphere to enter; allowed: gamma_deg <= 0 there")
+        return self
+
+    def to_entry(self) -> Entry:
+        return Entry(**self.model_dump())
+
+
+# ---------------------------------------------------------------------------------------- controls
+Bank = bounded(-180, 180, "deg")
+
+
+class BankZero(Strict):
+    law: Literal["zero"]
+
+
+class BankConstant(Strict):
+    law: Literal["constant"]
+    bank_deg: Bank
+
+
+class BankStaged(Strict):
+    law: Literal["staged"]
+    bank_deg: Bank
+    turn_deg: bounded(0, 180, "deg") = 90.0
+
+
+class BankTwoParameter(Strict):
+    law: Literal["two_parameter"]
+    k: bounded(-10, 10)
+    sigma_f_deg: bounded(-180, 180, "deg") = 0.0
+    limit_deg: bounded(0, 180, "deg") | None = 75.0
+    variable: Literal["zeta", "heading"] = "zeta"
+
+
+class BankSingleParameter(Strict):
+    law: Literal["single_parameter"]
+    k: bounded(-10, 10)
+    limit_deg: bounded(0, 180, "deg") | None = None
+    variable: Literal["zeta", "heading"] = "zeta"
+
+
+class BankTable(Strict):
+    law: Literal["table"]
+    heading_deg: list[bounded(-180, 180, "deg")] = Field(min_length=2, max_length=64)
+    bank_deg: list[Bank] = Field(min_length=2, max_length=64)
+    side: Literal["left", "right"] = "left"
+    variable: Literal["zeta", "heading"] = "zeta"
+
+    @model_validator(mode="after")
+    def _table(self):
+        _check_table(self.heading_deg, self.bank_deg, "heading_deg", "bank_deg")
+        return self
+
+
+class BankZeroLift(Strict):
+    law: Literal["zero_lift"]
+
+
+class BankConstantAltitude(Strict):
+    law: Literal["constant_altitude"]
+    turn_deg: bounded(0, 180, "deg") = 90.0
+    side: Literal["left", "right"] = "left"
+
+
+BankCase = Annotated[Union[BankZero, BankConstant, BankStaged, BankTwoParameter, BankSingleParameter, BankTable,
+                           BankZeroLift, BankConstantAltitude], Field(discriminator="law")]
+
+Alpha = bounded(-30, 90, "deg")
+
+
+class AlphaMaxLD(Strict):
+    law: Literal["max_ld"]
+
+
+class AlphaCLMax(Strict):
+    law: Literal["cl_max"]
+
+
+class AlphaConstant(Strict):
+    law: Literal["constant"]
+    alpha_deg: Alpha
+
+
+class AlphaTable(Strict):
+    law: Literal["table"]
+    alpha_deg: list[Alpha] = Field(min_length=2, max_length=256)
+    velocity_fps: list[bounded(0, 40_000, "ft/s")] | None = None
+    time_s: list[bounded(0, 100_000, "s")] | None = None
+
+    @model_validator(mode="after")
+    def _table(self):
+        if (self.velocity_fps is None) == (self.time_s is None):
+            raise ValueError("give exactly one of velocity_fps or time_s as the table's abscissa")
+        x = self.velocity_fps if self.velocity_fps is not None else self.time_s
+        _check_table(x, self.alpha_deg, "velocity_fps" if self.velocity_fps is not None else "time_s", "alpha_deg")
+        return self
+
+
+class AlphaLevelFlight(Strict):
+    law: Literal["level_flight"]
+    before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
+
+
+class AlphaGammaHold(Strict):
+    law: Literal["gamma_hold"]
+    gamma_deg: bounded(-10, 10, "deg")
+    before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
+
+
+AlphaCase = Annotated[Union[AlphaMaxLD, AlphaCLMax, AlphaConstant, AlphaTable, AlphaLevelFlight, AlphaGammaHold],
+                      Field(discriminator="law")]
+
+
+def _check_table(x, y, xname, yname):
+    if len(x) != len(y):
+        raise ValueError(f"{xname} and {yname} must have the same length ({len(x)} vs {len(y)})")
+    if any(b <= a for a, b in zip(x, x[1:])):
+        raise ValueError(f"{xname} must be strictly increasing")
+
+
+class BankStartAltitude(Strict):
+    altitude_ft: bounded(1_000, 3_000_000, "ft")
+
+
+class StopCase(Strict):
+    altitude_ft: bounded(0, 3_000_000, "ft") | None = 50_000.0
+    velocity_fps: bounded(0, 40_000, "ft/s") | None = None
+    time_s: bounded(1, 100_000, "s") | None = None
+    max_altitude_ft: bounded(10_000, 100_000_000, "ft") = 1_000_000.0
+
+
+class IntegratorCase(Strict):
+    rtol: bounded(1e-13, 1e-4) = 1e-9
+    max_step_s: bounded(0.01, 1000, "s") = 50.0
+
+
+class Case(Strict):
+    """One trajectory: vehicle, planet, entry state, alpha and bank laws, phase rule, stop conditions."""
+
+    vehicle: VehicleCase
+    planet: PlanetCase = PlanetCase()
+    entry: EntryCase
+    alpha: AlphaCase = AlphaMaxLD(law="max_ld")
+    bank: BankCase = BankZero(law="zero")
+    bank_start: Literal["pullout", "entry"] | BankStartAltitude = "pullout"
+    stop: StopCase = StopCase()
+    integrator: IntegratorCase = IntegratorCase()
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        s, e = self.stop, self.entry
+        if s.altitude_ft is None and s.velocity_fps is None and s.time_s is None:
+            raise ValueError("stop: give at least one of altitude_ft, velocity_fps, time_s")
+        if s.altitude_ft is not None and s.altitude_ft >= e.altitude_ft:
+            raise ValueError(f"stop.altitude_ft {s.altitude_ft:g} must be below entry.altitude_ft {e.altitude_ft:g}")
+        if s.max_altitude_ft <= e.altitude_ft:
+            raise ValueError(f"stop.max_altitude_ft {s.max_altitude_ft:g} must be above entry.altitude_ft "
+                             f"{e.altitude_ft:g}")
+        if self.bank.law == "constant_altitude" and self.alpha.law != "max_ld":
+            raise ValueError("bank law 'constant_altitude' flies alpha at (L/D)max: alpha.law must be 'max_ld'")
+        return self
+
+    def to_spec(self) -> FlightSpec:
+        return FlightSpec(vehicle=self.vehicle.to_vehicle(), planet=self.planet.to_planet(),
+                          entry=self.entry.to_entry(), ctrl=self.controls(), stop=self._stop(),
+                          rtol=self.integrator.rtol, max_step_s=self.integrator.max_step_s)
+
+    def _stop(self) -> Stop:
+        s = self.stop
+        return Stop(altitude_ft=s.altitude_ft, velocity_fps=s.velocity_fps, time_s=s.time_s,
+                    skip_altitude_ft=s.max_altitude_ft)
+
+    def controls(self):
+        b, a = self.bank, self.alpha
+        kw: dict[str, Any] = {"bank_law": b.law}
+        if isinstance(b, (BankConstant, BankStaged)):
+            kw["bank_value"] = b.bank_deg
+        if isinstance(b, BankStaged):
+            kw["turn_deg"] = b.turn_deg
+        if isinstance(b, (BankTwoParameter, BankSingleParameter)):
+            kw.update(bank_value=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
+        if isinstance(b, BankTwoParameter):
+            kw["sigma_f_deg"] = b.sigma_f_deg
+        if isinstance(b, BankTable):
+            kw.update(bank_table=(b.heading_deg, b.bank_deg), mirror=b.side == "right", bank_variable=b.variable)
+        if isinstance(b, BankConstantAltitude):
+            kw.update(turn_deg=b.turn_deg, bank_value=1.0 if b.side == "left" else -1.0)
+        start = self.bank_start
+        if isinstance(start, BankStartAltitude):
+            kw.update(bank_start="altitude", bank_start_altitude_ft=start.altitude_ft)
+        else:
+            kw["bank_start"] = start
+        kw["alpha_law"] = a.law
+        if isinstance(a, AlphaConstant):
+            kw["alpha_value"] = a.alpha_deg
+        if isinstance(a, AlphaGammaHold):
+            kw["alpha_value"] = a.gamma_deg
+        if isinstance(a, (AlphaLevelFlight, AlphaGammaHold)):
+            kw["alpha_before"] = a.before_pullout
+        if isinstance(a, AlphaTable):
+            if a.velocity_fps is not None:
+                kw.update(alpha_table=(a.velocity_fps, a.alpha_deg), alpha_table_abscissa="velocity")
+            else:
+                kw.update(alpha_table=(a.time_s, a.alpha_deg), alpha_table_abscissa="time")
+        return pack_controls(**kw)
+
+
+def error_line(exc: ValidationError | InputError) -> str:
+    """One line naming the field(s) and the allowed range."""
+    if isinstance(exc, InputError):
+        return str(exc)
+    parts = []
+    for err in exc.errors():
+        loc = ".".join(str(x) for x in err["loc"] if not (isinstance(x, str) and x[:1].isupper() or x in (
+            "function-after", "tagged-union")))
+        msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] in ("missing", "extra_forbidden", "literal_error", "union_tag_invalid", "union_tag_not_found"):
+            msg = f"{msg}" + (f" (got {err['input']!r})" if err["type"] not in ("missing",) else "")
+        parts.append(f"{loc}: {msg}" if loc else msg)
+    return "; ".join(parts)
+
+
+def parse_case(data: dict | Case) -> Case:
+    return data if isinstance(data, Case) else Case.model_validate(data)

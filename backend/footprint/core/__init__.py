@@ -1,0 +1,1 @@
+"""Pure numerical core: imports nothing from the service, the CLI, pydantic or any web/database package."""

@@ -1,0 +1,581 @@
+"""Aerodynamic coefficients of an entry vehicle: the compiled kernel and the packing of its data.
+
+Every vehicle is packed into ONE flat float64 array, the "aero blob", so that the trajectory integrator
+takes a single argument. Angles are in degrees, altitudes in feet.
+
+Blob layout
+-----------
+    blob[0]  form: 0 = lift/drag tables (CL, CD), 1 = normal/axial tables (CN, CA, body axes),
+             2 = polynomials in alpha (CL, CD)
+    blob[1]  alpha_min_deg   } the valid alpha range: the tables' alpha axis, or for polynomials the
+    blob[2]  alpha_max_deg   } range given by the user (default 0-60 deg)
+    blob[3]  offset of the first table (CL or CN)  | form 2: offset of the CL polynomial
+    blob[4]  offset of the second table (CD or CA) | form 2: offset of the CD polynomial
+    blob[5]  offset of the control grid "alpha of (L/D)max" (deg) over (Mach, altitude)
+    blob[6]  offset of the control grid "alpha of CL max" (deg)
+    blob[7]  offset of the control grid "alpha of zero lift" (deg)
+
+A table at offset o:
+    blob[o] = n_mach, blob[o+1] = n_alpha, blob[o+2] = n_alt,
+    then the Mach axis (n_mach), the alpha axis (n_alpha, deg), the altitude axis (n_alt, ft),
+    then the values in C order [mach][alpha][alt].
+An axis on which the coefficient does not depend has one node. A control grid has the same layout with
+n_alpha = 1 (alpha axis = [0]).
+A polynomial at offset o: blob[o] = n, then n coefficients, lowest power first, alpha in degrees.
+
+Interpolation is multilinear; outside an axis the value is HELD at the edge (no extrapolation).
+The control grids are computed once, when the blob is packed, by a 0.01 deg sweep of the alpha range at
+nodes = the tables' Mach and altitude axes refined 8x between nodes.
+
+Vehicles
+--------
+The built-in vehicles are the Appendix B configurations, in data/vehicles/<id>.json (provenance and every
+OCR reading decision are in those files); `builtin_vehicle(id)` loads and packs one (cached).
+`vehicle_from_definition(d)` packs a user vehicle; its definition (the "aero" part is also the format of
+the data files):
+    {"name": str, "wing_loading_psf": W/S  |  "weight_lb" and "reference_area_ft2",
+     "aero": {"constant": {"cl": c, "cd": c}}
+           | {"polynomial": {"cl": [a0, a1, ...], "cd": [b0, ...], "alpha_range_deg": [lo, hi]}}
+           | {"tables": {"form": "lift_drag" | "normal_axial", "first": T, "second": T}}}
+with T = {"mach": [...], "alpha_deg": [...], "altitude_ft": [...], "values": [mach][alpha][altitude]}.
+"""
+
+import functools
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from footprint.core._jit import njit
+from footprint.core.errors import InputError
+
+FORM_LIFT_DRAG = 0
+FORM_NORMAL_AXIAL = 1
+FORM_POLYNOMIAL = 2
+FORM_NAMES = {"lift_drag": FORM_LIFT_DRAG, "normal_axial": FORM_NORMAL_AXIAL}
+
+HEADER_SIZE = 8
+GRID_REFINEMENT = 8  # control-grid nodes per table interval, in Mach and in altitude
+SWEEP_STEP_DEG = 0.01  # alpha step of the control-grid sweep
+DEFAULT_ALPHA_RANGE_DEG = (0.0, 60.0)
+BISECTION_ITERATIONS = 40  # alpha_for_cl_deg: 60 deg / 2**40 ~ 5e-11 deg
+_SWEEP_CHUNK = 150_000  # (Mach x altitude x alpha) points evaluated at once while packing (cache-sized)
+
+
+# ------------------------------------------------------------------------------------------------
+# Compiled kernel (inner loop of the integrator: no allocation, no exceptions)
+# ------------------------------------------------------------------------------------------------
+
+
+@njit
+def _locate(blob, start, n, x):
+    """Interval of x on the axis blob[start:start+n]: (index i, weight of node i+1), held at the edges."""
+    if n == 1:
+        return 0, 0.0
+    if x <= blob[start]:
+        return 0, 0.0
+    if x >= blob[start + n - 1]:
+        return n - 2, 1.0
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if blob[start + mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    x0 = blob[start + lo]
+    return lo, (x - x0) / (blob[start + lo + 1] - x0)
+
+
+@njit
+def lookup(blob, offset, mach, alpha_deg, altitude_ft):
+    """Multilinear interpolation of the table at `offset`; one-node axes skipped, values held at the edges."""
+    o = int(offset)
+    n_m = int(blob[o])
+    n_a = int(blob[o + 1])
+    n_h = int(blob[o + 2])
+    s_m = o + 3
+    s_a = s_m + n_m
+    s_h = s_a + n_a
+    s_v = s_h + n_h
+    i_m, w_m = _locate(blob, s_m, n_m, mach)
+    i_a, w_a = _locate(blob, s_a, n_a, alpha_deg)
+    i_h, w_h = _locate(blob, s_h, n_h, altitude_ft)
+    total = 0.0
+    for d_m in range(2):
+        f_m = 1.0 - w_m if d_m == 0 else w_m
+        if f_m == 0.0:
+            continue
+        for d_a in range(2):
+            f_a = 1.0 - w_a if d_a == 0 else w_a
+            if f_a == 0.0:
+                continue
+            row = s_v + ((i_m + d_m) * n_a + (i_a + d_a)) * n_h
+            for d_h in range(2):
+                f_h = 1.0 - w_h if d_h == 0 else w_h
+                if f_h == 0.0:
+                    continue
+                total += f_m * f_a * f_h * blob[row + i_h + d_h]
+    return total
+
+
+@njit
+def _horner(blob, offset, x):
+    o = int(offset)
+    n = int(blob[o])
+    total = 0.0
+    for k in range(n - 1, -1, -1):
+        total = total * x + blob[o + 1 + k]
+    return total
+
+
+@njit
+def coefficients(blob, mach, alpha_deg, altitude_ft):
+    """(CL, CD) at Mach, alpha (deg), altitude (ft).
+
+    Form 1: the tables hold body-axis CN, CA (held at the table edges); lift and drag are their rotation by
+    the actual alpha. Form 2: polynomials in alpha, with alpha held inside [alpha_min, alpha_max].
+    """
+    form = blob[0]
+    if form == FORM_POLYNOMIAL:
+        a = min(max(alpha_deg, blob[1]), blob[2])
+        return _horner(blob, blob[3], a), _horner(blob, blob[4], a)
+    c1 = lookup(blob, blob[3], mach, alpha_deg, altitude_ft)
+    c2 = lookup(blob, blob[4], mach, alpha_deg, altitude_ft)
+    if form == FORM_LIFT_DRAG:
+        return c1, c2
+    # Body to wind axes, aero_tables.md "Force-coefficient conversion" (report App. B, Tables B-4..B-8 are
+    # normal/axial force): CL = CN cos(alpha) - CA sin(alpha), CD = CN sin(alpha) + CA cos(alpha).
+    a = math.radians(alpha_deg)
+    ca = math.cos(a)
+    sa = math.sin(a)
+    return c1 * ca - c2 * sa, c1 * sa + c2 * ca
+
+
+@njit
+def alpha_max_ld_deg(blob, mach, altitude_ft):
+    """Alpha (deg) of (L/D)max at Mach, altitude: bilinear lookup of the precomputed grid."""
+    return lookup(blob, blob[5], mach, 0.0, altitude_ft)
+
+
+@njit
+def alpha_cl_max_deg(blob, mach, altitude_ft):
+    """Alpha (deg) of CL max over the valid alpha range at Mach, altitude (precomputed grid)."""
+    return lookup(blob, blob[6], mach, 0.0, altitude_ft)
+
+
+@njit
+def alpha_zero_lift_deg(blob, mach, altitude_ft):
+    """Alpha (deg) of zero lift at Mach, altitude (precomputed grid; alpha_min if CL >= 0 there)."""
+    return lookup(blob, blob[7], mach, 0.0, altitude_ft)
+
+
+@njit
+def alpha_for_cl_deg(blob, cl, mach, altitude_ft, alpha_lo_deg, alpha_hi_deg):
+    """Alpha in [lo, hi] where CL(alpha) = cl, by bisection (CL assumed increasing on [lo, hi]).
+
+    Returns lo when cl <= CL(lo) and hi when cl >= CL(hi).
+    """
+    lo = alpha_lo_deg
+    hi = alpha_hi_deg
+    cl_lo, _ = coefficients(blob, mach, lo, altitude_ft)
+    if cl <= cl_lo:
+        return lo
+    cl_hi, _ = coefficients(blob, mach, hi, altitude_ft)
+    if cl >= cl_hi:
+        return hi
+    for _ in range(BISECTION_ITERATIONS):
+        mid = 0.5 * (lo + hi)
+        cl_mid, _ = coefficients(blob, mach, mid, altitude_ft)
+        if cl_mid < cl:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+# ------------------------------------------------------------------------------------------------
+# Packing (Python side, once per vehicle)
+# ------------------------------------------------------------------------------------------------
+
+
+def _table_segment(mach, alpha, alt, values):
+    mach, alpha, alt = (np.asarray(x, dtype=np.float64).ravel() for x in (mach, alpha, alt))
+    values = np.asarray(values, dtype=np.float64).reshape(mach.size, alpha.size, alt.size)
+    head = np.array([mach.size, alpha.size, alt.size], dtype=np.float64)
+    return np.concatenate([head, mach, alpha, alt, values.ravel()])
+
+
+def _weights(axis, x):
+    """Matrix W (len(x), len(axis)) of the kernel's linear interpolation with edge holding: f(x) = W @ f."""
+    axis = np.asarray(axis, dtype=np.float64)
+    x = np.asarray(x, dtype=np.float64)
+    w_mat = np.zeros((x.size, axis.size))
+    if axis.size == 1:
+        w_mat[:, 0] = 1.0
+        return w_mat
+    xc = np.clip(x, axis[0], axis[-1])
+    i = np.clip(np.searchsorted(axis, xc, side="right") - 1, 0, axis.size - 2)
+    w = (xc - axis[i]) / (axis[i + 1] - axis[i])
+    rows = np.arange(x.size)
+    w_mat[rows, i] += 1.0 - w
+    w_mat[rows, i + 1] += w
+    return w_mat
+
+
+def _refine(nodes, factor=GRID_REFINEMENT):
+    nodes = np.unique(np.asarray(nodes, dtype=np.float64))
+    if nodes.size == 1:
+        return nodes
+    steps = np.arange(factor) / factor
+    inner = (nodes[:-1, None] + np.diff(nodes)[:, None] * steps[None, :]).ravel()
+    return np.append(inner, nodes[-1])
+
+
+def _alpha_sweep(alpha_min, alpha_max):
+    n = int(round((alpha_max - alpha_min) / SWEEP_STEP_DEG)) + 1
+    return np.linspace(alpha_min, alpha_max, max(n, 2))
+
+
+def _grid_alphas(cl, cd, sweep):
+    """Alpha of (L/D)max, of CL max and of zero lift along the last axis of cl, cd (sampled at `sweep`)."""
+    i_cl = np.argmax(cl, axis=-1)  # first maximum: smallest alpha on ties
+    a_cl = sweep[i_cl]
+    ok = cl > 0.0
+    ok &= cd > 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = cl / cd
+    ratio[~ok] = -np.inf
+    i_ld = np.argmax(ratio, axis=-1)  # first maximum: smallest alpha on ties
+    a_ld = np.where(ok.any(axis=-1), sweep[i_ld], a_cl)  # no positive L/D anywhere: alpha of CL max
+    # zero lift: first sign change scanning up from alpha_min (alpha_min itself if CL >= 0 there)
+    nonneg = cl >= 0.0
+    k = np.argmax(nonneg, axis=-1)
+    km = np.maximum(k - 1, 0)
+    c0 = np.take_along_axis(cl, km[..., None], -1)[..., 0]
+    c1 = np.take_along_axis(cl, k[..., None], -1)[..., 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a_zero = sweep[km] + (0.0 - c0) / (c1 - c0) * (sweep[k] - sweep[km])
+    a_zero = np.where(k == 0, sweep[0], a_zero)
+    a_zero = np.where(nonneg.any(axis=-1), a_zero, a_cl)  # CL < 0 everywhere: alpha of CL max
+    return a_ld, a_cl, a_zero, bool((cd > 0.0).any())
+
+
+def _table_on_grid(table, mach_nodes, alt_nodes, sweep):
+    """Values of a (mach, alpha, alt, values) table at every (mach node, alt node, sweep alpha)."""
+    mach, alpha, alt, values = table
+    v = np.einsum("mi,ijk,hk->mhj", _weights(mach, mach_nodes), values, _weights(alt, alt_nodes))
+    if alpha.size == 1:
+        return v  # (mach, alt, 1): broadcasts over the sweep
+    return v @ _weights(alpha, sweep).T
+
+
+def _control_grids_tables(form, first, second, alpha_min, alpha_max):
+    mach_nodes = _refine(np.concatenate([first[0], second[0]]))
+    alt_nodes = _refine(np.concatenate([first[2], second[2]]))
+    sweep = _alpha_sweep(alpha_min, alpha_max)
+    shape = (mach_nodes.size, alt_nodes.size)
+    grids = [np.empty(shape) for _ in range(3)]
+    cd_positive = False
+    if form == FORM_NORMAL_AXIAL:
+        cos_a = np.cos(np.radians(sweep))
+        sin_a = np.sin(np.radians(sweep))
+    step = max(1, _SWEEP_CHUNK // (alt_nodes.size * sweep.size))
+    for start in range(0, mach_nodes.size, step):
+        block = mach_nodes[start : start + step]
+        c1 = _table_on_grid(first, block, alt_nodes, sweep)
+        c2 = _table_on_grid(second, block, alt_nodes, sweep)
+        if form == FORM_NORMAL_AXIAL:  # to wind axes, as in coefficients()
+            cl = c1 * cos_a
+            cl -= c2 * sin_a
+            cd = c1 * sin_a
+            cd += c2 * cos_a
+            c1, c2 = cl, cd
+        else:
+            c1, c2 = np.broadcast_arrays(c1, c2)
+        *alphas, positive = _grid_alphas(c1, c2, sweep)
+        cd_positive |= positive
+        for grid, a in zip(grids, alphas):
+            grid[start : start + step] = a
+    return mach_nodes, alt_nodes, grids, cd_positive
+
+
+def _alpha_range(first, second):
+    ranges = [(t[1][0], t[1][-1]) for t in (first, second) if t[1].size > 1]
+    if not ranges:
+        return DEFAULT_ALPHA_RANGE_DEG
+    return max(r[0] for r in ranges), min(r[1] for r in ranges)
+
+
+def _assemble(form, alpha_min, alpha_max, seg1, seg2, mach_nodes, alt_nodes, grids):
+    segments = [seg1, seg2] + [
+        _table_segment(mach_nodes, [0.0], alt_nodes, g[:, None, :]) for g in grids
+    ]
+    offsets = np.cumsum([HEADER_SIZE] + [s.size for s in segments[:-1]])
+    header = np.array([form, alpha_min, alpha_max, *offsets], dtype=np.float64)
+    blob = np.ascontiguousarray(np.concatenate([header] + segments))
+    blob.flags.writeable = False  # blobs are shared (cached built-ins): one read-only numba array type for all
+    return blob
+
+
+def pack_tables(form, first, second):
+    """Blob of a table vehicle. form: FORM_LIFT_DRAG or FORM_NORMAL_AXIAL; first/second: (mach, alpha_deg,
+    altitude_ft, values[mach][alpha][alt]) of CL/CN and CD/CA, axes strictly increasing (validated by the caller).
+
+    Returns (blob, cd_positive): cd_positive says whether CD > 0 anywhere on the control-grid sweep.
+    """
+    first = tuple(np.asarray(x, dtype=np.float64) for x in first)
+    second = tuple(np.asarray(x, dtype=np.float64) for x in second)
+    alpha_min, alpha_max = _alpha_range(first, second)
+    mach_nodes, alt_nodes, grids, cd_positive = _control_grids_tables(
+        form, first, second, alpha_min, alpha_max
+    )
+    blob = _assemble(
+        form, alpha_min, alpha_max, _table_segment(*first), _table_segment(*second),
+        mach_nodes, alt_nodes, grids,
+    )
+    return blob, cd_positive
+
+
+def pack_polynomial(cl_coeffs, cd_coeffs, alpha_range_deg=DEFAULT_ALPHA_RANGE_DEG):
+    """Blob of a polynomial vehicle (coefficients lowest power first, alpha in degrees).
+
+    Returns (blob, cd_positive) as pack_tables.
+    """
+    cl_coeffs = np.asarray(cl_coeffs, dtype=np.float64).ravel()
+    cd_coeffs = np.asarray(cd_coeffs, dtype=np.float64).ravel()
+    alpha_min, alpha_max = (float(a) for a in alpha_range_deg)
+    sweep = _alpha_sweep(alpha_min, alpha_max)
+    cl = np.polynomial.polynomial.polyval(sweep, cl_coeffs)
+    cd = np.polynomial.polynomial.polyval(sweep, cd_coeffs)
+    *alphas, cd_positive = _grid_alphas(cl, cd, sweep)
+    grids = [np.array([[a]]) for a in alphas]
+    seg1 = np.concatenate([[cl_coeffs.size], cl_coeffs])
+    seg2 = np.concatenate([[cd_coeffs.size], cd_coeffs])
+    blob = _assemble(FORM_POLYNOMIAL, alpha_min, alpha_max, seg1, seg2, np.zeros(1), np.zeros(1), grids)
+    return blob, cd_positive
+
+
+# ------------------------------------------------------------------------------------------------
+# Vehicles
+# ------------------------------------------------------------------------------------------------
+
+DATA_DIR = Path(__file__).resolve().parent / "data" / "vehicles"
+_BUILTIN_ORDER = ("lod-1.89", "lod-2.2", "lod-2.6", "low-lod", "high-lod")
+
+WING_LOADING_RANGE_PSF = (1.0, 2000.0)
+MAX_AXIS_NODES = 20
+MAX_POLY_TERMS = 12
+ALPHA_LIMIT_DEG = 90.0
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    id: str
+    name: str
+    wing_loading_psf: float
+    blob: np.ndarray = field(repr=False, compare=False)
+    provenance: str = ""
+    readings: tuple = ()
+    reported_ld_max: float | None = None
+    note: str = ""
+
+
+# --- validation helpers ---------------------------------------------------------------------------
+
+
+def _number(value, where):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(where, f"{value!r} is not a finite number")
+    return float(value)
+
+
+def _number_list(value, where, min_len=1, max_len=MAX_AXIS_NODES):
+    if not isinstance(value, (list, tuple)) or not (min_len <= len(value) <= max_len):
+        raise InputError(where, f"{value!r} must be a list of {min_len} to {max_len} finite numbers")
+    return [_number(v, f"{where}[{i}]") for i, v in enumerate(value)]
+
+
+def _mapping(value, where):
+    if not isinstance(value, dict):
+        raise InputError(where, f"{value!r} must be an object")
+    return value
+
+
+def _axis(tab, key, where, lo, hi):
+    values = _number_list(tab.get(key), f"{where}.{key}")
+    for v in values:
+        if not lo <= v <= hi:
+            raise InputError(f"{where}.{key}", f"{v} is outside the allowed range {lo} to {hi}")
+    if any(b <= a for a, b in zip(values, values[1:])):
+        raise InputError(f"{where}.{key}", f"{values} must be strictly increasing")
+    return np.array(values)
+
+
+def _table(tab, where):
+    tab = _mapping(tab, where)
+    mach = _axis(tab, "mach", where, 0.0, 100.0)
+    alpha = _axis(tab, "alpha_deg", where, -ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG)
+    alt = _axis(tab, "altitude_ft", where, -1.0e5, 1.0e7)
+    shape = (mach.size, alpha.size, alt.size)
+    try:
+        values = np.array(tab.get("values"), dtype=np.float64)
+    except (TypeError, ValueError):
+        values = None
+    if values is None or values.shape != shape:
+        got = "not a regular nested list of numbers" if values is None else f"shape {values.shape}"
+        raise InputError(f"{where}.values", f"{got}; must be [mach][alpha][altitude] of shape {shape}")
+    if not np.isfinite(values).all():
+        raise InputError(f"{where}.values", "must hold finite numbers only")
+    return mach, alpha, alt, values
+
+
+def _tables_blob(tables, where):
+    tables = _mapping(tables, where)
+    form = tables.get("form")
+    if form not in FORM_NAMES:
+        raise InputError(f"{where}.form", f"{form!r} must be one of {sorted(FORM_NAMES)}")
+    first = _table(tables.get("first"), f"{where}.first")
+    second = _table(tables.get("second"), f"{where}.second")
+    (a1, b1), (a2, b2) = ((t[1][0], t[1][-1]) for t in (first, second))
+    if first[1].size > 1 and second[1].size > 1 and min(b1, b2) <= max(a1, a2):
+        raise InputError(f"{where}.second.alpha_deg", f"alpha range {a2}..{b2} does not overlap {a1}..{b1}")
+    blob, cd_positive = pack_tables(FORM_NAMES[form], first, second)
+    if not cd_positive:
+        raise InputError(f"{where}.second.values", "CD is nowhere positive over the alpha range")
+    return blob
+
+
+def _polynomial_blob(cl, cd, alpha_range, where, cd_where):
+    blob, cd_positive = pack_polynomial(cl, cd, alpha_range)
+    if not cd_positive:
+        raise InputError(cd_where, f"{cd!r}: CD is nowhere positive over alpha {alpha_range[0]}..{alpha_range[1]} deg")
+    return blob
+
+
+def _aero_blob(spec, where):
+    spec = _mapping(spec, where)
+    kinds = [k for k in ("constant", "polynomial", "tables") if k in spec]
+    if len(kinds) != 1 or len(spec) != 1:
+        raise InputError(where, f"keys {sorted(spec)}: give exactly one of 'constant', 'polynomial', 'tables'")
+    kind = kinds[0]
+    w = f"{where}.{kind}"
+    body = _mapping(spec[kind], w)
+    if kind == "tables":
+        return _tables_blob(body, w)
+    if kind == "constant":
+        cl = _number(body.get("cl"), f"{w}.cl")
+        cd = _number(body.get("cd"), f"{w}.cd")
+        if cd <= 0.0:
+            raise InputError(f"{w}.cd", f"{cd} must be > 0")
+        return _polynomial_blob([cl], [cd], DEFAULT_ALPHA_RANGE_DEG, w, f"{w}.cd")
+    cl = _number_list(body.get("cl"), f"{w}.cl", max_len=MAX_POLY_TERMS)
+    cd = _number_list(body.get("cd"), f"{w}.cd", max_len=MAX_POLY_TERMS)
+    alpha_range = DEFAULT_ALPHA_RANGE_DEG
+    if body.get("alpha_range_deg") is not None:
+        where_range = f"{w}.alpha_range_deg"
+        alpha_range = tuple(_number_list(body["alpha_range_deg"], where_range, 2, 2))
+        lo, hi = alpha_range
+        if not -ALPHA_LIMIT_DEG <= lo < hi <= ALPHA_LIMIT_DEG:
+            raise InputError(where_range, f"{list(alpha_range)} must satisfy -90 <= lo < hi <= 90 deg")
+    return _polynomial_blob(cl, cd, alpha_range, w, f"{w}.cd")
+
+
+def _wing_loading(d, field_):
+    lo, hi = WING_LOADING_RANGE_PSF
+    has_ws = d.get("wing_loading_psf") is not None
+    has_wa = d.get("weight_lb") is not None or d.get("reference_area_ft2") is not None
+    if has_ws and has_wa:
+        raise InputError(f"{field_}.wing_loading_psf", "give wing_loading_psf or weight_lb and reference_area_ft2, not both")
+    if has_ws:
+        ws = _number(d["wing_loading_psf"], f"{field_}.wing_loading_psf")
+        where = f"{field_}.wing_loading_psf"
+    elif has_wa:
+        weight = _number(d.get("weight_lb"), f"{field_}.weight_lb")
+        area = _number(d.get("reference_area_ft2"), f"{field_}.reference_area_ft2")
+        if weight <= 0.0:
+            raise InputError(f"{field_}.weight_lb", f"{weight} must be > 0")
+        if area <= 0.0:
+            raise InputError(f"{field_}.reference_area_ft2", f"{area} must be > 0")
+        ws = weight / area
+        where = f"{field_}.weight_lb"
+    else:
+        raise InputError(f"{field_}.wing_loading_psf", "missing: give wing_loading_psf or weight_lb and reference_area_ft2")
+    if not lo <= ws <= hi:
+        raise InputError(where, f"wing loading {ws:g} psf is outside the allowed range {lo:g} to {hi:g} psf")
+    return ws
+
+
+# --- public API -----------------------------------------------------------------------------------
+
+
+def vehicle_from_definition(d: dict, field: str = "vehicle") -> Vehicle:
+    """A user vehicle from its definition (see the module docstring); InputError names the offending field."""
+    d = _mapping(d, field)
+    name = d.get("name", "custom vehicle")
+    if not isinstance(name, str) or not name.strip() or len(name) > 200:
+        raise InputError(f"{field}.name", f"{name!r} must be a non-empty string of at most 200 characters")
+    ws = _wing_loading(d, field)
+    if "aero" not in d:
+        raise InputError(f"{field}.aero", "missing: give 'constant', 'polynomial' or 'tables'")
+    blob = _aero_blob(d["aero"], f"{field}.aero")
+    return Vehicle(id=str(d.get("id", "custom")), name=name, wing_loading_psf=ws, blob=blob,
+                   provenance="user-defined vehicle")
+
+
+def builtin_vehicle_ids() -> list[str]:
+    ids = {p.stem for p in DATA_DIR.glob("*.json")}
+    return [i for i in _BUILTIN_ORDER if i in ids] + sorted(ids - set(_BUILTIN_ORDER))
+
+
+@functools.lru_cache(maxsize=None)
+def _load_builtin(vehicle_id: str) -> Vehicle:
+    d = json.loads((DATA_DIR / f"{vehicle_id}.json").read_text(encoding="utf-8"))
+    blob = _aero_blob(d["aero"], f"vehicle.builtin[{vehicle_id}].aero")
+    return Vehicle(
+        id=d["id"], name=d["name"], wing_loading_psf=float(d["wing_loading_psf"]), blob=blob,
+        provenance=d["provenance"], readings=tuple(d["readings"]),
+        reported_ld_max=None if d.get("reported_ld_max") is None else float(d["reported_ld_max"]),
+        note=d.get("note", ""),
+    )
+
+
+def builtin_vehicle(vehicle_id: str) -> Vehicle:
+    """A built-in vehicle (cached: the blob is shared and read-only)."""
+    ids = builtin_vehicle_ids()
+    if vehicle_id not in ids:
+        raise InputError("vehicle.builtin", f"unknown vehicle {vehicle_id!r}; built-in vehicles are: {', '.join(ids)}")
+    return _load_builtin(vehicle_id)
+
+
+def _blob(vehicle):
+    return vehicle.blob if isinstance(vehicle, Vehicle) else vehicle
+
+
+def ld_max(vehicle, mach: float, altitude_ft: float) -> tuple[float, float]:
+    """((L/D)max, alpha_deg) at Mach, altitude, from the control grid's alpha."""
+    blob = _blob(vehicle)
+    alpha = float(alpha_max_ld_deg(blob, mach, altitude_ft))
+    cl, cd = coefficients(blob, mach, alpha, altitude_ft)
+    return float(cl / cd), alpha
+
+
+def vehicle_summaries(mach: float = 20.0, altitude_ft: float = 200_000.0) -> list[dict]:
+    """One row per built-in vehicle for `footprint vehicles` ((L/D)max and CL max at Mach 20 / 200,000 ft)."""
+    rows = []
+    for vid in builtin_vehicle_ids():
+        v = builtin_vehicle(vid)
+        ld, alpha = ld_max(v, mach, altitude_ft)
+        alpha_cl = float(alpha_cl_max_deg(v.blob, mach, altitude_ft))
+        cl_max, _ = coefficients(v.blob, mach, alpha_cl, altitude_ft)
+        rows.append({
+            "id": v.id, "name": v.name, "wing_loading_psf": v.wing_loading_psf,
+            "reported_ld_max": v.reported_ld_max,
+            "ld_max_m20_200kft": round(ld, 4), "alpha_ld_max_deg": round(alpha, 2),
+            "cl_max": round(float(cl_max), 4), "alpha_cl_max_deg": round(alpha_cl, 2),
+            "alpha_range_deg": [float(v.blob[1]), float(v.blob[2])], "note": v.note,
+        })
+    return rows

@@ -1,0 +1,32 @@
+"""Every physical constant of the core, named once with its unit and source.
+
+Units inside the core are the report's: feet, slugs, seconds, pounds; angles in radians inside kernels,
+degrees at the edges.
+"""
+
+import math
+
+# --- Earth, AFWAL-TR-82-3036 Appendix A (eq. A10 constants) -------------------------------------
+MU_EARTH_FT3_S2 = 1.407698e16  # App. A, universal gravity constant times earth mass
+RADIUS_EQUATORIAL_FT = 20_925_631.0  # App. A, R_e
+J_REPORT = 1623.41e-6  # App. A, J (= 1.5 J2)
+H_REPORT = 6.04e-6  # App. A, H (= 2.5 J3 in the report's sign convention)
+K_REPORT = 6.37e-6  # App. A, K (= -3.75 J4)
+# App. A prints R_p = 20,885,965 ft, a flattening of 1/527 that no earth model has. One digit read 8 for 5
+# gives 20,855,965 ft (f = 1/300.4), which we use; the printed value stays available as a planet override.
+RADIUS_POLAR_FT = 20_855_965.0
+RADIUS_POLAR_AS_PRINTED_FT = 20_885_965.0
+OMEGA_EARTH_DEG_S = 0.004178  # Section IV.3, omega_p
+OMEGA_EARTH_RAD_S = math.radians(OMEGA_EARTH_DEG_S)
+
+# --- Sea level and unit conversions --------------------------------------------------------------
+G0_FT_S2 = 32.174048556430446  # 9.80665 m/s^2 standard gravity (defines the geopotential foot)
+FT_PER_M = 1.0 / 0.3048  # international foot
+FT_PER_NMI = 1852.0 / 0.3048  # 6076.115 ft
+# R' of eqs. (8)-(11), "the average radius of the earth": the report gives no value. We use the
+# IUGG mean radius 6,371,008.8 m = 20,902,259 ft (3,440.07 nmi); it is a parameter of ranges.
+MEAN_RADIUS_FT = 6_371_008.8 * FT_PER_M
+
+# --- Air ------------------------------------------------------------------------------------------
+GAMMA_AIR = 1.4
+R_AIR_FT2_S2_R = 287.0429 * FT_PER_M**2 / 1.8  # 287.0429 J/(kg K) (ardc1959.md: p0/(rho0 T0)) = 1716.50 ft^2/(s^2 degR)

@@ -1,0 +1,176 @@
+"""Bank-angle and angle-of-attack laws (AFWAL-TR-82-3036 Sections II.5-II.7, III, Appendix C).
+
+Conventions: bank is positive to the left, so a positive bank turns an eastbound entry toward north and
+gives positive cross-range. Laws that steer on the heading use zeta, the remaining heading change: the
+angle, clockwise, from the cross-range axis (the local horizontal direction toward the left pole of the
+initial great circle) to the horizontal velocity. For an equatorial eastbound entry zeta equals the
+heading sigma (Section II.6: "for other inclinations zeta must be substituted for sigma").
+A right-hand (mirrored) law evaluates the same rule on 180 deg - zeta and negates the bank.
+
+The laws live in a flat float64 array `ctrl` (layout below) so the compiled integrator takes one argument.
+"""
+
+import math
+
+import numpy as np
+
+from footprint.core._jit import njit
+
+# --- bank laws ---
+BANK_ZERO = 0
+BANK_CONSTANT = 1
+BANK_STAGED = 2
+BANK_TWO_PARAMETER = 3
+BANK_SINGLE_PARAMETER = 4
+BANK_TABLE = 5
+BANK_ZERO_LIFT = 6
+BANK_CONSTANT_ALTITUDE = 7
+BANK_LAWS = {
+    "zero": BANK_ZERO,
+    "constant": BANK_CONSTANT,
+    "staged": BANK_STAGED,
+    "two_parameter": BANK_TWO_PARAMETER,
+    "single_parameter": BANK_SINGLE_PARAMETER,
+    "table": BANK_TABLE,
+    "zero_lift": BANK_ZERO_LIFT,
+    "constant_altitude": BANK_CONSTANT_ALTITUDE,
+}
+# --- angle-of-attack laws ---
+ALPHA_MAX_LD = 0
+ALPHA_CL_MAX = 1
+ALPHA_CONSTANT = 2
+ALPHA_TABLE_VELOCITY = 3
+ALPHA_TABLE_TIME = 4
+ALPHA_LEVEL_FLIGHT = 5
+ALPHA_GAMMA_HOLD = 6
+ALPHA_LAWS = {
+    "max_ld": ALPHA_MAX_LD,
+    "cl_max": ALPHA_CL_MAX,
+    "constant": ALPHA_CONSTANT,
+    "table": ALPHA_TABLE_VELOCITY,  # or ALPHA_TABLE_TIME, by the table's abscissa
+    "level_flight": ALPHA_LEVEL_FLIGHT,
+    "gamma_hold": ALPHA_GAMMA_HOLD,
+}
+# --- when the bank law takes over (before it the bank is zero) ---
+START_ENTRY = 0
+START_PULLOUT = 1
+START_ALTITUDE = 2
+
+# --- ctrl array layout ---
+C_BANK_LAW = 0
+C_BANK_VALUE = 1  # bank_deg (constant, staged), K (two/single parameter), +1/-1 (constant_altitude side)
+C_BANK_LIMIT = 2  # deg; NO_LIMIT when none
+C_SIGMA_F = 3  # deg, two-parameter final heading
+C_TURN = 4  # deg, staged / constant-altitude heading change
+C_BANK_VAR = 5  # 0: zeta (remaining heading change), 1: heading sigma
+C_MIRROR = 6  # 1: right-hand version of the law
+C_START = 7
+C_START_ALT = 8  # ft
+C_ALPHA_LAW = 9
+C_ALPHA_VALUE = 10  # alpha_deg (constant) or gamma_deg (gamma_hold)
+C_ALPHA_BEFORE = 11  # law before pull-out for level_flight / gamma_hold: ALPHA_MAX_LD or ALPHA_CL_MAX
+C_BANK_TABLE = 12  # offset of (n, x[n], y[n]) or -1
+C_ALPHA_TABLE = 13
+C_TAU = 14  # s, time constant of the flight-path and altitude holds
+C_SIZE = 15
+NO_LIMIT = 1.0e9
+
+
+def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
+                  bank_variable="zeta", mirror=False, bank_start="pullout", bank_start_altitude_ft=0.0,
+                  alpha_law="max_ld", alpha_value=0.0, alpha_before="max_ld", bank_table=None,
+                  alpha_table=None, alpha_table_abscissa="velocity", hold_time_constant_s=10.0):
+    """Build the ctrl array from plain values (validated by the caller)."""
+    ctrl = np.zeros(C_SIZE)
+    ctrl[C_BANK_LAW] = BANK_LAWS[bank_law]
+    ctrl[C_BANK_VALUE] = bank_value
+    ctrl[C_BANK_LIMIT] = NO_LIMIT if bank_limit_deg is None else bank_limit_deg
+    ctrl[C_SIGMA_F] = sigma_f_deg
+    ctrl[C_TURN] = turn_deg
+    ctrl[C_BANK_VAR] = 0.0 if bank_variable == "zeta" else 1.0
+    ctrl[C_MIRROR] = 1.0 if mirror else 0.0
+    ctrl[C_START] = {"entry": START_ENTRY, "pullout": START_PULLOUT, "altitude": START_ALTITUDE}[bank_start]
+    ctrl[C_START_ALT] = bank_start_altitude_ft
+    law = ALPHA_LAWS[alpha_law]
+    if alpha_law == "table" and alpha_table_abscissa == "time":
+        law = ALPHA_TABLE_TIME
+    ctrl[C_ALPHA_LAW] = law
+    ctrl[C_ALPHA_VALUE] = alpha_value
+    ctrl[C_ALPHA_BEFORE] = ALPHA_LAWS[alpha_before]
+    ctrl[C_TAU] = hold_time_constant_s
+    parts = [ctrl]
+    offset = C_SIZE
+    for slot, table in ((C_BANK_TABLE, bank_table), (C_ALPHA_TABLE, alpha_table)):
+        if table is None:
+            ctrl[slot] = -1.0
+            continue
+        x, y = (np.asarray(v, dtype=np.float64) for v in table)
+        ctrl[slot] = offset
+        parts.append(np.concatenate(([len(x)], x, y)))
+        offset += 1 + 2 * len(x)
+    return np.concatenate(parts)
+
+
+@njit
+def table_interp(ctrl, offset, x):
+    """Linear interpolation in a (n, x[n], y[n]) table of ctrl, held at the ends."""
+    o = int(offset)
+    n = int(ctrl[o])
+    xs = o + 1
+    ys = o + 1 + n
+    if x <= ctrl[xs]:
+        return ctrl[ys]
+    if x >= ctrl[xs + n - 1]:
+        return ctrl[ys + n - 1]
+    i = 0
+    while ctrl[xs + i + 1] < x:
+        i += 1
+    w = (x - ctrl[xs + i]) / (ctrl[xs + i + 1] - ctrl[xs + i])
+    return ctrl[ys + i] + w * (ctrl[ys + i + 1] - ctrl[ys + i])
+
+
+@njit
+def wrap_deg(a):
+    """Angle wrapped to (-180, 180]."""
+    return a - 360.0 * math.ceil((a - 180.0) / 360.0)
+
+
+@njit
+def steering_angle_deg(ctrl, zeta_deg, heading_deg):
+    """The angle the heading laws steer on, in the law's own (left-hand) sense."""
+    a = zeta_deg if ctrl[C_BANK_VAR] == 0.0 else heading_deg
+    if ctrl[C_MIRROR] != 0.0:
+        a = 180.0 - a
+    return wrap_deg(a)
+
+
+@njit
+def bank_from_law(ctrl, mode_active, mode_done, angle_deg):
+    """Bank angle (deg) of the laws that depend on the steering angle only.
+
+    BANK_CONSTANT_ALTITUDE and BANK_ZERO_LIFT are resolved by the dynamics (they need the forces).
+    """
+    if mode_active == 0.0:
+        return 0.0
+    law = int(ctrl[C_BANK_LAW])
+    value = ctrl[C_BANK_VALUE]
+    if law == BANK_CONSTANT:
+        bank = value
+    elif law == BANK_STAGED:
+        bank = 0.0 if mode_done != 0.0 else value  # Section I / Fig. 14: constant until the turn, then zero
+    elif law == BANK_TWO_PARAMETER:
+        bank = value * (angle_deg - ctrl[C_SIGMA_F])  # Section II.5, phi_B = K (sigma - sigma_f), Fig. 5
+    elif law == BANK_SINGLE_PARAMETER:
+        bank = value * angle_deg  # Section II.5-II.6, phi_B = K sigma (K zeta), Fig. 8
+    elif law == BANK_TABLE:
+        bank = table_interp(ctrl, ctrl[C_BANK_TABLE], angle_deg)  # Section II.5, Fig. 2: linear in heading
+    else:
+        bank = 0.0
+    limit = ctrl[C_BANK_LIMIT]
+    if bank > limit:
+        bank = limit
+    elif bank < -limit:
+        bank = -limit
+    if ctrl[C_MIRROR] != 0.0 and (law == BANK_TWO_PARAMETER or law == BANK_SINGLE_PARAMETER or law == BANK_TABLE):
+        bank = -bank
+    return bank

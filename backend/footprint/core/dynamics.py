@@ -1,0 +1,206 @@
+"""Equations of motion (1)-(3) of AFWAL-TR-82-3036 in the earth-referenced frame, with the forces of
+Appendix A: lift and drag in wind axes (A5-A9, coordinated turn, no side force, no thrust) and
+gravity (A10).
+
+State y = (x, y, z, vx, vy, vz): earth-fixed position (ft) and velocity relative to the earth (ft/s),
+z toward the north pole. The planet rotates about z at omega (rad/s).
+
+Parameters live in a flat float64 array `p` (layout below); the flight mode (which phase the control laws
+are in) in a small float64 array `mode`, changed only at located events.
+"""
+
+import math
+
+from footprint.core import aero as _aero
+from footprint.core._jit import njit
+from footprint.core.atmosphere import atmosphere
+from footprint.core.controls import (
+    ALPHA_CL_MAX,
+    ALPHA_CONSTANT,
+    ALPHA_GAMMA_HOLD,
+    ALPHA_LEVEL_FLIGHT,
+    ALPHA_TABLE_TIME,
+    ALPHA_TABLE_VELOCITY,
+    BANK_CONSTANT_ALTITUDE,
+    BANK_ZERO_LIFT,
+    C_ALPHA_BEFORE,
+    C_ALPHA_LAW,
+    C_ALPHA_TABLE,
+    C_ALPHA_VALUE,
+    C_BANK_LAW,
+    C_BANK_VALUE,
+    C_TAU,
+    bank_from_law,
+    steering_angle_deg,
+    table_interp,
+)
+from footprint.core.frames import geodetic_from_ecef, horizon_basis
+from footprint.core.gravity import gravity_ecef
+
+# --- p layout ---
+P_MU = 0  # ft^3/s^2
+P_RE = 1  # ft, equatorial radius
+P_RP = 2  # ft, polar radius
+P_J = 3
+P_H = 4
+P_K = 5
+P_OMEGA = 6  # rad/s
+P_OBLATE = 7  # 1.0 oblate (App. A), 0.0 spherical mu/r^2
+P_ATM = 8  # atmosphere model id
+P_RHO0 = 9  # exponential atmosphere: slug/ft^3
+P_SCALE_H = 10  # ft
+P_ATM_T = 11  # degR
+P_WS = 12  # wing loading, lb/ft^2
+P_G0 = 13  # ft/s^2, turns weight into mass
+P_POLE_X = 14  # unit vector to the left pole of the initial great circle (earth-fixed)
+P_POLE_Y = 15
+P_POLE_Z = 16
+P_STOP_ALT = 17  # ft (NaN: none)
+P_STOP_VEL = 18  # ft/s (NaN: none)
+P_STOP_TIME = 19  # s
+P_SKIP_ALT = 20  # ft, skip-out guard
+P_RTOL = 21
+P_MAX_STEP = 22  # s
+P_SIZE = 23
+
+# --- mode layout ---
+M_BANK_ACTIVE = 0
+M_BANK_DONE = 1
+M_LATCHED = 2  # level-flight / gamma-hold alpha has reached (L/D)max: fly (L/D)max from here
+M_PULLED_OUT = 3
+M_REF_ANGLE = 4  # steering angle (deg) when the bank law took over
+M_HOLD_ALT = 5  # ft, altitude at pull-out (held by the constant-altitude law)
+M_PULLOUT_T = 6
+M_PULLOUT_ALT = 7
+M_SIZE = 8
+
+N_OUT = 16  # number of values returned by `evaluate`
+
+
+@njit
+def steering_angles(x, y, z, vx, vy, vz, p):
+    """(zeta, heading) in degrees: remaining heading change and azimuth of the horizontal velocity."""
+    ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x, y, z)
+    vu = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - vu * ux, vy - vu * uy, vz - vu * uz
+    heading = math.degrees(math.atan2(hx * ex + hy * ey + hz * ez, hx * nx + hy * ny + hz * nz))
+    # cross-range axis: the left pole projected on the local horizontal plane
+    px, py, pz = p[P_POLE_X], p[P_POLE_Y], p[P_POLE_Z]
+    pu = px * ux + py * uy + pz * uz
+    cx, cy, cz = px - pu * ux, py - pu * uy, pz - pu * uz
+    # the direction 90 deg clockwise of c seen from above: c x up
+    dx, dy, dz = cy * uz - cz * uy, cz * ux - cx * uz, cx * uy - cy * ux
+    zeta = math.degrees(math.atan2(hx * dx + hy * dy + hz * dz, hx * cx + hy * cy + hz * cz))
+    return zeta, heading
+
+
+@njit
+def evaluate(t, s, p, aero, ctrl, mode):
+    """Accelerations and every derived quantity at one state.
+
+    Returns (ax, ay, az, alpha_deg, bank_deg, mach, q_psf, cl, cd, altitude_ft, speed_fps, sin_gamma,
+    steering_deg, lift_needed_over_available, rho, latitude_rad).
+    """
+    x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
+    omega = p[P_OMEGA]
+    lat, lon, alt = geodetic_from_ecef(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, 1)
+    rho, _, _, sound = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    r = math.sqrt(x * x + y * y + z * z)
+    v = math.sqrt(vx * vx + vy * vy + vz * vz)
+    mach = v / sound
+    q = 0.5 * rho * v * v  # dynamic pressure on the earth-relative speed (the air turns with the earth)
+    # non-aerodynamic accelerations: gravity (A10) and, from eqs. (1)-(2), Coriolis and centrifugal terms
+    gx, gy, gz = gravity_ecef(x, y, z, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
+    a0x = gx + 2.0 * omega * vy + omega * omega * x
+    a0y = gy - 2.0 * omega * vx + omega * omega * y
+    a0z = gz
+    # wind axes: v_hat; left = r_hat x v_hat; lift_up = v_hat x left (in the vertical plane, above v)
+    ivr = 1.0 / r
+    ux, uy, uz = x * ivr, y * ivr, z * ivr
+    iv = 1.0 / v
+    wx, wy, wz = vx * iv, vy * iv, vz * iv
+    sin_gamma = ux * wx + uy * wy + uz * wz
+    lx, ly, lz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    ln = math.sqrt(lx * lx + ly * ly + lz * lz)
+    if ln < 1e-12:  # vertical flight: any horizontal direction will do
+        lx, ly, lz, ln = 0.0, 0.0, 1.0, 1.0
+    lx, ly, lz = lx / ln, ly / ln, lz / ln
+    upx, upy, upz = wy * lz - wz * ly, wz * lx - wx * lz, wx * ly - wy * lx
+    # vertical lift per unit mass that holds the commanded flight-path rate:
+    # V dgamma/dt = a . up + V^2 cos(gamma) / r   (derived from sin(gamma) = v.r_hat / V)
+    cos_gamma = math.sqrt(max(0.0, 1.0 - sin_gamma * sin_gamma))
+    tau = ctrl[C_TAU]
+    gamma = math.asin(sin_gamma)
+    gamma_cmd = 0.0
+    if int(ctrl[C_ALPHA_LAW]) == ALPHA_GAMMA_HOLD:
+        gamma_cmd = math.radians(ctrl[C_ALPHA_VALUE])
+    if int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE:
+        gamma_cmd = -(alt - mode[M_HOLD_ALT]) / (v * tau)  # Appendix C data set 2: hold the pull-out altitude
+    vert_needed = v * (gamma_cmd - gamma) / tau - v * v * cos_gamma * ivr - (a0x * upx + a0y * upy + a0z * upz)
+    lift_per_cl = q * p[P_G0] / p[P_WS]  # L/m = CL q S / m = CL q g0 / (W/S)
+
+    zeta, heading = steering_angles(x, y, z, vx, vy, vz, p)
+    steer = steering_angle_deg(ctrl, zeta, heading)
+    bank_law = int(ctrl[C_BANK_LAW])
+    alpha_law = int(ctrl[C_ALPHA_LAW])
+    pulled_out = mode[M_PULLED_OUT] != 0.0
+    need_ratio = 0.0
+    # --- angle of attack (Sections II.5, II.7; Appendix C) ---
+    if bank_law == BANK_ZERO_LIFT:
+        alpha = _aero.alpha_zero_lift_deg(aero, mach, alt)  # Section II.6 d: minimum down-range at zero lift
+    elif alpha_law == ALPHA_CL_MAX:
+        alpha = _aero.alpha_cl_max_deg(aero, mach, alt)
+    elif alpha_law == ALPHA_CONSTANT:
+        alpha = ctrl[C_ALPHA_VALUE]
+    elif alpha_law == ALPHA_TABLE_VELOCITY:
+        alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], v)
+    elif alpha_law == ALPHA_TABLE_TIME:
+        alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], t)
+    elif (alpha_law == ALPHA_LEVEL_FLIGHT or alpha_law == ALPHA_GAMMA_HOLD) and not pulled_out:
+        if int(ctrl[C_ALPHA_BEFORE]) == ALPHA_CL_MAX:
+            alpha = _aero.alpha_cl_max_deg(aero, mach, alt)
+        else:
+            alpha = _aero.alpha_max_ld_deg(aero, mach, alt)
+    else:
+        alpha = _aero.alpha_max_ld_deg(aero, mach, alt)
+    # --- bank ---
+    if bank_law == BANK_CONSTANT_ALTITUDE:
+        cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
+        available = cl_star * lift_per_cl
+        need_ratio = vert_needed / available if available > 0.0 else 2.0
+        bank = 0.0
+        if mode[M_BANK_ACTIVE] != 0.0 and mode[M_BANK_DONE] == 0.0 and need_ratio < 1.0:
+            bank = math.degrees(math.acos(max(need_ratio, 0.0))) * ctrl[C_BANK_VALUE]
+    else:
+        bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer)
+    if (alpha_law == ALPHA_LEVEL_FLIGHT or alpha_law == ALPHA_GAMMA_HOLD) and pulled_out:
+        # Section II.7: reduce lift so that lift plus centrifugal force balance weight, until (L/D)max
+        cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
+        cos_bank = math.cos(math.radians(bank))
+        cl_needed = vert_needed / (lift_per_cl * cos_bank) if lift_per_cl * cos_bank > 0.0 else cl_star
+        need_ratio = cl_needed / cl_star if cl_star > 0.0 else 2.0
+        if mode[M_LATCHED] == 0.0 and cl_needed < cl_star:
+            alpha = _aero.alpha_for_cl_deg(aero, cl_needed, mach, alt, aero[1], alpha)
+    cl, cd = _aero.coefficients(aero, mach, alpha, alt)
+    if bank_law == BANK_ZERO_LIFT:
+        cl = 0.0
+    # --- forces: App. A eqs. (A5)-(A9), lift along cos(bank) up + sin(bank) left, drag along -v ---
+    lift = cl * lift_per_cl
+    drag = cd * lift_per_cl
+    cb, sb = math.cos(math.radians(bank)), math.sin(math.radians(bank))
+    ax = a0x + lift * (cb * upx + sb * lx) - drag * wx
+    ay = a0y + lift * (cb * upy + sb * ly) - drag * wy
+    az = a0z + lift * (cb * upz + sb * lz) - drag * wz
+    return (ax, ay, az, alpha, bank, mach, q, cl, cd, alt, v, sin_gamma, steer, need_ratio, rho, lat)
+
+
+@njit
+def rhs(t, s, p, aero, ctrl, mode, out):
+    """ds/dt into `out`: eqs. (1)-(3)."""
+    res = evaluate(t, s, p, aero, ctrl, mode)
+    out[0] = s[3]
+    out[1] = s[4]
+    out[2] = s[5]
+    out[3] = res[0]
+    out[4] = res[1]
+    out[5] = res[2]

@@ -1,0 +1,242 @@
+"""fly(): one entry trajectory from plain, already validated inputs, and its Trajectory record."""
+
+import csv
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from footprint.core import constants as K
+from footprint.core._jit import njit
+from footprint.core.aero import Vehicle
+from footprint.core.atmosphere import MODEL_IDS, isothermal_temperature_R
+from footprint.core.dynamics import (
+    M_BANK_ACTIVE,
+    M_PULLED_OUT,
+    M_PULLOUT_ALT,
+    M_PULLOUT_T,
+    M_REF_ANGLE,
+    M_SIZE,
+    P_ATM,
+    P_ATM_T,
+    P_G0,
+    P_H,
+    P_J,
+    P_K,
+    P_MAX_STEP,
+    P_MU,
+    P_OBLATE,
+    P_OMEGA,
+    P_POLE_X,
+    P_RE,
+    P_RHO0,
+    P_RP,
+    P_RTOL,
+    P_SCALE_H,
+    P_SIZE,
+    P_SKIP_ALT,
+    P_STOP_ALT,
+    P_STOP_TIME,
+    P_STOP_VEL,
+    P_WS,
+    M_HOLD_ALT,
+    steering_angles,
+)
+from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
+from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, horizon_basis, \
+    velocity_from_angles
+from footprint.core.integrate import (
+    R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, STOP_REASONS, integrate,
+)
+from footprint.core.ranges import downrange_crossrange_nmi
+
+
+@dataclass(frozen=True)
+class Planet:
+    """Planet constants (App. A defaults) and atmosphere; every value can be overridden."""
+
+    rotating: bool = True
+    oblate: bool = True
+    radius_ft: float = K.RADIUS_EQUATORIAL_FT
+    polar_radius_ft: float = K.RADIUS_POLAR_FT
+    mu_ft3_s2: float = K.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: float = K.OMEGA_EARTH_DEG_S
+    j: float = K.J_REPORT
+    h: float = K.H_REPORT
+    k: float = K.K_REPORT
+    atmosphere: str = "ardc1959"
+    rho0_slug_ft3: float = 0.0027
+    scale_height_ft: float = 23_800.0
+    temperature_R: float | None = None  # exponential model: defaults to g0 H / R
+
+
+@dataclass(frozen=True)
+class Entry:
+    altitude_ft: float
+    velocity_fps: float
+    gamma_deg: float
+    heading_deg: float = 90.0
+    latitude_deg: float = 0.0  # geodetic
+    longitude_deg: float = 0.0
+    velocity_frame: str = "relative"  # "inertial": speed, gamma and heading are inertial
+
+
+@dataclass(frozen=True)
+class Stop:
+    altitude_ft: float | None = 50_000.0
+    velocity_fps: float | None = None
+    time_s: float | None = None
+    skip_altitude_ft: float = 1_000_000.0  # guard: a flight that climbs here has skipped out
+
+
+@dataclass(frozen=True)
+class FlightSpec:
+    vehicle: Vehicle
+    planet: Planet
+    entry: Entry
+    ctrl: np.ndarray  # from controls.pack_controls
+    stop: Stop = field(default_factory=Stop)
+    rtol: float = 1e-9
+    max_step_s: float = 50.0
+    max_steps: int = 200_000
+
+
+@dataclass
+class Trajectory:
+    """Time histories (numpy arrays, units in the keys) and a summary of one flight."""
+
+    summary: dict
+    history: dict
+
+    def write_csv(self, path):
+        keys = list(self.history)
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(keys)
+            for row in zip(*(self.history[k] for k in keys)):
+                w.writerow([f"{v:.10g}" for v in row])
+
+
+def pack_parameters(spec: FlightSpec) -> np.ndarray:
+    pl, st = spec.planet, spec.stop
+    p = np.zeros(P_SIZE)
+    p[P_MU], p[P_RE], p[P_RP] = pl.mu_ft3_s2, pl.radius_ft, pl.polar_radius_ft
+    p[P_J], p[P_H], p[P_K] = pl.j, pl.h, pl.k
+    p[P_OMEGA] = math.radians(pl.rotation_rate_deg_s) if pl.rotating else 0.0
+    p[P_OBLATE] = 1.0 if pl.oblate else 0.0
+    p[P_ATM] = MODEL_IDS[pl.atmosphere]
+    p[P_RHO0], p[P_SCALE_H] = pl.rho0_slug_ft3, pl.scale_height_ft
+    p[P_ATM_T] = pl.temperature_R if pl.temperature_R is not None else isothermal_temperature_R(pl.scale_height_ft)
+    p[P_WS] = spec.vehicle.wing_loading_psf
+    p[P_G0] = K.G0_FT_S2
+    p[P_STOP_ALT] = np.nan if st.altitude_ft is None else st.altitude_ft
+    p[P_STOP_VEL] = np.nan if st.velocity_fps is None else st.velocity_fps
+    p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
+    p[P_SKIP_ALT] = st.skip_altitude_ft
+    p[P_RTOL], p[P_MAX_STEP] = spec.rtol, spec.max_step_s
+    return p
+
+
+def initial_state(spec: FlightSpec, p: np.ndarray) -> np.ndarray:
+    """Earth-fixed state at entry; an inertial entry velocity loses the earth's rotation omega x r."""
+    e, oblate = spec.entry, p[P_OBLATE] != 0.0
+    x, y, z = ecef_from_geodetic(math.radians(e.latitude_deg), math.radians(e.longitude_deg), e.altitude_ft,
+                                 p[P_RE], p[P_RP], oblate)
+    vx, vy, vz = velocity_from_angles(x, y, z, e.velocity_fps, math.radians(e.gamma_deg),
+                                      math.radians(e.heading_deg))
+    if e.velocity_frame == "inertial":
+        w = p[P_OMEGA]
+        vx, vy = vx + w * y, vy - w * x  # v_rel = v_inertial - omega x r, omega along +z
+    return np.array([x, y, z, vx, vy, vz])
+
+
+def _set_left_pole(p, s0, heading_deg):
+    """Left pole of the initial great circle (through the entry point along the named heading)."""
+    ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(s0[0], s0[1], s0[2])
+    hdg = math.radians(heading_deg)
+    d = np.array([nx, ny, nz]) * math.cos(hdg) + np.array([ex, ey, ez]) * math.sin(hdg)
+    p[P_POLE_X:P_POLE_X + 3] = np.cross([ux, uy, uz], d)
+
+
+def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
+    mode = np.zeros(M_SIZE)
+    ctrl = spec.ctrl
+    zeta, heading = steering_angles(*s0, p)
+    _, gamma0, _ = flight_angles(*s0)
+    if gamma0 >= 0.0:  # entering level or climbing: pulled out from the start
+        mode[M_PULLED_OUT], mode[M_PULLOUT_T], mode[M_PULLOUT_ALT] = 1.0, 0.0, spec.entry.altitude_ft
+        mode[M_HOLD_ALT] = spec.entry.altitude_ft
+    start = int(ctrl[C_START])
+    if start == START_ENTRY or (start == START_ALTITUDE and spec.entry.altitude_ft <= ctrl[C_START_ALT]) \
+            or (mode[M_PULLED_OUT] and start != START_ALTITUDE):
+        mode[M_BANK_ACTIVE] = 1.0
+        mode[M_REF_ANGLE] = steering_angle_deg(ctrl, zeta, heading)
+    return mode
+
+
+def simulate(spec: FlightSpec) -> Trajectory:
+    """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3) and summarize it."""
+    p = pack_parameters(spec)
+    s0 = initial_state(spec, p)
+    _set_left_pole(p, s0, spec.entry.heading_deg)
+    mode = initial_mode(spec, p, s0)
+    rows, stop_code, n_rhs = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
+    return _trajectory(spec, p, rows, int(stop_code), int(n_rhs), mode)
+
+
+@njit
+def _geodetic_history(rows, re_ft, rp_ft, oblate):
+    n = rows.shape[0]
+    lat, lon, heading = np.empty(n), np.empty(n), np.empty(n)
+    for i in range(n):
+        lat[i], lon[i], _ = geodetic_from_ecef(rows[i, 1], rows[i, 2], rows[i, 3], re_ft, rp_ft, oblate)
+        heading[i] = flight_angles(rows[i, 1], rows[i, 2], rows[i, 3], rows[i, 4], rows[i, 5], rows[i, 6])[2]
+    return lat, lon, heading
+
+
+def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
+    lat, lon, heading = _geodetic_history(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
+    lat, lon = np.degrees(lat), np.degrees(lon)
+    e = spec.entry
+    down, cross = downrange_crossrange_nmi(lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ld = np.where(rows[:, R_CD] > 0, rows[:, R_CL] / rows[:, R_CD], np.nan)
+    history = {
+        "time_s": rows[:, R_T],
+        "altitude_ft": rows[:, R_ALT],
+        "velocity_fps": rows[:, R_V],
+        "gamma_deg": np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1))),
+        "heading_deg": np.degrees(heading),
+        "latitude_deg": lat,
+        "longitude_deg": lon,
+        "alpha_deg": rows[:, R_ALPHA],
+        "bank_deg": rows[:, R_BANK],
+        "mach": rows[:, R_MACH],
+        "dynamic_pressure_psf": rows[:, R_Q],
+        "cl": rows[:, R_CL],
+        "cd": rows[:, R_CD],
+        "lift_to_drag": ld,
+        "downrange_nmi": down,
+        "crossrange_nmi": cross,
+    }
+    pulled_out = mode[M_PULLED_OUT] != 0.0
+    summary = {
+        "downrange_nmi": float(down[-1]),
+        "crossrange_nmi": float(cross[-1]),
+        "flight_time_s": float(rows[-1, R_T]),
+        "final_altitude_ft": float(rows[-1, R_ALT]),
+        "final_velocity_fps": float(rows[-1, R_V]),
+        "final_gamma_deg": float(history["gamma_deg"][-1]),
+        "final_latitude_deg": float(lat[-1]),
+        "final_longitude_deg": float(lon[-1]),
+        "final_heading_deg": float(history["heading_deg"][-1]),
+        "pullout_altitude_ft": float(mode[M_PULLOUT_ALT]) if pulled_out else None,
+        "pullout_time_s": float(mode[M_PULLOUT_T]) if pulled_out else None,
+        "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
+        "max_temperature_R": None,
+        "stop_reason": STOP_REASONS[stop_code],
+        "vehicle": spec.vehicle.id,
+        "steps": int(rows.shape[0] - 1),
+        "rhs_evaluations": n_rhs,
+    }
+    return Trajectory(summary=summary, history=history)
