@@ -331,13 +331,20 @@ def error_line(exc: ValidationError | InputError) -> str:
         return str(exc)
     parts = []
     for err in exc.errors():
-        loc = ".".join(str(x) for x in err["loc"] if not (isinstance(x, str) and x[:1].isupper() or x in (
-            "function-after", "tagged-union")))
+        loc = []
+        for i, x in enumerate(err["loc"]):
+            if i > 0 and err["loc"][i - 1] in ("bank", "alpha") and isinstance(x, str) and x in _LAW_TAGS:
+                continue  # the discriminated union's tag, not a field
+            loc.append(str(x))
         msg = err["msg"].removeprefix("Value error, ")
-        if err["type"] in ("missing", "extra_forbidden", "literal_error", "union_tag_invalid", "union_tag_not_found"):
-            msg = f"{msg}" + (f" (got {err['input']!r})" if err["type"] not in ("missing",) else "")
-        parts.append(f"{loc}: {msg}" if loc else msg)
+        if err["type"] not in ("missing", "value_error") and "input" in err:
+            msg += f" (got {err['input']!r})"
+        parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
     return "; ".join(parts)
+
+
+_LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",
+             "constant_altitude", "max_ld", "cl_max", "level_flight", "gamma_hold"}
 
 
 def parse_case(data: dict | Case) -> Case:

@@ -19,7 +19,9 @@ The reference below shares none of that. It integrates
   scipy's event location; the bank law is zero before pull-out.
 Shared with the core, and validated elsewhere: the atmosphere and aerodynamic-coefficient kernels and the
 constants. A sign, frame or factor error in the core's dynamics, gravity, frames, controls or integrator
-therefore shows up as a disagreement here.
+therefore shows up as a disagreement here, with two limits: the J3 term moves a trajectory by < 5 ft and
+< 0.001 deg, so its sign is left to the gravity unit tests; and the reference is itself checked below
+(gravity against its potential, the geodetic inversion, the Table 2 entry state).
 """
 
 import functools

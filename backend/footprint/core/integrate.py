@@ -110,6 +110,9 @@ def _event_values(t, s, res, p, ctrl, mode, g):
     if (law == BANK_STAGED or law == BANK_CONSTANT_ALTITUDE) and mode[M_BANK_ACTIVE] != 0.0 \
             and mode[M_BANK_DONE] == 0.0:
         g[E_TURN_DONE] = abs(wrap_deg(steer - mode[M_REF_ANGLE])) - ctrl[C_TURN]
+        if law == BANK_CONSTANT_ALTITUDE:
+            # App. C data set 2: the turn also ends when the wings come level (no lift left to turn with)
+            g[E_TURN_DONE] = max(g[E_TURN_DONE], need_ratio - 1.0)
     alaw = int(ctrl[C_ALPHA_LAW])
     if (alaw == ALPHA_LEVEL_FLIGHT or alaw == ALPHA_GAMMA_HOLD) and mode[M_PULLED_OUT] != 0.0 \
             and mode[M_LATCHED] == 0.0:
