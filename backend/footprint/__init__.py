@@ -1,18 +1,22 @@
 """Footprint: landing footprints of lifting entry vehicles (AFWAL-TR-82-3036).
 
-`from footprint import fly` is the Python door. Importing `footprint.core` alone pulls in only numpy and
+`from footprint import fly, footprint` is the Python door. Importing `footprint.core` alone pulls in only numpy and
 numba (the top level loads the pydantic case contract lazily).
 """
 
-__all__ = ["Trajectory", "fly"]
+__all__ = ["Footprint", "Trajectory", "fly", "footprint"]
 __version__ = "0.1.0"
 
 
 def __getattr__(name):
-    if name == "fly":
-        from footprint.api import fly
+    if name in ("fly", "footprint"):
+        from footprint import api
 
-        return fly
+        return getattr(api, name)
+    if name == "Footprint":
+        from footprint.core.footprints import Footprint
+
+        return Footprint
     if name == "Trajectory":
         from footprint.core.trajectory import Trajectory
 

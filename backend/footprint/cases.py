@@ -13,6 +13,7 @@ from footprint.core import constants as K
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.errors import InputError
+from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
 
 
@@ -141,7 +142,7 @@ class BankConstant(Strict):
 class BankStaged(Strict):
     law: Literal["staged"]
     bank_deg: Bank
-    turn_deg: bounded(0, 180, "deg") = 90.0
+    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
 
 
 class BankTwoParameter(Strict):
@@ -178,7 +179,7 @@ class BankZeroLift(Strict):
 
 class BankConstantAltitude(Strict):
     law: Literal["constant_altitude"]
-    turn_deg: bounded(0, 180, "deg") = 90.0
+    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
     side: Literal["left", "right"] = "left"
 
 
@@ -246,7 +247,38 @@ class StopCase(Strict):
     altitude_ft: bounded(0, 3_000_000, "ft") | None = 50_000.0
     velocity_fps: bounded(0, 40_000, "ft/s") | None = None
     time_s: bounded(1, 100_000, "s") | None = None
-    max_altitude_ft: bounded(10_000, 100_000_000, "ft") = 1_000_000.0
+    max_altitude_ft: bounded(10_000, 100_000_000, "ft") = 10_000_000.0  # see trajectory.Stop
+
+
+# ----------------------------------------------------------------------------------------- heating
+class HeatingReference(Strict):
+    """AFWAL-TR-82-3036 Section III: Fay-Riddell h_F&R times Table 1's h/h_F&R(alpha), eqs. (5)-(7)."""
+
+    model: Literal["reference"]
+    reference_radius_ft: bounded(0.01, 100, "ft") = REFERENCE_RADIUS_FT  # calibrated to 2,670 degR
+    emissivity: bounded(0.01, 1) = EMISSIVITY_DEFAULT
+
+    def to_model(self):
+        return ReferenceHeating(reference_radius_ft=self.reference_radius_ft, emissivity=self.emissivity)
+
+
+class HeatingCorrelation(Strict):
+    """q_btu_ft2_s = coefficient * rho_slug_ft3^density_exponent * V_fps^velocity_exponent * f(alpha_deg)."""
+
+    model: Literal["correlation"]
+    coefficient: bounded(0, 1e12)  # Btu/(ft^2 s) for rho in slug/ft^3 and V in ft/s
+    density_exponent: bounded(0, 2) = 0.5
+    velocity_exponent: bounded(0, 10) = 3.0
+    alpha_polynomial_deg: list[bounded(-1e6, 1e6)] = Field(default=[1.0], min_length=1, max_length=8)
+    emissivity: bounded(0.01, 1) | None = None  # with it, eq. (7) gives a radiation-equilibrium temperature
+
+    def to_model(self):
+        return CorrelationHeating(coefficient=self.coefficient, density_exponent=self.density_exponent,
+                                  velocity_exponent=self.velocity_exponent,
+                                  alpha_polynomial=tuple(self.alpha_polynomial_deg), emissivity=self.emissivity)
+
+
+HeatingCase = Annotated[Union[HeatingReference, HeatingCorrelation], Field(discriminator="model")]
 
 
 class IntegratorCase(Strict):
@@ -265,6 +297,7 @@ class Case(Strict):
     bank_start: Literal["pullout", "entry"] | BankStartAltitude = "pullout"
     stop: StopCase = StopCase()
     integrator: IntegratorCase = IntegratorCase()
+    heating: HeatingCase | None = None
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -283,7 +316,8 @@ class Case(Strict):
     def to_spec(self) -> FlightSpec:
         return FlightSpec(vehicle=self.vehicle.to_vehicle(), planet=self.planet.to_planet(),
                           entry=self.entry.to_entry(), ctrl=self.controls(), stop=self._stop(),
-                          rtol=self.integrator.rtol, max_step_s=self.integrator.max_step_s)
+                          rtol=self.integrator.rtol, max_step_s=self.integrator.max_step_s,
+                          heating=None if self.heating is None else self.heating.to_model())
 
     def _stop(self) -> Stop:
         s = self.stop
@@ -333,8 +367,9 @@ def error_line(exc: ValidationError | InputError) -> str:
     for err in exc.errors():
         loc = []
         for i, x in enumerate(err["loc"]):
-            if i > 0 and err["loc"][i - 1] in ("bank", "alpha") and isinstance(x, str) and x in _LAW_TAGS:
-                continue  # the discriminated union's tag, not a field
+            if (i == 0 or err["loc"][i - 1] in ("bank", "alpha", "heating")) and isinstance(x, str) \
+                    and x in _LAW_TAGS:
+                continue  # a discriminated union's tag (a law, a study's method), not a field
             loc.append(str(x))
         msg = err["msg"].removeprefix("Value error, ")
         if err["type"] not in ("missing", "value_error") and "input" in err:
@@ -344,7 +379,8 @@ def error_line(exc: ValidationError | InputError) -> str:
 
 
 _LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",
-             "constant_altitude", "max_ld", "cl_max", "level_flight", "gamma_hold"}
+             "constant_altitude", "max_ld", "cl_max", "level_flight", "gamma_hold", "constant_bank", "reference",
+             "correlation"}
 
 
 def parse_case(data: dict | Case) -> Case:

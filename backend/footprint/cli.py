@@ -55,6 +55,157 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
     typer.echo(json.dumps(traj.summary, indent=2, default=_json_default))
 
 
+@app.command("footprint")
+def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="footprint study (case + method)"),
+               plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
+                                                   help="draw the footprint (PNG or SVG by the suffix)")):
+    """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories)."""
+    from footprint.core.footprints import footprint as run
+    from footprint.studies import parse_study
+
+    data = _read_json(study_file)
+    try:
+        study = parse_study(data)
+        spec = study.case.to_spec()
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
+    fp = run(spec, study.method, **study.to_params())
+    if plot is not None:
+        from footprint.figures import save_footprint_plot
+
+        save_footprint_plot(fp, plot)
+    typer.echo(json.dumps(fp.to_dict(), indent=2, default=_json_default))
+
+
+@app.command()
+def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
+                                            help="sweep file: base case, method, vehicles, velocities, angles"),
+          out: Optional[Path] = typer.Option(None, "--out", metavar="FOLDER",
+                                             help="where to write points.csv, summary.csv, figures/ [./NAME]"),
+          workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
+                                                help="local worker processes [the number of cores]"),
+          scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
+                                                  help="a running Dask scheduler instead of a local cluster")):
+    """Fly a footprint data base (Appendix C) on Dask, one task per footprint; print the summary table.
+
+    Exit status 1 when some footprints failed (their rows carry the error), 2 for a bad sweep file."""
+    from contextlib import ExitStack
+
+    from tqdm import tqdm
+
+    from footprint.sweeps import check_vehicles, dask_client, parse_sweep, run_sweep
+
+    data = _read_json(sweep_file)
+    try:
+        sw = parse_sweep(data)
+        check_vehicles(sw)
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
+    if workers is not None and not 1 <= workers <= 256:
+        _fail(f"--workers: {workers} is outside the allowed range 1 to 256")
+    if scheduler is not None and (workers is not None or "://" not in scheduler):
+        _fail("--scheduler: give an address like tcp://host:8786 (and no --workers: the scheduler has its own)")
+    folder = out if out is not None else Path(sw.name)
+    with ExitStack() as stack:
+        try:
+            client = stack.enter_context(dask_client(workers=workers, scheduler=scheduler))
+        except OSError as exc:  # no scheduler there
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+        bar = stack.enter_context(tqdm(total=sw.size, unit="footprint", file=sys.stderr, mininterval=0.5))
+        result = run_sweep(sw, client=client, progress=lambda done, total: bar.update(done - bar.n))
+    written = result.write(folder)
+    _print_sweep_summary(result)
+    figures = sum(p.suffix in (".png", ".svg") for p in written)
+    typer.echo(f"{len(result.runs)} footprints, {result.trajectories} trajectories in {result.seconds:.1f} s on "
+               f"{result.workers} worker(s); wrote {folder}/points.csv, summary.csv"
+               + (f" and {figures} figures" if figures else f" ({result.figures_note})" if result.figures_note else ""))
+    if result.errors:
+        typer.echo(f"error: {len(result.errors)} of {len(result.runs)} footprints failed; see the error column "
+                   f"of {folder}/summary.csv", err=True)
+        raise typer.Exit(1)
+
+
+def _print_sweep_summary(result):
+    def num(v, fmt):
+        return format(v, fmt) if v is not None else "-".rjust(int(fmt.split(".")[0]))
+
+    typer.echo(f"{'vehicle':<16} {'V fps':>7} {'gamma':>6} {'max X nmi':>9} {'max D nmi':>9} {'min D nmi':>9} "
+               f"{'area nmi2':>10} {'traj':>5} {'s':>6}  note")
+    for r in result.summary_rows():
+        note = r["error"] or ", ".join(f"{r[k]} {what}" for k, what in (("skip_outs", "skipped out"),
+                                                                       ("unfinished", "unfinished (max_steps)"))
+                                       if r.get(k))
+        typer.echo(f"{r['vehicle']:<16} {r['entry_velocity_fps']:>7.0f} {r['entry_gamma_deg']:>6g} "
+                   f"{num(r.get('max_crossrange_nmi'), '9.0f')} {num(r.get('max_downrange_nmi'), '9.0f')} "
+                   f"{num(r.get('min_downrange_nmi'), '9.0f')} {num(r.get('area_nmi2'), '10.3g')} "
+                   f"{r['trajectories']:>5} {r['seconds']:>6.2f}  {note}")
+
+
+@app.command()
+def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
+                                                 help="transform request: points, from, to, step, mirror, rotation"),
+              csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="OUT.csv",
+                                                     help="also write the points as CSV")):
+    """Move footprint points to another node, inclination or deorbit point (Section IV), mirror a half, and
+    allow for the earth's rotation; print the moved points as JSON."""
+    from footprint.mapping import run_transform, write_csv
+
+    data = _read_json(request_file)
+    try:
+        result = run_transform(data)
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
+    if csv_out is not None:
+        write_csv(result, csv_out)
+    typer.echo(json.dumps(result, indent=2, default=_json_default))
+
+
+@app.command()
+def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
+                                            help="reach request: footprint, orbit, sites, revolutions"),
+          csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="FILE.csv",
+                                                 help="also write the windows as CSV")):
+    """Which landing sites a footprint reaches from which deorbit points of which revolutions (Section IV).
+
+    Prints JSON: the orbit, the footprint, a summary per site and the windows (contiguous runs of deorbit
+    argument of latitude per revolution and site)."""
+    from footprint.reach import parse_reach, run_reach, write_windows_csv
+
+    data = _read_json(request_file)
+    try:
+        request = parse_reach(data)
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
+    result = run_reach(request)
+    if csv_out is not None:
+        write_windows_csv(result, csv_out)
+    typer.echo(json.dumps(result, indent=2, default=_json_default))
+
+
+@app.command()
+def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
+             plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
+                                                 help="draw the convergence history and the bank schedule")):
+    """Optimize the bank schedule (creep + pattern, Section II.4): prints the optimum, its parameters and the
+    convergence history as JSON. Exit status 1 when no feasible point was found (the result says by how much)."""
+    from footprint.optimization import parse_optimization, run_optimization
+
+    data = _read_json(study_file)
+    try:
+        study = parse_optimization(data)
+        study.case.to_spec()
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
+    result = run_optimization(study)
+    if plot is not None:
+        from footprint.figures import optimization_figure, save
+
+        save(optimization_figure(result), plot)
+    typer.echo(json.dumps(result.to_dict(), indent=2, default=_json_default))
+    if not result.feasible:
+        raise typer.Exit(1)
+
+
 @app.command()
 def vehicles(as_json: bool = typer.Option(False, "--json", help="print JSON instead of a table")):
     """List the built-in vehicles with (L/D)max at Mach 20 and 200,000 ft beside the report's value."""

@@ -1,7 +1,5 @@
 """Whole-trajectory checks that could fail: conservation laws, symmetry, convergence, the report's Table 2."""
 
-import math
-from dataclasses import replace
 
 import numpy as np
 import pytest

@@ -1,11 +1,15 @@
 """All numba settings in one place.
 
 Set FOOTPRINT_NO_JIT=1 to run the same kernels as plain Python (slow; for debugging and coverage).
-Compiled functions are cached on disk (numba's __pycache__ next to the module) so that a new process
-starts in well under a second once the cache is warm.
+Compiled functions are cached on disk so that a new process starts in well under a second once the cache
+is warm. numba keys a cached function on its own file only, not on the files of the functions it calls
+and inlines; so the cache lives in a folder named for a hash of every core source file, and any edit to
+the core starts a fresh one ($XDG_CACHE_HOME/footprint, or NUMBA_CACHE_DIR when set).
 """
 
+import hashlib
 import os
+from pathlib import Path
 
 NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # LLVM fast-math flags that keep IEEE NaN and infinity semantics (events use NaN for "inactive"):
@@ -21,6 +25,16 @@ if NO_JIT:
 
 else:
     import numba
+
+    def _cache_dir() -> str:
+        digest = hashlib.sha256()
+        for source in sorted(Path(__file__).parent.glob("*.py")):
+            digest.update(source.read_bytes())
+        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint"
+        return str(root / f"numba-{numba.__version__}-{digest.hexdigest()[:16]}")
+
+    if not os.environ.get("NUMBA_CACHE_DIR"):
+        numba.config.CACHE_DIR = _cache_dir()
 
     def njit(*args, **kwargs):
         options = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": FASTMATH}

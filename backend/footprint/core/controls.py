@@ -166,7 +166,7 @@ def bank_from_law(ctrl, mode_active, mode_done, angle_deg):
         bank = table_interp(ctrl, ctrl[C_BANK_TABLE], angle_deg)  # Section II.5, Fig. 2: linear in heading
     else:
         bank = 0.0
-    limit = ctrl[C_BANK_LIMIT]
+    limit = min(ctrl[C_BANK_LIMIT], 180.0)  # past 180 deg the wings roll on through inverted: no law means that
     if bank > limit:
         bank = limit
     elif bank < -limit:

@@ -34,7 +34,7 @@ from footprint.core.controls import (
     steering_angle_deg,
     table_interp,
 )
-from footprint.core.frames import geodetic_from_ecef, horizon_basis
+from footprint.core.frames import altitude_ft, horizon_basis
 from footprint.core.gravity import gravity_ecef
 
 # --- p layout ---
@@ -72,9 +72,22 @@ M_REF_ANGLE = 4  # steering angle (deg) when the bank law took over
 M_HOLD_ALT = 5  # ft, altitude at pull-out (held by the constant-altitude law)
 M_PULLOUT_T = 6
 M_PULLOUT_ALT = 7
-M_SIZE = 8
+M_TURN_DONE_DEG = 8  # heading change (steering angle) when a staged / constant-altitude turn ended
+M_SIZE = 9
 
-N_OUT = 16  # number of values returned by `evaluate`
+
+
+@njit
+def holds_with_alpha(ctrl, mode):
+    """True while alpha, not (L/D)max, flies the commanded path: level flight or gamma hold after pull-out
+    (Section II.7), and the constant-altitude law after its turn (App. C data set 2: the straight flight
+    after roll-out holds the altitude with alpha until (L/D)max is reached)."""
+    if mode[M_PULLED_OUT] == 0.0:
+        return False
+    law = int(ctrl[C_ALPHA_LAW])
+    if law == ALPHA_LEVEL_FLIGHT or law == ALPHA_GAMMA_HOLD:
+        return True
+    return int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE and mode[M_BANK_DONE] != 0.0
 
 
 @njit
@@ -99,11 +112,11 @@ def evaluate(t, s, p, aero, ctrl, mode):
     """Accelerations and every derived quantity at one state.
 
     Returns (ax, ay, az, alpha_deg, bank_deg, mach, q_psf, cl, cd, altitude_ft, speed_fps, sin_gamma,
-    steering_deg, lift_needed_over_available, rho, latitude_rad).
+    steering_deg, lift_needed_over_available, rho).
     """
     x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
     omega = p[P_OMEGA]
-    lat, lon, alt = geodetic_from_ecef(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, 1)
+    alt = altitude_ft(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     rho, _, _, sound = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     r = math.sqrt(x * x + y * y + z * z)
     v = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -173,7 +186,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
             bank = math.degrees(math.acos(max(need_ratio, 0.0))) * ctrl[C_BANK_VALUE]
     else:
         bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer)
-    if (alpha_law == ALPHA_LEVEL_FLIGHT or alpha_law == ALPHA_GAMMA_HOLD) and pulled_out:
+    if holds_with_alpha(ctrl, mode):
         # Section II.7: reduce lift so that lift plus centrifugal force balance weight, until (L/D)max
         cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
         cos_bank = math.cos(math.radians(bank))
@@ -191,7 +204,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
     ax = a0x + lift * (cb * upx + sb * lx) - drag * wx
     ay = a0y + lift * (cb * upy + sb * ly) - drag * wy
     az = a0z + lift * (cb * upz + sb * lz) - drag * wz
-    return (ax, ay, az, alpha, bank, mach, q, cl, cd, alt, v, sin_gamma, steer, need_ratio, rho, lat)
+    return (ax, ay, az, alpha, bank, mach, q, cl, cd, alt, v, sin_gamma, steer, need_ratio, rho)
 
 
 @njit

@@ -16,11 +16,8 @@ import numpy as np
 
 from footprint.core._jit import njit
 from footprint.core.controls import (
-    ALPHA_GAMMA_HOLD,
-    ALPHA_LEVEL_FLIGHT,
     BANK_CONSTANT_ALTITUDE,
     BANK_STAGED,
-    C_ALPHA_LAW,
     C_BANK_LAW,
     C_START,
     C_START_ALT,
@@ -38,6 +35,7 @@ from footprint.core.dynamics import (
     M_PULLOUT_ALT,
     M_PULLOUT_T,
     M_REF_ANGLE,
+    M_TURN_DONE_DEG,
     P_MAX_STEP,
     P_RE,
     P_RTOL,
@@ -46,6 +44,7 @@ from footprint.core.dynamics import (
     P_STOP_TIME,
     P_STOP_VEL,
     evaluate,
+    holds_with_alpha,
 )
 
 # events
@@ -113,9 +112,7 @@ def _event_values(t, s, res, p, ctrl, mode, g):
         if law == BANK_CONSTANT_ALTITUDE:
             # App. C data set 2: the turn also ends when the wings come level (no lift left to turn with)
             g[E_TURN_DONE] = max(g[E_TURN_DONE], need_ratio - 1.0)
-    alaw = int(ctrl[C_ALPHA_LAW])
-    if (alaw == ALPHA_LEVEL_FLIGHT or alaw == ALPHA_GAMMA_HOLD) and mode[M_PULLED_OUT] != 0.0 \
-            and mode[M_LATCHED] == 0.0:
+    if holds_with_alpha(ctrl, mode) and mode[M_LATCHED] == 0.0:
         g[E_ALPHA_LATCH] = need_ratio - 1.0
     if not math.isnan(p[P_STOP_ALT]):
         g[E_STOP_ALTITUDE] = p[P_STOP_ALT] - alt
@@ -141,6 +138,7 @@ def _apply_event(event, t, res, ctrl, mode):
         mode[M_REF_ANGLE] = res[12]
     elif event == E_TURN_DONE:
         mode[M_BANK_DONE] = 1.0
+        mode[M_TURN_DONE_DEG] = abs(wrap_deg(res[12] - mode[M_REF_ANGLE]))
     elif event == E_ALPHA_LATCH:
         mode[M_LATCHED] = 1.0
     elif event == E_STOP_ALTITUDE:

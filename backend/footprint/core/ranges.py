@@ -31,6 +31,18 @@ def great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg):
     return p0, d0, np.cross(p0, d0)
 
 
+def latlon_from_ranges(downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_deg, heading0_deg,
+                       radius_nmi=MEAN_RADIUS_NMI):
+    """Inverse of downrange_crossrange_nmi in closed form (the report iterates, eqs. 12-15):
+    P = cos(c) (cos(d) p0 + sin(d) d0) + sin(c) n with d, c the ranges as angles. Returns (lat, lon) deg."""
+    p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
+    a = np.asarray(downrange_nmi, float)[..., None] / radius_nmi
+    b = np.asarray(crossrange_nmi, float)[..., None] / radius_nmi
+    pts = np.cos(b) * (np.cos(a) * p0 + np.sin(a) * d0) + np.sin(b) * n
+    lat = np.degrees(np.arctan2(pts[..., 2], np.hypot(pts[..., 0], pts[..., 1])))
+    return lat, np.degrees(np.arctan2(pts[..., 1], pts[..., 0]))
+
+
 def downrange_crossrange_nmi(latitude_deg, longitude_deg, latitude0_deg, longitude0_deg, heading0_deg,
                              radius_nmi=MEAN_RADIUS_NMI, unwrap=False):
     """Down-range and cross-range (nmi) of points about the great circle through the initial point.
@@ -40,8 +52,9 @@ def downrange_crossrange_nmi(latitude_deg, longitude_deg, latitude0_deg, longitu
     """
     p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
     pts = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
-    cross = np.arcsin(np.clip(pts @ n, -1.0, 1.0))
-    down = np.arctan2(pts @ d0, pts @ p0)
+    along_p0, along_d0 = pts @ p0, pts @ d0
+    cross = np.arctan2(pts @ n, np.hypot(along_p0, along_d0))  # not asin: exact near the poles too
+    down = np.arctan2(along_d0, along_p0)
     if unwrap:
         down = np.unwrap(np.atleast_1d(down))
     return radius_nmi * down, radius_nmi * cross

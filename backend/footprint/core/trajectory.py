@@ -15,8 +15,10 @@ from footprint.core.dynamics import (
     M_PULLED_OUT,
     M_PULLOUT_ALT,
     M_PULLOUT_T,
+    M_BANK_DONE,
     M_REF_ANGLE,
     M_SIZE,
+    M_TURN_DONE_DEG,
     P_ATM,
     P_ATM_T,
     P_G0,
@@ -45,6 +47,7 @@ from footprint.core.dynamics import (
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, horizon_basis, \
     velocity_from_angles
+from footprint.core.heating import CorrelationHeating, ReferenceHeating, trajectory_heating
 from footprint.core.integrate import (
     R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, STOP_REASONS, integrate,
 )
@@ -86,7 +89,9 @@ class Stop:
     altitude_ft: float | None = 50_000.0
     velocity_fps: float | None = None
     time_s: float | None = None
-    skip_altitude_ft: float = 1_000_000.0  # guard: a flight that climbs here has skipped out
+    # guard: a flight that climbs this high has left. Lower skips fall back and are flown on: Appendix C's
+    # 25,800 ft/s entries at (L/D)max skip to 1.6 million ft and come back.
+    skip_altitude_ft: float = 10_000_000.0
 
 
 @dataclass(frozen=True)
@@ -99,6 +104,7 @@ class FlightSpec:
     rtol: float = 1e-9
     max_step_s: float = 50.0
     max_steps: int = 200_000
+    heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
 
 
 @dataclass
@@ -219,7 +225,15 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         "downrange_nmi": down,
         "crossrange_nmi": cross,
     }
+    max_heat_rate = max_temperature = None
+    if spec.heating is not None:  # Section III: evaluated on the histories, no effect on the motion
+        heat_rate, temperature = trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
+                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]))
+        history["heat_rate_btu_ft2_s"], history["temperature_R"] = heat_rate, temperature
+        max_heat_rate = float(np.max(heat_rate))
+        max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
+    i_po = int(np.searchsorted(rows[:, R_T], mode[M_PULLOUT_T])) if pulled_out else 0  # an event row
     summary = {
         "downrange_nmi": float(down[-1]),
         "crossrange_nmi": float(cross[-1]),
@@ -232,8 +246,12 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         "final_heading_deg": float(history["heading_deg"][-1]),
         "pullout_altitude_ft": float(mode[M_PULLOUT_ALT]) if pulled_out else None,
         "pullout_time_s": float(mode[M_PULLOUT_T]) if pulled_out else None,
+        "pullout_downrange_nmi": float(down[i_po]) if pulled_out else None,
+        "pullout_velocity_fps": float(rows[i_po, R_V]) if pulled_out else None,
+        "turn_deg": float(mode[M_TURN_DONE_DEG]) if mode[M_BANK_DONE] != 0.0 else None,  # staged, constant altitude
         "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
-        "max_temperature_R": None,
+        "max_heat_rate_btu_ft2_s": max_heat_rate,
+        "max_temperature_R": max_temperature,
         "stop_reason": STOP_REASONS[stop_code],
         "vehicle": spec.vehicle.id,
         "steps": int(rows.shape[0] - 1),

@@ -1,0 +1,265 @@
+"""Optimal and heating-constrained footprints (AFWAL-TR-82-3036 Section II.5 Figs. 12/21, Section III Figs. 20-29).
+
+* `optimal_footprint`: the report's optimal footprint. Each point is its own parameter optimization:
+  maximum cross-range at a prescribed down-range (held within TTOL 50 nmi), plus the unconstrained
+  maximum cross-range and the maximum down-range point ("except for the maximum down-range point, all of the
+  points on the footprint were obtained by maximizing the lateral range at various down-range distances").
+  The points are independent and are solved in parallel over processes.
+* Section III controls ("bank_alpha"): the eight-point bank table vs zeta (Fig. 2) plus an angle-of-attack
+  table vs earth-relative velocity, "both of the control parameters were modulated over the entire trajectory
+  with the exception that during the initial plunge into the atmosphere the bank angle was set to zero" (the
+  bank law starts at pull-out, as the spec's ctrl has it). The temperature limit is a `max_temperature_R`
+  at-most constraint with TTOL 5 degR (Section II.4); the spec must carry a heating model.
+
+Pure core: numpy and the standard library only.
+"""
+
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from footprint.core.controls import ALPHA_TABLE_VELOCITY, C_ALPHA_LAW, C_ALPHA_TABLE
+from footprint.core.optimize import (
+    BANK_BOUNDS_DEG,
+    BANK_TABLE_HEADINGS_DEG,
+    CONSTRAINED_CROSS_RANGE_SEARCH,
+    CROSS_RANGE_SEARCH,
+    TTOL_DOWNRANGE_NMI,
+    TTOL_TEMPERATURE_R,
+    Constraint,
+    Problem,
+    creep_pattern_feasible,
+    nominal_bank_deg,
+    with_bank_table,
+)
+from footprint.core.trajectory import FlightSpec, simulate
+
+# Section III: the alpha table's abscissa, earth-relative velocity (ft/s), ascending as table_interp needs;
+# 26,000 ft/s lies above the Table 2 entry speed (24,480 ft/s), so the first segment shapes the plunge.
+ALPHA_TABLE_VELOCITIES_FPS = (2_000.0, 8_000.0, 14_000.0, 20_000.0, 26_000.0)
+# Bounds from the lod-1.89 aero (footprint.core.aero): alpha of (L/D)max is 12.5 deg above Mach ~10 (20 deg
+# below Mach 5), alpha of C_L max is 40 deg at every Mach. The report: the 2,550 degR case "approaches C_L max".
+ALPHA_BOUNDS_DEG = (12.5, 40.0)
+ALPHA_MAX_LD_HYPERSONIC_DEG = 12.5  # lod-1.89, Mach >= 10
+# creep steps: bank in deg (as CROSS_RANGE_SEARCH), alpha in deg
+ALPHA_STEP_DEG = 5.0
+ALPHA_MIN_STEP_DEG = 0.2
+CONTROLS = ("bank", "bank_alpha")
+# integrator steps allowed per searched flight: a normal Table 2 flight takes 100-600 steps; some steep-bank,
+# high-alpha corners chatter to the 200,000-step default (0.5 s each). Such a flight ends "max_steps".
+SEARCH_MAX_STEPS = 20_000
+ACCEPTED_STOPS = ("altitude",)  # a searched flight must reach the stop altitude to count (else phi* = WORST)
+WORKERS = 2
+
+
+# ------------------------------------------------------------------------------------------------- controls
+def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> FlightSpec:
+    """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
+    flight; the table is appended to the control array (any older alpha table is left unreferenced)."""
+    v = np.asarray(velocities_fps, dtype=float)
+    a = np.asarray(alpha_deg, dtype=float)
+    if v.shape != a.shape or np.any(np.diff(v) <= 0.0):
+        raise ValueError(f"alpha table: {len(v)} velocities (must ascend) for {len(a)} angles")
+    ctrl = spec.ctrl.copy()
+    ctrl[C_ALPHA_LAW] = ALPHA_TABLE_VELOCITY
+    ctrl[C_ALPHA_TABLE] = len(ctrl)
+    return replace(spec, ctrl=np.concatenate((ctrl, [len(v)], v, a)))
+
+
+def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> FlightSpec:
+    """params = 8 bank-table angles (deg, at zeta -15..90) then the alpha-table angles (deg, at velocities_fps)."""
+    n = len(BANK_TABLE_HEADINGS_DEG)
+    return with_alpha_table(with_bank_table(spec, params[:n]), params[n:], velocities_fps)
+
+
+def _bank_controls(spec, params):
+    return with_bank_table(spec, params)
+
+
+# ------------------------------------------------------------------------------------------------- problems
+def temperature_limit(max_temperature_R, tolerance_R=TTOL_TEMPERATURE_R) -> Constraint:
+    """Section III: the radiation-equilibrium temperature held at most `max_temperature_R` (TTOL 5 degR)."""
+    return Constraint("max_temperature_R", "at_most", float(max_temperature_R), tolerance_R)
+
+
+def downrange_target(downrange_nmi, tolerance_nmi=TTOL_DOWNRANGE_NMI) -> Constraint:
+    return Constraint("downrange_nmi", "equals", float(downrange_nmi), tolerance_nmi)
+
+
+def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank",
+                    initial=None, alpha_bounds_deg=ALPHA_BOUNDS_DEG,
+                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> Problem:
+    """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha")."""
+    if controls not in CONTROLS:
+        raise ValueError(f"controls {controls!r} not in {CONTROLS}")
+    if any(c.quantity.startswith("max_temperature") for c in constraints) and spec.heating is None:
+        raise ValueError("a temperature constraint needs a spec with a heating model (heating.ReferenceHeating())")
+    nb, na = len(BANK_TABLE_HEADINGS_DEG), len(velocities_fps)
+    lower, upper = [BANK_BOUNDS_DEG[0]] * nb, [BANK_BOUNDS_DEG[1]] * nb
+    names = tuple(f"bank_deg_at_zeta_{h}" for h in BANK_TABLE_HEADINGS_DEG)
+    if controls == "bank":
+        fly = _bank_controls
+        default = nominal_bank_deg(1.0)
+    else:
+        lower += [alpha_bounds_deg[0]] * na
+        upper += [alpha_bounds_deg[1]] * na
+        names += tuple(f"alpha_deg_at_velocity_fps_{v:.0f}" for v in velocities_fps)
+        fly = _BankAlpha(tuple(velocities_fps))
+        default = np.concatenate((nominal_bank_deg(1.0), np.full(na, ALPHA_MAX_LD_HYPERSONIC_DEG)))
+    return Problem(lower=np.array(lower), upper=np.array(upper), initial=default if initial is None else initial,
+                   payoff=payoff, goal=goal, constraints=tuple(constraints), base=spec, controls=fly, names=names,
+                   evaluate=_Flight(spec, fly, payoff))
+
+
+@dataclass(frozen=True)
+class _Flight:
+    """params -> summary; a flight that does not end at the stop altitude (max steps, skip-out, time) has no
+    payoff, so the search never takes a truncated flight for a short one."""
+
+    base: FlightSpec
+    controls: object
+    payoff: str
+
+    def __call__(self, params):
+        s = simulate(replace(self.controls(self.base, params), max_steps=SEARCH_MAX_STEPS)).summary
+        return s if s["stop_reason"] in ACCEPTED_STOPS else dict(s, **{self.payoff: None})
+
+
+@dataclass(frozen=True)
+class _BankAlpha:
+    velocities_fps: tuple
+
+    def __call__(self, spec, params):
+        return bank_alpha_controls(spec, params, self.velocities_fps)
+
+
+def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> dict:
+    """Creep/pattern settings: the bank-table ones (optimize.py), with alpha steps in their own degrees."""
+    base = dict(CONSTRAINED_CROSS_RANGE_SEARCH if constrained else CROSS_RANGE_SEARCH)
+    if controls == "bank_alpha":
+        nb, na = len(BANK_TABLE_HEADINGS_DEG), len(velocities_fps)
+        base["step"] = np.concatenate((np.full(nb, base["step"]), np.full(na, ALPHA_STEP_DEG)))
+        base["min_step"] = np.concatenate((np.full(nb, base["min_step"]), np.full(na, ALPHA_MIN_STEP_DEG)))
+    return base
+
+
+def solve(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank", initial=None,
+          max_evaluations=1_500, **options):
+    """One point: build the problem and run the report's creep + pattern search with the penalty stages."""
+    pr = control_problem(spec, payoff=payoff, goal=goal, constraints=constraints, controls=controls,
+                         initial=initial)
+    opts = search_options(controls, constrained=bool(constraints))
+    opts.update(options)
+    return creep_pattern_feasible(pr, max_evaluations=max_evaluations, **opts)
+
+
+# ------------------------------------------------------------------------------------------ optimal footprint
+@dataclass
+class OptimalPoint:
+    label: str  # "max_crossrange", "max_downrange", "min_downrange" or "downrange_<nmi>"
+    target_downrange_nmi: float | None
+    result: object  # optimize.Result
+
+    @property
+    def downrange_nmi(self):
+        return self.result.summary["downrange_nmi"]
+
+    @property
+    def crossrange_nmi(self):
+        return self.result.summary["crossrange_nmi"]
+
+    def to_dict(self):
+        s = self.result.summary
+        return {"label": self.label, "target_downrange_nmi": self.target_downrange_nmi,
+                "downrange_nmi": s["downrange_nmi"], "crossrange_nmi": s["crossrange_nmi"],
+                "max_temperature_R": s.get("max_temperature_R"), "feasible": self.result.feasible,
+                "max_violation": self.result.max_violation, "trajectories": self.result.trajectories,
+                "seconds": self.result.seconds,
+                "parameters": {n: float(v) for n, v in zip(self.result.names, self.result.params)}}
+
+
+@dataclass
+class OptimalFootprint:
+    points: list[OptimalPoint]
+    trajectories: int
+    seconds: float  # wall clock
+    workers: int
+    controls: str
+    constraints: tuple = field(default_factory=tuple)
+
+    def point(self, label):
+        return next(p for p in self.points if p.label == label)
+
+    def to_dict(self):
+        return {"controls": self.controls, "workers": self.workers, "trajectories": self.trajectories,
+                "seconds": self.seconds, "constraints": [c.__dict__ for c in self.constraints],
+                "points": [p.to_dict() for p in self.points]}
+
+
+def _solve_task(task):
+    label, target, spec, kw = task
+    return OptimalPoint(label, target, solve(spec, **kw))
+
+
+def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), controls="bank", *,
+                      max_crossrange=True, max_downrange=True, min_downrange=False, workers=WORKERS,
+                      max_evaluations=1_500, initial=None, **options) -> OptimalFootprint:
+    """Section II.5 / Fig. 12, 21 (and Fig. 29 with a temperature constraint): maximum cross-range at each
+    prescribed down-range (TTOL 50 nmi), the unconstrained maximum cross-range, the maximum down-range and,
+    when asked, the minimum down-range, all subject to `constraints` (e.g. temperature_limit(2_550)).
+
+    Each point is an independent optimization; workers > 1 runs them on a process pool (the search is
+    deterministic, so the points equal the serial ones exactly). Returns the points in the order
+    max cross-range, the down-ranges as given, max down-range, min down-range."""
+    cons = tuple(constraints)
+    nb = len(BANK_TABLE_HEADINGS_DEG)
+    common = dict(controls=controls, max_evaluations=max_evaluations, **options)
+    tasks = []
+    if max_crossrange:
+        tasks.append(("max_crossrange", None, spec, dict(common, constraints=cons, initial=initial)))
+    for d in downranges_nmi:
+        tasks.append((f"downrange_{d:g}", float(d), spec,
+                      dict(common, constraints=cons + (downrange_target(d),), initial=initial)))
+    extra = None if controls == "bank" else (initial[nb:] if initial is not None
+                                              else np.full(len(ALPHA_TABLE_VELOCITIES_FPS),
+                                                           ALPHA_MAX_LD_HYPERSONIC_DEG))
+    if max_downrange:  # start wings level: the longest glide of the bank table
+        x0 = np.zeros(nb) if extra is None else np.concatenate((np.zeros(nb), extra))
+        tasks.append(("max_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="max",
+                                                        constraints=cons, initial=x0)))
+    if min_downrange:  # start steeply banked: the shortest of the bank table
+        x0 = np.full(nb, 150.0) if extra is None else np.concatenate((np.full(nb, 150.0), extra))
+        tasks.append(("min_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="min",
+                                                        constraints=cons, initial=x0)))
+    t0 = time.perf_counter()
+    if workers > 1 and len(tasks) > 1:
+        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
+            points = list(pool.map(_solve_task, tasks))
+    else:
+        points = [_solve_task(t) for t in tasks]
+    return OptimalFootprint(points=points, trajectories=sum(p.result.trajectories for p in points),
+                            seconds=time.perf_counter() - t0, workers=workers, controls=controls, constraints=cons)
+
+
+def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS, max_evaluations=1_500,
+                                  initial=None, **options):
+    """Fig. 22: the maximum cross-range with bank and alpha tables under each RET limit (None: unconstrained,
+    bank only at (L/D)max alpha, as Fig. 20's unconstrained case). Returns [(limit, Result)]."""
+    tasks = []
+    for lim in limits_R:
+        if lim is None or (isinstance(lim, float) and math.isinf(lim)):
+            tasks.append(("unconstrained", None, spec, dict(controls="bank", max_evaluations=max_evaluations,
+                                                           **options)))
+        else:
+            tasks.append((f"ret_{lim:g}", None, spec, dict(controls="bank_alpha", constraints=(temperature_limit(lim),),
+                                                         max_evaluations=max_evaluations, initial=initial,
+                                                         **options)))
+    if workers > 1 and len(tasks) > 1:
+        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
+            points = list(pool.map(_solve_task, tasks))
+    else:
+        points = [_solve_task(t) for t in tasks]
+    return [(lim, p.result) for lim, p in zip(limits_R, points)]

@@ -1,0 +1,414 @@
+"""Landing footprints: families of trajectories that differ only in the bank law (AFWAL-TR-82-3036 II.5-II.7).
+
+Every generator takes a FlightSpec (the vehicle, planet, entry, alpha law, bank start and stop of the
+case; its bank law is replaced) and returns a Footprint: the points of the left half (positive bank,
+positive cross-range) in the order of the parameter, the points on the axis, and, with `mirror`, the
+right half. The right half is the reflection of the left where the planet makes that exact (no rotation,
+and a spherical earth or an equatorial track without the odd zonal term H); otherwise it is flown, and
+the footprint says how far the two halves are from mirror images.
+"""
+
+import math
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
+
+from footprint.core.controls import (
+    ALPHA_LAWS,
+    BANK_LAWS,
+    C_ALPHA_LAW,
+    C_BANK_LAW,
+    C_BANK_LIMIT,
+    C_BANK_VALUE,
+    C_BANK_VAR,
+    C_MIRROR,
+    C_SIGMA_F,
+    C_TURN,
+    NO_LIMIT,
+)
+from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
+from footprint.core.trajectory import FlightSpec, simulate
+
+SIGMA0_DEG = 90.0  # Section II.6 a: the initial heading (remaining heading change) of the procedure
+WIDEST_TURN_DEG = 179.0  # constant-altitude turns: further round only comes back (and 180 is where |wrap| folds)
+
+
+@dataclass(frozen=True)
+class FootprintPoint:
+    """One trajectory's end point. `parameter` names the control setting that produced it."""
+
+    parameter: dict
+    side: str  # "left", "right" or "axis" (on the initial great circle by symmetry: zero bank, zero lift)
+    downrange_nmi: float
+    crossrange_nmi: float
+    flight_time_s: float
+    latitude_deg: float  # final, geodetic, earth-fixed
+    longitude_deg: float
+    heading_deg: float
+    final_velocity_fps: float
+    final_altitude_ft: float
+    pullout_altitude_ft: float | None
+    stop_reason: str
+    pullout_downrange_nmi: float | None = None
+    pullout_velocity_fps: float | None = None
+    pullout_time_s: float | None = None
+    turn_deg: float | None = None  # heading change flown before the wings came level (staged, constant altitude)
+    contours: tuple = ()  # where the flight passed each requested velocity (Appendix C iso-velocity contours)
+    mirrored: bool = False  # True: reflected from the left half, not flown
+
+
+@dataclass
+class Footprint:
+    method: str
+    points: list[FootprintPoint]  # the boundary in order, closed (the last joins the first)
+    area_nmi2: float
+    trajectories: int  # flown, not reflected
+    entry: dict  # latitude_deg, longitude_deg, heading_deg of the initial point (the ranges' origin)
+    sets: dict[str, list[FootprintPoint]] = field(default_factory=dict)  # two_parameter: one set per K
+    interior: list[FootprintPoint] = field(default_factory=list)  # flown, inside the boundary
+    outer_boundary: list[tuple[float, float]] = field(default_factory=list)  # (down, cross) nmi, left half
+    asymmetry: dict | None = None  # flown halves: largest departure from mirror images, nmi
+
+    @property
+    def max_crossrange_nmi(self):
+        return max(p.crossrange_nmi for p in self.points)
+
+    @property
+    def max_downrange_nmi(self):
+        return max(p.downrange_nmi for p in self.points)
+
+    @property
+    def min_downrange_nmi(self):
+        return min(p.downrange_nmi for p in self.points)
+
+    def to_dict(self):
+        return {
+            "method": self.method,
+            "points": [asdict(p) for p in self.points],
+            "area_nmi2": self.area_nmi2,
+            "max_crossrange_nmi": self.max_crossrange_nmi,
+            "max_downrange_nmi": self.max_downrange_nmi,
+            "min_downrange_nmi": self.min_downrange_nmi,
+            "trajectories": self.trajectories,
+            "entry": self.entry,
+            "sets": {k: [asdict(p) for p in v] for k, v in self.sets.items()},
+            "interior": [asdict(p) for p in self.interior],
+            "outer_boundary": [list(b) for b in self.outer_boundary],
+            "asymmetry": self.asymmetry,
+        }
+
+
+# ------------------------------------------------------------------------------------ control variants
+def with_bank(spec: FlightSpec, law, value=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
+              right=False) -> FlightSpec:
+    """The spec with its bank law replaced; everything else in the control array (alpha law, start) kept."""
+    ctrl = spec.ctrl.copy()
+    ctrl[C_BANK_LAW] = BANK_LAWS[law]
+    ctrl[C_BANK_VALUE] = value
+    ctrl[C_BANK_LIMIT] = NO_LIMIT if limit_deg is None else limit_deg
+    ctrl[C_SIGMA_F] = sigma_f_deg
+    ctrl[C_TURN] = turn_deg
+    ctrl[C_BANK_VAR] = 0.0  # zeta: the procedure for any inclination (Section II.6)
+    ctrl[C_MIRROR] = 0.0
+    if law == "constant_altitude":
+        ctrl[C_BANK_VALUE] = -1.0 if right else 1.0  # the side to turn to
+    elif right:
+        if law in ("constant", "staged"):
+            ctrl[C_BANK_VALUE] = -value
+        else:
+            ctrl[C_MIRROR] = 1.0
+    return replace(spec, ctrl=ctrl)
+
+
+def with_alpha(spec: FlightSpec, law) -> FlightSpec:
+    ctrl = spec.ctrl.copy()
+    ctrl[C_ALPHA_LAW] = ALPHA_LAWS[law]
+    return replace(spec, ctrl=ctrl)
+
+
+# ------------------------------------------------------------------------------------------ the methods
+def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift",
+                     mirror=True, contours_fps=()):
+    """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
+    minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
+    family = [({"bank0_deg": float(b), "k": b / SIGMA0_DEG},
+               lambda s, right, b=b: with_bank(s, "single_parameter", b / SIGMA0_DEG, limit_deg, right=right),
+               b == 0)
+              for b in bank0_deg]
+    return _footprint("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
+
+
+def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
+                  min_range="zero_lift", mirror=True, contours_fps=()):
+    """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
+    law = "staged" if staged else "constant"
+    family = [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
+               lambda s, right, b=b: with_bank(s, law, b, turn_deg=turn_deg, right=right), b == 0)
+              for b in bank_deg]
+    return _footprint(law, spec, family + _min_range(min_range), mirror, contours_fps)
+
+
+def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
+                  mirror=True, contours_fps=()):
+    """Figs. 5-7: phi_B = K (zeta - sigma_f), limited to 75 deg; one set per K, sigma_f varied.
+
+    The footprint's boundary is the outer boundary of all sets (the report's "fairing through the outer
+    boundary of the parametric data", as the upper convex chain); each set is kept in `sets`.
+    """
+    sets, flights = {}, []
+    for kk in k:
+        family = [({"k": float(kk), "sigma_f_deg": float(sf)},
+                   lambda s, right, kk=kk, sf=sf: with_bank(s, "two_parameter", kk, limit_deg, sf, right=right),
+                   sf >= SIGMA0_DEG)
+                  for sf in sigma_f_deg]
+        f = _fly(spec, family, mirror, contours_fps)
+        sets[f"k={kk:g}"] = f.axis + f.left
+        flights.append(f)
+    pairs = [(l, r) for f in flights for l, r in zip(f.left, f.right or [None] * len(f.left))]
+    hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])
+    on_hull = set(hull)  # the chain's vertices are the points' own (down, cross) floats
+    outer = sorted((lr for lr in pairs if (lr[0].downrange_nmi, lr[0].crossrange_nmi) in on_hull),
+                   key=lambda lr: -lr[0].downrange_nmi)
+    merged = _Flights(axis=flights[0].axis, left=[l for l, _ in outer],
+                      right=[r for _, r in outer] if mirror else [], flown=sum(f.flown for f in flights),
+                      asymmetry=_worst([f.asymmetry for f in flights]))
+    fp = _assemble("two_parameter", spec, merged)
+    fp.sets, fp.outer_boundary = sets, hull
+    return fp
+
+
+def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()):
+    """Fig. 19 / Appendix C data set 2: after pull-out hold the pull-out altitude. The straight point
+    holds it with alpha until (L/D)max is reached; turning points fly (L/D)max and bank to hold altitude
+    until the heading has changed turn_deg, then wings level, holding the altitude with alpha until
+    (L/D)max is reached; the widest turn keeps the bank until no lift is left to turn with (the dashed
+    line of Fig. 19), or 179 deg. Without turn_deg the turns are `steps` equal
+    parts of the widest one."""
+    widest = simulate(with_bank(spec, "constant_altitude", turn_deg=WIDEST_TURN_DEG)).summary["turn_deg"] or 0.0
+    if turn_deg is None:
+        turns = [widest * i / steps for i in range(1, steps)]
+    else:
+        turns = [float(t) for t in turn_deg if 0.0 < t < widest]
+    straight = with_bank(with_alpha(spec, "level_flight"), "zero")
+    family = [({"turn_deg": 0.0}, lambda s, right: straight, True)]
+    family += [({"turn_deg": t}, lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right),
+                False) for t in turns]
+    family.append(({"turn_deg": widest, "until": "wings_level"},
+                   lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right), False))
+    fp = _footprint("constant_altitude", spec, family, mirror, contours_fps)
+    fp.trajectories += 1  # the widest turn, flown first to find its size
+    return fp
+
+
+def staged(spec, **params):
+    """Fig. 14: constant bank until the heading has changed turn_deg (90 deg), then wings level."""
+    return constant_bank(spec, staged=True, **params)
+
+
+METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank, "staged": staged,
+           "two_parameter": two_parameter, "constant_altitude": constant_altitude}
+
+
+def footprint(spec: FlightSpec, method: str, **params) -> Footprint:
+    return METHODS[method](spec, **params)
+
+
+# ------------------------------------------------------------------------------------------ machinery
+def _min_range(kind):
+    if kind is None:
+        return []
+    if kind == "zero_lift":
+        return [({"min_range": "zero_lift"}, lambda s, right: with_bank(s, "zero_lift"), True)]
+    return [({"min_range": "cl_max"}, lambda s, right: with_alpha(with_bank(s, "zero"), "cl_max"), True)]
+
+
+def velocity_crossings(traj, velocities_fps) -> tuple:
+    """Where a trajectory first slows through each velocity, interpolated linearly between integration
+    steps (at most 50 s apart; good to about a nautical mile at 10,000 ft/s)."""
+    h = traj.history
+    v = h["velocity_fps"]
+    out = []
+    for vc in velocities_fps:
+        below = np.nonzero(v <= vc)[0]
+        if len(below) == 0 or below[0] == 0:
+            continue
+        i = below[0]
+        w = (v[i - 1] - vc) / (v[i - 1] - v[i])
+        at = {k: float(h[k][i - 1] + w * (h[k][i] - h[k][i - 1]))
+              for k in ("downrange_nmi", "crossrange_nmi", "time_s", "altitude_ft", "latitude_deg")}
+        dlon = (h["longitude_deg"][i] - h["longitude_deg"][i - 1] + 180.0) % 360.0 - 180.0
+        at["longitude_deg"] = float((h["longitude_deg"][i - 1] + w * dlon + 180.0) % 360.0 - 180.0)
+        out.append({"velocity_fps": float(vc), "downrange_nmi": at["downrange_nmi"],
+                    "crossrange_nmi": at["crossrange_nmi"], "flight_time_s": at["time_s"],
+                    "altitude_ft": at["altitude_ft"], "latitude_deg": at["latitude_deg"],
+                    "longitude_deg": at["longitude_deg"]})
+    return tuple(out)
+
+
+def _point(parameter, side, traj, contours_fps=()) -> FootprintPoint:
+    s = traj.summary
+    return FootprintPoint(parameter=parameter, side=side, downrange_nmi=s["downrange_nmi"],
+                          crossrange_nmi=s["crossrange_nmi"], flight_time_s=s["flight_time_s"],
+                          latitude_deg=s["final_latitude_deg"], longitude_deg=s["final_longitude_deg"],
+                          heading_deg=s["final_heading_deg"], final_velocity_fps=s["final_velocity_fps"],
+                          final_altitude_ft=s["final_altitude_ft"], pullout_altitude_ft=s["pullout_altitude_ft"],
+                          stop_reason=s["stop_reason"], pullout_downrange_nmi=s["pullout_downrange_nmi"],
+                          pullout_velocity_fps=s["pullout_velocity_fps"], pullout_time_s=s["pullout_time_s"],
+                          turn_deg=s["turn_deg"],
+                          contours=velocity_crossings(traj, contours_fps) if contours_fps else ())
+
+
+@dataclass
+class _Flights:
+    axis: list  # zero bank first (maximum down-range), the minimum-range point last
+    left: list
+    right: list  # paired with `left`, empty without mirror
+    flown: int
+    asymmetry: dict | None
+
+
+def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
+    """Fly a family [(parameter, make(spec, right) -> spec, on_axis)]: the left half, and the right half
+    by reflection where that is exact, else flown."""
+    axis, left, right, flown = [], [], [], 0
+    exact = mirror_is_exact(spec)
+    for parameter, make, on_axis in family:
+        pt = _point(parameter, "axis" if on_axis else "left", simulate(make(spec, False)), contours_fps)
+        flown += 1
+        if on_axis:
+            axis.append(pt)
+            continue
+        if left and _same_place(pt, left[-1]):  # e.g. turns beyond the largest one: wings level earlier
+            continue
+        left.append(pt)
+        if mirror and exact:
+            right.append(reflect(spec, pt))
+        elif mirror:
+            right.append(_point(parameter, "right", simulate(make(spec, True)), contours_fps))
+            flown += 1
+    asym = None
+    if right and not exact:  # how far the flown halves are from mirror images
+        asym = {"crossrange_nmi": max(abs(l.crossrange_nmi + r.crossrange_nmi) for l, r in zip(left, right)),
+                "downrange_nmi": max(abs(l.downrange_nmi - r.downrange_nmi) for l, r in zip(left, right))}
+    return _Flights(axis, left, right, flown, asym)
+
+
+def _same_place(a, b):
+    return abs(a.downrange_nmi - b.downrange_nmi) < 1e-6 and abs(a.crossrange_nmi - b.crossrange_nmi) < 1e-6
+
+
+def _worst(asyms):
+    asyms = [a for a in asyms if a]
+    return {k: max(a[k] for a in asyms) for k in asyms[0]} if asyms else None
+
+
+def _footprint(method, spec, family, mirror, contours_fps=()) -> Footprint:
+    return _assemble(method, spec, _fly(spec, family, mirror, contours_fps))
+
+
+def _assemble(method, spec, f: _Flights) -> Footprint:
+    """Boundary: maximum down-range point, left half, minimum-range point, right half back.
+
+    The minimum-range point (zero lift, C_L max) joins the boundary only where it lies outside the
+    footprint the banked points draw; where steep banks land shorter it is kept in `interior`."""
+    front = [p for p in f.axis if p.parameter.get("min_range") is None][:1]
+    back = [p for p in f.axis if p.parameter.get("min_range") is not None]
+    boundary = front + f.left + f.right[::-1]
+    outside = [p for p in back if not _inside(p, boundary if f.right else _with_axis(boundary))]
+    boundary = front + f.left + outside + f.right[::-1]
+    e = spec.entry
+    return Footprint(method=method, points=boundary, area_nmi2=area_nmi2(boundary), trajectories=f.flown,
+                     entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg,
+                            "heading_deg": e.heading_deg},
+                     interior=[p for p in back if p not in outside], asymmetry=f.asymmetry)
+
+
+def _with_axis(half):
+    """A half footprint closed along the axis (as area_nmi2 closes it)."""
+    if not half:
+        return half
+    return [replace(half[0], crossrange_nmi=0.0)] + half + [replace(half[-1], crossrange_nmi=0.0)]
+
+
+def _inside(p, polygon) -> bool:
+    """Even-odd rule in the (down-range, cross-range) plane; on an edge counts as inside."""
+    x, y, inside = p.downrange_nmi, p.crossrange_nmi, False
+    pts = [(q.downrange_nmi, q.crossrange_nmi) for q in polygon]
+    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+def mirror_is_exact(spec: FlightSpec) -> bool:
+    """True where the planet is symmetric about the initial great circle's plane."""
+    pl, e = spec.planet, spec.entry
+    if pl.rotating:  # rotation is symmetric about the equator only, where the odd term H still breaks it
+        return False
+    equatorial = e.latitude_deg == 0.0 and abs(abs(e.heading_deg) - 90.0) < 1e-12
+    return not pl.oblate or (equatorial and pl.h == 0.0)
+
+
+def reflect(spec, p: FootprintPoint) -> FootprintPoint:
+    """The mirror image of a left-half point across the initial great circle (a sphere's, or the equator)."""
+    e = spec.entry
+    _, _, n = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
+    lat, lon, hdg = _reflect(n, p.latitude_deg, p.longitude_deg, p.heading_deg)
+    contours = []
+    for c in p.contours:
+        clat, clon, _ = _reflect(n, c["latitude_deg"], c["longitude_deg"], 0.0)
+        contours.append(c | {"crossrange_nmi": -c["crossrange_nmi"], "latitude_deg": clat, "longitude_deg": clon})
+    return replace(p, side="right", crossrange_nmi=-p.crossrange_nmi, latitude_deg=lat, longitude_deg=lon,
+                   heading_deg=hdg, contours=tuple(contours), mirrored=True)
+
+
+def _reflect(n, latitude_deg, longitude_deg, heading_deg):
+    """A point and a heading there, reflected in the plane with unit normal n."""
+    def horizon(lat, lon):
+        return (np.array([-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)]),
+                np.array([-math.sin(lon), math.cos(lon), 0.0]))
+
+    u = unit_vectors(latitude_deg, longitude_deg)
+    north, east = horizon(math.radians(latitude_deg), math.radians(longitude_deg))
+    h = math.radians(heading_deg)
+    d = math.cos(h) * north + math.sin(h) * east
+    u2, d2 = u - 2 * (u @ n) * n, d - 2 * (d @ n) * n
+    lat2, lon2 = math.asin(max(-1.0, min(1.0, u2[2]))), math.atan2(u2[1], u2[0])
+    north2, east2 = horizon(lat2, lon2)
+    return math.degrees(lat2), math.degrees(lon2), math.degrees(math.atan2(d2 @ east2, d2 @ north2))
+
+
+def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
+    """Area on the sphere of radius R' inside the polygon whose edges are straight in (down-range,
+    cross-range): dA = cos(c/R') dd dc, integrated by Green's theorem edge by edge in closed form.
+    A half footprint is closed along the initial great circle (cross-range 0)."""
+    pts = [(p.downrange_nmi, p.crossrange_nmi) for p in points]
+    if len(pts) < 2:
+        return 0.0
+    if all(c >= 0.0 for _, c in pts) or all(c <= 0.0 for _, c in pts):  # a half: close along the axis
+        pts = [(pts[0][0], 0.0)] + pts + [(pts[-1][0], 0.0)]
+    total = 0.0
+    for (d0, c0), (d1, c1) in zip(pts, pts[1:] + pts[:1]):
+        b0, b1 = c0 / radius_nmi, c1 / radius_nmi
+        db = b1 - b0
+        mean_sin = (math.cos(b0) - math.cos(b1)) / db if abs(db) > 1e-12 else math.sin(0.5 * (b0 + b1))
+        total += (d1 - d0) / radius_nmi * mean_sin
+    return abs(total) * radius_nmi ** 2
+
+
+def upper_boundary(points):
+    """The outer (upper) convex chain of (down-range, cross-range) points from the shortest down-range to
+    the longest, dropped to the axis at both ends."""
+    top = {}
+    for d, c in points:  # at equal down-range only the widest point can be on the boundary
+        top[d] = max(c, top.get(d, c))
+    chain = []
+    for q in sorted(top.items()):  # Andrew's monotone chain, upper half
+        while len(chain) >= 2 and _turn(chain[-2], chain[-1], q) >= 0.0:
+            chain.pop()
+        chain.append(q)
+    return [(chain[0][0], 0.0)] + chain + [(chain[-1][0], 0.0)]
+
+
+def _turn(o, a, b):
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])

@@ -1,0 +1,278 @@
+"""Figures in the manner of AFWAL-TR-82-3036: footprints, parametric sets, iso-velocity contours, histories.
+
+Every function returns a matplotlib Figure (built without pyplot's registry, so a service can make them
+from any thread); `save` writes PNG or SVG by the file's suffix. Ranges are in nautical miles, altitudes
+in thousands of feet, velocities in ft/s, angles in degrees, as in the report's plots.
+"""
+
+from itertools import cycle
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.ticker import StrMethodFormatter  # noqa: E402
+
+from footprint.core.footprints import Footprint, FootprintPoint  # noqa: E402
+from footprint.core.trajectory import Trajectory  # noqa: E402
+
+DOWNRANGE_LABEL = "Down-range (n.mi.)"
+CROSSRANGE_LABEL = "Cross-range (n.mi.)"
+PNG_DPI = 150
+LABEL_OFFSET_PT = 7.0  # how far a point's label sits from its marker
+# line style and marker pairs that stay distinct when printed in black and white
+LINE_STYLES = [("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (8, 3)), "v"),
+               ((0, (5, 2, 1, 2, 1, 2)), "x"), ((0, (1, 1)), "P"), ((0, (10, 2, 2, 2)), "*")]
+
+
+# ------------------------------------------------------------------------------------------ footprints
+def footprint_figure(fp: Footprint, title=None, label_points=True, ax=None) -> Figure:
+    """One footprint: the closed boundary, flown points filled, reflected points hollow, flown points that
+    fell inside the boundary (a zero-lift point short of the steepest banks) as crosses (Figs. 12, 21)."""
+    fig, ax = _axes(ax)
+    ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)  # the initial great circle
+    d, c = _closed(fp.points)
+    ax.plot(d, c, "k-", lw=1.4, gid="boundary", label=fp.method.replace("_", " "))
+    flown = [p for p in fp.points if not p.mirrored]
+    mirrored = [p for p in fp.points if p.mirrored]
+    ax.plot(*_xy(flown), "ko", ms=4.5, ls="none", gid="flown")
+    ax.plot(*_xy(mirrored), "o", mec="k", mfc="none", ms=4.5, ls="none", gid="mirrored")
+    ax.plot(*_xy(_interior(fp)), "kx", ms=5, ls="none", gid="interior")
+    if label_points:
+        _label_points(ax, fp)
+    _caption(ax, fp)
+    _range_axes(ax, title)
+    return fig
+
+
+def save_footprint_plot(fp: Footprint, path, title=None) -> Path:
+    return save(footprint_figure(fp, title=title), path)
+
+
+def footprints_figure(footprints: dict[str, Footprint], title=None, ax=None) -> Figure:
+    """Several footprints overlaid: families over entry angle or velocity (Fig. 15, App. C), comparisons
+    of controls (Figs. 13, 14)."""
+    fig, ax = _axes(ax)
+    ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)
+    for (name, fp), (ls, marker) in zip(footprints.items(), cycle(LINE_STYLES)):
+        ax.plot(*_closed(fp.points), ls=ls, marker=marker, ms=3.5, lw=1.2, label=name, gid="footprint")
+    ax.legend(fontsize="small")
+    _range_axes(ax, title)
+    return fig
+
+
+def two_parameter_figure(fp: Footprint, title=None) -> Figure:
+    """Fig. 7: one curve per K set (sigma_f varied along it), the faired outer boundary heavier."""
+    fig, ax = _axes(None)
+    for (name, pts), (ls, marker) in zip(fp.sets.items(), cycle(LINE_STYLES[1:])):
+        ax.plot(*_xy(pts), ls=ls, marker=marker, ms=4, lw=1.0, label=name.replace("k=", "K = "), gid="set")
+    if fp.outer_boundary:
+        d, c = zip(*fp.outer_boundary)
+        ax.plot(d, c, "k-", lw=2.4, label="outer boundary", gid="outer_boundary", zorder=3)
+    ax.legend(fontsize="small")
+    _range_axes(ax, title)
+    return fig
+
+
+def contours_figure(fp: Footprint, title=None) -> Figure:
+    """Iso-velocity contours (App. C data set 2, Figs. C-36 to C-54), closed like the boundary."""
+    velocities = sorted({c["velocity_fps"] for p in fp.points for c in p.contours}, reverse=True)
+    if not velocities:
+        raise ValueError("the footprint carries no iso-velocity contours: generate it with contours_fps")
+    fig, ax = _axes(None)
+    ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)
+    ax.plot(*_closed(fp.points), "k-", lw=2.0, label="end of flight", gid="boundary")
+    for v, (ls, _) in zip(velocities, cycle(LINE_STYLES[1:])):
+        at = [c for p in fp.points for c in p.contours if c["velocity_fps"] == v]
+        d = [c["downrange_nmi"] for c in at] + [at[0]["downrange_nmi"]]
+        x = [c["crossrange_nmi"] for c in at] + [at[0]["crossrange_nmi"]]
+        ax.plot(d, x, ls=ls, lw=1.1, label=f"{v:,.0f} ft/s", gid="contour")
+    ax.legend(fontsize="small", title="velocity")
+    _range_axes(ax, title)
+    return fig
+
+
+# ---------------------------------------------------------------------------------------- trajectories
+def histories_figure(trajectories: dict[str, Trajectory], title=None) -> Figure:
+    """Altitude-velocity (Figs. 17, 18), altitude and bank against time, and the ground track."""
+    fig = Figure(figsize=(10.0, 7.5), layout="constrained")
+    axes = fig.subplots(2, 2)
+    panels = [("velocity_fps", 1e-3, "Velocity (1000 ft/s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
+              ("time_s", 1.0, "Time (s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
+              ("time_s", 1.0, "Time (s)", "bank_deg", 1.0, "Bank angle (deg)"),
+              ("downrange_nmi", 1.0, DOWNRANGE_LABEL, "crossrange_nmi", 1.0, CROSSRANGE_LABEL)]
+    for ax, (xk, xs, xl, yk, ys, yl) in zip(axes.flat, panels):
+        for (name, t), (ls, _) in zip(trajectories.items(), cycle(LINE_STYLES)):
+            ax.plot(t.history[xk] * xs, t.history[yk] * ys, ls=ls, lw=1.1, label=name)
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        ax.grid(True, color="0.9")
+        _thousands(ax)
+    axes[0, 0].legend(fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def bank_schedule_figure(schedules: dict[str, tuple], title=None) -> Figure:
+    """Bank angle against heading, or the remaining heading change zeta, 90 -> 0 deg left to right
+    (Figs. 2, 5, 6, 8). Each schedule is (zeta_deg, bank_deg)."""
+    fig, ax = _axes(None, figsize=(7.0, 5.0))
+    lo = hi = None
+    for (name, (zeta_deg, bank_deg)), (ls, _) in zip(schedules.items(), cycle(LINE_STYLES)):
+        ax.plot(zeta_deg, bank_deg, ls=ls, lw=1.3, label=name)
+        lo = min(min(zeta_deg), 0.0 if lo is None else lo)
+        hi = max(max(zeta_deg), 90.0 if hi is None else hi)
+    ax.set_xlim(hi if hi is not None else 90.0, lo if lo is not None else 0.0)  # reversed, as the report
+    ax.set_xlabel(r"Heading, or remaining heading change $\zeta$ (deg)")
+    ax.set_ylabel(r"Bank angle $\phi_B$ (deg)")
+    ax.grid(True, color="0.9")
+    if schedules:
+        ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def pullout_carpet_figure(rows, title=None) -> Figure:
+    """Pull-out altitude (gamma = 0) against entry angle, one curve per entry velocity (Fig. 16, C-34),
+    and beside it the down-range to pull-out where the rows give it (Fig. C-35)."""
+    rows = [r for r in rows if r.get("pullout_altitude_ft") is not None]  # skipped out: never pulled out
+    with_range = any(r.get("pullout_downrange_nmi") is not None for r in rows)
+    fig = Figure(figsize=(11.0 if with_range else 6.5, 5.0), layout="constrained")
+    axes = fig.subplots(1, 2 if with_range else 1, squeeze=False)[0]
+    panels = [("pullout_altitude_ft", 1e-3, "Pull-out altitude (1000 ft)"),
+              ("pullout_downrange_nmi", 1.0, "Down-range to pull-out (n.mi.)")][:len(axes)]
+    velocities = sorted({r["entry_velocity_fps"] for r in rows})
+    for ax, (key, scale, label) in zip(axes, panels):
+        for v, (ls, marker) in zip(velocities, cycle(LINE_STYLES)):
+            pts = sorted((r["entry_gamma_deg"], r[key] * scale) for r in rows
+                         if r["entry_velocity_fps"] == v and r.get(key) is not None)
+            if pts:
+                ax.plot(*zip(*pts), ls=ls, marker=marker, ms=4, lw=1.2, label=f"{v:,.0f} ft/s")
+        ax.set_xlabel(r"Entry flight-path angle $\gamma_e$ (deg)")
+        ax.set_ylabel(label)
+        ax.grid(True, color="0.9")
+        _thousands(ax)
+        ax.legend(fontsize="small", title="entry velocity")
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+# ------------------------------------------------------------------------------------------------ files
+def optimization_figure(result, title=None) -> Figure:
+    """Fig. 3: payoff against trajectories flown, and the optimum's bank schedule against zeta (Fig. 2)."""
+    fig = Figure(figsize=(11.0, 4.5))
+    ax1, ax2 = fig.subplots(1, 2)
+    h = result.history
+    ax1.plot([e["trajectories"] for e in h], [e["payoff"] for e in h], "-k")
+    ax1.set_xlabel("Trajectories flown")
+    ax1.set_ylabel("Best payoff so far (its own unit)")
+    ax1.grid(alpha=0.3)
+    zeta = [float(n.rsplit("_", 1)[-1]) for n in result.names]
+    ax2.plot(zeta, result.params, "o-k")
+    ax2.set_xlim(max(zeta), min(zeta))  # the report's axis runs 90 -> -15
+    ax2.set_xlabel("Remaining heading change ζ (deg)")
+    ax2.set_ylabel("Bank angle (deg)")
+    ax2.grid(alpha=0.3)
+    fig.suptitle(title or f"{result.method}: payoff {result.payoff:,.1f}, {result.trajectories} trajectories"
+                 + ("" if result.feasible else " (infeasible)"))
+    return fig
+
+
+def save(fig: Figure, path) -> Path:
+    """Write PNG (150 dpi) or SVG by the suffix, making the folder; the figure is closed afterwards."""
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".")
+    if fmt not in ("png", "svg"):
+        raise ValueError(f"figure file {path.name!r}: suffix must be .png or .svg")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meta = {"Date": None} if fmt == "svg" else {}  # reproducible SVG
+    fig.savefig(path, format=fmt, dpi=PNG_DPI, bbox_inches="tight", metadata=meta)
+    plt.close(fig)  # a no-op unless the figure came from pyplot
+    return path
+
+
+# ---------------------------------------------------------------------------------------------- helpers
+def _axes(ax, figsize=(8.0, 6.0)):
+    if ax is not None:
+        return ax.figure, ax
+    fig = Figure(figsize=figsize, layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def _interior(fp: Footprint) -> list[FootprintPoint]:
+    return list(getattr(fp, "interior", None) or [])
+
+
+def _thousands(ax):
+    """Tick labels with thousands separators (14,000 n.mi.), whole numbers where the ticks are."""
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_formatter(StrMethodFormatter("{x:,g}"))
+
+
+def _xy(points: list[FootprintPoint]):
+    return [p.downrange_nmi for p in points], [p.crossrange_nmi for p in points]
+
+
+def _closed(points: list[FootprintPoint]):
+    """The boundary's vertices with the first repeated at the end (the polygon closes)."""
+    d, c = _xy(points)
+    return d + d[:1], c + c[:1]
+
+
+def _range_axes(ax, title):
+    ax.set_xlabel(DOWNRANGE_LABEL)
+    ax.set_ylabel(CROSSRANGE_LABEL)
+    ax.grid(True, color="0.92", lw=0.6)
+    ax.margins(x=0.1, y=0.08)
+    _thousands(ax)
+    if title:
+        ax.set_title(title)
+
+
+def parameter_label(parameter: dict) -> str:
+    """A point's control setting as the report writes it: phi0, K and sigma_f, phi, or the turn."""
+    if "min_range" in parameter:
+        return "zero lift" if parameter["min_range"] == "zero_lift" else r"$C_{L\,max}$"
+    if "sigma_f_deg" in parameter:
+        return rf"K={parameter['k']:.3g}, $\sigma_f$={parameter['sigma_f_deg']:.3g}°"
+    if "bank0_deg" in parameter:
+        return rf"$\phi_0$={parameter['bank0_deg']:.3g}°"
+    if "bank_deg" in parameter:
+        return rf"$\phi$={parameter['bank_deg']:.3g}°"
+    if "turn_deg" in parameter:
+        return rf"$\Delta\sigma$={parameter['turn_deg']:.3g}°" + (" (max)" if "until" in parameter else "")
+    return ", ".join(f"{k}={v}" for k, v in parameter.items())
+
+
+def _label_points(ax, fp: Footprint):
+    """Label the left half and the axis, each label pushed outward from the footprint's middle."""
+    d_lo, d_hi = fp.min_downrange_nmi, fp.max_downrange_nmi
+    d_mid, d_span = 0.5 * (d_lo + d_hi), max(d_hi - d_lo, 1.0)
+    c_span = max(max(abs(p.crossrange_nmi) for p in fp.points), 1.0)
+    for p in fp.points + _interior(fp):
+        if p.side == "right":
+            continue
+        if "min_range" in p.parameter:  # below the axis, clear of the steepest-bank point beside it
+            ox, oy = 0.5 * LABEL_OFFSET_PT, -LABEL_OFFSET_PT
+        else:
+            ux, uy = (p.downrange_nmi - d_mid) / d_span, p.crossrange_nmi / c_span
+            n = max((ux * ux + uy * uy) ** 0.5, 1e-9)
+            ox, oy = LABEL_OFFSET_PT * ux / n, LABEL_OFFSET_PT * uy / n
+        ax.annotate(parameter_label(p.parameter), (p.downrange_nmi, p.crossrange_nmi), xytext=(ox, oy),
+                    textcoords="offset points", fontsize=7.5,
+                    ha="left" if ox > 2 else "right" if ox < -2 else "center",
+                    va="bottom" if oy > 2 else "top" if oy < -2 else "center")
+
+
+def _caption(ax, fp: Footprint):
+    reflected, inside = sum(p.mirrored for p in fp.points), len(_interior(fp))
+    text = (f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {fp.trajectories} trajectories"
+            + (f"  ·  {reflected} points reflected" if reflected else "")
+            + (f"  ·  {inside} inside (×)" if inside else ""))
+    ax.annotate(text, (0.5, 0.0), xycoords="axes fraction", xytext=(0, -30), textcoords="offset points",
+                ha="center", va="top", fontsize="small", gid="caption")

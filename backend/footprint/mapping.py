@@ -1,0 +1,221 @@
+"""The transform contract (DESIGN.md "Transform"): move footprint points to another node, inclination or
+deorbit point, add the mirror half, and allow for the earth's rotation (AFWAL-TR-82-3036 Section IV).
+
+Request (JSON object; the CLI's `footprint transform FILE.json` and, later, the REST endpoint):
+
+    {"points": [{"latitude_deg", "longitude_deg", "flight_time_s"?}, ...],
+     "from": {"latitude_deg", "longitude_deg", "heading_deg"},
+     "to":   {"latitude_deg", "longitude_deg", "heading_deg"}
+           | {"latitude_deg", "longitude_deg", "inclination_deg", "ascending": true},
+     "step_downrange_nmi": 0, "mirror": false,
+     "earth_rotation": "none" | "approximate" | "exact", "study": {...a footprint study...}}
+
+The steps, in order: `mirror` adds each point's image across the `from` great circle (the other half of a
+symmetric footprint, in reverse order so that a half from the front to the back closes; points on that
+great circle are their own images and are not repeated); every point is
+carried from `from` to `to` and `step_downrange_nmi` further along the new great circle (re-node,
+re-incline, step around the orbit: one rotation of the sphere); "approximate" then shifts each longitude
+west by omega_p t with the point's own flight time (Section IV.3), which every point must then carry.
+"exact" instead flies the `study` again on the rotating earth from the destination (stepped) and returns
+that footprint's points; the request's points are then not used (they may be left out) and the study's own
+`mirror` setting applies.
+
+Response: {"points": [{"latitude_deg", "longitude_deg", "flight_time_s", "downrange_nmi",
+"crossrange_nmi", "mirrored"}...], "reference": the destination's initial point and heading after the step
+(the origin of the ranges), "earth_rotation", "points_in"}; "exact" points also carry "side" and
+"parameter". Longitudes are in (-180, 180].
+"""
+
+import csv
+import json
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_validator
+
+from footprint.cases import Strict, bounded, error_line
+from footprint.core.constants import OMEGA_EARTH_DEG_S
+from footprint.core.errors import InputError
+from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
+from footprint.core.transforms import (
+    Reference,
+    heading_for_inclination,
+    inclination_for_heading,
+    mirror,
+    move,
+    rotation_shift,
+    wrap_longitude,
+)
+
+MAX_POINTS = 1_000_000  # a request's points; the core moves 100,000 in a few milliseconds
+MAX_STEP_NMI = 250_000.0  # about 11 circuits of the earth (2 pi R' = 21,615 nmi)
+MAX_FLIGHT_TIME_S = 100_000.0  # the longest flight a case may ask for (stop.time_s)
+ON_AXIS_NMI = 1e-6  # cross-range below which a point lies on the initial great circle (no mirror image)
+
+
+class Point(Strict):
+    latitude_deg: bounded(-90, 90, "deg")
+    longitude_deg: bounded(-360, 360, "deg")
+    flight_time_s: bounded(0, MAX_FLIGHT_TIME_S, "s") | None = None
+
+
+class Place(Strict):
+    """An initial point and the direction of the initial great circle there: a heading (deg from north,
+    clockwise) or an orbit's inclination with the pass (ascending: northbound)."""
+
+    latitude_deg: bounded(-90, 90, "deg")
+    longitude_deg: bounded(-360, 360, "deg")
+    heading_deg: bounded(-360, 360, "deg") | None = None
+    inclination_deg: bounded(0, 180, "deg") | None = None
+    ascending: bool = True
+
+    @model_validator(mode="after")
+    def _one_direction(self):
+        if (self.heading_deg is None) == (self.inclination_deg is None):
+            raise ValueError("give exactly one of heading_deg (-360 to 360 deg) or inclination_deg (0 to 180 deg)")
+        if self.heading_deg is not None and "ascending" in self.model_fields_set:
+            raise ValueError("ascending goes with inclination_deg, not with heading_deg")
+        return self
+
+    def reference(self, where: str) -> Reference:
+        if self.heading_deg is not None:
+            return Reference(self.latitude_deg, self.longitude_deg, self.heading_deg)
+        try:
+            hdg = heading_for_inclination(self.latitude_deg, self.inclination_deg, self.ascending)
+        except InputError as exc:
+            raise InputError(f"{where}.inclination_deg", exc.message) from None
+        return Reference(self.latitude_deg, self.longitude_deg, float(hdg))
+
+
+class TransformRequest(Strict):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+    points: list[Point] = Field(default=[], max_length=MAX_POINTS)
+    from_: Place = Field(alias="from")
+    to: Place
+    step_downrange_nmi: bounded(-MAX_STEP_NMI, MAX_STEP_NMI, "nmi") = 0.0
+    mirror: bool = False
+    earth_rotation: Literal["none", "approximate", "exact"] = "none"
+    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = OMEGA_EARTH_DEG_S  # omega_p of the shift
+    study: dict | None = None  # a footprint study (footprint.studies): "exact" flies it again
+
+    _study = PrivateAttr(default=None)
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.earth_rotation != "exact" and not self.points:
+            raise ValueError("points: give at least one point (1 to 1000000), or earth_rotation 'exact' with a study")
+        if self.earth_rotation == "approximate":
+            missing = [i for i, p in enumerate(self.points) if p.flight_time_s is None]
+            if missing:
+                at = ", ".join(map(str, missing[:5])) + (f" and {len(missing) - 5} more" if len(missing) > 5 else "")
+                raise ValueError(f"points.{missing[0]}.flight_time_s: required for every point with earth_rotation "
+                                 f"'approximate' (the shift is omega_p t, 0 to {MAX_FLIGHT_TIME_S:g} s); "
+                                 f"missing at points {at}")
+        if self.earth_rotation == "exact":
+            if self.study is None:
+                raise ValueError("study: required with earth_rotation 'exact' (a footprint study to fly again on the "
+                                 "rotating earth from the destination)")
+            from footprint.studies import parse_study
+
+            try:
+                self._study = parse_study(self.study)
+            except ValidationError as exc:
+                raise ValueError("; ".join(f"study.{part}" for part in error_line(exc).split("; "))) from None
+        elif self.study is not None:
+            raise ValueError(f"study: only used with earth_rotation 'exact' (got '{self.earth_rotation}')")
+        return self
+
+
+def parse_transform(data) -> TransformRequest:
+    return data if isinstance(data, TransformRequest) else TransformRequest.model_validate(data)
+
+
+def run_transform(request) -> dict:
+    """Carry out a transform request (a dict or a TransformRequest); raises pydantic's ValidationError or
+    InputError for a user's mistake."""
+    req = parse_transform(request)
+    src, dst0 = req.from_.reference("from"), req.to.reference("to")
+    from footprint.core.rotation import stepped_reference
+
+    dst = stepped_reference(dst0, req.step_downrange_nmi)
+    if req.earth_rotation == "exact":
+        points = _exact_points(req, dst)
+    else:
+        points = _moved_points(req, src, dst0, dst)
+    return {"points": points, "reference": _reference_dict(dst), "earth_rotation": req.earth_rotation,
+            "points_in": len(req.points)}
+
+
+def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: Reference) -> list[dict]:
+    lat = np.array([p.latitude_deg for p in req.points])
+    lon = np.array([p.longitude_deg for p in req.points])
+    has_time = all(p.flight_time_s is not None for p in req.points)
+    t = np.array([p.flight_time_s if p.flight_time_s is not None else np.nan for p in req.points])
+    mirrored = np.zeros(len(lat), bool)
+    if req.mirror:
+        _, cross = downrange_crossrange_nmi(lat, lon, src.latitude_deg, src.longitude_deg, src.heading_deg)
+        off = np.abs(cross) > ON_AXIS_NMI  # a point on the initial great circle is its own image
+        mlat, mlon = mirror(lat[off], lon[off], src)
+        lat, lon = np.concatenate([lat, mlat[::-1]]), np.concatenate([lon, mlon[::-1]])
+        t, mirrored = np.concatenate([t, t[off][::-1]]), np.concatenate([mirrored, np.ones(len(mlat), bool)])
+    lat, lon = move(lat, lon, src, dst0, req.step_downrange_nmi)
+    if req.earth_rotation == "approximate":
+        lon = rotation_shift(lon, t, req.rotation_rate_deg_s)
+    lon = wrap_longitude(lon)
+    down, cross = downrange_crossrange_nmi(lat, lon, dst.latitude_deg, dst.longitude_deg, dst.heading_deg,
+                                           radius_nmi=MEAN_RADIUS_NMI)
+    rows = []
+    for i in range(len(lat)):
+        row = {"latitude_deg": float(lat[i]), "longitude_deg": float(lon[i])}
+        if has_time or not np.isnan(t[i]):
+            row["flight_time_s"] = float(t[i])
+        row.update(downrange_nmi=float(down[i]), crossrange_nmi=float(cross[i]), mirrored=bool(mirrored[i]))
+        rows.append(row)
+    return rows
+
+
+def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
+    from footprint.core.rotation import all_points, fly_at
+
+    study = req._study
+    spec = study.case.to_spec()
+    fp = fly_at(spec, study.method, study.to_params(), dst, rotating=True)
+    return [{"latitude_deg": p.latitude_deg, "longitude_deg": float(wrap_longitude(p.longitude_deg)),
+             "flight_time_s": p.flight_time_s, "downrange_nmi": p.downrange_nmi, "crossrange_nmi": p.crossrange_nmi,
+             "mirrored": p.mirrored, "side": p.side, "parameter": p.parameter, "on_boundary": p in fp.points}
+            for p in all_points(fp)]
+
+
+def _reference_dict(ref: Reference) -> dict:
+    return {"latitude_deg": ref.latitude_deg, "longitude_deg": float(wrap_longitude(ref.longitude_deg)),
+            "heading_deg": ref.heading_deg,
+            "inclination_deg": float(inclination_for_heading(ref.latitude_deg, ref.heading_deg))}
+
+
+CSV_COLUMNS = ("latitude_deg", "longitude_deg", "flight_time_s", "downrange_nmi", "crossrange_nmi", "mirrored",
+               "side", "parameter")
+
+
+def write_csv(result: dict, path) -> Path:
+    """The moved points as CSV, one row each (columns a point lacks are left empty)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    columns = [c for c in CSV_COLUMNS if any(c in p for p in result["points"])]
+    with path.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(columns)
+        for p in result["points"]:
+            w.writerow([_cell(p.get(c)) for c in columns])
+    return path
+
+
+def _cell(v):
+    if v is None:
+        return ""
+    if isinstance(v, dict):
+        return json.dumps(v, sort_keys=True)
+    if isinstance(v, float):
+        return repr(v)
+    return v

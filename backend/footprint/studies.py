@@ -1,0 +1,79 @@
+"""The footprint study contract: {"case": CASE, "method": ..., method parameters..., "mirror": true}.
+
+One pydantic model per method (discriminated on "method"); `to_params()` gives the keyword arguments of
+the core generator in footprint.core.footprints. The case's own bank law is replaced by the method's.
+"""
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field, TypeAdapter
+
+from footprint.cases import Case, Strict, bounded
+
+BankDeg = bounded(-180, 180, "deg")
+
+
+class _Study(Strict):
+    case: Case
+    mirror: bool = True
+    contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)  # iso-velocity points
+
+    def to_params(self) -> dict:
+        return self.model_dump(exclude={"case", "method"}, exclude_none=True)
+
+
+class SingleParameterStudy(_Study):
+    """Section II.6 a-d: phi_B = K zeta, K = phi0 / 90 deg."""
+
+    method: Literal["single_parameter"]
+    bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
+                                                      max_length=181)
+    limit_deg: bounded(0, 180, "deg") | None = None
+    min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
+
+    def to_params(self):
+        return {"bank0_deg": self.bank0_deg, "limit_deg": self.limit_deg, "min_range": self.min_range,
+                "mirror": self.mirror, "contours_fps": tuple(self.contours_fps)}
+
+
+class ConstantBankStudy(_Study):
+    """Fig. 14: constant bank for the whole flight."""
+
+    method: Literal["constant_bank"]
+    bank_deg: list[BankDeg] = Field(default=[0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0], min_length=1, max_length=181)
+    min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
+
+
+class StagedStudy(ConstantBankStudy):
+    """Fig. 14: constant bank until the heading has changed turn_deg, then wings level."""
+
+    method: Literal["staged"]
+    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
+
+
+class TwoParameterStudy(_Study):
+    """Figs. 5-7: phi_B = K (zeta - sigma_f), limited; one set per K."""
+
+    method: Literal["two_parameter"]
+    k: list[bounded(0, 10)] = Field(default=[0.5, 0.67, 1.0], min_length=1, max_length=20)
+    sigma_f_deg: list[bounded(-180, 180, "deg")] = Field(default=[float(s) for s in range(90, -46, -15)],
+                                                         min_length=1, max_length=181)
+    limit_deg: bounded(0, 180, "deg") = 75.0
+
+
+class ConstantAltitudeStudy(_Study):
+    """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""
+
+    method: Literal["constant_altitude"]
+    turn_deg: list[bounded(0, 179, "deg")] | None = None
+    steps: int = Field(default=6, ge=1, le=60)
+
+
+FootprintStudy = Annotated[Union[SingleParameterStudy, ConstantBankStudy, StagedStudy, TwoParameterStudy,
+                                 ConstantAltitudeStudy], Field(discriminator="method")]
+
+_ADAPTER = TypeAdapter(FootprintStudy)
+
+
+def parse_study(data):
+    return data if isinstance(data, _Study) else _ADAPTER.validate_python(data)

@@ -1,0 +1,482 @@
+"""Footprint data base sweeps (AFWAL-TR-82-3036 Appendix C), one Dask task per footprint.
+
+A sweep is a grid of footprints: every vehicle x every inertial entry velocity x every entry angle,
+all sharing one base case and one footprint method (Appendix C data set 1: single-parameter bank at
+(L/D)max with a C_L-max minimum-range point; data set 2: constant-altitude turns with iso-velocity
+contours). The contract:
+
+    {"name": "dataset1",
+     "base": CASE without vehicle, bank and the swept entry fields,
+     "method": "single_parameter" | "constant_altitude", plus that method's parameters (as in studies.py),
+     "vehicles": ["low-lod", {"builtin": "lod-2.6", "wing_loading_psf": 70}, ...],
+     "entry_velocity_fps": [...], "entry_gamma_deg": [...], "velocity_frame": "inertial",
+     "contours_fps": [...]}
+
+`run_sweep` flies it on Dask (an in-process LocalCluster by default, or a scheduler address; the same
+code path) and gathers the footprints as they complete. A footprint the core fails on becomes a row
+with its error message; the rest of the sweep goes on. `SweepResult.write(folder)` writes the tidy
+point table, the per-footprint summary and, when footprint.figures is there, the figures.
+
+Each task also flies the footprint's zero-bank reference trajectory (the case's own alpha law, bank
+held at zero), which gives the pull-out point of Figs. C-34 and C-35: every point that shares its
+pull-out (all (L/D)max points when bank starts at pull-out) gets its pull-out down-range.
+"""
+
+import csv
+import functools
+import json
+import logging
+import math
+import os
+import time
+import uuid
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Annotated, Any, Callable, Literal, Union
+
+from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, create_model, model_validator
+
+from footprint.cases import Case, EntryCase, Strict, VehicleCase, bounded, error_line
+from footprint.core.errors import InputError
+from footprint.studies import ConstantAltitudeStudy, SingleParameterStudy, parse_study
+
+MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
+SWEPT_ENTRY_FIELDS = ("velocity_fps", "gamma_deg", "velocity_frame")
+UNFINISHED = ("max_steps", "step_underflow", "none")  # stop reasons of a flight the integrator gave up on
+
+
+# ---------------------------------------------------------------------------------------- contract
+def _fields(model, exclude=(), **replace) -> dict:
+    """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
+    out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}
+    return out | replace
+
+
+# The entry state shared by every footprint: the case's entry less what the sweep varies.
+SweepEntry = create_model("SweepEntry", __base__=Strict, **_fields(EntryCase, exclude=SWEPT_ENTRY_FIELDS))
+
+# The base case: the case contract less the vehicle (the sweep's list), the bank law (the method's)
+# and the swept entry fields.
+SweepBase = create_model("SweepBase", __base__=Strict,
+                         **_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...)))
+
+
+def _vehicle_ref(value):
+    return {"builtin": value} if isinstance(value, str) else value
+
+
+VehicleRef = Annotated[VehicleCase, BeforeValidator(_vehicle_ref)]
+
+
+def vehicle_label(vehicle: VehicleCase) -> str:
+    """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""
+    if vehicle.name:
+        return vehicle.name
+    if vehicle.builtin is None:
+        return "inline"
+    if vehicle.wing_loading_psf is not None:
+        return f"{vehicle.builtin}@{vehicle.wing_loading_psf:g}psf"
+    if vehicle.weight_lb is not None and vehicle.reference_area_ft2 is not None:
+        return f"{vehicle.builtin}@{vehicle.weight_lb / vehicle.reference_area_ft2:g}psf"
+    return vehicle.builtin
+
+
+class _Sweep(Strict):
+    name: str = Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")  # used in file names
+    description: str = Field(default="", max_length=4000)
+    base: SweepBase
+    vehicles: list[VehicleRef] = Field(min_length=1, max_length=20)
+    entry_velocity_fps: list[bounded(1_000, 40_000, "ft/s")] = Field(min_length=1, max_length=100)
+    entry_gamma_deg: list[bounded(-90, 10, "deg")] = Field(min_length=1, max_length=100)
+    velocity_frame: Literal["inertial", "relative"] = "inertial"
+    contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)
+
+    @model_validator(mode="after")
+    def _grid(self):
+        labels = [vehicle_label(v) for v in self.vehicles]
+        if len(set(labels)) < len(labels):
+            raise ValueError(f"vehicles: two vehicles share the label {_first_duplicate(labels)!r}; "
+                             "give each a distinct 'name'")
+        for what, values in (("entry_velocity_fps", self.entry_velocity_fps),
+                             ("entry_gamma_deg", self.entry_gamma_deg), ("contours_fps", self.contours_fps)):
+            if len(set(values)) < len(values):
+                raise ValueError(f"{what}: {_first_duplicate(values):g} is listed twice")
+        n = len(self.vehicles) * len(self.entry_velocity_fps) * len(self.entry_gamma_deg)
+        if n > MAX_FOOTPRINTS:
+            raise ValueError(f"the sweep has {n} footprints; allowed: at most {MAX_FOOTPRINTS}")
+        for v in self.entry_velocity_fps:  # every combination must be a valid case (the vehicle is irrelevant)
+            for g in self.entry_gamma_deg:
+                try:
+                    Case.model_validate(self.case_dict(self.vehicles[0], v, g))
+                except ValidationError as exc:
+                    raise ValueError(f"entry_velocity_fps {v:g}, entry_gamma_deg {g:g}: {error_line(exc)}") from None
+        return self
+
+    # -- the footprints of the grid
+    def method_params(self) -> dict:
+        common = set(_Sweep.model_fields)
+        return {k: v for k, v in self.model_dump().items() if k not in common and k != "method"}
+
+    def case_dict(self, vehicle: VehicleCase, velocity_fps: float, gamma_deg: float) -> dict:
+        base = self.base.model_dump()
+        base["entry"] |= {"velocity_fps": velocity_fps, "gamma_deg": gamma_deg, "velocity_frame": self.velocity_frame}
+        return {"vehicle": vehicle.model_dump(exclude_none=True), **base}
+
+    def jobs(self) -> list[dict]:
+        """One job per footprint, in sweep order (vehicle, velocity, angle): plain data, small to ship."""
+        return [{"key": (vehicle_label(veh), float(v), float(g)),
+                 "study": {"case": self.case_dict(veh, v, g), "method": self.method, **self.method_params()},
+                 "contours_fps": list(self.contours_fps)}
+                for veh in self.vehicles for v in self.entry_velocity_fps for g in self.entry_gamma_deg]
+
+    @property
+    def size(self) -> int:
+        return len(self.vehicles) * len(self.entry_velocity_fps) * len(self.entry_gamma_deg)
+
+
+def _first_duplicate(values):
+    seen = set()
+    for v in values:
+        if v in seen:
+            return v
+        seen.add(v)
+
+
+# One sweep model per method: the shared fields plus that method's parameters from the study contract.
+SingleParameterSweep = create_model("SingleParameterSweep", __base__=_Sweep,
+                                    **_fields(SingleParameterStudy, exclude=("case",)))
+ConstantAltitudeSweep = create_model("ConstantAltitudeSweep", __base__=_Sweep,
+                                     **_fields(ConstantAltitudeStudy, exclude=("case",)))
+Sweep = Annotated[Union[SingleParameterSweep, ConstantAltitudeSweep], Field(discriminator="method")]
+
+_ADAPTER = TypeAdapter(Sweep)
+
+
+def parse_sweep(data) -> _Sweep:
+    """Validate a sweep (dict or model). Raises pydantic's ValidationError; `error_line` makes it one line."""
+    return data if isinstance(data, _Sweep) else _ADAPTER.validate_python(data)
+
+
+def check_vehicles(sweep: _Sweep) -> None:
+    """Build every vehicle once in this process (an inline definition is checked by the core here, not in
+    40 tasks later). Raises InputError naming `vehicles[i]...`."""
+    for i, veh in enumerate(sweep.vehicles):
+        try:
+            veh.to_vehicle() if veh.aero is None else _inline_vehicle(veh.model_dump_json(exclude_none=True))
+        except InputError as exc:
+            raise InputError(f"vehicles[{i}]{exc.field.removeprefix('vehicle')}", exc.message) from None
+
+
+# ------------------------------------------------------------------------------------------ worker
+@dataclass
+class FootprintRun:
+    """One task's outcome: the footprint (None if the core failed) and its pull-out reference."""
+
+    vehicle: str
+    entry_velocity_fps: float
+    entry_gamma_deg: float
+    method: str
+    footprint: Any = None  # footprint.core.footprints.Footprint
+    pullout: dict | None = None  # altitude_ft, downrange_nmi, velocity_fps, time_s of the footprint's first point
+    trajectories: int = 0
+    seconds: float = 0.0
+    worker: str = ""
+    error: str | None = None
+
+    @property
+    def key(self):
+        return self.vehicle, self.entry_velocity_fps, self.entry_gamma_deg
+
+
+def fly_footprint(job: dict) -> FootprintRun:
+    """The task: fly one footprint. Never raises: a failure in the core comes back as a run with `error` set."""
+    from footprint.core.footprints import footprint
+
+    vehicle, velocity_fps, gamma_deg = job["key"]
+    run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,
+                       method=job["study"]["method"], worker=f"pid {os.getpid()}")
+    t0 = time.perf_counter()
+    try:
+        study = parse_study(job["study"])
+        spec = _spec(study.case)
+        run.footprint = footprint(spec, study.method, **(study.to_params() | {"contours_fps": tuple(job["contours_fps"])}))
+        first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
+        run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
+        run.trajectories = run.footprint.trajectories
+    except Exception as exc:  # noqa: BLE001 -- any failure of one footprint is that footprint's row
+        run.footprint, run.error = None, f"{type(exc).__name__}: {exc}"
+    run.seconds = time.perf_counter() - t0
+    return run
+
+
+def _spec(case: Case):
+    """case.to_spec(), with an inline aero definition packed once per process (packing tables takes up to
+    a second or so; a built-in vehicle is cached by the core already)."""
+    if case.vehicle.aero is None:
+        return case.to_spec()
+    vehicle = _inline_vehicle(case.vehicle.model_dump_json(exclude_none=True))
+    stand_in = case.model_copy(update={"vehicle": VehicleCase(builtin=_any_builtin())})
+    return replace(stand_in.to_spec(), vehicle=vehicle)
+
+
+@functools.lru_cache(maxsize=32)
+def _inline_vehicle(definition_json: str):
+    return VehicleCase.model_validate_json(definition_json).to_vehicle()
+
+
+@functools.lru_cache(maxsize=1)
+def _any_builtin() -> str:
+    from footprint.core.aero import builtin_vehicle_ids
+
+    return builtin_vehicle_ids()[0]
+
+
+def warm_numba(sweep: _Sweep) -> float:
+    """Fly one trajectory here so numba's on-disk cache is written before the workers start (they only
+    load it). Returns the seconds taken."""
+    from footprint.core.trajectory import simulate
+
+    t0 = time.perf_counter()
+    job = sweep.jobs()[0]
+    simulate(_spec(parse_study(job["study"]).case))
+    return time.perf_counter() - t0
+
+
+# --------------------------------------------------------------------------------------- scheduler
+def default_workers() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+@contextmanager
+def dask_client(client=None, *, workers: int | None = None, scheduler: str | None = None):
+    """The client to submit to: the one given; or one connected to `scheduler` ("tcp://host:port"); or a
+    LocalCluster of `workers` processes (default: the cores), one thread each, closed on exit."""
+    from distributed import Client, LocalCluster
+
+    if client is not None:
+        yield client
+        return
+    if scheduler is not None:
+        with Client(scheduler, timeout="10s") as c:
+            yield c
+        return
+    # ":0": any free port for the scheduler's HTTP routes (None would still take 8787, or warn when it is taken)
+    with LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as c:
+        yield c
+
+
+def run_sweep(sweep, client=None, progress: Callable[[int, int], None] | None = None, *,
+              workers: int | None = None, scheduler: str | None = None) -> "SweepResult":
+    """Fly every footprint of the sweep on Dask, one task per footprint, gathered as they complete.
+
+    `client`: a distributed.Client to use (else a LocalCluster of `workers` processes, or a client of the
+    scheduler at `scheduler`; the same code path). `progress(done, total)` is called after each footprint.
+    Raises ValidationError or InputError for a bad sweep before anything is submitted.
+    """
+    from distributed import as_completed
+
+    sweep = parse_sweep(sweep)
+    check_vehicles(sweep)
+    jobs = sweep.jobs()
+    warm_s = warm_numba(sweep)
+    runs: dict[tuple, FootprintRun] = {}
+    t0 = time.perf_counter()
+    with dask_client(client, workers=workers, scheduler=scheduler) as c:
+        started = time.perf_counter()
+        n_workers = len(c.scheduler_info(n_workers=-1)["workers"])
+        token = uuid.uuid4().hex[:8]
+        futures = {c.submit(fly_footprint, job, key=f"footprint-{token}-{i}", pure=False): job
+                   for i, job in enumerate(jobs)}
+        if progress:
+            progress(0, len(jobs))
+        for done, fut in enumerate(as_completed(futures), 1):
+            job = futures[fut]
+            try:
+                run = fut.result()
+            except Exception as exc:  # noqa: BLE001 -- a lost worker, say: that footprint's row, not the sweep's end
+                vehicle, v, g = job["key"]
+                run = FootprintRun(vehicle=vehicle, entry_velocity_fps=v, entry_gamma_deg=g,
+                                   method=job["study"]["method"], error=f"{type(exc).__name__}: {exc}")
+            fut.release()
+            runs[run.key] = run
+            if progress:
+                progress(done, len(jobs))
+        finished = time.perf_counter()
+    order = [job["key"] for job in jobs]
+    return SweepResult(sweep=sweep, runs={k: runs[k] for k in order}, tasks=len(futures), workers=n_workers,
+                       seconds=finished - started, startup_seconds=started - t0, warm_seconds=warm_s)
+
+
+# ------------------------------------------------------------------------------------------ result
+POINT_COLUMNS = ("sweep", "vehicle", "entry_velocity_fps", "entry_gamma_deg", "method", "point", "on_boundary",
+                 "parameter", "side", "velocity_contour_fps", "downrange_nmi", "crossrange_nmi", "flight_time_s",
+                 "altitude_ft", "latitude_deg", "longitude_deg", "pullout_altitude_ft", "pullout_downrange_nmi",
+                 "turn_deg", "stop_reason", "mirrored", "error")
+SUMMARY_COLUMNS = ("sweep", "vehicle", "entry_velocity_fps", "entry_gamma_deg", "method", "points",
+                   "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi", "area_nmi2",
+                   "pullout_altitude_ft", "pullout_downrange_nmi", "pullout_velocity_fps", "skip_outs",
+                   "unfinished", "trajectories", "seconds", "worker", "error")
+
+
+@dataclass
+class SweepResult:
+    sweep: _Sweep
+    runs: dict[tuple, FootprintRun]  # (vehicle, entry_velocity_fps, entry_gamma_deg) -> run, in sweep order
+    tasks: int  # Dask tasks submitted (one per footprint)
+    workers: int
+    seconds: float  # first submission to last result
+    startup_seconds: float = 0.0  # starting (or connecting to) the cluster
+    warm_seconds: float = 0.0  # the numba warm-up flight in this process
+    figures_note: str = field(default="", init=False)
+
+    @property
+    def footprints(self) -> dict:
+        """(vehicle, entry_velocity_fps, entry_gamma_deg) -> Footprint, for the footprints that were flown."""
+        return {k: r.footprint for k, r in self.runs.items() if r.footprint is not None}
+
+    @property
+    def errors(self) -> dict:
+        return {k: r.error for k, r in self.runs.items() if r.error is not None}
+
+    @property
+    def trajectories(self) -> int:
+        return sum(r.trajectories for r in self.runs.values())
+
+    def point_rows(self) -> list[dict]:
+        """One row per footprint point: the boundary in order (`point` = its index), then any flown point
+        inside it (`on_boundary` False: a minimum-range point that steep banks beat); each preceded by its
+        iso-velocity crossings (`velocity_contour_fps` set). A failed footprint is one row with its error."""
+        rows = []
+        for run in self.runs.values():
+            key = {"sweep": self.sweep.name, "vehicle": run.vehicle, "entry_velocity_fps": run.entry_velocity_fps,
+                   "entry_gamma_deg": run.entry_gamma_deg, "method": run.method}
+            if run.footprint is None:
+                rows.append(key | {"error": run.error})
+                continue
+            fp = run.footprint
+            boundary = [(i, True, p) for i, p in enumerate(fp.points)]
+            interior = [(None, False, p) for p in getattr(fp, "interior", ())]
+            for i, on_boundary, p in boundary + interior:
+                common = key | {"point": i, "on_boundary": on_boundary,
+                                "parameter": json.dumps(p.parameter, sort_keys=True), "side": p.side,
+                                "pullout_altitude_ft": p.pullout_altitude_ft,
+                                "pullout_downrange_nmi": p.pullout_downrange_nmi, "turn_deg": p.turn_deg,
+                                "mirrored": p.mirrored}
+                for c in p.contours:
+                    rows.append(common | {"velocity_contour_fps": c["velocity_fps"],
+                                          **{k: c[k] for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s",
+                                                               "altitude_ft", "latitude_deg", "longitude_deg")}})
+                rows.append(common | {"downrange_nmi": p.downrange_nmi, "crossrange_nmi": p.crossrange_nmi,
+                                      "flight_time_s": p.flight_time_s, "altitude_ft": p.final_altitude_ft,
+                                      "latitude_deg": p.latitude_deg, "longitude_deg": p.longitude_deg,
+                                      "stop_reason": p.stop_reason})
+        return rows
+
+    def summary_rows(self) -> list[dict]:
+        rows = []
+        for run in self.runs.values():
+            fp, po = run.footprint, run.pullout or {}
+            row = {"sweep": self.sweep.name, "vehicle": run.vehicle, "entry_velocity_fps": run.entry_velocity_fps,
+                   "entry_gamma_deg": run.entry_gamma_deg, "method": run.method,
+                   "pullout_altitude_ft": po.get("altitude_ft"), "pullout_downrange_nmi": po.get("downrange_nmi"),
+                   "pullout_velocity_fps": po.get("velocity_fps"), "trajectories": run.trajectories,
+                   "seconds": round(run.seconds, 4), "worker": run.worker, "error": run.error}
+            if fp is not None:
+                flown = list(fp.points) + list(getattr(fp, "interior", ()))
+                row |= {"points": len(fp.points), "max_crossrange_nmi": fp.max_crossrange_nmi,
+                        "max_downrange_nmi": fp.max_downrange_nmi, "min_downrange_nmi": fp.min_downrange_nmi,
+                        "area_nmi2": fp.area_nmi2,
+                        "skip_outs": sum(p.stop_reason == "skip_out" for p in flown),
+                        "unfinished": sum(p.stop_reason in UNFINISHED for p in flown)}
+            rows.append(row)
+        return rows
+
+    def write(self, folder, figures: bool = True) -> list[Path]:
+        """points.csv, summary.csv and sweep.json in `folder`; figures/ too when footprint.figures exists."""
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        written = [_write_csv(folder / "points.csv", POINT_COLUMNS, self.point_rows()),
+                   _write_csv(folder / "summary.csv", SUMMARY_COLUMNS, self.summary_rows())]
+        (folder / "sweep.json").write_text(json.dumps(self.sweep.model_dump(), indent=1))
+        written.append(folder / "sweep.json")
+        if figures:
+            written += self.write_figures(folder / "figures")
+        return written
+
+    def write_figures(self, folder) -> list[Path]:
+        """Per vehicle and entry velocity, the footprints over entry angle; per vehicle, the pull-out carpet;
+        per footprint with iso-velocity contours, the contours. Skipped (see `figures_note`) while
+        footprint.figures is not there."""
+        fig = _figures_module()
+        if isinstance(fig, str):
+            self.figures_note = fig
+            return []
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        written, name = [], self.sweep.name
+        by_vehicle: dict[str, dict] = {}
+        for (veh, v, g), fp in self.footprints.items():
+            by_vehicle.setdefault(veh, {}).setdefault(v, {})[f"gamma {g:g} deg"] = fp
+        for veh, by_velocity in by_vehicle.items():
+            for v, family in by_velocity.items():
+                path = folder / f"{_file_part(veh)}_V{v:.0f}_footprints.png"
+                fig.save(fig.footprints_figure(family, f"{name}: {veh}, V = {v:,.0f} ft/s "
+                                                       f"({self.sweep.velocity_frame})"), path)
+                written.append(path)
+            rows = [r for r in self.summary_rows() if r["vehicle"] == veh and r["pullout_altitude_ft"] is not None]
+            if rows:
+                path = folder / f"{_file_part(veh)}_pullout_carpet.png"
+                fig.save(fig.pullout_carpet_figure(rows, f"{name}: {veh}, pull-out altitude and down-range"), path)
+                written.append(path)
+        if self.sweep.contours_fps:
+            for (veh, v, g), fp in self.footprints.items():
+                path = folder / f"{_file_part(veh)}_V{v:.0f}_g{g:g}_contours.png"
+                fig.save(fig.contours_figure(fp, f"{name}: {veh}, V = {v:,.0f} ft/s, gamma = {g:g} deg"), path)
+                written.append(path)
+        return written
+
+
+def _figures_module():
+    """footprint.figures, or a note saying why there are no figures."""
+    import importlib
+    import warnings
+
+    try:
+        fig = importlib.import_module("footprint.figures")
+    except ModuleNotFoundError as exc:
+        if exc.name != "footprint.figures":
+            warnings.warn(f"figures skipped: {exc}", stacklevel=3)
+            return f"figures skipped: {exc}"
+        return "figures skipped: footprint.figures is not installed"
+    missing = [f for f in ("footprints_figure", "contours_figure", "pullout_carpet_figure", "save")
+               if not hasattr(fig, f)]
+    if missing:
+        return f"figures skipped: footprint.figures has no {', '.join(missing)}"
+    return fig
+
+
+def _file_part(text: str) -> str:
+    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text)
+
+
+def _write_csv(path: Path, columns, rows) -> Path:
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, restval="", extrasaction="raise")
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: _cell(v) for k, v in row.items()})
+    return path
+
+
+def _cell(value):
+    """CSV text: floats in full (repr) precision, so a table read back gives the same numbers; None empty."""
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else str(value)
+    return value

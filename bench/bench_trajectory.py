@@ -1,0 +1,120 @@
+"""One trajectory: Footprint's compiled DOPRI5 against scipy's solve_ivp on the same right-hand side.
+
+The case is the report's Table 2 entry with the lod-2.2 vehicle, ARDC 1959, rotating oblate earth,
+single-parameter bank (K = .8, 85 deg limit) from pull-out, stop at 50,000 ft. The baseline is
+scipy.integrate.solve_ivp (RK45, the same error scale) in two legs, entry to pull-out and pull-out to the
+stop altitude, as anyone would write it by hand, on the same right-hand side (dynamics.rhs) twice:
+- as plain Python (the same source, loaded a second time with FOOTPRINT_NO_JIT=1): the plain baseline;
+- compiled, called from Python: the ratio then measures only the integrator and its events.
+
+Also timed: a first `footprint fly` in a new process with numba's on-disk cache warm.
+
+    python3 bench/bench_trajectory.py            # prints the figures, writes bench/results/trajectory.json
+"""
+
+import importlib
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from footprint.cases import parse_case
+from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
+from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, _set_left_pole
+from _timing import median_ms  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+CASE = HERE.parent / "examples" / "table2_lod22.json"
+
+
+def interpreted_dynamics():
+    """A second, uncompiled copy of footprint.core.dynamics and what it imports, in this process."""
+    saved = {name: mod for name, mod in sys.modules.items() if name.startswith("footprint.core")}
+    for name in saved:
+        del sys.modules[name]
+    os.environ["FOOTPRINT_NO_JIT"] = "1"
+    try:
+        return importlib.import_module("footprint.core.dynamics")
+    finally:
+        del os.environ["FOOTPRINT_NO_JIT"]
+        for name in [n for n in sys.modules if n.startswith("footprint.core")]:
+            del sys.modules[name]
+        sys.modules.update(saved)
+
+
+def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
+    """The baseline: solve_ivp twice, with pull-out and the stop altitude as terminal events."""
+    p = pack_parameters(spec)
+    s0 = initial_state(spec, p)
+    _set_left_pole(p, s0, spec.entry.heading_deg)
+    mode = initial_mode(spec, p, s0)
+    aero, ctrl = spec.vehicle.blob, spec.ctrl
+    out = np.empty(6)
+    v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
+    atol = np.array([p[P_RE]] * 3 + [v0] * 3) * spec.rtol  # our error scale; rtol ~ 0
+
+    def f(t, s):
+        rhs(t, s, p, aero, ctrl, mode, out)
+        return out.copy()
+
+    def pullout(t, s):
+        return evaluate(t, s, p, aero, ctrl, mode)[11]  # sin(gamma)
+    pullout.terminal, pullout.direction = True, 1.0
+
+    def ground(t, s):
+        return evaluate(t, s, p, aero, ctrl, mode)[9] - p[P_STOP_ALT]
+    ground.terminal, ground.direction = True, -1.0
+
+    kw = dict(method="RK45", rtol=1e-13, atol=atol, max_step=spec.max_step_s)
+    leg1 = solve_ivp(f, (0.0, 5.0e4), s0, events=[pullout, ground], **kw)
+    t1, s1 = leg1.t[-1], leg1.y[:, -1]
+    mode[M_PULLED_OUT] = 1.0
+    mode[M_BANK_ACTIVE] = 1.0
+    mode[M_REF_ANGLE] = evaluate(t1, s1, p, aero, ctrl, mode)[12]
+    leg2 = solve_ivp(f, (t1, 5.0e4), s1, events=[ground], **kw)
+    return leg2.t[-1], leg1.nfev + leg2.nfev
+
+
+def first_cli_seconds():
+    """Wall time of `footprint fly` in a new process (the numba cache was warmed by this process)."""
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "footprint.cli", "fly", str(CASE)], check=True, capture_output=True)
+    return time.perf_counter() - t0
+
+
+def main():
+    spec = parse_case(json.loads(CASE.read_text())).to_spec()
+    ours = simulate(spec).summary  # compiles or loads the cache
+    plain = interpreted_dynamics()
+    t_base, nfev_base = scipy_flight(spec)
+    t_plain, _ = scipy_flight(spec, plain.rhs, plain.evaluate)
+    ms_ours = median_ms(lambda: simulate(spec), 300)
+    ms_base = median_ms(lambda: scipy_flight(spec), 7)
+    ms_plain = median_ms(lambda: scipy_flight(spec, plain.rhs, plain.evaluate), 3)
+    cli_s = min(first_cli_seconds() for _ in range(3))
+    result = {
+        "case": CASE.name,
+        "footprint_ms_per_trajectory": round(ms_ours, 3),
+        "scipy_plain_python_rhs_ms_per_trajectory": round(ms_plain, 1),
+        "speedup_vs_plain_scipy": round(ms_plain / ms_ours, 1),
+        "scipy_compiled_rhs_ms_per_trajectory": round(ms_base, 1),
+        "speedup_vs_scipy_with_compiled_rhs": round(ms_base / ms_ours, 1),
+        "footprint_rhs_evaluations": ours["rhs_evaluations"],
+        "scipy_rhs_evaluations": int(nfev_base),
+        "flight_time_s": {"footprint": round(ours["flight_time_s"], 3), "scipy": round(float(t_base), 3),
+                          "scipy_plain": round(float(t_plain), 3)},
+        "first_cli_fly_new_process_s": round(cli_s, 2),
+    }
+    (HERE / "results").mkdir(exist_ok=True)
+    (HERE / "results" / "trajectory.json").write_text(json.dumps(result, indent=2) + "\n")
+    print(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,217 @@
+"""AFWAL-TR-82-3036 Section III: heating-constrained footprints of the L/D 1.89 vehicle (Table 2 entry).
+
+Writes docs/heating.md (ours beside the report's), docs/figures/fig22_crossrange_vs_temperature.png,
+docs/figures/fig29_constrained_footprint.png and docs/figures/fig29_histories.png.
+Run: python3 scripts/section_iii.py  (about a few minutes on 2 workers)
+"""
+
+import json
+import sys
+import time
+from pathlib import Path
+
+from footprint.cases import parse_case
+from footprint.core import constrained as C
+from footprint.core.trajectory import simulate
+from footprint.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
+from matplotlib.figure import Figure
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"},
+               "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
+               "stop": {"altitude_ft": 50_000}, "heating": {"model": "reference"}}
+# the report's numbers (shared/data/paper_results.md section C)
+REPORT = {"max_crossrange_unconstrained_nmi": 1_964.0, "max_crossrange_2550_nmi": 1_780.0,
+          "max_downrange_unconstrained_nmi": 14_500.0, "max_downrange_2550_nmi": 11_700.0,
+          "min_downrange_unconstrained_nmi": 1_000.0, "min_downrange_2550_nmi": 2_000.0}
+LIMIT_R = 2_550.0
+# Fig. 22's limits, and lower ones: in our heating model 2,550 degR is far from the plunge's floor (see notes)
+FIG22_LIMITS_R = (None, 2_600.0, 2_550.0, 2_500.0, 2_450.0, 2_400.0, 2_350.0)
+DOWNRANGES_NMI = (2_000.0, 4_000.0, 8_000.0, 11_000.0)
+MAX_EVALUATIONS = 1_500
+HOT_MAX_EVALUATIONS = 3_000  # the constrained footprint points: at 1,500 some ended 1-8 degR outside the band
+
+
+def main():
+    t0 = time.perf_counter()
+    spec = parse_case(TABLE2_CASE).to_spec()
+    fig22 = C.max_crossrange_vs_temperature(spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS)
+    print("fig22", [(lim, round(r.payoff, 1), round(r.summary["max_temperature_R"], 1)) for lim, r in fig22],
+          flush=True)
+    free = C.optimal_footprint(spec, DOWNRANGES_NMI, controls="bank", min_downrange=True,
+                               max_evaluations=MAX_EVALUATIONS)
+    print("free", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi)) for p in free.points], flush=True)
+    hot = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
+                              controls="bank_alpha", min_downrange=True, max_evaluations=HOT_MAX_EVALUATIONS)
+    print("2550", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi), p.result.feasible)
+                   for p in hot.points], flush=True)
+    # the unconstrained Fig. 22 point replaces the footprint's own max cross-range point when better (same problem)
+    results = {"fig22": [{"limit_R": lim, "crossrange_nmi": r.payoff, "downrange_nmi": r.summary["downrange_nmi"],
+                          "max_temperature_R": r.summary["max_temperature_R"], "feasible": r.feasible,
+                          "trajectories": r.trajectories, "parameters": dict(zip(r.names, map(float, r.params)))}
+                         for lim, r in fig22],
+               "unconstrained_footprint": free.to_dict(), "footprint_2550": hot.to_dict(),
+               "seconds": time.perf_counter() - t0}
+    (DOCS / "figures").mkdir(parents=True, exist_ok=True)
+    (DOCS / "figures" / "section_iii.json").write_text(json.dumps(results, indent=1, default=float))
+    figures(spec, fig22, free, hot)
+    write_markdown(fig22, free, hot, results["seconds"])
+    print(f"done in {results['seconds']:.0f} s", flush=True)
+
+
+def figures(spec, fig22, free, hot):
+    fig = Figure(figsize=(7.0, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    ok = [(r.summary["max_temperature_R"] if lim is None else lim, r.payoff) for lim, r in fig22 if r.feasible]
+    bad = [(r.summary["max_temperature_R"], r.payoff) for _, r in fig22 if not r.feasible]
+    ax.plot(*zip(*ok), "o-k", label="ours (bank + alpha tables)")
+    if bad:
+        ax.plot(*zip(*bad), "o", mfc="none", color="k", label="ours, limit not met (at the RET reached)")
+    t = [x for x, _ in ok + bad]
+    ax.plot([2_670.0, 2_550.0], [REPORT["max_crossrange_unconstrained_nmi"], REPORT["max_crossrange_2550_nmi"]],
+            "s--", color="0.5", label="report (Fig. 22 end points)")
+    ax.set_xlim(min(t) - 50, 2_700)
+    ax.set_ylim(1_000, 2_200)
+    ax.set_xlabel("Maximum allowable surface temperature (°R)")
+    ax.set_ylabel(CROSSRANGE_LABEL)
+    ax.set_title("Fig. 22: cross-range vs allowable temperature, L/D 1.89, γ₀ = −2°")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    save(fig, DOCS / "figures" / "fig22_crossrange_vs_temperature.png")
+
+    fig = Figure(figsize=(8.0, 6.0), layout="constrained")
+    ax = fig.add_subplot()
+    for fp, style, name in ((free, "o-k", "unconstrained"), (hot, "s--", f"RET ≤ {LIMIT_R:,.0f} °R")):
+        pts = sorted(fp.points, key=lambda p: p.downrange_nmi)
+        x = [p.downrange_nmi for p in pts]
+        y = [p.crossrange_nmi for p in pts]
+        ax.plot(x + x[::-1], y + [-v for v in y[::-1]], style, label=name)
+    ax.set_xlabel(DOWNRANGE_LABEL)
+    ax.set_ylabel(CROSSRANGE_LABEL)
+    ax.set_title("Fig. 29: optimal footprints, unconstrained and temperature-constrained (mirrored)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    save(fig, DOCS / "figures" / "fig29_constrained_footprint.png")
+
+    fig = Figure(figsize=(11.0, 4.5), layout="constrained")
+    axs = fig.subplots(1, 3)
+    for (lim, r), style in zip([(lim, r) for lim, r in fig22 if lim in (None, 2_600.0, LIMIT_R)],
+                               ("-k", "--", "-.")):
+        ctrl = C.control_problem(spec, controls="bank" if lim is None else "bank_alpha").controls
+        h = simulate(ctrl(spec, r.params)).history
+        name = "unconstrained" if lim is None else f"≤ {lim:,.0f} °R"
+        axs[0].plot(h["time_s"], h["temperature_R"], style, label=name)
+        axs[1].plot(h["time_s"], h["alpha_deg"], style, label=name)
+        axs[2].plot(h["time_s"], h["bank_deg"], style, label=name)
+    for ax, lab in zip(axs, ("Surface temperature (°R)", "Angle of attack (deg)", "Bank angle (deg)")):
+        ax.set_xlabel("Time (s)")
+        ax.set_ylabel(lab)
+        ax.grid(alpha=0.3)
+    axs[0].legend()
+    fig.suptitle("Figs. 23-28: max cross-range histories")
+    save(fig, DOCS / "figures" / "fig29_histories.png")
+
+
+def write_markdown(fig22, free, hot, seconds):
+    by = dict(fig22)
+    r0, r26, r25 = by[None], by[2_600.0], by[LIMIT_R]
+    cr0 = max(r0.payoff, free.point("max_crossrange").crossrange_nmi)
+    loss = 100.0 * (1.0 - r25.payoff / cr0)
+    fmax, hmax = free.point("max_downrange"), hot.point("max_downrange")
+    fmin, hmin = free.point("min_downrange"), hot.point("min_downrange")
+
+    def row(name, ours, report, note=""):
+        return f"| {name} | {ours} | {report} | {note} |"
+
+    lines = [
+        "# Section III: heating-constrained footprints (L/D 1.89, Table 2 entry)",
+        "",
+        "Generated by `scripts/section_iii.py` (`footprint.core.constrained`); raw numbers in",
+        "`docs/figures/section_iii.json`. Entry 364,800 ft, 24,480 ft/s relative, γ₀ −2°, stop at 50,000 ft;",
+        "heating `ReferenceHeating()` (eqs. 5-7, Table 1), calibrated so the single-parameter max cross-range",
+        "flight peaks at 2,670 °R. Unconstrained: (L/D)max alpha, 8-point bank table from pull-out (Fig. 20).",
+        ("Constrained: bank table plus an alpha table vs velocity at "
+         f"{', '.join(f'{v:,.0f}' for v in C.ALPHA_TABLE_VELOCITIES_FPS)} ft/s, alpha in "
+         f"{C.ALPHA_BOUNDS_DEG[0]}-{C.ALPHA_BOUNDS_DEG[1]} deg ((L/D)max to C_L max), zero bank in the plunge,"),
+        (f"RET ≤ limit with TTOL {C.TTOL_TEMPERATURE_R} °R. Creep + pattern with the penalty of eq. (4), "
+         f"≤ {MAX_EVALUATIONS} trajectories per point ({HOT_MAX_EVALUATIONS} for the constrained footprint),"
+         f" run {seconds:.0f} s on 2 workers."),
+        "",
+        "| quantity | ours | report | note |",
+        "|---|---|---|---|",
+        row("max cross-range, unconstrained (nmi)", f"{cr0:,.0f} (RET {r0.summary['max_temperature_R']:,.0f} °R)",
+            "1,964 (RET 2,670 °R)", "bank table only"),
+        row("max cross-range, RET ≤ 2,600 °R (nmi)",
+            f"{r26.payoff:,.0f} (RET {r26.summary['max_temperature_R']:,.1f})", "between (curve only)", ""),
+        row("max cross-range, RET ≤ 2,550 °R (nmi)",
+            f"{r25.payoff:,.0f} (RET {r25.summary['max_temperature_R']:,.1f})", "1,780", ""),
+        row("cross-range loss at 2,550 °R", f"{loss:.1f} %", "9.4 %", ""),
+        row("max down-range, unconstrained (nmi)", f"{fmax.downrange_nmi:,.0f} (RET "
+            f"{fmax.result.summary['max_temperature_R']:,.0f})", "14,500", ""),
+        row("max down-range, RET ≤ 2,550 °R (nmi)", f"{hmax.downrange_nmi:,.0f} (RET "
+            f"{hmax.result.summary['max_temperature_R']:,.1f}, feasible {hmax.result.feasible})", "11,700 (−19 %)",
+            f"{100.0 * (hmax.downrange_nmi / fmax.downrange_nmi - 1.0):+.1f} %"),
+        row("min down-range, unconstrained (nmi)", f"{fmin.downrange_nmi:,.0f} (RET "
+            f"{fmin.result.summary['max_temperature_R']:,.0f})", "≈1,000", "minimize down-range, bank table"),
+        row("min down-range, RET ≤ 2,550 °R (nmi)", f"{hmin.downrange_nmi:,.0f} (RET "
+            f"{hmin.result.summary['max_temperature_R']:,.1f}, feasible {hmin.result.feasible})", "≈2,000 (doubled)",
+            f"x{hmin.downrange_nmi / fmin.downrange_nmi:.2f}"),
+    ]
+    lines += [row(f"max cross-range, RET ≤ {lim:,.0f} °R (nmi)",
+                  f"{r.payoff:,.0f} (RET {r.summary['max_temperature_R']:,.1f}, feasible {r.feasible})", "—",
+                  f"{100.0 * (r.payoff / cr0 - 1.0):+.1f} %, below the report's range")
+              for lim, r in fig22 if lim is not None and lim < LIMIT_R]
+    lines += [
+        "",
+        "## Fig. 29: optimal footprint points (left half)",
+        "",
+        "| point | unconstrained down / cross (nmi) | RET ≤ 2,550 °R down / cross (nmi), feasible |",
+        "|---|---|---|",
+    ]
+    for pf, ph in zip(free.points, hot.points):
+        lines.append(f"| {pf.label} | {pf.downrange_nmi:,.0f} / {pf.crossrange_nmi:,.0f} | "
+                     f"{ph.downrange_nmi:,.0f} / {ph.crossrange_nmi:,.0f}, {ph.result.feasible} |")
+    lines += [
+        "",
+        "![Fig. 22](figures/fig22_crossrange_vs_temperature.png)",
+        "![Fig. 29](figures/fig29_constrained_footprint.png)",
+        "![Histories](figures/fig29_histories.png)",
+        "",
+        "## Notes",
+        "",
+        "* Our heating model is calibrated at one point only (the 2,670 °R peak of the unconstrained flight). The",
+        "  report's R_N, emissivity and wall model are not given, so how the peak RET responds to alpha and to the",
+        "  pull-out altitude is ours, not the report's. In our model a C_L-max plunge at zero bank peaks near",
+        "  2,344 °R (tests/core/test_heating.py), far below 2,550 °R; the report calls 2,550 °R \"about the lowest",
+        "  that can be achieved on the initial plunge\". So 2,550 °R is a much milder limit here than in the",
+        "  report, and the losses we find are correspondingly smaller: the comparison of magnitudes does not",
+        "  validate the heating model, only the machinery (constraint held within the 5 °R band, alpha moving",
+        "  toward C_L max where the peak occurs).",
+        "* The heating model was calibrated on the single-parameter flight (K = 75/90, 2,024 nmi), not on the",
+        (f"  bank-table optimum: our unconstrained optimum peaks at {r0.summary['max_temperature_R']:,.0f} °R, not "
+         "2,670 °R, so the 2,600 °R limit barely binds here."),
+        "* The unconstrained max cross-range differs from the report's 1,964 nmi because our bank-table optimum",
+        "  on this aero/atmosphere already exceeds it (see docs on Section II); the percentage loss is the",
+        "  comparable quantity.",
+        "* Where the heat peaks: our unconstrained optimum has two pulses of nearly equal height, the plunge",
+        "  (~230 s, before the bank) and the banked descent after pull-out (~770 s, the higher one). Under the",
+        "  limit the search raises alpha only at the high-speed end of the table (≈16 deg near entry speed at",
+        "  2,550 °R; the report's case approaches C_L max) and keeps the bank schedule (fig29_histories.png).",
+        "* Floor: with these controls the lowest peak we reach on the max cross-range problem is about 2,407 °R",
+        "  (the 2,400 and 2,350 °R rows end infeasible with that best violation); the cross-range loss only",
+        "  becomes report-sized (~5 %) there. The report's 9.4 % at 2,550 °R with 2,550 °R near its floor is",
+        "  the same shape of curve, shifted by ~150 °R in our model.",
+        "* The unconstrained min down-range flight banks steeply right after pull-out and heats far past",
+        "  2,670 °R (the RET in the table); under the limit it cannot, which is what lengthens it.",
+        "* Min down-range: the report does not say how its ≈1,000 nmi rear point was produced; ours minimizes",
+        "  down-range over the bank table (alpha table too when constrained), which is not the zero-lift point.",
+        "* Searched flights are limited to 20,000 integrator steps and must end at the stop altitude; a few",
+        "  steep-bank, high-alpha corners chatter and are rejected (constrained.SEARCH_MAX_STEPS).",
+        "* Each point is one creep/pattern search with a budget; a larger budget or restarts may improve them.",
+    ]
+    (DOCS / "heating.md").write_text("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,113 @@
+"""Optimal and heating-constrained footprints (AFWAL-TR-82-3036 Section III, Figs. 20-29); reduced budgets."""
+
+import numpy as np
+import pytest
+from footprint.cases import parse_case
+from footprint.core import constrained as C
+from footprint.core.heating import ReferenceHeating
+from footprint.core.optimize import Problem, creep_pattern_feasible
+from footprint.core.trajectory import simulate
+
+TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # report Table 2
+SINGLE_PARAMETER_BANK = {"law": "single_parameter", "k": 75 / 90}  # the calibration flight: 2,024 nmi, 2,670 degR
+LIMIT_R = 2_550.0  # Section III.2, the most stringent limit
+BAND_R = 0.5 * C.TTOL_TEMPERATURE_R  # degR, half the tolerance band of the temperature constraint
+
+
+def lod189(bank=None):
+    case = {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY, "stop": {"altitude_ft": 50_000},
+            "heating": {"model": "reference"}}
+    if bank is not None:
+        case["bank"] = bank
+    return parse_case(case).to_spec()
+
+
+@pytest.fixture(scope="module")
+def single_parameter_spec():
+    return lod189(SINGLE_PARAMETER_BANK)
+
+
+def alpha_only_problem(spec, limit_R):
+    """Five alpha-table parameters under the single-parameter bank: the Section III problem made small."""
+    na = len(C.ALPHA_TABLE_VELOCITIES_FPS)
+    return Problem(lower=np.full(na, C.ALPHA_BOUNDS_DEG[0]), upper=np.full(na, C.ALPHA_BOUNDS_DEG[1]),
+                   initial=np.full(na, C.ALPHA_MAX_LD_HYPERSONIC_DEG), payoff="crossrange_nmi", goal="max",
+                   constraints=(C.temperature_limit(limit_R),), base=spec,
+                   controls=lambda s, x: C.with_alpha_table(s, x))
+
+
+def test_spec_carries_the_heating_model(single_parameter_spec):
+    assert isinstance(single_parameter_spec.heating, ReferenceHeating)
+    spec = parse_case({"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY}).to_spec()
+    with pytest.raises(ValueError, match="heating model"):
+        C.control_problem(spec, constraints=(C.temperature_limit(LIMIT_R),), controls="bank_alpha")
+
+
+def test_alpha_table_moves_alpha_along_the_flight_within_bounds(single_parameter_spec):
+    table = [40.0, 30.0, 20.0, 15.0, 12.5]  # deg at 2,000 ... 26,000 ft/s
+    h = simulate(C.with_alpha_table(single_parameter_spec, table)).history
+    a, v = h["alpha_deg"], h["velocity_fps"]
+    assert a.min() >= C.ALPHA_BOUNDS_DEG[0] - 1e-9 and a.max() <= C.ALPHA_BOUNDS_DEG[1] + 1e-9
+    assert a.max() - a.min() > 15.0  # deg: the table really steers alpha
+    expected = np.interp(v, C.ALPHA_TABLE_VELOCITIES_FPS, table)
+    assert np.max(np.abs(a - expected)) < 1e-9  # deg: alpha is the table at the flown velocity
+
+
+def test_bank_alpha_controls_keep_both_tables():
+    spec = lod189()
+    x = np.concatenate((C.nominal_bank_deg(1.0), [35.0, 30.0, 25.0, 20.0, 15.0]))
+    h = simulate(C.bank_alpha_controls(spec, x)).history
+    assert h["alpha_deg"].max() > 20.0  # deg: the alpha table is flown
+    pull = np.argmax(h["gamma_deg"] >= 0.0)  # first flare: the bank is zero in the plunge (Fig. 20)
+    assert np.all(h["bank_deg"][:pull] == 0.0)
+    assert h["bank_deg"].max() > 30.0  # deg: the bank table flies after pull-out
+
+
+def test_temperature_constrained_optimum_is_in_the_band(single_parameter_spec):
+    free = simulate(single_parameter_spec).summary  # (L/D)max: 2,670 degR by calibration
+    r = creep_pattern_feasible(alpha_only_problem(single_parameter_spec, LIMIT_R), max_evaluations=200,
+                               step=5.0, min_step=0.2, soft_start=1e-2)
+    assert free["max_temperature_R"] == pytest.approx(2_670.0, abs=5.0)
+    assert r.feasible
+    assert r.summary["max_temperature_R"] <= LIMIT_R + BAND_R + 1e-9
+    assert r.summary["crossrange_nmi"] < free["crossrange_nmi"]  # the limit costs cross-range
+    assert r.params.max() > C.ALPHA_MAX_LD_HYPERSONIC_DEG + 1.0  # deg: alpha raised off (L/D)max somewhere
+
+
+def test_an_impossible_temperature_is_reported_infeasible(single_parameter_spec):
+    r = creep_pattern_feasible(alpha_only_problem(single_parameter_spec, 2_000.0), max_evaluations=120,
+                               step=5.0, min_step=0.2)
+    assert not r.feasible
+    excess = r.summary["max_temperature_R"] - 2_000.0 - BAND_R
+    assert r.max_violation == pytest.approx(excess, abs=1e-9)  # degR, the best flight's own excess
+    assert r.violations["max_temperature_R"] == r.max_violation > 100.0  # degR: far from reach
+    assert r.max_violation < simulate(single_parameter_spec).summary["max_temperature_R"] - 2_000.0  # it tried
+
+
+def test_parallel_and_serial_optimal_footprints_agree(same_numbers):
+    """Same search, same steps; the summaries may differ in the last bit (NumPy's SIMD paths vary by process)."""
+    spec = lod189()
+    kw = {"downranges_nmi": (3_000.0, 6_000.0), "controls": "bank", "max_evaluations": 40}
+    par = C.optimal_footprint(spec, workers=2, **kw)
+    ser = C.optimal_footprint(spec, workers=1, **kw)
+    assert [p.label for p in par.points] == ["max_crossrange", "downrange_3000", "downrange_6000", "max_downrange"]
+    assert par.trajectories == ser.trajectories
+    for a, b in zip(par.points, ser.points):
+        assert a.label == b.label
+        assert np.array_equal(a.result.params, b.result.params)
+        same_numbers(a.result.summary, b.result.summary)
+    assert par.point("max_downrange").downrange_nmi > par.point("max_crossrange").downrange_nmi
+
+
+def test_unknown_controls_are_refused():
+    with pytest.raises(ValueError, match="controls"):
+        C.control_problem(lod189(), controls="alpha")
+
+
+def test_a_flight_that_does_not_reach_the_stop_altitude_has_no_payoff():
+    """Bank 150 deg at alpha 40 deg chatters to the step limit: the search must not take it for a short flight."""
+    pr = C.control_problem(lod189(), payoff="downrange_nmi", goal="min", controls="bank_alpha")
+    s = pr.summary(np.concatenate((np.full(8, 150.0), np.full(5, 40.0))))
+    assert s["stop_reason"] == "max_steps" and s["downrange_nmi"] is None
+    ok = pr.summary(np.concatenate((np.full(8, 150.0), np.full(5, 12.5))))
+    assert ok["stop_reason"] == "altitude" and ok["downrange_nmi"] > 1_000.0  # nmi
