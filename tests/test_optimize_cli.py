@@ -43,12 +43,29 @@ def test_a_down_range_beyond_reach_is_reported_infeasible_with_its_violation(tmp
     assert out["max_violation"] == pytest.approx(16_000 - 25 - 14_869, abs=5.0)
 
 
+def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
+    """Section III: the bank table plus an alpha table vs velocity, maximum cross-range at RET <= 2,550 degR."""
+    case = {**STUDY["case"], "heating": {"model": "reference"}}
+    study = {**STUDY, "case": case, "controls": ["bank", "alpha"], "max_trajectories": 800,
+             "constraints": [{"quantity": "max_temperature_R", "at_most": 2_550}]}
+    r = run(tmp_path, study)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["feasible"] and out["summary"]["max_temperature_R"] <= 2_550 + 2.5  # degR: half the TTOL band
+    alphas = {k: v for k, v in out["parameters"].items() if k.startswith("alpha_deg")}
+    assert len(out["parameters"]) == 13 and len(alphas) == 5
+    assert all(12.5 <= v <= 40.0 for v in alphas.values())  # deg: (L/D)max to C_L max of lod-1.89
+    assert max(alphas.values()) > 12.5  # the unconstrained optimum peaks at 2,616 degR: alpha must rise
+
+
 @pytest.mark.parametrize("change, words", [
     ({"constraints": [{"quantity": "max_temperature_R", "at_most": 2550}]}, "case.heating"),
     ({"constraints": [{"quantity": "downrange_nmi", "equals": 4000, "at_most": 5000}]}, "exactly one of"),
     ({"payoff": {"quantity": "happiness", "goal": "max"}}, "payoff.quantity"),
     ({"method": "genetic"}, "method"),
     ({"max_trajectories": 5}, "max_trajectories"),
+    ({"controls": ["alpha"]}, "controls"),
+    ({"controls": ["bank", "bank"]}, "controls"),
 ])
 def test_a_bad_study_gets_one_line_and_exit_2(tmp_path, change, words):
     r = run(tmp_path, {**STUDY, **change})

@@ -111,3 +111,67 @@ def test_a_flight_that_does_not_reach_the_stop_altitude_has_no_payoff():
     assert s["stop_reason"] == "max_steps" and s["downrange_nmi"] is None
     ok = pr.summary(np.concatenate((np.full(8, 150.0), np.full(5, 12.5))))
     assert ok["stop_reason"] == "altitude" and ok["downrange_nmi"] > 1_000.0  # nmi
+
+
+# ------------------------------------------------------------------ the simple heating-constrained method
+def test_a_zero_floor_is_the_max_ld_flight(single_parameter_spec):
+    """alpha = max((L/D)max, 0) is (L/D)max: the same flight to the last bit."""
+    plain = simulate(single_parameter_spec).summary
+    floored = simulate(C.with_alpha_floor(single_parameter_spec, 0.0)).summary
+    assert floored == plain
+
+
+def test_the_floor_acts_only_above_its_knee(single_parameter_spec):
+    h = simulate(C.with_alpha_floor(single_parameter_spec, 30.0)).history
+    plain = simulate(single_parameter_spec)  # (L/D)max alpha is 12.5-20 deg on lod-1.89
+    fast = h["velocity_fps"] >= C.FLOOR_VELOCITIES_FPS[1]
+    slow = h["velocity_fps"] <= C.FLOOR_VELOCITIES_FPS[0]
+    assert np.all(np.abs(h["alpha_deg"][fast] - 30.0) < 1e-9)  # deg: the floor binds where it is flown
+    assert plain.history["alpha_deg"].max() < 30.0
+    assert np.all(h["alpha_deg"][slow] < 21.0)  # deg: (L/D)max again below 12,000 ft/s
+    assert slow.any() and fast.any()
+
+
+def test_the_coolest_floor_meets_the_limit_and_a_lower_one_does_not(single_parameter_spec):
+    p = C.coolest_floor(single_parameter_spec, LIMIT_R)
+    assert p.floor_deg is not None and C.ALPHA_BOUNDS_DEG[0] < p.floor_deg < C.ALPHA_BOUNDS_DEG[1]
+    assert p.summary["max_temperature_R"] <= LIMIT_R + C.TTOL_TEMPERATURE_R
+    lower = C.FLOOR_SCAN_STEP_DEG / 2 ** C.FLOOR_BISECTIONS  # deg: the search's resolution
+    below = simulate(C.with_alpha_floor(single_parameter_spec, p.floor_deg - lower)).summary
+    assert below["max_temperature_R"] > LIMIT_R + C.TTOL_TEMPERATURE_R
+    assert p.flights <= 1 + (C.ALPHA_BOUNDS_DEG[1] - C.ALPHA_BOUNDS_DEG[0]) / C.FLOOR_SCAN_STEP_DEG \
+        + C.FLOOR_BISECTIONS
+
+
+@pytest.fixture(scope="module")
+def limited_2550():
+    return C.temperature_limited_footprint(lod189(), LIMIT_R)
+
+
+def test_every_kept_point_meets_the_limit_and_every_dropped_one_cannot(limited_2550):
+    kept = [p for p in limited_2550.points if p.floor_deg is not None]
+    dropped = [p for p in limited_2550.points if p.floor_deg is None]
+    assert kept and dropped  # the steep banks heat past 2,550 degR at any alpha up to C_L max
+    assert all(p.summary["max_temperature_R"] <= LIMIT_R + C.TTOL_TEMPERATURE_R for p in kept)
+    assert all(p.summary["max_temperature_R"] > LIMIT_R + C.TTOL_TEMPERATURE_R for p in dropped)
+    assert max(p.bank0_deg for p in kept) < min(p.bank0_deg for p in dropped)  # steeper banks heat more
+    assert len(limited_2550.footprint.points) == len(kept)  # left half (mirror off), one point per setting
+
+
+def test_the_limit_doubles_the_minimum_downrange_as_the_report_says(limited_2550):
+    """Section III: under 2,550 degR the minimum down-range about doubles (1,000 -> 2,000 nmi)."""
+    free = C.temperature_limited_footprint(lod189(), 1e9).footprint  # no limit: the plain footprint
+    ratio = limited_2550.footprint.min_downrange_nmi / free.min_downrange_nmi
+    assert 1.5 < ratio < 2.5
+
+
+def test_the_simple_method_is_within_5_percent_of_the_optimizer_at_a_tenth_of_the_cost(limited_2550):
+    """Issue 5: max cross-range and max down-range within 5 % of the optimized constrained footprint's,
+    for at least 10x fewer trajectories (here against its two end points alone, a lower bound on its cost)."""
+    opt = C.optimal_footprint(lod189(), constraints=(C.temperature_limit(LIMIT_R),), controls="bank_alpha",
+                              max_evaluations=3_000)
+    simple = limited_2550.footprint
+    assert all(p.result.feasible for p in opt.points)
+    assert simple.max_crossrange_nmi == pytest.approx(opt.point("max_crossrange").crossrange_nmi, rel=0.05)
+    assert simple.max_downrange_nmi == pytest.approx(opt.point("max_downrange").downrange_nmi, rel=0.05)
+    assert opt.trajectories >= 10 * limited_2550.trajectories

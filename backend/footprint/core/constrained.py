@@ -21,7 +21,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from footprint.core.controls import ALPHA_TABLE_VELOCITY, C_ALPHA_LAW, C_ALPHA_TABLE
+from footprint.core.controls import ALPHA_MAX_LD_FLOOR, ALPHA_TABLE_VELOCITY, C_ALPHA_LAW, C_ALPHA_TABLE
+from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, with_bank
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
     BANK_TABLE_HEADINGS_DEG,
@@ -56,15 +57,17 @@ WORKERS = 2
 
 
 # ------------------------------------------------------------------------------------------------- controls
-def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> FlightSpec:
+def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
+                     law=ALPHA_TABLE_VELOCITY) -> FlightSpec:
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
-    flight; the table is appended to the control array (any older alpha table is left unreferenced)."""
+    flight (law ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the table is appended to the control
+    array (any older alpha table is left unreferenced)."""
     v = np.asarray(velocities_fps, dtype=float)
     a = np.asarray(alpha_deg, dtype=float)
     if v.shape != a.shape or np.any(np.diff(v) <= 0.0):
         raise ValueError(f"alpha table: {len(v)} velocities (must ascend) for {len(a)} angles")
     ctrl = spec.ctrl.copy()
-    ctrl[C_ALPHA_LAW] = ALPHA_TABLE_VELOCITY
+    ctrl[C_ALPHA_LAW] = law
     ctrl[C_ALPHA_TABLE] = len(ctrl)
     return replace(spec, ctrl=np.concatenate((ctrl, [len(v)], v, a)))
 
@@ -263,3 +266,85 @@ def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS
     else:
         points = [_solve_task(t) for t in tasks]
     return [(lim, p.result) for lim, p in zip(limits_R, points)]
+
+
+# ----------------------------------------------------------------- beyond the report: a simple heating method
+# The report's conclusion 3: no simple method was found for heating constraints. Ours: the single-parameter
+# bank law (Section II.6) with alpha = max((L/D)max, floor(V)); the floor is zero below 12,000 ft/s and
+# rises linearly to `floor_deg` at 16,000 ft/s and above, where the heat pulses lie (the plunge at ~24,300
+# ft/s, the banked descent at 18,000-23,000 ft/s for the lod-1.89 Table 2 flights), and leaves the slow glide
+# at (L/D)max. For each bank setting floor_deg is the smallest in [12.5, 40] deg ((L/D)max to C_L max) whose
+# flight keeps the RET within the limit: a coarse scan, then bisection. Cost: 1-17 flights per setting.
+FLOOR_VELOCITIES_FPS = (12_000.0, 16_000.0)
+FLOOR_SCAN_STEP_DEG = 2.5
+FLOOR_BISECTIONS = 5  # 2.5 deg / 2^5 = 0.08 deg
+
+
+def with_alpha_floor(spec: FlightSpec, floor_deg) -> FlightSpec:
+    """The spec flying alpha = max((L/D)max, floor), the floor 0 below 12,000 ft/s, floor_deg above 16,000."""
+    return with_alpha_table(spec, (0.0, float(floor_deg)), FLOOR_VELOCITIES_FPS, law=ALPHA_MAX_LD_FLOOR)
+
+
+@dataclass
+class LimitedPoint:
+    bank0_deg: float
+    floor_deg: float | None  # None: no floor in the bounds meets the limit (the point is left out)
+    summary: dict  # the kept flight's summary, or the coolest flight's when none meets the limit
+    flights: int
+
+
+def coolest_floor(spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bounds_deg=ALPHA_BOUNDS_DEG,
+                  bank0_deg=0.0) -> LimitedPoint:
+    """The smallest alpha floor (deg) whose flight ends at the stop altitude with max RET <= limit + tolerance."""
+    def fly(floor_deg):
+        return simulate(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS)).summary
+
+    def ok(s):
+        return s["stop_reason"] in ACCEPTED_STOPS and s["max_temperature_R"] <= limit_R + tolerance_R
+
+    hot = bounds_deg[0]
+    s, flights = fly(hot), 1
+    if ok(s):
+        return LimitedPoint(bank0_deg, hot, s, flights)
+    coolest = s
+    for cool in np.arange(hot + FLOOR_SCAN_STEP_DEG, bounds_deg[1] + 1e-9, FLOOR_SCAN_STEP_DEG):
+        s, flights = fly(cool), flights + 1
+        if ok(s):
+            break
+        coolest = min(coolest, s, key=lambda x: x["max_temperature_R"])
+        hot = cool
+    else:
+        return LimitedPoint(bank0_deg, None, coolest, flights)
+    for _ in range(FLOOR_BISECTIONS):  # the RET need not fall monotonically with the floor: keep a met bracket
+        mid = 0.5 * (hot + cool)
+        m, flights = fly(mid), flights + 1
+        if ok(m):
+            cool, s = mid, m
+        else:
+            hot = mid
+    return LimitedPoint(bank0_deg, float(cool), s, flights)
+
+
+@dataclass
+class LimitedFootprint:
+    footprint: object  # footprints.Footprint of the kept settings
+    points: list[LimitedPoint]  # every bank setting, kept or not
+    trajectories: int  # every flight: the searches and the footprint's own
+    seconds: float
+
+
+def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *,
+                                  tolerance_R=TTOL_TEMPERATURE_R, mirror=False) -> LimitedFootprint:
+    """The simple heating-constrained footprint: single-parameter bank settings phi0 = bank0_deg, each with the
+    coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side)."""
+    t0 = time.perf_counter()
+    points = [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG), limit_R, tolerance_R,
+                            bank0_deg=float(b)) for b in bank0_deg]
+    family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
+               lambda s, right, p=p: with_alpha_floor(with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG,
+                                                                right=right), p.floor_deg),
+               p.bank0_deg == 0.0)
+              for p in points if p.floor_deg is not None]
+    fp = footprint_of_family("temperature_limited", spec, family, mirror)
+    return LimitedFootprint(fp, points, fp.trajectories + sum(p.flights for p in points),
+                            time.perf_counter() - t0)

@@ -43,6 +43,7 @@ ALPHA_TABLE_VELOCITY = 3
 ALPHA_TABLE_TIME = 4
 ALPHA_LEVEL_FLIGHT = 5
 ALPHA_GAMMA_HOLD = 6
+ALPHA_MAX_LD_FLOOR = 7  # (L/D)max, never below a floor table vs velocity (the temperature-limited law)
 ALPHA_LAWS = {
     "max_ld": ALPHA_MAX_LD,
     "cl_max": ALPHA_CL_MAX,
@@ -50,6 +51,7 @@ ALPHA_LAWS = {
     "table": ALPHA_TABLE_VELOCITY,  # or ALPHA_TABLE_TIME, by the table's abscissa
     "level_flight": ALPHA_LEVEL_FLIGHT,
     "gamma_hold": ALPHA_GAMMA_HOLD,
+    "max_ld_floor": ALPHA_MAX_LD_FLOOR,
 }
 # --- when the bank law takes over (before it the bank is zero) ---
 START_ENTRY = 0

@@ -19,6 +19,7 @@ from footprint.core.controls import (
     ALPHA_CONSTANT,
     ALPHA_GAMMA_HOLD,
     ALPHA_LEVEL_FLIGHT,
+    ALPHA_MAX_LD_FLOOR,
     ALPHA_TABLE_TIME,
     ALPHA_TABLE_VELOCITY,
     BANK_CONSTANT_ALTITUDE,
@@ -169,6 +170,8 @@ def evaluate(t, s, p, aero, ctrl, mode):
         alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], v)
     elif alpha_law == ALPHA_TABLE_TIME:
         alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], t)
+    elif alpha_law == ALPHA_MAX_LD_FLOOR:  # heating-limited footprints (constrained.py): raised where hot
+        alpha = max(_aero.alpha_max_ld_deg(aero, mach, alt), table_interp(ctrl, ctrl[C_ALPHA_TABLE], v))
     elif (alpha_law == ALPHA_LEVEL_FLIGHT or alpha_law == ALPHA_GAMMA_HOLD) and not pulled_out:
         if int(ctrl[C_ALPHA_BEFORE]) == ALPHA_CL_MAX:
             alpha = _aero.alpha_cl_max_deg(aero, mach, alt)

@@ -135,7 +135,7 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
                lambda s, right, b=b: with_bank(s, "single_parameter", b / SIGMA0_DEG, limit_deg, right=right),
                b == 0)
               for b in bank0_deg]
-    return _footprint("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
+    return footprint_of_family("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
 
 
 def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
@@ -145,7 +145,7 @@ def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn
     family = [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
                lambda s, right, b=b: with_bank(s, law, b, turn_deg=turn_deg, right=right), b == 0)
               for b in bank_deg]
-    return _footprint(law, spec, family + _min_range(min_range), mirror, contours_fps)
+    return footprint_of_family(law, spec, family + _min_range(min_range), mirror, contours_fps)
 
 
 def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
@@ -195,7 +195,7 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
                 False) for t in turns]
     family.append(({"turn_deg": widest, "until": "wings_level"},
                    lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right), False))
-    fp = _footprint("constant_altitude", spec, family, mirror, contours_fps)
+    fp = footprint_of_family("constant_altitude", spec, family, mirror, contours_fps)
     fp.trajectories += 1  # the widest turn, flown first to find its size
     return fp
 
@@ -302,7 +302,8 @@ def _worst(asyms):
     return {k: max(a[k] for a in asyms) for k in asyms[0]} if asyms else None
 
 
-def _footprint(method, spec, family, mirror, contours_fps=()) -> Footprint:
+def footprint_of_family(method, spec, family, mirror, contours_fps=()) -> Footprint:
+    """The footprint a family [(parameter, make(spec, right) -> spec, on_axis)] of control settings draws."""
     return _assemble(method, spec, _fly(spec, family, mirror, contours_fps))
 
 
