@@ -117,3 +117,36 @@ def test_a_bad_study_gets_one_line_naming_the_field(tmp_path):
     study["method"] = "spiral"
     r = run("footprint", write_case(tmp_path, study))
     assert r.returncode == 2 and "method" in r.stderr and "single_parameter" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limit(tmp_path):
+    """The simple heating-constrained method as a study: both halves flown on the rotating earth, each point's
+    alpha floor searched for its own side; the settings that no floor can cool are left out."""
+    study = json.loads((ROOT / "examples" / "footprint_lod189.json").read_text())
+    study = {"case": {**study["case"], "heating": {"model": "reference"}}, "method": "temperature_limited",
+             "limit_R": 2_550, "bank0_deg": [0, 60, 90, 120]}
+    r = run("footprint", write_case(tmp_path, study))
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert [p["side"] for p in out["points"]] == ["axis", "left", "left", "right", "right"]  # 120 deg: too hot
+    assert [p["parameter"]["bank0_deg"] for p in out["points"]] == [0, 60, 90, 90, 60]
+    assert all(12.5 <= p["parameter"]["alpha_floor_deg"] <= 40.0 for p in out["points"])
+    assert out["trajectories"] > 5  # the floor searches are counted, not only the five flights drawn
+    from footprint.cases import parse_case
+    from footprint.core import constrained as C
+    from footprint.core.footprints import with_bank
+    from footprint.core.trajectory import simulate
+
+    base = parse_case(study["case"]).to_spec()
+    for p in out["points"]:  # fly each point again: its own bank law, side and alpha floor
+        spec = with_bank(base, "single_parameter", p["parameter"]["k"], right=p["side"] == "right")
+        s = simulate(C.with_alpha_floor(spec, p["parameter"]["alpha_floor_deg"])).summary
+        assert s["max_temperature_R"] <= 2_555.0  # degR: the limit plus the TTOL band
+        assert s["downrange_nmi"] == pytest.approx(p["downrange_nmi"], abs=1e-3)  # nmi: the flight re-flown
+
+
+def test_a_temperature_limited_footprint_needs_a_heating_model(tmp_path):
+    study = json.loads((ROOT / "examples" / "footprint_lod189.json").read_text())
+    study = {"case": study["case"], "method": "temperature_limited", "limit_R": 2_550}
+    r = run("footprint", write_case(tmp_path, study))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "case.heating" in r.stderr, r.stderr

@@ -6,7 +6,7 @@ the core generator in footprint.core.footprints. The case's own bank law is repl
 
 from typing import Annotated, Literal, Union
 
-from pydantic import Field, TypeAdapter
+from pydantic import Field, TypeAdapter, model_validator
 
 from footprint.cases import Case, Strict, bounded
 
@@ -69,8 +69,31 @@ class ConstantAltitudeStudy(_Study):
     steps: int = Field(default=6, ge=1, le=60)
 
 
+class TemperatureLimitedStudy(_Study):
+    """Beyond the report: single-parameter bank settings, alpha raised above 16,000 ft/s just enough that the
+    radiation-equilibrium temperature stays within limit_R (footprint.core.constrained); needs case.heating."""
+
+    method: Literal["temperature_limited"]
+    limit_R: bounded(500, 10_000, "degR")
+    tolerance_R: bounded(0, 100, "degR") = 5.0  # TTOL of Section II.4
+    bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
+                                                      max_length=181)
+
+    @model_validator(mode="after")
+    def _heating(self):
+        if self.case.heating is None:
+            raise ValueError("case.heating: a temperature-limited footprint needs a heating model")
+        if self.contours_fps:
+            raise ValueError("contours_fps: not available with method 'temperature_limited'")
+        return self
+
+    def to_params(self):
+        return {"limit_R": self.limit_R, "tolerance_R": self.tolerance_R, "bank0_deg": tuple(self.bank0_deg),
+                "mirror": self.mirror}
+
+
 FootprintStudy = Annotated[Union[SingleParameterStudy, ConstantBankStudy, StagedStudy, TwoParameterStudy,
-                                 ConstantAltitudeStudy], Field(discriminator="method")]
+                                 ConstantAltitudeStudy, TemperatureLimitedStudy], Field(discriminator="method")]
 
 _ADAPTER = TypeAdapter(FootprintStudy)
 

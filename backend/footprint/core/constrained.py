@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from footprint.core.controls import ALPHA_MAX_LD_FLOOR, ALPHA_TABLE_VELOCITY, C_ALPHA_LAW, C_ALPHA_TABLE
-from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, with_bank
+from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
     BANK_TABLE_HEADINGS_DEG,
@@ -327,24 +327,34 @@ def coolest_floor(spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bou
 
 @dataclass
 class LimitedFootprint:
-    footprint: object  # footprints.Footprint of the kept settings
-    points: list[LimitedPoint]  # every bank setting, kept or not
-    trajectories: int  # every flight: the searches and the footprint's own
+    footprint: object  # footprints.Footprint of the kept settings; its `trajectories` counts the searches too
+    points: list[LimitedPoint]  # every bank setting, kept or not (left half)
     seconds: float
+
+    @property
+    def trajectories(self):
+        return self.footprint.trajectories
 
 
 def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *,
                                   tolerance_R=TTOL_TEMPERATURE_R, mirror=False) -> LimitedFootprint:
     """The simple heating-constrained footprint: single-parameter bank settings phi0 = bank0_deg, each with the
-    coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side)."""
+    coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side). With
+    mirror on a rotating earth the right half is searched and flown for itself."""
     t0 = time.perf_counter()
-    points = [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG), limit_R, tolerance_R,
-                            bank0_deg=float(b)) for b in bank0_deg]
+
+    def search(right):
+        return [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG, right=right), limit_R,
+                              tolerance_R, bank0_deg=float(b)) for b in bank0_deg]
+
+    left = search(False)
+    right = search(True) if mirror and not mirror_is_exact(spec) else left
     family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
-               lambda s, right, p=p: with_alpha_floor(with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG,
-                                                                right=right), p.floor_deg),
+               lambda s, to_right, p=p, q=q: with_alpha_floor(
+                   with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG, right=to_right),
+                   q.floor_deg if to_right else p.floor_deg),
                p.bank0_deg == 0.0)
-              for p in points if p.floor_deg is not None]
+              for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]
     fp = footprint_of_family("temperature_limited", spec, family, mirror)
-    return LimitedFootprint(fp, points, fp.trajectories + sum(p.flights for p in points),
-                            time.perf_counter() - t0)
+    fp.trajectories += sum(p.flights for p in left) + (sum(q.flights for q in right) if right is not left else 0)
+    return LimitedFootprint(fp, left, time.perf_counter() - t0)

@@ -210,6 +210,10 @@ METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank,
 
 
 def footprint(spec: FlightSpec, method: str, **params) -> Footprint:
+    if method == "temperature_limited":  # constrained.py builds on this module, so it is imported here
+        from footprint.core.constrained import temperature_limited_footprint
+
+        return temperature_limited_footprint(spec, **params).footprint
     return METHODS[method](spec, **params)
 
 
