@@ -1,0 +1,123 @@
+"""create_app(settings): the FastAPI app. On start: migrations applied, the Dask cluster up, pending jobs
+resubmitted; the API under /api, the docs at /docs, the map page (frontend/) at /."""
+
+import logging
+from contextlib import asynccontextmanager
+
+from fastapi import FastAPI
+from fastapi.middleware.cors import CORSMiddleware
+from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+import footprint
+from footprint.service import errors
+from footprint.service.db.engine import make_engine, make_sessions, migrate
+from footprint.service.jobs.engine import JobEngine
+from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
+from footprint.service.settings import MAX_BODY_BYTES, Settings
+
+WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
+log = logging.getLogger("footprint.service")
+
+
+def create_app(settings: Settings) -> FastAPI:
+    """The service for these settings (nothing starts until the app's lifespan begins)."""
+    db = make_engine(settings.database_url)
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI):
+        await run_in_threadpool(migrate, db, settings.migrations_dir)
+        await run_in_threadpool(app.state.jobs.start)
+        try:
+            yield
+        finally:
+            await run_in_threadpool(app.state.jobs.close)
+            db.dispose()
+
+    app = FastAPI(title="Footprint", version=footprint.__version__, lifespan=lifespan,
+                  description="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036): jobs, "
+                              "footprints, trajectories, geometry, landing sites. See docs/api.md.")
+    app.state.settings, app.state.dialect = settings, db.dialect.name
+    app.state.sessions = make_sessions(db)
+    app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings)
+    errors.install(app)
+    for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
+        app.include_router(module.router, prefix="/api")
+    app.add_middleware(GuardMiddleware, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)
+    if settings.cors_origin_list:
+        app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
+                           allow_methods=["*"], allow_headers=["*"])
+    if settings.frontend_dir.is_dir():
+        app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")
+    return app
+
+
+class GuardMiddleware:
+    """Bearer token on writes (401; reads stay open) and the body limit (413), before any route runs."""
+
+    def __init__(self, app: ASGIApp, *, token: str, max_body_bytes: int):
+        self.app, self.token, self.max_body_bytes = app, token, max_body_bytes
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        if self.token and scope["method"] in WRITE_METHODS and not self._authorized(scope):
+            await _reply(scope, receive, send, errors.Unauthorized(
+                "missing or wrong bearer token: writes need the header 'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"))
+            return
+        declared = dict(scope["headers"]).get(b"content-length")
+        if declared is not None and declared.isdigit() and int(declared) > self.max_body_bytes:
+            await _reply(scope, receive, send, _too_large(int(declared), self.max_body_bytes))
+            return
+        if scope["method"] in WRITE_METHODS:
+            body = await self._buffered(receive)
+            if body is None:
+                await _reply(scope, receive, send, _too_large(None, self.max_body_bytes))
+                return
+            receive = _replay(body)
+        await self.app(scope, receive, send)
+
+    def _authorized(self, scope: Scope) -> bool:
+        return dict(scope["headers"]).get(b"authorization", b"").decode("latin-1") == f"Bearer {self.token}"
+
+    async def _buffered(self, receive: Receive) -> bytes | None:
+        """The whole body (a chunked one is counted as it comes); None past the limit."""
+        chunks, size = [], 0
+        while True:
+            message = await receive()
+            if message["type"] == "http.disconnect":
+                break
+            chunks.append(message.get("body", b""))
+            size += len(chunks[-1])
+            if size > self.max_body_bytes:
+                return None
+            if not message.get("more_body", False):
+                break
+        return b"".join(chunks)
+
+
+def _too_large(size: int | None, limit: int) -> errors.BodyTooLarge:
+    got = f" (got {size:,} bytes)" if size is not None else ""
+    return errors.BodyTooLarge(f"body: request bodies are limited to {limit:,} bytes{got}")
+
+
+def _replay(body: bytes) -> Receive:
+    sent = False
+
+    async def receive() -> Message:
+        nonlocal sent
+        if sent:
+            return {"type": "http.disconnect"}
+        sent = True
+        return {"type": "http.request", "body": body, "more_body": False}
+
+    return receive
+
+
+async def _reply(scope: Scope, receive: Receive, send: Send, exc: Exception) -> None:
+    from fastapi.responses import JSONResponse
+
+    headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, errors.Unauthorized) else None
+    await JSONResponse(errors.error_body(exc), status_code=errors.status_of(exc), headers=headers)(scope, receive, send)

@@ -1,0 +1,1 @@
+"""Storage: SQLAlchemy 2 models (models), engine and migrations (engine), every query (queries)."""

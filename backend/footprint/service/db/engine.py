@@ -1,0 +1,55 @@
+"""The database engine and sessions, and Alembic migrations applied through alembic's API."""
+
+from pathlib import Path
+
+from alembic import command
+from alembic.config import Config
+from sqlalchemy import Engine, create_engine, event
+from sqlalchemy.orm import Session, sessionmaker
+
+SQLITE_BUSY_TIMEOUT_S = 30.0  # writers wait for each other this long before "database is locked"
+
+
+def make_engine(database_url: str) -> Engine:
+    """An engine for SQLite (a file, foreign keys on, write transactions serialized) or Postgres."""
+    if database_url.startswith("sqlite"):
+        engine = create_engine(database_url, connect_args={"check_same_thread": False,
+                                                          "timeout": SQLITE_BUSY_TIMEOUT_S})
+        _sqlite_pragmas(engine)
+        return engine
+    return create_engine(database_url, pool_pre_ping=True, pool_size=10, max_overflow=40)  # request + job threads
+
+
+def _sqlite_pragmas(engine: Engine) -> None:
+    """WAL (readers never block the writer), enforced foreign keys, and BEGIN IMMEDIATE: pysqlite's deferred
+    transactions fail at once (not after the timeout) when a reader later tries to write."""
+
+    @event.listens_for(engine, "connect")
+    def _connect(dbapi_connection, _record):
+        dbapi_connection.isolation_level = None  # let SQLAlchemy's begin event emit BEGIN
+        cursor = dbapi_connection.cursor()
+        cursor.execute("PRAGMA journal_mode=WAL")
+        cursor.execute("PRAGMA foreign_keys=ON")
+        cursor.close()
+
+    @event.listens_for(engine, "begin")
+    def _begin(connection):
+        connection.exec_driver_sql("BEGIN IMMEDIATE")
+
+
+def make_sessions(engine: Engine) -> sessionmaker[Session]:
+    return sessionmaker(engine, expire_on_commit=False)
+
+
+def alembic_config(migrations_dir: Path) -> Config:
+    cfg = Config()
+    cfg.set_main_option("script_location", str(migrations_dir))
+    return cfg
+
+
+def migrate(engine: Engine, migrations_dir: Path) -> None:
+    """Bring the database to the newest revision (alembic upgrade head) on the given engine."""
+    cfg = alembic_config(migrations_dir)
+    with engine.begin() as connection:
+        cfg.attributes["connection"] = connection
+        command.upgrade(cfg, "head")

@@ -1,0 +1,235 @@
+"""Every query of the service, as keyword-only functions taking a session. Callers own the transaction
+(`with sessions.begin() as s:`), except `finish_job`, which is the one transaction of a job's results."""
+
+import uuid
+from datetime import datetime, timezone
+
+from sqlalchemy import delete, func, select, text, update
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from footprint.service.db.models import PENDING, Footprint, FootprintPoint, Job, JobResult, Site, Trajectory, \
+    Vehicle, utc_now
+
+POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
+                "side", "parameter", "stop_reason", "mirrored")
+SUMMARY_FIELDS = ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi", "trajectories")
+ENTRY_FIELDS = ("latitude_deg", "longitude_deg", "heading_deg", "velocity_fps", "gamma_deg", "altitude_ft")
+
+
+# ------------------------------------------------------------------------------------------- health
+def dialect(session: Session) -> str:
+    """Run a trivial query; the database's dialect name ("sqlite", "postgresql")."""
+    session.execute(text("SELECT 1"))
+    return session.get_bind().dialect.name
+
+
+# --------------------------------------------------------------------------------------------- jobs
+def create_job(session: Session, *, kind: str, study: dict, name: str | None) -> Job:
+    """A queued job."""
+    job = Job(id=str(uuid.uuid4()), kind=kind, name=name, status="queued", progress=0.0, study=study,
+              attempts=0, created_at=utc_now())
+    session.add(job)
+    session.flush()
+    return job
+
+
+def get_job(session: Session, *, job_id: str) -> Job | None:
+    """The job, or None."""
+    return session.get(Job, job_id)
+
+
+def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: int, offset: int):
+    """(jobs newest first, total count) under the filters."""
+    where = [c for c in (Job.status == status if status else None, Job.kind == kind if kind else None)
+             if c is not None]
+    total = session.scalar(select(func.count()).select_from(Job).where(*where))
+    rows = session.scalars(select(Job).where(*where).order_by(Job.created_at.desc(), Job.id)
+                           .limit(limit).offset(offset)).all()
+    return list(rows), int(total)
+
+
+def pending_job_ids(session: Session) -> list[str]:
+    """Queued and running jobs, oldest first: what a restarted service submits again."""
+    return list(session.scalars(select(Job.id).where(Job.status.in_(PENDING)).order_by(Job.created_at)))
+
+
+def start_job(session: Session, *, job_id: str) -> Job | None:
+    """Mark a pending job running (another attempt); None when it is no longer pending."""
+    job = session.get(Job, job_id, with_for_update=True)
+    if job is None or job.status not in PENDING:
+        return None
+    job.status, job.progress, job.attempts = "running", 0.0, job.attempts + 1
+    job.started_at = job.started_at or utc_now()
+    return job
+
+
+def set_progress(session: Session, *, job_id: str, progress: float) -> None:
+    """Record the progress (0-1) of a running job."""
+    session.execute(update(Job).where(Job.id == job_id, Job.status == "running").values(progress=progress))
+
+
+def fail_job(session: Session, *, job_id: str, error: str) -> None:
+    """End a pending job as failed with a one-line error."""
+    session.execute(update(Job).where(Job.id == job_id, Job.status.in_(PENDING))
+                    .values(status="failed", error=error, finished_at=utc_now()))
+
+
+def cancel_job(session: Session, *, job_id: str) -> Job | None:
+    """Cancel a pending job (a finished one keeps its status); None for an unknown id."""
+    job = session.get(Job, job_id, with_for_update=True)
+    if job is not None and job.status in PENDING:
+        job.status, job.finished_at = "cancelled", utc_now()
+    return job
+
+
+def job_result(session: Session, *, job_id: str) -> dict | None:
+    """The stored result of a job, or None."""
+    row = session.get(JobResult, job_id)
+    return None if row is None else row.result
+
+
+def finish_job(session: Session, *, job_id: str, result: dict, footprints: list[dict]) -> bool:
+    """In one transaction: the job's result, its footprints and the status `succeeded`. False (nothing written)
+    when the job is no longer running or its results exist already (the unique keys refuse a second write)."""
+    try:
+        with session.begin():
+            job = session.get(Job, job_id, with_for_update=True)
+            if job is None or job.status != "running":
+                return False
+            session.add(JobResult(job_id=job_id, result=result, created_at=utc_now()))
+            for seq, record in enumerate(footprints):
+                session.add(_footprint_row(job_id, seq, record))
+            job.status, job.progress, job.finished_at, job.error = "succeeded", 1.0, utc_now(), None
+        return True
+    except IntegrityError:
+        return False
+
+
+def _footprint_row(job_id: str, seq: int, record: dict) -> Footprint:
+    fp = Footprint(id=str(uuid.uuid4()), job_id=job_id, seq=seq, name=record["name"], vehicle=record["vehicle"],
+                   method=record["method"], study=record["study"], created_at=utc_now(),
+                   **{k: record[k] for k in SUMMARY_FIELDS},
+                   **{f"entry_{k}": record["entry"][k] for k in ENTRY_FIELDS})
+    fp.points = [FootprintPoint(interior=interior, seq=i, **{k: p[k] for k in POINT_FIELDS})
+                 for interior, key in ((False, "points"), (True, "interior")) for i, p in enumerate(record[key])]
+    track = record["ground_track"]
+    fp.ground_track = Trajectory(kind="zero_bank", summary=track["summary"], time_s=track["time_s"],
+                                 latitude_deg=track["latitude_deg"], longitude_deg=track["longitude_deg"])
+    return fp
+
+
+# --------------------------------------------------------------------------------------- footprints
+def list_footprints(session: Session, *, job_id: str | None, limit: int, offset: int):
+    """(footprints newest first, in job order within a job; total count)."""
+    where = [Footprint.job_id == job_id] if job_id else []
+    total = session.scalar(select(func.count()).select_from(Footprint).where(*where))
+    rows = session.scalars(select(Footprint).where(*where)
+                           .order_by(Footprint.created_at.desc(), Footprint.job_id, Footprint.seq)
+                           .limit(limit).offset(offset)).all()
+    return list(rows), int(total)
+
+
+def footprint_ids_of_job(session: Session, *, job_id: str) -> list[str]:
+    """The job's footprints in job order."""
+    return list(session.scalars(select(Footprint.id).where(Footprint.job_id == job_id).order_by(Footprint.seq)))
+
+
+def get_footprint(session: Session, *, footprint_id: str) -> Footprint | None:
+    """The footprint summary row, or None."""
+    return session.get(Footprint, footprint_id)
+
+
+def footprint_points(session: Session, *, footprint_id: str, interior: bool) -> list[FootprintPoint]:
+    """The boundary (in order) or the interior points."""
+    return list(session.scalars(select(FootprintPoint).where(FootprintPoint.footprint_id == footprint_id,
+                                                             FootprintPoint.interior == interior)
+                                .order_by(FootprintPoint.seq)))
+
+
+def ground_track(session: Session, *, footprint_id: str) -> Trajectory | None:
+    """The footprint's zero-bank ground track."""
+    return session.scalar(select(Trajectory).where(Trajectory.footprint_id == footprint_id))
+
+
+def delete_footprint(session: Session, *, footprint_id: str) -> bool:
+    """Delete a footprint with its points and track; False for an unknown id."""
+    fp = session.get(Footprint, footprint_id)
+    if fp is None:
+        return False
+    session.delete(fp)
+    return True
+
+
+def count_rows(session: Session, *, job_id: str) -> dict:
+    """How many result rows a job has (job_results, footprints): each must be written once."""
+    return {"job_results": session.scalar(select(func.count()).select_from(JobResult)
+                                          .where(JobResult.job_id == job_id)),
+            "footprints": session.scalar(select(func.count()).select_from(Footprint)
+                                         .where(Footprint.job_id == job_id))}
+
+
+# ----------------------------------------------------------------------------------------- vehicles
+def list_vehicles(session: Session) -> list[Vehicle]:
+    """Stored custom vehicles by id."""
+    return list(session.scalars(select(Vehicle).order_by(Vehicle.id)))
+
+
+def get_vehicle(session: Session, *, vehicle_id: str) -> Vehicle | None:
+    """A stored custom vehicle, or None."""
+    return session.get(Vehicle, vehicle_id)
+
+
+def create_vehicle(session: Session, *, vehicle_id: str, description: str, definition: dict) -> Vehicle:
+    """Store a custom vehicle (the caller checks the id is free)."""
+    row = Vehicle(id=vehicle_id, description=description, definition=definition, created_at=utc_now())
+    session.add(row)
+    session.flush()
+    return row
+
+
+def delete_vehicle(session: Session, *, vehicle_id: str) -> bool:
+    """Delete a stored custom vehicle; False for an unknown id."""
+    return session.execute(delete(Vehicle).where(Vehicle.id == vehicle_id)).rowcount > 0
+
+
+# -------------------------------------------------------------------------------------------- sites
+def list_sites(session: Session) -> list[Site]:
+    """Every landing site, by id."""
+    return list(session.scalars(select(Site).order_by(Site.id)))
+
+
+def get_site(session: Session, *, site_id: int) -> Site | None:
+    """A landing site, or None."""
+    return session.get(Site, site_id)
+
+
+def create_sites(session: Session, *, sites: list[dict]) -> list[Site]:
+    """Store landing sites ({"name", "latitude_deg", "longitude_deg"} each)."""
+    rows = [Site(created_at=utc_now(), **s) for s in sites]
+    session.add_all(rows)
+    session.flush()
+    return rows
+
+
+def update_site(session: Session, *, site_id: int, site: dict) -> Site | None:
+    """Replace a site's fields; None for an unknown id."""
+    row = session.get(Site, site_id)
+    if row is not None:
+        for k, v in site.items():
+            setattr(row, k, v)
+    return row
+
+
+def delete_site(session: Session, *, site_id: int) -> bool:
+    """Delete a landing site; False for an unknown id."""
+    return session.execute(delete(Site).where(Site.id == site_id)).rowcount > 0
+
+
+def iso(moment: datetime | None) -> str | None:
+    """A stored time as ISO 8601 UTC (SQLite returns it without its zone)."""
+    if moment is None:
+        return None
+    if moment.tzinfo is not None:
+        moment = moment.astimezone(timezone.utc)
+    return moment.replace(tzinfo=None).isoformat(timespec="milliseconds") + "Z"

@@ -1,0 +1,115 @@
+"""One table from exception types to HTTP status, and the one-line bodies: {"detail": "...", "field": ...}.
+
+Validation errors reuse footprint.cases.error_line, so a REST user reads the same line as a CLI user, with the
+field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from pydantic import ValidationError
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from footprint.cases import error_line
+from footprint.core.errors import InputError
+
+
+class RequestInvalid(ValueError):
+    """A request field is out of range or inconsistent (422); `field` is its dotted path in the request."""
+
+    def __init__(self, detail: str, field: str | None):
+        super().__init__(detail)
+        self.detail, self.field = detail, field
+
+
+class NotFound(LookupError):
+    """An unknown id (404)."""
+
+
+class Conflict(Exception):
+    """The request clashes with stored state: a taken id, a built-in vehicle (409)."""
+
+
+class Unauthorized(PermissionError):
+    """A write without the bearer token (401)."""
+
+
+class BodyTooLarge(Exception):
+    """A request body over the limit (413)."""
+
+
+class Unavailable(RuntimeError):
+    """Something the service needs is not installed or not reachable (503)."""
+
+
+STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
+    RequestInvalid: 422,
+    InputError: 422,
+    ValidationError: 422,
+    RequestValidationError: 422,
+    NotFound: 404,
+    Conflict: 409,
+    Unauthorized: 401,
+    BodyTooLarge: 413,
+    Unavailable: 503,
+}
+
+
+def invalid(exc: ValidationError | InputError, prefix: str = "") -> RequestInvalid:
+    """A contract parser's error as a 422 naming the field in the request (`prefix` places it there)."""
+    line = error_line(exc)
+    parts = [f"{prefix}{part}" for part in line.split("; ")] if prefix else [line]
+    detail = "; ".join(parts)
+    return RequestInvalid(detail, _first_field(detail) or prefix.rstrip(".") or None)
+
+
+def _first_field(detail: str) -> str | None:
+    head, sep, _ = detail.partition(": ")
+    return head if sep and " " not in head else None
+
+
+def error_body(exc: Exception) -> dict:
+    """{"detail": one line, "field": the offending field for a 422}."""
+    if isinstance(exc, RequestInvalid):
+        return {"detail": exc.detail, "field": exc.field}
+    if isinstance(exc, (InputError, ValidationError)):
+        inv = invalid(exc)
+        return {"detail": inv.detail, "field": inv.field}
+    if isinstance(exc, RequestValidationError):
+        return _request_validation_body(exc)
+    return {"detail": str(exc)}
+
+
+def _request_validation_body(exc: RequestValidationError) -> dict:
+    """FastAPI's own checks (path and query parameters, JSON syntax) in the same one-line form."""
+    parts, field = [], None
+    for err in exc.errors():
+        loc = [str(x) for x in err.get("loc", ()) if x not in ("body", "query", "path")]
+        name = ".".join(loc) or "body"
+        field = field or name
+        msg = err.get("msg", "invalid").removeprefix("Value error, ")
+        if err.get("type") == "json_invalid":
+            msg = f"not valid JSON ({err.get('ctx', {}).get('error', 'syntax error')})"
+        parts.append(f"{name}: {msg}")
+    return {"detail": "; ".join(parts), "field": field}
+
+
+def status_of(exc: Exception) -> int:
+    for kind, status in STATUS_BY_EXCEPTION.items():
+        if isinstance(exc, kind):
+            return status
+    return 500
+
+
+def install(app: FastAPI) -> None:
+    """Answer every exception type of the table with its status and a one-line body."""
+
+    async def handle(_request: Request, exc: Exception) -> JSONResponse:
+        headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, Unauthorized) else None
+        return JSONResponse(error_body(exc), status_code=status_of(exc), headers=headers)
+
+    async def http_error(_request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        return JSONResponse({"detail": str(exc.detail)}, status_code=exc.status_code, headers=exc.headers)
+
+    for kind in STATUS_BY_EXCEPTION:
+        app.add_exception_handler(kind, handle)
+    app.add_exception_handler(StarletteHTTPException, http_error)

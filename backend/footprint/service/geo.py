@@ -1,0 +1,99 @@
+"""GeoJSON for a stored footprint: longitudes unwrapped (a ring never jumps 360 deg between neighbours) and cut
+at the antimeridian into pieces that each lie within -180..180 deg (RFC 7946 section 3.1.9)."""
+
+import numpy as np
+
+ANTIMERIDIAN_DEG = 180.0
+
+
+def unwrapped(lon_deg) -> np.ndarray:
+    """Longitudes with 360 deg added or taken where neighbours would jump more than 180 deg."""
+    return np.unwrap(np.asarray(lon_deg, float), period=360.0)
+
+
+def _clip(ring: list, lo: float, hi: float) -> list:
+    """Sutherland-Hodgman: the closed ring [(lon, lat)...] clipped to lo <= lon <= hi (planar in degrees)."""
+    for inside, edge in ((lambda p: p[0] >= lo, lo), (lambda p: p[0] <= hi, hi)):
+        out = []
+        for i, cur in enumerate(ring):
+            prev = ring[i - 1]
+            if inside(cur) != inside(prev):
+                t = (edge - prev[0]) / (cur[0] - prev[0])
+                out.append((edge, prev[1] + t * (cur[1] - prev[1])))
+            if inside(cur):
+                out.append(cur)
+        ring = out
+        if not ring:
+            break
+    return ring
+
+
+def _windows(lon: np.ndarray) -> range:
+    """The 360-deg windows (k: -180 + 360 k .. 180 + 360 k) the longitudes touch."""
+    first = int(np.floor((lon.min() + ANTIMERIDIAN_DEG) / 360.0))
+    last = int(np.floor((lon.max() + ANTIMERIDIAN_DEG) / 360.0))
+    return range(first, last + 1)
+
+
+def polygon(lat_deg, lon_deg) -> dict:
+    """A Polygon, or a MultiPolygon of its pieces when the boundary crosses the antimeridian."""
+    lon = unwrapped(lon_deg)
+    ring = list(zip(lon.tolist(), np.asarray(lat_deg, float).tolist()))
+    pieces = []
+    for k in _windows(lon):
+        shift = 360.0 * k
+        part = _clip(ring, -ANTIMERIDIAN_DEG + shift, ANTIMERIDIAN_DEG + shift)
+        if len(part) >= 3:
+            pieces.append([[x - shift, y] for x, y in part] + [[part[0][0] - shift, part[0][1]]])
+    if len(pieces) == 1:
+        return {"type": "Polygon", "coordinates": [pieces[0]]}
+    return {"type": "MultiPolygon", "coordinates": [[p] for p in pieces]}
+
+
+def line(lat_deg, lon_deg) -> dict:
+    """A LineString, or a MultiLineString cut where it crosses the antimeridian."""
+    lon, lat = unwrapped(lon_deg), np.asarray(lat_deg, float)
+    pieces, current, window = [], [], None
+    for i in range(len(lon)):
+        k = int(np.floor((lon[i] + ANTIMERIDIAN_DEG) / 360.0))
+        if window is not None and k != window:  # close this piece and open the next on the crossing
+            edge = ANTIMERIDIAN_DEG + 360.0 * min(k, window)
+            t = (edge - lon[i - 1]) / (lon[i] - lon[i - 1])
+            cross_lat = float(lat[i - 1] + t * (lat[i] - lat[i - 1]))
+            current.append([edge - 360.0 * window, cross_lat])
+            pieces.append(current)
+            current = [[edge - 360.0 * k, cross_lat]]
+        window = k
+        current.append([float(lon[i] - 360.0 * k), float(lat[i])])
+    pieces.append(current)
+    if len(pieces) == 1:
+        return {"type": "LineString", "coordinates": pieces[0]}
+    return {"type": "MultiLineString", "coordinates": pieces}
+
+
+def wrapped(lon_deg: float) -> float:
+    """A longitude in [-180, 180)."""
+    return (lon_deg + ANTIMERIDIAN_DEG) % 360.0 - ANTIMERIDIAN_DEG
+
+
+def feature_collection(item: dict) -> dict:
+    """The footprint (a stored footprint's JSON view) as GeoJSON features: boundary, entry, track, points."""
+    pts, track, entry = item["points"], item["ground_track"], item["entry"]
+    features = [
+        {"type": "Feature", "geometry": polygon([p["latitude_deg"] for p in pts], [p["longitude_deg"] for p in pts]),
+         "properties": {"kind": "footprint", "id": item["id"], "name": item["name"], "vehicle": item["vehicle"],
+                        "method": item["method"], "area_nmi2": item["area_nmi2"],
+                        "max_crossrange_nmi": item["max_crossrange_nmi"],
+                        "max_downrange_nmi": item["max_downrange_nmi"]}},
+        {"type": "Feature", "geometry": {"type": "Point", "coordinates": [wrapped(entry["longitude_deg"]),
+                                                                           entry["latitude_deg"]]},
+         "properties": {"kind": "entry", **entry}},
+    ]
+    if len(track) >= 2:
+        features.append({"type": "Feature",
+                         "geometry": line([t["latitude_deg"] for t in track], [t["longitude_deg"] for t in track]),
+                         "properties": {"kind": "ground_track", "flight_time_s": track[-1]["time_s"]}})
+    features += [{"type": "Feature", "geometry": {"type": "Point", "coordinates": [wrapped(p["longitude_deg"]),
+                                                                                   p["latitude_deg"]]},
+                  "properties": {"kind": "point", "index": i, **p}} for i, p in enumerate(pts)]
+    return {"type": "FeatureCollection", "features": features}

@@ -1,0 +1,1 @@
+"""The job engine: studies validated in the service (studies), computed on Dask (tasks, engine)."""

@@ -1,0 +1,210 @@
+"""The job engine: each job's tasks on Dask, its progress and results in the database.
+
+One Dask client for the service's life: an in-process LocalCluster (processes, one thread each) or an external
+scheduler, through footprint.sweeps.dask_client (the same code path as `footprint sweep`). A small thread pool
+in the service process watches the jobs: it submits a job's tasks, records progress as they complete, and
+writes the results with the status `succeeded` in one transaction. A restart submits queued and running jobs
+again; the unique keys on the results make a second write of the same job impossible (so two service processes
+on one database may both compute a job, but only one stores it).
+"""
+
+import logging
+import threading
+import time
+import uuid
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import ExitStack, contextmanager
+
+from sqlalchemy.orm import Session, sessionmaker
+
+from footprint.service.db import queries as q
+from footprint.service.jobs import tasks
+from footprint.service.settings import Settings
+
+log = logging.getLogger("footprint.service.jobs")
+MAX_ERROR_CHARS = 500  # a failed job's error line
+
+
+def one_line(exc: BaseException) -> str:
+    """'Type: message' on one line, shortened to MAX_ERROR_CHARS."""
+    text = " ".join(f"{type(exc).__name__}: {exc}".split())
+    return text if len(text) <= MAX_ERROR_CHARS else text[: MAX_ERROR_CHARS - 3] + "..."
+
+
+class JobEngine:
+    """Runs jobs on Dask and keeps their rows up to date."""
+
+    def __init__(self, *, sessions: sessionmaker[Session], settings: Settings):
+        self._sessions, self._settings = sessions, settings
+        self._stack = ExitStack()
+        self._pool = ThreadPoolExecutor(settings.job_threads, thread_name_prefix="footprint-job")
+        self._futures: dict[str, list] = {}
+        self._lock = threading.Lock()
+        self._closing = threading.Event()
+        self.client = None
+        self.warm_seconds: float | None = None
+
+    # ------------------------------------------------------------------------------------ lifetime
+    def start(self) -> None:
+        """Connect to (or start) the cluster, warm numba in its workers, and submit the pending jobs again."""
+        self.client = self._connect()
+        threading.Thread(target=self._warm, name="footprint-warm", daemon=True).start()
+        with self._sessions.begin() as session:
+            pending = q.pending_job_ids(session)
+        for job_id in pending:
+            self.submit(job_id=job_id)
+        if pending:
+            log.info("resubmitted %d pending jobs", len(pending))
+
+    def _connect(self):
+        """A client of the configured scheduler, or of a new LocalCluster (processes, one thread each, no
+        dashboard; its HTTP routes on any free port). Not the default client: the service's threads pass it."""
+        from distributed import Client, LocalCluster
+
+        s = self._settings
+        if s.dask_scheduler:
+            return self._stack.enter_context(_closing(Client(s.dask_scheduler, timeout="10s", set_as_default=False)))
+        cluster = self._stack.enter_context(_closing(LocalCluster(
+            n_workers=s.dask_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+            scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)))
+        return self._stack.enter_context(_closing(Client(cluster, set_as_default=False)))
+
+    def _warm(self) -> None:
+        t0 = time.perf_counter()
+        try:
+            self.client.run(tasks.warm_numba)
+            tasks.warm_numba()  # this process flies the synchronous trajectories
+            self.warm_seconds = time.perf_counter() - t0
+        except Exception as exc:  # noqa: BLE001 -- a cold cache only costs the first job time
+            if not self._closing.is_set():
+                log.warning("numba warm-up failed: %s", one_line(exc))
+
+    def close(self) -> None:
+        """Stop watching (pending jobs stay pending for the next start) and close the cluster."""
+        self._closing.set()
+        with self._lock:
+            futures = [f for fs in self._futures.values() for f in fs]
+        if self.client is not None and futures:
+            self.client.cancel(futures)
+        self._pool.shutdown(wait=True, cancel_futures=True)
+        self._stack.close()
+
+    def status(self) -> dict:
+        """The cluster's health: ok, scheduler address, workers."""
+        try:
+            info = self.client.scheduler_info(n_workers=-1)
+            return {"ok": self.client.status == "running", "scheduler": info.get("address", ""),
+                    "workers": len(info.get("workers", {}))}
+        except Exception as exc:  # noqa: BLE001 -- health reports, never raises
+            return {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
+                    "error": one_line(exc)}
+
+    # ---------------------------------------------------------------------------------------- jobs
+    def submit(self, *, job_id: str) -> None:
+        """Watch a queued job (its tasks go to Dask at once)."""
+        self._pool.submit(self._run, job_id)
+
+    def cancel(self, *, job_id: str) -> None:
+        """Cancel the job's tasks on the cluster (its row is marked cancelled by the caller)."""
+        with self._lock:
+            futures = list(self._futures.get(job_id, ()))
+        if futures:
+            self.client.cancel(futures)
+
+    def _run(self, job_id: str) -> None:
+        try:
+            with self._sessions.begin() as session:
+                job = q.start_job(session, job_id=job_id)
+                if job is None:
+                    return
+                kind, study, name = job.kind, job.study, job.name
+            outputs = self._compute(job_id, _calls(kind, study, name))
+            if outputs is None:
+                return
+            result, footprints = _results(kind, study, outputs)
+            with self._sessions() as session:
+                written = q.finish_job(session, job_id=job_id, result=result, footprints=footprints)
+            log.info("job %s %s", job_id, "succeeded" if written else "ended elsewhere (nothing written)")
+        except Exception as exc:  # noqa: BLE001 -- a job that fails is that job's row, not the service's end
+            if self._closing.is_set():
+                return  # shutting down: the job stays pending and is submitted again on the next start
+            log.info("job %s failed: %s", job_id, one_line(exc))
+            with self._sessions.begin() as session:
+                q.fail_job(session, job_id=job_id, error=one_line(exc))
+        finally:
+            with self._lock:
+                self._futures.pop(job_id, None)
+
+    def _compute(self, job_id: str, calls: list) -> list | None:
+        """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile."""
+        from distributed import as_completed
+
+        token = uuid.uuid4().hex[:8]
+        futures = [self.client.submit(fn, *args, key=f"{fn.__name__}-{job_id}-{token}-{i}", pure=False)
+                   for i, (fn, *args) in enumerate(calls)]
+        index = {f.key: i for i, f in enumerate(futures)}
+        with self._lock:
+            self._futures[job_id] = futures
+        outputs: list = [None] * len(futures)
+        for done, fut in enumerate(as_completed(futures, loop=self.client.loop), 1):
+            if fut.status == "cancelled" or self._cancelled(job_id):
+                self.client.cancel(futures)
+                return None
+            outputs[index[fut.key]] = fut.result()
+            fut.release()
+            with self._sessions.begin() as session:
+                q.set_progress(session, job_id=job_id, progress=done / len(futures))
+        return outputs
+
+    def _cancelled(self, job_id: str) -> bool:
+        with self._sessions.begin() as session:
+            job = q.get_job(session, job_id=job_id)
+            return job is None or job.status != "running"
+
+
+@contextmanager
+def _closing(thing):
+    """Close a client or cluster on exit without its own context manager (which binds a context variable to
+    the thread that entered it; the service starts and stops in different threads)."""
+    try:
+        yield thing
+    finally:
+        thing.close()
+
+
+def _calls(kind: str, study: dict, name: str | None) -> list[tuple]:
+    """The job's Dask tasks: (function, arguments...) each, coarse (a footprint, an optimization, a reach)."""
+    if kind == "footprint":
+        return [(tasks.footprint_task, study, name or _footprint_name(study))]
+    if kind == "sweep":
+        from footprint.sweeps import parse_sweep
+
+        sweep = parse_sweep(study)
+        return [(tasks.sweep_footprint_task, job, f"{sweep.name} {job['key'][0]} {job['key'][1]:g} fps "
+                                                  f"{job['key'][2]:g} deg") for job in sweep.jobs()]
+    if kind == "optimize":
+        return [(tasks.optimize_task, study)]
+    return [(tasks.reach_task, study)]
+
+
+def _footprint_name(study: dict) -> str:
+    from footprint.studies import parse_study
+    from footprint.sweeps import vehicle_label
+
+    s = parse_study(study)
+    e = s.case.entry
+    return f"{vehicle_label(s.case.vehicle)} {s.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"
+
+
+def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:
+    """(the job's result document, its footprint records)."""
+    if kind == "footprint":
+        return {}, outputs
+    if kind == "sweep":
+        flown = [o for o in outputs if "error" not in o]
+        errors = [{"vehicle": o["key"][0], "entry_velocity_fps": o["key"][1], "entry_gamma_deg": o["key"][2],
+                   "error": o["error"]} for o in outputs if "error" in o]
+        return {"sweep": {"name": study["name"], "footprints": len(flown), "errors": errors}}, flown
+    if kind == "optimize":
+        return {"optimization": outputs[0]}, []
+    return {"reach": outputs[0]}, []

@@ -1,0 +1,116 @@
+"""The functions Dask runs in the workers, one task per footprint, optimization or reach analysis. Each takes
+and returns plain data (validated study dicts in, JSON-ready dicts out), so any worker can run it."""
+
+import math
+import time
+from dataclasses import asdict
+
+import numpy as np
+
+MAX_TRACK_POINTS = 500  # a stored ground track
+POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
+                "side", "parameter", "stop_reason", "mirrored")
+WARM_CASE = {"vehicle": {"builtin": "lod-2.2"},
+             "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
+             "stop": {"altitude_ft": 250_000}}  # a short flight that loads every compiled kernel
+
+
+def plain(value):
+    """JSON-ready: numpy scalars and arrays to Python, tuples to lists, NaN and infinities to None."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [plain(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def decimated(n: int, max_points: int) -> np.ndarray:
+    """At most max_points indices of n samples, evenly spread, keeping the first and the last."""
+    if n <= max_points:
+        return np.arange(n)
+    return np.unique(np.linspace(0, n - 1, max_points).round().astype(int))
+
+
+def warm_numba() -> float:
+    """Fly one short trajectory so this process has loaded (or compiled) numba's cache; the seconds taken."""
+    from footprint.api import fly
+
+    t0 = time.perf_counter()
+    fly(WARM_CASE)
+    return time.perf_counter() - t0
+
+
+def ground_track(spec) -> dict:
+    """The case flown with zero bank (Section II.6's maximum down-range flight), decimated for the map."""
+    from footprint.core.footprints import with_bank
+    from footprint.core.trajectory import simulate
+
+    traj = simulate(with_bank(spec, "zero"))
+    keep = decimated(len(traj.history["time_s"]), MAX_TRACK_POINTS)
+    return {"summary": plain(traj.summary),
+            **{k: plain(traj.history[k][keep]) for k in ("time_s", "latitude_deg", "longitude_deg")}}
+
+
+def footprint_record(fp, study, study_dict: dict, track: dict, name: str) -> dict:
+    """A flown footprint as the row data the store writes (summary, points, interior, ground track)."""
+    from footprint.sweeps import vehicle_label
+
+    entry = study.case.entry
+    return {"name": name, "vehicle": vehicle_label(study.case.vehicle), "method": fp.method, "study": study_dict,
+            "entry": {**{k: float(fp.entry[k]) for k in ("latitude_deg", "longitude_deg", "heading_deg")},
+                      "velocity_fps": entry.velocity_fps, "gamma_deg": entry.gamma_deg,
+                      "altitude_ft": entry.altitude_ft},
+            "area_nmi2": float(fp.area_nmi2), "max_crossrange_nmi": float(fp.max_crossrange_nmi),
+            "max_downrange_nmi": float(fp.max_downrange_nmi), "min_downrange_nmi": float(fp.min_downrange_nmi),
+            "trajectories": int(fp.trajectories),
+            "points": [_point(p) for p in fp.points], "interior": [_point(p) for p in fp.interior],
+            "ground_track": track}
+
+
+def _point(p) -> dict:
+    d = asdict(p)
+    return {k: plain(d[k]) for k in POINT_FIELDS}
+
+
+def footprint_task(study_dict: dict, name: str) -> dict:
+    """A footprint job: the footprint and its zero-bank ground track. Raises what the core raises."""
+    from footprint.core import footprints as core
+    from footprint.studies import parse_study
+
+    study = parse_study(study_dict)
+    spec = study.case.to_spec()
+    fp = core.footprint(spec, study.method, **study.to_params())
+    return footprint_record(fp, study, study_dict, ground_track(spec), name)
+
+
+def sweep_footprint_task(job: dict, name: str) -> dict:
+    """One footprint of a sweep (footprint.sweeps.fly_footprint) and its ground track; a footprint the core
+    fails on comes back as {"key", "error"}."""
+    from footprint.studies import parse_study
+    from footprint.sweeps import fly_footprint
+
+    run = fly_footprint(job)
+    if run.footprint is None:
+        return {"key": list(job["key"]), "error": run.error}
+    study = parse_study(job["study"])
+    return footprint_record(run.footprint, study, job["study"], ground_track(study.case.to_spec()), name)
+
+
+def optimize_task(study_dict: dict) -> dict:
+    """An optimization job: the optimum, its parameters and the convergence history."""
+    from footprint.optimization import run_optimization
+
+    return plain(run_optimization(study_dict).to_dict())
+
+
+def reach_task(request: dict) -> dict:
+    """A reach job: footprint.reach's windows and per-site summary."""
+    from footprint.reach import run_reach
+
+    return plain(run_reach(request))

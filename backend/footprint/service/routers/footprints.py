@@ -1,0 +1,130 @@
+"""Stored footprints: list, get as JSON, GeoJSON or CSV, delete, transform."""
+
+import csv
+import io
+import json
+from typing import Any, Literal
+
+from fastapi import APIRouter, Body, Query, Request, Response
+from fastapi.responses import HTMLResponse
+
+from footprint.service import deps, geo
+from footprint.service.db import queries as q
+from footprint.core.errors import InputError
+from footprint.service.errors import NotFound, RequestInvalid, Unavailable
+from footprint.service.routers.geometry import transform
+from footprint.service.schemas import FootprintList, FootprintRead
+
+router = APIRouter(tags=["footprints"])
+CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
+               "heading_deg", "side", "parameter", "stop_reason", "mirrored")
+
+
+def _summary(fp) -> dict:
+    return {"id": fp.id, "name": fp.name, "job_id": fp.job_id, "vehicle": fp.vehicle, "method": fp.method,
+            "entry": {k: getattr(fp, f"entry_{k}") for k in q.ENTRY_FIELDS},
+            **{k: getattr(fp, k) for k in q.SUMMARY_FIELDS}, "created_at": q.iso(fp.created_at)}
+
+
+def _point(p) -> dict:
+    return {k: getattr(p, k) for k in q.POINT_FIELDS}
+
+
+def _full(request: Request, footprint_id: str) -> tuple[dict, dict]:
+    """(the footprint's JSON view, its study)."""
+    with deps.sessions(request).begin() as session:
+        fp = q.get_footprint(session, footprint_id=footprint_id)
+        if fp is None:
+            raise NotFound(f"no footprint {footprint_id!r}")
+        track = q.ground_track(session, footprint_id=footprint_id)
+        item = _summary(fp) | {
+            "points": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=False)],
+            "interior": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=True)],
+            "ground_track": [] if track is None else
+            [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
+             for a, o, t in zip(track.latitude_deg, track.longitude_deg, track.time_s)]}
+        return item, fp.study
+
+
+@router.get("/footprints", response_model=FootprintList)
+def list_footprints(request: Request, job_id: str | None = None, limit: int = Query(50, ge=1, le=500),
+                    offset: int = Query(0, ge=0)) -> dict:
+    """Stored footprints, newest first."""
+    with deps.sessions(request).begin() as session:
+        rows, total = q.list_footprints(session, job_id=job_id, limit=limit, offset=offset)
+        return {"items": [_summary(r) for r in rows], "total": total}
+
+
+@router.get("/footprints/{footprint_id}", response_model=FootprintRead,
+            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}})
+def get_footprint(footprint_id: str, request: Request,
+                  format: Literal["json", "geojson", "csv"] = Query("json")):
+    """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV."""
+    item, _ = _full(request, footprint_id)
+    if format == "geojson":
+        return Response(json.dumps(geo.feature_collection(item)), media_type="application/geo+json")
+    if format == "csv":
+        return Response(_csv(item["points"]), media_type="text/csv",
+                        headers={"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
+    return item
+
+
+def _csv(points: list[dict]) -> str:
+    out = io.StringIO()
+    w = csv.writer(out)
+    w.writerow(CSV_COLUMNS)
+    for i, p in enumerate(points):
+        w.writerow([i] + [json.dumps(p[c], sort_keys=True) if c == "parameter" else
+                          repr(p[c]) if isinstance(p[c], float) else p[c] for c in CSV_COLUMNS[1:]])
+    return out.getvalue()
+
+
+@router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse)
+def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
+    """A standalone folium map of the footprint that works offline (footprint.foliummap)."""
+    from footprint.foliummap import footprint_map_html
+
+    item, _ = _full(request, footprint_id)
+    try:
+        return HTMLResponse(footprint_map_html(item, title=item["name"]))
+    except InputError as exc:  # the page's npm packages are not installed: the server's state, not the request's
+        raise Unavailable(exc.message) from None
+
+
+@router.delete("/footprints/{footprint_id}", status_code=204)
+def delete_footprint(footprint_id: str, request: Request) -> Response:
+    """Delete a footprint with its points and ground track."""
+    with deps.sessions(request).begin() as session:
+        if not q.delete_footprint(session, footprint_id=footprint_id):
+            raise NotFound(f"no footprint {footprint_id!r}")
+    return Response(status_code=204)
+
+
+TRANSFORM_KEYS = {"to", "step_downrange_nmi", "earth_rotation", "mirror", "rotation_rate_deg_s"}
+
+
+@router.post("/footprints/{footprint_id}/transform")
+def transform_footprint(footprint_id: str, request: Request,
+                        body: dict[str, Any] = Body(..., description='{"to", "step_downrange_nmi", '
+                                                                     '"earth_rotation"}')) -> dict:
+    """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV)."""
+    extra = set(body) - TRANSFORM_KEYS
+    if extra:
+        raise RequestInvalid(f"{sorted(extra)[0]}: not a field of a footprint transform (allowed: "
+                             f"{', '.join(sorted(TRANSFORM_KEYS))})", sorted(extra)[0])
+    item, study = _full(request, footprint_id)
+    origin = {k: item["entry"][k] for k in ("latitude_deg", "longitude_deg", "heading_deg")}
+    common = {"from": origin, **body}
+    exact = body.get("earth_rotation") == "exact"
+    points = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
+               "flight_time_s": p["flight_time_s"]} for p in item["points"]]
+    result = transform(common | ({"study": study} if exact else {"points": points}))
+    track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"], "flight_time_s": t["time_s"]}
+             for t in item["ground_track"]]
+    if track:
+        # the track is moved as points; "exact" flies only the footprint again, so its track is shifted approximately
+        track_rotation = "approximate" if exact else body.get("earth_rotation", "none")
+        moved = transform(common | {"points": track, "earth_rotation": track_rotation, "mirror": False})
+        result["ground_track"] = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
+                                   "time_s": p.get("flight_time_s")} for p in moved["points"]]
+    return result

@@ -1,0 +1,24 @@
+"""GET /api/health: database, cluster, version."""
+
+from fastapi import APIRouter, Request
+
+import footprint
+from footprint.service import deps
+from footprint.service.db import queries as q
+from footprint.service.jobs.engine import one_line
+from footprint.service.schemas import Health
+
+router = APIRouter(tags=["health"])
+
+
+@router.get("/health", response_model=Health)
+def health(request: Request) -> dict:
+    """The service's state: database reachable, cluster up, version."""
+    try:
+        with deps.sessions(request).begin() as session:
+            database = {"ok": True, "dialect": q.dialect(session)}
+    except Exception as exc:  # noqa: BLE001 -- health reports, never raises
+        database = {"ok": False, "dialect": request.app.state.dialect, "error": one_line(exc)}
+    cluster = deps.engine(request).status()
+    status = "ok" if database["ok"] and cluster["ok"] else "degraded"
+    return {"status": status, "version": footprint.__version__, "database": database, "cluster": cluster}

@@ -1,0 +1,117 @@
+"""Jobs: submit (202), read, list, cancel, and progress as server-sent events."""
+
+import asyncio
+import json
+
+from fastapi import APIRouter, Query, Request
+from fastapi.responses import StreamingResponse
+from starlette.concurrency import run_in_threadpool
+
+from footprint.service import deps
+from footprint.service.db import queries as q
+from footprint.service.db.models import JOB_STATUSES, PENDING
+from footprint.service.errors import NotFound
+from footprint.service.jobs.studies import KINDS, check_study, resolve_vehicles
+from footprint.service.routers.vehicles import stored_vehicle_lookup
+from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead
+
+router = APIRouter(tags=["jobs"])
+EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
+
+
+def summary(job) -> dict:
+    return {"id": job.id, "kind": job.kind, "name": job.name, "status": job.status, "progress": job.progress,
+            "error": job.error, "created_at": q.iso(job.created_at), "started_at": q.iso(job.started_at),
+            "finished_at": q.iso(job.finished_at)}
+
+
+def _read(session, job) -> dict:
+    result = None
+    if job.status == "succeeded":
+        links = [f"/api/footprints/{i}" for i in q.footprint_ids_of_job(session, job_id=job.id)]
+        result = {"footprints": links, **(q.job_result(session, job_id=job.id) or {})}
+    return summary(job) | {"study": job.study, "result": result}
+
+
+@router.post("/jobs", response_model=JobCreated, status_code=202)
+def create_job(body: JobCreate, request: Request) -> dict:
+    """Check the study for its kind, store a queued job and hand it to the engine."""
+    study = resolve_vehicles(body.study, lookup=stored_vehicle_lookup(request), path="study")
+    check_study(body.kind, study)
+    with deps.sessions(request).begin() as session:
+        job = q.create_job(session, kind=body.kind, study=study, name=body.name)
+        job_id = job.id
+    deps.engine(request).submit(job_id=job_id)
+    return {"id": job_id, "status": "queued"}
+
+
+@router.get("/jobs", response_model=JobList)
+def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
+              kind: str | None = Query(None, pattern=f"^({'|'.join(KINDS)})$"),
+              limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0)) -> dict:
+    """Jobs newest first, filtered by status and kind."""
+    with deps.sessions(request).begin() as session:
+        jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
+        return {"items": [summary(j) for j in jobs], "total": total}
+
+
+@router.get("/jobs/{job_id}", response_model=JobRead)
+def get_job(job_id: str, request: Request) -> dict:
+    """A job: status, progress, error, its study and its result links."""
+    with deps.sessions(request).begin() as session:
+        job = q.get_job(session, job_id=job_id)
+        if job is None:
+            raise NotFound(f"no job {job_id!r}")
+        return _read(session, job)
+
+
+@router.delete("/jobs/{job_id}", response_model=JobRead)
+def cancel_job(job_id: str, request: Request) -> dict:
+    """Cancel a queued or running job (a finished job keeps its status)."""
+    with deps.sessions(request).begin() as session:
+        job = q.cancel_job(session, job_id=job_id)
+        if job is None:
+            raise NotFound(f"no job {job_id!r}")
+        cancelled = job.status == "cancelled"
+    if cancelled:
+        deps.engine(request).cancel(job_id=job_id)
+    with deps.sessions(request).begin() as session:
+        return _read(session, q.get_job(session, job_id=job_id))
+
+
+def _state(request: Request, job_id: str) -> dict | None:
+    with deps.sessions(request).begin() as session:
+        job = q.get_job(session, job_id=job_id)
+        return None if job is None else {"id": job.id, "status": job.status, "progress": job.progress}
+
+
+@router.get("/jobs/{job_id}/events", response_class=StreamingResponse,
+            responses={200: {"content": {"text/event-stream": {}}}})
+async def job_events(job_id: str, request: Request) -> StreamingResponse:
+    """`event: progress` on every change of status or progress; `event: end` once the job is terminal."""
+    if await run_in_threadpool(_state, request, job_id) is None:
+        raise NotFound(f"no job {job_id!r}")
+
+    async def stream():
+        last = None
+        while True:
+            state = await run_in_threadpool(_state, request, job_id)
+            if state is None:
+                yield _event("end", {"id": job_id, "status": "deleted", "progress": 0.0})
+                return
+            if state != last:
+                yield _event("progress", state)
+                last = state
+            if state["status"] not in PENDING:
+                yield _event("end", state)
+                return
+            if await request.is_disconnected():
+                return
+            await asyncio.sleep(EVENT_POLL_S)
+
+    return StreamingResponse(stream(), media_type="text/event-stream",
+                             headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"})
+
+
+def _event(name: str, data: dict) -> str:
+    return f"event: {name}\ndata: {json.dumps(data)}\n\n"

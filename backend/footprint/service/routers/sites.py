@@ -1,0 +1,125 @@
+"""Landing sites: CRUD and CSV upload; POST /api/reach (footprint.reach, synchronous) with the stored sites
+when the request gives none."""
+
+import csv
+import io
+from typing import Any
+
+from fastapi import APIRouter, Body, Request, Response
+from pydantic import ValidationError
+
+from footprint.cases import error_line
+from footprint.core.errors import InputError
+from footprint.reach import Site, parse_reach, run_reach
+from footprint.service import deps
+from footprint.service.db import queries as q
+from footprint.service.errors import NotFound, RequestInvalid, invalid
+from footprint.service.jobs.studies import check_points, resolve_vehicles
+from footprint.service.jobs.tasks import plain
+from footprint.service.routers.vehicles import stored_vehicle_lookup
+from footprint.service.schemas import SiteRead, SitesCreated
+
+router = APIRouter(tags=["sites"])
+CSV_COLUMNS = ("name", "latitude_deg", "longitude_deg")
+MAX_CSV_SITES = 10_000
+
+
+def _read(row) -> dict:
+    return {"id": row.id, "name": row.name, "latitude_deg": row.latitude_deg, "longitude_deg": row.longitude_deg}
+
+
+@router.get("/sites", response_model=list[SiteRead])
+def list_sites(request: Request) -> list[dict]:
+    """Every stored landing site."""
+    with deps.sessions(request).begin() as session:
+        return [_read(r) for r in q.list_sites(session)]
+
+
+@router.post("/sites", response_model=SiteRead, status_code=201)
+def create_site(site: Site, request: Request) -> dict:
+    """Store a landing site."""
+    with deps.sessions(request).begin() as session:
+        return _read(q.create_sites(session, sites=[site.model_dump()])[0])
+
+
+@router.post("/sites/csv", response_model=SitesCreated, status_code=201,
+             openapi_extra={"requestBody": {"content": {"text/csv": {"schema": {"type": "string"}}}}})
+async def upload_sites(request: Request) -> dict:
+    """Store the sites of a CSV body with the header name,latitude_deg,longitude_deg (all or none)."""
+    sites = _parse_csv(await request.body())
+    with deps.sessions(request).begin() as session:
+        q.create_sites(session, sites=sites)
+    return {"created": len(sites)}
+
+
+def _parse_csv(body: bytes) -> list[dict]:
+    try:
+        text = body.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise RequestInvalid(f"body: not UTF-8 text ({exc.reason} at byte {exc.start})", "body") from None
+    reader = csv.DictReader(io.StringIO(text))
+    if reader.fieldnames is None or set(CSV_COLUMNS) - {f.strip() for f in reader.fieldnames}:
+        raise RequestInvalid(f"line 1: the header must name the columns {','.join(CSV_COLUMNS)} "
+                             f"(got {','.join(reader.fieldnames or [])!r})", "line 1")
+    sites = []
+    for row in reader:
+        line = reader.line_num
+        try:
+            values = {k.strip(): (v or "").strip() for k, v in row.items() if k is not None}
+            sites.append(Site.model_validate({k: values.get(k) for k in CSV_COLUMNS}).model_dump())
+        except ValidationError as exc:
+            raise RequestInvalid(f"line {line}: {error_line(exc)}", f"line {line}") from None
+        if len(sites) > MAX_CSV_SITES:
+            raise RequestInvalid(f"line {line}: more than {MAX_CSV_SITES:,} sites in one upload", f"line {line}")
+    if not sites:
+        raise RequestInvalid("line 2: no sites below the header", "line 2")
+    return sites
+
+
+@router.get("/sites/{site_id}", response_model=SiteRead)
+def get_site(site_id: int, request: Request) -> dict:
+    """One landing site."""
+    with deps.sessions(request).begin() as session:
+        row = q.get_site(session, site_id=site_id)
+        if row is None:
+            raise NotFound(f"no site {site_id}")
+        return _read(row)
+
+
+@router.put("/sites/{site_id}", response_model=SiteRead)
+def update_site(site_id: int, site: Site, request: Request) -> dict:
+    """Replace a landing site's name and place."""
+    with deps.sessions(request).begin() as session:
+        row = q.update_site(session, site_id=site_id, site=site.model_dump())
+        if row is None:
+            raise NotFound(f"no site {site_id}")
+        return _read(row)
+
+
+@router.delete("/sites/{site_id}", status_code=204)
+def delete_site(site_id: int, request: Request) -> Response:
+    """Delete a landing site."""
+    with deps.sessions(request).begin() as session:
+        if not q.delete_site(session, site_id=site_id):
+            raise NotFound(f"no site {site_id}")
+    return Response(status_code=204)
+
+
+@router.post("/reach")
+def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.reach request")) -> dict:
+    """Which sites the footprint reaches from which deorbit points (the stored sites when none are given)."""
+    body = resolve_vehicles(body, lookup=stored_vehicle_lookup(request))
+    if not body.get("sites"):
+        with deps.sessions(request).begin() as session:
+            body["sites"] = [{k: v for k, v in _read(r).items() if k != "id"} for r in q.list_sites(session)]
+        if not body["sites"]:
+            raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
+    try:
+        req = parse_reach(body)
+        if req.footprint.study is not None:
+            from footprint.studies import parse_study
+
+            check_points(parse_study(req.footprint.study), "footprint.study.")
+        return plain(run_reach(req))
+    except (ValidationError, InputError) as exc:
+        raise invalid(exc) from None

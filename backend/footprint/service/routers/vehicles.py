@@ -1,0 +1,121 @@
+"""Vehicles: the built-ins (Appendix B) and stored custom vehicles."""
+
+import functools
+import json
+
+from fastapi import APIRouter, Request, Response
+from pydantic import ValidationError
+
+from footprint.cases import VehicleCase
+from footprint.core.aero import alpha_cl_max_deg, builtin_vehicle, builtin_vehicle_ids, coefficients, ld_max, \
+    vehicle_summaries
+from footprint.core.errors import InputError
+from footprint.service import deps
+from footprint.service.db import queries as q
+from footprint.service.errors import Conflict, NotFound, invalid
+from footprint.service.schemas import VehicleCreate, VehicleDetail, VehicleItem
+
+router = APIRouter(tags=["vehicles"])
+SUMMARY_MACH, SUMMARY_ALTITUDE_FT = 20.0, 200_000.0  # the point of `footprint vehicles`
+AERO_MACH = (2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)  # the aero summary's Mach numbers
+
+
+@functools.lru_cache(maxsize=1)
+def _builtins() -> dict[str, dict]:
+    return {r["id"]: {"id": r["id"], "builtin": True,
+                      "description": r["name"] + (f" ({r['note']})" if r["note"] else ""),
+                      "wing_loading_psf": r["wing_loading_psf"], "ld_max": r["ld_max_m20_200kft"],
+                      "alpha_ld_max_deg": r["alpha_ld_max_deg"], "reported_ld_max": r["reported_ld_max"]}
+            for r in vehicle_summaries()}
+
+
+@functools.lru_cache(maxsize=64)
+def _custom_vehicle(definition_json: str):
+    return VehicleCase.model_validate_json(definition_json).to_vehicle()
+
+
+def _finite(x: float) -> float | None:
+    return x if x == x and abs(x) != float("inf") else None
+
+
+def _custom_item(row) -> dict:
+    v = _custom_vehicle(json.dumps(row.definition, sort_keys=True))
+    ld, alpha = ld_max(v, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)
+    return {"id": row.id, "builtin": False, "description": row.description, "wing_loading_psf": v.wing_loading_psf,
+            "ld_max": _finite(round(ld, 4)), "alpha_ld_max_deg": _finite(round(alpha, 2)), "reported_ld_max": None}
+
+
+def _aero(vehicle) -> dict:
+    rows = {"ld_max": [], "alpha_ld_max_deg": [], "cl_max": []}
+    for mach in AERO_MACH:
+        ld, alpha = ld_max(vehicle, mach, SUMMARY_ALTITUDE_FT)
+        cl_max, _ = coefficients(vehicle.blob, mach, float(alpha_cl_max_deg(vehicle.blob, mach, SUMMARY_ALTITUDE_FT)),
+                                 SUMMARY_ALTITUDE_FT)
+        rows["ld_max"].append(_finite(round(ld, 4)))
+        rows["alpha_ld_max_deg"].append(_finite(round(alpha, 2)))
+        rows["cl_max"].append(_finite(round(float(cl_max), 4)))
+    return {"altitude_ft": SUMMARY_ALTITUDE_FT, "mach": list(AERO_MACH), **rows}
+
+
+@router.get("/vehicles", response_model=list[VehicleItem])
+def list_vehicles(request: Request) -> list[dict]:
+    """Built-in vehicles, then the stored custom ones."""
+    with deps.sessions(request).begin() as session:
+        rows = q.list_vehicles(session)
+    return list(_builtins().values()) + [_custom_item(r) for r in rows]
+
+
+@router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)
+def get_vehicle(vehicle_id: str, request: Request) -> dict:
+    """One vehicle with its aero summary at 200,000 ft."""
+    if vehicle_id in _builtins():
+        return _builtins()[vehicle_id] | {"definition": None, "aero": _aero(builtin_vehicle(vehicle_id))}
+    with deps.sessions(request).begin() as session:
+        row = q.get_vehicle(session, vehicle_id=vehicle_id)
+    if row is None:
+        raise NotFound(f"no vehicle {vehicle_id!r}")
+    vehicle = _custom_vehicle(json.dumps(row.definition, sort_keys=True))
+    return _custom_item(row) | {"definition": row.definition, "aero": _aero(vehicle)}
+
+
+@router.post("/vehicles", response_model=VehicleDetail, status_code=201)
+def create_vehicle(body: VehicleCreate, request: Request) -> dict:
+    """Store a custom vehicle (tables, polynomial or constant CL/CD, plus its wing loading)."""
+    if body.id in builtin_vehicle_ids():
+        raise Conflict(f"id: {body.id!r} is a built-in vehicle; choose another id")
+    try:
+        case = VehicleCase.model_validate(body.vehicle)
+        vehicle = case.to_vehicle()
+    except ValidationError as exc:
+        raise invalid(exc, "vehicle.") from None
+    except InputError as exc:
+        raise invalid(exc) from None
+    definition = case.model_dump(exclude_none=True)
+    definition.setdefault("name", body.id)
+    with deps.sessions(request).begin() as session:
+        if q.get_vehicle(session, vehicle_id=body.id) is not None:
+            raise Conflict(f"id: a vehicle {body.id!r} is stored already")
+        row = q.create_vehicle(session, vehicle_id=body.id, description=body.description, definition=definition)
+    return _custom_item(row) | {"definition": definition, "aero": _aero(vehicle)}
+
+
+@router.delete("/vehicles/{vehicle_id}", status_code=204)
+def delete_vehicle(vehicle_id: str, request: Request) -> Response:
+    """Delete a custom vehicle (a built-in: 409)."""
+    if vehicle_id in builtin_vehicle_ids():
+        raise Conflict(f"{vehicle_id!r} is a built-in vehicle and cannot be deleted")
+    with deps.sessions(request).begin() as session:
+        if not q.delete_vehicle(session, vehicle_id=vehicle_id):
+            raise NotFound(f"no vehicle {vehicle_id!r}")
+    return Response(status_code=204)
+
+
+def stored_vehicle_lookup(request: Request):
+    """A function id -> stored vehicle definition (or None), for resolving {"vehicle": {"stored": id}}."""
+
+    def lookup(vehicle_id: str) -> dict | None:
+        with deps.sessions(request).begin() as session:
+            row = q.get_vehicle(session, vehicle_id=vehicle_id)
+            return None if row is None else row.definition
+
+    return lookup

@@ -1,0 +1,149 @@
+"""Request and response models of the REST API (docs/api.md). Cases and studies are not redefined here: a
+job's study, a trajectory's case, a transform or a reach request are parsed by their contract modules
+(footprint.cases, .studies, .optimization, .sweeps, .mapping, .reach); landing sites reuse footprint.reach.Site."""
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from footprint.reach import Site
+from footprint.service.jobs.studies import KINDS
+
+JobKind = Literal[KINDS]
+JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
+VEHICLE_ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$"
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class JobCreate(_Strict):
+    kind: JobKind
+    study: dict[str, Any]  # checked by the kind's contract parser (footprint.studies, .optimization, ...)
+    name: str | None = Field(default=None, max_length=200)
+
+
+class JobCreated(BaseModel):
+    id: str
+    status: JobStatus
+
+
+class JobSummary(BaseModel):
+    id: str
+    kind: JobKind
+    name: str | None
+    status: JobStatus
+    progress: float
+    error: str | None
+    created_at: str
+    started_at: str | None
+    finished_at: str | None
+
+
+class JobRead(JobSummary):
+    study: dict[str, Any]
+    result: dict[str, Any] | None
+
+
+class JobList(BaseModel):
+    items: list[JobSummary]
+    total: int
+
+
+class VehicleCreate(_Strict):
+    id: str = Field(pattern=VEHICLE_ID_PATTERN)
+    description: str = Field(default="", max_length=4_000)
+    vehicle: dict[str, Any]  # the case contract's vehicle (footprint.cases.VehicleCase)
+
+
+class VehicleItem(BaseModel):
+    id: str
+    builtin: bool
+    description: str
+    wing_loading_psf: float
+    ld_max: float | None  # at Mach 20, 200,000 ft
+    alpha_ld_max_deg: float | None
+    reported_ld_max: float | None
+
+
+class AeroSummary(BaseModel):
+    altitude_ft: float
+    mach: list[float]
+    ld_max: list[float | None]
+    alpha_ld_max_deg: list[float | None]
+    cl_max: list[float | None]
+
+
+class VehicleDetail(VehicleItem):
+    definition: dict[str, Any] | None  # a custom vehicle's stored definition
+    aero: AeroSummary
+
+
+class SiteRead(Site):
+    id: int
+
+
+class SitesCreated(BaseModel):
+    created: int
+
+
+class Entry(BaseModel):
+    latitude_deg: float
+    longitude_deg: float
+    heading_deg: float
+    velocity_fps: float
+    gamma_deg: float
+    altitude_ft: float
+
+
+class FootprintSummary(BaseModel):
+    id: str
+    name: str
+    job_id: str
+    vehicle: str
+    method: str
+    entry: Entry
+    area_nmi2: float
+    max_crossrange_nmi: float
+    max_downrange_nmi: float
+    min_downrange_nmi: float
+    trajectories: int
+    created_at: str
+
+
+class FootprintList(BaseModel):
+    items: list[FootprintSummary]
+    total: int
+
+
+class PointRead(BaseModel):
+    downrange_nmi: float
+    crossrange_nmi: float
+    flight_time_s: float
+    latitude_deg: float
+    longitude_deg: float
+    heading_deg: float
+    side: str
+    parameter: dict[str, Any]
+    stop_reason: str
+    mirrored: bool
+
+
+class TrackPoint(BaseModel):
+    latitude_deg: float
+    longitude_deg: float
+    time_s: float
+
+
+class FootprintRead(FootprintSummary):
+    points: list[PointRead]
+    interior: list[PointRead]
+    ground_track: list[TrackPoint]
+
+
+class Health(BaseModel):
+    status: Literal["ok", "degraded"]
+    version: str
+    database: dict[str, Any]
+    cluster: dict[str, Any]

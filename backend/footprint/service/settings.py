@@ -1,0 +1,46 @@
+"""Service settings from FOOTPRINT_* environment variables, validated once at start-up."""
+
+from pathlib import Path
+
+from pydantic import Field, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+from footprint.sweeps import default_workers
+
+MIGRATIONS_DIR = Path(__file__).resolve().parents[3] / "migrations"  # the repository's top-level migrations/
+FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"
+MAX_BODY_BYTES = 1_000_000  # 1 MB: the largest request body (docs/api.md)
+
+
+class Settings(BaseSettings):
+    """The service's configuration (docs/api.md "Settings")."""
+
+    model_config = SettingsConfigDict(env_prefix="FOOTPRINT_", extra="ignore")
+
+    database_url: str = "sqlite:///footprint.db"
+    dask_scheduler: str = ""  # empty: an in-process LocalCluster; "tcp://host:8786": that scheduler
+    dask_workers: int = Field(default_factory=default_workers, ge=1, le=256)
+    api_token: str = ""  # empty: no authentication
+    cors_origins: str = ""  # comma-separated origins
+    tile_url: str = ""  # an optional online tile layer for the page
+    host: str = "127.0.0.1"
+    port: int = Field(default=8000, ge=1, le=65_535)
+    frontend_dir: Path = FRONTEND_DIR
+    migrations_dir: Path = MIGRATIONS_DIR
+    job_threads: int = Field(default=16, ge=1, le=256)  # jobs watched at once by the service process
+
+    @field_validator("dask_scheduler")
+    @classmethod
+    def _address(cls, v: str) -> str:
+        if v and "://" not in v:
+            raise ValueError(f"{v!r} is not a scheduler address; give one like tcp://host:8786, or leave it empty")
+        return v
+
+    @property
+    def cors_origin_list(self) -> list[str]:
+        return [o.strip() for o in self.cors_origins.split(",") if o.strip()]
+
+
+def load_settings(**overrides) -> Settings:
+    """Settings from the environment, with keyword overrides (the CLI's options, tests)."""
+    return Settings(**{k: v for k, v in overrides.items() if v is not None})
