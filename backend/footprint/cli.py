@@ -206,6 +206,45 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
         raise typer.Exit(1)
 
 
+@app.command("map")
+def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
+                                               help="a footprint as `footprint footprint` prints it"),
+         out: Path = typer.Option(Path("map.html"), "-o", "--out", metavar="MAP.html", help="the HTML file to write"),
+         title: Optional[str] = typer.Option(None, "--title", help="the map's title [vehicle and method]")):
+    """Write a standalone HTML map of a footprint (folium, cylindrical equidistant, Natural Earth) that works
+    offline: Leaflet and the coastlines are inlined, nothing is loaded from the internet."""
+    from footprint.foliummap import write_footprint_map
+
+    data = _read_json(footprint_file)
+    try:
+        write_footprint_map(data, out, title)
+    except (KeyError, TypeError) as exc:
+        _fail(f"{footprint_file}: not a footprint (missing or bad {exc}); expected 'points' with latitude_deg and "
+              "longitude_deg, and 'entry'")
+    typer.echo(f"wrote {out}")
+
+
+@app.command()
+def serve(host: Optional[str] = typer.Option(None, "--host", help="address to listen on [FOOTPRINT_HOST or 127.0.0.1]"),
+          port: Optional[int] = typer.Option(None, "--port", help="port [FOOTPRINT_PORT or 8000]"),
+          database_url: Optional[str] = typer.Option(None, "--database-url", metavar="URL",
+                                                     help="[FOOTPRINT_DATABASE_URL or sqlite:///footprint.db]"),
+          workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
+                                                help="local Dask worker processes [FOOTPRINT_DASK_WORKERS or the cores]")):
+    """Run the web service and the map page (SQLite in the working directory and a local Dask cluster unless
+    FOOTPRINT_* settings say otherwise); the API is under /api, its docs at /docs."""
+    import uvicorn
+
+    from footprint.service.app import create_app
+    from footprint.service.settings import load_settings
+
+    try:
+        settings = load_settings(host=host, port=port, database_url=database_url, dask_workers=workers)
+    except ValidationError as exc:
+        _fail(error_line(exc))
+    uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level="info")
+
+
 @app.command()
 def vehicles(as_json: bool = typer.Option(False, "--json", help="print JSON instead of a table")):
     """List the built-in vehicles with (L/D)max at Mach 20 and 200,000 ft beside the report's value."""
