@@ -1,0 +1,228 @@
+"""A standalone folium map of one footprint that works offline (`footprint map FOOTPRINT.json -o map.html`, and
+the service's GET /api/footprints/{id}/map).
+
+folium loads Leaflet, jQuery and Bootstrap from CDNs by default; mission-planning networks are often closed, so
+the map written here carries Leaflet's JS and CSS inline (from the npm `leaflet` package, as `npm ci` copies it
+to frontend/vendor/ for the page) and no CDN at all, and its basemap is Natural Earth 1:110m countries from the
+npm `world-atlas` package (public domain), inlined as GeoJSON: no tiles. The projection is the report's cylindrical
+equidistant one (Leaflet's EPSG:4326 CRS).
+
+The footprint is a dict as `footprint footprint` prints it or GET /api/footprints/{id} returns it: `points`
+(the closed boundary, each with latitude_deg and longitude_deg; down-range, cross-range, flight time and
+parameter shown on hover), `entry` (latitude_deg, longitude_deg, heading_deg) and, optionally, `ground_track`
+and `name`. Longitudes are unwrapped about the entry so a footprint across +-180 deg is drawn whole; copies at
++-360 deg show the parts past the map's edge.
+"""
+
+import base64
+import json
+import os
+import re
+from html import escape
+from pathlib import Path
+
+import numpy as np
+
+from footprint.core.errors import InputError
+from footprint.core.ranges import MEAN_RADIUS_NMI
+from footprint.core.transforms import latlon_of
+
+FRONTEND_DIR = Path(__file__).resolve().parents[2] / "frontend"  # the page's folder in the repository
+WORLD_COPIES_DEG = (-360.0, 0.0, 360.0)
+GRATICULE_DEG = 30.0
+TRACK_SAMPLE_DEG = 1.0  # the initial great circle's samples when the footprint carries no ground track
+COLOR = "#1f6fbf"
+
+
+def vendor_dir() -> Path:
+    """frontend/vendor/, where `npm ci` copies Leaflet and the map data the page serves (the service's
+    FOOTPRINT_FRONTEND_DIR when set, as in the Docker image)."""
+    vendor = Path(os.environ.get("FOOTPRINT_FRONTEND_DIR") or FRONTEND_DIR) / "vendor"
+    if not (vendor / "leaflet" / "leaflet.js").is_file():
+        raise InputError("map", f"Leaflet is not installed in {vendor}: run `npm ci` in {vendor.parent}")
+    return vendor
+
+
+def leaflet_assets() -> tuple[str, str]:
+    """Leaflet's JS, and its CSS with the images it names inlined as data URIs."""
+    dist = vendor_dir() / "leaflet"
+    css = (dist / "leaflet.css").read_text()
+
+    def inline(match):
+        image = dist / match.group(1)
+        return f"url(data:image/png;base64,{base64.b64encode(image.read_bytes()).decode()})"
+
+    css = re.sub(r"url\((images/[\w.-]+\.png)\)", inline, css)
+    return (dist / "leaflet.js").read_text(), css
+
+
+# ------------------------------------------------------------------------------------- TopoJSON, decoded
+def _decode_arcs(topology: dict) -> list[np.ndarray]:
+    """The topology's arcs as (n, 2) arrays of lon, lat (delta-decoded and de-quantized)."""
+    scale, translate = np.array(topology["transform"]["scale"]), np.array(topology["transform"]["translate"])
+    return [np.cumsum(np.array(arc, float), axis=0) * scale + translate for arc in topology["arcs"]]
+
+
+def _ring(arcs: list[np.ndarray], indices: list[int]) -> list[list[float]]:
+    """A ring for a flat map: longitudes made continuous (a ring across +-180 deg runs on past it; the copies at
+    +-360 deg show the rest), and a ring that goes once round a pole (Antarctica) closed along that pole."""
+    parts = []
+    for k, i in enumerate(indices):
+        arc = arcs[i] if i >= 0 else arcs[~i][::-1]  # ~i: arc i reversed (TopoJSON spec)
+        parts.append(arc[1:] if k else arc)
+    coords = np.vstack(parts)
+    coords[:, 0] = unwrap_longitudes(coords[:, 0], coords[0, 0])
+    if abs(coords[-1, 0] - coords[0, 0]) > 180.0:
+        pole = -90.0 if coords[:, 1].mean() < 0 else 90.0
+        coords = np.vstack([coords, [[coords[-1, 0], pole], [coords[0, 0], pole]]])
+    return np.round(coords, 3).tolist()
+
+
+def topojson_features(topology: dict, name: str) -> dict:
+    """One object of a TopoJSON topology as a GeoJSON FeatureCollection (Polygon and MultiPolygon only)."""
+    arcs = _decode_arcs(topology)
+    features = []
+    for g in topology["objects"][name]["geometries"]:
+        if g["type"] == "Polygon":
+            geometry = {"type": "Polygon", "coordinates": [_ring(arcs, r) for r in g["arcs"]]}
+        elif g["type"] == "MultiPolygon":
+            geometry = {"type": "MultiPolygon", "coordinates": [[_ring(arcs, r) for r in p] for p in g["arcs"]]}
+        else:
+            continue
+        features.append({"type": "Feature", "properties": g.get("properties", {}), "geometry": geometry})
+    return {"type": "FeatureCollection", "features": features}
+
+
+def countries_geojson() -> dict:
+    """Natural Earth 1:110m countries (world-atlas, public domain)."""
+    topology = json.loads((vendor_dir() / "world" / "countries-110m.json").read_text())
+    return topojson_features(topology, "countries")
+
+
+# ---------------------------------------------------------------------------------------------- geometry
+def unwrap_longitudes(longitude_deg, reference_deg: float) -> np.ndarray:
+    """Longitudes made continuous: the first within 180 deg of the reference, each next within 180 deg of the
+    one before (a ring that crosses +-180 deg never jumps by 360 deg)."""
+    lon = np.asarray(longitude_deg, float)
+    if lon.size == 0:
+        return lon
+    first = reference_deg + (lon[0] - reference_deg + 180.0) % 360.0 - 180.0
+    steps = (np.diff(lon) + 180.0) % 360.0 - 180.0
+    return np.concatenate([[first], first + np.cumsum(steps)])
+
+
+def unwrap_ring(latitude_deg, longitude_deg, entry: dict) -> np.ndarray:
+    """A footprint ring's longitudes made continuous and placed where its point nearest the entry lies within
+    180 deg of the entry (its first point is often the far zero-bank point, 180 deg or more away)."""
+    from footprint.core.ranges import unit_vectors
+
+    lon = unwrap_longitudes(longitude_deg, float(longitude_deg[0]))
+    nearest = int(np.argmax(unit_vectors(latitude_deg, longitude_deg)
+                            @ unit_vectors(entry["latitude_deg"], entry["longitude_deg"])))
+    return lon + 360.0 * np.round((entry["longitude_deg"] - lon[nearest]) / 360.0)
+
+
+def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float, float]]:
+    """The ground track of zero bank on a non-rotating sphere: the initial great circle from the entry."""
+    from footprint.core.ranges import great_circle_frame
+
+    p0, d0, _ = great_circle_frame(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
+    a = np.radians(np.arange(0.0, downrange_deg + TRACK_SAMPLE_DEG, TRACK_SAMPLE_DEG))[:, None]
+    lat, lon = latlon_of(np.cos(a) * p0 + np.sin(a) * d0)
+    return list(zip(np.atleast_1d(lat).tolist(), np.atleast_1d(lon).tolist()))
+
+
+def _hover(point: dict) -> str:
+    def num(key, unit, digits=0):
+        v = point.get(key)
+        return "–" if v is None else f"{v:,.{digits}f} {unit}"
+
+    parameter = point.get("parameter") or {}
+    control = ", ".join(f"{k} {v:g}" if isinstance(v, (int, float)) else f"{k} {v}"
+                        for k, v in parameter.items() if v is not None) if isinstance(parameter, dict) else str(parameter)
+    return (f"down-range {num('downrange_nmi', 'nmi')}<br>cross-range {num('crossrange_nmi', 'nmi')}<br>"
+            f"flight time {num('flight_time_s', 's')}<br>control {escape(control) or '–'}")
+
+
+def footprint_map(footprint: dict, title: str | None = None):
+    """The folium Map of one footprint (see the module docstring for the input)."""
+    import folium
+
+    points = footprint.get("points") or []
+    entry = footprint.get("entry")
+    if len(points) < 3 or not entry:
+        raise InputError("points", "a footprint needs 'entry' and at least 3 boundary 'points' "
+                                   "(as `footprint footprint` prints it or GET /api/footprints/{id} returns it)")
+    name = title or footprint.get("name") or f"{footprint.get('vehicle', '')} {footprint.get('method', '')}".strip().replace("_", " ")
+    lat = np.array([p["latitude_deg"] for p in points], float)
+    lon = unwrap_ring(lat, np.array([p["longitude_deg"] for p in points], float), entry)
+    if footprint.get("ground_track"):
+        track = [(p["latitude_deg"], p["longitude_deg"]) for p in footprint["ground_track"]]
+    else:
+        far_deg = np.degrees(max((p.get("downrange_nmi") or 0.0) for p in points) / MEAN_RADIUS_NMI)
+        track = _initial_great_circle(entry, max(far_deg, 1.0))
+    track_lon = unwrap_longitudes([t[1] for t in track], entry["longitude_deg"])
+
+    m = folium.Map(location=[float(lat.mean()), float(lon.mean())], zoom_start=2, tiles=None, crs="EPSG4326",
+                   control_scale=False, prefer_canvas=False)
+    m.default_js, m.default_css = [], []  # no CDN: Leaflet goes inline below
+    js, css = leaflet_assets()
+    m.get_root().header.add_child(folium.Element(f"<style>{css}</style>\n<script>{js}</script>"), name="leaflet_inline")
+    m.get_root().header.add_child(folium.Element(
+        "<style>.leaflet-container{background:#dce8f1}</style>"), name="ocean")
+
+    world = countries_geojson()
+    for offset in WORLD_COPIES_DEG:
+        shifted = _shift(world, offset)
+        folium.GeoJson(shifted, name="Natural Earth 1:110m" if offset == 0 else None, control=False,
+                       style_function=lambda _: {"fillColor": "#ece8dc", "fillOpacity": 1.0, "color": "#8a9aa8",
+                                                 "weight": 0.6}).add_to(m)
+    lines = [[(-90.0, x), (90.0, x)] for x in np.arange(-540.0, 540.1, GRATICULE_DEG)]
+    lines += [[(y, -540.0), (y, 540.0)] for y in np.arange(-90.0, 90.1, GRATICULE_DEG)]
+    folium.PolyLine(lines, color="#b9c6d2", weight=0.6).add_to(m)
+
+    span = np.concatenate([lon, track_lon])
+    for offset in WORLD_COPIES_DEG:
+        if span.max() + offset < -540 or span.min() + offset > 540:
+            continue
+        folium.Polygon(list(zip(lat.tolist(), (lon + offset).tolist())), color=COLOR, weight=2, fill=True,
+                       fill_color=COLOR, fill_opacity=0.22, smooth_factor=0, no_clip=True, tooltip=escape(name)).add_to(m)
+        folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR, weight=1.5,
+                        dash_array="6 5", tooltip="ground track").add_to(m)
+        folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset],
+                            radius=6, color="#ffffff", weight=2, fill=True, fill_color=COLOR, fill_opacity=1.0,
+                            tooltip=f"entry, heading {entry['heading_deg']:.1f} deg").add_to(m)
+        for p, x in zip(points, lon):
+            folium.CircleMarker([p["latitude_deg"], float(x) + offset], radius=4, color=COLOR, weight=1.5, fill=True,
+                                fill_color="#ffffff" if p.get("mirrored") else COLOR, fill_opacity=1.0,
+                                tooltip=_hover(p)).add_to(m)
+    m.fit_bounds([[float(lat.min()), float(lon.min())], [float(lat.max()), float(lon.max())]], padding=(30, 30))
+    m.get_root().html.add_child(folium.Element(
+        f'<div style="position:fixed;top:10px;left:54px;z-index:1000;background:rgba(255,255,255,.92);'
+        f'padding:5px 9px;border-radius:4px;font:13px sans-serif;box-shadow:0 1px 4px rgba(0,0,0,.3)">'
+        f'<b>{escape(name)}</b> · cylindrical equidistant · Natural Earth (public domain)</div>'))
+    return m
+
+
+def _shift(collection: dict, offset_deg: float) -> dict:
+    if offset_deg == 0:
+        return collection
+
+    def move(c):
+        return [move(x) for x in c] if isinstance(c[0], list) else [c[0] + offset_deg, c[1]]
+
+    return {"type": "FeatureCollection",
+            "features": [{**f, "geometry": {**f["geometry"], "coordinates": move(f["geometry"]["coordinates"])}}
+                         for f in collection["features"]]}
+
+
+def footprint_map_html(footprint: dict, title: str | None = None) -> str:
+    """The standalone HTML of footprint_map: no script or stylesheet from the internet."""
+    return footprint_map(footprint, title).get_root().render()
+
+
+def write_footprint_map(footprint: dict, path, title: str | None = None) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(footprint_map_html(footprint, title))
+    return path

@@ -1,0 +1,139 @@
+// Export what is shown: GeoJSON and CSV of the shown footprints, and a PNG drawn on a canvas here (the
+// basemap from the shipped Natural Earth data, the footprints on top): no tiles, no internet.
+/* global d3 */
+import { loadWorld, planarFeatures } from "./basemap.js";
+import { openRing, sphericalRing, toCSV, toGeoJSON, unwrapLongitudes, unwrapRing } from "./geometry.js";
+import { globeProjection } from "./globe.js";
+
+const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
+
+export function download(filename, content, type) {
+  const blob = content instanceof Blob ? content : new Blob([content], { type });
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = filename;
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+export function exportGeoJSON(footprints, sites) {
+  download("footprints.geojson", JSON.stringify(toGeoJSON(footprints, sites), null, 1), "application/geo+json");
+}
+
+export function exportCSV(footprints) {
+  download("footprints.csv", toCSV(footprints), "text/csv");
+}
+
+/** The map view as the map draws it: x = longitude, y = latitude (deg), straight between vertices, so that the
+ * PNG matches the screen; copies one world either way, as on the map. */
+function planarFrame(bounds, width) {
+  const west = bounds.getWest(), north = bounds.getNorth(), k = width / (bounds.getEast() - west);
+  return (offsetDeg) => d3.geoIdentity().reflectY(true).scale(k).translate([(offsetDeg - west) * k, north * k]);
+}
+
+function footprintShapes(fp, planar) {
+  const { points, groundTrack, reference } = fp.shown;
+  const ring = openRing(points);
+  const lons = planar ? unwrapRing(ring, reference) : ring.map((p) => p.longitude_deg);
+  const trackLons = planar ? unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg)
+                           : groundTrack.map((p) => p.longitude_deg);
+  const coords = ring.map((p, i) => [lons[i], p.latitude_deg]);
+  return {
+    polygon: { type: "Polygon", coordinates: [planar ? coords.concat([coords[0]]) : sphericalRing(points, d3.geoArea)] },
+    track: { type: "LineString", coordinates: groundTrack.map((p, i) => [trackLons[i], p.latitude_deg]) },
+    points: ring.map((p, i) => ({ type: "Point", coordinates: coords[i], mirrored: p.mirrored })),
+    entry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] },
+  };
+}
+
+/** Draw the current view to a canvas and return it (the caller turns it into a PNG). */
+export async function renderCanvas({ view, mapView, globe, footprints, sites }) {
+  const globeView = view === "globe";
+  const element = globeView ? globe.element : mapView.map.getContainer();
+  const { width, height } = element.getBoundingClientRect();
+  const canvas = document.createElement("canvas");
+  canvas.width = Math.round(width * PIXEL_RATIO);
+  canvas.height = Math.round(height * PIXEL_RATIO);
+  const ctx = canvas.getContext("2d");
+  ctx.scale(PIXEL_RATIO, PIXEL_RATIO);
+  const sphere = await loadWorld(globeView ? "110m" : "50m");
+  const world = globeView ? sphere : { land: planarFeatures(sphere.land), borders: planarFeatures(sphere.borders) };
+  const frame = globeView ? () => globeProjection(width, height, globe.rotate, globe.zoom)
+                          : planarFrame(mapView.map.getBounds(), width);
+  const offsets = globeView ? [0] : [-360, 0, 360];
+  let path = d3.geoPath(frame(0), ctx);
+  const draw = (feature, { fill, stroke, width: lw = 1, dash = [], alpha = 1, radius = 4 }) => {
+    ctx.beginPath();
+    path.pointRadius(radius)(feature);
+    ctx.globalAlpha = alpha;
+    ctx.setLineDash(dash);
+    if (fill) { ctx.fillStyle = fill; ctx.fill(); }
+    if (stroke) { ctx.strokeStyle = stroke; ctx.lineWidth = lw; ctx.stroke(); }
+    ctx.globalAlpha = 1;
+    ctx.setLineDash([]);
+  };
+  ctx.fillStyle = globeView ? "#f3f5f8" : "#dce8f1";
+  ctx.fillRect(0, 0, width, height);
+  if (globeView) {
+    draw({ type: "Sphere" }, { fill: "#dce8f1" });
+    draw(d3.geoGraticule().step([30, 30])(), { stroke: "#b9c6d2", width: 0.6 });
+  }
+  for (const offset of offsets) {
+    path = d3.geoPath(frame(offset), ctx);
+    draw(world.land, { fill: "#ece8dc", stroke: "#6f8294", width: 0.8 });
+    draw(world.borders, { stroke: "#a7a29a", width: 0.6 });
+    if (!globeView) {
+      const lines = [];
+      for (let lon = -180; lon <= 180; lon += 30) lines.push([[lon, -90], [lon, 90]]);
+      for (let lat = -90; lat <= 90; lat += 30) lines.push([[-180, lat], [180, lat]]);
+      draw({ type: "MultiLineString", coordinates: lines }, { stroke: "#b9c6d2", width: 0.6 });
+    }
+  }
+  for (const offset of offsets) { // the footprints over every copy of the basemap
+    path = d3.geoPath(frame(offset), ctx);
+    for (const fp of footprints) {
+      const shape = footprintShapes(fp, !globeView);
+      draw(shape.polygon, { fill: fp.color, alpha: 0.22 });
+      draw(shape.polygon, { stroke: fp.color, width: 2 });
+      if (shape.track.coordinates.length > 1) draw(shape.track, { stroke: fp.color, width: 1.5, dash: [6, 5] });
+      for (const q of shape.points) draw(q, { fill: q.mirrored ? "#fff" : fp.color, stroke: fp.color, width: 1.2, radius: 3 });
+      draw(shape.entry, { fill: fp.color, stroke: "#fff", width: 2, radius: 6 });
+    }
+    for (const s of sites) {
+      const fill = s.reachable == null ? "#5b6b7b" : s.reachable ? "#2e7d32" : "#b3261e";
+      draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] }, { fill, stroke: "#fff", width: 1.5, radius: 5 });
+    }
+  }
+  if (globeView) draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
+  drawLegend(ctx, footprints, globeView ? "Orthographic" : "Cylindrical equidistant");
+  return canvas;
+}
+
+function drawLegend(ctx, footprints, projectionName) {
+  const lines = footprints.map((fp) => [fp.color, fp.name]);
+  ctx.font = "12px 'DejaVu Sans', Arial, sans-serif";
+  const w = Math.max(180, ...lines.map(([, t]) => ctx.measureText(t).width + 34));
+  const h = 26 + 17 * lines.length;
+  ctx.fillStyle = "rgba(255,255,255,0.92)";
+  ctx.fillRect(10, 10, w, h);
+  ctx.strokeStyle = "#9aa8b5";
+  ctx.strokeRect(10, 10, w, h);
+  ctx.fillStyle = "#34495e";
+  ctx.fillText(`${projectionName} · Natural Earth`, 18, 27);
+  lines.forEach(([color, text], i) => {
+    ctx.globalAlpha = 0.85;
+    ctx.fillStyle = color;
+    ctx.fillRect(18, 36 + 17 * i, 14, 10);
+    ctx.globalAlpha = 1;
+    ctx.fillStyle = "#1d2733";
+    ctx.fillText(text, 38, 45 + 17 * i);
+  });
+}
+
+export async function exportPNG(options) {
+  const canvas = await renderCanvas(options);
+  const blob = await new Promise((resolve) => canvas.toBlob(resolve, "image/png"));
+  download(`footprints-${options.view === "globe" ? "orthographic" : "equirectangular"}.png`, blob);
+}

@@ -1,0 +1,169 @@
+// Pure geometry of the page: longitudes across +-180, the orbit of an entry point, GeoJSON and CSV of
+// footprints. No DOM and no Leaflet here, so that the browser tests can check it through the page.
+
+export const MEAN_RADIUS_NMI = 6371008.8 / 1852.0; // R' of AFWAL-TR-82-3036 eqs. (8)-(11), as footprint.core.ranges
+const RAD_PER_DEG = Math.PI / 180.0;
+
+/** A longitude in (-180, 180]. */
+export function wrapLongitude(lonDeg) {
+  const x = ((((lonDeg + 180.0) % 360.0) + 360.0) % 360.0) - 180.0;
+  return x === -180.0 ? 180.0 : x;
+}
+
+/** Longitudes made continuous: the first within 180 deg of referenceDeg, each next within 180 deg of the one
+ * before, so that a ring or a track that crosses +-180 never jumps by 360 deg. */
+export function unwrapLongitudes(lonsDeg, referenceDeg) {
+  const out = [];
+  let previous = referenceDeg;
+  for (const lon of lonsDeg) {
+    const u = previous + wrapLongitude(lon - previous);
+    out.push(u);
+    previous = u;
+  }
+  return out;
+}
+
+/** The longitudes of a footprint's ring made continuous and placed on the copy of the map where its point
+ * nearest the entry lies within 180 deg of the entry. (Anchoring the ring's first point instead fails: that is
+ * often the far, zero-bank point, 180 deg or more from the entry.) */
+export function unwrapRing(points, reference) {
+  const lons = unwrapLongitudes(points.map((p) => p.longitude_deg), points.length ? points[0].longitude_deg : 0);
+  if (!lons.length) return lons;
+  const r = unit(reference.latitude_deg, reference.longitude_deg);
+  let nearest = 0, best = -2;
+  points.forEach((p, i) => {
+    const c = dot(unit(p.latitude_deg, p.longitude_deg), r);
+    if (c > best) { best = c; nearest = i; }
+  });
+  const shift = 360 * Math.round((reference.longitude_deg - lons[nearest]) / 360);
+  return lons.map((x) => x + shift);
+}
+
+/** Offsets (multiples of 360 deg) at which copies of a shape spanning [minLon, maxLon] are drawn so that every
+ * part of it that wraps past +-180 also shows on the other side of the map. */
+export function copyOffsets(minLonDeg, maxLonDeg) {
+  const offsets = [];
+  for (let k = -2; k <= 2; k++) {
+    const lo = minLonDeg + 360 * k, hi = maxLonDeg + 360 * k;
+    if (hi >= -540 && lo <= 540) offsets.push(360 * k); // the map may be panned one world either way
+  }
+  return offsets;
+}
+
+function unit(latDeg, lonDeg) {
+  const la = latDeg * RAD_PER_DEG, lo = lonDeg * RAD_PER_DEG;
+  return [Math.cos(la) * Math.cos(lo), Math.cos(la) * Math.sin(lo), Math.sin(la)];
+}
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+
+/** The orbit through an entry point with a heading (deg from north, clockwise): its inclination, the longitude
+ * of its ascending node and the entry's argument of latitude u measured from that node (all deg). An
+ * equatorial orbit has no node: the entry point itself stands for it (u = 0). */
+export function orbitOfEntry(latitudeDeg, longitudeDeg, headingDeg) {
+  const la = latitudeDeg * RAD_PER_DEG, lo = longitudeDeg * RAD_PER_DEG, h = headingDeg * RAD_PER_DEG;
+  const r = unit(latitudeDeg, longitudeDeg);
+  const north = [-Math.sin(la) * Math.cos(lo), -Math.sin(la) * Math.sin(lo), Math.cos(la)];
+  const east = [-Math.sin(lo), Math.cos(lo), 0.0];
+  const d = [0, 1, 2].map((i) => Math.cos(h) * north[i] + Math.sin(h) * east[i]);
+  const n = cross(r, d); // the orbit's normal (angular momentum direction)
+  const inclinationDeg = Math.acos(Math.max(-1, Math.min(1, n[2]))) / RAD_PER_DEG;
+  const s = Math.hypot(n[0], n[1]);
+  if (s < 1e-9) return { inclinationDeg, nodeLongitudeDeg: wrapLongitude(longitudeDeg), uDeg: 0.0 };
+  const node = [-n[1] / s, n[0] / s, 0.0]; // z x n: the ascending node
+  const ahead = cross(n, node); // 90 deg past the node along the orbit
+  const uDeg = Math.atan2(dot(r, ahead), dot(r, node)) / RAD_PER_DEG;
+  return { inclinationDeg, nodeLongitudeDeg: Math.atan2(node[1], node[0]) / RAD_PER_DEG, uDeg };
+}
+
+/** The body of POST /api/footprints/{id}/transform that puts the footprint's entry on the orbit of the given
+ * node longitude and inclination, at the entry's own argument of latitude, then stepDownrangeNmi further on:
+ * the destination is the ascending node, and the step carries it u (as an arc of R') along the orbit. */
+export function transformRequest(orbit, controls) {
+  return {
+    to: { latitude_deg: 0.0, longitude_deg: controls.nodeLongitudeDeg, inclination_deg: controls.inclinationDeg,
+          ascending: true },
+    step_downrange_nmi: orbit.uDeg * RAD_PER_DEG * MEAN_RADIUS_NMI + controls.stepDownrangeNmi,
+    earth_rotation: controls.earthRotation,
+  };
+}
+
+/** The ring of a boundary without a repeated closing point. */
+export function openRing(points) {
+  if (points.length > 1) {
+    const a = points[0], b = points[points.length - 1];
+    if (a.latitude_deg === b.latitude_deg && a.longitude_deg === b.longitude_deg) return points.slice(0, -1);
+  }
+  return points;
+}
+
+/** A parameter dict ({"bank0_deg": 45, "min_range": null}) as one short line. */
+export function describeParameter(parameter) {
+  if (parameter == null) return "";
+  if (typeof parameter !== "object") return String(parameter);
+  return Object.entries(parameter).filter(([, v]) => v != null)
+    .map(([k, v]) => `${k} ${typeof v === "number" ? +v.toFixed(3) : v}`).join(", ");
+}
+
+/** The shown footprints (and sites) as a GeoJSON FeatureCollection: the boundary with its longitudes unwrapped
+ * about the entry point (never a 360 deg jump), the entry, the ground track and every boundary point. */
+export function toGeoJSON(footprints, sites = []) {
+  const features = [];
+  for (const fp of footprints) {
+    const { points, groundTrack, reference } = fp.shown;
+    const ring = openRing(points);
+    const lons = unwrapRing(ring, reference);
+    const coords = ring.map((p, i) => [lons[i], p.latitude_deg]);
+    if (coords.length) coords.push(coords[0]);
+    const common = { footprint_id: fp.id, name: fp.name };
+    features.push({ type: "Feature", properties: { ...common, kind: "footprint", color: fp.color },
+                    geometry: { type: "Polygon", coordinates: [coords] } });
+    features.push({ type: "Feature", properties: { ...common, kind: "entry", heading_deg: reference.heading_deg },
+                    geometry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] } });
+    if (groundTrack.length > 1) {
+      const tl = unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg);
+      features.push({ type: "Feature", properties: { ...common, kind: "ground_track" },
+                      geometry: { type: "LineString", coordinates: groundTrack.map((p, i) => [tl[i], p.latitude_deg]) } });
+    }
+    ring.forEach((p, i) => features.push({
+      type: "Feature", properties: { ...common, kind: "point", index: i, ...pointFields(p) },
+      geometry: { type: "Point", coordinates: [lons[i], p.latitude_deg] } }));
+  }
+  for (const s of sites) {
+    features.push({ type: "Feature", properties: { kind: "site", name: s.name, reachable: s.reachable ?? null },
+                    geometry: { type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] } });
+  }
+  return { type: "FeatureCollection", features };
+}
+
+function pointFields(p) {
+  return { latitude_deg: p.latitude_deg, longitude_deg: p.longitude_deg, downrange_nmi: p.downrange_nmi ?? null,
+           crossrange_nmi: p.crossrange_nmi ?? null, flight_time_s: p.flight_time_s ?? null,
+           parameter: describeParameter(p.parameter), mirrored: p.mirrored ?? null };
+}
+
+export const CSV_COLUMNS = ["footprint_id", "name", "index", "latitude_deg", "longitude_deg", "downrange_nmi",
+                            "crossrange_nmi", "flight_time_s", "parameter", "mirrored"];
+
+/** One CSV row per shown boundary point. */
+export function toCSV(footprints) {
+  const quote = (v) => (v == null ? "" : /[",\n]/.test(String(v)) ? `"${String(v).replace(/"/g, '""')}"` : String(v));
+  const rows = [CSV_COLUMNS.join(",")];
+  for (const fp of footprints) {
+    openRing(fp.shown.points).forEach((p, i) => {
+      const row = { footprint_id: fp.id, name: fp.name, index: i, ...pointFields(p) };
+      rows.push(CSV_COLUMNS.map((c) => quote(row[c])).join(","));
+    });
+  }
+  return rows.join("\n") + "\n";
+}
+
+/** A closed [lon, lat] ring wound as d3-geo wants (the smaller of the two regions it bounds inside). */
+export function sphericalRing(points, geoArea) {
+  const ring = openRing(points).map((p) => [p.longitude_deg, p.latitude_deg]);
+  if (!ring.length) return ring;
+  ring.push(ring[0]);
+  const polygon = { type: "Polygon", coordinates: [ring] };
+  if (geoArea && geoArea(polygon) > 2 * Math.PI) ring.reverse();
+  return ring;
+}

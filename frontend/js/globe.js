@@ -1,0 +1,127 @@
+// The orthographic globe (the report's second projection, Fig. 33): the earth seen from far away, the hidden
+// hemisphere clipped at 90 deg from the centre. Drag (or the arrow keys) to turn it; + and - to zoom.
+/* global d3 */
+import { loadWorld } from "./basemap.js";
+import { openRing, sphericalRing } from "./geometry.js";
+import { escapeHtml, fmt } from "./format.js";
+
+const KEY_STEP_DEG = 10;
+const DRAG_DEG_PER_PX = 0.25;
+
+export function footprintFeatures(fp) {
+  const { points, groundTrack, reference } = fp.shown;
+  return {
+    polygon: { type: "Polygon", coordinates: [sphericalRing(points, d3.geoArea)] },
+    track: { type: "LineString", coordinates: groundTrack.map((p) => [p.longitude_deg, p.latitude_deg]) },
+    entry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] },
+    points: openRing(points).map((p) => ({ type: "Point", coordinates: [p.longitude_deg, p.latitude_deg], p })),
+  };
+}
+
+/** The globe's projection for a box of width x height pixels. */
+export function globeProjection(width, height, rotate, zoom = 1) {
+  return d3.geoOrthographic().clipAngle(90).precision(0.2).rotate(rotate)
+    .translate([width / 2, height / 2]).scale(0.47 * Math.min(width, height) * zoom);
+}
+
+export class GlobeView {
+  constructor(element) {
+    this.element = element;
+    this.rotate = [0, -20, 0];
+    this.zoom = 1;
+    this.footprints = [];
+    this.sites = [];
+    this.svg = d3svg(element);
+    this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
+    this._bindDrag();
+    this._bindKeys();
+  }
+
+  setData(footprints, sites) { this.footprints = footprints; this.sites = sites; this.render(); }
+
+  center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
+
+  projection() {
+    const { width, height } = this.element.getBoundingClientRect();
+    return globeProjection(Math.max(width, 1), Math.max(height, 1), this.rotate, this.zoom);
+  }
+
+  render() {
+    if (!this.world || this.element.hidden) return;
+    const { width, height } = this.element.getBoundingClientRect();
+    const projection = this.projection();
+    const path = d3.geoPath(projection).pointRadius(4);
+    const parts = [
+      `<path class="globe-ocean" d="${path({ type: "Sphere" })}"/>`,
+      `<path class="globe-graticule" d="${path(d3.geoGraticule().step([30, 30])())}"/>`,
+      `<path class="globe-land" d="${path(this.world.land) || ""}"/>`,
+      `<path class="globe-borders" d="${path(this.world.borders) || ""}"/>`,
+      `<path class="globe-coast" d="${path(this.world.coastline) || ""}"/>`,
+    ];
+    for (const fp of this.footprints) {
+      const f = footprintFeatures(fp);
+      parts.push(`<path class="globe-footprint fp-${fp.id}" style="fill:${fp.color};stroke:${fp.color}" d="${path(f.polygon) || ""}"/>`);
+      parts.push(`<path class="globe-track" style="stroke:${fp.color}" d="${path(f.track) || ""}"/>`);
+      for (const q of f.points) {
+        const d = path.pointRadius(3)(q);
+        if (d) parts.push(`<path class="globe-point" style="stroke:${fp.color};fill:${q.p.mirrored ? "#fff" : fp.color}" d="${d}"><title>${escapeHtml(fp.name)}: down-range ${fmt(q.p.downrange_nmi)} nmi, cross-range ${fmt(q.p.crossrange_nmi)} nmi, ${fmt(q.p.flight_time_s)} s</title></path>`);
+      }
+      const e = path.pointRadius(6)(f.entry);
+      if (e) parts.push(`<path class="globe-entry fp-${fp.id}" style="fill:${fp.color}" d="${e}"><title>${escapeHtml(fp.name)}: entry</title></path>`);
+    }
+    for (const s of this.sites) {
+      const d = path.pointRadius(5)({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] });
+      const state = s.reachable == null ? "unknown" : s.reachable ? "reached" : "missed";
+      if (d) parts.push(`<path class="globe-site site-${state}" d="${d}"><title>${escapeHtml(s.name)}</title></path>`);
+    }
+    parts.push(`<path class="globe-limb" d="${path({ type: "Sphere" })}"/>`);
+    this.svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
+    this.svg.innerHTML = parts.join("");
+  }
+
+  _bindDrag() {
+    let last = null;
+    this.svg.addEventListener("pointerdown", (e) => { last = [e.clientX, e.clientY]; this.svg.setPointerCapture(e.pointerId); });
+    this.svg.addEventListener("pointermove", (e) => {
+      if (!last) return;
+      const k = DRAG_DEG_PER_PX / this.zoom;
+      this.rotate = [this.rotate[0] + (e.clientX - last[0]) * k,
+                     Math.max(-90, Math.min(90, this.rotate[1] - (e.clientY - last[1]) * k)), 0];
+      last = [e.clientX, e.clientY];
+      this.render();
+    });
+    const stop = () => { last = null; };
+    this.svg.addEventListener("pointerup", stop);
+    this.svg.addEventListener("pointercancel", stop);
+    this.svg.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      this.zoom = Math.max(0.6, Math.min(8, this.zoom * (e.deltaY < 0 ? 1.15 : 1 / 1.15)));
+      this.render();
+    }, { passive: false });
+  }
+
+  _bindKeys() {
+    this.svg.addEventListener("keydown", (e) => {
+      const turns = { ArrowLeft: [KEY_STEP_DEG, 0], ArrowRight: [-KEY_STEP_DEG, 0], ArrowUp: [0, -KEY_STEP_DEG],
+                      ArrowDown: [0, KEY_STEP_DEG] };
+      if (turns[e.key]) {
+        const [dl, dp] = turns[e.key];
+        this.rotate = [this.rotate[0] + dl, Math.max(-90, Math.min(90, this.rotate[1] + dp)), 0];
+      } else if (e.key === "+" || e.key === "=") this.zoom = Math.min(8, this.zoom * 1.25);
+      else if (e.key === "-") this.zoom = Math.max(0.6, this.zoom / 1.25);
+      else return;
+      e.preventDefault();
+      this.render();
+    });
+  }
+}
+
+function d3svg(element) {
+  const svg = document.createElementNS("http://www.w3.org/2000/svg", "svg");
+  svg.setAttribute("class", "globe-svg");
+  svg.setAttribute("tabindex", "0");
+  svg.setAttribute("role", "img");
+  svg.setAttribute("aria-label", "Orthographic globe: drag or use the arrow keys to turn it, + and - to zoom");
+  element.appendChild(svg);
+  return svg;
+}

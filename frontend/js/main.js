@@ -1,0 +1,258 @@
+// The map page: stored footprints on the cylindrical map and the globe, moved live around orbits through the
+// transform endpoint, new jobs, landing sites and reach, exports and the range plot.
+import { api } from "./api.js";
+import { exportCSV, exportGeoJSON, exportPNG } from "./exporting.js";
+import { escapeHtml, fmt } from "./format.js";
+import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
+import { GlobeView } from "./globe.js";
+import { JobsPanel } from "./jobs.js";
+import { MapView } from "./mapview.js";
+import { drawRangePlot } from "./rangeplot.js";
+import { SitesPanel } from "./sites.js";
+
+const $ = (id) => document.getElementById(id);
+const PALETTE = ["#1f6fbf", "#d1495b", "#2a9d8f", "#8e5dbf", "#e08a1e", "#5c7c2e", "#c2549b", "#3d5a80"];
+const DEBOUNCE_MS = 150; // the polygon follows a dragged control without a request per pixel
+const SAME_DEG = 1e-9;
+
+const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0 };
+
+function toast(message, isError = false) {
+  const t = $("toast");
+  t.textContent = message;
+  t.className = `toast${isError ? " error" : ""}`;
+  t.hidden = false;
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => { t.hidden = true; }, isError ? 6000 : 3000);
+}
+
+const mapView = new MapView($("map"), { onClick: (latlng) => sites.onMapClick(latlng) });
+const globe = new GlobeView($("globe"));
+const sites = new SitesPanel({ onChange: () => redrawSites(), selectedFootprint: () => selected(), toast });
+const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job) });
+
+const selected = () => state.footprints.get(state.selectedId) ?? null;
+const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
+
+// ------------------------------------------------------------------------------------------- footprints
+function storedGeometry(fp) {
+  const e = fp.item.entry;
+  return { points: fp.detail.points, groundTrack: fp.detail.ground_track ?? [],
+           reference: { latitude_deg: e.latitude_deg, longitude_deg: e.longitude_deg, heading_deg: e.heading_deg } };
+}
+
+function addItem(item) {
+  if (state.footprints.has(item.id)) return state.footprints.get(item.id);
+  const fp = { id: item.id, item, name: item.name || `${item.vehicle} ${item.method.replace(/_/g, " ")}`,
+               color: PALETTE[state.colorIndex++ % PALETTE.length], visible: false, detail: null, shown: null,
+               orbit: null, controls: null };
+  state.footprints.set(item.id, fp);
+  return fp;
+}
+
+async function loadDetail(fp) {
+  if (fp.detail) return;
+  fp.detail = await api(`/api/footprints/${fp.id}`);
+  const e = fp.item.entry;
+  fp.orbit = orbitOfEntry(e.latitude_deg, e.longitude_deg, e.heading_deg);
+  fp.controls = { nodeLongitudeDeg: round(fp.orbit.nodeLongitudeDeg), inclinationDeg: round(fp.orbit.inclinationDeg),
+                  stepDownrangeNmi: 0, earthRotation: "none" };
+  fp.shown = storedGeometry(fp);
+}
+const round = (v) => Math.round(v * 100) / 100; // the controls show 0.01 deg
+
+async function loadFootprints() {
+  const { items, total } = await api("/api/footprints?limit=200");
+  items.slice().reverse().forEach(addItem); // oldest first, so colours stay put as new ones arrive
+  $("footprints-status").textContent = total ? "" : "No footprints stored yet: run a job below.";
+  renderList();
+  return items;
+}
+
+async function setVisible(fp, on) {
+  fp.visible = on;
+  if (on) await loadDetail(fp);
+  redraw(fp);
+  renderList();
+}
+
+async function select(id, { fit = false } = {}) {
+  const fp = state.footprints.get(id);
+  state.selectedId = id;
+  if (!fp.visible) await setVisible(fp, true);
+  renderList();
+  setControls(fp);
+  drawRangePlot($("plot"), fp);
+  if (fit) mapView.fitFootprint(fp);
+  if (state.view === "globe") centerGlobe(fp);
+}
+
+function redraw(fp) {
+  if (fp.visible && fp.shown) mapView.drawFootprint(fp); else mapView.removeFootprint(fp.id);
+  mapView.setLegend(visible());
+  globe.setData(visible(), sites.shown());
+  if (fp.id === state.selectedId) drawRangePlot($("plot"), fp);
+}
+
+function redrawSites() {
+  mapView.setSites(sites.shown());
+  globe.setData(visible(), sites.shown());
+}
+
+function renderList() {
+  $("footprint-list").innerHTML = [...state.footprints.values()].reverse().map((fp) => {
+    const it = fp.item;
+    const meta = `max X ${fmt(it.max_crossrange_nmi)} · D ${fmt(it.min_downrange_nmi)}–${fmt(it.max_downrange_nmi)} nmi`;
+    return `<li class="${fp.id === state.selectedId ? "selected" : ""}" data-id="${fp.id}">`
+      + `<input type="checkbox" class="fp-visible" ${fp.visible ? "checked" : ""} aria-label="Show ${escapeHtml(fp.name)}">`
+      + `<span class="swatch" style="background:${fp.color}"></span>`
+      + `<button type="button" class="fp-select" aria-pressed="${fp.id === state.selectedId}">${escapeHtml(fp.name)}`
+      + `<span class="meta">${meta}</span></button></li>`;
+  }).join("");
+}
+
+// the list is drawn afresh on every change: give the focus back to the control the user was on
+const refocus = (id, selector) => document.querySelector(`#footprint-list li[data-id="${id}"] ${selector}`)?.focus();
+$("footprint-list").addEventListener("change", (e) => {
+  const id = e.target.closest("li")?.dataset.id;
+  if (id && e.target.classList.contains("fp-visible")) {
+    setVisible(state.footprints.get(id), e.target.checked).then(() => refocus(id, ".fp-visible")).catch(fail);
+  }
+});
+$("footprint-list").addEventListener("click", (e) => {
+  const id = e.target.closest("button.fp-select")?.closest("li").dataset.id;
+  if (id) select(id, { fit: true }).then(() => refocus(id, ".fp-select")).catch(fail);
+});
+
+async function showJobFootprints(job) {
+  const ids = (job.result?.footprints ?? []).map((url) => url.split("/").pop());
+  await loadFootprints();
+  for (const id of ids) if (state.footprints.has(id)) await setVisible(state.footprints.get(id), true);
+  if (ids.length && state.footprints.has(ids[0])) await select(ids[0], { fit: true });
+  toast(ids.length ? `Job done: ${ids.length} footprint${ids.length > 1 ? "s" : ""} added` : "Job done");
+}
+
+// ---------------------------------------------------------------------------------- live geometry
+const CONTROLS = [["node-longitude", "nodeLongitudeDeg"], ["inclination", "inclinationDeg"], ["step-downrange", "stepDownrangeNmi"]];
+let liveTimer = null, liveSequence = 0, liveAbort = null;
+
+function setControls(fp) {
+  $("live-controls").disabled = !fp?.controls;
+  if (!fp?.controls) return;
+  $("live-target").textContent = `Moving “${fp.name}”: its entry rides the orbit at argument of latitude ${fmt(fp.orbit.uDeg, 1)}°.`;
+  for (const [id, key] of CONTROLS) { $(id).value = fp.controls[key]; $(`${id}-range`).value = fp.controls[key]; }
+  $("earth-rotation").value = fp.controls.earthRotation;
+}
+
+function readControls() {
+  const fp = selected();
+  if (!fp?.controls) return;
+  for (const [id, key] of CONTROLS) fp.controls[key] = Number($(id).value) || 0;
+  fp.controls.earthRotation = $("earth-rotation").value;
+  clearTimeout(liveTimer);
+  liveTimer = setTimeout(() => moveFootprint(fp), DEBOUNCE_MS);
+}
+
+for (const [id] of CONTROLS) {
+  $(`${id}-range`).addEventListener("input", () => { $(id).value = $(`${id}-range`).value; readControls(); });
+  $(id).addEventListener("input", () => { $(`${id}-range`).value = $(id).value; readControls(); });
+}
+$("earth-rotation").addEventListener("change", readControls);
+$("live-reset").addEventListener("click", () => {
+  const fp = selected();
+  if (!fp?.orbit) return;
+  fp.controls = { nodeLongitudeDeg: round(fp.orbit.nodeLongitudeDeg), inclinationDeg: round(fp.orbit.inclinationDeg),
+                  stepDownrangeNmi: 0, earthRotation: "none" };
+  setControls(fp);
+  readControls();
+});
+
+function atStoredOrbit(fp) {
+  const c = fp.controls, o = fp.orbit;
+  return c.earthRotation === "none" && c.stepDownrangeNmi === 0 && Math.abs(c.inclinationDeg - round(o.inclinationDeg)) < SAME_DEG
+    && Math.abs(wrapLongitude(c.nodeLongitudeDeg - round(o.nodeLongitudeDeg))) < SAME_DEG;
+}
+
+/** POST the transform; a response that a newer request has overtaken is dropped, never drawn. */
+async function moveFootprint(fp) {
+  const sequence = ++liveSequence;
+  liveAbort?.abort();
+  liveAbort = new AbortController();
+  if (atStoredOrbit(fp)) {
+    fp.shown = storedGeometry(fp);
+    $("live-status").textContent = "At the stored orbit.";
+    redraw(fp);
+    return;
+  }
+  $("live-status").textContent = fp.controls.earthRotation === "exact" ? "Flying again on the rotating earth…" : "Moving…";
+  try {
+    const result = await api(`/api/footprints/${fp.id}/transform`,
+                             { method: "POST", body: transformRequest(fp.orbit, fp.controls), signal: liveAbort.signal });
+    if (sequence !== liveSequence) return;
+    fp.shown = shownFromTransform(fp, result);
+    const r = fp.shown.reference;
+    $("live-status").textContent = `Entry at ${fmt(r.latitude_deg, 2)}°, ${fmt(r.longitude_deg, 2)}°, heading ${fmt(r.heading_deg, 1)}°`
+      + ` (${result.earth_rotation} earth rotation).`;
+    redraw(fp);
+  } catch (err) {
+    if (err.name === "AbortError" || sequence !== liveSequence) return;
+    $("live-status").textContent = err.message;
+  }
+}
+
+/** The transform's moved points, with each stored point's control parameter kept (the moved points come back in
+ * the same order; an "exact" transform flies again and names its own parameters). */
+function shownFromTransform(fp, result) {
+  let points = result.points;
+  if (result.earth_rotation === "exact") points = points.filter((p) => p.on_boundary !== false);
+  else if (points.length === fp.detail.points.length) {
+    points = points.map((p, i) => ({ parameter: fp.detail.points[i].parameter, ...p }));
+  }
+  return { points, groundTrack: result.ground_track ?? [], reference: result.reference };
+}
+
+// ------------------------------------------------------------------------------------- views, exports
+function setView(view) {
+  state.view = view;
+  $("view-map").setAttribute("aria-pressed", String(view === "map"));
+  $("view-globe").setAttribute("aria-pressed", String(view === "globe"));
+  $("map").hidden = view !== "map";
+  $("globe").hidden = view !== "globe";
+  if (view === "map") mapView.invalidate();
+  else { if (selected()) centerGlobe(selected()); globe.render(); }
+}
+
+function centerGlobe(fp) {
+  // the middle of the footprint's points (mean of unit vectors), so the whole footprint faces the viewer
+  let x = 0, y = 0, z = 0;
+  for (const p of fp.shown.points) {
+    const la = p.latitude_deg * Math.PI / 180, lo = p.longitude_deg * Math.PI / 180;
+    x += Math.cos(la) * Math.cos(lo); y += Math.cos(la) * Math.sin(lo); z += Math.sin(la);
+  }
+  globe.center(Math.atan2(y, x) * 180 / Math.PI, Math.atan2(z, Math.hypot(x, y)) * 180 / Math.PI);
+}
+
+$("view-map").addEventListener("click", () => setView("map"));
+$("view-globe").addEventListener("click", () => setView("globe"));
+$("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown()));
+$("export-csv").addEventListener("click", () => exportCSV(visible()));
+$("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
+                                                             sites: sites.shown() }).catch(fail));
+new ResizeObserver(() => { drawRangePlot($("plot"), selected()); if (state.view === "globe") globe.render(); }).observe($("plot"));
+
+function fail(err) { console.error(err); toast(err.message || String(err), true); }
+
+// ------------------------------------------------------------------------------------------- start
+async function start() {
+  await Promise.all([mapView.ready, globe.ready]);
+  const [items] = await Promise.all([loadFootprints(), jobs.loadVehicles(), sites.load()]);
+  const first = items.slice(0, 6); // the newest few drawn at once; the rest one tick away in the list
+  for (const item of first) await setVisible(state.footprints.get(item.id), true);
+  if (first.length) await select(first[0].id);
+  mapView.fitFootprints(visible());
+  drawRangePlot($("plot"), selected());
+  document.body.dataset.ready = "true"; // the browser tests wait for this
+  console.info(`map page ready in ${Math.round(performance.now())} ms`);
+}
+
+window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, ready: start().catch(fail) };

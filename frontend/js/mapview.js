@@ -1,0 +1,151 @@
+// The cylindrical equidistant map (Leaflet's EPSG:4326 CRS: x = longitude, y = latitude, as the report's
+// Figs. 31-32), with Natural Earth land, coastlines and borders drawn from the shipped data.
+/* global L */
+import { loadWorld, planarFeatures } from "./basemap.js";
+import { copyOffsets, describeParameter, openRing, unwrapLongitudes, unwrapRing } from "./geometry.js";
+import { escapeHtml, fmt } from "./format.js";
+
+const GRATICULE_DEG = 30;
+const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world either way
+
+export function pointTooltip(fp, p) {
+  const rows = [
+    ["Down-range", `${fmt(p.downrange_nmi)} nmi`],
+    ["Cross-range", `${fmt(p.crossrange_nmi)} nmi`],
+    ["Flight time", `${fmt(p.flight_time_s)} s`],
+    ["Control", escapeHtml(describeParameter(p.parameter) || "–")],
+    ["Lat, lon", `${fmt(p.latitude_deg, 2)}°, ${fmt(p.longitude_deg, 2)}°`],
+  ];
+  return `<strong>${escapeHtml(fp.name)}</strong><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join("")}</table>`;
+}
+
+export class MapView {
+  constructor(element, { onClick } = {}) {
+    this.map = L.map(element, { crs: L.CRS.EPSG4326, zoomSnap: 0.25, zoomDelta: 0.5, minZoom: 0, maxZoom: 9,
+                                 worldCopyJump: false, keyboard: true, preferCanvas: false });
+    this.map.fitBounds([[-60, -180], [80, 180]]);
+    this.map.createPane("basemap").style.zIndex = 250;
+    this.basemapRenderer = L.canvas({ pane: "basemap", padding: 0.5 });
+    this.svgRenderer = L.svg({ padding: 0.5 });
+    this.footprintLayers = new Map();
+    this.sitesLayer = L.layerGroup().addTo(this.map);
+    this.map.attributionControl.setPrefix(false);
+    this.map.attributionControl.addAttribution("Natural Earth (public domain), via world-atlas");
+    this.legend = L.control({ position: "bottomright" });
+    this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
+    this.legend.addTo(this.map);
+    this.map.on("click", (e) => onClick?.(e.latlng));
+    this.ready = this._drawBasemap();
+  }
+
+  async _drawBasemap() {
+    // the land's outline is the coastline (its rings run on past 180 deg, so they have no cut edges to hide)
+    const sphere = await loadWorld("50m");
+    const world = { land: planarFeatures(sphere.land), borders: planarFeatures(sphere.borders) };
+    const canvas = { renderer: this.basemapRenderer, pane: "basemap", interactive: false };
+    for (const offset of WORLD_COPIES_DEG) {
+      const shifted = { coordsToLatLng: (c) => L.latLng(c[1], c[0] + offset) };
+      L.geoJSON(world.land, { ...canvas, ...shifted, style: { color: "#6f8294", weight: 0.8,
+                                                                              fillColor: "#ece8dc", fillOpacity: 1 } })
+        .addTo(this.map);
+      L.geoJSON(world.borders, { ...canvas, ...shifted, style: { color: "#a7a29a", weight: 0.6, fill: false } })
+        .addTo(this.map);
+    }
+    // beyond the poles there is no earth: a neutral band, so that a zoomed-out map does not show "ocean" there
+    for (const [a, b] of [[90, 1000], [-1000, -90]]) {
+      L.rectangle([[a, -2000], [b, 2000]], { ...canvas, stroke: false, fillColor: "#eef1f4", fillOpacity: 1 }).addTo(this.map);
+    }
+    const lines = [];
+    for (let lon = -540; lon <= 540; lon += GRATICULE_DEG) lines.push([[-90, lon], [90, lon]]);
+    for (let lat = -90; lat <= 90; lat += GRATICULE_DEG) lines.push([[lat, -540], [lat, 540]]);
+    L.polyline(lines, { ...canvas, color: "#b9c6d2", weight: 0.6 }).addTo(this.map);
+  }
+
+  /** Draw (or redraw) one footprint as it is shown: boundary, entry point, ground track, hoverable points. */
+  drawFootprint(fp) {
+    this.removeFootprint(fp.id);
+    const { points, groundTrack, reference } = fp.shown;
+    const ring = openRing(points);
+    if (!ring.length) return;
+    const ringLons = unwrapRing(ring, reference);
+    const trackLons = unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg);
+    const all = ringLons.concat(trackLons, [reference.longitude_deg]);
+    const group = L.layerGroup();
+    const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true }; // every vertex kept, none clipped
+    for (const offset of copyOffsets(Math.min(...all), Math.max(...all))) {
+      const copy = `fp-${fp.id} fp-copy-${offset}`;
+      L.polygon(ring.map((p, i) => [p.latitude_deg, ringLons[i] + offset]),
+                { ...svg, color: fp.color, weight: 2, fillColor: fp.color, fillOpacity: 0.22,
+                  className: `fp-polygon ${copy}`, interactive: false }).addTo(group);
+      if (groundTrack.length > 1) {
+        L.polyline(groundTrack.map((p, i) => [p.latitude_deg, trackLons[i] + offset]),
+                   { ...svg, color: fp.color, weight: 1.5, dashArray: "6 5", opacity: 0.85,
+                     className: `fp-track ${copy}`, interactive: false }).addTo(group);
+      }
+      L.circleMarker([reference.latitude_deg, reference.longitude_deg + offset],
+                     { renderer: this.svgRenderer, radius: 6, color: "#fff", weight: 2, fillColor: fp.color,
+                       fillOpacity: 1, className: `fp-entry ${copy}` })
+        .bindTooltip(`<strong>${escapeHtml(fp.name)}</strong><br>entry ${fmt(reference.latitude_deg, 2)}°, `
+                     + `${fmt(reference.longitude_deg, 2)}°, heading ${fmt(reference.heading_deg, 1)}°`)
+        .addTo(group);
+      ring.forEach((p, i) => {
+        L.circleMarker([p.latitude_deg, ringLons[i] + offset],
+                       { renderer: this.svgRenderer, radius: 4, color: fp.color, weight: 1.5,
+                         fillColor: p.mirrored ? "#fff" : fp.color, fillOpacity: 1,
+                         className: `fp-point ${copy}` })
+          .bindTooltip(pointTooltip(fp, p), { className: "point-tooltip", direction: "top" })
+          .addTo(group);
+      });
+    }
+    group.addTo(this.map);
+    this.footprintLayers.set(fp.id, group);
+  }
+
+  removeFootprint(id) {
+    this.footprintLayers.get(id)?.remove();
+    this.footprintLayers.delete(id);
+  }
+
+  setLegend(footprints) {
+    this.legendDiv.innerHTML = footprints.length
+      ? footprints.map((fp) => `<div><span class="swatch" style="background:${fp.color}"></span>${escapeHtml(fp.name)}</div>`).join("")
+        + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>'
+      : "";
+    this.legendDiv.hidden = !footprints.length;
+  }
+
+  /** Landing sites as diamonds; green when the last reach analysis reached them, red when it did not. */
+  setSites(sites) {
+    this.sitesLayer.clearLayers();
+    for (const s of sites) {
+      const state = s.reachable == null ? "unknown" : s.reachable ? "reached" : "missed";
+      for (const offset of WORLD_COPIES_DEG) {
+        L.marker([s.latitude_deg, s.longitude_deg + offset],
+                 { icon: L.divIcon({ className: "site-marker", html: `<span class="site-icon site-${state}"></span>`,
+                                     iconSize: [14, 14] }), keyboard: false,
+                   title: s.name })
+          .bindTooltip(`${escapeHtml(s.name)}<br>${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°`)
+          .addTo(this.sitesLayer);
+      }
+    }
+  }
+
+  /** Fit the view to the shown footprints (their main copies), at most a little more than the whole world. */
+  fitFootprints(footprints) {
+    let bounds = null;
+    for (const fp of footprints) {
+      const main = this.footprintLayers.get(fp.id)?.getLayers()
+        .find((l) => l instanceof L.Polygon && l.options.className.includes("fp-copy-0"));
+      if (main) bounds = bounds ? bounds.extend(main.getBounds()) : main.getBounds();
+    }
+    if (bounds) this.map.fitBounds(bounds, { maxZoom: 4, paddingTopLeft: [50, 30], paddingBottomRight: [40, 70] });
+  }
+
+  fitFootprint(fp) {
+    const layer = this.footprintLayers.get(fp.id);
+    const main = layer && layer.getLayers().find((l) => l.options.className?.includes("fp-copy-0") && l instanceof L.Polygon);
+    if (main) this.map.fitBounds(main.getBounds().pad(0.35), { maxZoom: 4 });
+  }
+
+  invalidate() { this.map.invalidateSize(); }
+}

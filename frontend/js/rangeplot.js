@@ -1,0 +1,54 @@
+// The selected footprint in the report's axes (Figs. 8-21): down-range across, cross-range up, in nmi, about
+// its own entry point and initial heading (positive cross-range to the left).
+import { describeParameter, openRing } from "./geometry.js";
+import { escapeHtml, fmt } from "./format.js";
+
+const SVG_NS = "http://www.w3.org/2000/svg";
+const MARGIN = { left: 62, right: 14, top: 26, bottom: 42 };
+
+/** Round tick values covering [lo, hi] (about `count` of them). */
+export function niceTicks(lo, hi, count = 5) {
+  const span = hi - lo || Math.abs(hi) || 1;
+  const raw = span / count, mag = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 2.5, 5, 10].map((m) => m * mag).find((s) => s >= raw);
+  const ticks = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) ticks.push(+v.toFixed(10));
+  return ticks;
+}
+
+export function drawRangePlot(container, fp) {
+  const width = Math.max(container.clientWidth, 200), height = Math.max(container.clientHeight, 160);
+  if (!fp) {
+    container.innerHTML = '<p class="empty">Select a footprint to plot it in down-range and cross-range.</p>';
+    return;
+  }
+  const pts = openRing(fp.shown.points).filter((p) => p.downrange_nmi != null);
+  const xs = pts.map((p) => p.downrange_nmi), ys = pts.map((p) => p.crossrange_nmi);
+  const xt = niceTicks(Math.min(0, ...xs), Math.max(...xs)), yt = niceTicks(Math.min(0, ...ys), Math.max(0, ...ys));
+  const [x0, x1] = [Math.min(xt[0], ...xs), Math.max(xt[xt.length - 1], ...xs)];
+  const [y0, y1] = [Math.min(yt[0], ...ys), Math.max(yt[yt.length - 1], ...ys)];
+  const pw = width - MARGIN.left - MARGIN.right, ph = height - MARGIN.top - MARGIN.bottom;
+  const sx = (v) => MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
+  const sy = (v) => MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
+  const parts = [];
+  for (const t of xt) parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${MARGIN.top}" y2="${MARGIN.top + ph}"/>`
+    + `<text class="tick" x="${sx(t)}" y="${MARGIN.top + ph + 15}" text-anchor="middle">${fmt(t)}</text>`);
+  for (const t of yt) parts.push(`<line class="grid" x1="${MARGIN.left}" x2="${MARGIN.left + pw}" y1="${sy(t)}" y2="${sy(t)}"/>`
+    + `<text class="tick" x="${MARGIN.left - 6}" y="${sy(t) + 4}" text-anchor="end">${fmt(t)}</text>`);
+  parts.push(`<line class="axis-zero" x1="${MARGIN.left}" x2="${MARGIN.left + pw}" y1="${sy(0)}" y2="${sy(0)}"/>`);
+  parts.push(`<rect class="frame" x="${MARGIN.left}" y="${MARGIN.top}" width="${pw}" height="${ph}"/>`);
+  if (pts.length) {
+    const d = pts.map((p, i) => `${i ? "L" : "M"}${sx(p.downrange_nmi).toFixed(1)},${sy(p.crossrange_nmi).toFixed(1)}`).join("") + "Z";
+    parts.push(`<path class="boundary" d="${d}" style="stroke:${fp.color};fill:${fp.color}"/>`);
+  }
+  pts.forEach((p) => parts.push(
+    `<circle class="plot-point" cx="${sx(p.downrange_nmi)}" cy="${sy(p.crossrange_nmi)}" r="3.5" `
+    + `style="stroke:${fp.color};fill:${p.mirrored ? "#fff" : fp.color}"><title>down-range ${fmt(p.downrange_nmi)} nmi, `
+    + `cross-range ${fmt(p.crossrange_nmi)} nmi, ${fmt(p.flight_time_s)} s${p.parameter ? ", " + escapeHtml(describeParameter(p.parameter)) : ""}</title></circle>`));
+  parts.push(`<circle class="plot-entry" cx="${sx(0)}" cy="${sy(0)}" r="5" style="fill:${fp.color}"><title>entry point</title></circle>`);
+  parts.push(`<text class="axis-label" x="${MARGIN.left + pw / 2}" y="${height - 6}" text-anchor="middle">Down-range (nmi)</text>`);
+  parts.push(`<text class="axis-label" transform="translate(14,${MARGIN.top + ph / 2}) rotate(-90)" text-anchor="middle">Cross-range (nmi)</text>`);
+  parts.push(`<text class="plot-title" x="${MARGIN.left}" y="16">${escapeHtml(fp.name)}</text>`);
+  container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot" viewBox="0 0 ${width} ${height}" width="${width}" height="${height}" role="img" `
+    + `aria-label="Cross-range against down-range of ${escapeHtml(fp.name)}">${parts.join("")}</svg>`;
+}

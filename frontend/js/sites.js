@@ -1,0 +1,118 @@
+// Landing sites (stored by the service) and the reach of the selected footprint from an orbit (Section IV).
+import { api } from "./api.js";
+import { clearFieldErrors, showFieldError } from "./fielderrors.js";
+import { escapeHtml, fmt } from "./format.js";
+import { openRing, wrapLongitude } from "./geometry.js";
+
+const $ = (id) => document.getElementById(id);
+const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : +v; };
+
+export class SitesPanel {
+  constructor({ onChange, selectedFootprint, toast }) {
+    this.sites = [];
+    this.reach = null; // the last reach result, by site name
+    this.onChange = onChange;
+    this.selectedFootprint = selectedFootprint;
+    this.toast = toast;
+    this.adding = false;
+    $("site-click-toggle").addEventListener("click", () => this.setAdding(!this.adding));
+    $("site-csv").addEventListener("change", (e) => this.uploadCsv(e.target.files[0]));
+    $("reach-form").addEventListener("submit", (e) => { e.preventDefault(); this.computeReach(); });
+    $("site-list").addEventListener("click", (e) => {
+      const id = e.target.closest("button[data-delete]")?.dataset.delete;
+      if (id) this.remove(id);
+    });
+  }
+
+  setAdding(on) {
+    this.adding = on;
+    $("site-click-toggle").setAttribute("aria-pressed", String(on));
+    document.getElementById("map").classList.toggle("adding-sites", on);
+  }
+
+  /** The sites with the last reach verdict attached (null: not analysed). */
+  shown() {
+    return this.sites.map((s) => ({ ...s, reachable: this.reach?.get(s.name)?.reachable ?? null }));
+  }
+
+  async load() {
+    this.sites = await api("/api/sites");
+    this.render();
+  }
+
+  render() {
+    $("site-list").innerHTML = this.shown().map((s) => `<li><span>${escapeHtml(s.name)} <span class="muted">`
+      + `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°</span></span>`
+      + `<button type="button" data-delete="${escapeHtml(String(s.id))}" aria-label="Delete ${escapeHtml(s.name)}">×</button></li>`).join("");
+    this.onChange();
+  }
+
+  async onMapClick(latlng) {
+    if (!this.adding) return;
+    const name = $("site-name").value.trim() || `Site ${this.sites.length + 1}`;
+    try {
+      await api("/api/sites", { method: "POST",
+                                body: { name, latitude_deg: +latlng.lat.toFixed(4), longitude_deg: +wrapLongitude(latlng.lng).toFixed(4) } });
+      $("site-name").value = "";
+      await this.load();
+    } catch (err) { this.toast(err.message, true); }
+  }
+
+  async uploadCsv(file) {
+    if (!file) return;
+    $("sites-error").hidden = true;
+    try {
+      const res = await api("/api/sites/csv", { method: "POST", body: await file.text(), contentType: "text/csv" });
+      this.toast(`${res.created} sites added`);
+      await this.load();
+    } catch (err) {
+      $("sites-error").textContent = err.message;
+      $("sites-error").hidden = false;
+    }
+    $("site-csv").value = "";
+  }
+
+  async remove(id) {
+    try { await api(`/api/sites/${id}`, { method: "DELETE" }); await this.load(); } catch (err) { this.toast(err.message, true); }
+  }
+
+  async computeReach() {
+    const form = $("reach-form");
+    clearFieldErrors(form);
+    $("reach-error").hidden = true;
+    const fp = this.selectedFootprint();
+    if (!fp?.detail) { $("reach-error").textContent = "Select a footprint first."; $("reach-error").hidden = false; return; }
+    if (!this.sites.length) { $("reach-error").textContent = "Add a landing site first."; $("reach-error").hidden = false; return; }
+    const points = openRing(fp.detail.points).map((p) => ({ downrange_nmi: p.downrange_nmi, crossrange_nmi: p.crossrange_nmi,
+                                                            flight_time_s: p.flight_time_s }));
+    const body = {
+      footprint: { points },
+      orbit: { inclination_deg: num("r-inclination"), altitude_nmi: num("r-altitude"), node_longitude_deg: num("r-node") },
+      sites: this.sites.map(({ name, latitude_deg, longitude_deg }) => ({ name, latitude_deg, longitude_deg })),
+      revolutions: { first: 1, hours: num("r-hours") },
+      earth_rotation: $("r-rotation").value,
+    };
+    $("reach-submit").disabled = true;
+    try {
+      const result = await api("/api/reach", { method: "POST", body });
+      this.reach = new Map(result.sites.map((s) => [s.name, s]));
+      this.renderReach(result);
+      this.render();
+    } catch (err) {
+      showFieldError(form, err, $("reach-error"));
+    } finally {
+      $("reach-submit").disabled = false;
+    }
+  }
+
+  renderReach(result) {
+    const rows = result.sites.map((s) => `<tr><td>${escapeHtml(s.name)}</td>`
+      + `<td class="${s.reachable ? "reached" : "missed"}">${s.reachable ? "yes" : "no"}</td><td>${s.windows}</td>`
+      + `<td>${s.revolutions.slice(0, 4).join(", ")}${s.revolutions.length > 4 ? "…" : ""}</td>`
+      + `<td>${fmt(s.best_margin_nmi)}</td><td>${s.first_deorbit_time_s == null ? "–" : fmt(s.first_deorbit_time_s / 3600, 2)}</td></tr>`);
+    const notes = (result.notes || []).map((n) => `<p class="muted small">${escapeHtml(n)}</p>`).join("");
+    $("reach-result").innerHTML = `<table class="reach"><caption class="small muted">${fmt(result.analysis.placements)} deorbit points, `
+      + `${fmt(result.analysis.seconds, 2)} s</caption><thead><tr><th>Site</th><th>Reach</th><th>Windows</th><th>Revs</th>`
+      + `<th>Best margin (nmi)</th><th>First (h)</th></tr></thead><tbody>${rows.join("")}</tbody></table>${notes}`;
+  }
+}

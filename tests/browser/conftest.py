@@ -1,0 +1,141 @@
+"""The real service and Debian's chromium, for the map page's browser tests.
+
+Once per test module: the service on a free port of 127.0.0.1 with a new SQLite file and one Dask worker (as
+`footprint serve` runs it), seeded with one footprint by a real job; then chromium through Playwright. Nothing
+here reaches the internet: chromium runs with its background networking off, and the tests assert that every
+request the page makes goes to the service."""
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+START_TIMEOUT_S = 90.0  # migrations, the Dask cluster and the first compile of the flight kernel
+JOB_TIMEOUT_S = 120.0
+
+# A single-parameter footprint of 4 bank settings (7 trajectories with the mirror), entered at 150 E heading
+# north-east: its boundary crosses longitude 180, so the tests also see the map unwrap it.
+SEED_ENTRY = {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0, "heading_deg": 60.0,
+              "latitude_deg": 28.5, "longitude_deg": 150.0}
+SEED_JOB = {"kind": "footprint", "name": "lod-1.89, 4 banks, 150E",
+            "study": {"case": {"vehicle": {"builtin": "lod-1.89"}, "entry": SEED_ENTRY, "alpha": {"law": "max_ld"},
+                               "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                      "method": "single_parameter", "bank0_deg": [0, 45, 90, 135], "mirror": True}}
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Service:
+    def __init__(self, base_url: str):
+        self.base_url = base_url
+
+    def call(self, path: str, body=None, method=None):
+        data = None if body is None else json.dumps(body).encode()
+        req = urllib.request.Request(self.base_url + path, data=data, method=method or ("POST" if data else "GET"),
+                                     headers={"Content-Type": "application/json"})
+        with urllib.request.urlopen(req, timeout=60) as res:
+            return json.loads(res.read() or b"null")
+
+    def run_job(self, job: dict) -> dict:
+        job_id = self.call("/api/jobs", job)["id"]
+        deadline = time.monotonic() + JOB_TIMEOUT_S
+        while time.monotonic() < deadline:
+            state = self.call(f"/api/jobs/{job_id}")
+            if state["status"] in ("succeeded", "failed", "cancelled"):
+                assert state["status"] == "succeeded", state
+                return state
+            time.sleep(0.3)
+        raise TimeoutError(f"job {job_id} did not finish in {JOB_TIMEOUT_S} s")
+
+
+@pytest.fixture(scope="module")
+def service(tmp_path_factory):
+    """The running service, seeded: .base_url, .footprint (the seeded footprint as GET /api/footprints/{id})."""
+    if not (ROOT / "frontend" / "vendor" / "leaflet" / "leaflet.js").exists():
+        pytest.fail("frontend/vendor is missing: run `npm ci` in frontend/ (it copies the libraries there)")
+    folder = tmp_path_factory.mktemp("service")
+    port = _free_port()
+    env = os.environ | {"FOOTPRINT_DATABASE_URL": f"sqlite:///{folder / 'footprint.db'}", "FOOTPRINT_DASK_WORKERS": "1",
+                        "FOOTPRINT_HOST": "127.0.0.1", "FOOTPRINT_PORT": str(port), "FOOTPRINT_API_TOKEN": "",
+                        "FOOTPRINT_TILE_URL": ""}
+    log = open(folder / "service.log", "w")
+    code = ("import uvicorn\nfrom footprint.service.app import create_app\nfrom footprint.service.settings import "
+            "load_settings\ns = load_settings()\nuvicorn.run(create_app(s), host=s.host, port=s.port, log_level='warning')")
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=folder, env=env, stdout=log, stderr=subprocess.STDOUT)
+    svc = Service(f"http://127.0.0.1:{port}")
+    try:
+        deadline = time.monotonic() + START_TIMEOUT_S
+        while True:
+            try:
+                if svc.call("/api/health")["status"] == "ok":
+                    break
+            except (urllib.error.URLError, ConnectionError, OSError):
+                pass
+            if proc.poll() is not None or time.monotonic() > deadline:
+                log.flush()
+                pytest.fail(f"the service did not start:\n{(folder / 'service.log').read_text()[-3000:]}")
+            time.sleep(0.3)
+        job = svc.run_job(SEED_JOB)
+        svc.footprint = svc.call(job["result"]["footprints"][0])
+        yield svc
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+        log.close()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if not CHROMIUM.exists():
+        pytest.skip("Debian's chromium is not installed (apt-get install -y chromium; .ci/run does)")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        yield b
+        b.close()
+
+
+class PageRun:
+    """A page with every request and every script error it produced recorded."""
+
+    def __init__(self, page):
+        self.page, self.requests, self.errors = page, [], []
+        page.on("request", lambda r: self.requests.append(r.url))
+        page.on("pageerror", lambda e: self.errors.append(str(e)))
+        page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
+
+
+@pytest.fixture
+def open_page(browser, service):
+    """open_page(width=1280, height=800) -> PageRun, the page loaded and its first footprints drawn."""
+    contexts = []
+
+    def opener(width=1280, height=800):
+        context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
+        contexts.append(context)
+        run = PageRun(context.new_page())
+        run.page.goto(service.base_url + "/")
+        run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+        return run
+
+    yield opener
+    for c in contexts:
+        c.close()

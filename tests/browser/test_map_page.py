@@ -1,0 +1,277 @@
+"""The map page in Debian's chromium against the real service (issue 7, "Must show")."""
+
+import json
+import math
+import re
+from pathlib import Path
+from urllib.parse import urlparse
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+LOCAL_HOSTS = {"127.0.0.1", "localhost"}
+PIXEL_DEG = 0.25  # a Leaflet path's vertices are rounded to whole pixels: at the tests' zoom 1 px < 0.2 deg
+FIGURES = ROOT / "docs" / "figures"
+
+BBOX_JS = """(selector) => {
+  const el = document.querySelector(selector), b = el.getBBox(), map = window.footprintApp.mapView.map;
+  const sw = map.layerPointToLatLng([b.x, b.y + b.height]), ne = map.layerPointToLatLng([b.x + b.width, b.y]);
+  return {west: sw.lng, east: ne.lng, south: sw.lat, north: ne.lat};
+}"""
+
+
+def ring(points):
+    """The boundary without a repeated closing point (what the page draws)."""
+    same = points[0]["latitude_deg"] == points[-1]["latitude_deg"] and \
+        points[0]["longitude_deg"] == points[-1]["longitude_deg"]
+    return points[:-1] if len(points) > 1 and same else points
+
+
+def unwrapped(lons, reference):
+    out, prev = [], reference
+    for lon in lons:
+        prev = prev + (lon - prev + 180.0) % 360.0 - 180.0
+        out.append(prev)
+    return out
+
+
+def delta_deg(a, b):
+    """a - b in (-180, 180]: the shift of a longitude, whichever copy of the map it is drawn on."""
+    return (a - b + 180.0) % 360.0 - 180.0
+
+
+def polygon_selector(footprint_id):
+    return f"path.fp-polygon.fp-{footprint_id}.fp-copy-0"
+
+
+def test_page_loads_with_no_request_leaving_localhost(open_page):
+    run = open_page()
+    run.page.wait_for_timeout(300)  # late requests (tiles, fonts) would show up by now
+    hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
+    assert hosts <= LOCAL_HOSTS, f"requests left localhost: {sorted(hosts - LOCAL_HOSTS)}"
+    assert any(u.endswith("/vendor/leaflet/leaflet.js") for u in run.requests)
+    assert any("/vendor/world/land-50m.json" in u for u in run.requests)  # Natural Earth, shipped
+    assert not run.errors, run.errors
+
+
+def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):
+    run = open_page()
+    fp = service.footprint
+    path = run.page.locator(polygon_selector(fp["id"]))
+    assert path.count() == 1
+    d = path.get_attribute("d")
+    assert d.count("M") + d.count("L") == len(ring(fp["points"]))
+    # drawn whole across longitude 180 (the stored longitudes jump from +180 to -180 along the ring), not cut
+    # into a band round the world: one continuous outline as wide as the footprint
+    raw = [p["longitude_deg"] for p in ring(fp["points"])]
+    assert any(abs(a - b) > 180.0 for a, b in zip(raw, raw[1:] + raw[:1]))  # the seeded footprint does cross it
+    lons = unwrapped(raw, raw[0])
+    box = run.page.evaluate(BBOX_JS, polygon_selector(fp["id"]))
+    assert box["east"] - box["west"] == pytest.approx(max(lons) - min(lons), abs=2 * PIXEL_DEG)
+    assert delta_deg(box["west"], min(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
+    assert max(lons) - min(lons) < 360.0
+    # one hover marker per boundary point, with its ranges, flight time and control parameter
+    marker = run.page.locator(f"path.fp-point.fp-{fp['id']}.fp-copy-0").first
+    marker.hover(force=True)
+    tip = run.page.locator(".point-tooltip").first
+    tip.wait_for()
+    for label in ("Down-range", "Cross-range", "Flight time", "Control"):
+        assert label in tip.inner_text()
+    assert run.page.locator(".map-legend").inner_text().strip().startswith(fp["name"])
+
+
+def test_node_longitude_control_moves_the_polygon_east(open_page, service):
+    run, fp = open_page(), service.footprint
+    entry = fp["entry"]
+    selector = polygon_selector(fp["id"])
+    before = run.page.evaluate(BBOX_JS, selector)
+    d0 = run.page.get_attribute(selector, "d")
+    node0 = float(run.page.input_value("#node-longitude"))
+    run.page.fill("#node-longitude", f"{node0 + 20:.2f}")
+    run.page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
+                               timeout=10_000)
+    after = run.page.evaluate(BBOX_JS, selector)
+    # by hand: a new node 20 deg east with the same inclination turns the whole orbit 20 deg about the pole
+    assert delta_deg(after["west"], before["west"]) == pytest.approx(20.0, abs=PIXEL_DEG)
+    assert delta_deg(after["east"], before["east"]) == pytest.approx(20.0, abs=PIXEL_DEG)
+    assert after["south"] == pytest.approx(before["south"], abs=PIXEL_DEG)
+    # and by the transform API: the same entry 20 deg east with the same heading
+    moved = service.call(f"/api/footprints/{fp['id']}/transform", {
+        "to": {"latitude_deg": entry["latitude_deg"], "longitude_deg": entry["longitude_deg"] + 20,
+               "heading_deg": entry["heading_deg"]}, "step_downrange_nmi": 0, "earth_rotation": "none"})
+    raw = [p["longitude_deg"] for p in ring(moved["points"])]
+    lons = unwrapped(raw, raw[0])
+    assert delta_deg(after["west"], min(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
+    assert delta_deg(after["east"], max(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
+    # the keyboard moves it too (the range input beside the number)
+    run.page.focus("#node-longitude-range")
+    run.page.keyboard.press("ArrowLeft")
+    assert node0 + 19.4 <= float(run.page.input_value("#node-longitude")) < node0 + 20  # one 0.5 deg step
+
+
+def test_submitted_job_reaches_100_percent_and_its_footprint_appears(open_page, service):
+    run = open_page()
+    page = run.page
+    page.fill("#job-name", "lod-1.89, 5 banks, 40W")
+    page.fill("#entry-heading", "45")
+    page.fill("#entry-latitude", "-10")
+    page.fill("#entry-longitude", "-40")
+    page.fill("#p-bank0", "0, 30, 60, 90, 120")
+    page.click("#job-submit")
+    item = page.locator("#job-list li").first
+    item.locator(".job-percent", has_text="100 %").wait_for(timeout=60_000)
+    assert item.locator(".job-status").inner_text() == "succeeded"
+    assert page.locator("#job-list li progress").first.get_attribute("value") == "100"
+    job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
+    new_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
+    page.locator(f"#footprint-list li[data-id='{new_id}']").wait_for()
+    page.locator(polygon_selector(new_id)).wait_for(state="attached")
+    new = service.call(f"/api/footprints/{new_id}")
+    assert page.get_attribute(polygon_selector(new_id), "d").count("L") + 1 == len(ring(new["points"]))
+    assert not run.errors, run.errors
+
+
+def test_bad_field_shows_its_error_next_to_that_field(open_page):
+    run = open_page()
+    page = run.page
+    page.fill("#entry-velocity", "50")
+    page.click("#job-submit")
+    note = page.locator("#entry-velocity + .field-error")
+    note.wait_for(timeout=10_000)
+    assert "velocity" in note.inner_text() and "50" in note.inner_text()
+    assert page.get_attribute("#entry-velocity", "aria-invalid") == "true"
+    assert page.locator(".field-error:visible").count() == 1  # next to that field only
+    assert page.locator("#job-list li").count() == 0  # no job was queued
+
+
+def test_keyboard_reaches_every_control_with_a_visible_focus(open_page):
+    page = open_page().page
+    wanted = {"view-globe", "export-png", "node-longitude-range", "node-longitude", "inclination-range",
+              "step-downrange-range", "earth-rotation", "live-reset", "entry-velocity", "job-method", "job-submit",
+              "site-click-toggle", "site-csv", "reach-submit"}
+    seen, outlines = set(), {}
+    for _ in range(90):
+        page.keyboard.press("Tab")
+        focused = page.evaluate("() => [document.activeElement.id, getComputedStyle(document.activeElement).outlineStyle]")
+        seen.add(focused[0])
+        outlines[focused[0]] = focused[1]
+    assert wanted <= seen, f"not reached by Tab: {sorted(wanted - seen)}"
+    assert all(outlines[i] != "none" for i in wanted), {i: outlines[i] for i in wanted}
+
+
+@pytest.mark.parametrize("width,height", [(1280, 800), (800, 600)])
+def test_layout_is_readable(open_page, width, height):
+    page = open_page(width, height).page
+    sizes = page.evaluate("""() => Object.fromEntries(['map', 'plot', 'live-controls'].map(
+        id => [id, document.getElementById(id).getBoundingClientRect().toJSON()]))""")
+    assert page.evaluate("() => document.documentElement.scrollWidth") <= width  # nothing runs off the side
+    assert sizes["map"]["width"] >= 0.55 * width and sizes["map"]["height"] >= 0.4 * height
+    assert sizes["plot"]["height"] >= 150 and sizes["plot"]["right"] <= width
+    assert sizes["live-controls"]["right"] <= sizes["map"]["left"] + 1  # the controls sit beside the map
+
+
+SITES = (("Kwajalein", 8.72, 167.73), ("Edwards AFB", 34.905, -117.884), ("Woomera", -31.144, 136.817))
+
+
+def store_sites(service):
+    """The three SITES stored (once per service)."""
+    if not service.call("/api/sites"):
+        for name, lat, lon in SITES:
+            service.call("/api/sites", {"name": name, "latitude_deg": lat, "longitude_deg": lon})
+
+
+def test_landing_sites_and_reach(open_page, service):
+    store_sites(service)
+    page = open_page().page
+    assert page.locator("#site-list li").count() == len(SITES)
+    page.click("#site-click-toggle")
+    page.fill("#site-name", "Clicked site")
+    page.locator("#map").click(position={"x": 300, "y": 200})
+    page.locator("#site-list li", has_text="Clicked site").wait_for()
+    page.click("#reach-submit")
+    page.locator("table.reach tbody tr").first.wait_for(timeout=20_000)
+    assert page.locator("table.reach tbody tr").count() == 4
+    assert page.locator(".site-reached, .site-missed").count() >= 4  # markers coloured by the verdict
+
+
+def test_exports_of_what_is_shown(open_page, service):
+    page = open_page().page
+    with page.expect_download() as info:
+        page.click("#export-geojson")
+    collection = json.loads(Path(info.value.path()).read_text())
+    kinds = [f["properties"]["kind"] for f in collection["features"]]
+    shown = page.evaluate("() => window.footprintApp.state.footprints.size")
+    assert kinds.count("footprint") == shown and kinds.count("entry") == shown
+    with page.expect_download() as info:
+        page.click("#export-csv")
+    lines = Path(info.value.path()).read_text().splitlines()
+    assert lines[0].startswith("footprint_id,name,index,latitude_deg,longitude_deg,downrange_nmi,crossrange_nmi")
+    with page.expect_download() as info:
+        page.click("#export-png")
+    assert Path(info.value.path()).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_globe_turns_and_clips_the_far_side(open_page, service):
+    page = open_page().page
+    page.click("#view-globe")
+    page.locator("path.globe-footprint").first.wait_for()
+    rotate0 = page.evaluate("() => window.footprintApp.globe.rotate.slice()")
+    box = page.locator("svg.globe-svg").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] / 2 + 120, box["y"] + box["height"] / 2, steps=5)
+    page.mouse.up()
+    rotate1 = page.evaluate("() => window.footprintApp.globe.rotate.slice()")
+    assert rotate1[0] == pytest.approx(rotate0[0] + 30.0, abs=1.0)  # 0.25 deg per pixel
+    # centred on the entry's antipode: the entry is on the hidden hemisphere (not drawn), and what is drawn of
+    # the footprint is cut at the limb (every vertex inside the disk)
+    page.evaluate("""([lon, lat]) => { const g = window.footprintApp.globe; g.rotate = [-(lon - 180), lat, 0];
+                     g.render(); }""", [service.footprint["entry"]["longitude_deg"], service.footprint["entry"]["latitude_deg"]])
+    assert page.locator(f"path.globe-entry.fp-{service.footprint['id']}").count() == 0
+    disk = page.evaluate("""() => { const p = window.footprintApp.globe.projection();
+                                    return [...p.translate(), p.scale()]; }""")
+    for d in page.locator("path.globe-footprint").evaluate_all("els => els.map(e => e.getAttribute('d'))"):
+        for x, y in re.findall(r"(-?[\d.]+),(-?[\d.]+)", d or ""):
+            assert math.hypot(float(x) - disk[0], float(y) - disk[1]) <= disk[2] + 0.5
+
+
+def test_screenshots_of_both_projections(open_page, service):
+    store_sites(service)
+    page = open_page(1280, 800).page
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    page.click("#reach-submit")  # the landing sites coloured by the reach of the selected footprint
+    page.locator("table.reach").wait_for(timeout=20_000)
+    page.evaluate("() => { document.querySelector('.sidebar').scrollTop = 0; }")
+    page.evaluate("() => window.footprintApp.mapView.fitFootprints([...window.footprintApp.state.footprints.values()])")
+    page.wait_for_timeout(400)
+    page.screenshot(path=str(FIGURES / "map_equirectangular.png"))
+    page.click("#view-globe")
+    page.locator("path.globe-footprint").first.wait_for()
+    page.screenshot(path=str(FIGURES / "map_orthographic.png"))
+
+
+def test_folium_map_file_works_offline(browser, service, tmp_path):
+    """`footprint map` of the seeded footprint, opened from disk: no request but the file itself."""
+    import subprocess
+    import sys
+
+    src = tmp_path / "footprint.json"
+    src.write_text(json.dumps(service.footprint))
+    out = tmp_path / "map.html"
+    res = subprocess.run([sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    context = browser.new_context(viewport={"width": 1000, "height": 600})
+    try:
+        page = context.new_page()
+        urls, errors = [], []
+        page.on("request", lambda r: urls.append(r.url))
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(out.as_uri())
+        page.wait_for_selector("path.leaflet-interactive", state="attached")
+        assert [u for u in urls if not u.startswith(("file:", "data:"))] == []
+        assert not errors, errors
+        # the boundary points (one hover marker each), on every copy of the world that shows them
+        assert page.locator("path.leaflet-interactive").count() >= len(ring(service.footprint["points"]))
+    finally:
+        context.close()
