@@ -1,0 +1,30 @@
+"""Small studies for the service tests (each footprint flies in well under a second)."""
+
+import copy
+
+CASE = {"vehicle": {"builtin": "lod-1.89"},
+        "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3, "heading_deg": 90,
+                  "latitude_deg": 10, "longitude_deg": 0},
+        "stop": {"altitude_ft": 50_000}}
+FOOTPRINT = {"case": CASE, "method": "single_parameter", "bank0_deg": [0, 45, 90]}  # spans 11-83 deg E
+
+
+def footprint_study(**entry) -> dict:
+    """FOOTPRINT with some entry fields changed."""
+    study = copy.deepcopy(FOOTPRINT)
+    study["case"]["entry"] |= entry
+    return study
+
+
+SWEEP = {"name": "tiny",
+         "base": {"entry": {"altitude_ft": 364_800, "heading_deg": 90}, "stop": {"altitude_ft": 50_000}},
+         "method": "single_parameter", "bank0_deg": [0, 90], "vehicles": ["lod-1.89"],
+         "entry_velocity_fps": [20_000, 22_000], "entry_gamma_deg": [-3], "velocity_frame": "relative"}
+OPTIMIZE = {"case": CASE, "payoff": {"quantity": "crossrange_nmi", "goal": "max"}, "max_trajectories": 20}
+REACH_POINTS = [{"downrange_nmi": d, "crossrange_nmi": c, "flight_time_s": t}
+                for d, c, t in ((2_000, 0, 1_500), (3_000, 600, 2_000), (4_000, 0, 2_500), (3_000, -600, 2_000))]
+REACH = {"footprint": {"points": REACH_POINTS},
+         "orbit": {"inclination_deg": 28.5, "altitude_nmi": 150, "node_longitude_deg": 0},
+         "sites": [{"name": "KSC", "latitude_deg": 28.6, "longitude_deg": -80.6},
+                   {"name": "Edwards", "latitude_deg": 34.9, "longitude_deg": -117.9}],
+         "revolutions": {"first": 1, "last": 3}, "u_step_deg": 2.0}

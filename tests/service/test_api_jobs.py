@@ -1,0 +1,270 @@
+"""Jobs through the REST API on SQLite and Postgres: footprints equal the Python door's, sweeps, optimization,
+reach, listing, cancelling, progress events, a job the core fails, and the stored footprints' formats."""
+
+import csv
+import io
+import json
+import re
+
+import numpy as np
+import pytest
+
+from footprint.api import footprint as fly_footprint
+from footprint.api import fly
+
+from .conftest import wait_for_job
+from .studies import FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
+
+POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
+              "side", "parameter", "stop_reason", "mirrored")
+
+
+def submit(api, kind, study, **extra):
+    r = api.post("/api/jobs", json={"kind": kind, "study": study, **extra})
+    assert r.status_code == 202, r.text
+    assert r.json()["status"] == "queued"
+    return r.json()["id"]
+
+
+def run_job(api, kind, study, **extra) -> dict:
+    job = wait_for_job(api, submit(api, kind, study, **extra))
+    assert job["status"] == "succeeded", job["error"]
+    return job
+
+
+@pytest.fixture(scope="module")
+def footprint_job(api):
+    job = run_job(api, "footprint", FOOTPRINT, name="lod-1.89 small")
+    fp_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
+    return job, api.get(f"/api/footprints/{fp_id}").json()
+
+
+def test_a_footprint_job_equals_the_python_door(footprint_job, same_numbers):
+    job, stored = footprint_job
+    direct = fly_footprint(FOOTPRINT)
+    assert len(job["result"]["footprints"]) == 1 and job["progress"] == 1.0 and job["error"] is None
+    assert job["started_at"] <= job["finished_at"] and job["study"] == FOOTPRINT
+    same_numbers([{k: p[k] for k in POINT_KEYS} for p in stored["points"]],
+                 [{k: getattr(p, k) for k in POINT_KEYS} for p in direct.points])
+    same_numbers([p["downrange_nmi"] for p in stored["interior"]], [p.downrange_nmi for p in direct.interior])
+    same_numbers([stored[k] for k in ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi")],
+                 [direct.area_nmi2, direct.max_crossrange_nmi, direct.max_downrange_nmi, direct.min_downrange_nmi])
+    assert stored["trajectories"] == direct.trajectories and stored["name"] == "lod-1.89 small"
+    assert stored["entry"] == {"latitude_deg": 10.0, "longitude_deg": 0.0, "heading_deg": 90.0,
+                               "velocity_fps": 22_000.0, "gamma_deg": -3.0, "altitude_ft": 364_800.0}
+
+
+def test_the_ground_track_is_the_zero_bank_flight(footprint_job):
+    _, stored = footprint_job
+    track = stored["ground_track"]
+    zero_bank = next(p for p in stored["points"] if p["parameter"].get("bank0_deg") == 0)  # the axis point
+    assert 100 < len(track) <= 500
+    assert track[0]["time_s"] == 0 and track[0]["latitude_deg"] == pytest.approx(10, abs=1e-9)
+    assert track[-1]["time_s"] == pytest.approx(zero_bank["flight_time_s"], rel=1e-12)
+    assert track[-1]["latitude_deg"] == pytest.approx(zero_bank["latitude_deg"], abs=1e-9)
+    assert track[-1]["longitude_deg"] == pytest.approx(zero_bank["longitude_deg"], abs=1e-9)
+    assert all(b["time_s"] > a["time_s"] for a, b in zip(track, track[1:]))
+
+
+def test_footprint_list_csv_and_geojson(api, footprint_job):
+    job, stored = footprint_job
+    listed = api.get("/api/footprints", params={"job_id": job["id"]}).json()
+    assert listed["total"] == 1 and listed["items"][0]["id"] == stored["id"]
+    assert "points" not in listed["items"][0]
+    rows = list(csv.DictReader(io.StringIO(api.get(f"/api/footprints/{stored['id']}?format=csv").text)))
+    assert [float(r["crossrange_nmi"]) for r in rows] == [p["crossrange_nmi"] for p in stored["points"]]
+    gj = api.get(f"/api/footprints/{stored['id']}", params={"format": "geojson"}).json()
+    kinds = [f["properties"]["kind"] for f in gj["features"]]
+    assert kinds == ["footprint", "entry", "ground_track"] + ["point"] * len(stored["points"])
+    ring = gj["features"][0]["geometry"]["coordinates"][0]  # 11-83 deg E: no antimeridian, one polygon
+    assert gj["features"][0]["geometry"]["type"] == "Polygon" and ring[0] == ring[-1]
+    assert ring[:-1] == [[p["longitude_deg"], p["latitude_deg"]] for p in stored["points"]]
+
+
+def test_the_offline_map_page_of_a_footprint(api, footprint_job):
+    from footprint.foliummap import FRONTEND_DIR
+
+    _, stored = footprint_job
+    r = api.get(f"/api/footprints/{stored['id']}/map")
+    if not (FRONTEND_DIR / "node_modules" / "leaflet").is_dir():  # the page's npm packages are not installed
+        assert r.status_code == 503 and "npm ci" in r.json()["detail"]
+        return
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
+    assert stored["name"] in r.text
+    assert not re.search(r'<(script|link)[^>]+(src|href)="(https?:)?//', r.text)  # nothing from the internet
+    assert api.get("/api/footprints/0f0e/map").status_code == 404
+
+
+def _shoelace(ring) -> float:
+    x, y = np.array(ring, float).T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def test_a_footprint_across_the_date_line_is_split_there(api):
+    job = run_job(api, "footprint", footprint_study(longitude_deg=150.0))  # lands 161-233 deg E
+    stored = api.get(job["result"]["footprints"][0]).json()
+    lon = [p["longitude_deg"] for p in stored["points"]]
+    assert min(lon) < -90 and max(lon) > 90  # the stored points wrap: some east of 180 are negative
+    geometry = api.get(job["result"]["footprints"][0], params={"format": "geojson"}).json()["features"][0]["geometry"]
+    assert geometry["type"] == "MultiPolygon" and len(geometry["coordinates"]) == 2
+    pieces = [poly[0] for poly in geometry["coordinates"]]
+    for ring in pieces:
+        assert ring[0] == ring[-1] and all(-180 <= x <= 180 for x, _ in ring)
+        assert all(abs(b[0] - a[0]) < 180 for a, b in zip(ring, ring[1:]))  # no jump inside a piece
+    (west_lo, _), (_, east_hi) = sorted((min(x for x, _ in r), max(x for x, _ in r)) for r in pieces)
+    assert (west_lo, east_hi) == (-180.0, 180.0)  # the cut lies on the antimeridian
+    east = [[p["longitude_deg"] % 360, p["latitude_deg"]] for p in stored["points"]]
+    assert sum(_shoelace(r) for r in pieces) == pytest.approx(_shoelace(east), rel=1e-12)  # nothing lost or added
+    track = api.get(job["result"]["footprints"][0], params={"format": "geojson"}).json()["features"][2]["geometry"]
+    assert track["type"] == "MultiLineString"
+    assert all(abs(b[0] - a[0]) < 180 for line in track["coordinates"] for a, b in zip(line, line[1:]))
+
+
+def test_deleting_a_footprint_deletes_its_points_and_track(api):
+    from sqlalchemy import create_engine, text
+
+    job = run_job(api, "footprint", FOOTPRINT)
+    link = job["result"]["footprints"][0]
+    fp_id = link.rsplit("/", 1)[1]
+    assert api.get(link).json()["points"] and api.get(link).json()["ground_track"]
+    assert api.delete(link).status_code == 204
+    assert api.get(link).status_code == 404 and api.delete(link).status_code == 404
+    assert api.get(f"/api/jobs/{job['id']}").json()["result"]["footprints"] == []
+    engine = create_engine(api.database_url)
+    with engine.connect() as c:
+        left = [c.execute(text(f"SELECT COUNT(*) FROM {t} WHERE footprint_id = :i"), {"i": fp_id}).scalar()
+                for t in ("footprint_points", "trajectories")]
+    engine.dispose()
+    assert left == [0, 0]
+
+
+def test_moving_a_footprint_along_its_parallel_shifts_every_longitude(api, footprint_job):
+    _, stored = footprint_job
+    moved = api.post(f"/api/footprints/{stored['id']}/transform",
+                     json={"to": {"latitude_deg": 10, "longitude_deg": 25, "heading_deg": 90}}).json()
+    # from (10 N, 0 E, heading 90) to (10 N, 25 E, heading 90): a rotation about the polar axis by 25 deg
+    assert len(moved["points"]) == len(stored["points"])
+    for a, b in zip(stored["points"], moved["points"]):
+        assert b["latitude_deg"] == pytest.approx(a["latitude_deg"], abs=1e-9)
+        assert b["longitude_deg"] == pytest.approx(a["longitude_deg"] + 25, abs=1e-9)
+    assert moved["ground_track"][-1]["longitude_deg"] == pytest.approx(stored["ground_track"][-1]["longitude_deg"] + 25,
+                                                                       abs=1e-9)
+    same_place = {"latitude_deg": 10, "longitude_deg": 0, "heading_deg": 90}
+    again = api.post(f"/api/footprints/{stored['id']}/transform", json={"to": same_place, "earth_rotation": "exact"})
+    flown = [p for p in again.json()["points"] if p["on_boundary"]]  # the study flown again, from the same place
+    assert [p["crossrange_nmi"] for p in flown] == pytest.approx([p["crossrange_nmi"] for p in stored["points"]],
+                                                                  abs=1e-6)  # nmi
+    bad = api.post(f"/api/footprints/{stored['id']}/transform", json={"to": {"latitude_deg": 95, "longitude_deg": 0,
+                                                                          "heading_deg": 0}})
+    assert bad.status_code == 422 and bad.json()["field"] == "to.latitude_deg"
+
+
+def test_a_job_may_name_a_stored_vehicle(api):
+    glider = {"aero": {"constant": {"cl": 0.5, "cd": 0.25}}, "wing_loading_psf": 50}
+    assert api.post("/api/vehicles", json={"id": "job-glider", "vehicle": glider}).status_code == 201
+    study = {**FOOTPRINT, "case": {**FOOTPRINT["case"], "vehicle": {"stored": "job-glider"}}}
+    job = run_job(api, "footprint", study)
+    assert job["study"]["case"]["vehicle"] == glider | {"name": "job-glider"}  # resolved when submitted
+    stored = api.get(job["result"]["footprints"][0]).json()
+    direct = fly_footprint({**FOOTPRINT, "case": {**FOOTPRINT["case"], "vehicle": glider}})
+    assert stored["vehicle"] == "job-glider"
+    assert stored["max_downrange_nmi"] == pytest.approx(direct.max_downrange_nmi, rel=1e-12)
+
+
+def test_a_sweep_job_is_one_footprint_per_task(api, same_numbers):
+    job = run_job(api, "sweep", SWEEP)
+    assert len(job["result"]["footprints"]) == 2 and job["result"]["sweep"]["errors"] == []
+    for link, velocity in zip(job["result"]["footprints"], SWEEP["entry_velocity_fps"]):
+        stored = api.get(link).json()
+        assert stored["entry"]["velocity_fps"] == velocity
+        study = {"case": {"vehicle": {"builtin": "lod-1.89"},
+                          "entry": {"altitude_ft": 364_800, "heading_deg": 90, "velocity_fps": velocity,
+                                    "gamma_deg": -3}, "stop": {"altitude_ft": 50_000}},
+                 "method": "single_parameter", "bank0_deg": [0, 90]}
+        same_numbers([p["downrange_nmi"] for p in stored["points"]],
+                     [p.downrange_nmi for p in fly_footprint(study).points])
+
+
+def test_optimize_and_reach_jobs_store_their_results(api):
+    opt = run_job(api, "optimize", OPTIMIZE)["result"]["optimization"]
+    assert opt["trajectories"] <= 20 and set(opt["parameters"]) and opt["history"]
+    again = fly({**OPTIMIZE["case"], "bank": {"law": "table", "heading_deg": [-15, 0, 15, 30, 45, 60, 75, 90],
+                                              "bank_deg": list(opt["parameters"].values())}})
+    assert opt["summary"]["crossrange_nmi"] == pytest.approx(again.summary["crossrange_nmi"], abs=1e-6)  # nmi
+    reach = run_job(api, "reach", REACH)["result"]["reach"]
+    assert [s["name"] for s in reach["sites"]] == ["KSC", "Edwards"]
+    assert reach["analysis"]["revolutions"] == [1, 3]
+
+
+def test_jobs_are_listed_newest_first_with_filters(api):
+    first, second = submit(api, "footprint", FOOTPRINT), submit(api, "reach", REACH)
+    for job_id in (first, second):
+        wait_for_job(api, job_id)
+    every = api.get("/api/jobs", params={"limit": 500}).json()
+    ids = [j["id"] for j in every["items"]]
+    assert every["total"] == len(ids) and ids.index(second) < ids.index(first)
+    assert "study" not in every["items"][0]
+    reach_only = api.get("/api/jobs", params={"kind": "reach"}).json()
+    assert {j["kind"] for j in reach_only["items"]} == {"reach"} and second in [j["id"] for j in reach_only["items"]]
+    page = api.get("/api/jobs", params={"limit": 1, "offset": 1}).json()
+    assert page["items"][0]["id"] == ids[1] and page["total"] == every["total"]
+    succeeded = api.get("/api/jobs", params={"status": "succeeded", "limit": 500}).json()
+    assert succeeded["total"] >= 2 and {j["status"] for j in succeeded["items"]} == {"succeeded"}
+    bad = api.get("/api/jobs", params={"status": "done"})
+    assert bad.status_code == 422 and bad.json()["field"] == "status"
+
+
+def test_progress_events_end_when_the_job_does(api):
+    job_id = submit(api, "sweep", SWEEP)
+    with api.stream("GET", f"/api/jobs/{job_id}/events") as r:
+        assert r.headers["content-type"].startswith("text/event-stream")
+        text = "".join(r.iter_text())
+    events = [(b.split("\n")[0].removeprefix("event: "), json.loads(b.split("\n")[1].removeprefix("data: ")))
+              for b in text.strip().split("\n\n")]
+    assert events[-1][0] == "end" and events[-1][1]["status"] == "succeeded"
+    progress = [data["progress"] for name, data in events if name == "progress"]
+    assert progress == sorted(progress) and progress[-1] == 1.0
+    assert api.get("/api/jobs/no-such-job/events").status_code == 404
+
+
+def test_cancel_a_running_job_and_keep_a_finished_ones_status(api):
+    long = {**OPTIMIZE, "max_trajectories": 100_000,
+            "constraints": [{"quantity": "downrange_nmi", "equals": 4_000}]}  # many seconds of work
+    job_id = submit(api, "optimize", long)
+    r = api.delete(f"/api/jobs/{job_id}")
+    assert r.status_code == 200 and r.json()["status"] == "cancelled" and r.json()["result"] is None
+    assert wait_for_job(api, job_id)["status"] == "cancelled"
+    done = run_job(api, "reach", REACH)
+    assert api.delete(f"/api/jobs/{done['id']}").json()["status"] == "succeeded"
+    assert api.delete("/api/jobs/no-such-job").status_code == 404
+
+
+def _break_core():
+    from footprint.core import footprints
+
+    def broken(*_args, **_kwargs):
+        raise FloatingPointError("the integrator diverged (injected in the worker)")
+
+    footprints.original_footprint = footprints.footprint
+    footprints.footprint = broken
+
+
+def _mend_core():
+    from footprint.core import footprints
+
+    footprints.footprint = footprints.original_footprint
+
+
+def test_a_job_the_core_fails_ends_failed_and_the_service_goes_on(api, scheduler_address):
+    from distributed import Client
+
+    with Client(scheduler_address, set_as_default=False) as client:
+        client.run(_break_core)
+        try:
+            job = wait_for_job(api, submit(api, "footprint", FOOTPRINT))
+        finally:
+            client.run(_mend_core)
+    assert job["status"] == "failed" and job["result"] is None
+    assert job["error"] == "FloatingPointError: the integrator diverged (injected in the worker)"
+    assert api.get("/api/health").json()["status"] == "ok"
+    assert run_job(api, "footprint", FOOTPRINT)["status"] == "succeeded"

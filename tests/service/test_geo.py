@@ -1,0 +1,41 @@
+"""GeoJSON geometry near the antimeridian: rings and lines cut there, in either direction, nothing lost."""
+
+import numpy as np
+import pytest
+
+from footprint.service import geo
+
+
+def shoelace(ring) -> float:
+    x, y = np.array(ring, float).T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def test_a_ring_near_but_not_across_the_antimeridian_stays_one_polygon():
+    lat, lon = [0, 10, 10, 0], [170, 170, 179.5, 179.5]
+    geometry = geo.polygon(lat, lon)
+    assert geometry == {"type": "Polygon",
+                        "coordinates": [[[170, 0], [170, 10], [179.5, 10], [179.5, 0], [170, 0]]]}
+
+
+def test_a_ring_given_in_wrapped_longitudes_is_cut_into_two_pieces():
+    lat, lon = [0, 0, 20, 20], [170, -170, -170, 170]  # a 20-deg box centred on 180
+    geometry = geo.polygon(lat, lon)
+    assert geometry["type"] == "MultiPolygon"
+    pieces = sorted((poly[0] for poly in geometry["coordinates"]), key=lambda r: r[0][0])
+    assert [shoelace(r) for r in pieces] == pytest.approx([200.0, 200.0])  # 10 deg x 20 deg each
+    assert {x for x, _ in pieces[0]} == {-180.0, -170.0} and {x for x, _ in pieces[1]} == {170.0, 180.0}
+
+
+@pytest.mark.parametrize("lon, crossing_lat", [
+    ([175.0, 178.0, -179.0, -176.0], 5.0),  # eastward: 180 lies 2 of the 3 deg from 178 to 181
+    ([-176.0, -179.0, 178.0, 175.0], 4.0),  # westward: -180 lies 1 of the 3 deg from -179 to -182
+])
+def test_a_line_is_cut_where_it_crosses_either_way(lon, crossing_lat):
+    lat = [0.0, 3.0, 6.0, 9.0]
+    geometry = geo.line(lat, lon)
+    assert geometry["type"] == "MultiLineString" and len(geometry["coordinates"]) == 2
+    first, second = geometry["coordinates"]
+    assert abs(first[-1][0]) == abs(second[0][0]) == 180.0 and first[-1][0] == -second[0][0]
+    assert first[-1][1] == second[0][1] == pytest.approx(crossing_lat, abs=1e-12)
+    assert [p for p in first[:-1] + second[1:]] == [[x, y] for x, y in zip(lon, lat)]

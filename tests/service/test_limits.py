@@ -1,0 +1,128 @@
+"""Bad input over HTTP: every limit answered 422 naming the field, unknown ids 404, big bodies 413; bearer
+auth on writes (reads stay open) and CORS from the settings."""
+
+import copy
+
+import pytest
+
+from .conftest import database_url, running_service
+from .studies import CASE, FOOTPRINT, REACH, SWEEP
+
+
+def post_job(api, kind, study, **headers):
+    return api.post("/api/jobs", json={"kind": kind, "study": study}, headers=headers)
+
+
+def with_changes(study: dict, path: str, value) -> dict:
+    """A deep copy of `study` with the dotted `path` set to `value`."""
+    study = copy.deepcopy(study)
+    *parents, last = path.split(".")
+    node = study
+    for key in parents:
+        node = node[key]
+    node[last] = value
+    return study
+
+
+@pytest.mark.parametrize("path, value, field, allowed", [
+    ("case.entry.velocity_fps", 50, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
+    ("case.entry.velocity_fps", 45_000, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
+    ("case.entry.gamma_deg", 20, "study.case.entry.gamma_deg", "-90 to 10 deg"),
+    ("case.entry.latitude_deg", -91, "study.case.entry.latitude_deg", "-90 to 90 deg"),
+    ("bank0_deg", [float(b) for b in range(101)], "study.bank0_deg", "1 to 200"),  # 101 x 2 sides
+    ("bank0_deg", [200], "study.bank0_deg.0", "0 to 180 deg"),
+])
+def test_a_footprint_job_out_of_range_names_the_field(api, path, value, field, allowed):
+    r = post_job(api, "footprint", with_changes(FOOTPRINT, path, value))
+    assert r.status_code == 422
+    assert r.json()["field"] == field and r.json()["detail"].startswith(field + ":") and allowed in r.json()["detail"]
+
+
+def test_other_job_kinds_name_their_fields(api):
+    r = post_job(api, "sweep", with_changes(SWEEP, "entry_velocity_fps", [500]))
+    assert r.status_code == 422 and r.json()["field"] == "study.entry_velocity_fps.0"
+    r = post_job(api, "sweep", with_changes(SWEEP, "vehicles", [{"stored": "nobody"}]))
+    assert r.status_code == 422 and r.json()["field"] == "study.vehicles[0].stored"
+    r = post_job(api, "optimize", {"case": CASE, "max_trajectories": 5})
+    assert r.status_code == 422 and r.json()["field"] == "study.max_trajectories"
+    r = post_job(api, "reach", with_changes(REACH, "orbit.inclination_deg", 200))
+    assert r.status_code == 422 and r.json()["field"] == "study.orbit.inclination_deg"
+    r = api.post("/api/jobs", json={"kind": "flight", "study": FOOTPRINT})
+    assert r.status_code == 422 and r.json()["field"] == "kind"
+    r = post_job(api, "footprint", with_changes(FOOTPRINT, "case.vehicle", {"aero": {"constant": {"cl": 1, "cd": 0}},
+                                                                             "wing_loading_psf": 50}))
+    assert r.status_code == 422 and r.json()["field"] == "study.case.vehicle.aero.constant.cd"
+    assert api.get("/api/jobs", params={"kind": "footprint", "status": "queued"}).json()["total"] == 0  # none stored
+
+
+def test_a_trajectory_out_of_range_names_the_field(api):
+    r = api.post("/api/trajectories", json={**CASE, "bank": {"law": "constant", "bank_deg": 181}})
+    assert r.status_code == 422 and r.json()["field"] == "bank.bank_deg" and "-180 to 180 deg" in r.json()["detail"]
+    r = api.post("/api/trajectories", json={**CASE, "entry": {**CASE["entry"], "velocity_fps": 999}})
+    assert r.status_code == 422 and r.json()["field"] == "entry.velocity_fps"
+    r = api.post("/api/trajectories", content=b"{not json", headers={"content-type": "application/json"})
+    assert r.status_code == 422 and "JSON" in r.json()["detail"]
+
+
+def test_transform_points_are_limited_to_ten_thousand(api):
+    body = {"points": [{"latitude_deg": 0, "longitude_deg": 0}] * 10_001,
+            "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+            "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90}}
+    r = api.post("/api/transform", json=body)
+    assert r.status_code == 422 and r.json()["field"] == "points" and "10,000" in r.json()["detail"]
+    assert api.post("/api/transform", json=body | {"points": body["points"][:10_000]}).status_code == 200
+
+
+def test_a_body_over_one_megabyte_is_refused(api):
+    big = {"kind": "footprint", "study": FOOTPRINT, "name": "x" * 1_000_001}
+    r = api.post("/api/jobs", json=big)
+    assert r.status_code == 413 and "1,000,000 bytes" in r.json()["detail"]
+
+    def chunks():  # no content-length: counted as it streams
+        for _ in range(11):
+            yield b" " * 100_000
+
+    r = api.post("/api/trajectories", content=chunks(), headers={"content-type": "application/json"})
+    assert r.status_code == 413
+
+
+@pytest.mark.parametrize("path", ["/api/jobs/0f0e", "/api/footprints/0f0e", "/api/footprints/0f0e?format=geojson",
+                                  "/api/vehicles/0f0e", "/api/sites/999999"])
+def test_unknown_ids_are_404(api, path):
+    r = api.get(path)
+    assert r.status_code == 404 and r.json()["detail"]
+    assert api.delete(path.split("?")[0]).status_code in (404, 405)
+
+
+@pytest.fixture(scope="module")
+def guarded(scheduler_address, tmp_path_factory):
+    with database_url("sqlite", tmp_path_factory.mktemp("guarded")) as url, \
+            running_service(url, scheduler_address, api_token="s3cret",
+                            cors_origins="https://planner.example, http://localhost:5173") as client:
+        yield client
+
+
+def test_writes_need_the_bearer_token_and_reads_do_not(guarded):
+    site = {"name": "KSC", "latitude_deg": 28.6, "longitude_deg": -80.6}
+    for headers in ({}, {"Authorization": "Bearer wrong"}, {"Authorization": "s3cret"}):
+        r = guarded.post("/api/sites", json=site, headers=headers)
+        assert r.status_code == 401 and r.headers["www-authenticate"] == "Bearer"
+        assert post_job(guarded, "footprint", FOOTPRINT, **headers).status_code == 401
+    ok = guarded.post("/api/sites", json=site, headers={"Authorization": "Bearer s3cret"})
+    assert ok.status_code == 201
+    assert guarded.delete(f"/api/sites/{ok.json()['id']}").status_code == 401
+    assert guarded.get("/api/sites").status_code == 200 and guarded.get("/api/health").status_code == 200
+    assert guarded.get(f"/api/sites/{ok.json()['id']}").json()["name"] == "KSC"
+
+
+def test_cors_allows_the_configured_origins_only(guarded, api):
+    preflight = {"Access-Control-Request-Method": "POST", "Access-Control-Request-Headers": "content-type"}
+    allowed = guarded.options("/api/jobs", headers={"Origin": "http://localhost:5173", **preflight})
+    assert allowed.status_code == 200
+    assert allowed.headers["access-control-allow-origin"] == "http://localhost:5173"
+    other = guarded.get("/api/health", headers={"Origin": "https://elsewhere.example"})
+    assert "access-control-allow-origin" not in other.headers
+    simple = guarded.get("/api/health", headers={"Origin": "https://planner.example"})
+    assert simple.headers["access-control-allow-origin"] == "https://planner.example"
+    unconfigured = api.get("/api/health", headers={"Origin": "https://planner.example"})
+    assert "access-control-allow-origin" not in unconfigured.headers

@@ -1,0 +1,48 @@
+"""Settings from FOOTPRINT_* variables with the documented defaults, checked at start-up; the map page's static
+files served at / next to the API."""
+
+import pytest
+from pydantic import ValidationError
+
+from footprint.service.settings import load_settings
+from footprint.sweeps import default_workers
+
+from .conftest import database_url, running_service
+
+
+@pytest.fixture
+def clean_env(monkeypatch):
+    for name in ("DATABASE_URL", "DASK_SCHEDULER", "DASK_WORKERS", "API_TOKEN", "CORS_ORIGINS", "TILE_URL", "HOST",
+                 "PORT"):
+        monkeypatch.delenv(f"FOOTPRINT_{name}", raising=False)
+    return monkeypatch
+
+
+def test_the_defaults_are_sqlite_in_the_working_directory_a_local_cluster_and_loopback(clean_env):
+    s = load_settings()
+    assert (s.database_url, s.dask_scheduler, s.api_token, s.host, s.port) == \
+        ("sqlite:///footprint.db", "", "", "127.0.0.1", 8000)
+    assert s.dask_workers == default_workers() and s.cors_origin_list == []
+
+
+def test_the_environment_and_overrides_are_read_and_checked(clean_env):
+    clean_env.setenv("FOOTPRINT_DASK_SCHEDULER", "tcp://scheduler:8786")
+    clean_env.setenv("FOOTPRINT_CORS_ORIGINS", "https://a.example, https://b.example")
+    clean_env.setenv("FOOTPRINT_PORT", "9000")
+    s = load_settings(port=None, host="0.0.0.0")
+    assert (s.dask_scheduler, s.port, s.host) == ("tcp://scheduler:8786", 9000, "0.0.0.0")
+    assert s.cors_origin_list == ["https://a.example", "https://b.example"]
+    clean_env.setenv("FOOTPRINT_DASK_SCHEDULER", "scheduler:8786")
+    with pytest.raises(ValidationError, match="tcp://host:8786"):
+        load_settings()
+    with pytest.raises(ValidationError, match="dask_workers"):
+        load_settings(dask_workers=0, dask_scheduler="")
+
+
+def test_the_page_is_served_at_the_root(scheduler_address, tmp_path):
+    page = tmp_path / "page"
+    page.mkdir()
+    (page / "index.html").write_text("<!doctype html><title>Footprint map</title>")
+    with database_url("sqlite", tmp_path) as url, running_service(url, scheduler_address, frontend_dir=page) as api:
+        assert "Footprint map" in api.get("/").text
+        assert api.get("/api/health").json()["status"] == "ok" and api.get("/docs").status_code == 200
