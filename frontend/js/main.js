@@ -244,7 +244,10 @@ function fail(err) { console.error(err); toast(err.message || String(err), true)
 
 // ------------------------------------------------------------------------------------------- start
 async function start() {
-  await Promise.all([mapView.ready, globe.ready]);
+  // the optional online tile layer: only when the service has one (FOOTPRINT_TILE_URL); a failure only costs it
+  const config = api("/api/config").then((c) => { if (c.tile_url) mapView.addTileLayer(c.tile_url); })
+    .catch((err) => console.warn(`no tile layer: ${err.message || err}`));
+  await Promise.all([mapView.ready, globe.ready, config]);
   const [items] = await Promise.all([loadFootprints(), jobs.loadVehicles(), sites.load()]);
   const first = items.slice(0, 6); // the newest few drawn at once; the rest one tick away in the list
   for (const item of first) await setVisible(state.footprints.get(item.id), true);

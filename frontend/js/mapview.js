@@ -28,6 +28,8 @@ export class MapView {
     this.basemapRenderer = L.canvas({ pane: "basemap", padding: 0.5 });
     this.svgRenderer = L.svg({ padding: 0.5 });
     this.footprintLayers = new Map();
+    this.landLayers = [];
+    this.tileLayer = null; // the optional online tile layer (FOOTPRINT_TILE_URL, via GET /api/config)
     this.sitesLayer = L.layerGroup().addTo(this.map);
     this.map.attributionControl.setPrefix(false);
     this.map.attributionControl.addAttribution("Natural Earth (public domain), via world-atlas");
@@ -45,9 +47,7 @@ export class MapView {
     const canvas = { renderer: this.basemapRenderer, pane: "basemap", interactive: false };
     for (const offset of WORLD_COPIES_DEG) {
       const shifted = { coordsToLatLng: (c) => L.latLng(c[1], c[0] + offset) };
-      L.geoJSON(world.land, { ...canvas, ...shifted, style: { color: "#6f8294", weight: 0.8,
-                                                                              fillColor: "#ece8dc", fillOpacity: 1 } })
-        .addTo(this.map);
+      this.landLayers.push(L.geoJSON(world.land, { ...canvas, ...shifted, style: this._landStyle() }).addTo(this.map));
       L.geoJSON(world.borders, { ...canvas, ...shifted, style: { color: "#a7a29a", weight: 0.6, fill: false } })
         .addTo(this.map);
     }
@@ -59,6 +59,25 @@ export class MapView {
     for (let lon = -540; lon <= 540; lon += GRATICULE_DEG) lines.push([[-90, lon], [90, lon]]);
     for (let lat = -90; lat <= 90; lat += GRATICULE_DEG) lines.push([[lat, -540], [lat, 540]]);
     L.polyline(lines, { ...canvas, color: "#b9c6d2", weight: 0.6 }).addTo(this.map);
+  }
+
+  /** Land is filled, unless the online tiles are shown under the coastlines and borders. */
+  _landStyle() {
+    const tiles = this.tileLayer !== null && this.map.hasLayer(this.tileLayer);
+    return { color: "#6f8294", weight: 0.8, fillColor: "#ece8dc", fillOpacity: tiles ? 0 : 1 };
+  }
+
+  /** Add the optional online tile layer (a Leaflet URL template in the map's plate carree, EPSG:4326) under the
+   * Natural Earth coastlines, borders and graticule, shown at once, with a layer toggle. Only called when the
+   * service has FOOTPRINT_TILE_URL: without it the page requests nothing beyond the service. */
+  addTileLayer(url) {
+    if (this.tileLayer || !url) return;
+    this.tileLayer = L.tileLayer(url, { maxZoom: 9, className: "online-tiles" });
+    const restyle = () => { for (const layer of this.landLayers) layer.setStyle(this._landStyle()); };
+    this.tileLayer.on("add remove", restyle);
+    this.tileLayer.addTo(this.map);
+    L.control.layers(null, { "Online tiles": this.tileLayer }, { position: "topright", collapsed: false })
+      .addTo(this.map);
   }
 
   /** Draw (or redraw) one footprint as it is shown: boundary, entry point, ground track, hoverable points. */

@@ -105,7 +105,10 @@ def service(tmp_path_factory):
 @pytest.fixture(scope="module")
 def browser():
     if not CHROMIUM.exists():
-        pytest.skip("Debian's chromium is not installed (apt-get install -y chromium; .ci/run does)")
+        missing = "Debian's chromium is not installed (apt-get install -y chromium; .ci/run does)"
+        if os.environ.get("FOOTPRINT_REQUIRE_BROWSER") == "1":  # CI: a skipped browser test is a failure
+            pytest.fail(missing)
+        pytest.skip(missing)
     sync_api = pytest.importorskip("playwright.sync_api")
     with sync_api.sync_playwright() as p:
         b = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)

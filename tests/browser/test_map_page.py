@@ -3,10 +3,16 @@
 import json
 import math
 import re
+import struct
+import threading
+import zlib
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import urlparse
 
 import pytest
+
+from .conftest import PageRun
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
@@ -52,6 +58,93 @@ def test_page_loads_with_no_request_leaving_localhost(open_page):
     assert any(u.endswith("/vendor/leaflet/leaflet.js") for u in run.requests)
     assert any("/vendor/world/land-50m.json" in u for u in run.requests)  # Natural Earth, shipped
     assert not run.errors, run.errors
+
+
+def png_tile(size=256) -> bytes:
+    """A size x size PNG, light grey (written here: no imaging library needed)."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    rows = b"".join(b"\x00" + b"\xd0\xd8\xe0" * size for _ in range(size))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+@pytest.fixture
+def tile_server():
+    """A tile server on 127.0.0.1 answering any path with one 256 x 256 PNG: .url_template, .paths requested."""
+    tile, paths = png_tile(), []
+
+    class Tiles(BaseHTTPRequestHandler):
+        def do_GET(self):
+            paths.append(self.path)
+            self.send_response(200)
+            self.send_header("Content-Type", "image/png")
+            self.send_header("Content-Length", str(len(tile)))
+            self.end_headers()
+            self.wfile.write(tile)
+
+        def log_message(self, *args):
+            pass
+
+    server = ThreadingHTTPServer(("127.0.0.1", 0), Tiles)
+    thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
+    thread.start()
+    server.url_template = f"http://127.0.0.1:{server.server_address[1]}/tiles/{{z}}/{{x}}/{{y}}.png"
+    server.paths = paths
+    try:
+        yield server
+    finally:
+        server.shutdown()
+        server.server_close()
+        thread.join(timeout=5)
+
+
+@pytest.mark.parametrize("tiles", [False, True], ids=["no-tile-url", "tile-url"])
+def test_online_tile_layer_only_when_configured(browser, service, tile_server, tiles):
+    """GET /api/config's tile_url (FOOTPRINT_TILE_URL; the test service has none, so the "tile-url" run hands the
+    page the real answer with a tile_url of a local tile server): tiles requested and drawn with it, none without."""
+    context = browser.new_context(viewport={"width": 1000, "height": 700})
+    configs = []
+
+    def config(route):
+        answer = route.fetch()
+        body = answer.json()
+        assert body["tile_url"] is None  # the service under test has no FOOTPRINT_TILE_URL
+        if tiles:
+            body["tile_url"] = tile_server.url_template
+        configs.append(body)
+        route.fulfill(response=answer, json=body)
+
+    try:
+        context.route("**/api/config", config)
+        run = PageRun(context.new_page())
+        run.page.goto(service.base_url + "/")
+        run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+        assert len(configs) == 1  # the page asked the service
+        if tiles:
+            run.page.wait_for_selector("img.leaflet-tile.leaflet-tile-loaded", state="attached", timeout=5_000)
+            assert tile_server.paths and all(re.fullmatch(r"/tiles/\d+/-?\d+/-?\d+\.png", p) for p in tile_server.paths)
+            # under the Natural Earth layers (the tile pane below the basemap pane), with a toggle that removes it
+            assert run.page.evaluate("""() => { const m = window.footprintApp.mapView.map;
+              return +getComputedStyle(m.getPane('tilePane')).zIndex < +getComputedStyle(m.getPane('basemap')).zIndex; }""")
+            toggle = run.page.locator(".leaflet-control-layers-selector")
+            assert toggle.count() == 1 and toggle.is_checked()
+            toggle.uncheck()
+            run.page.wait_for_selector("img.leaflet-tile", state="detached", timeout=2_000)
+            toggle.check()
+            run.page.wait_for_selector("img.leaflet-tile", state="attached", timeout=2_000)
+        else:
+            run.page.wait_for_timeout(300)  # late tile requests would show up by now
+            assert tile_server.paths == []
+            assert run.page.locator("img.leaflet-tile").count() == 0
+            assert run.page.locator(".leaflet-control-layers").count() == 0
+            assert all(u.startswith((service.base_url, "data:", "blob:")) for u in run.requests), run.requests
+        hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
+        assert hosts <= LOCAL_HOSTS
+        assert not run.errors, run.errors
+    finally:
+        context.close()
 
 
 def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):

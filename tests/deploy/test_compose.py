@@ -285,6 +285,8 @@ def test_dask_services_start_and_answer_their_health_checks(compose, tmp_path):
                               _option(s_cmd, "--dashboard-address"): f"127.0.0.1:{s_http}"})
     w_cmd = _localize(w_cmd, {f"tcp://{sched_name}:": "tcp://127.0.0.1:", w_cmd[2].rsplit(":", 1)[1]: str(port),
                               _option(w_cmd, "--dashboard-address"): f"127.0.0.1:{w_http}"}) + ["--host", "127.0.0.1"]
+    assert s_cmd[0] == w_cmd[0] == "dask"
+    s_cmd, w_cmd = ([sys.executable, "-m", "dask", *c[1:]] for c in (s_cmd, w_cmd))  # this interpreter's dask
     env = dict(os.environ)
     log_s, log_w = open(tmp_path / "scheduler.log", "w"), open(tmp_path / "worker.log", "w")
     scheduler = subprocess.Popen(s_cmd, stdout=log_s, stderr=subprocess.STDOUT, env=env, cwd=tmp_path)

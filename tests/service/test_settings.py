@@ -46,3 +46,12 @@ def test_the_page_is_served_at_the_root(scheduler_address, tmp_path):
     with database_url("sqlite", tmp_path) as url, running_service(url, scheduler_address, frontend_dir=page) as api:
         assert "Footprint map" in api.get("/").text
         assert api.get("/api/health").json()["status"] == "ok" and api.get("/docs").status_code == 200
+
+
+@pytest.mark.parametrize("tile_url", ["", "https://tiles.example/{z}/{x}/{y}.png"])
+def test_the_page_config_carries_the_tile_url(clean_env, scheduler_address, tmp_path, tile_url):
+    import footprint
+
+    with database_url("sqlite", tmp_path) as url, running_service(url, scheduler_address, tile_url=tile_url) as api:
+        assert api.get("/api/config").json() == {"tile_url": tile_url or None, "version": footprint.__version__}
+        assert "/api/config" in api.get("/openapi.json").json()["paths"]

@@ -1,5 +1,5 @@
 """create_app(settings): the FastAPI app. On start: migrations applied, the Dask cluster up, pending jobs
-resubmitted; the API under /api, the docs at /docs, the map page (frontend/) at /."""
+resubmitted, the built-in vehicle summaries computed; the API under /api, the docs at /docs, the map page (frontend/) at /."""
 
 import logging
 from contextlib import asynccontextmanager
@@ -29,6 +29,7 @@ def create_app(settings: Settings) -> FastAPI:
     async def lifespan(app: FastAPI):
         await run_in_threadpool(migrate, db, settings.migrations_dir)
         await run_in_threadpool(app.state.jobs.start)
+        await run_in_threadpool(vehicles.warm_builtins)  # before ready: the first /api/vehicles answers at once
         try:
             yield
         finally:

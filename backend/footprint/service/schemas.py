@@ -147,3 +147,8 @@ class Health(BaseModel):
     version: str
     database: dict[str, Any]
     cluster: dict[str, Any]
+
+
+class PageConfig(BaseModel):
+    tile_url: str | None  # the optional online tile layer (FOOTPRINT_TILE_URL); null: none
+    version: str

@@ -1,4 +1,4 @@
-"""GET /api/health: database, cluster, version."""
+"""GET /api/health: database, cluster, version. GET /api/config: what the map page needs to know."""
 
 from fastapi import APIRouter, Request
 
@@ -6,7 +6,7 @@ import footprint
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.jobs.engine import one_line
-from footprint.service.schemas import Health
+from footprint.service.schemas import Health, PageConfig
 
 router = APIRouter(tags=["health"])
 
@@ -22,3 +22,9 @@ def health(request: Request) -> dict:
     cluster = deps.engine(request).status()
     status = "ok" if database["ok"] and cluster["ok"] else "degraded"
     return {"status": status, "version": footprint.__version__, "database": database, "cluster": cluster}
+
+
+@router.get("/config", response_model=PageConfig)
+def config(request: Request) -> dict:
+    """The page's configuration: the optional online tile layer (FOOTPRINT_TILE_URL), the version."""
+    return {"tile_url": request.app.state.settings.tile_url or None, "version": footprint.__version__}

@@ -2,6 +2,7 @@
 
 import functools
 import json
+import threading
 
 from fastapi import APIRouter, Request, Response
 from pydantic import ValidationError
@@ -20,13 +21,47 @@ SUMMARY_MACH, SUMMARY_ALTITUDE_FT = 20.0, 200_000.0  # the point of `footprint v
 AERO_MACH = (2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)  # the aero summary's Mach numbers
 
 
-@functools.lru_cache(maxsize=1)
+class BuiltinSummaries:
+    """The built-in vehicles' list items and aero summaries: computed once (at service start-up, see
+    app.lifespan), under a lock so concurrent first requests wait for that one computation."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self.value: tuple[dict[str, dict], dict[str, dict]] | None = None  # (items by id, aero by id)
+
+    def get(self) -> tuple[dict[str, dict], dict[str, dict]]:
+        value = self.value
+        if value is None:
+            with self._lock:
+                if self.value is None:
+                    self.value = self._compute()
+                value = self.value
+        return value
+
+    def clear(self) -> None:
+        with self._lock:
+            self.value = None
+
+    @staticmethod
+    def _compute() -> tuple[dict[str, dict], dict[str, dict]]:
+        items = {r["id"]: {"id": r["id"], "builtin": True,
+                           "description": r["name"] + (f" ({r['note']})" if r["note"] else ""),
+                           "wing_loading_psf": r["wing_loading_psf"], "ld_max": r["ld_max_m20_200kft"],
+                           "alpha_ld_max_deg": r["alpha_ld_max_deg"], "reported_ld_max": r["reported_ld_max"]}
+                 for r in vehicle_summaries()}
+        return items, {vid: _aero(builtin_vehicle(vid)) for vid in items}
+
+
+BUILTINS = BuiltinSummaries()
+
+
+def warm_builtins() -> None:
+    """Compute the built-in summaries now (the service's start-up)."""
+    BUILTINS.get()
+
+
 def _builtins() -> dict[str, dict]:
-    return {r["id"]: {"id": r["id"], "builtin": True,
-                      "description": r["name"] + (f" ({r['note']})" if r["note"] else ""),
-                      "wing_loading_psf": r["wing_loading_psf"], "ld_max": r["ld_max_m20_200kft"],
-                      "alpha_ld_max_deg": r["alpha_ld_max_deg"], "reported_ld_max": r["reported_ld_max"]}
-            for r in vehicle_summaries()}
+    return BUILTINS.get()[0]
 
 
 @functools.lru_cache(maxsize=64)
@@ -68,8 +103,9 @@ def list_vehicles(request: Request) -> list[dict]:
 @router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)
 def get_vehicle(vehicle_id: str, request: Request) -> dict:
     """One vehicle with its aero summary at 200,000 ft."""
-    if vehicle_id in _builtins():
-        return _builtins()[vehicle_id] | {"definition": None, "aero": _aero(builtin_vehicle(vehicle_id))}
+    items, aero = BUILTINS.get()
+    if vehicle_id in items:
+        return items[vehicle_id] | {"definition": None, "aero": aero[vehicle_id]}
     with deps.sessions(request).begin() as session:
         row = q.get_vehicle(session, vehicle_id=vehicle_id)
     if row is None:
