@@ -356,5 +356,10 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
                p.bank0_deg == 0.0)
               for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]
     fp = footprint_of_family("temperature_limited", spec, family, mirror)
-    fp.trajectories += sum(p.flights for p in left) + (sum(q.flights for q in right) if right is not left else 0)
+    if right is not left:  # a flown right point names its own floor
+        floors = {q.bank0_deg: q.floor_deg for q in right}
+        fp.points = [replace(pt, parameter=dict(pt.parameter, alpha_floor_deg=floors[pt.parameter["bank0_deg"]]))
+                     if pt.side == "right" else pt for pt in fp.points]
+        fp.trajectories += sum(q.flights for q in right)
+    fp.trajectories += sum(p.flights for p in left)
     return LimitedFootprint(fp, left, time.perf_counter() - t0)
