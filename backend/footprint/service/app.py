@@ -41,6 +41,7 @@ def create_app(settings: Settings) -> FastAPI:
                               "footprints, trajectories, geometry, landing sites. See docs/api.md.")
     app.state.settings, app.state.dialect = settings, db.dialect.name
     app.state.sessions = make_sessions(db)
+    app.state.read_sessions = make_sessions(db, reads_only=True)
     app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings)
     errors.install(app)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):

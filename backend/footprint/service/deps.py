@@ -7,7 +7,8 @@ from footprint.service.jobs.engine import JobEngine
 
 
 def sessions(request: Request) -> sessionmaker[Session]:
-    return request.app.state.sessions
+    """GET requests only read: their sessions begin deferred (db.engine.make_sessions)."""
+    return request.app.state.read_sessions if request.method in ("GET", "HEAD") else request.app.state.sessions
 
 
 def engine(request: Request) -> JobEngine:

@@ -34,11 +34,18 @@ def _sqlite_pragmas(engine: Engine) -> None:
 
     @event.listens_for(engine, "begin")
     def _begin(connection):
-        connection.exec_driver_sql("BEGIN IMMEDIATE")
+        reads_only = connection.get_execution_options().get(READS_ONLY, False)
+        connection.exec_driver_sql("BEGIN" if reads_only else "BEGIN IMMEDIATE")  # WAL: readers run side by side
 
 
-def make_sessions(engine: Engine) -> sessionmaker[Session]:
-    return sessionmaker(engine, expire_on_commit=False)
+READS_ONLY = "footprint_reads_only"  # execution option: a transaction that never writes (deferred BEGIN)
+
+
+def make_sessions(engine: Engine, *, reads_only: bool = False) -> sessionmaker[Session]:
+    """Sessions on the engine; reads_only ones begin deferred on SQLite, so concurrent readers do not queue
+    behind the one-writer lock (a write in such a session fails at once instead of waiting)."""
+    bind = engine.execution_options(**{READS_ONLY: True}) if reads_only else engine
+    return sessionmaker(bind, expire_on_commit=False)
 
 
 def alembic_config(migrations_dir: Path) -> Config:
