@@ -6,6 +6,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from footprint.cases import parse_case
+from footprint.core import constrained as C
+from footprint.core.footprints import with_bank
+from footprint.core.trajectory import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLE2 = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
@@ -132,11 +136,6 @@ def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limi
     assert [p["parameter"]["bank0_deg"] for p in out["points"]] == [0, 60, 90, 90, 60]
     assert all(12.5 <= p["parameter"]["alpha_floor_deg"] <= 40.0 for p in out["points"])
     assert out["trajectories"] > 5  # the floor searches are counted, not only the five flights drawn
-    from footprint.cases import parse_case
-    from footprint.core import constrained as C
-    from footprint.core.footprints import with_bank
-    from footprint.core.trajectory import simulate
-
     base = parse_case(study["case"]).to_spec()
     for p in out["points"]:  # fly each point again: its own bank law, side and alpha floor
         spec = with_bank(base, "single_parameter", p["parameter"]["k"], right=p["side"] == "right")

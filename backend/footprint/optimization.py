@@ -59,9 +59,13 @@ class OptimizationStudy(Strict):
     max_trajectories: int = Field(default=3_000, ge=10, le=100_000)
 
     @model_validator(mode="after")
-    def _heating(self):
+    def _controls(self):
         if self.controls not in (["bank"], ["bank", "alpha"]):
             raise ValueError(f"controls: ['bank'] or ['bank', 'alpha'] (got {self.controls})")
+        return self
+
+    @model_validator(mode="after")
+    def _heating(self):
         uses_heat = {c.quantity for c in self.constraints} | {self.payoff.quantity}
         if uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s"} and self.case.heating is None:
             raise ValueError("case.heating: a temperature or heat-rate payoff or constraint needs a heating model")

@@ -42,8 +42,8 @@ READS_ONLY = "footprint_reads_only"  # execution option: a transaction that neve
 
 
 def make_sessions(engine: Engine, *, reads_only: bool = False) -> sessionmaker[Session]:
-    """Sessions on the engine; reads_only ones begin deferred on SQLite, so concurrent readers do not queue
-    behind the one-writer lock (a write in such a session fails at once instead of waiting)."""
+    """Sessions on the engine; reads_only ones (GET requests) begin deferred on SQLite, so concurrent readers
+    do not queue behind the one-writer lock (WAL lets them read beside it)."""
     bind = engine.execution_options(**{READS_ONLY: True}) if reads_only else engine
     return sessionmaker(bind, expire_on_commit=False)
 
