@@ -132,8 +132,12 @@ def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limi
     r = run("footprint", write_case(tmp_path, study))
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
-    assert [p["side"] for p in out["points"]] == ["axis", "left", "left", "right", "right"]  # 120 deg: too hot
-    assert [p["parameter"]["bank0_deg"] for p in out["points"]] == [0, 60, 90, 90, 60]
+    sides = [p["side"] for p in out["points"]]
+    left = [p["parameter"]["bank0_deg"] for p in out["points"] if p["side"] == "left"]
+    right = [p["parameter"]["bank0_deg"] for p in out["points"] if p["side"] == "right"]
+    assert sides[0] == "axis" and out["points"][0]["parameter"]["bank0_deg"] == 0
+    assert sorted(left) == sorted(right) and {60, 90} <= set(left) and 120 not in left  # 120 deg: too hot
+    assert len(left) > 2  # the grid refined around its max cross-range setting
     assert all(12.5 <= p["parameter"]["alpha_floor_deg"] <= 40.0 for p in out["points"])
     assert out["trajectories"] > 5  # the floor searches are counted, not only the five flights drawn
     base = parse_case(study["case"]).to_spec()

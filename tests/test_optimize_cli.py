@@ -46,7 +46,7 @@ def test_a_down_range_beyond_reach_is_reported_infeasible_with_its_violation(tmp
 def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
     """Section III: the bank table plus an alpha table vs velocity, maximum cross-range at RET <= 2,550 degR."""
     case = {**STUDY["case"], "heating": {"model": "reference"}}
-    study = {**STUDY, "case": case, "controls": ["bank", "alpha"], "max_trajectories": 800,
+    study = {**STUDY, "case": case, "controls": ["bank", "alpha"], "max_trajectories": 2_500,
              "constraints": [{"quantity": "max_temperature_R", "at_most": 2_550}]}
     r = run(tmp_path, study)
     assert r.returncode == 0, r.stderr
@@ -55,7 +55,7 @@ def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
     alphas = {k: v for k, v in out["parameters"].items() if k.startswith("alpha_deg")}
     assert len(out["parameters"]) == 13 and len(alphas) == 5
     assert all(12.5 <= v <= 40.0 for v in alphas.values())  # deg: (L/D)max to C_L max of lod-1.89
-    assert max(alphas.values()) > 12.5  # the unconstrained optimum peaks at 2,616 degR: alpha must rise
+    assert max(alphas.values()) > 12.5  # the unconstrained optimum peaks at 2,670 degR: alpha must rise
 
 
 @pytest.mark.parametrize("change, words", [

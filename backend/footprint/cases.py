@@ -257,9 +257,12 @@ class HeatingReference(Strict):
     model: Literal["reference"]
     reference_radius_ft: bounded(0.01, 100, "ft") = REFERENCE_RADIUS_FT  # calibrated to 2,670 degR
     emissivity: bounded(0.01, 1) = EMISSIVITY_DEFAULT
+    # 0: radiation-equilibrium temperature, eq. (7); > 0: a thin skin's lagging temperature (core/heating.py)
+    skin_heat_capacity_btu_ft2_R: bounded(0, 100, "Btu/(ft^2 degR)") = 0.0
 
     def to_model(self):
-        return ReferenceHeating(reference_radius_ft=self.reference_radius_ft, emissivity=self.emissivity)
+        return ReferenceHeating(reference_radius_ft=self.reference_radius_ft, emissivity=self.emissivity,
+                                skin_heat_capacity_btu_ft2_R=self.skin_heat_capacity_btu_ft2_R)
 
 
 class HeatingCorrelation(Strict):

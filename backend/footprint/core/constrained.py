@@ -278,6 +278,7 @@ def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS
 FLOOR_VELOCITIES_FPS = (12_000.0, 16_000.0)
 FLOOR_SCAN_STEP_DEG = 2.5
 FLOOR_BISECTIONS = 5  # 2.5 deg / 2^5 = 0.08 deg
+REFINE_HALVINGS = 2  # bank settings added between the max cross-range setting and its neighbours, twice
 
 
 def with_alpha_floor(spec: FlightSpec, floor_deg) -> FlightSpec:
@@ -339,16 +340,24 @@ class LimitedFootprint:
 def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *,
                                   tolerance_R=TTOL_TEMPERATURE_R, mirror=False) -> LimitedFootprint:
     """The simple heating-constrained footprint: single-parameter bank settings phi0 = bank0_deg, each with the
-    coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side). With
+    coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side). The grid is
+    halved REFINE_HALVINGS times around its max cross-range setting (the floor varies with phi0 there). With
     mirror on a rotating earth the right half is searched and flown for itself."""
     t0 = time.perf_counter()
 
-    def search(right):
+    def search(settings, right=False):
         return [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG, right=right), limit_R,
-                              tolerance_R, bank0_deg=float(b)) for b in bank0_deg]
+                              tolerance_R, bank0_deg=float(b)) for b in settings]
 
-    left = search(False)
-    right = search(True) if mirror and not mirror_is_exact(spec) else left
+    left = search(bank0_deg)
+    for _ in range(REFINE_HALVINGS):  # the grid halved around its max cross-range setting
+        kept = sorted((p for p in left if p.floor_deg is not None), key=lambda p: p.bank0_deg)
+        if len(kept) < 2:
+            break
+        i = max(range(len(kept)), key=lambda j: abs(kept[j].summary["crossrange_nmi"]))
+        between = {0.5 * (kept[i].bank0_deg + kept[j].bank0_deg) for j in (i - 1, i + 1) if 0 <= j < len(kept)}
+        left = sorted(left + search(sorted(between)), key=lambda p: p.bank0_deg)
+    right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
     family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
                lambda s, to_right, p=p, q=q: with_alpha_floor(
                    with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG, right=to_right),

@@ -18,6 +18,11 @@ Reference heating, report eqs. (5)-(7) (reconstruction: shared/data/heating.md)
   solved by Newton's method from above (the left side is convex and increasing for T > 0, so the iterates
   decrease monotonically onto the one positive root).
 
+Thin skin (optional): the report's temperatures came from "a one-dimensional conduction analysis on a simplified
+structure" (Section III), which it does not describe. Its simplest form is a thin skin of areal heat capacity C
+(Btu/(ft^2 degR)) with an insulated back face:  C dT/dt = h (H_AW - c_p T) - 4.75e-13 eps T^4.  C = 0 is eq. (7)'s
+RET (the default, and what the calibration below is for); C > 0 lags and damps short heat pulses.
+
 The report does not give R_N, eps or the wall-enthalpy model. We fix eps and c_p (below) and calibrate one
 scale, the effective reference radius R_N, so that the unconstrained maximum cross-range trajectory of the
 L/D 1.89 vehicle peaks at the report's 2,670 degR (Section III.1). `calibrate_reference_radius_ft` recomputes it;
@@ -32,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from footprint.core._jit import njit
 from footprint.core.atmosphere import atmosphere_table
 
 # --- Constants, each with its unit and source -----------------------------------------------------------------
@@ -47,11 +53,16 @@ DKR_COLD_WALL_R = 540.0  # Detra-Kemp-Riddell cold wall, 300 K
 # Table 1 of AFWAL-TR-82-3036: h/h_F&R against alpha (deg). The repeated .23 at 30 and 40 deg is as printed.
 TABLE1_ALPHA_DEG = np.array([0.0, 20.0, 25.0, 30.0, 40.0, 45.0, 50.0])
 TABLE1_RATIO = np.array([0.17, 0.175, 0.20, 0.23, 0.23, 0.26, 0.30])
-# Calibrated effective reference radius of h_F&R (ft): the unconstrained max cross-range L/D 1.89 trajectory
-# (Table 2 entry, (L/D)max alpha, single-parameter bank k = 75/90 after pull-out, stop at 50,000 ft) then
-# peaks at 2,670 degR with eps = 0.8 and c_p = 0.24. Recomputed by calibrate_reference_radius_ft (see tests).
-REFERENCE_RADIUS_FT = 3.583  # ft; calibrate_reference_radius_ft gave 3.5825 (heating.md guessed ~1 ft)
+# Calibrated effective reference radius of h_F&R (ft). The calibration flight is Section III.1's: the unconstrained
+# maximum cross-range of the L/D 1.89 vehicle (Table 2 entry, (L/D)max alpha, zero bank to pull-out, stop at
+# 50,000 ft), flying the optimal 8-point bank table vs zeta = -15..90 deg (creep + pattern, 2,044.5 nmi,
+# bench/results/optimize.json) below. It then peaks at 2,670 degR with eps = 0.8 and c_p = 0.24.
+# calibrate_reference_radius_ft recomputes the radius (tests/core/test_heating.py).
+CALIBRATION_BANK_DEG = (0.0, 2.109375, 7.5, 18.75, 30.9375, 43.125, 59.0625, 84.375)
+REFERENCE_RADIUS_FT = 3.034  # ft; calibrate_reference_radius_ft gave 3.0341 (heating.md guessed ~1 ft)
 REPORT_PEAK_RET_R = 2_670.0  # Section III.1: max RET of the unconstrained L/D 1.89 footprint
+SKIN_SUBSTEP_S = 0.5  # s: trapezoidal sub-steps of the thin-skin equation between history rows
+SKIN_INITIAL_R = 530.0  # degR: skin temperature at entry (a cold-soaked structure)
 
 
 def table1_ratio(alpha_deg):
@@ -103,6 +114,44 @@ def wall_equilibrium_R(coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissiv
     return t
 
 
+@njit
+def thin_skin_R(time_s, coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissivity, capacity_btu_ft2_R,
+                initial_R):
+    """Skin temperature (degR) from C dT/dt = h (H_AW - c_p T) - 4.75e-13 eps T^4 (thin skin, insulated back).
+
+    Trapezoidal rule (A-stable, 2nd order) on sub-steps of at most SKIN_SUBSTEP_S, h and H_AW linear in time
+    between the history rows; each implicit step by Newton's method from the last temperature (the residual is
+    convex and increasing in T, so after at most one step the iterates decrease monotonically onto the root)."""
+    n = time_s.shape[0]
+    out = np.empty(n)
+    es = SIGMA_REPORT_BTU_FT2_S_R4 * emissivity
+    cp, cap = CP_AIR_BTU_LBM_R, capacity_btu_ft2_R
+    t_w = initial_R
+    out[0] = t_w
+    for i in range(1, n):
+        if time_s[i] <= time_s[i - 1]:  # an event row repeats its time
+            out[i] = t_w
+            continue
+        m = int(np.ceil((time_s[i] - time_s[i - 1]) / SKIN_SUBSTEP_S))
+        dt = (time_s[i] - time_s[i - 1]) / m
+        dh = (coefficient_lbm_ft2_s[i] - coefficient_lbm_ft2_s[i - 1]) / m
+        da = (recovery_enthalpy_btu_lbm[i] - recovery_enthalpy_btu_lbm[i - 1]) / m
+        h1, a1 = coefficient_lbm_ft2_s[i - 1], recovery_enthalpy_btu_lbm[i - 1]
+        for _ in range(m):
+            net0 = h1 * (a1 - cp * t_w) - es * t_w**4  # net heating at the sub-step's start
+            h1, a1 = h1 + dh, a1 + da
+            x = t_w
+            for _ in range(50):  # g(x) = C (x - t_w) / dt - (net0 + net(x)) / 2 = 0
+                g = cap * (x - t_w) / dt - 0.5 * (net0 + h1 * (a1 - cp * x) - es * x**4)
+                step = g / (cap / dt + 0.5 * (h1 * cp + 4.0 * es * x**3))
+                x -= step
+                if abs(step) <= 1e-10 * x:
+                    break
+            t_w = x
+        out[i] = t_w
+    return out
+
+
 @dataclass(frozen=True)
 class ReferenceHeating:
     """AFWAL-TR-82-3036 eqs. (5)-(7) at the report's point ~10 ft aft of the nose, lower centreline."""
@@ -111,14 +160,22 @@ class ReferenceHeating:
     emissivity: float = EMISSIVITY_DEFAULT
     ratio_alpha_deg: tuple = tuple(TABLE1_ALPHA_DEG)
     ratio: tuple = tuple(TABLE1_RATIO)
+    skin_heat_capacity_btu_ft2_R: float = 0.0  # 0: RET of eq. (7); > 0: thin-skin temperature (needs time_s)
 
-    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R):
-        """(heat_rate_btu_ft2_s, temperature_R) along the histories."""
+    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R, time_s=None):
+        """(heat_rate_btu_ft2_s, temperature_R) along the histories: q of eq. (6) at the wall temperature."""
         h_fr = fay_riddell_coefficient_lbm_ft2_s(density_slug_ft3, velocity_fps, temperature_inf_R,
                                                  self.reference_radius_ft)
         h = h_fr * np.interp(np.asarray(alpha_deg, dtype=float), self.ratio_alpha_deg, self.ratio)  # eq. (5)
         h_aw = total_enthalpy_btu_lbm(velocity_fps, temperature_inf_R)
-        t_w = wall_equilibrium_R(h, h_aw, self.emissivity)  # eqs. (6)-(7)
+        if self.skin_heat_capacity_btu_ft2_R > 0.0:
+            if time_s is None:
+                raise ValueError("a thin-skin temperature needs the time history (time_s)")
+            t_w = thin_skin_R(np.asarray(time_s, dtype=float), np.ascontiguousarray(h, dtype=float),
+                              np.ascontiguousarray(h_aw, dtype=float), float(self.emissivity),
+                              float(self.skin_heat_capacity_btu_ft2_R), SKIN_INITIAL_R)
+        else:
+            t_w = wall_equilibrium_R(h, h_aw, self.emissivity)  # eqs. (6)-(7)
         q = h * (h_aw - CP_AIR_BTU_LBM_R * t_w)  # eq. (6)
         return q, t_w
 
@@ -138,7 +195,7 @@ class CorrelationHeating:
     alpha_polynomial: tuple = (1.0,)  # ascending powers of alpha in degrees
     emissivity: float | None = None
 
-    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R=None):
+    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R=None, time_s=None):
         rho = np.maximum(np.asarray(density_slug_ft3, dtype=float), 0.0)
         v = np.abs(np.asarray(velocity_fps, dtype=float))
         f = np.polynomial.polynomial.polyval(np.asarray(alpha_deg, dtype=float), np.asarray(self.alpha_polynomial))
@@ -147,22 +204,24 @@ class CorrelationHeating:
         return q, t
 
 
-def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args):
+def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None):
     """(heat_rate_btu_ft2_s, temperature_R) along a flown history; atmosphere_args = (model id, rho0, H, T)."""
     model_id, rho0, scale_h, temp = atmosphere_args
     atm = atmosphere_table(int(model_id), altitude_ft, rho0, scale_h, temp)
-    return model.evaluate(atm["density_slug_ft3"], velocity_fps, alpha_deg, atm["temperature_R"])
+    return model.evaluate(atm["density_slug_ft3"], velocity_fps, alpha_deg, atm["temperature_R"], time_s)
 
 
 def calibrate_reference_radius_ft(altitude_ft, velocity_fps, alpha_deg, atmosphere_args,
-                                  target_R=REPORT_PEAK_RET_R, emissivity=EMISSIVITY_DEFAULT):
-    """The reference radius (ft) that makes the peak RET along one flown history equal target_R (bisection).
+                                  target_R=REPORT_PEAK_RET_R, emissivity=EMISSIVITY_DEFAULT,
+                                  skin_heat_capacity_btu_ft2_R=0.0, time_s=None):
+    """The reference radius (ft) that makes the peak temperature along one flown history equal target_R
+    (bisection; a thin skin needs time_s).
 
-    Heating does not act on the motion, so one flight serves every trial radius. The peak RET falls
+    Heating does not act on the motion, so one flight serves every trial radius. The peak falls
     monotonically as the radius grows (h_F&R ~ R^-1/2)."""
     def peak(radius_ft):
-        _, t = trajectory_heating(ReferenceHeating(radius_ft, emissivity), altitude_ft, velocity_fps, alpha_deg,
-                                  atmosphere_args)
+        model = ReferenceHeating(radius_ft, emissivity, skin_heat_capacity_btu_ft2_R=skin_heat_capacity_btu_ft2_R)
+        _, t = trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s)
         return float(np.max(t))
 
     lo, hi = 1e-3, 1e3  # ft

@@ -228,7 +228,7 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
     max_heat_rate = max_temperature = None
     if spec.heating is not None:  # Section III: evaluated on the histories, no effect on the motion
         heat_rate, temperature = trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
-                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]))
+                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T])
         history["heat_rate_btu_ft2_s"], history["temperature_R"] = heat_rate, temperature
         max_heat_rate = float(np.max(heat_rate))
         max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
