@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from footprint.cases import parse_case
 from footprint.core import constrained as C
-from footprint.core.controls import ALPHA_TABLE_TIME, ALPHA_TABLE_VELOCITY
+from footprint.core.controls import ALPHA_TABLE_TIME, ALPHA_TABLE_VELOCITY, pack_controls
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import ReferenceHeating, calibrate_reference_radius_ft
 from footprint.core.optimize import BANK_TABLE_HEADINGS_DEG, Problem, creep_pattern_feasible, with_bank_table
@@ -87,8 +87,7 @@ def calibrated(spec, skin=0.0):
 
 def plunge_R(spec, alpha_law):
     """Peak temperature of the zero-bank flight at (L/D)max or C_L max (the report's 'initial plunge')."""
-    ctrl = parse_case({"vehicle": {"builtin": "lod-1.89"}, "entry": ENTRY, "alpha": {"law": alpha_law},
-                       "bank": {"law": "zero"}}).to_spec().ctrl
+    ctrl = pack_controls(bank_law="zero", alpha_law=alpha_law)
     return simulate(replace(spec, ctrl=ctrl)).summary["max_temperature_R"]
 
 
