@@ -13,8 +13,10 @@ from pathlib import Path
 
 NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # LLVM fast-math flags that keep IEEE NaN and infinity semantics (events use NaN for "inactive"):
-# contraction into fused multiply-add, reciprocal approximation, reassociation, no signed zeros.
-FASTMATH = {"contract", "arcp", "reassoc", "nsz"}
+# contraction into fused multiply-add, reciprocal approximation, no signed zeros. Not "reassoc": how LLVM
+# reassociates depends on what it inlined, so a function compiled afresh and its cached copy rounded
+# differently, and an optimization run on a cold cache took another path than the same run on a warm one.
+FASTMATH = {"contract", "arcp", "nsz"}
 
 if NO_JIT:
 
