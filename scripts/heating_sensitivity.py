@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 from footprint.cases import parse_case
 from footprint.core import constrained as C
+from footprint.core.aero import ld_max
 from footprint.core.controls import ALPHA_TABLE_TIME, ALPHA_TABLE_VELOCITY, pack_controls
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import ReferenceHeating, calibrate_reference_radius_ft
@@ -75,15 +76,14 @@ def base_spec(vehicle):
     return parse_case(case).to_spec()
 
 
-def calibrated(spec, skin=0.0):
-    """(spec with heating calibrated on its own unconstrained optimum, that optimum's Result)."""
-    free = C.solve(spec, max_evaluations=1_500)
+def calibrated(spec, free, skin=0.0):
+    """The spec with heating calibrated on `free`, its unconstrained optimum (an optimize.Result)."""
     flight = C.control_problem(spec).controls(spec, free.params)
     p, h = pack_parameters(flight), simulate(flight).history
     radius = calibrate_reference_radius_ft(h["altitude_ft"], h["velocity_fps"], h["alpha_deg"],
                                            (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]),
                                            skin_heat_capacity_btu_ft2_R=skin, time_s=h["time_s"])
-    return replace(spec, heating=ReferenceHeating(radius, skin_heat_capacity_btu_ft2_R=skin)), free
+    return replace(spec, heating=ReferenceHeating(radius, skin_heat_capacity_btu_ft2_R=skin))
 
 
 def plunge_R(spec, alpha_law):
@@ -124,9 +124,10 @@ def main():
     rows, jobs = [], []
     for name, vehicle in vehicles.items():
         spec = base_spec(vehicle)
-        alpha_ld = 17.5 if "(b)" in name else C.ALPHA_MAX_LD_HYPERSONIC_DEG
+        free = C.solve(spec, max_evaluations=1_500)  # the unconstrained optimum: bank table, (L/D)max alpha
+        _, alpha_ld = ld_max(spec.vehicle, 20.0, 200_000.0)  # deg: 12.5 for fill (a), 17.5 for fill (b)
         for skin in (0.0, *(SKINS_BTU_FT2_R if "(a)" in name else ())):
-            hot, free = calibrated(spec, skin)
+            hot = calibrated(spec, free, skin)
             rows.append({"lift": name, "skin_btu_ft2_R": skin, "reference_radius_ft": hot.heating.reference_radius_ft,
                          "free_crossrange_nmi": free.payoff, "plunge_max_ld_R": plunge_R(hot, "max_ld"),
                          "plunge_cl_max_R": plunge_R(hot, "cl_max")})
@@ -137,6 +138,7 @@ def main():
             print(rows[-1], flush=True)
     with ProcessPoolExecutor(max_workers=2) as pool:
         found = list(pool.map(limited_max_crossrange, [j for _, j in jobs]))
+
     def rank(r):  # a feasible point by its cross-range, an infeasible one by its temperature
         return (r["feasible"], r["crossrange_nmi"] if r["feasible"] else -r["max_temperature_R"])
 
