@@ -161,13 +161,12 @@ def test_thin_skin_against_an_independent_integration():
 
 
 def test_thin_skin_settles_at_the_radiation_equilibrium():
-    """Constant heating: the skin tends to eq. (7)'s RET, and a small capacity follows it closely."""
+    """Constant heating: the skin tends to eq. (7)'s RET, and near it the gap decays at the linearized rate."""
     times = np.linspace(0.0, 2_000.0, 201)
     h, haw = np.full(201, 0.003), np.full(201, 8_000.0)
     ret = wall_equilibrium_R(0.003, 8_000.0, 0.8)
     assert thin_skin_R(times, h, haw, 0.8, 1.0, 530.0)[-1] == pytest.approx(ret, abs=0.01)  # degR
-    # 10 degR below it the linearized equation holds: the gap decays as exp(-t / tau), tau = C / (4 eps sigma T^3
-    # + h c_p)
+    # from 10 degR below: the gap decays as exp(-t / tau), tau = C / (4 eps sigma T^3 + h c_p)
     tau = 1.0 / (4.0 * ES * ret**3 + 0.003 * 0.24)
     t3 = thin_skin_R(np.array([0.0, 3 * tau]), h[:2], haw[:2], 0.8, 1.0, ret - 10.0)[-1]
     assert ret - t3 == pytest.approx(10.0 * np.exp(-3.0), rel=0.05)
