@@ -25,10 +25,10 @@ import numpy as np
 from footprint.cases import parse_case
 from footprint.core import constrained as C
 from footprint.core.aero import ld_max
-from footprint.core.controls import ALPHA_TABLE_TIME, ALPHA_TABLE_VELOCITY, pack_controls
+from footprint.core.controls import pack_controls
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import ReferenceHeating, calibrate_reference_radius_ft
-from footprint.core.optimize import BANK_TABLE_HEADINGS_DEG, Problem, creep_pattern_feasible, with_bank_table
+from footprint.core.optimize import creep_pattern_feasible
 from footprint.core.trajectory import pack_parameters, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -92,30 +92,17 @@ def plunge_R(spec, alpha_law):
     return simulate(replace(spec, ctrl=ctrl)).summary["max_temperature_R"]
 
 
-class BankAlpha:
-    """8 bank-table angles then alpha at `nodes` (velocity in ft/s, or time in s)."""
-
-    def __init__(self, nodes, abscissa):
-        self.nodes, self.law = tuple(nodes), ALPHA_TABLE_TIME if abscissa == "time" else ALPHA_TABLE_VELOCITY
-
-    def __call__(self, spec, x):
-        return C.with_alpha_table(with_bank_table(spec, x[:8]), x[8:], self.nodes, law=self.law)
-
-
 def limited_max_crossrange(job):
-    """Max cross-range under the limit with the bank table and an alpha table, from the unconstrained optimum's
-    bank table and a constant alpha0."""
-    spec, free_bank, alpha0, nodes, abscissa = job
-    ctl, nb, na = BankAlpha(nodes, abscissa), len(BANK_TABLE_HEADINGS_DEG), len(nodes)
-    pr = Problem(lower=np.r_[np.full(nb, 0.0), np.full(na, C.ALPHA_BOUNDS_DEG[0])],
-                 upper=np.r_[np.full(nb, 180.0), np.full(na, C.ALPHA_BOUNDS_DEG[1])],
-                 initial=np.r_[free_bank, np.full(na, alpha0)], payoff="crossrange_nmi", goal="max",
-                 constraints=(C.temperature_limit(LIMIT_R),), base=spec, controls=ctl,
-                 evaluate=C._Flight(spec, ctl, "crossrange_nmi"))
+    """Max cross-range under the limit with the bank table and an alpha table (against velocity, or against time
+    at `times_s`), from the unconstrained optimum's bank table and a constant alpha0."""
+    spec, free_bank, alpha0, times_s = job
+    nodes = C.ALPHA_TABLE_VELOCITIES_FPS if times_s is None else times_s
+    pr = C.control_problem(spec, constraints=(C.temperature_limit(LIMIT_R),), controls="bank_alpha",
+                           initial=np.r_[free_bank, np.full(len(nodes), alpha0)], alpha_times_s=times_s)
     r = creep_pattern_feasible(pr, max_evaluations=BUDGET, **C.search_options("bank_alpha", velocities_fps=nodes))
     return {"crossrange_nmi": r.payoff, "max_temperature_R": r.summary["max_temperature_R"],
             "feasible": r.feasible, "trajectories": r.trajectories,
-            "alpha_deg": [round(float(a), 1) for a in r.params[nb:]]}
+            "alpha_deg": [round(float(a), 1) for a in r.params[len(free_bank):]]}
 
 
 def main():
@@ -132,9 +119,9 @@ def main():
                          "free_crossrange_nmi": free.payoff, "plunge_max_ld_R": plunge_R(hot, "max_ld"),
                          "plunge_cl_max_R": plunge_R(hot, "cl_max")})
             if skin == 0.0:  # several starts: the penalty search ends in different places
-                for nodes, abscissa in ((C.ALPHA_TABLE_VELOCITIES_FPS, "velocity"), (TIME_NODES_S, "time")):
+                for times_s, abscissa in ((None, "velocity"), (TIME_NODES_S, "time")):
                     for alpha0 in (alpha_ld, *ALPHA_STARTS_DEG):
-                        jobs.append(((name, abscissa, free.payoff), (hot, free.params, alpha0, nodes, abscissa)))
+                        jobs.append(((name, abscissa, free.payoff), (hot, free.params, alpha0, times_s)))
             print(rows[-1], flush=True)
     with ProcessPoolExecutor(max_workers=2) as pool:
         found = list(pool.map(limited_max_crossrange, [j for _, j in jobs]))

@@ -75,6 +75,22 @@ def main():
     print(f"done in {results['seconds']:.0f} s", flush=True)
 
 
+def outline(points):
+    """The closed outline (down-range, cross-range in nmi) of a left half's points, mirrored to the right."""
+    pts = sorted(points, key=lambda p: p.downrange_nmi)
+    x, y = [p.downrange_nmi for p in pts], [p.crossrange_nmi for p in pts]
+    return x + x[::-1], y + [-v for v in y[::-1]]
+
+
+def finish(fig, ax, xlabel, ylabel, title, name):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    save(fig, DOCS / "figures" / name)
+
+
 def figures(spec, fig22, free, hot, simple):
     fig = Figure(figsize=(7.0, 5.0), layout="constrained")
     ax = fig.add_subplot()
@@ -88,30 +104,18 @@ def figures(spec, fig22, free, hot, simple):
             "s--", color="0.5", label="report (Fig. 22 end points)")
     ax.set_xlim(min(t) - 50, 2_700)
     ax.set_ylim(1_000, 2_200)
-    ax.set_xlabel("Maximum allowable surface temperature (°R)")
-    ax.set_ylabel(CROSSRANGE_LABEL)
-    ax.set_title("Fig. 22: cross-range vs allowable temperature, L/D 1.89, γ₀ = −2°")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    save(fig, DOCS / "figures" / "fig22_crossrange_vs_temperature.png")
+    finish(fig, ax, "Maximum allowable surface temperature (°R)", CROSSRANGE_LABEL,
+           "Fig. 22: cross-range vs allowable temperature, L/D 1.89, γ₀ = −2°", "fig22_crossrange_vs_temperature.png")
 
     fig = Figure(figsize=(8.0, 6.0), layout="constrained")
     ax = fig.add_subplot()
     for fp, style, name in ((free, "o-k", "unconstrained"), (hot, "s--", f"RET ≤ {LIMIT_R:,.0f} °R")):
-        pts = sorted(fp.points, key=lambda p: p.downrange_nmi)
-        x = [p.downrange_nmi for p in pts]
-        y = [p.crossrange_nmi for p in pts]
-        ax.plot(x + x[::-1], y + [-v for v in y[::-1]], style, label=name)
-    pts = sorted(simple.footprint.points, key=lambda p: p.downrange_nmi)
-    x, y = [p.downrange_nmi for p in pts], [p.crossrange_nmi for p in pts]
-    ax.plot(x + x[::-1], y + [-v for v in y[::-1]], "^:", color="tab:red",
+        ax.plot(*outline(fp.points), style, label=name)
+    ax.plot(*outline(simple.footprint.points), "^:", color="tab:red",
             label=f"simple method, RET ≤ {LIMIT_R:,.0f} °R ({simple.trajectories} trajectories)")
-    ax.set_xlabel(DOWNRANGE_LABEL)
-    ax.set_ylabel(CROSSRANGE_LABEL)
-    ax.set_title("Fig. 29: optimal footprints, unconstrained and temperature-constrained (mirrored)")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    save(fig, DOCS / "figures" / "fig29_constrained_footprint.png")
+    finish(fig, ax, DOWNRANGE_LABEL, CROSSRANGE_LABEL,
+           "Fig. 29: optimal footprints, unconstrained and temperature-constrained (mirrored)",
+           "fig29_constrained_footprint.png")
 
     fig = Figure(figsize=(11.0, 4.5), layout="constrained")
     axs = fig.subplots(1, 3)

@@ -54,6 +54,14 @@ def test_alpha_table_moves_alpha_along_the_flight_within_bounds(single_parameter
     assert np.max(np.abs(a - expected)) < 1e-9  # deg: alpha is the table at the flown velocity
 
 
+def test_alpha_table_against_time(single_parameter_spec):
+    times_s, table = (0.0, 300.0, 1_000.0), [40.0, 20.0, 12.5]
+    pr = C.control_problem(single_parameter_spec, controls="bank_alpha", alpha_times_s=times_s)
+    assert pr.names[-3:] == ("alpha_deg_at_time_s_0", "alpha_deg_at_time_s_300", "alpha_deg_at_time_s_1000")
+    h = simulate(pr.controls(pr.base, np.concatenate((C.nominal_bank_deg(1.0), table)))).history
+    assert np.max(np.abs(h["alpha_deg"] - np.interp(h["time_s"], times_s, table))) < 1e-9  # deg
+
+
 def test_bank_alpha_controls_keep_both_tables():
     spec = lod189()
     x = np.concatenate((C.nominal_bank_deg(1.0), [35.0, 30.0, 25.0, 20.0, 15.0]))

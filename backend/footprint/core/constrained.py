@@ -21,7 +21,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from footprint.core.controls import ALPHA_MAX_LD_FLOOR, ALPHA_TABLE_VELOCITY, C_ALPHA_LAW, C_ALPHA_TABLE
+from footprint.core.controls import (
+    ALPHA_MAX_LD_FLOOR,
+    ALPHA_TABLE_TIME,
+    ALPHA_TABLE_VELOCITY,
+    C_ALPHA_LAW,
+    C_ALPHA_TABLE,
+)
 from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
@@ -72,10 +78,12 @@ def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VEL
     return replace(spec, ctrl=np.concatenate((ctrl, [len(v)], v, a)))
 
 
-def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> FlightSpec:
-    """params = 8 bank-table angles (deg, at zeta -15..90) then the alpha-table angles (deg, at velocities_fps)."""
+def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
+                        law=ALPHA_TABLE_VELOCITY) -> FlightSpec:
+    """params = 8 bank-table angles (deg, at zeta -15..90) then the alpha-table angles (deg, at velocities_fps;
+    at times in s when law is ALPHA_TABLE_TIME)."""
     n = len(BANK_TABLE_HEADINGS_DEG)
-    return with_alpha_table(with_bank_table(spec, params[:n]), params[n:], velocities_fps)
+    return with_alpha_table(with_bank_table(spec, params[:n]), params[n:], velocities_fps, law=law)
 
 
 def _bank_controls(spec, params):
@@ -94,13 +102,16 @@ def downrange_target(downrange_nmi, tolerance_nmi=TTOL_DOWNRANGE_NMI) -> Constra
 
 def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank",
                     initial=None, alpha_bounds_deg=ALPHA_BOUNDS_DEG,
-                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> Problem:
-    """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha")."""
+                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, alpha_times_s=None) -> Problem:
+    """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha"), the alpha table against
+    velocity at velocities_fps, or against time at alpha_times_s when given."""
     if controls not in CONTROLS:
         raise ValueError(f"controls {controls!r} not in {CONTROLS}")
     if any(c.quantity.startswith("max_temperature") for c in constraints) and spec.heating is None:
         raise ValueError("a temperature constraint needs a spec with a heating model (heating.ReferenceHeating())")
-    nb, na = len(BANK_TABLE_HEADINGS_DEG), len(velocities_fps)
+    by_time = alpha_times_s is not None
+    nodes = tuple(alpha_times_s if by_time else velocities_fps)
+    nb, na = len(BANK_TABLE_HEADINGS_DEG), len(nodes)
     lower, upper = [BANK_BOUNDS_DEG[0]] * nb, [BANK_BOUNDS_DEG[1]] * nb
     names = tuple(f"bank_deg_at_zeta_{h}" for h in BANK_TABLE_HEADINGS_DEG)
     if controls == "bank":
@@ -109,8 +120,8 @@ def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", co
     else:
         lower += [alpha_bounds_deg[0]] * na
         upper += [alpha_bounds_deg[1]] * na
-        names += tuple(f"alpha_deg_at_velocity_fps_{v:.0f}" for v in velocities_fps)
-        fly = _BankAlpha(tuple(velocities_fps))
+        names += tuple(f"alpha_deg_at_{'time_s' if by_time else 'velocity_fps'}_{v:.0f}" for v in nodes)
+        fly = _BankAlpha(nodes, ALPHA_TABLE_TIME if by_time else ALPHA_TABLE_VELOCITY)
         default = np.concatenate((nominal_bank_deg(1.0), np.full(na, ALPHA_MAX_LD_HYPERSONIC_DEG)))
     return Problem(lower=np.array(lower), upper=np.array(upper), initial=default if initial is None else initial,
                    payoff=payoff, goal=goal, constraints=tuple(constraints), base=spec, controls=fly, names=names,
@@ -133,10 +144,11 @@ class _Flight:
 
 @dataclass(frozen=True)
 class _BankAlpha:
-    velocities_fps: tuple
+    nodes: tuple  # ft/s, or s for the time law
+    law: int = ALPHA_TABLE_VELOCITY
 
     def __call__(self, spec, params):
-        return bank_alpha_controls(spec, params, self.velocities_fps)
+        return bank_alpha_controls(spec, params, self.nodes, self.law)
 
 
 def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> dict:
