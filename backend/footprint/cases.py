@@ -160,17 +160,40 @@ class BankSingleParameter(Strict):
     variable: Literal["zeta", "heading"] = "zeta"
 
 
+TABLE_MAX_NODES = 512  # a collocation optimum re-flown as tables carries one node per mesh point
+
+
 class BankTable(Strict):
+    """Bank (deg) tabulated against ONE abscissa, linear between nodes, held at the ends: the heading laws'
+    steering angle (heading_deg with variable zeta or heading, Section II.5 Fig. 2), or time, velocity or energy."""
+
     law: Literal["table"]
-    heading_deg: list[bounded(-180, 180, "deg")] = Field(min_length=2, max_length=64)
-    bank_deg: list[Bank] = Field(min_length=2, max_length=64)
+    bank_deg: list[Bank] = Field(min_length=2, max_length=TABLE_MAX_NODES)
+    heading_deg: list[bounded(-180, 180, "deg")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    time_s: list[bounded(0, 100_000, "s")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    velocity_fps: list[bounded(0, 40_000, "ft/s")] | None = Field(default=None, min_length=2,
+                                                                   max_length=TABLE_MAX_NODES)
+    energy_ft: list[bounded(0, 1e8, "ft")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
     side: Literal["left", "right"] = "left"
-    variable: Literal["zeta", "heading"] = "zeta"
+    variable: Literal["zeta", "heading"] = "zeta"  # what heading_deg means
 
     @model_validator(mode="after")
     def _table(self):
-        _check_table(self.heading_deg, self.bank_deg, "heading_deg", "bank_deg")
+        name, x = _abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
+        _check_table(x, self.bank_deg, name, "bank_deg")
         return self
+
+    def abscissa(self) -> tuple[str, list]:
+        """(bank_variable of pack_controls, nodes)."""
+        name, x = _abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
+        return (self.variable if name == "heading_deg" else name.rsplit("_", 1)[0]), x
+
+
+def _abscissa(table, names):
+    given = [n for n in names if getattr(table, n) is not None]
+    if len(given) != 1:
+        raise ValueError(f"give exactly one of {', '.join(names)} as the table's abscissa")
+    return given[0], getattr(table, given[0])
 
 
 class BankZeroLift(Strict):
@@ -204,17 +227,21 @@ class AlphaConstant(Strict):
 
 class AlphaTable(Strict):
     law: Literal["table"]
-    alpha_deg: list[Alpha] = Field(min_length=2, max_length=256)
+    alpha_deg: list[Alpha] = Field(min_length=2, max_length=TABLE_MAX_NODES)
     velocity_fps: list[bounded(0, 40_000, "ft/s")] | None = None
     time_s: list[bounded(0, 100_000, "s")] | None = None
+    energy_ft: list[bounded(0, 1e8, "ft")] | None = None  # energy height h + V^2/(2 g0)
 
     @model_validator(mode="after")
     def _table(self):
-        if (self.velocity_fps is None) == (self.time_s is None):
-            raise ValueError("give exactly one of velocity_fps or time_s as the table's abscissa")
-        x = self.velocity_fps if self.velocity_fps is not None else self.time_s
-        _check_table(x, self.alpha_deg, "velocity_fps" if self.velocity_fps is not None else "time_s", "alpha_deg")
+        name, x = _abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
+        _check_table(x, self.alpha_deg, name, "alpha_deg")
         return self
+
+    def abscissa(self) -> tuple[str, list]:
+        """(alpha_table_abscissa of pack_controls, nodes)."""
+        name, x = _abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
+        return name.rsplit("_", 1)[0], x
 
 
 class AlphaLevelFlight(Strict):
@@ -339,7 +366,8 @@ class Case(Strict):
         if isinstance(b, BankTwoParameter):
             kw["sigma_f_deg"] = b.sigma_f_deg
         if isinstance(b, BankTable):
-            kw.update(bank_table=(b.heading_deg, b.bank_deg), mirror=b.side == "right", bank_variable=b.variable)
+            variable, x = b.abscissa()
+            kw.update(bank_table=(x, b.bank_deg), mirror=b.side == "right", bank_variable=variable)
         if isinstance(b, BankConstantAltitude):
             kw.update(turn_deg=b.turn_deg, bank_value=1.0 if b.side == "left" else -1.0)
         start = self.bank_start
@@ -355,10 +383,8 @@ class Case(Strict):
         if isinstance(a, (AlphaLevelFlight, AlphaGammaHold)):
             kw["alpha_before"] = a.before_pullout
         if isinstance(a, AlphaTable):
-            if a.velocity_fps is not None:
-                kw.update(alpha_table=(a.velocity_fps, a.alpha_deg), alpha_table_abscissa="velocity")
-            else:
-                kw.update(alpha_table=(a.time_s, a.alpha_deg), alpha_table_abscissa="time")
+            abscissa, x = a.abscissa()
+            kw.update(alpha_table=(x, a.alpha_deg), alpha_table_abscissa=abscissa)
         return pack_controls(**kw)
 
 

@@ -44,15 +44,25 @@ ALPHA_TABLE_TIME = 4
 ALPHA_LEVEL_FLIGHT = 5
 ALPHA_GAMMA_HOLD = 6
 ALPHA_MAX_LD_FLOOR = 7  # (L/D)max, never below a floor table vs velocity (the temperature-limited law)
+ALPHA_TABLE_ENERGY = 8  # table vs energy height h + V^2/(2 g0), ft
 ALPHA_LAWS = {
     "max_ld": ALPHA_MAX_LD,
     "cl_max": ALPHA_CL_MAX,
     "constant": ALPHA_CONSTANT,
-    "table": ALPHA_TABLE_VELOCITY,  # or ALPHA_TABLE_TIME, by the table's abscissa
+    "table": ALPHA_TABLE_VELOCITY,  # or ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY, by the table's abscissa
     "level_flight": ALPHA_LEVEL_FLIGHT,
     "gamma_hold": ALPHA_GAMMA_HOLD,
     "max_ld_floor": ALPHA_MAX_LD_FLOOR,
 }
+ALPHA_TABLE_BY_ABSCISSA = {"velocity": ALPHA_TABLE_VELOCITY, "time": ALPHA_TABLE_TIME, "energy": ALPHA_TABLE_ENERGY}
+# --- what the heading laws and the bank table are tabulated against (C_BANK_VAR) ---
+VAR_ZETA = 0  # remaining heading change, deg (Section II.6)
+VAR_HEADING = 1  # heading sigma, deg
+VAR_TIME = 2  # s from entry (bank table only)
+VAR_VELOCITY = 3  # earth-relative speed, ft/s (bank table only)
+VAR_ENERGY = 4  # energy height h + V^2/(2 g0), ft (bank table only)
+BANK_VARIABLES = {"zeta": VAR_ZETA, "heading": VAR_HEADING, "time": VAR_TIME, "velocity": VAR_VELOCITY,
+                  "energy": VAR_ENERGY}
 # --- when the bank law takes over (before it the bank is zero) ---
 START_ENTRY = 0
 START_PULLOUT = 1
@@ -64,7 +74,7 @@ C_BANK_VALUE = 1  # bank_deg (constant, staged), K (two/single parameter), +1/-1
 C_BANK_LIMIT = 2  # deg; NO_LIMIT when none
 C_SIGMA_F = 3  # deg, two-parameter final heading
 C_TURN = 4  # deg, staged / constant-altitude heading change
-C_BANK_VAR = 5  # 0: zeta (remaining heading change), 1: heading sigma
+C_BANK_VAR = 5  # one of BANK_VARIABLES
 C_MIRROR = 6  # 1: right-hand version of the law
 C_START = 7
 C_START_ALT = 8  # ft
@@ -89,13 +99,13 @@ def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=
     ctrl[C_BANK_LIMIT] = NO_LIMIT if bank_limit_deg is None else bank_limit_deg
     ctrl[C_SIGMA_F] = sigma_f_deg
     ctrl[C_TURN] = turn_deg
-    ctrl[C_BANK_VAR] = 0.0 if bank_variable == "zeta" else 1.0
+    ctrl[C_BANK_VAR] = BANK_VARIABLES[bank_variable]
     ctrl[C_MIRROR] = 1.0 if mirror else 0.0
     ctrl[C_START] = {"entry": START_ENTRY, "pullout": START_PULLOUT, "altitude": START_ALTITUDE}[bank_start]
     ctrl[C_START_ALT] = bank_start_altitude_ft
     law = ALPHA_LAWS[alpha_law]
-    if alpha_law == "table" and alpha_table_abscissa == "time":
-        law = ALPHA_TABLE_TIME
+    if alpha_law == "table":
+        law = ALPHA_TABLE_BY_ABSCISSA[alpha_table_abscissa]
     ctrl[C_ALPHA_LAW] = law
     ctrl[C_ALPHA_VALUE] = alpha_value
     ctrl[C_ALPHA_BEFORE] = ALPHA_LAWS[alpha_before]
@@ -139,16 +149,31 @@ def wrap_deg(a):
 
 @njit
 def steering_angle_deg(ctrl, zeta_deg, heading_deg):
-    """The angle the heading laws steer on, in the law's own (left-hand) sense."""
-    a = zeta_deg if ctrl[C_BANK_VAR] == 0.0 else heading_deg
+    """The angle the heading laws steer on, in the law's own (left-hand) sense (the heading for a bank table
+    against time, velocity or energy: the staged and constant-altitude turns still measure their turn on it)."""
+    a = zeta_deg if ctrl[C_BANK_VAR] == VAR_ZETA else heading_deg
     if ctrl[C_MIRROR] != 0.0:
         a = 180.0 - a
     return wrap_deg(a)
 
 
 @njit
-def bank_from_law(ctrl, mode_active, mode_done, angle_deg):
-    """Bank angle (deg) of the laws that depend on the steering angle only.
+def bank_abscissa(ctrl, steer_deg, time_s, velocity_fps, energy_ft):
+    """The value the bank table is read at: the steering angle, or time, velocity or energy (not mirrored)."""
+    var = ctrl[C_BANK_VAR]
+    if var == VAR_TIME:
+        return time_s
+    if var == VAR_VELOCITY:
+        return velocity_fps
+    if var == VAR_ENERGY:
+        return energy_ft
+    return steer_deg
+
+
+@njit
+def bank_from_law(ctrl, mode_active, mode_done, angle_deg, table_x=math.nan):
+    """Bank angle (deg) of the laws that depend on the steering angle only (and of the bank table, read at
+    table_x when it is tabulated against time, velocity or energy).
 
     BANK_CONSTANT_ALTITUDE and BANK_ZERO_LIFT are resolved by the dynamics (they need the forces).
     """
@@ -165,7 +190,8 @@ def bank_from_law(ctrl, mode_active, mode_done, angle_deg):
     elif law == BANK_SINGLE_PARAMETER:
         bank = value * angle_deg  # Section II.5-II.6, phi_B = K sigma (K zeta), Fig. 8
     elif law == BANK_TABLE:
-        bank = table_interp(ctrl, ctrl[C_BANK_TABLE], angle_deg)  # Section II.5, Fig. 2: linear in heading
+        x = angle_deg if ctrl[C_BANK_VAR] <= VAR_HEADING else table_x
+        bank = table_interp(ctrl, ctrl[C_BANK_TABLE], x)  # Section II.5, Fig. 2: linear in heading (or time...)
     else:
         bank = 0.0
     limit = min(ctrl[C_BANK_LIMIT], 180.0)  # past 180 deg the wings roll on through inverted: no law means that

@@ -20,6 +20,7 @@ from footprint.core.controls import (
     ALPHA_GAMMA_HOLD,
     ALPHA_LEVEL_FLIGHT,
     ALPHA_MAX_LD_FLOOR,
+    ALPHA_TABLE_ENERGY,
     ALPHA_TABLE_TIME,
     ALPHA_TABLE_VELOCITY,
     BANK_CONSTANT_ALTITUDE,
@@ -31,6 +32,7 @@ from footprint.core.controls import (
     C_BANK_LAW,
     C_BANK_VALUE,
     C_TAU,
+    bank_abscissa,
     bank_from_law,
     steering_angle_deg,
     table_interp,
@@ -76,6 +78,12 @@ M_PULLOUT_ALT = 7
 M_TURN_DONE_DEG = 8  # heading change (steering angle) when a staged / constant-altitude turn ended
 M_SIZE = 9
 
+
+
+@njit
+def energy_height_ft(altitude_ft, speed_fps, g0_ft_s2):
+    """Specific energy over g0, h + V^2/(2 g0) (ft): the energy abscissa of the control tables."""
+    return altitude_ft + 0.5 * speed_fps * speed_fps / g0_ft_s2
 
 
 @njit
@@ -170,6 +178,8 @@ def evaluate(t, s, p, aero, ctrl, mode):
         alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], v)
     elif alpha_law == ALPHA_TABLE_TIME:
         alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], t)
+    elif alpha_law == ALPHA_TABLE_ENERGY:
+        alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], energy_height_ft(alt, v, p[P_G0]))
     elif alpha_law == ALPHA_MAX_LD_FLOOR:  # heating-limited footprints (constrained.py): raised where hot
         alpha = max(_aero.alpha_max_ld_deg(aero, mach, alt), table_interp(ctrl, ctrl[C_ALPHA_TABLE], v))
     elif (alpha_law == ALPHA_LEVEL_FLIGHT or alpha_law == ALPHA_GAMMA_HOLD) and not pulled_out:
@@ -188,7 +198,8 @@ def evaluate(t, s, p, aero, ctrl, mode):
         if mode[M_BANK_ACTIVE] != 0.0 and mode[M_BANK_DONE] == 0.0 and need_ratio < 1.0:
             bank = math.degrees(math.acos(max(need_ratio, 0.0))) * ctrl[C_BANK_VALUE]
     else:
-        bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer)
+        table_x = bank_abscissa(ctrl, steer, t, v, energy_height_ft(alt, v, p[P_G0]))
+        bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer, table_x)
     if holds_with_alpha(ctrl, mode):
         # Section II.7: reduce lift so that lift plus centrifugal force balance weight, until (L/D)max
         cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
