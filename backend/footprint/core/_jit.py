@@ -4,11 +4,14 @@ Set FOOTPRINT_NO_JIT=1 to run the same kernels as plain Python (slow; for debugg
 Compiled functions are cached on disk so that a new process starts in well under a second once the cache
 is warm. numba keys a cached function on its own file only, not on the files of the functions it calls
 and inlines; so the cache lives in a folder named for a hash of every core source file, and any edit to
-the core starts a fresh one ($XDG_CACHE_HOME/footprint, or NUMBA_CACHE_DIR when set).
+the core starts a fresh one ($XDG_CACHE_HOME/footprint, or NUMBA_CACHE_DIR when set). Modules that import
+CasADi (the collocation transcription) hold no compiled code and no constant that compiled code reads, so
+they are left out of the hash.
 """
 
 import hashlib
 import os
+import re
 from pathlib import Path
 
 NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
@@ -17,6 +20,11 @@ NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # reassociates depends on what it inlined, so a function compiled afresh and its cached copy rounded
 # differently, and an optimization run on a cold cache took another path than the same run on a warm one.
 FASTMATH = {"contract", "arcp", "nsz"}
+
+def python_function(f):
+    """The plain Python function behind a compiled one (for callers that pass symbolic values)."""
+    return getattr(f, "py_func", f)
+
 
 if NO_JIT:
 
@@ -31,7 +39,9 @@ else:
     def _cache_dir() -> str:
         digest = hashlib.sha256()
         for source in sorted(Path(__file__).parent.glob("*.py")):
-            digest.update(source.read_bytes())
+            text = source.read_bytes()
+            if not re.search(rb"^import casadi", text, re.MULTILINE):
+                digest.update(text)
         root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint"
         return str(root / f"numba-{numba.__version__}-{digest.hexdigest()[:16]}")
 

@@ -13,16 +13,11 @@ from footprint.core._jit import njit
 
 
 @njit
-def gravity_ecef(x_ft, y_ft, z_ft, mu_ft3_s2, re_ft, j, h, k, oblate):
-    """Gravitational acceleration (ft/s^2) at an earth-fixed position; z along the north pole."""
-    r2 = x_ft * x_ft + y_ft * y_ft + z_ft * z_ft
-    r = math.sqrt(r2)
-    g0 = mu_ft3_s2 / r2
-    if not oblate:
-        return -g0 * x_ft / r, -g0 * y_ft / r, -g0 * z_ft / r
-    s = z_ft / r  # sine of the geocentric latitude phi_L
+def zonal_down_north(g0, s, q, j, h, k):
+    """(g_Zg, g_Xg / cos(phi_L)): App. A eq. (A10), downward and northward over cos(latitude), at
+    g0 = mu/r^2, s = sin(phi_L) (geocentric), q = R_e/r. Plain arithmetic, so the collocation's CasADi model
+    (core.model_casadi) calls the same lines through `zonal_down_north.py_func`."""
     s2 = s * s
-    q = re_ft / r
     q2 = q * q
     # App. A eq. (A10), downward component g_Zg with P2, P3, P4
     p2 = 1.0 - 3.0 * s2
@@ -35,6 +30,19 @@ def gravity_ecef(x_ft, y_ft, z_ft, mu_ft3_s2, re_ft, j, h, k, oblate):
     g_north_over_cos = g0 * (
         -2.0 * j * q2 * s + 0.6 * h * q2 * q * (1.0 - 5.0 * s2) + (2.0 * k / 3.0) * q2 * q2 * s * (-3.0 + 7.0 * s2)
     )
+    return g_down, g_north_over_cos
+
+
+@njit
+def gravity_ecef(x_ft, y_ft, z_ft, mu_ft3_s2, re_ft, j, h, k, oblate):
+    """Gravitational acceleration (ft/s^2) at an earth-fixed position; z along the north pole."""
+    r2 = x_ft * x_ft + y_ft * y_ft + z_ft * z_ft
+    r = math.sqrt(r2)
+    g0 = mu_ft3_s2 / r2
+    if not oblate:
+        return -g0 * x_ft / r, -g0 * y_ft / r, -g0 * z_ft / r
+    s = z_ft / r  # sine of the geocentric latitude phi_L
+    g_down, g_north_over_cos = zonal_down_north(g0, s, re_ft / r, j, h, k)
     ex, ey, ez = x_ft / r, y_ft / r, z_ft / r
     gx = -g_down * ex + g_north_over_cos * (-s * ex)
     gy = -g_down * ey + g_north_over_cos * (-s * ey)

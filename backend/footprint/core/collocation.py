@@ -1,0 +1,569 @@
+"""True optimal trajectories: the flight model as a nonlinear program, solved by IPOPT through CasADi.
+
+Transcription: direct collocation on Legendre-Gauss-Radau points (Radau IIA, `degree` points per mesh
+interval, order 2 degree - 1; Betts, Practical Methods for Optimal Control, 2nd ed., sec. 4.5; Garg et al.,
+Automatica 46, 2010). States (core.model_casadi: r, longitude, geocentric latitude, V, gamma, psi, and the
+heat load when asked for) at every collocation point; alpha and bank at the mesh nodes, LINEAR in time
+between them, so the optimum is exactly the time tables that `fly` takes (bank and alpha tables against
+time): the re-flight by core.trajectory.simulate checks the transcription, not an interpolation of ours.
+Free final time; the stop altitude is the terminal condition (and a floor along the way, so that the
+re-flight does not stop early); terminal constraints on summary quantities; path constraints on the
+radiation-equilibrium temperature, heat rate, dynamic pressure and load factor at every collocation point.
+
+Every optimum is flown again (`simulate`, the compiled integrator, the tables' own linear interpolation and
+the integrator's linear tables and atmosphere) and the mesh is doubled until the flown end state agrees:
+final latitude and longitude within AGREE_DEG, down-range within AGREE_DOWNRANGE_REL.
+Failure is an answer: a result says "optimal", "infeasible" or "not_converged" with the largest constraint
+violation and keeps the last iterate.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import casadi as ca
+import numpy as np
+
+from footprint.core import constants as c
+from footprint.core.controls import pack_controls
+from footprint.core.frames import ecef_from_geodetic, flight_angles
+from footprint.core.model_casadi import FlightModel, geodetic
+from footprint.core.optimize import Constraint
+from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame
+from footprint.core.trajectory import FlightSpec, Trajectory, initial_state, pack_parameters, simulate
+
+TERMINAL = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
+            "final_gamma_deg", "final_heading_deg", "flight_time_s", "final_energy_ft", "heat_load_btu_ft2")
+PATH = ("max_temperature_R", "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "max_load_factor")
+QUANTITIES = TERMINAL + PATH
+# a typical size of each quantity: objective and constraints enter the NLP divided by it
+SCALE = {"crossrange_nmi": 1e3, "downrange_nmi": 1e3, "final_latitude_deg": 10.0, "final_longitude_deg": 10.0,
+         "final_velocity_fps": 1e3, "final_gamma_deg": 1.0, "final_heading_deg": 10.0, "flight_time_s": 1e3,
+         "final_energy_ft": 1e5, "heat_load_btu_ft2": 1e5, "max_temperature_R": 1e3,
+         "max_heat_rate_btu_ft2_s": 100.0, "max_dynamic_pressure_psf": 100.0, "max_load_factor": 1.0}
+AGREE_DEG = 0.01  # issue 12: flown final latitude and longitude within 0.01 deg of the NLP's
+AGREE_DOWNRANGE_REL = 1e-3  # and down-range within 0.1 %
+# state scales: r = R_e + H_SCALE x0, V = V_SCALE x3 (angles in rad); time T_SCALE; alpha, bank in these degrees
+H_SCALE_FT, V_SCALE_FPS, T_SCALE_S = 1e5, 1e4, 1e3
+ALPHA_SCALE_DEG, BANK_SCALE_DEG = 10.0, 45.0
+# the tables' corners are rounded over this fraction of their shortest interval, stage by stage, each stage
+# started from the last: wide corners converge from a rough guess, narrow ones are the integrator's tables.
+# Measured on the L/D 1.89 maximum cross-range: 0.2 re-flies within 0.01 deg, 0.05 within 0.0025 deg; IPOPT
+# needs thousands of iterations at 0.02 and fails at 0.01 (the corners' curvature grows as 1/width).
+SMOOTHING_STAGES = (0.2, 0.05)
+STATUS_OF_IPOPT = {"Solve_Succeeded": "optimal", "Solved_To_Acceptable_Level": "optimal",
+                   "Infeasible_Problem_Detected": "infeasible"}
+
+
+class CollocationError(ValueError):
+    """A problem the transcription cannot pose (one line naming the field)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """An optimal-control problem on the flight model of `base` (its vehicle, planet, entry, stop altitude,
+    heating model; its control laws only serve as the default initial guess).
+
+    objective: ((quantity, weight), ...), maximized or minimized as `goal`; constraints: optimize.Constraint
+    (equals: within +- tolerance/2, 0 by default; at_most / at_least: exactly); bounds and rate limits on
+    the controls in deg and deg/s."""
+
+    base: FlightSpec
+    objective: tuple = (("crossrange_nmi", 1.0),)
+    goal: str = "max"
+    constraints: tuple = ()
+    alpha_bounds_deg: tuple | None = None  # default: the vehicle's valid alpha range
+    bank_bounds_deg: tuple = (-180.0, 180.0)
+    alpha_rate_deg_s: float | None = None
+    bank_rate_deg_s: float | None = None
+    intervals: int = 100
+    degree: int = 3
+    max_intervals: int = 400  # the mesh is doubled up to this many intervals until the re-flight agrees
+    max_iterations: int = 3000
+    tolerance: float = 1e-8  # IPOPT's tol (scaled NLP)
+    # a small penalty on the controls' rates (scaled, per unit of the objective): it removes the singular
+    # directions of the controls where the air is too thin to act (the plunge from 364,800 ft) and does not
+    # move an optimum by a measurable amount (the tests hold Betts' published optima to 0.01 deg with it)
+    smoothing_weight: float = 1e-4
+
+
+@dataclass
+class Guess:
+    """States (n x 6: r ft, lon rad, lat_c rad, V ft/s, gamma rad, psi rad) and controls (n x 2: alpha, bank deg)
+    at times tau * final_time_s, tau in [0, 1] increasing; optional heat load (n)."""
+
+    tau: np.ndarray
+    states: np.ndarray
+    controls: np.ndarray
+    final_time_s: float
+    downrange_nmi: float
+    heat_load: np.ndarray | None = None
+
+    def at(self, tau):
+        s = np.column_stack([np.interp(tau, self.tau, self.states[:, i]) for i in range(6)])
+        u = np.column_stack([np.interp(tau, self.tau, self.controls[:, i]) for i in range(2)])
+        q = None if self.heat_load is None else np.interp(tau, self.tau, self.heat_load)
+        return s, u, q
+
+
+@dataclass
+class Result:
+    status: str  # "optimal" | "infeasible" | "not_converged"
+    message: str  # IPOPT's return status, or the largest violation
+    objective: float  # in the quantities' own units (weighted sum), the NLP's value
+    summary: dict  # the NLP's end state and path maxima, trajectory-summary keys
+    history: dict  # at the collocation points: time_s, altitude_ft, ..., alpha_deg, bank_deg
+    controls: dict  # the node tables: time_s, alpha_deg, bank_deg
+    refly: dict | None  # summary of the re-flight by simulate()
+    agreement: dict | None  # NLP against re-flight
+    max_violation: float  # largest constraint violation of the (scaled) NLP at the returned point
+    iterations: int
+    seconds: float
+    intervals: int
+    guess: Guess = field(repr=False, default=None)
+    solver_state: dict = field(repr=False, default=None)  # x, lam_x, lam_g for a warm start
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "optimal"
+
+    def one_line(self) -> str:
+        if self.ok:
+            return "optimal"
+        return f"{self.status.replace('_', ' ')}: {self.message}"
+
+    def to_dict(self) -> dict:
+        arrays = {k: v.tolist() for k, v in self.history.items()}
+        return {"method": "collocation", "status": self.status, "message": self.message,
+                "feasible": self.ok, "objective": self.objective, "summary": self.summary,
+                "controls": {k: v.tolist() for k, v in self.controls.items()}, "history": arrays,
+                "refly": self.refly, "agreement": self.agreement, "max_violation": self.max_violation,
+                "iterations": self.iterations, "seconds": self.seconds, "intervals": self.intervals}
+
+
+# ----------------------------------------------------------------------------------------------- guesses
+def spherical_state(x, y, z, vx, vy, vz):
+    """(r, lon, lat_c, V, gamma, psi) of an earth-fixed cartesian state (core.frames conventions)."""
+    v, gamma, psi = flight_angles(x, y, z, vx, vy, vz)
+    return np.array([math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), v,
+                     gamma, psi])
+
+
+def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
+    """A guess from a flown trajectory (its histories, geodetic latitude turned geocentric)."""
+    h = trajectory.history
+    p = pack_parameters(spec)
+    pl = spec.planet
+    rows = []
+    for lat, lon, alt in zip(h["latitude_deg"], h["longitude_deg"], h["altitude_ft"]):
+        x, y, z = ecef_from_geodetic(math.radians(lat), math.radians(lon), alt, pl.radius_ft, pl.polar_radius_ft,
+                                     pl.oblate)
+        rows.append((math.sqrt(x * x + y * y + z * z), math.atan2(z, math.hypot(x, y))))
+    r, lat_c = np.array(rows).T
+    t = np.asarray(h["time_s"], float)
+    keep = np.concatenate(([True], np.diff(t) > 0))  # event rows repeat their time
+    states = np.column_stack([r, np.unwrap(np.radians(h["longitude_deg"])), lat_c, h["velocity_fps"],
+                              np.radians(h["gamma_deg"]), np.unwrap(np.radians(h["heading_deg"]))])[keep]
+    s0 = spherical_state(*initial_state(spec, p))
+    states[0] = s0  # exactly the entry state
+    states[:, 1] += s0[1] - states[0, 1]
+    states[:, 5] += s0[5] - states[0, 5]
+    controls = np.column_stack([h["alpha_deg"], h["bank_deg"]])[keep]
+    return Guess(tau=t[keep] / t[-1], states=states, controls=controls, final_time_s=float(t[-1]),
+                 downrange_nmi=float(trajectory.summary["downrange_nmi"]))
+
+
+# ------------------------------------------------------------------------------------------ transcription
+def _radau(degree):
+    """Radau IIA points tau_1..tau_d (tau_d = 1) with tau_0 = 0, and D[j, r] = l_r'(tau_j), j = 1..d."""
+    tau = np.concatenate(([0.0], np.asarray(ca.collocation_points(degree, "radau"))))
+    d = np.zeros((degree, degree + 1))
+    for r in range(degree + 1):
+        others = np.delete(tau, r)
+        poly = np.poly1d(others, r=True) / np.prod(tau[r] - others)
+        d[:, r] = np.polyder(poly)(tau[1:])
+    return tau, d
+
+
+class Transcription:
+    """The NLP of one Problem on a uniform mesh of `intervals`; solve() may be called many times with other
+    objective weights, constraint targets and guesses (the continuation of an optimal footprint)."""
+
+    def __init__(self, problem: Problem, intervals: int | None = None):
+        self.problem = pr = problem
+        self.n = n = intervals or pr.intervals
+        self.d = d = pr.degree
+        spec = pr.base
+        _check(pr)
+        self.model = FlightModel(spec)
+        p = pack_parameters(spec)
+        self.x0 = spherical_state(*initial_state(spec, p))
+        self.entry = spec.entry
+        tau_c, dmat = _radau(d)
+        self.tau = np.concatenate([[0.0]] + [(k + tau_c[1:]) / n for k in range(n)])  # all points, in [0, 1]
+        m = n * d  # collocation points (point 0 is the entry)
+        self.nq = 1 if self._needs_heat_load() else 0
+        ns = 6 + self.nq
+        self.ns = ns
+        # decision variables, scaled: states (ns x (m+1)), controls at nodes (2 x (n+1)), final time
+        xs = ca.MX.sym("x", ns, m + 1)
+        us = ca.MX.sym("u", 2, n + 1)
+        ts = ca.MX.sym("t")
+        self._shapes = (xs.shape, us.shape)
+        w = ca.vertcat(ca.vec(xs), ca.vec(us), ts)
+        weights = ca.MX.sym("w", len(pr.objective))
+        theta_ref = ca.MX.sym("theta_ref")  # down-range angle of the guess: keeps atan2 away from its cut
+        smoothing = ca.MX.sym("smoothing")  # SMOOTHING_STAGES
+        par = ca.vertcat(weights, theta_ref, smoothing)
+        # linear controls: the values at the collocation points are weights of the node values
+        lin = np.zeros((n + 1, m))
+        for k in range(n):
+            for j in range(d):
+                lin[k, k * d + j] = 1.0 - tau_c[j + 1]
+                lin[k + 1, k * d + j] = tau_c[j + 1]
+        # collocation derivative: column (k, j) of xs @ dbig is sum_r D[j, r] x_{k, r}
+        dbig = np.zeros((m + 1, m))
+        for k in range(n):
+            for j in range(d):
+                dbig[k * d:k * d + d + 1, k * d + j] = dmat[j]
+        point = self._point_function()
+        u_all = ca.horzcat(us[:, 0], ca.mtimes(us, ca.sparsify(ca.DM(lin))))  # controls at every point, entry included
+        rates, path = point.map(m + 1)(xs, u_all, smoothing)
+        rates = rates[:, 1:]
+        t_f = ts * T_SCALE_S
+        h = 1.0 / n
+        defects = ca.mtimes(xs, ca.sparsify(ca.DM(dbig))) - h * t_f * rates
+        g, self._groups = [], []
+
+        def add(name, expr, lo, hi):
+            expr = ca.vec(expr)
+            g.append(expr)
+            self._groups.append((name, expr.shape[0], np.broadcast_to(lo, expr.shape[0]).astype(float),
+                                 np.broadcast_to(hi, expr.shape[0]).astype(float)))
+
+        add("collocation defects", defects, 0.0, 0.0)
+        # altitude: a floor at the stop altitude along the way, equal to it at the end
+        alt = path[0, :]
+        stop_ft = spec.stop.altitude_ft
+        add("altitude above the stop altitude", (alt[1:-1] - stop_ft) / H_SCALE_FT, 0.0, np.inf)
+        add("final altitude", (alt[-1] - stop_ft) / H_SCALE_FT, 0.0, 0.0)
+        self._path_rows = {}
+        for con in pr.constraints:
+            if con.quantity in PATH:
+                expr = self._path_expression(con.quantity, con.target, path, smoothing)
+                add(con.quantity, expr, -np.inf, 0.0)
+        final = self._terminal(xs[:, -1], us[:, -1], t_f, theta_ref)
+        self._final = ca.Function("final", [w, par], [ca.vertcat(*[final[q] for q in TERMINAL if q in final])])
+        self._final_names = [q for q in TERMINAL if q in final]
+        for con in pr.constraints:
+            if con.quantity in TERMINAL:
+                lo, hi = _band(con)
+                sc = SCALE[con.quantity]
+                add(con.quantity, final[con.quantity] / sc, lo / sc, hi / sc)
+        for i, rate in ((0, pr.alpha_rate_deg_s), (1, pr.bank_rate_deg_s)):
+            if rate is not None:
+                scale = ALPHA_SCALE_DEG if i == 0 else BANK_SCALE_DEG
+                du = (us[i, 1:] - us[i, :-1]) * scale
+                add(("alpha" if i == 0 else "bank") + " rate", ca.horzcat(du - rate * h * t_f, -du - rate * h * t_f),
+                    -np.inf, 0.0)
+        objective = sum(weights[i] * final[q] / SCALE[q] for i, (q, _) in enumerate(pr.objective))
+        f = -objective if pr.goal == "max" else objective
+        du = (us[:, 1:] - us[:, :-1]) * n
+        f = f + pr.smoothing_weight * ca.sumsqr(du) / n ** 1
+        self._g = ca.vertcat(*g)
+        self.lbg = np.concatenate([grp[2] for grp in self._groups])
+        self.ubg = np.concatenate([grp[3] for grp in self._groups])
+        self._bounds(ns, m, n)
+        self._outputs = ca.Function("outputs", [w, par], [xs, us, t_f, path])
+        opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": pr.tolerance,
+                "ipopt.max_iter": pr.max_iterations, "ipopt.mu_strategy": "adaptive",
+                "ipopt.linear_solver": "mumps", "expand": True}
+        self._nlp, self._opts = {"x": w, "f": f, "g": self._g, "p": par}, opts
+        self.solver = ca.nlpsol("collocation", "ipopt", self._nlp, opts)
+        self._warm_solver = None
+        self._violation = ca.Function("g", [w, par], [self._g])
+
+    # -- pieces ------------------------------------------------------------------------------------------
+    def _needs_heat_load(self):
+        pr = self.problem
+        return any(q == "heat_load_btu_ft2" for q, _ in pr.objective) or \
+            any(con.quantity == "heat_load_btu_ft2" for con in pr.constraints)
+
+    def _point_function(self):
+        """(scaled state, scaled controls) -> (scaled rates, path quantities [altitude, T margin, q, qbar, n])."""
+        xs = ca.SX.sym("x", self.ns)
+        us = ca.SX.sym("u", 2)
+        smoothing = ca.SX.sym("smoothing")
+        state = ca.vertcat(self.problem.base.planet.radius_ft + H_SCALE_FT * xs[0],
+                           xs[1], xs[2], V_SCALE_FPS * xs[3], xs[4], xs[5])
+        alpha, bank = ALPHA_SCALE_DEG * us[0], BANK_SCALE_DEG * us[1]
+        pt = self.model.point(state, alpha, bank, smoothing)
+        r = pt["rates"]
+        rates = [r[0] / H_SCALE_FT, r[1], r[2], r[3] / V_SCALE_FPS, r[4], r[5]]
+        heat = self.model.heating
+        path = [pt["altitude_ft"], pt["q_psf"], pt["load_factor"], pt["rho"], pt["t_inf"], state[3], alpha]
+        if self.nq:
+            if heat is None:
+                raise CollocationError("heating: heat_load_btu_ft2 needs a heating model in the case")
+            rates.append(heat.heat_rate(pt["rho"], state[3], pt["t_inf"], alpha) / SCALE["heat_load_btu_ft2"])
+        return ca.Function("point", [xs, us, smoothing], [ca.vertcat(*rates), ca.vertcat(*path)])
+
+    def _path_expression(self, quantity, limit, path, smoothing):
+        """<= 0 where the path constraint holds, at every collocation point (row vector)."""
+        heat = self.model.heating
+        qbar, load, rho, t_inf, v, alpha = (path[i, :] for i in range(1, 7))
+        if quantity == "max_dynamic_pressure_psf":
+            return (qbar - limit) / SCALE[quantity]
+        if quantity == "max_load_factor":
+            return load - limit
+        if heat is None:
+            raise CollocationError(f"constraints.{quantity}: needs a heating model in the case")
+        if quantity == "max_temperature_R":
+            return heat.temperature_margin(rho, v, t_inf, alpha, limit, smoothing)
+        return heat.heat_rate(rho, v, t_inf, alpha) / limit - 1.0
+
+    def _terminal(self, xf, uf, t_f, theta_ref):
+        """Summary quantities of the final point (CasADi expressions in their units)."""
+        pm = self.model.planet
+        r = self.problem.base.planet.radius_ft + H_SCALE_FT * xf[0]
+        lon, lat_c, v, gam, psi = xf[1], xf[2], V_SCALE_FPS * xf[3], xf[4], xf[5]
+        lat, alt = geodetic(pm, r, lat_c)
+        e = self.entry
+        p0, d0, pole = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
+        pt = ca.vertcat(ca.cos(lat) * ca.cos(lon), ca.cos(lat) * ca.sin(lon), ca.sin(lat))
+        # eqs. (8)-(11) as core.ranges, the down-range angle measured from the guess's (continuous past 180 deg)
+        a_p, a_d = ca.dot(pt, ca.DM(p0)), ca.dot(pt, ca.DM(d0))
+        along_ref = ca.cos(theta_ref) * a_p + ca.sin(theta_ref) * a_d
+        across_ref = -ca.sin(theta_ref) * a_p + ca.cos(theta_ref) * a_d
+        down = MEAN_RADIUS_NMI * (theta_ref + ca.atan2(across_ref, along_ref))
+        cross = MEAN_RADIUS_NMI * ca.atan2(ca.dot(pt, ca.DM(pole)), ca.sqrt(a_p * a_p + a_d * a_d))
+        out = {"crossrange_nmi": cross, "downrange_nmi": down, "final_latitude_deg": lat * (180 / np.pi),
+               "final_longitude_deg": lon * (180 / np.pi), "final_velocity_fps": v,
+               "final_gamma_deg": gam * (180 / np.pi), "final_heading_deg": psi * (180 / np.pi),
+               "flight_time_s": t_f, "final_energy_ft": alt + 0.5 * v * v / c.G0_FT_S2}
+        if self.nq:
+            out["heat_load_btu_ft2"] = xf[6] * SCALE["heat_load_btu_ft2"]
+        return out
+
+    def _bounds(self, ns, m, n):
+        pr = self.problem
+        lo_a, hi_a = pr.alpha_bounds_deg or self.model.aero.alpha_range_deg
+        lo_b, hi_b = pr.bank_bounds_deg
+        x_lo = np.tile(np.array([-0.5, -np.inf, -np.pi / 2 + 1e-3, 1e-3, -np.pi / 2 + 1e-3, -np.inf] + [-np.inf] * self.nq)
+                       [:, None], (1, m + 1))
+        x_hi = np.tile(np.array([np.inf, np.inf, np.pi / 2 - 1e-3, np.inf, np.pi / 2 - 1e-3, np.inf] + [np.inf] * self.nq)
+                       [:, None], (1, m + 1))
+        x_first = self._scaled_entry()
+        x_lo[:, 0] = x_hi[:, 0] = x_first
+        u_lo = np.tile(np.array([lo_a / ALPHA_SCALE_DEG, lo_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
+        u_hi = np.tile(np.array([hi_a / ALPHA_SCALE_DEG, hi_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
+        self.lbx = np.concatenate([x_lo.ravel(order="F"), u_lo.ravel(order="F"), [1e-3]])
+        self.ubx = np.concatenate([x_hi.ravel(order="F"), u_hi.ravel(order="F"), [1e3]])
+
+    def _scaled_entry(self):
+        s = self.x0
+        return np.array([(s[0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[1], s[2], s[3] / V_SCALE_FPS,
+                         s[4], s[5]] + [0.0] * self.nq)
+
+    def _scaled_guess(self, guess: Guess):
+        s, u, q = guess.at(self.tau)
+        xs = np.column_stack([(s[:, 0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[:, 1], s[:, 2],
+                              s[:, 3] / V_SCALE_FPS, s[:, 4], s[:, 5]])
+        if self.nq:
+            xs = np.column_stack([xs, (q if q is not None else np.zeros(len(self.tau))) / SCALE["heat_load_btu_ft2"]])
+        xs[0] = self._scaled_entry()
+        nodes = self.tau[::self.d]
+        _, un, _ = guess.at(nodes)
+        lo_a, hi_a = self.problem.alpha_bounds_deg or self.model.aero.alpha_range_deg
+        lo_b, hi_b = self.problem.bank_bounds_deg
+        us = np.column_stack([np.clip(un[:, 0], lo_a, hi_a) / ALPHA_SCALE_DEG,
+                              np.clip(un[:, 1], lo_b, hi_b) / BANK_SCALE_DEG])
+        return np.concatenate([xs.T.ravel(order="F"), us.T.ravel(order="F"), [guess.final_time_s / T_SCALE_S]])
+
+    # -- solving -----------------------------------------------------------------------------------------
+    def solve(self, guess: Guess, *, weights=None, constraint_targets=None, warm: dict | None = None,
+              stages=None) -> Result:
+        """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
+
+        weights: one per objective term (default: the problem's); constraint_targets: {quantity: (lo, hi)} to
+        replace terminal constraint bands without rebuilding; stages: the smoothing of the tables, each stage
+        started from the last (default SMOOTHING_STAGES, the last one alone from a warm start; one stage
+        without tables)."""
+        pr = self.problem
+        wts = np.array([wt for _, wt in pr.objective] if weights is None else weights, float)
+        lbg, ubg = self.lbg.copy(), self.ubg.copy()
+        offset = 0
+        for name, size, _, _ in self._groups:
+            if constraint_targets and name in constraint_targets:
+                lo, hi = constraint_targets[name]
+                lbg[offset:offset + size] = lo / SCALE[name]
+                ubg[offset:offset + size] = hi / SCALE[name]
+            offset += size
+        if stages is None:
+            stages = SMOOTHING_STAGES if warm is None else SMOOTHING_STAGES[-1:]
+        if not self.model.smoothed:
+            stages = stages[-1:]
+        seconds, iterations = 0.0, 0
+        for smoothing in stages:
+            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing]])
+            args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
+            solver = self.solver
+            if warm is not None:
+                args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
+                solver = self._warm()
+            else:
+                args["x0"] = self._scaled_guess(guess)
+            t0 = time.perf_counter()
+            sol = solver(**args)
+            seconds += time.perf_counter() - t0
+            stats = solver.stats()
+            iterations += int(stats["iter_count"])
+            warm = {"x": np.asarray(sol["x"]).ravel(), "lam_x": np.asarray(sol["lam_x"]).ravel(),
+                    "lam_g": np.asarray(sol["lam_g"]).ravel()}
+        x = warm["x"]
+        gval = np.asarray(self._violation(x, par)).ravel()
+        viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
+        status = STATUS_OF_IPOPT.get(stats["return_status"], "not_converged")
+        message = stats["return_status"]
+        if status != "optimal":
+            message = f"{stats['return_status']}; largest violation {self._worst(viol)}"
+        result = self._result(x, par, status, message, float(viol.max(initial=0.0)), iterations, seconds)
+        result.solver_state = warm
+        return result
+
+    def _warm(self):
+        """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push)."""
+        if self._warm_solver is None:
+            opts = dict(self._opts, **{"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
+                                       "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
+                                       "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.mu_strategy": "monotone"})
+            self._warm_solver = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
+        return self._warm_solver
+
+    def _worst(self, viol):
+        offset, worst, name = 0, -1.0, ""
+        for gname, size, _, _ in self._groups:
+            v = viol[offset:offset + size].max(initial=0.0)
+            if v > worst:
+                worst, name = v, gname
+            offset += size
+        return f"{name} by {worst:.3g} (scaled)"
+
+    def _result(self, x, par, status, message, max_violation, iterations, seconds) -> Result:
+        xs, us, t_f, path = (np.asarray(v) for v in self._outputs(x, par))
+        t_f = float(t_f.item())
+        final = dict(zip(self._final_names, np.asarray(self._final(x, par)).ravel().tolist()))
+        pr = self.problem
+        r = pr.base.planet.radius_ft + H_SCALE_FT * xs[0]
+        v, gam, psi = V_SCALE_FPS * xs[3], xs[4], xs[5]
+        times = self.tau * t_f
+        node_t = times[::self.d]
+        alpha_n, bank_n = us[0] * ALPHA_SCALE_DEG, us[1] * BANK_SCALE_DEG
+        alpha_c = np.interp(times, node_t, alpha_n)
+        bank_c = np.interp(times, node_t, bank_n)
+        lat_gd = np.array([float(geodetic(self.model.planet, r_i, lat_i)[0]) for r_i, lat_i in zip(r, xs[2])])
+        history = {"time_s": times, "altitude_ft": path[0], "velocity_fps": v, "gamma_deg": np.degrees(gam),
+                   "heading_deg": np.degrees(psi), "latitude_deg": np.degrees(lat_gd),
+                   "longitude_deg": np.degrees(xs[1]), "alpha_deg": alpha_c, "bank_deg": bank_c,
+                   "dynamic_pressure_psf": path[1], "load_factor": path[2]}
+        summary = dict(final)
+        summary["final_altitude_ft"] = float(path[0, -1])
+        summary["max_dynamic_pressure_psf"] = float(path[1].max())
+        summary["max_load_factor"] = float(path[2].max())
+        heating = pr.base.heating
+        if heating is not None:
+            q, temp = heating.evaluate(path[3], v, alpha_c, path[4], times)
+            history["heat_rate_btu_ft2_s"], history["temperature_R"] = q, temp
+            summary["max_heat_rate_btu_ft2_s"] = float(np.max(q))
+            summary["max_temperature_R"] = float(np.max(temp)) if np.all(np.isfinite(temp)) else None
+        objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[:-2]))
+        after = Guess(tau=self.tau.copy(), states=np.column_stack([r, xs[1], xs[2], v, gam, psi]),
+                           controls=np.column_stack([alpha_c, bank_c]), final_time_s=t_f,
+                           downrange_nmi=final["downrange_nmi"],
+                           heat_load=None if not self.nq else xs[6] * SCALE["heat_load_btu_ft2"])
+        res = Result(status=status, message=message, objective=float(objective), summary=summary, history=history,
+                     controls={"time_s": node_t, "alpha_deg": alpha_n, "bank_deg": bank_n}, refly=None,
+                     agreement=None, max_violation=max_violation, iterations=iterations, seconds=seconds,
+                     intervals=self.n, guess=after)
+        return res
+
+
+def _band(con: Constraint):
+    if con.kind == "equals":
+        return con.target - 0.5 * con.tolerance, con.target + 0.5 * con.tolerance
+    if con.kind == "at_most":
+        return -np.inf, con.target
+    return con.target, np.inf
+
+
+def _check(pr: Problem):
+    if pr.base.stop.altitude_ft is None:
+        raise CollocationError("stop.altitude_ft: the collocation ends at a stop altitude; give one")
+    names = [q for q, _ in pr.objective] + [con.quantity for con in pr.constraints]
+    for q in names:
+        if q not in QUANTITIES:
+            raise CollocationError(f"{q}: not a quantity the collocation knows; allowed: {', '.join(QUANTITIES)}")
+    for con in pr.constraints:
+        if con.quantity in PATH and con.kind != "at_most":
+            raise CollocationError(f"constraints.{con.quantity}: a path maximum takes at_most only")
+    for q, _ in pr.objective:
+        if q in PATH:
+            raise CollocationError(f"payoff: {q} is a path maximum; constrain it with at_most instead")
+
+
+# --------------------------------------------------------------------------------------------- re-flight
+def control_tables_spec(base: FlightSpec, controls: dict) -> FlightSpec:
+    """The base flight with the optimum's alpha and bank as tables against time from entry (what `fly` takes)."""
+    t = np.asarray(controls["time_s"], float)
+    ctrl = pack_controls(bank_law="table", bank_table=(t, controls["bank_deg"]), bank_variable="time",
+                         bank_start="entry", alpha_law="table", alpha_table=(t, controls["alpha_deg"]),
+                         alpha_table_abscissa="time")
+    return replace(base, ctrl=ctrl)
+
+
+def refly(problem: Problem, result: Result) -> Trajectory:
+    """Fly the optimum's control tables with the compiled integrator and record the agreement."""
+    trajectory = simulate(control_tables_spec(problem.base, result.controls))
+    s, n = trajectory.summary, result.summary
+    d_lon = (s["final_longitude_deg"] - n["final_longitude_deg"] + 180.0) % 360.0 - 180.0
+    down = n["downrange_nmi"]
+    result.refly = {k: s[k] for k in ("downrange_nmi", "crossrange_nmi", "final_latitude_deg", "final_longitude_deg",
+                                      "final_velocity_fps", "final_gamma_deg", "final_heading_deg", "flight_time_s",
+                                      "final_altitude_ft", "max_temperature_R", "max_heat_rate_btu_ft2_s",
+                                      "max_dynamic_pressure_psf", "stop_reason")}
+    result.agreement = {
+        "latitude_deg": abs(s["final_latitude_deg"] - n["final_latitude_deg"]),
+        "longitude_deg": abs(d_lon),
+        "downrange_rel": abs(s["downrange_nmi"] - down) / max(abs(down), 1.0),
+        "crossrange_nmi": abs(s["crossrange_nmi"] - n["crossrange_nmi"]),
+        "flight_time_s": s["flight_time_s"] - n["flight_time_s"],
+        "final_velocity_fps": s["final_velocity_fps"] - n["final_velocity_fps"],
+        "final_gamma_deg": s["final_gamma_deg"] - n["final_gamma_deg"],
+    }
+    if n.get("max_temperature_R") is not None and s.get("max_temperature_R") is not None:
+        result.agreement["max_temperature_R"] = s["max_temperature_R"] - n["max_temperature_R"]
+    return trajectory
+
+
+def agrees(result: Result) -> bool:
+    a = result.agreement
+    return a is not None and a["latitude_deg"] <= AGREE_DEG and a["longitude_deg"] <= AGREE_DEG \
+        and a["downrange_rel"] <= AGREE_DOWNRANGE_REL
+
+
+def solve(problem: Problem, guess: Guess | None = None) -> Result:
+    """Solve, re-fly, and double the mesh from the last solution until the re-flight agrees (or max_intervals)."""
+    if guess is None:
+        guess = guess_from_trajectory(problem.base, simulate(problem.base))
+    n, total_s, total_it = problem.intervals, 0.0, 0
+    while True:
+        result = Transcription(problem, n).solve(guess)
+        total_s, total_it = total_s + result.seconds, total_it + result.iterations
+        refly(problem, result)
+        if not result.ok or agrees(result) or 2 * n > problem.max_intervals:
+            break
+        guess, n = result.guess, 2 * n
+    result.seconds, result.iterations = total_s, total_it
+    return result
