@@ -113,6 +113,16 @@ def test_betts_shuttle_maximum_cross_range_within_half_a_percent_of_the_publishe
     assert s["flight_time_s"] == pytest.approx(published["flight_time_s"], rel=0.02)  # s: the same optimum's length
 
 
+def test_a_scipy_method_searches_the_same_tables(tmp_path):
+    r = run(tmp_path, {**BETTS, "method": "Nelder-Mead", "max_trajectories": 60})
+    assert r.returncode in (0, 1), r.stderr  # 1: no feasible point in so small a budget
+    out = json.loads(r.stdout)
+    assert out["trajectories"] <= 60 and out["method"] == "Nelder-Mead"
+    names = list(out["parameters"])
+    assert names[0] == "bank_deg_at_energy_ft_177000" and names[15] == "bank_deg_at_energy_ft_10445000"
+    assert names[16] == "alpha_deg_at_energy_ft_177000" and len(names) == 16 + 8
+
+
 def test_constraints_are_scaled_by_their_tolerance_by_default_only_with_a_table_block():
     assert [c.scale for c in parse_optimization(BETTS).core_constraints()] == [10.0, 0.1]  # ft/s, deg
     assert [c.scale for c in parse_optimization({**BETTS, "constraint_scaling": "none"}).core_constraints()] == [1, 1]
