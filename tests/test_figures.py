@@ -2,6 +2,7 @@
 
 import xml.etree.ElementTree as ET
 from dataclasses import replace
+from types import SimpleNamespace
 
 import matplotlib.pyplot as plt
 from matplotlib.colors import to_rgb
@@ -228,6 +229,29 @@ def test_bank_schedule_axis_extends_past_zero_for_a_negative_final_heading():
     zeta = np.linspace(90.0, -45.0, 10)  # Fig. 6: sigma_f = -45 deg
     ax = G.bank_schedule_figure({"K = 0.5": (zeta, 0.5 * (zeta + 45.0))}).axes[0]
     assert ax.get_xlim() == (90.0, -45.0)
+
+
+def optimum(names, params):
+    """An optimize.Result's drawn fields, by hand."""
+    return SimpleNamespace(names=tuple(names), params=np.asarray(params, dtype=float), method="creep_pattern",
+                           history=[{"trajectories": n, "payoff": 30.0 + n} for n in (1, 2, 3)], payoff=33.0,
+                           trajectories=3, feasible=True)
+
+
+def test_an_optimum_draws_each_table_against_its_own_abscissa():
+    names = ["bank_deg_at_energy_ft_177000", "bank_deg_at_energy_ft_10445000", "alpha_deg_at_time_s_0",
+             "alpha_deg_at_time_s_900.5", "alpha_deg_at_time_s_2000"]
+    _, bank, alpha = G.optimization_figure(optimum(names, [5.0, 73.0, 17.0, 17.5, 16.0])).axes
+    assert list(bank.get_lines()[0].get_xdata()) == [177_000.0, 10_445_000.0]
+    assert "Energy height" in bank.get_xlabel() and bank.get_ylabel() == "Bank angle (deg)"
+    assert list(alpha.get_lines()[0].get_xdata()) == [0.0, 900.5, 2_000.0]
+    assert list(alpha.get_lines()[0].get_ydata()) == [17.0, 17.5, 16.0]
+    assert alpha.get_xlabel() == "Time (s)" and alpha.get_ylabel() == "Angle of attack (deg)"
+
+
+def test_the_reports_bank_table_is_drawn_from_90_to_minus_15_deg():
+    fig = G.optimization_figure(optimum([f"bank_deg_at_zeta_{z}" for z in range(-15, 91, 15)], np.arange(8.0)))
+    assert len(fig.axes) == 2 and fig.axes[1].get_xlim() == (90.0, -15.0)
 
 
 def test_pullout_carpet_one_curve_per_entry_velocity_sorted_by_angle():

@@ -1,14 +1,27 @@
 """`footprint optimize`, as a user runs it (DESIGN.md's optimization study contract)."""
 
+import csv
 import json
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from footprint.optimization import parse_optimization
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = json.loads((ROOT / "examples" / "optimize_lod189_4000nmi.json").read_text())
+BETTS = json.loads((ROOT / "examples" / "optimize_betts_shuttle.json").read_text())
+
+
+def betts_optimum():
+    """Betts' published maximum cross-range of the Space Shuttle entry (tests/authorities)."""
+    with open(ROOT / "tests" / "authorities" / "betts_shuttle_reentry.csv") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return {k: float(v) for k, v in rows[0].items() if k != "case"}
+
+
+BETTS_SHARE = 0.995  # issue 12: the search reaches 99.5 % of the published final latitude
 
 
 def run(tmp_path, study, *args):
@@ -69,5 +82,93 @@ def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
 ])
 def test_a_bad_study_gets_one_line_and_exit_2(tmp_path, change, words):
     r = run(tmp_path, {**STUDY, **change})
+    assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr
+    assert r.stderr.count("\n") == 1 and words in r.stderr, r.stderr
+
+
+# ------------------------------------------------------------- the search's knobs: Betts' Space Shuttle entry
+ENERGY_FT = [177_000, 10_445_000]  # the terminal (80,000 ft, 2,500 ft/s) to the entry energy height
+
+
+@pytest.mark.parametrize("knobs", [
+    {},  # the example: bank (16 nodes) and alpha (8 nodes) against energy height
+    {"bank_table": {"time_s": [0, 2_100], "count": 12, "bounds_deg": [-1, 89]},
+     "alpha_table": {"velocity_fps": [2_500, 25_600], "count": 6}},
+], ids=["energy_energy", "time_velocity"])
+def test_betts_shuttle_maximum_cross_range_within_half_a_percent_of_the_published_optimum(tmp_path, knobs):
+    """Betts (2010) section 6.1 posed as a study: creep + pattern, default weights, tolerance-scaled constraints."""
+    published = betts_optimum()
+    r = run(tmp_path, {**BETTS, **knobs})
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    s = out["summary"]
+    assert out["feasible"] and s["stop_reason"] == "altitude"
+    assert s["final_latitude_deg"] >= BETTS_SHARE * published["final_latitude_deg"]
+    assert abs(s["final_velocity_fps"] - 2_500) <= 10 / 2  # ft/s: half the tolerance band
+    assert abs(s["final_gamma_deg"] + 5) <= 0.1 / 2  # deg: half the tolerance band
+    assert out["trajectories"] <= BETTS["max_trajectories"]
+    # deg: Betts' bank beta in [-89, 1] deg is ours negated (a positive bank turns left, north here)
+    banks = [v for k, v in out["parameters"].items() if k.startswith("bank_deg")]
+    assert all(-1 <= v <= 89 for v in banks)
+    assert s["flight_time_s"] == pytest.approx(published["flight_time_s"], rel=0.02)  # s: the same optimum's length
+
+
+def test_a_scipy_method_searches_the_same_tables(tmp_path):
+    r = run(tmp_path, {**BETTS, "method": "Nelder-Mead", "max_trajectories": 60})
+    assert r.returncode in (0, 1), r.stderr  # 1: no feasible point in so small a budget
+    out = json.loads(r.stdout)
+    assert out["trajectories"] <= 60 and out["method"] == "Nelder-Mead"
+    names = list(out["parameters"])
+    assert names[0] == "bank_deg_at_energy_ft_177000" and names[15] == "bank_deg_at_energy_ft_10445000"
+    assert names[16] == "alpha_deg_at_energy_ft_177000" and len(names) == 16 + 8
+
+
+def test_constraints_are_scaled_by_their_tolerance_by_default_only_with_a_table_block():
+    assert [c.scale for c in parse_optimization(BETTS).core_constraints()] == [10.0, 0.1]  # ft/s, deg
+    assert [c.scale for c in parse_optimization({**BETTS, "constraint_scaling": "none"}).core_constraints()] == [1, 1]
+    plain = {k: v for k, v in BETTS.items() if k not in ("bank_table", "alpha_table")}
+    assert [c.scale for c in parse_optimization(plain).core_constraints()] == [1.0, 1.0]  # eq. (4) as before
+    given = dict(BETTS["constraints"][0], scale=2.0)
+    assert parse_optimization({**plain, "constraints": [given], "constraint_scaling": "tolerance"}) \
+        .core_constraints()[0].scale == 2.0
+
+
+NARROW_ALPHA = {**BETTS["case"], "vehicle": {**BETTS["case"]["vehicle"], "aero": {"polynomial": {
+    **BETTS["case"]["vehicle"]["aero"]["polynomial"], "alpha_range_deg": [0, 45]}}}}
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"bank_table": {"altitude_ft": [0, 1]}}, "bank_table.altitude_ft: Extra inputs"),
+    ({"bank_table": {"time_s": [0, 100], "energy_ft": [1e5, 1e7]}}, "bank_table: give at most one of"),
+    ({"bank_table": {"time_s": [0, 500, 400]}}, "time_s must be strictly increasing"),
+    ({"bank_table": {"zeta_deg": [-200, 0]}}, "bank_table.zeta_deg.0: -200 is outside the allowed range -180 to 180"),
+    ({"bank_table": {"heading_deg": [0, 270]}}, "bank_table.heading_deg.1: 270 is outside the allowed range"),
+    ({"bank_table": {"time_s": [-5, 100]}}, "bank_table.time_s.0: -5 is outside the allowed range 0 to 100000 s"),
+    ({"bank_table": {"velocity_fps": [0, 50_000]}}, "bank_table.velocity_fps.1: 50000 is outside the allowed range"),
+    ({"bank_table": {"energy_ft": [0, 2e8]}}, "bank_table.energy_ft.1: 2e+08 is outside the allowed range 0 to 1e+08"),
+    ({"bank_table": {"energy_ft": ENERGY_FT, "count": 1}}, "bank_table.count: 1 is outside the allowed range 2 to 64"),
+    ({"bank_table": {"energy_ft": [1e5, 1e6, 1e7], "count": 8}}, "needs the first and last node"),
+    ({"bank_table": {"bounds_deg": [-200, 89]}}, "bank_table.bounds_deg.0: -200 is outside the allowed range"),
+    ({"bank_table": {"bounds_deg": [89, -1]}}, "bounds_deg lower bound 89 is not below its upper bound -1"),
+    ({"bank_table": {"initial_deg": [10, 20, 30]}}, "initial_deg has 3 values for 8 nodes"),
+    ({"bank_table": {"bounds_deg": [-1, 89], "initial_deg": 95}}, "initial_deg 95 is outside bounds_deg -1 to 89"),
+    ({"alpha_table": {"heading_deg": [0, 10]}}, "alpha_table.heading_deg: Extra inputs"),
+    ({"alpha_table": {"time_s": [0, 1e6]}}, "alpha_table.time_s.1: 1e+06 is outside the allowed range"),
+    ({"alpha_table": {"velocity_fps": [3_000, 2_000]}}, "alpha_table: velocity_fps must be strictly increasing"),
+    ({"alpha_table": {"energy_ft": ENERGY_FT, "count": 65}}, "alpha_table.count: 65 is outside the allowed range"),
+    ({"alpha_table": {"bounds_deg": [-100, 40]}}, "alpha_table.bounds_deg.0: -100 is outside the allowed range -90"),
+    ({"case": NARROW_ALPHA, "alpha_table": {"bounds_deg": [-5, 40]}},
+     "alpha_table: bounds_deg -5 to 40 must lie within the vehicle's alpha range 0 to 45 deg"),
+    ({"case": NARROW_ALPHA, "alpha_table": {"initial_deg": 60}},
+     "alpha_table: initial_deg 60 is outside the vehicle's alpha range 0 to 45 deg"),
+    ({"alpha_table": {"initial_deg": [15, 17]}}, "alpha_table: initial_deg has 2 values for 5 nodes"),
+    ({"controls": ["bank"]}, "alpha_table: the alpha table is searched with controls ['bank', 'alpha']"),
+    ({"constraint_scaling": "unit"}, "constraint_scaling: Input should be 'tolerance' or 'none'"),
+    ({"constraints": [{"quantity": "final_gamma_deg", "equals": -5}]}, "constraints.0.tolerance: constraint_scaling"),
+    ({"constraints": [{"quantity": "final_gamma_deg", "equals": -5, "tolerance": 0.1, "scale": 0}]},
+     "constraints.0.scale: 0 is outside the allowed range"),
+])
+def test_a_bad_search_knob_gets_one_line_and_exit_2(tmp_path, change, words):
+    r = run(tmp_path, {**BETTS, **change})
     assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr
     assert r.stderr.count("\n") == 1 and words in r.stderr, r.stderr

@@ -17,15 +17,15 @@ from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, Corr
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
 
 
-def bounded(lo: float, hi: float, unit: str = ""):
-    """A float in [lo, hi]; the error names the range and the unit."""
+def bounded(lo: float, hi: float, unit: str = "", kind: type = float):
+    """A float (or `kind`, e.g. int) in [lo, hi]; the error names the range and the unit."""
 
-    def check(v: float) -> float:
+    def check(v):
         if not lo <= v <= hi:
             raise ValueError(f"{v:g} is outside the allowed range {lo:g} to {hi:g}{' ' + unit if unit else ''}")
         return v
 
-    return Annotated[float, AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})]
+    return Annotated[kind, AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})]
 
 
 class Strict(BaseModel):
@@ -161,6 +161,11 @@ class BankSingleParameter(Strict):
 
 
 TABLE_MAX_NODES = 512  # a collocation optimum re-flown as tables carries one node per mesh point
+# the control tables' abscissae, one unit each (cases and optimization studies)
+HeadingNode = bounded(-180, 180, "deg")
+TimeNode = bounded(0, 100_000, "s")
+VelocityNode = bounded(0, 40_000, "ft/s")
+EnergyNode = bounded(0, 1e8, "ft")  # energy height h + V^2/(2 g0)
 
 
 class BankTable(Strict):
@@ -169,30 +174,33 @@ class BankTable(Strict):
 
     law: Literal["table"]
     bank_deg: list[Bank] = Field(min_length=2, max_length=TABLE_MAX_NODES)
-    heading_deg: list[bounded(-180, 180, "deg")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
-    time_s: list[bounded(0, 100_000, "s")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
-    velocity_fps: list[bounded(0, 40_000, "ft/s")] | None = Field(default=None, min_length=2,
-                                                                   max_length=TABLE_MAX_NODES)
-    energy_ft: list[bounded(0, 1e8, "ft")] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    heading_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    time_s: list[TimeNode] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    velocity_fps: list[VelocityNode] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
+    energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=TABLE_MAX_NODES)
     side: Literal["left", "right"] = "left"
     variable: Literal["zeta", "heading"] = "zeta"  # what heading_deg means
 
     @model_validator(mode="after")
     def _table(self):
-        name, x = _abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
+        name, x = table_abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
         _check_table(x, self.bank_deg, name, "bank_deg")
         return self
 
     def abscissa(self) -> tuple[str, list]:
         """(bank_variable of pack_controls, nodes)."""
-        name, x = _abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
+        name, x = table_abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
         return (self.variable if name == "heading_deg" else name.rsplit("_", 1)[0]), x
 
 
-def _abscissa(table, names):
+def table_abscissa(table, names, default=None):
+    """(name, nodes) of the one abscissa field of `table` that is given; `default` when none is (else an error)."""
     given = [n for n in names if getattr(table, n) is not None]
+    if not given and default is not None:
+        return default
     if len(given) != 1:
-        raise ValueError(f"give exactly one of {', '.join(names)} as the table's abscissa")
+        raise ValueError(f"give {'exactly' if default is None else 'at most'} one of {', '.join(names)} as the "
+                         "table's abscissa")
     return given[0], getattr(table, given[0])
 
 
@@ -228,19 +236,19 @@ class AlphaConstant(Strict):
 class AlphaTable(Strict):
     law: Literal["table"]
     alpha_deg: list[Alpha] = Field(min_length=2, max_length=TABLE_MAX_NODES)
-    velocity_fps: list[bounded(0, 40_000, "ft/s")] | None = None
-    time_s: list[bounded(0, 100_000, "s")] | None = None
-    energy_ft: list[bounded(0, 1e8, "ft")] | None = None  # energy height h + V^2/(2 g0)
+    velocity_fps: list[VelocityNode] | None = None
+    time_s: list[TimeNode] | None = None
+    energy_ft: list[EnergyNode] | None = None  # energy height h + V^2/(2 g0)
 
     @model_validator(mode="after")
     def _table(self):
-        name, x = _abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
+        name, x = table_abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
         _check_table(x, self.alpha_deg, name, "alpha_deg")
         return self
 
     def abscissa(self) -> tuple[str, list]:
         """(alpha_table_abscissa of pack_controls, nodes)."""
-        name, x = _abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
+        name, x = table_abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
         return name.rsplit("_", 1)[0], x
 
 
@@ -262,8 +270,12 @@ AlphaCase = Annotated[Union[AlphaMaxLD, AlphaCLMax, AlphaConstant, AlphaTable, A
 def _check_table(x, y, xname, yname):
     if len(x) != len(y):
         raise ValueError(f"{xname} and {yname} must have the same length ({len(x)} vs {len(y)})")
+    check_increasing(x, xname)
+
+
+def check_increasing(x, name):
     if any(b <= a for a, b in zip(x, x[1:])):
-        raise ValueError(f"{xname} must be strictly increasing")
+        raise ValueError(f"{name} must be strictly increasing")
 
 
 class BankStartAltitude(Strict):

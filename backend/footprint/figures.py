@@ -163,24 +163,43 @@ def pullout_carpet_figure(rows, title=None) -> Figure:
 
 
 # ------------------------------------------------------------------------------------------------ files
+# the searched tables' abscissae (constrained.NODE_LABELS) as axis labels
+NODE_AXES = {"zeta": "Remaining heading change ζ (deg)", "heading_deg": "Heading σ (deg)", "time_s": "Time (s)",
+             "velocity_fps": "Earth-relative velocity (ft/s)", "energy_ft": "Energy height h + V²/2g₀ (ft)"}
+
+
 def optimization_figure(result, title=None) -> Figure:
-    """Fig. 3: payoff against trajectories flown, and the optimum's bank schedule against zeta (Fig. 2)."""
-    fig = Figure(figsize=(11.0, 4.5))
-    ax1, ax2 = fig.subplots(1, 2)
+    """Fig. 3: payoff against trajectories flown, and the optimum's tables, each against its own abscissa
+    (the bank against zeta as in Fig. 2, its axis running 90 -> -15 deg as the report's does)."""
+    tables = _tables_of(result)
+    fig = Figure(figsize=(5.5 * (1 + len(tables)), 4.5))
+    ax1, *axes = fig.subplots(1, 1 + len(tables))
     h = result.history
     ax1.plot([e["trajectories"] for e in h], [e["payoff"] for e in h], "-k")
     ax1.set_xlabel("Trajectories flown")
     ax1.set_ylabel("Best payoff so far (its own unit)")
     ax1.grid(alpha=0.3)
-    zeta = [float(n.rsplit("_", 1)[-1]) for n in result.names]
-    ax2.plot(zeta, result.params, "o-k")
-    ax2.set_xlim(max(zeta), min(zeta))  # the report's axis runs 90 -> -15
-    ax2.set_xlabel("Remaining heading change ζ (deg)")
-    ax2.set_ylabel("Bank angle (deg)")
-    ax2.grid(alpha=0.3)
+    for ax, ((angle, label), points) in zip(axes, tables.items()):
+        x, y = zip(*points)
+        ax.plot(x, y, "o-k")
+        if label == "zeta":
+            ax.set_xlim(max(x), min(x))
+        ax.set_xlabel(NODE_AXES[label])
+        ax.set_ylabel(f"{'Bank angle' if angle == 'bank' else 'Angle of attack'} (deg)")
+        ax.grid(alpha=0.3)
     fig.suptitle(title or f"{result.method}: payoff {result.payoff:,.1f}, {result.trajectories} trajectories"
                  + ("" if result.feasible else " (infeasible)"))
     return fig
+
+
+def _tables_of(result) -> dict:
+    """{(angle, abscissa label): [(node, value)...]} from parameter names "<angle>_deg_at_<label>_<node>"."""
+    tables = {}
+    for name, value in zip(result.names, result.params):
+        angle, rest = name.split("_deg_at_", 1)
+        label, node = rest.rsplit("_", 1)
+        tables.setdefault((angle, label), []).append((float(node), float(value)))
+    return tables
 
 
 def save(fig: Figure, path) -> Path:

@@ -6,15 +6,43 @@ Controls: "bank" is the report's eight-parameter bank table against the remainin
 started from the single-parameter ramp K = 1. "bank", "alpha" adds Section III's angle-of-attack table
 against earth-relative velocity (2,000-26,000 ft/s, alpha between (L/D)max and C_L max of lod-1.89, 12.5-40 deg)
 over the whole flight, the bank held at zero in the plunge (footprint.core.constrained).
+
+Beyond the report, optional blocks set each table's knobs (without them every number is the report's setting):
+
+    "bank_table":  {"zeta_deg" | "heading_deg" | "time_s" | "velocity_fps" | "energy_ft": [nodes...],
+                    "count": n, "bounds_deg": [lo, hi], "initial_deg": [one per node] | one for all},
+    "alpha_table": {"velocity_fps" | "time_s" | "energy_ft": [nodes...], "count", "bounds_deg", "initial_deg"}
+
+The node field names the abscissa and its unit (energy: energy height h + V^2/(2 g0)); with `count` it holds
+the first and last of `count` evenly spaced nodes. Defaults: the report's nodes; bank bounds 0-180 deg, alpha
+bounds the vehicle's valid alpha range; the bank starts from the ramp K = 1 on a heading abscissa and from the
+middle of its bounds on the others, alpha from the vehicle's (L/D)max at Mach 20 and 200,000 ft. A searched
+flight counts only when it ends at one of the case's stops. `constraint_scaling` "tolerance" divides each
+constraint's excess by its tolerance (or its own `scale`) so that unit weights balance constraints in different
+units (core.optimize: a departure from eq. (4)); it is the default when a table block is given, else "none".
 """
 
-from typing import Literal
+from typing import Annotated, ClassVar, Literal
 
-from pydantic import Field, TypeAdapter, model_validator
+import numpy as np
+from pydantic import BeforeValidator, Field, TypeAdapter, model_validator
 
-from footprint.cases import Case, Strict, bounded
+from footprint.cases import (
+    Bank,
+    Case,
+    EnergyNode,
+    HeadingNode,
+    Strict,
+    TimeNode,
+    VelocityNode,
+    bounded,
+    check_increasing,
+    table_abscissa,
+)
 from footprint.core import constrained
 from footprint.core import optimize as opt
+from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
+from footprint.core.errors import InputError
 
 QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
               "final_gamma_deg", "final_heading_deg", "flight_time_s", "max_temperature_R",
@@ -22,6 +50,9 @@ QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_lo
 Quantity = Literal[QUANTITIES]
 SCIPY_METHODS = ("Nelder-Mead", "Powell", "SLSQP", "COBYLA")
 DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R": opt.TTOL_TEMPERATURE_R}
+SCALINGS = ("tolerance", "none")
+SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
+AlphaBound = bounded(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")
 
 
 class Payoff(Strict):
@@ -36,6 +67,7 @@ class ConstraintCase(Strict):
     at_least: bounded(-1e7, 1e7) | None = None
     tolerance: bounded(0, 1e6) | None = None  # TTOL, the band's full width; 50 nmi / 5 degR by default
     weight: bounded(1e-9, 1e9) = 1.0
+    scale: bounded(1e-9, 1e9) | None = None  # the quantity's unit: divides the excess (default: constraint_scaling)
 
     @model_validator(mode="after")
     def _one_kind(self):
@@ -44,10 +76,107 @@ class ConstraintCase(Strict):
             raise ValueError("give exactly one of equals, at_most, at_least")
         return self
 
-    def to_core(self) -> opt.Constraint:
+    def band(self) -> float:
+        """TTOL, the tolerance band's full width (the quantity's default when not given)."""
+        return self.tolerance if self.tolerance is not None else DEFAULT_TOLERANCE.get(self.quantity, 0.0)
+
+    def to_core(self, scaling="none") -> opt.Constraint:
         kind = next(k for k in ("equals", "at_most", "at_least") if getattr(self, k) is not None)
-        tol = self.tolerance if self.tolerance is not None else DEFAULT_TOLERANCE.get(self.quantity, 0.0)
-        return opt.Constraint(self.quantity, kind, float(getattr(self, kind)), tol, self.weight)
+        scale = self.scale if self.scale is not None else (self.band() if scaling == "tolerance" else 1.0)
+        return opt.Constraint(self.quantity, kind, float(getattr(self, kind)), self.band(), self.weight, scale)
+
+
+def _one_or_list(v):
+    return [v] if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+
+
+class _SearchTable(Strict):
+    """A searched control table: nodes on one abscissa (the field naming it and its unit), the angle's bounds at
+    every node and the search's start (one value per node, or one for all)."""
+
+    ABSCISSAE: ClassVar[dict]  # node field -> pack_controls' abscissa name
+    DEFAULT_NODES: ClassVar[tuple]  # (node field, nodes) when no node field is given
+    count: bounded(2, SEARCH_MAX_NODES, kind=int) | None = None  # with it the node field is [first, last]
+
+    @model_validator(mode="after")
+    def _nodes(self):
+        name, x = table_abscissa(self, tuple(self.ABSCISSAE), default=(None, None))
+        if self.count is not None and (name is None or len(x) != 2):
+            raise ValueError(f"count {self.count} needs the first and last node as the node field, e.g. "
+                             f"{next(iter(self.ABSCISSAE))}: [first, last]"
+                             + ("" if name is None else f" (got {len(x)} values in {name})"))
+        if name is not None:
+            check_increasing(x, name)
+        lo, hi = self.bounds_deg if self.bounds_deg is not None else (-np.inf, np.inf)
+        if lo >= hi:
+            raise ValueError(f"bounds_deg lower bound {lo:g} is not below its upper bound {hi:g}")
+        n = len(self.nodes()[1])
+        if self.initial_deg is not None and len(self.initial_deg) not in (1, n):
+            raise ValueError(f"initial_deg has {len(self.initial_deg)} values for {n} nodes: give one per node or "
+                             "a single value")
+        if self.bounds_deg is not None:
+            self.check_start(self.bounds_deg, "bounds_deg")
+        return self
+
+    def check_start(self, bounds_deg, what):
+        bad = [v for v in self.initial_deg or () if not bounds_deg[0] <= v <= bounds_deg[1]]
+        if bad:
+            raise ValueError(f"initial_deg {bad[0]:g} is outside {what} {bounds_deg[0]:g} to {bounds_deg[1]:g} deg")
+
+    def nodes(self) -> tuple[str, tuple]:
+        """(pack_controls' abscissa name, the nodes in its unit)."""
+        name, x = table_abscissa(self, tuple(self.ABSCISSAE), default=self.DEFAULT_NODES)
+        if self.count is not None:
+            x = np.linspace(x[0], x[1], self.count)
+        return self.ABSCISSAE[name], tuple(float(v) for v in x)
+
+    def _core(self, bounds_deg, start_deg) -> constrained.ControlTable:
+        """The core table; start_deg(abscissa, nodes, bounds) gives the start when initial_deg is not given."""
+        abscissa, nodes = self.nodes()
+        start = self.initial_deg if self.initial_deg is not None else start_deg(abscissa, nodes, bounds_deg)
+        return constrained.ControlTable(abscissa, nodes, tuple(bounds_deg),
+                                        tuple(float(v) for v in np.broadcast_to(start, len(nodes))))
+
+
+class BankSearchTable(_SearchTable):
+    ABSCISSAE: ClassVar[dict] = {"zeta_deg": "zeta", "heading_deg": "heading", "time_s": "time",
+                                 "velocity_fps": "velocity", "energy_ft": "energy"}
+    DEFAULT_NODES: ClassVar[tuple] = ("zeta_deg", opt.BANK_TABLE_HEADINGS_DEG)
+    zeta_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    heading_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    time_s: list[TimeNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    velocity_fps: list[VelocityNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    bounds_deg: tuple[Bank, Bank] = opt.BANK_BOUNDS_DEG
+    initial_deg: Annotated[list[Bank], BeforeValidator(_one_or_list)] | None = Field(default=None,
+                                                                                     max_length=SEARCH_MAX_NODES)
+
+    def to_core(self) -> constrained.ControlTable:
+        return self._core(self.bounds_deg, _bank_start_deg)
+
+
+def _bank_start_deg(abscissa, nodes, bounds_deg):
+    """The ramp K = 1 (Fig. 2's nominal schedule) on a heading abscissa, else the middle of the bounds."""
+    if abscissa in ("zeta", "heading"):
+        return opt.nominal_bank_deg(1.0, nodes, bounds_deg)
+    return 0.5 * (bounds_deg[0] + bounds_deg[1])
+
+
+class AlphaSearchTable(_SearchTable):
+    ABSCISSAE: ClassVar[dict] = {"velocity_fps": "velocity", "time_s": "time", "energy_ft": "energy"}
+    DEFAULT_NODES: ClassVar[tuple] = ("velocity_fps", constrained.ALPHA_TABLE_VELOCITIES_FPS)
+    velocity_fps: list[VelocityNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    time_s: list[TimeNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
+    bounds_deg: tuple[AlphaBound, AlphaBound] | None = None  # default: the vehicle's valid alpha range
+    initial_deg: Annotated[list[AlphaBound], BeforeValidator(_one_or_list)] | None = Field(
+        default=None, max_length=SEARCH_MAX_NODES)
+
+    def to_core(self, vehicle) -> constrained.ControlTable:
+        """Bounds default to the vehicle's alpha range; the start to its (L/D)max alpha (Mach 20, 200,000 ft)."""
+        alpha_ld_deg = ld_max(vehicle, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)[1]
+        return self._core(self.bounds_deg or alpha_range_deg(vehicle),
+                          lambda _abscissa, _nodes, bounds: float(np.clip(alpha_ld_deg, *bounds)))
 
 
 class OptimizationStudy(Strict):
@@ -57,11 +186,17 @@ class OptimizationStudy(Strict):
     controls: list[Literal["bank", "alpha"]] = Field(default=["bank"], min_length=1, max_length=2)
     method: Literal[("creep_pattern",) + SCIPY_METHODS] = "creep_pattern"
     max_trajectories: int = Field(default=3_000, ge=10, le=100_000)
+    bank_table: BankSearchTable | None = None
+    alpha_table: AlphaSearchTable | None = None
+    constraint_scaling: Literal[SCALINGS] | None = None  # default: "tolerance" with a table block, else "none"
 
     @model_validator(mode="after")
     def _controls(self):
         if self.controls not in (["bank"], ["bank", "alpha"]):
             raise ValueError(f"controls: ['bank'] or ['bank', 'alpha'] (got {self.controls})")
+        if self.alpha_table is not None and self.controls != ["bank", "alpha"]:
+            raise ValueError(f"alpha_table: the alpha table is searched with controls ['bank', 'alpha'] "
+                             f"(got {self.controls})")
         return self
 
     @model_validator(mode="after")
@@ -70,6 +205,40 @@ class OptimizationStudy(Strict):
         if uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s"} and self.case.heating is None:
             raise ValueError("case.heating: a temperature or heat-rate payoff or constraint needs a heating model")
         return self
+
+    @model_validator(mode="after")
+    def _scales(self):
+        for i, c in enumerate(self.constraints):
+            if self.scaling() == "tolerance" and c.scale is None and c.band() == 0.0:
+                raise ValueError(f"constraints.{i}.tolerance: constraint_scaling 'tolerance' divides by it: give a "
+                                 "tolerance > 0 or a scale")
+        return self
+
+    @model_validator(mode="after")
+    def _alpha_range(self):
+        if self.alpha_table is None:
+            return self
+        try:
+            lo, hi = alpha_range_deg(self.case.vehicle.to_vehicle())
+        except InputError:
+            return self  # the case's own error is reported when it is flown
+        bounds = self.alpha_table.bounds_deg
+        if bounds is not None and not lo <= bounds[0] < bounds[1] <= hi:
+            raise ValueError(f"alpha_table: bounds_deg {bounds[0]:g} to {bounds[1]:g} must lie within the vehicle's "
+                             f"alpha range {lo:g} to {hi:g} deg")
+        try:
+            self.alpha_table.check_start(bounds or (lo, hi), "bounds_deg" if bounds else "the vehicle's alpha range")
+        except ValueError as exc:
+            raise ValueError(f"alpha_table: {exc}") from None
+        return self
+
+    def scaling(self) -> str:
+        if self.constraint_scaling is not None:
+            return self.constraint_scaling
+        return "none" if self.bank_table is None and self.alpha_table is None else "tolerance"
+
+    def core_constraints(self) -> tuple:
+        return tuple(c.to_core(self.scaling()) for c in self.constraints)
 
 
 _ADAPTER = TypeAdapter(OptimizationStudy)
@@ -83,24 +252,34 @@ def _bank_alpha(study: OptimizationStudy) -> bool:
     return study.controls == ["bank", "alpha"]
 
 
+def tables_of(study: OptimizationStudy, vehicle) -> tuple:
+    """(bank table, alpha table or None) searched by the study: its blocks, else the report's tables."""
+    bank = (study.bank_table or BankSearchTable()).to_core()
+    if not _bank_alpha(study):
+        return bank, None
+    return bank, (constrained.section_iii_alpha_table() if study.alpha_table is None
+                  else study.alpha_table.to_core(vehicle))
+
+
 def problem_of(study: OptimizationStudy) -> opt.Problem:
-    if _bank_alpha(study):
-        return constrained.control_problem(study.case.to_spec(), payoff=study.payoff.quantity,
-                                           goal=study.payoff.goal, controls="bank_alpha",
-                                           constraints=tuple(c.to_core() for c in study.constraints))
-    base = opt.cross_range_problem(study.case.to_spec())
+    spec = study.case.to_spec()
+    if study.bank_table is not None or _bank_alpha(study):
+        bank, alpha = tables_of(study, spec.vehicle)
+        return constrained.control_problem(spec, payoff=study.payoff.quantity, goal=study.payoff.goal,
+                                           controls="bank_alpha" if _bank_alpha(study) else "bank",
+                                           constraints=study.core_constraints(), bank_table=bank, alpha_table=alpha)
+    base = opt.cross_range_problem(spec)  # the report's bank table, every flight taken as it ends (as before)
     return opt.Problem(lower=base.lower, upper=base.upper, initial=base.initial, payoff=study.payoff.quantity,
-                       goal=study.payoff.goal, constraints=tuple(c.to_core() for c in study.constraints),
-                       base=base.base, controls=base.controls, names=base.names)
+                       goal=study.payoff.goal, constraints=study.core_constraints(), base=base.base,
+                       controls=base.controls, names=base.names)
 
 
 def run_optimization(study) -> opt.Result:
     study = parse_optimization(study)
     problem = problem_of(study)
-    if study.method == "creep_pattern" and _bank_alpha(study):
-        search = constrained.search_options("bank_alpha", constrained=bool(study.constraints))
-        return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, **search)
-    if study.method == "creep_pattern":
-        search = opt.CONSTRAINED_CROSS_RANGE_SEARCH if study.constraints else opt.CROSS_RANGE_SEARCH
-        return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, **search)
-    return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories)
+    if study.method != "creep_pattern":
+        return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories)
+    bank, alpha = tables_of(study, problem.base.vehicle)
+    search = constrained.search_options("bank_alpha" if alpha else "bank", constrained=bool(study.constraints),
+                                        velocities_fps=alpha.nodes if alpha else (), bank_nodes=bank.nodes)
+    return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, **search)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from footprint.cases import parse_case
 from footprint.core import constrained as C
+from footprint.core.constants import G0_FT_S2
 from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating
 from footprint.core.optimize import Problem, creep_pattern_feasible
 from footprint.core.trajectory import simulate
@@ -107,6 +108,25 @@ def test_parallel_and_serial_optimal_footprints_agree(same_numbers):
         assert np.array_equal(a.result.params, b.result.params)
         same_numbers(a.result.summary, b.result.summary)
     assert par.point("max_downrange").downrange_nmi > par.point("max_crossrange").downrange_nmi
+
+
+def test_tables_on_other_abscissae_fly_at_their_nodes():
+    """Bank against energy height, alpha against time: each angle is its table read at the flown abscissa."""
+    bank = C.ControlTable("energy", (1e6, 5e6, 1e7), (0.0, 90.0), (10.0, 40.0, 70.0))
+    alpha = C.ControlTable("time", (0.0, 600.0, 1_500.0), (12.5, 40.0), (30.0, 20.0, 15.0))
+    pr = C.control_problem(lod189(), controls="bank_alpha", bank_table=bank, alpha_table=alpha)
+    assert pr.names == ("bank_deg_at_energy_ft_1000000", "bank_deg_at_energy_ft_5000000",
+                        "bank_deg_at_energy_ft_10000000", "alpha_deg_at_time_s_0", "alpha_deg_at_time_s_600",
+                        "alpha_deg_at_time_s_1500")
+    assert list(pr.initial) == [10.0, 40.0, 70.0, 30.0, 20.0, 15.0] and list(pr.upper) == [90.0] * 3 + [40.0] * 3
+    h = simulate(pr.controls(pr.base, pr.initial)).history
+    energy_ft = h["altitude_ft"] + h["velocity_fps"] ** 2 / (2.0 * G0_FT_S2)
+    banked = h["bank_deg"] != 0.0  # zero in the plunge, before the bank start
+    assert banked.any()
+    assert np.max(np.abs(h["bank_deg"][banked] - np.interp(energy_ft[banked], bank.nodes, bank.initial_deg))) < 1e-6
+    assert np.max(np.abs(h["alpha_deg"] - np.interp(h["time_s"], alpha.nodes, alpha.initial_deg))) < 1e-9  # deg
+    with pytest.raises(ValueError, match="bank_alpha"):
+        C.control_problem(lod189(), controls="bank", alpha_table=alpha)
 
 
 def test_unknown_controls_are_refused():

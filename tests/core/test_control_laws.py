@@ -5,6 +5,7 @@ import pytest
 
 import footprint
 from footprint.core.aero import builtin_vehicle, coefficients
+from footprint.core.controls import pack_controls, replace_controls, unpack_controls
 
 ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90,
          "latitude_deg": 0, "longitude_deg": 0}  # report Table 2
@@ -144,3 +145,24 @@ def test_inertial_entry_velocity_is_converted():
     rel = fly()[0]
     inertial = fly(entry=dict(ENTRY, velocity_fps=26_031.6, velocity_frame="inertial", gamma_deg=-1.8812))[0]
     assert inertial["downrange_nmi"] == pytest.approx(rel["downrange_nmi"], rel=2e-3)
+
+
+@pytest.mark.parametrize("kw", [
+    {"bank_law": "two_parameter", "bank_value": 0.8, "bank_limit_deg": 75.0, "sigma_f_deg": 30.0, "mirror": True,
+     "bank_variable": "heading", "alpha_law": "gamma_hold", "alpha_value": -1.5, "alpha_before": "cl_max",
+     "hold_time_constant_s": 20.0},
+    {"bank_law": "table", "bank_variable": "energy", "bank_table": ([1e5, 5e6], [10.0, 60.0]),
+     "bank_start": "altitude", "bank_start_altitude_ft": 250_000.0, "alpha_law": "table",
+     "alpha_table": ([0.0, 900.0, 2_000.0], [40.0, 20.0, 15.0]), "alpha_table_abscissa": "time"},
+    {"bank_law": "staged", "bank_value": 40.0, "turn_deg": 45.0, "bank_start": "entry", "alpha_law": "max_ld_floor",
+     "alpha_table": ([12_000.0, 16_000.0], [0.0, 20.0])},
+])
+def test_unpack_controls_inverts_pack_controls(kw):
+    ctrl = pack_controls(**kw)
+    assert np.array_equal(pack_controls(**unpack_controls(ctrl)), ctrl)
+    moved = unpack_controls(replace_controls(ctrl, bank_table=([0.0, 1_000.0], [5.0, 80.0]), bank_variable="time"))
+    kept = unpack_controls(ctrl)
+    assert moved.pop("bank_variable") == "time" and kept.pop("bank_variable") == kw.get("bank_variable", "zeta")
+    assert np.array_equal(moved.pop("bank_table"), [[0.0, 1_000.0], [5.0, 80.0]])
+    kept.pop("bank_table")
+    assert pack_controls(**moved).tolist() == pack_controls(**kept).tolist()  # every other law and table kept

@@ -134,3 +134,13 @@ def test_a_downrange_beyond_reach_is_infeasible(lod189):
                    **O.CROSS_RANGE_SEARCH)
     assert not r.feasible
     assert r.max_violation > 1_000.0  # zero bank reaches 14,869 nmi
+
+
+def test_a_scale_makes_each_penalty_term_dimensionless():
+    """Beyond eq. (4): the excess divided by the scale, so one band's excess costs the weight whatever the unit."""
+    speed = O.Constraint("final_velocity_fps", "equals", 2_500.0, 10.0, scale=10.0)
+    angle = O.Constraint("final_gamma_deg", "equals", -5.0, 0.1, scale=0.1)
+    flown = {"final_velocity_fps": 2_515.0, "final_gamma_deg": -5.15}  # each one band beyond its half band
+    assert O.penalty((speed,), flown) == pytest.approx(1.0)
+    assert O.penalty((angle,), flown) == pytest.approx(1.0)
+    assert O.penalty((O.Constraint("final_gamma_deg", "equals", -5.0, 0.1),), flown) == pytest.approx(0.01)  # eq. (4)

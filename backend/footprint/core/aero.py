@@ -382,6 +382,7 @@ WING_LOADING_RANGE_PSF = (1.0, 2000.0)
 MAX_AXIS_NODES = 20
 MAX_POLY_TERMS = 12
 ALPHA_LIMIT_DEG = 90.0
+SUMMARY_MACH, SUMMARY_ALTITUDE_FT = 20.0, 200_000.0  # where `footprint vehicles` gives (L/D)max: hypersonic glide
 
 
 @dataclass(frozen=True)
@@ -576,6 +577,12 @@ def _blob(vehicle):
     return vehicle.blob if isinstance(vehicle, Vehicle) else vehicle
 
 
+def alpha_range_deg(vehicle) -> tuple[float, float]:
+    """The vehicle's valid alpha range (deg): its tables' alpha axis, or the range its polynomials were given."""
+    blob = _blob(vehicle)
+    return float(blob[1]), float(blob[2])
+
+
 def ld_max(vehicle, mach: float, altitude_ft: float) -> tuple[float, float]:
     """((L/D)max, alpha_deg) at Mach, altitude, from the control grid's alpha."""
     blob = _blob(vehicle)
@@ -586,7 +593,7 @@ def ld_max(vehicle, mach: float, altitude_ft: float) -> tuple[float, float]:
 
 def vehicle_summaries() -> list[dict]:
     """One row per built-in vehicle for `footprint vehicles` ((L/D)max and CL max at Mach 20 / 200,000 ft)."""
-    mach, altitude_ft = 20.0, 200_000.0
+    mach, altitude_ft = SUMMARY_MACH, SUMMARY_ALTITUDE_FT
     rows = []
     for vid in builtin_vehicle_ids():
         v = builtin_vehicle(vid)
@@ -598,6 +605,6 @@ def vehicle_summaries() -> list[dict]:
             "reported_ld_max": v.reported_ld_max,
             "ld_max_m20_200kft": round(ld, 4), "alpha_ld_max_deg": round(alpha, 2),
             "cl_max": round(float(cl_max), 4), "alpha_cl_max_deg": round(alpha_cl, 2),
-            "alpha_range_deg": [float(v.blob[1]), float(v.blob[2])], "note": v.note,
+            "alpha_range_deg": list(alpha_range_deg(v)), "note": v.note,
         })
     return rows

@@ -23,10 +23,10 @@ import numpy as np
 
 from footprint.core.controls import (
     ALPHA_MAX_LD_FLOOR,
-    ALPHA_TABLE_TIME,
+    ALPHA_TABLE_BY_ABSCISSA,
     ALPHA_TABLE_VELOCITY,
-    C_ALPHA_LAW,
-    C_ALPHA_TABLE,
+    alpha_law_name,
+    replace_controls,
 )
 from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
@@ -58,7 +58,6 @@ CONTROLS = ("bank", "bank_alpha")
 # integrator steps allowed per searched flight: a normal Table 2 flight takes 100-600 steps; some steep-bank,
 # high-alpha corners chatter to the 200,000-step default (0.5 s each). Such a flight ends "max_steps".
 SEARCH_MAX_STEPS = 20_000
-ACCEPTED_STOPS = ("altitude",)  # a searched flight must reach the stop altitude to count (else phi* = WORST)
 WORKERS = 2
 
 
@@ -66,16 +65,15 @@ WORKERS = 2
 def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
                      law=ALPHA_TABLE_VELOCITY) -> FlightSpec:
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
-    flight (law ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the table is appended to the control
-    array (any older alpha table is left unreferenced)."""
+    flight (law ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY: the nodes are times in s / energy heights in ft;
+    ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the rest of the control laws kept."""
     v = np.asarray(velocities_fps, dtype=float)
     a = np.asarray(alpha_deg, dtype=float)
     if v.shape != a.shape or np.any(np.diff(v) <= 0.0):
         raise ValueError(f"alpha table: {len(v)} velocities (must ascend) for {len(a)} angles")
-    ctrl = spec.ctrl.copy()
-    ctrl[C_ALPHA_LAW] = law
-    ctrl[C_ALPHA_TABLE] = len(ctrl)
-    return replace(spec, ctrl=np.concatenate((ctrl, [len(v)], v, a)))
+    alpha_law, abscissa = alpha_law_name(law)
+    return replace(spec, ctrl=replace_controls(spec.ctrl, alpha_law=alpha_law, alpha_table=(v, a),
+                                               alpha_table_abscissa=abscissa))
 
 
 def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
@@ -86,8 +84,55 @@ def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VEL
     return with_alpha_table(with_bank_table(spec, params[:n]), params[n:], velocities_fps, law=law)
 
 
-def _bank_controls(spec, params):
-    return with_bank_table(spec, params)
+# a searched table's parameter names: "<angle>_deg_at_<label>_<node>"
+NODE_LABELS = {"zeta": "zeta", "heading": "heading_deg", "time": "time_s", "velocity": "velocity_fps",
+               "energy": "energy_ft"}
+
+
+@dataclass(frozen=True)
+class ControlTable:
+    """A searched control table: its abscissa (pack_controls' bank_variable or alpha_table_abscissa), the nodes
+    in the abscissa's unit (deg, s, ft/s, ft), and the bounds and starting value of the angle at each node (deg)."""
+
+    abscissa: str  # bank: zeta | heading | time | velocity | energy; alpha: velocity | time | energy
+    nodes: tuple
+    bounds_deg: tuple  # (lower, upper), the same at every node
+    initial_deg: tuple  # one per node
+
+    def names(self, angle) -> tuple:
+        return tuple(f"{angle}_deg_at_{NODE_LABELS[self.abscissa]}_{x:.10g}" for x in self.nodes)
+
+
+# Section II.5 / Fig. 2: the eight bank points vs zeta from the ramp K = 1; Section III: alpha vs velocity
+REPORT_BANK_TABLE = ControlTable("zeta", BANK_TABLE_HEADINGS_DEG, BANK_BOUNDS_DEG, tuple(nominal_bank_deg(1.0)))
+
+
+def section_iii_alpha_table(velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, times_s=None,
+                            bounds_deg=ALPHA_BOUNDS_DEG) -> ControlTable:
+    """Section III's alpha table: against velocity (or time when times_s is given), from (L/D)max of lod-1.89."""
+    nodes = tuple(velocities_fps if times_s is None else times_s)
+    return ControlTable("velocity" if times_s is None else "time", nodes, tuple(bounds_deg),
+                        (ALPHA_MAX_LD_HYPERSONIC_DEG,) * len(nodes))
+
+
+@dataclass(frozen=True)
+class TableControls:
+    """(spec, params) -> the spec flying the bank table at params[:n_bank] and the alpha table (if any) at
+    the rest, each on its own abscissa."""
+
+    bank: ControlTable
+    alpha: ControlTable | None = None
+
+    def __call__(self, spec, params):
+        nb = len(self.bank.nodes)
+        spec = with_bank_table(spec, params[:nb], self.bank.nodes, self.bank.abscissa)
+        if self.alpha is None:
+            return spec
+        return with_alpha_table(spec, params[nb:], self.alpha.nodes, law=ALPHA_TABLE_BY_ABSCISSA[self.alpha.abscissa])
+
+    @property
+    def tables(self) -> tuple:
+        return (self.bank,) if self.alpha is None else (self.bank, self.alpha)
 
 
 # ------------------------------------------------------------------------------------------------- problems
@@ -102,36 +147,43 @@ def downrange_target(downrange_nmi, tolerance_nmi=TTOL_DOWNRANGE_NMI) -> Constra
 
 def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank",
                     initial=None, alpha_bounds_deg=ALPHA_BOUNDS_DEG,
-                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, alpha_times_s=None) -> Problem:
-    """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha"), the alpha table against
-    velocity at velocities_fps, or against time at alpha_times_s when given."""
+                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, alpha_times_s=None,
+                    bank_table: ControlTable = REPORT_BANK_TABLE, alpha_table: ControlTable | None = None) -> Problem:
+    """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha"): the report's eight bank
+    points vs zeta unless bank_table says otherwise; the alpha table against velocity at velocities_fps, or
+    against time at alpha_times_s when given, within alpha_bounds_deg, unless alpha_table says otherwise.
+    initial: the whole starting vector (default: each table's initial_deg)."""
     if controls not in CONTROLS:
         raise ValueError(f"controls {controls!r} not in {CONTROLS}")
     if any(c.quantity.startswith("max_temperature") for c in constraints) and spec.heating is None:
         raise ValueError("a temperature constraint needs a spec with a heating model (heating.ReferenceHeating())")
-    by_time = alpha_times_s is not None
-    nodes = tuple(alpha_times_s if by_time else velocities_fps)
-    nb, na = len(BANK_TABLE_HEADINGS_DEG), len(nodes)
-    lower, upper = [BANK_BOUNDS_DEG[0]] * nb, [BANK_BOUNDS_DEG[1]] * nb
-    names = tuple(f"bank_deg_at_zeta_{h}" for h in BANK_TABLE_HEADINGS_DEG)
-    if controls == "bank":
-        fly = _bank_controls
-        default = nominal_bank_deg(1.0)
-    else:
-        lower += [alpha_bounds_deg[0]] * na
-        upper += [alpha_bounds_deg[1]] * na
-        names += tuple(f"alpha_deg_at_{'time_s' if by_time else 'velocity_fps'}_{v:.0f}" for v in nodes)
-        fly = _BankAlpha(nodes, ALPHA_TABLE_TIME if by_time else ALPHA_TABLE_VELOCITY)
-        default = np.concatenate((nominal_bank_deg(1.0), np.full(na, ALPHA_MAX_LD_HYPERSONIC_DEG)))
+    if controls == "bank" and alpha_table is not None:
+        raise ValueError("an alpha table needs controls 'bank_alpha'")
+    if controls == "bank_alpha" and alpha_table is None:
+        alpha_table = section_iii_alpha_table(velocities_fps, alpha_times_s, alpha_bounds_deg)
+    fly = TableControls(bank_table, alpha_table)
+    lower, upper, default, names = (), (), (), ()
+    for t, angle in zip(fly.tables, ("bank", "alpha")):
+        lower += (t.bounds_deg[0],) * len(t.nodes)
+        upper += (t.bounds_deg[1],) * len(t.nodes)
+        default += tuple(t.initial_deg)
+        names += t.names(angle)
     return Problem(lower=np.array(lower), upper=np.array(upper), initial=default if initial is None else initial,
                    payoff=payoff, goal=goal, constraints=tuple(constraints), base=spec, controls=fly, names=names,
                    evaluate=_Flight(spec, fly, payoff))
 
 
+def accepted_stops(spec: FlightSpec) -> tuple:
+    """The stop reasons of a flight that ended where the spec asks: at its stop altitude, velocity or time."""
+    st = spec.stop
+    return tuple(r for r, v in (("altitude", st.altitude_ft), ("velocity", st.velocity_fps), ("time", st.time_s))
+                 if v is not None)
+
+
 @dataclass(frozen=True)
 class _Flight:
-    """params -> summary; a flight that does not end at the stop altitude (max steps, skip-out, time) has no
-    payoff, so the search never takes a truncated flight for a short one."""
+    """params -> summary; a flight that does not end at one of the spec's stops (max steps, skip-out, the
+    default time stop) has no payoff, so the search never takes a truncated flight for a short one."""
 
     base: FlightSpec
     controls: object
@@ -139,23 +191,16 @@ class _Flight:
 
     def __call__(self, params):
         s = simulate(replace(self.controls(self.base, params), max_steps=SEARCH_MAX_STEPS)).summary
-        return s if s["stop_reason"] in ACCEPTED_STOPS else dict(s, **{self.payoff: None})
+        return s if s["stop_reason"] in accepted_stops(self.base) else dict(s, **{self.payoff: None})
 
 
-@dataclass(frozen=True)
-class _BankAlpha:
-    nodes: tuple  # ft/s, or s for the time law
-    law: int = ALPHA_TABLE_VELOCITY
-
-    def __call__(self, spec, params):
-        return bank_alpha_controls(spec, params, self.nodes, self.law)
-
-
-def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS) -> dict:
-    """Creep/pattern settings: the bank-table ones (optimize.py), with alpha steps in their own degrees."""
+def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
+                   bank_nodes=BANK_TABLE_HEADINGS_DEG) -> dict:
+    """Creep/pattern settings: the bank-table ones (optimize.py), with alpha steps in their own degrees
+    (velocities_fps, bank_nodes: the tables' nodes, whatever their abscissa)."""
     base = dict(CONSTRAINED_CROSS_RANGE_SEARCH if constrained else CROSS_RANGE_SEARCH)
     if controls == "bank_alpha":
-        nb, na = len(BANK_TABLE_HEADINGS_DEG), len(velocities_fps)
+        nb, na = len(bank_nodes), len(velocities_fps)
         base["step"] = np.concatenate((np.full(nb, base["step"]), np.full(na, ALPHA_STEP_DEG)))
         base["min_step"] = np.concatenate((np.full(nb, base["min_step"]), np.full(na, ALPHA_MIN_STEP_DEG)))
     return base
@@ -313,7 +358,7 @@ def coolest_floor(spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bou
         return simulate(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS)).summary
 
     def ok(s):
-        return s["stop_reason"] in ACCEPTED_STOPS and s["max_temperature_R"] <= limit_R + tolerance_R
+        return s["stop_reason"] in accepted_stops(spec) and s["max_temperature_R"] <= limit_R + tolerance_R
 
     hot = bounds_deg[0]
     s, flights = fly(hot), 1

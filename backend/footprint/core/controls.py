@@ -67,6 +67,7 @@ BANK_VARIABLES = {"zeta": VAR_ZETA, "heading": VAR_HEADING, "time": VAR_TIME, "v
 START_ENTRY = 0
 START_PULLOUT = 1
 START_ALTITUDE = 2
+BANK_STARTS = {"entry": START_ENTRY, "pullout": START_PULLOUT, "altitude": START_ALTITUDE}
 
 # --- ctrl array layout ---
 C_BANK_LAW = 0
@@ -101,7 +102,7 @@ def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=
     ctrl[C_TURN] = turn_deg
     ctrl[C_BANK_VAR] = BANK_VARIABLES[bank_variable]
     ctrl[C_MIRROR] = 1.0 if mirror else 0.0
-    ctrl[C_START] = {"entry": START_ENTRY, "pullout": START_PULLOUT, "altitude": START_ALTITUDE}[bank_start]
+    ctrl[C_START] = BANK_STARTS[bank_start]
     ctrl[C_START_ALT] = bank_start_altitude_ft
     law = ALPHA_LAWS[alpha_law]
     if alpha_law == "table":
@@ -121,6 +122,43 @@ def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=
         parts.append(np.concatenate(([len(x)], x, y)))
         offset += 1 + 2 * len(x)
     return np.concatenate(parts)
+
+
+def _name_of(names: dict, code) -> str:
+    return next(n for n, c in names.items() if c == int(code))
+
+
+def alpha_law_name(code) -> tuple[str, str]:
+    """(alpha_law, alpha_table_abscissa) of pack_controls for an alpha-law code."""
+    abscissa = {c: a for a, c in ALPHA_TABLE_BY_ABSCISSA.items()}.get(int(code))
+    return ("table", abscissa) if abscissa is not None else (_name_of(ALPHA_LAWS, code), "velocity")
+
+
+def _table(ctrl, slot):
+    if ctrl[slot] < 0:
+        return None
+    o = int(ctrl[slot])
+    n = int(ctrl[o])
+    return ctrl[o + 1: o + 1 + n].copy(), ctrl[o + 1 + n: o + 1 + 2 * n].copy()
+
+
+def unpack_controls(ctrl) -> dict:
+    """The keyword arguments of pack_controls that rebuild ctrl (its inverse)."""
+    alpha_law, abscissa = alpha_law_name(ctrl[C_ALPHA_LAW])
+    return {"bank_law": _name_of(BANK_LAWS, ctrl[C_BANK_LAW]), "bank_value": float(ctrl[C_BANK_VALUE]),
+            "bank_limit_deg": None if ctrl[C_BANK_LIMIT] == NO_LIMIT else float(ctrl[C_BANK_LIMIT]),
+            "sigma_f_deg": float(ctrl[C_SIGMA_F]), "turn_deg": float(ctrl[C_TURN]),
+            "bank_variable": _name_of(BANK_VARIABLES, ctrl[C_BANK_VAR]), "mirror": ctrl[C_MIRROR] != 0.0,
+            "bank_start": _name_of(BANK_STARTS, ctrl[C_START]), "bank_start_altitude_ft": float(ctrl[C_START_ALT]),
+            "alpha_law": alpha_law, "alpha_value": float(ctrl[C_ALPHA_VALUE]),
+            "alpha_before": _name_of(ALPHA_LAWS, ctrl[C_ALPHA_BEFORE]), "bank_table": _table(ctrl, C_BANK_TABLE),
+            "alpha_table": _table(ctrl, C_ALPHA_TABLE), "alpha_table_abscissa": abscissa,
+            "hold_time_constant_s": float(ctrl[C_TAU])}
+
+
+def replace_controls(ctrl, **changes):
+    """ctrl with some of pack_controls' arguments changed (e.g. a new bank table), the rest kept."""
+    return pack_controls(**(unpack_controls(ctrl) | changes))
 
 
 @njit

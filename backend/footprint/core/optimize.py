@@ -15,6 +15,12 @@ Read as printed, with two decisions (see `penalty`):
     -psibar as good as +psibar, so it is dropped). An "at_most" / "at_least" constraint counts only the
     excess on its wrong side.
 
+Beyond the report, a constraint may carry a scale s_i (its quantity's unit) that divides the excess,
+w_i ((dev_i - TTOL_i/2) / s_i)^2: with s_i = TTOL_i every term is dimensionless (one band's excess costs w_i
+units of payoff), so unit weights balance a terminal flight-path angle held to 0.1 deg against a velocity
+held to 10 ft/s. This departs from eq. (4), whose unit weights leave each term in its quantity's unit
+squared; s_i = 1 (the default) is eq. (4) as printed.
+
 A problem is a base FlightSpec, a function (spec, params) -> FlightSpec, bounds, an initial point, a payoff
 key of the trajectory summary with its goal, and constraints on summary keys. Pure core: numpy (and scipy
 for the comparison route) only.
@@ -27,17 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from footprint.core.controls import (
-    BANK_LAWS,
-    C_ALPHA_TABLE,
-    C_BANK_LAW,
-    C_BANK_LIMIT,
-    C_BANK_TABLE,
-    C_BANK_VAR,
-    C_MIRROR,
-    C_SIZE,
-    NO_LIMIT,
-)
+from footprint.core.controls import replace_controls
 from footprint.core.trajectory import FlightSpec, simulate
 
 # Section II.5 / Fig. 2: the eight table points, heading (remaining heading change) -15 to 90 deg by 15
@@ -64,6 +60,7 @@ class Constraint:
     target: float
     tolerance: float = 0.0  # TTOL_i, full width of the band, same unit as the quantity
     weight: float = 1.0  # w_i (unit matrix in the report)
+    scale: float = 1.0  # s_i, same unit as the quantity, divides the excess in the penalty (1: eq. (4))
 
     def deviation(self, value):
         """How far psi is on the wrong side of the target (>= 0), before the band."""
@@ -117,10 +114,10 @@ class Problem:
 
 
 def penalty(constraints, summary) -> float:
-    """sum_i w_i (dev_i - TTOL_i/2)^2 outside the band, 0 inside (eq. (4), see the module docstring)."""
+    """sum_i w_i ((dev_i - TTOL_i/2) / s_i)^2 outside the band, 0 inside (eq. (4), see the module docstring)."""
     total = 0.0
     for c in constraints:
-        v = c.violation(summary.get(c.quantity))
+        v = c.violation(summary.get(c.quantity)) / c.scale
         if v == math.inf:
             return math.inf
         total += c.weight * v * v
@@ -354,8 +351,9 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
     """The same problem by a scipy optimizer, for a side-by-side comparison (STYLE: two routes).
 
     Nelder-Mead (or any derivative-free method) minimizes the same phi* within the bounds; SLSQP is given
-    the constraints themselves (equality psi = psibar, inequalities psi <= / >= psibar; tolerances are
-    ignored, the band is only used to judge feasibility) and finite-difference gradients: pass `eps`, the
+    the constraints themselves (equality psi = psibar, inequalities psi <= / >= psibar, each divided by its
+    scale; tolerances are ignored, the band is only used to judge feasibility) and finite-difference
+    gradients: pass `eps`, the
     difference step in parameter units (about 1 deg for the bank table; scipy's 1.5e-8 drowns in the
     integrator's noise and SLSQP stops at its start). The result is the best point flown by phi* (the
     same judge as creep_pattern), not necessarily scipy's last iterate.
@@ -381,11 +379,11 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
             cons = []
             for c in pr.constraints:
                 if c.kind == "equals":
-                    cons.append({"type": "eq", "fun": lambda x, c=c: summ(x)[c.quantity] - c.target})
+                    cons.append({"type": "eq", "fun": lambda x, c=c: (summ(x)[c.quantity] - c.target) / c.scale})
                 elif c.kind == "at_most":
-                    cons.append({"type": "ineq", "fun": lambda x, c=c: c.target - summ(x)[c.quantity]})
+                    cons.append({"type": "ineq", "fun": lambda x, c=c: (c.target - summ(x)[c.quantity]) / c.scale})
                 else:
-                    cons.append({"type": "ineq", "fun": lambda x, c=c: summ(x)[c.quantity] - c.target})
+                    cons.append({"type": "ineq", "fun": lambda x, c=c: (summ(x)[c.quantity] - c.target) / c.scale})
             r = minimize(fun, pr.initial, method="SLSQP", bounds=bounds, constraints=cons, options=options)
         else:
             r = minimize(ev, pr.initial, method=method, bounds=bounds, options=options)
@@ -396,24 +394,12 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
 
 
 # ------------------------------------------------------------------ Section II.5: the bank table problem
-def with_bank_table(spec: FlightSpec, bank_deg, headings_deg=BANK_TABLE_HEADINGS_DEG) -> FlightSpec:
-    """The spec flying bank = linear interpolation in (zeta, bank) (Fig. 2), held at the table's ends;
-    the rest of the control array (alpha law and its table, bank start) kept."""
-    old = spec.ctrl
-    head = old[:C_SIZE].copy()
-    parts = [head]
-    head[C_BANK_LAW] = BANK_LAWS["table"]
-    head[C_BANK_LIMIT] = NO_LIMIT
-    head[C_BANK_VAR] = 0.0  # zeta, the remaining heading change (Section II.6)
-    head[C_MIRROR] = 0.0
-    x = np.asarray(headings_deg, dtype=float)
-    head[C_BANK_TABLE] = C_SIZE
-    parts.append(np.concatenate(([len(x)], x, np.asarray(bank_deg, dtype=float))))
-    if old[C_ALPHA_TABLE] >= 0:
-        a0 = int(old[C_ALPHA_TABLE])
-        head[C_ALPHA_TABLE] = C_SIZE + len(parts[1])
-        parts.append(old[a0: a0 + 1 + 2 * int(old[a0])])
-    return replace(spec, ctrl=np.concatenate(parts))
+def with_bank_table(spec: FlightSpec, bank_deg, nodes=BANK_TABLE_HEADINGS_DEG, variable="zeta") -> FlightSpec:
+    """The spec flying bank = linear interpolation in (zeta, bank) (Fig. 2), or in (variable, bank) for another
+    abscissa of controls.BANK_VARIABLES (nodes in its unit), held at the table's ends, no limit, left-hand; the
+    rest of the control laws (alpha law and its table, bank start) kept."""
+    return replace(spec, ctrl=replace_controls(spec.ctrl, bank_law="table", bank_limit_deg=None,
+                                               bank_variable=variable, mirror=False, bank_table=(nodes, bank_deg)))
 
 
 def nominal_bank_deg(k=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):

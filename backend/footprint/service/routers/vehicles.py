@@ -8,8 +8,8 @@ from fastapi import APIRouter, Request, Response
 from pydantic import ValidationError
 
 from footprint.cases import VehicleCase
-from footprint.core.aero import alpha_cl_max_deg, builtin_vehicle, builtin_vehicle_ids, coefficients, ld_max, \
-    vehicle_summaries
+from footprint.core.aero import SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_cl_max_deg, builtin_vehicle, \
+    builtin_vehicle_ids, coefficients, ld_max, vehicle_summaries
 from footprint.core.errors import InputError
 from footprint.service import deps
 from footprint.service.db import queries as q
@@ -17,7 +17,6 @@ from footprint.service.errors import Conflict, NotFound, invalid
 from footprint.service.schemas import VehicleCreate, VehicleDetail, VehicleItem
 
 router = APIRouter(tags=["vehicles"])
-SUMMARY_MACH, SUMMARY_ALTITUDE_FT = 20.0, 200_000.0  # the point of `footprint vehicles`
 AERO_MACH = (2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)  # the aero summary's Mach numbers
 
 
