@@ -186,8 +186,10 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
 def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
              plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
                                                  help="draw the convergence history and the bank schedule")):
-    """Optimize the bank schedule (creep + pattern, Section II.4): prints the optimum, its parameters and the
-    convergence history as JSON. Exit status 1 when no feasible point was found (the result says by how much)."""
+    """Optimize the bank schedule (creep + pattern, Section II.4) or, with "method": "collocation", alpha(t) and
+    bank(t) to the true optimum (IPOPT): prints the optimum, its parameters or control tables and the convergence
+    history as JSON. Exit status 1 when no feasible point was found (the result, and for the collocation one line
+    on stderr, say by how much)."""
     from footprint.optimization import parse_optimization, run_optimization
 
     data = _read_json(study_file)
@@ -198,10 +200,12 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
         _fail(error_line(exc))
     result = run_optimization(study)
     if plot is not None:
-        from footprint.figures import optimization_figure, save
+        from footprint.figures import collocation_figure, optimization_figure, save
 
-        save(optimization_figure(result), plot)
+        save((collocation_figure if study.method == "collocation" else optimization_figure)(result), plot)
     typer.echo(json.dumps(result.to_dict(), indent=2, default=_json_default))
+    if study.method == "collocation" and not result.feasible:
+        typer.echo(f"error: {result.one_line()}", err=True)
     if not result.feasible:
         raise typer.Exit(1)
 

@@ -9,6 +9,7 @@ from itertools import cycle
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after the backend is chosen)
@@ -189,6 +190,35 @@ def optimization_figure(result, title=None) -> Figure:
         ax.grid(alpha=0.3)
     fig.suptitle(title or f"{result.method}: payoff {result.payoff:,.1f}, {result.trajectories} trajectories"
                  + ("" if result.feasible else " (infeasible)"))
+    return fig
+
+
+def collocation_figure(result, title=None) -> Figure:
+    """A true optimum (core.collocation): altitude, alpha and bank, and (with heating) the temperature against
+    time, the NLP's points beside the re-flight's end (the dashed line marks the flown final time)."""
+    h = result.history
+    panels = [("altitude_ft", "Altitude (ft)"), ("alpha_deg", "Angle of attack (deg)"), ("bank_deg", "Bank angle (deg)")]
+    if "temperature_R" in h and np.all(np.isfinite(h["temperature_R"])):
+        panels.append(("temperature_R", "Radiation-equilibrium temperature (degR)"))
+    elif "heat_rate_btu_ft2_s" in h:
+        panels.append(("heat_rate_btu_ft2_s", "Heat rate (Btu/ft^2/s)"))
+    fig = Figure(figsize=(11.0, 3.2 * ((len(panels) + 1) // 2)))
+    axes = fig.subplots((len(panels) + 1) // 2, 2, squeeze=False).ravel()
+    for ax, (key, label) in zip(axes, panels):
+        ax.plot(h["time_s"], h[key], "-k", lw=1.2)
+        if result.refly is not None:
+            ax.axvline(result.refly["flight_time_s"], color="0.5", ls="--", lw=0.8)
+        ax.set_xlabel("Time (s)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    s, a = result.summary, result.agreement
+    agree = "" if a is None else (f"; re-flown: {a['latitude_deg']:.4f} deg lat, {a['longitude_deg']:.4f} deg lon, "
+                                  f"{100 * a['downrange_rel']:.3f} % down-range")
+    fig.suptitle(title or f"collocation {result.status}: down-range {s['downrange_nmi']:,.1f} nmi, cross-range "
+                 f"{s['crossrange_nmi']:,.1f} nmi, {s['flight_time_s']:,.0f} s{agree}", fontsize=9)
+    fig.tight_layout()
     return fig
 
 

@@ -39,6 +39,7 @@ from footprint.cases import (
     check_increasing,
     table_abscissa,
 )
+from footprint.core import collocation as col
 from footprint.core import constrained
 from footprint.core import optimize as opt
 from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
@@ -46,18 +47,55 @@ from footprint.core.errors import InputError
 
 QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
               "final_gamma_deg", "final_heading_deg", "flight_time_s", "max_temperature_R",
-              "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "pullout_altitude_ft")
+              "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "pullout_altitude_ft", "final_energy_ft",
+              "heat_load_btu_ft2", "max_load_factor")
 Quantity = Literal[QUANTITIES]
 SCIPY_METHODS = ("Nelder-Mead", "Powell", "SLSQP", "COBYLA")
+METHODS = ("creep_pattern", "collocation") + SCIPY_METHODS
 DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R": opt.TTOL_TEMPERATURE_R}
 SCALINGS = ("tolerance", "none")
 SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
 AlphaBound = bounded(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")
 
 
+class Term(Strict):
+    quantity: Quantity
+    weight: bounded(-1e9, 1e9) = 1.0
+
+
 class Payoff(Strict):
+    """One quantity, or (collocation) a weighted sum of `terms`, maximized or minimized."""
+
     quantity: Quantity = "crossrange_nmi"
     goal: Literal["max", "min"] = "max"
+    terms: list[Term] | None = Field(default=None, min_length=1, max_length=10)
+
+    def objective(self) -> tuple:
+        """((quantity, weight), ...)"""
+        return tuple((t.quantity, t.weight) for t in self.terms) if self.terms else ((self.quantity, 1.0),)
+
+
+class CollocationOptions(Strict):
+    """Direct collocation (footprint.core.collocation): the mesh, the controls' bounds and rate limits."""
+
+    intervals: int = Field(default=100, ge=4, le=1_000)
+    degree: int = Field(default=3, ge=1, le=8)  # Radau points per interval
+    max_intervals: int = Field(default=400, ge=4, le=2_000)  # mesh doubling stops here
+    alpha_bounds_deg: tuple[AlphaBound, AlphaBound] | None = None  # default: the vehicle's valid alpha range
+    bank_bounds_deg: tuple[Bank, Bank] = (-180.0, 180.0)
+    alpha_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
+    bank_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
+    max_iterations: int = Field(default=3_000, ge=1, le=100_000)
+
+    @model_validator(mode="after")
+    def _bounds(self):
+        for name in ("alpha_bounds_deg", "bank_bounds_deg"):
+            b = getattr(self, name)
+            if b is not None and b[0] >= b[1]:
+                raise ValueError(f"{name}: lower bound {b[0]:g} is not below the upper bound {b[1]:g}")
+        if self.max_intervals < self.intervals:
+            raise ValueError(f"max_intervals {self.max_intervals} must be at least intervals {self.intervals}")
+        return self
 
 
 class ConstraintCase(Strict):
@@ -184,7 +222,8 @@ class OptimizationStudy(Strict):
     payoff: Payoff = Payoff()
     constraints: list[ConstraintCase] = Field(default=[], max_length=10)
     controls: list[Literal["bank", "alpha"]] = Field(default=["bank"], min_length=1, max_length=2)
-    method: Literal[("creep_pattern",) + SCIPY_METHODS] = "creep_pattern"
+    method: Literal[METHODS] = "creep_pattern"
+    collocation: CollocationOptions | None = None  # method "collocation" only
     max_trajectories: int = Field(default=3_000, ge=10, le=100_000)
     bank_table: BankSearchTable | None = None
     alpha_table: AlphaSearchTable | None = None
@@ -200,9 +239,30 @@ class OptimizationStudy(Strict):
         return self
 
     @model_validator(mode="after")
+    def _method(self):
+        if self.method == "collocation":
+            if self.bank_table is not None or self.alpha_table is not None:
+                raise ValueError("bank_table, alpha_table: the collocation optimizes alpha(t) and bank(t) themselves; "
+                                 "bound them in 'collocation'")
+            if self.case.stop.altitude_ft is None:
+                raise ValueError("case.stop.altitude_ft: the collocation ends at a stop altitude; give one")
+            bad = [q for q in [c.quantity for c in self.constraints] + [q for q, _ in self.payoff.objective()]
+                   if q not in COLLOCATION_QUANTITIES]
+            if bad:
+                raise ValueError(f"{bad[0]}: not available to the collocation; allowed: "
+                                 f"{', '.join(COLLOCATION_QUANTITIES)}")
+        else:
+            if self.collocation is not None:
+                raise ValueError(f"collocation: options for method 'collocation' (the method is {self.method!r})")
+            if self.payoff.terms is not None:
+                raise ValueError("payoff.terms: a weighted sum is optimized by method 'collocation' only")
+        return self
+
+    @model_validator(mode="after")
     def _heating(self):
-        uses_heat = {c.quantity for c in self.constraints} | {self.payoff.quantity}
-        if uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s"} and self.case.heating is None:
+        uses_heat = {c.quantity for c in self.constraints} | {q for q, _ in self.payoff.objective()}
+        if uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2"} \
+                and self.case.heating is None:
             raise ValueError("case.heating: a temperature or heat-rate payoff or constraint needs a heating model")
         return self
 
@@ -241,6 +301,7 @@ class OptimizationStudy(Strict):
         return tuple(c.to_core(self.scaling()) for c in self.constraints)
 
 
+COLLOCATION_QUANTITIES = col.QUANTITIES
 _ADAPTER = TypeAdapter(OptimizationStudy)
 
 
@@ -274,8 +335,23 @@ def problem_of(study: OptimizationStudy) -> opt.Problem:
                        controls=base.controls, names=base.names)
 
 
-def run_optimization(study) -> opt.Result:
+def collocation_problem(study: OptimizationStudy) -> col.Problem:
+    """The study as an optimal-control problem: constraints exactly (equals within +- tolerance/2 only when a
+    tolerance is given), the case's control laws flown as the first guess."""
+    o = study.collocation or CollocationOptions()
+    constraints = tuple(opt.Constraint(c.quantity, kind, float(getattr(c, kind)), c.tolerance or 0.0)
+                        for c in study.constraints
+                        for kind in ("equals", "at_most", "at_least") if getattr(c, kind) is not None)
+    return col.Problem(base=study.case.to_spec(), objective=study.payoff.objective(), goal=study.payoff.goal,
+                       constraints=constraints, alpha_bounds_deg=o.alpha_bounds_deg, bank_bounds_deg=o.bank_bounds_deg,
+                       alpha_rate_deg_s=o.alpha_rate_deg_s, bank_rate_deg_s=o.bank_rate_deg_s, intervals=o.intervals,
+                       degree=o.degree, max_intervals=o.max_intervals, max_iterations=o.max_iterations)
+
+
+def run_optimization(study) -> opt.Result | col.Result:
     study = parse_optimization(study)
+    if study.method == "collocation":
+        return col.solve(collocation_problem(study))
     problem = problem_of(study)
     if study.method != "creep_pattern":
         return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories)

@@ -53,12 +53,21 @@ ALPHA_SCALE_DEG, BANK_SCALE_DEG = 10.0, 45.0
 # Measured on the L/D 1.89 maximum cross-range: 0.2 re-flies within 0.01 deg, 0.05 within 0.0025 deg; IPOPT
 # needs thousands of iterations at 0.02 and fails at 0.01 (the corners' curvature grows as 1/width).
 SMOOTHING_STAGES = (0.2, 0.05)
+# the rates' penalty (Problem.smoothing_weight) of every stage but a last polish with a hundredth of it: it removes the
+# singular directions of the controls where the air is too thin to act (the plunge from 364,800 ft: the
+# L/D 1.89 maximum cross-range takes 1,928 iterations without it, 186 with it), and the polish takes its bias
+# out (it moved Betts' heat-limited final time by 8 s); without any the L/D 1.89 polish does not converge
+POLISH_WEIGHT = 1e-2  # the polish's share of smoothing_weight
 STATUS_OF_IPOPT = {"Solve_Succeeded": "optimal", "Solved_To_Acceptable_Level": "optimal",
                    "Infeasible_Problem_Detected": "infeasible"}
 
 
 class CollocationError(ValueError):
     """A problem the transcription cannot pose (one line naming the field)."""
+
+
+class NoOptimum(RuntimeError):
+    """IPOPT ended without an optimum: the job's one line (status and the largest violation)."""
 
 
 @dataclass(frozen=True)
@@ -83,10 +92,8 @@ class Problem:
     max_intervals: int = 400  # the mesh is doubled up to this many intervals until the re-flight agrees
     max_iterations: int = 3000
     tolerance: float = 1e-8  # IPOPT's tol (scaled NLP)
-    # a small penalty on the controls' rates (scaled, per unit of the objective): it removes the singular
-    # directions of the controls where the air is too thin to act (the plunge from 364,800 ft) and does not
-    # move an optimum by a measurable amount (the tests hold Betts' published optima to 0.01 deg with it)
-    smoothing_weight: float = 1e-4
+    smoothing_weight: float = 1e-4  # penalty on the controls' scaled rates before the polish (SMOOTHING_STAGES)
+    polish: bool = True  # a last stage at POLISH_WEIGHT (an optimal footprint's points skip it: 0.05 % of range)
 
 
 @dataclass
@@ -128,6 +135,8 @@ class Result:
     @property
     def ok(self) -> bool:
         return self.status == "optimal"
+
+    feasible = ok  # the name the parameter search's result uses
 
     def one_line(self) -> str:
         if self.ok:
@@ -216,7 +225,8 @@ class Transcription:
         weights = ca.MX.sym("w", len(pr.objective))
         theta_ref = ca.MX.sym("theta_ref")  # down-range angle of the guess: keeps atan2 away from its cut
         smoothing = ca.MX.sym("smoothing")  # SMOOTHING_STAGES
-        par = ca.vertcat(weights, theta_ref, smoothing)
+        regularization = ca.MX.sym("regularization")  # smoothing_weight, 0 in the polish
+        par = ca.vertcat(weights, theta_ref, smoothing, regularization)
         # linear controls: the values at the collocation points are weights of the node values
         lin = np.zeros((n + 1, m))
         for k in range(n):
@@ -270,8 +280,7 @@ class Transcription:
                     -np.inf, 0.0)
         objective = sum(weights[i] * final[q] / SCALE[q] for i, (q, _) in enumerate(pr.objective))
         f = -objective if pr.goal == "max" else objective
-        du = (us[:, 1:] - us[:, :-1]) * n
-        f = f + pr.smoothing_weight * ca.sumsqr(du) / n ** 1
+        f = f + regularization * ca.sumsqr(us[:, 1:] - us[:, :-1]) * n
         self._g = ca.vertcat(*g)
         self.lbg = np.concatenate([grp[2] for grp in self._groups])
         self.ubg = np.concatenate([grp[3] for grp in self._groups])
@@ -349,7 +358,7 @@ class Transcription:
 
     def _bounds(self, ns, m, n):
         pr = self.problem
-        lo_a, hi_a = pr.alpha_bounds_deg or self.model.aero.alpha_range_deg
+        lo_a, hi_a = self.alpha_bounds_deg()
         lo_b, hi_b = pr.bank_bounds_deg
         x_lo = np.tile(np.array([-0.5, -np.inf, -np.pi / 2 + 1e-3, 1e-3, -np.pi / 2 + 1e-3, -np.inf] + [-np.inf] * self.nq)
                        [:, None], (1, m + 1))
@@ -361,6 +370,17 @@ class Transcription:
         u_hi = np.tile(np.array([hi_a / ALPHA_SCALE_DEG, hi_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
         self.lbx = np.concatenate([x_lo.ravel(order="F"), u_lo.ravel(order="F"), [1e-3]])
         self.ubx = np.concatenate([x_hi.ravel(order="F"), u_hi.ravel(order="F"), [1e3]])
+
+    def alpha_bounds_deg(self):
+        """The problem's alpha bounds within the vehicle's valid alpha range (tables and polynomials alike)."""
+        lo, hi = self.model.aero.alpha_range_deg
+        if self.problem.alpha_bounds_deg is None:
+            return lo, hi
+        a, b = self.problem.alpha_bounds_deg
+        if b <= lo or a >= hi:
+            raise CollocationError(f"alpha_bounds_deg {a:g} to {b:g}: outside the vehicle's alpha range {lo:g} to "
+                                   f"{hi:g} deg")
+        return max(a, lo), min(b, hi)
 
     def _scaled_entry(self):
         s = self.x0
@@ -376,7 +396,7 @@ class Transcription:
         xs[0] = self._scaled_entry()
         nodes = self.tau[::self.d]
         _, un, _ = guess.at(nodes)
-        lo_a, hi_a = self.problem.alpha_bounds_deg or self.model.aero.alpha_range_deg
+        lo_a, hi_a = self.alpha_bounds_deg()
         lo_b, hi_b = self.problem.bank_bounds_deg
         us = np.column_stack([np.clip(un[:, 0], lo_a, hi_a) / ALPHA_SCALE_DEG,
                               np.clip(un[:, 1], lo_b, hi_b) / BANK_SCALE_DEG])
@@ -405,9 +425,13 @@ class Transcription:
             stages = SMOOTHING_STAGES if warm is None else SMOOTHING_STAGES[-1:]
         if not self.model.smoothed:
             stages = stages[-1:]
+        weight = pr.smoothing_weight
+        plan = [(st, weight) for st in stages]
+        if weight > 0 and pr.polish:
+            plan.append((stages[-1], weight * POLISH_WEIGHT))
         seconds, iterations = 0.0, 0
-        for smoothing in stages:
-            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing]])
+        for smoothing, reg in plan:
+            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing, reg]])
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
             if warm is not None:
@@ -449,6 +473,8 @@ class Transcription:
             if v > worst:
                 worst, name = v, gname
             offset += size
+        if name in SCALE:  # a terminal constraint: in its own unit
+            return f"{name} by {worst * SCALE[name]:.4g}"
         return f"{name} by {worst:.3g} (scaled)"
 
     def _result(self, x, par, status, message, max_violation, iterations, seconds) -> Result:
@@ -478,7 +504,7 @@ class Transcription:
             history["heat_rate_btu_ft2_s"], history["temperature_R"] = q, temp
             summary["max_heat_rate_btu_ft2_s"] = float(np.max(q))
             summary["max_temperature_R"] = float(np.max(temp)) if np.all(np.isfinite(temp)) else None
-        objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[:-2]))
+        objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[:-3]))
         after = Guess(tau=self.tau.copy(), states=np.column_stack([r, xs[1], xs[2], v, gam, psi]),
                            controls=np.column_stack([alpha_c, bank_c]), final_time_s=t_f,
                            downrange_nmi=final["downrange_nmi"],

@@ -11,7 +11,10 @@ Where this model differs from the integrator's (core.dynamics), and why:
     are cubic B-spline interpolants through the same nodes (IPOPT needs continuous derivatives); the
     integrator interpolates linearly. The re-flight of every optimum by core.trajectory.simulate measures
     the difference (collocation.Result.agreement).
-  * nothing else: same constants, gravity, geodetic altitude (one Bowring step, as frames.altitude_ft).
+  * the altitude in the equations of motion is the height above the ellipsoid along the radius
+    (radial_altitude_ft), up to 2.2 ft above the geodetic altitude below 400,000 ft; final latitudes are geodetic.
+  * polynomial aerodynamics are not held at the ends of their alpha range: the NLP's alpha bounds lie inside it.
+  * nothing else: the same constants and gravity (App. A eq. (A10) through the integrator's own lines).
 """
 
 from __future__ import annotations
@@ -24,7 +27,13 @@ import numpy as np
 from footprint.core import constants as c
 from footprint.core.aero import FORM_LIFT_DRAG, FORM_NORMAL_AXIAL, FORM_POLYNOMIAL
 from footprint.core._jit import python_function
-from footprint.core.atmosphere import EXPONENTIAL, MODEL_IDS, atmosphere_table, isothermal_temperature_R
+from footprint.core.atmosphere import (
+    ARDC_GAS_CONSTANT_FT2_S2_R,
+    EXPONENTIAL,
+    MODEL_IDS,
+    atmosphere_table,
+    isothermal_temperature_R,
+)
 from footprint.core.gravity import zonal_down_north
 from footprint.core.heating import (
     CP_AIR_BTU_LBM_R,
@@ -41,7 +50,9 @@ from footprint.core.heating import (
 from footprint.core.trajectory import FlightSpec
 
 _zonal = python_function(zonal_down_north)  # App. A eq. (A10), the integrator's own lines
-ATMOSPHERE_GRID_FT = np.arange(0.0, 1_200_001.0, 2_000.0)  # spline nodes of the tabulated atmospheres
+# spline nodes of the tabulated atmospheres: 500 ft keeps the overshoot at the layers' temperature-gradient
+# corners (11, 25, 47, 53, 79, 90 km') to a few hundredths of a percent in density
+ATMOSPHERE_GRID_FT = np.concatenate([np.arange(0.0, 400_000.0, 500.0), np.arange(400_000.0, 1_200_001.0, 2_000.0)])
 
 
 @dataclass(frozen=True)
@@ -81,7 +92,7 @@ def geodetic(pm: PlanetModel, r, lat_c):
 def radial_altitude_ft(pm: PlanetModel, r, lat_c):
     """Height above the ellipsoid along the radius, r - R_e R_p / sqrt(R_p^2 cos^2 + R_e^2 sin^2): the
     equations of motion's altitude (cheap for the NLP's derivatives). It differs from the geodetic altitude by
-    O(f^2 h): under 3 ft below 400,000 ft (tests/core/test_collocation.py)."""
+    O(f^2 h): under 3 ft below 400,000 ft (tests/core/test_model_casadi.py)."""
     if not pm.oblate:
         return r - pm.radius_ft
     re, rp = pm.radius_ft, pm.polar_radius_ft
@@ -110,7 +121,7 @@ class Atmosphere:
 
     def __call__(self, altitude_ft):
         if self.model == EXPONENTIAL:  # rho = rho0 exp(-h/H), isothermal (core.atmosphere)
-            gas = c.R_AIR_FT2_S2_R
+            gas = ARDC_GAS_CONSTANT_FT2_S2_R
             return (self.rho0 * ca.exp(-altitude_ft / self.scale_ft), self.temperature_R,
                     np.sqrt(c.GAMMA_AIR * gas * self.temperature_R))
         h = _clamped(altitude_ft, ATMOSPHERE_GRID_FT[0], ATMOSPHERE_GRID_FT[-1])
@@ -240,7 +251,8 @@ class Heating:
         return self.correlation_rate(rho, v, alpha_deg) / radiated - 1.0
 
     def heat_rate(self, rho, v, t_inf, alpha_deg):
-        """q (Btu/(ft^2 s)). Reference model: at the cold wall bound h H_AW... only the correlation is exact here."""
+        """q (Btu/(ft^2 s)) of the correlation model (the reference model's q depends on the wall temperature,
+        which the NLP does not carry: it constrains max_temperature_R instead)."""
         if isinstance(self.model, ReferenceHeating):
             raise ValueError("max_heat_rate_btu_ft2_s / heat_load_btu_ft2: with the reference heating model the "
                              "collocation constrains max_temperature_R; use a correlation model for heat rates")

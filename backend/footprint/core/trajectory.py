@@ -42,6 +42,7 @@ from footprint.core.dynamics import (
     P_STOP_VEL,
     P_WS,
     M_HOLD_ALT,
+    energy_height_ft,
     steering_angles,
 )
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
@@ -225,12 +226,13 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         "downrange_nmi": down,
         "crossrange_nmi": cross,
     }
-    max_heat_rate = max_temperature = None
+    max_heat_rate = max_temperature = heat_load = None
     if spec.heating is not None:  # Section III: evaluated on the histories, no effect on the motion
         heat_rate, temperature = trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
                                                     (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T])
         history["heat_rate_btu_ft2_s"], history["temperature_R"] = heat_rate, temperature
         max_heat_rate = float(np.max(heat_rate))
+        heat_load = float(np.trapezoid(heat_rate, rows[:, R_T]))  # integrated heat load, trapezoidal rule
         max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
     i_po = int(np.searchsorted(rows[:, R_T], mode[M_PULLOUT_T])) if pulled_out else 0  # an event row
@@ -250,6 +252,11 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         "pullout_velocity_fps": float(rows[i_po, R_V]) if pulled_out else None,
         "turn_deg": float(mode[M_TURN_DONE_DEG]) if mode[M_BANK_DONE] != 0.0 else None,  # staged, constant altitude
         "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
+        # load factor sqrt(L^2 + D^2) / W = q sqrt(CL^2 + CD^2) / (W/S)
+        "max_load_factor": float(np.max(rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD]))
+                                 / spec.vehicle.wing_loading_psf),
+        "final_energy_ft": float(energy_height_ft(rows[-1, R_ALT], rows[-1, R_V], K.G0_FT_S2)),
+        "heat_load_btu_ft2": heat_load,
         "max_heat_rate_btu_ft2_s": max_heat_rate,
         "max_temperature_R": max_temperature,
         "stop_reason": STOP_REASONS[stop_code],

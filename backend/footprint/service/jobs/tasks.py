@@ -103,10 +103,15 @@ def sweep_footprint_task(job: dict, name: str) -> dict:
 
 
 def optimize_task(study_dict: dict) -> dict:
-    """An optimization job: the optimum, its parameters and the convergence history."""
+    """An optimization job: the optimum, its parameters and the convergence history; a collocation that ends
+    without an optimum fails the job with its one line (status and largest violation)."""
+    from footprint.core.collocation import NoOptimum, Result
     from footprint.optimization import run_optimization
 
-    return plain(run_optimization(study_dict).to_dict())
+    result = run_optimization(study_dict)
+    if isinstance(result, Result) and not result.ok:
+        raise NoOptimum(result.one_line())
+    return plain(result.to_dict())
 
 
 def reach_task(request: dict) -> dict:
