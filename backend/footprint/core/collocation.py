@@ -593,3 +593,63 @@ def solve(problem: Problem, guess: Guess | None = None) -> Result:
         guess, n = result.guess, 2 * n
     result.seconds, result.iterations = total_s, total_it
     return result
+
+
+# ------------------------------------------------------------------------------------ optimal footprint
+FOOTPRINT_STAGES = SMOOTHING_STAGES[-1:]  # the tables' corners of a warm-started neighbour
+
+
+def optimal_footprint(problem: Problem, points: int = 24, on_step=None, stages=FOOTPRINT_STAGES):
+    """The reachable boundary by continuation: maximize cos(xi) down-range + sin(xi) cross-range for `points`
+    directions xi around the circle (both halves flown: the rotating earth is not symmetric), each solve started
+    from its neighbour's solution. Starts at xi = 90 deg (maximum cross-range, from the case's own flight) and
+    walks both ways round to 270 deg. Every point is the re-flight of its optimum (the integrator's end point);
+    a direction whose solve does not end optimal is left out and counted in parameter 'failed'.
+
+    The support function reaches the convex hull of the footprint only: where the true boundary is concave (it
+    can be on the near side) the weighted sums jump across. on_step(done, total) reports progress."""
+    from footprint.core.footprints import Footprint, area_nmi2, point_of_trajectory
+
+    if points < 4:
+        raise CollocationError(f"points: {points} is below 4")
+    pr = replace(problem, objective=(("downrange_nmi", 0.0), ("crossrange_nmi", 1.0)), goal="max", polish=False)
+    transcription = Transcription(pr)
+    step = 360.0 / points
+    angles_up = [90.0 + k * step for k in range(int(math.floor(180.0 / step)) + 1)]  # 90 .. 270 via 180
+    angles_down = [90.0 - k * step for k in range(1, int(math.ceil(180.0 / step)))]  # 90 - step .. > -90 via 0
+    first = simulate(pr.base)
+    start = guess_from_trajectory(pr.base, first)
+    solved, failed, n_solves = {}, [], 0
+    total = len(angles_up) + len(angles_down)
+    for arm in (angles_up, angles_down):
+        guess, warm = (start, None) if arm is angles_up else solved_seed
+        for xi in arm:
+            weights = (math.cos(math.radians(xi)), math.sin(math.radians(xi)))
+            result = transcription.solve(guess, weights=weights, warm=warm,
+                                         stages=SMOOTHING_STAGES if warm is None else stages)
+            n_solves += 1
+            if result.ok:
+                trajectory = refly(pr, result)
+                solved[xi] = (result, trajectory)
+                guess, warm = result.guess, result.solver_state
+            else:
+                failed.append(xi)
+            if xi == 90.0:
+                solved_seed = (guess, warm)
+            if on_step is not None:
+                on_step(n_solves, total)
+    order = sorted(solved, key=lambda a: a % 360.0)  # xi = 0 (farthest) first, then the left half, round
+    pts = []
+    for xi in order:
+        result, trajectory = solved[xi]
+        side = "axis" if abs(math.sin(math.radians(xi))) < 1e-9 else ("left" if math.sin(math.radians(xi)) > 0
+                                                                       else "right")
+        parameter = {"xi_deg": xi % 360.0, "iterations": result.iterations, "seconds": result.seconds,
+                     "agreement_deg": max(result.agreement["latitude_deg"], result.agreement["longitude_deg"])}
+        pts.append(point_of_trajectory(parameter, side, trajectory))
+    e = pr.base.entry
+    fp = Footprint(method="optimal", points=pts, area_nmi2=area_nmi2(pts), trajectories=n_solves,
+                   entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg,
+                          "heading_deg": e.heading_deg})
+    fp.asymmetry = {"failed_xi_deg": [xi % 360.0 for xi in failed]} if failed else None
+    return fp

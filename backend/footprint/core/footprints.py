@@ -249,7 +249,8 @@ def velocity_crossings(traj, velocities_fps) -> tuple:
     return tuple(out)
 
 
-def _point(parameter, side, traj, contours_fps=()) -> FootprintPoint:
+def point_of_trajectory(parameter, side, traj, contours_fps=()) -> FootprintPoint:
+    """The footprint point where a flown trajectory ends."""
     s = traj.summary
     return FootprintPoint(parameter=parameter, side=side, downrange_nmi=s["downrange_nmi"],
                           crossrange_nmi=s["crossrange_nmi"], flight_time_s=s["flight_time_s"],
@@ -277,7 +278,7 @@ def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
     axis, left, right, flown = [], [], [], 0
     exact = mirror_is_exact(spec)
     for parameter, make, on_axis in family:
-        pt = _point(parameter, "axis" if on_axis else "left", simulate(make(spec, False)), contours_fps)
+        pt = point_of_trajectory(parameter, "axis" if on_axis else "left", simulate(make(spec, False)), contours_fps)
         flown += 1
         if on_axis:
             axis.append(pt)
@@ -288,7 +289,7 @@ def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
         if mirror and exact:
             right.append(reflect(spec, pt))
         elif mirror:
-            right.append(_point(parameter, "right", simulate(make(spec, True)), contours_fps))
+            right.append(point_of_trajectory(parameter, "right", simulate(make(spec, True)), contours_fps))
             flown += 1
     asym = None
     if right and not exact:  # how far the flown halves are from mirror images
