@@ -172,3 +172,41 @@ def test_a_bad_search_knob_gets_one_line_and_exit_2(tmp_path, change, words):
     r = run(tmp_path, {**BETTS, **change})
     assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr
     assert r.stderr.count("\n") == 1 and words in r.stderr, r.stderr
+
+
+COLLOCATION = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
+
+
+def test_collocation_study_reaches_betts_published_optimum_and_draws_its_histories(tmp_path):
+    r = run(tmp_path, COLLOCATION, "--plot", str(tmp_path / "h.png"))
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert out["method"] == "collocation" and out["status"] == "optimal" and out["feasible"]
+    assert abs(out["summary"]["final_latitude_deg"] - betts_optimum()["final_latitude_deg"]) < 0.01  # deg
+    assert out["agreement"]["latitude_deg"] < 0.01 and out["refly"]["stop_reason"] == "altitude"
+    assert len(out["controls"]["time_s"]) == COLLOCATION["collocation"]["intervals"] + 1
+    assert (tmp_path / "h.png").stat().st_size > 10_000
+
+
+def test_an_unreachable_collocation_target_exits_1_with_one_line(tmp_path):
+    study = {**COLLOCATION, "constraints": COLLOCATION["constraints"] + [{"quantity": "downrange_nmi",
+                                                                          "equals": 20000}],
+             "collocation": {**COLLOCATION["collocation"], "max_iterations": 300}}
+    r = run(tmp_path, study)
+    assert r.returncode == 1
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(("error: infeasible:", "error: not converged:"))
+    assert "largest violation" in lines[0]
+    assert json.loads(r.stdout)["feasible"] is False  # the last iterate is printed
+
+
+@pytest.mark.parametrize("change, field", [
+    ({"collocation": {"intervals": 2}}, "collocation.intervals"),
+    ({"collocation": {"bank_bounds_deg": [10, -10]}}, "bank_bounds_deg"),
+    ({"method": "creep_pattern"}, "collocation: options for method 'collocation'"),
+    ({"payoff": {"quantity": "pullout_altitude_ft"}}, "pullout_altitude_ft: not available to the collocation"),
+])
+def test_a_bad_collocation_study_is_one_line_and_exit_2(tmp_path, change, field):
+    r = run(tmp_path, {**COLLOCATION, **change})
+    assert r.returncode == 2
+    assert field in r.stderr and len(r.stderr.strip().splitlines()) == 1

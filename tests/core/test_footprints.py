@@ -62,8 +62,8 @@ def test_reflected_half_equals_the_flown_right_half_on_a_sphere_without_rotation
              entry={**TABLE2_ENTRY, "latitude_deg": 20.0, "longitude_deg": 40.0, "heading_deg": 50.0})
     assert F.mirror_is_exact(s)
     for b in (30.0, 105.0):
-        left = F._point({}, "left", simulate(F.with_bank(s, "single_parameter", b / 90.0)))
-        flown = F._point({}, "right", simulate(F.with_bank(s, "single_parameter", b / 90.0, right=True)))
+        left = F.point_of_trajectory({}, "left", simulate(F.with_bank(s, "single_parameter", b / 90.0)))
+        flown = F.point_of_trajectory({}, "right", simulate(F.with_bank(s, "single_parameter", b / 90.0, right=True)))
         mirrored = F.reflect(s, left)
         assert mirrored.crossrange_nmi == pytest.approx(flown.crossrange_nmi, abs=5e-3)
         assert mirrored.downrange_nmi == pytest.approx(flown.downrange_nmi, abs=5e-3)
