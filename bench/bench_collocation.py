@@ -2,7 +2,7 @@
 
 Betts' Space Shuttle maximum cross-range (Practical Methods for Optimal Control, 2nd ed., sec. 6.1; published
 34.1412 deg): the collocation (examples/optimize_betts_collocation.json: cold = build the NLP + guess + solve +
-re-flight; warm = a neighbour, final velocity 2,600 ft/s, from the last solution) against the creep + pattern
+re-flight; warm = a neighbour, final velocity 2,700 ft/s, from the 2,600 ft/s solution) against the creep + pattern
 search on bank and alpha tables (examples/optimize_betts_shuttle.json), whose constraints are bands of
 +-5 ft/s and +-0.05 deg; the collocation's are met exactly (its band is 0). And the L/D 1.89 vehicle's maximum
 cross-range (Table 2 entry, rotating oblate earth, ARDC 1959, Appendix B tables) against creep + pattern on the
@@ -38,8 +38,12 @@ def betts():
     cold, cold_s = timed(lambda: col.solve(problem))
     tr = col.Transcription(problem)
     first = tr.solve(cold.guess)
-    warm, warm_s = timed(lambda: tr.solve(first.guess, warm=first.solver_state,
-                                          constraint_targets={"final_velocity_fps": (2600.0, 2600.0)}))
+    # the first warm start builds the warm-start solver once (about the cost of the first build); a
+    # continuation pays it once, so the neighbour is timed after it: 2,600 -> 2,700 ft/s final velocity
+    step, first_warm_s = timed(lambda: tr.solve(first.guess, warm=first.solver_state,
+                                                constraint_targets={"final_velocity_fps": (2600.0, 2600.0)}))
+    warm, warm_s = timed(lambda: tr.solve(step.guess, warm=step.solver_state,
+                                          constraint_targets={"final_velocity_fps": (2700.0, 2700.0)}))
     search_study = json.loads((EXAMPLES / "optimize_betts_shuttle.json").read_text())
     search, search_s = timed(lambda: run_optimization(search_study))
     return {
@@ -50,7 +54,8 @@ def betts():
                              "ipopt_s": cold.seconds, "wall_s": cold_s},
         "collocation_warm_neighbour": {"final_velocity_fps": warm.summary["final_velocity_fps"],
                                        "final_latitude_deg": warm.summary["final_latitude_deg"],
-                                       "iterations": warm.iterations, "wall_s": warm_s},
+                                       "iterations": warm.iterations, "wall_s": warm_s,
+                                       "first_warm_start_with_solver_build_s": first_warm_s},
         "creep_pattern": {"final_latitude_deg": search.summary["final_latitude_deg"],
                           "share_of_published": search.summary["final_latitude_deg"] / BETTS_PUBLISHED_DEG,
                           "final_velocity_fps": search.summary["final_velocity_fps"],

@@ -430,17 +430,22 @@ class Transcription:
         if weight > 0 and pr.polish:
             plan.append((stages[-1], weight * POLISH_WEIGHT))
         seconds, iterations = 0.0, 0
+        # a caller's warm start, and the stages after the first on smoothed tables, use the warm-start solver
+        # (from the cold solver's start the L/D 1.89 stages do not converge); without tables the polish starts the
+        # cold solver from the last point: building the warm-start solver costs as much as the first build (1 s)
+        use_warm, x_start = warm is not None, None if warm is not None else self._scaled_guess(guess)
         for smoothing, reg in plan:
             par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing, reg]])
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
-            if warm is not None:
+            if use_warm:
                 args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
                 solver = self._warm()
             else:
-                args["x0"] = self._scaled_guess(guess)
+                args["x0"] = x_start if warm is None else warm["x"]
             t0 = time.perf_counter()
             sol = solver(**args)
+            use_warm = use_warm or self.model.smoothed
             seconds += time.perf_counter() - t0
             stats = solver.stats()
             iterations += int(stats["iter_count"])
