@@ -597,5 +597,9 @@ def solve(problem: Problem, guess: Guess | None = None) -> Result:
             break
         guess, n = result.guess, 2 * n
     result.seconds, result.iterations = total_s, total_it
+    if result.ok and not agrees(result):  # said, not hidden: the mesh stopped at max_intervals
+        a = result.agreement
+        result.message += (f"; at {result.intervals} intervals the re-flight still differs by {a['latitude_deg']:.3g} deg "
+                           f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range")
     return result
 
