@@ -176,9 +176,9 @@ def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
     states = np.column_stack([r, np.unwrap(np.radians(h["longitude_deg"])), lat_c, h["velocity_fps"],
                               np.radians(h["gamma_deg"]), np.unwrap(np.radians(h["heading_deg"]))])[keep]
     s0 = spherical_state(*initial_state(spec, p))
-    states[0] = s0  # exactly the entry state
-    states[:, 1] += s0[1] - states[0, 1]
+    states[:, 1] += s0[1] - states[0, 1]  # the unwrapped longitude and heading continue from the entry's
     states[:, 5] += s0[5] - states[0, 5]
+    states[0] = s0  # exactly the entry state
     controls = np.column_stack([h["alpha_deg"], h["bank_deg"]])[keep]
     return Guess(tau=t[keep] / t[-1], states=states, controls=controls, final_time_s=float(t[-1]),
                  downrange_nmi=float(trajectory.summary["downrange_nmi"]))
@@ -220,7 +220,6 @@ class Transcription:
         xs = ca.MX.sym("x", ns, m + 1)
         us = ca.MX.sym("u", 2, n + 1)
         ts = ca.MX.sym("t")
-        self._shapes = (xs.shape, us.shape)
         w = ca.vertcat(ca.vec(xs), ca.vec(us), ts)
         weights = ca.MX.sym("w", len(pr.objective))
         theta_ref = ca.MX.sym("theta_ref")  # down-range angle of the guess: keeps atan2 away from its cut

@@ -227,6 +227,8 @@ class Heating:
         h0 = CP_AIR_BTU_LBM_R * t_inf + 0.5 * v * v / FT2_S2_PER_BTU_LBM
         q_cw = DKR_Q_BTU_FT2_S / np.sqrt(m.reference_radius_ft) * ca.sqrt(rho / DKR_RHO_SL_SLUG_FT3) \
             * (v / DKR_V_FPS) ** DKR_V_EXPONENT
+        # core.heating sets h = 0 where H_0 <= the cold-wall enthalpy (below ~2,200 ft/s); a floor of 1 Btu/lbm
+        # keeps the NLP's derivatives finite there instead (the stop altitudes lie above that speed)
         drive = ca.fmax(h0 - CP_AIR_BTU_LBM_R * DKR_COLD_WALL_R, 1.0)
         ratio = self._ratio(alpha_deg, smoothing)
         return q_cw / drive * ratio, h0
