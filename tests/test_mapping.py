@@ -77,6 +77,8 @@ def test_cli_re_nodes_a_footprint_and_writes_csv(tmp_path):
     (request(study=SMALL_STUDY), "study", "only used with earth_rotation 'exact'"),
     (request(earth_rotation="exact", study=SMALL_STUDY | {"bank0_deg": [400]}), "study.bank0_deg.0",
      "0 to 180 deg"),
+    (request(earth_rotation="exact", study={"case": SMALL_STUDY["case"], "method": "collocation"}), "study.method",
+     "submit a footprint job"),
     (request(points=[]), "points", "at least one point"),
     ({"points": POINTS, "to": EAST}, "from", "required"),
     (request(speed=3), "speed", "not permitted"),

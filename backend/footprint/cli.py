@@ -9,7 +9,7 @@ import typer
 from pydantic import ValidationError
 
 from footprint.cases import error_line, parse_case
-from footprint.core.errors import InputError
+from footprint.core.errors import InputError, NoOptimum
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
                   help="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036).")
@@ -59,7 +59,8 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
 def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="footprint study (case + method)"),
                plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
                                                    help="draw the footprint (PNG or SVG by the suffix)")):
-    """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories)."""
+    """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories). Exit status
+    1 with one line on stderr when a collocation footprint's first solves end without an optimum."""
     from footprint.core.footprints import footprint as run
     from footprint.studies import parse_study
 
@@ -69,7 +70,11 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
         spec = study.case.to_spec()
     except (ValidationError, InputError) as exc:
         _fail(error_line(exc))
-    fp = run(spec, study.method, **study.to_params())
+    try:
+        fp = run(spec, study.method, **study.to_params())
+    except NoOptimum as exc:  # a collocation footprint's first solves
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(1) from None
     if plot is not None:
         from footprint.figures import save_footprint_plot
 

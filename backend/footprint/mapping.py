@@ -123,6 +123,9 @@ class TransformRequest(Strict):
                 self._study = parse_study(self.study)
             except ValidationError as exc:
                 raise ValueError("; ".join(f"study.{part}" for part in error_line(exc).split("; "))) from None
+            if self._study.method == "collocation":  # a minute of NLP solves is a job, not a synchronous request
+                raise ValueError("study.method: 'collocation' is not re-solved by a transform; submit a footprint job "
+                                 "with the destination's entry instead")
         elif self.study is not None:
             raise ValueError(f"study: only used with earth_rotation 'exact' (got '{self.earth_rotation}')")
         return self

@@ -92,8 +92,38 @@ class TemperatureLimitedStudy(_Study):
                 "mirror": self.mirror}
 
 
+class CollocationStudy(_Study):
+    """Beyond the report (issue 12): the true reachable boundary, cross-range maximized by direct collocation at
+    points_per_half down-ranges between the maximum and minimum down-range (footprint.core.collocation_footprint);
+    limit_R holds the radiation-equilibrium temperature along the path (needs case.heating), max_load_factor
+    the load."""
+
+    method: Literal["collocation"]
+    points_per_half: int = Field(default=11, ge=3, le=40)
+    limit_R: bounded(500, 10_000, "degR") | None = None
+    max_load_factor: bounded(1, 50, "g") | None = None  # without one the nearest points ride the stop altitude
+    fine: bool = False  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
+    intervals: int = Field(default=100, ge=20, le=400)  # collocation mesh intervals
+
+    @model_validator(mode="after")
+    def _checks(self):
+        if self.limit_R is not None and self.case.heating is None:
+            raise ValueError("case.heating: a temperature limit needs a heating model")
+        if self.contours_fps:
+            raise ValueError("contours_fps: not available with method 'collocation'")
+        if self.case.stop.altitude_ft is None:
+            raise ValueError("case.stop.altitude_ft: a collocation footprint ends at a stop altitude; give one")
+        return self
+
+    def to_params(self):
+        return {"points_per_half": self.points_per_half, "limit_R": self.limit_R,
+                "max_load_factor": self.max_load_factor, "fine": self.fine,
+                "intervals": self.intervals, "mirror": self.mirror}
+
+
 FootprintStudy = Annotated[Union[SingleParameterStudy, ConstantBankStudy, StagedStudy, TwoParameterStudy,
-                                 ConstantAltitudeStudy, TemperatureLimitedStudy], Field(discriminator="method")]
+                                 ConstantAltitudeStudy, TemperatureLimitedStudy, CollocationStudy],
+                           Field(discriminator="method")]
 
 _ADAPTER = TypeAdapter(FootprintStudy)
 

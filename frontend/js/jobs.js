@@ -42,6 +42,8 @@ export function buildFootprintStudy() {
     if (number("p-limit") != null) study.limit_deg = number("p-limit");
   } else if (method === "constant_altitude") {
     study.steps = number("p-steps");
+  } else if (method === "collocation") {
+    study.points_per_half = number("p-points-per-half");
   }
   return study;
 }

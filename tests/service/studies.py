@@ -7,6 +7,16 @@ CASE = {"vehicle": {"builtin": "lod-1.89"},
                   "latitude_deg": 10, "longitude_deg": 0},
         "stop": {"altitude_ft": 50_000}}
 FOOTPRINT = {"case": CASE, "method": "single_parameter", "bank0_deg": [0, 45, 90]}  # spans 11-83 deg E
+# the true optimal boundary of a small problem: Betts' shuttle (polynomial aero, non-rotating sphere, both
+# halves by reflection), 3 down-ranges, 3 g: six IPOPT solves, ~8 s
+SHUTTLE = {"name": "Space Shuttle (Betts 2010, sec. 6.1)", "weight_lb": 203000, "reference_area_ft2": 2690,
+           "aero": {"polynomial": {"cl": [-0.20704, 0.029244], "cd": [0.07854, -0.0061592, 0.000621408],
+                                   "alpha_range_deg": [-90, 90]}}}
+OPTIMAL_FOOTPRINT = {"case": {"vehicle": SHUTTLE, "planet": {"rotating": False, "oblate": False},
+                              "entry": {"altitude_ft": 260_000, "velocity_fps": 25_600, "gamma_deg": -1,
+                                        "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
+                              "alpha": {"law": "constant", "alpha_deg": 17}, "stop": {"altitude_ft": 80_000}},
+                     "method": "collocation", "points_per_half": 3, "max_load_factor": 3}
 
 
 def footprint_study(**entry) -> dict:

@@ -13,7 +13,7 @@ from footprint.api import footprint as fly_footprint
 from footprint.api import fly
 
 from .conftest import wait_for_job
-from .studies import FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
+from .studies import FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
 
 POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
               "side", "parameter", "stop_reason", "mirrored")
@@ -52,6 +52,22 @@ def test_a_footprint_job_equals_the_python_door(footprint_job, same_numbers):
     assert stored["trajectories"] == direct.trajectories and stored["name"] == "lod-1.89 small"
     assert stored["entry"] == {"latitude_deg": 10.0, "longitude_deg": 0.0, "heading_deg": 90.0,
                                "velocity_fps": 22_000.0, "gamma_deg": -3.0, "altitude_ft": 364_800.0}
+
+
+@pytest.fixture(scope="module")
+def optimal_direct():
+    return fly_footprint(OPTIMAL_FOOTPRINT)
+
+
+def test_an_optimal_footprint_job_is_stored_like_the_others(api, optimal_direct, same_numbers):
+    job = run_job(api, "footprint", OPTIMAL_FOOTPRINT)
+    stored = api.get(f"/api/footprints/{job['result']['footprints'][0].rsplit('/', 1)[1]}").json()
+    assert stored["method"] == "collocation" and len(stored["points"]) == 1 + 2 * 5
+    same_numbers([[p["downrange_nmi"], p["crossrange_nmi"], p["latitude_deg"], p["longitude_deg"]]
+                  for p in stored["points"]],
+                 [[p.downrange_nmi, p.crossrange_nmi, p.latitude_deg, p.longitude_deg] for p in optimal_direct.points])
+    geometry = api.get(f"/api/footprints/{stored['id']}", params={"format": "geojson"}).json()["features"][0]["geometry"]
+    assert geometry["type"] in ("Polygon", "MultiPolygon")
 
 
 def test_the_ground_track_is_the_zero_bank_flight(footprint_job):

@@ -126,3 +126,18 @@ def test_cors_allows_the_configured_origins_only(guarded, api):
     assert simple.headers["access-control-allow-origin"] == "https://planner.example"
     unconfigured = api.get("/api/health", headers={"Origin": "https://planner.example"})
     assert "access-control-allow-origin" not in unconfigured.headers
+
+
+def test_every_footprint_method_has_its_point_count_checked():
+    """The service's count of boundary points knows every method (a temperature-limited study reached
+    `turn_deg` and answered 500 on every route that accepts it)."""
+    from footprint.service.errors import RequestInvalid
+    from footprint.service.jobs.studies import check_points
+    from footprint.studies import parse_study
+
+    heated = CASE | {"heating": {"model": "reference"}}
+    check_points(parse_study({"case": heated, "method": "temperature_limited", "limit_R": 2550}), "study.")
+    check_points(parse_study({"case": CASE, "method": "collocation", "points_per_half": 11}), "study.")
+    with pytest.raises(RequestInvalid, match="study.bank0_deg"):
+        check_points(parse_study({"case": heated, "method": "temperature_limited", "limit_R": 2550,
+                                  "bank0_deg": [float(b % 180) for b in range(181)]}), "study.")

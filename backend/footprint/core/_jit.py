@@ -5,8 +5,8 @@ Compiled functions are cached on disk so that a new process starts in well under
 is warm. numba keys a cached function on its own file only, not on the files of the functions it calls
 and inlines; so the cache lives in a folder named for a hash of every core source file, and any edit to
 the core starts a fresh one ($XDG_CACHE_HOME/footprint, or NUMBA_CACHE_DIR when set). Modules that import
-CasADi (the collocation transcription) hold no compiled code and no constant that compiled code reads, so
-they are left out of the hash.
+CasADi or the collocation (the transcription, the collocation footprint) hold no compiled code and no constant
+that compiled code reads, so they are left out of the hash.
 """
 
 import hashlib
@@ -40,7 +40,7 @@ else:
         digest = hashlib.sha256()
         for source in sorted(Path(__file__).parent.glob("*.py")):
             text = source.read_bytes()
-            if not re.search(rb"^import casadi", text, re.MULTILINE):
+            if not re.search(rb"^(import casadi|from footprint.core import collocation)", text, re.MULTILINE):
                 digest.update(text)
         root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint"
         return str(root / f"numba-{numba.__version__}-{digest.hexdigest()[:16]}")

@@ -33,6 +33,7 @@ import numpy as np
 
 from footprint.core import constants as c
 from footprint.core.controls import pack_controls
+from footprint.core.errors import NoOptimum  # noqa: F401 (the collocation's failure, raised by its callers)
 from footprint.core.frames import ecef_from_geodetic, flight_angles
 from footprint.core.model_casadi import FlightModel, geodetic
 from footprint.core.optimize import Constraint
@@ -86,10 +87,6 @@ def _jit_options():
 
 class CollocationError(ValueError):
     """A problem the transcription cannot pose (one line naming the field)."""
-
-
-class NoOptimum(RuntimeError):
-    """IPOPT ended without an optimum: the job's one line (status and the largest violation)."""
 
 
 @dataclass(frozen=True)

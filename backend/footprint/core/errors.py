@@ -12,3 +12,7 @@ class InputError(ValueError):
         super().__init__(f"{field}: {message}")
         self.field = field
         self.message = message
+
+
+class NoOptimum(RuntimeError):
+    """A collocation ended without an optimum (IPOPT's status and the largest violation): the job's one line."""

@@ -214,6 +214,10 @@ def footprint(spec: FlightSpec, method: str, **params) -> Footprint:
         from footprint.core.constrained import temperature_limited_footprint
 
         return temperature_limited_footprint(spec, **params).footprint
+    if method == "collocation":  # the true optimal boundary (CasADi), built on this module too
+        from footprint.core.collocation_footprint import collocation_footprint
+
+        return collocation_footprint(spec, **params)
     return METHODS[method](spec, **params)
 
 

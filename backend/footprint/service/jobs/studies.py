@@ -106,8 +106,10 @@ def check_points(study, prefix: str) -> None:
 
 
 def _settings(study) -> tuple[str, int]:
-    if study.method == "single_parameter":
+    if study.method in ("single_parameter", "temperature_limited"):
         return "bank0_deg", len(study.bank0_deg)
+    if study.method == "collocation":
+        return "points_per_half", study.points_per_half + 1
     if study.method in ("constant_bank", "staged"):
         return "bank_deg", len(study.bank_deg)
     if study.method == "two_parameter":

@@ -1,0 +1,115 @@
+"""The true optimal footprint (issue 12 item 4): collocation at stepped down-ranges, re-flown point by point.
+
+Routes independent of the solver: every boundary point is where the compiled integrator lands (the NLP's end
+point is a second formulation of the same flight); no control family can reach outside the true boundary, so
+the single-parameter footprint flown by the integrator lies inside it; on a non-rotating sphere the halves are
+mirror images."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from footprint.core.footprints import footprint
+from footprint.studies import parse_study
+
+ROOT = Path(__file__).resolve().parents[2]
+BETTS_CASE = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())["case"]
+LOD189 = json.loads((ROOT / "examples" / "footprint_lod189_collocation.json").read_text())
+
+
+def fly(study):
+    study = parse_study(study)
+    return footprint(study.case.to_spec(), study.method, **study.to_params())
+
+
+def cross_at(points, downrange_nmi):
+    """A left boundary's cross-range at a down-range, linear between its points: on a convex stretch the chord
+    lies inside the boundary it samples, so a family's chord is at most the family's own reach there."""
+    left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in points if p.crossrange_nmi >= 0)
+    d, c = np.array(left).T
+    return float(np.interp(downrange_nmi, d, c))
+
+
+@pytest.fixture(scope="module")
+def shuttle():
+    """Betts' shuttle (polynomial aero, exponential atmosphere, non-rotating sphere), free final state at
+    80,000 ft, the load held to 3 g (without a limit the nearest point turns round riding the stop altitude at
+    41 g, where the integrator stops at the first touch), both halves solved."""
+    study = {"case": BETTS_CASE, "method": "collocation", "points_per_half": 3, "mirror": False, "max_load_factor": 3}
+    return fly(study), fly({"case": BETTS_CASE, "method": "single_parameter",
+                            "bank0_deg": list(range(0, 151, 15)), "min_range": "zero_lift"})
+
+
+def test_the_optimal_boundary_holds_every_single_parameter_point(shuttle):
+    optimal, family = shuttle
+    for p in optimal.points:
+        if p.side == "left":
+            assert cross_at(family.points, p.downrange_nmi) <= p.crossrange_nmi + 1.0, p
+    assert optimal.max_downrange_nmi >= family.max_downrange_nmi
+    assert optimal.min_downrange_nmi <= family.min_downrange_nmi
+    assert optimal.max_crossrange_nmi >= family.max_crossrange_nmi
+    assert optimal.area_nmi2 > family.area_nmi2
+
+
+def test_each_point_is_the_re_flight_of_its_optimum(shuttle):
+    optimal, _ = shuttle
+    assert optimal.method == "collocation" and optimal.asymmetry is None  # no solve failed
+    assert len(optimal.points) == 1 + 2 * 5  # farthest; per half the nearest, 3 down-ranges, the free maximum
+    for p in optimal.points:
+        assert p.parameter["agreement_deg"] <= 0.01, p
+        assert abs(p.downrange_nmi - p.parameter["nlp_downrange_nmi"]) <= 1e-3 * p.downrange_nmi + 0.5
+        if p.parameter["downrange_target_nmi"] is not None:  # the NLP met its down-range exactly
+            assert p.parameter["nlp_downrange_nmi"] == pytest.approx(p.parameter["downrange_target_nmi"], abs=1e-3)
+
+
+def test_on_a_non_rotating_sphere_the_solved_halves_are_mirror_images(shuttle):
+    optimal, _ = shuttle
+    left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in optimal.points if p.side == "left")
+    right = sorted((p.downrange_nmi, -p.crossrange_nmi) for p in optimal.points if p.side == "right")
+    assert len(left) == len(right) == 5
+    np.testing.assert_allclose(right, left, atol=0.5)
+    far = optimal.points[0]
+    assert far.side == "axis" and abs(far.crossrange_nmi) < 1.0
+
+
+def test_an_optimal_study_names_what_it_lacks():
+    with pytest.raises(ValueError, match="case.heating: a temperature limit needs a heating model"):
+        parse_study({"case": BETTS_CASE, "method": "collocation", "limit_R": 2550})
+    with pytest.raises(ValueError, match="points_per_half"):
+        parse_study({"case": BETTS_CASE, "method": "collocation", "points_per_half": 500})
+
+
+@pytest.mark.slow
+def test_lod189_optimal_footprint_on_the_rotating_earth():
+    """The report's L/D 1.89 vehicle, Table 2 entry: 24 boundary points, both halves flown; every single-parameter
+    point inside; the maximum cross-range at least the creep + pattern optimum (2,044.5 nmi)."""
+    optimal = fly(LOD189)
+    family = fly(json.loads((ROOT / "examples" / "footprint_lod189.json").read_text()))
+    assert optimal.asymmetry is None and len(optimal.points) >= 24
+    assert {p.side for p in optimal.points} == {"axis", "left", "right"}
+    assert optimal.max_crossrange_nmi >= 2044.5
+    for p in optimal.points:
+        if p.side == "left":
+            assert cross_at(family.points, p.downrange_nmi) <= p.crossrange_nmi + 2.0, p
+    assert optimal.area_nmi2 > family.area_nmi2
+
+
+@pytest.mark.slow
+def test_a_temperature_limit_below_the_entry_floor_is_one_line_and_exit_1(tmp_path):
+    """The shuttle cannot stay below 600 degR: the first solve is infeasible, and the CLI says so in one line."""
+    import subprocess
+    import sys
+
+    from tests.service.studies import OPTIMAL_FOOTPRINT
+
+    study = json.loads(json.dumps(OPTIMAL_FOOTPRINT))
+    study["case"]["heating"] = {"model": "reference"}
+    study["limit_R"] = 600
+    path = tmp_path / "cold.json"
+    path.write_text(json.dumps(study))
+    r = subprocess.run([sys.executable, "-m", "footprint.cli", "footprint", str(path)], capture_output=True, text=True)
+    assert r.returncode == 1 and r.stdout == ""
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: collocation footprint: the maximum cross-range: infeasible")
