@@ -284,7 +284,10 @@ def _range_axes(ax, title):
 
 
 def parameter_label(parameter: dict) -> str:
-    """A point's control setting as the report writes it: phi0, K and sigma_f, phi, or the turn."""
+    """A point's control setting as the report writes it: phi0, K and sigma_f, phi, or the turn; none for a
+    collocation footprint's point (its controls are tables of 101 nodes)."""
+    if "agreement_deg" in parameter:
+        return ""
     if "min_range" in parameter:
         return "zero lift" if parameter["min_range"] == "zero_lift" else r"$C_{L\,max}$"
     if "sigma_f_deg" in parameter:
@@ -304,7 +307,8 @@ def _label_points(ax, fp: Footprint):
     d_mid, d_span = 0.5 * (d_lo + d_hi), max(d_hi - d_lo, 1.0)
     c_span = max(max(abs(p.crossrange_nmi) for p in fp.points), 1.0)
     for p in fp.points + _interior(fp):
-        if p.side == "right":
+        label = parameter_label(p.parameter)
+        if p.side == "right" or not label:
             continue
         if "min_range" in p.parameter:  # below the axis, clear of the steepest-bank point beside it
             ox, oy = 0.5 * LABEL_OFFSET_PT, -LABEL_OFFSET_PT
@@ -312,7 +316,7 @@ def _label_points(ax, fp: Footprint):
             ux, uy = (p.downrange_nmi - d_mid) / d_span, p.crossrange_nmi / c_span
             n = max((ux * ux + uy * uy) ** 0.5, 1e-9)
             ox, oy = LABEL_OFFSET_PT * ux / n, LABEL_OFFSET_PT * uy / n
-        ax.annotate(parameter_label(p.parameter), (p.downrange_nmi, p.crossrange_nmi), xytext=(ox, oy),
+        ax.annotate(label, (p.downrange_nmi, p.crossrange_nmi), xytext=(ox, oy),
                     textcoords="offset points", fontsize=7.5,
                     ha="left" if ox > 2 else "right" if ox < -2 else "center",
                     va="bottom" if oy > 2 else "top" if oy < -2 else "center")
@@ -320,7 +324,11 @@ def _label_points(ax, fp: Footprint):
 
 def _caption(ax, fp: Footprint):
     reflected, inside = sum(p.mirrored for p in fp.points), len(_interior(fp))
-    text = (f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {fp.trajectories} trajectories"
+    work = f"{fp.trajectories} trajectories"
+    if fp.method == "collocation":
+        work = (f"{fp.trajectories} IPOPT solves, re-flown within "
+                f"{max(p.parameter['agreement_deg'] for p in fp.points):.2g}°")
+    text = (f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {work}"
             + (f"  ·  {reflected} points reflected" if reflected else "")
             + (f"  ·  {inside} inside (×)" if inside else ""))
     ax.annotate(text, (0.5, 0.0), xycoords="axes fraction", xytext=(0, -30), textcoords="offset points",

@@ -86,6 +86,7 @@ class CollocationOptions(Strict):
     alpha_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
     bank_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
     max_iterations: int = Field(default=3_000, ge=1, le=100_000)
+    max_seconds: bounded(1, 86_400, "s") = 600.0  # IPOPT's wall time per solve
 
     @model_validator(mode="after")
     def _bounds(self):
@@ -345,7 +346,8 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
     return col.Problem(base=study.case.to_spec(), objective=study.payoff.objective(), goal=study.payoff.goal,
                        constraints=constraints, alpha_bounds_deg=o.alpha_bounds_deg, bank_bounds_deg=o.bank_bounds_deg,
                        alpha_rate_deg_s=o.alpha_rate_deg_s, bank_rate_deg_s=o.bank_rate_deg_s, intervals=o.intervals,
-                       degree=o.degree, max_intervals=o.max_intervals, max_iterations=o.max_iterations)
+                       degree=o.degree, max_intervals=o.max_intervals, max_iterations=o.max_iterations,
+                       max_seconds=o.max_seconds)
 
 
 def run_optimization(study) -> opt.Result | col.Result:

@@ -11,6 +11,7 @@
 
 import csv
 import json
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -154,3 +155,42 @@ def test_lod189_true_maximum_cross_range_beats_the_parameter_search_and_refly_ag
     assert result.refly["crossrange_nmi"] >= 2044.5
     assert col.agrees(result)
     assert np.all(result.controls["alpha_deg"] >= 7.5 - 1e-9)  # the table's alpha range (App. B)
+
+
+# ------------------------------------------------------------------------------------------ fly there
+FLY_THERE = json.loads((ROOT / "examples" / "optimize_fly_there.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def fly_there():
+    """Betts' shuttle with his heat-rate correlation, landing at 15 N 50 E (3,000 nmi down, 900 across):
+    the least heat load, and the most final energy, to the same place."""
+    from footprint.optimization import run_optimization
+
+    least_heat = run_optimization(FLY_THERE)
+    most_energy = run_optimization(FLY_THERE | {"payoff": {"quantity": "final_energy_ft", "goal": "max"}})
+    return least_heat, most_energy
+
+
+def test_fly_there_lands_on_the_site_and_each_optimum_beats_the_other_on_its_own_payoff(fly_there):
+    least_heat, most_energy = fly_there
+    for r in fly_there:
+        assert r.ok, r.message
+        assert abs(r.refly["final_latitude_deg"] - 15.0) <= col.AGREE_DEG  # the integrator lands there
+        assert abs(r.refly["final_longitude_deg"] - 50.0) <= col.AGREE_DEG
+    # on the re-flights, the integrator's own heat load (trapezoidal) and final energy
+    assert least_heat.refly["heat_load_btu_ft2"] < most_energy.refly["heat_load_btu_ft2"]
+    assert most_energy.refly["final_energy_ft"] > least_heat.refly["final_energy_ft"]
+    assert least_heat.refly["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-3)
+
+
+def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
+    from footprint.optimization import run_optimization
+
+    far = FLY_THERE | {"constraints": [{"quantity": "final_latitude_deg", "equals": 60},
+                                       {"quantity": "final_longitude_deg", "equals": 30}],
+                       "collocation": {"intervals": 100, "max_seconds": 10}}
+    result = run_optimization(far)
+    assert not result.ok and not result.feasible
+    assert result.seconds <= 15.0  # one stage: the polish does not run after a stage without an optimum
+    assert re.search(r"final_l(ati|ongi)tude_deg by \d", result.message), result.message  # in degrees

@@ -110,6 +110,7 @@ class Problem:
     degree: int = 3
     max_intervals: int = 400  # the mesh is doubled up to this many intervals until the re-flight agrees
     max_iterations: int = 3000
+    max_seconds: float = 600.0  # IPOPT's wall time per solve: far from any optimum an iteration can take seconds
     tolerance: float = 1e-8  # IPOPT's tol (scaled NLP)
     smoothing_weight: float = 1e-4  # penalty on the controls' scaled rates before the polish (SMOOTHING_STAGES)
     polish: bool = True  # a last stage at POLISH_WEIGHT (an optimal footprint's points skip it: 0.05 % of range)
@@ -305,7 +306,8 @@ class Transcription:
         self._bounds(ns, m, n)
         self._outputs = ca.Function("outputs", [w, par], [xs, us, t_f, path])
         opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": pr.tolerance,
-                "ipopt.max_iter": pr.max_iterations, "ipopt.mu_strategy": "adaptive",
+                "ipopt.max_iter": pr.max_iterations, "ipopt.max_wall_time": pr.max_seconds,
+                "ipopt.mu_strategy": "adaptive",
                 "ipopt.linear_solver": "mumps", "expand": not self.compiled}
         self._nlp, self._opts = {"x": w, "f": f, "g": self._g, "p": par}, opts
         self.solver = ca.nlpsol("collocation", "ipopt", self._nlp, opts)
@@ -471,6 +473,8 @@ class Transcription:
             iterations += int(stats["iter_count"])
             warm = {"x": np.asarray(sol["x"]).ravel(), "lam_x": np.asarray(sol["lam_x"]).ravel(),
                     "lam_g": np.asarray(sol["lam_g"]).ravel()}
+            if stats["return_status"] not in STATUS_OF_IPOPT or STATUS_OF_IPOPT[stats["return_status"]] != "optimal":
+                break  # a later stage cannot mend a stage that ended without an optimum
         x = warm["x"]
         gval = np.asarray(self._violation(x, par)).ravel()
         viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
@@ -492,15 +496,19 @@ class Transcription:
         return self._warm_solver
 
     def _worst(self, viol):
-        offset, worst, name = 0, -1.0, ""
+        """The largest violation, named; and the worst terminal constraint's in its unit where that is another."""
+        offset, worst, name, terminal = 0, -1.0, "", (0.0, "")
         for gname, size, _, _ in self._groups:
             v = viol[offset:offset + size].max(initial=0.0)
             if v > worst:
                 worst, name = v, gname
+            if gname in TERMINAL and v * SCALE[gname] > terminal[0]:
+                terminal = (v * SCALE[gname], gname)
             offset += size
         if name in SCALE:  # a terminal constraint: in its own unit
             return f"{name} by {worst * SCALE[name]:.4g}"
-        return f"{name} by {worst:.3g} (scaled)"
+        line = f"{name} by {worst:.3g} (scaled)"
+        return line + (f"; {terminal[1]} by {terminal[0]:.4g}" if terminal[1] else "")
 
     def _result(self, x, par, status, message, max_violation, iterations, seconds) -> Result:
         xs, us, t_f, path = (np.asarray(v) for v in self._outputs(x, par))
@@ -582,8 +590,9 @@ def refly(problem: Problem, result: Result) -> Trajectory:
     down = n["downrange_nmi"]
     result.refly = {k: s[k] for k in ("downrange_nmi", "crossrange_nmi", "final_latitude_deg", "final_longitude_deg",
                                       "final_velocity_fps", "final_gamma_deg", "final_heading_deg", "flight_time_s",
-                                      "final_altitude_ft", "max_temperature_R", "max_heat_rate_btu_ft2_s",
-                                      "max_dynamic_pressure_psf", "stop_reason")}
+                                      "final_altitude_ft", "final_energy_ft", "max_temperature_R",
+                                      "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2", "max_dynamic_pressure_psf",
+                                      "stop_reason")}
     result.agreement = {
         "latitude_deg": abs(s["final_latitude_deg"] - n["final_latitude_deg"]),
         "longitude_deg": abs(d_lon),
