@@ -71,7 +71,8 @@ def lod189():
     optimum, optimum_s = timed(lambda: col.solve(col.Problem(base=spec)))
     search, search_s = timed(lambda: O.optimize(O.cross_range_problem(spec), max_evaluations=1_500,
                                                 **O.CROSS_RANGE_SEARCH))
-    return {"collocation": {"crossrange_nmi": optimum.summary["crossrange_nmi"],
+    return {"collocation": {"status": optimum.status, "message": optimum.message, "intervals": optimum.intervals,
+                            "crossrange_nmi": optimum.summary["crossrange_nmi"],
                             "refly_crossrange_nmi": optimum.refly["crossrange_nmi"], "agreement": optimum.agreement,
                             "iterations": optimum.iterations, "wall_s": optimum_s},
             "creep_pattern": {"crossrange_nmi": search.summary["crossrange_nmi"],
@@ -88,9 +89,10 @@ def main():
           f"{b['creep_pattern']['final_latitude_deg']:.4f} deg ({100 * b['creep_pattern']['share_of_published']:.2f} %)"
           f" in {b['creep_pattern']['wall_s']:.2f} s, {b['creep_pattern']['trajectories']} trajectories "
           f"({b['ratio_search_to_collocation_cold']:.1f}x the collocation's time)")
-    print(f"L/D 1.89: collocation {l['collocation']['crossrange_nmi']:,.1f} nmi (re-flown "
+    print(f"L/D 1.89: collocation {l['collocation']['status']} {l['collocation']['crossrange_nmi']:,.1f} nmi (re-flown "
           f"{l['collocation']['refly_crossrange_nmi']:,.1f}) in {l['collocation']['wall_s']:.1f} s; creep + pattern "
-          f"{l['creep_pattern']['crossrange_nmi']:,.1f} nmi in {l['creep_pattern']['wall_s']:.1f} s")
+          f"{l['creep_pattern']['crossrange_nmi']:,.1f} nmi in {l['creep_pattern']['wall_s']:.1f} s; "
+          f"{l['collocation']['iterations']} iterations, {l['collocation']['intervals']} intervals")
 
 
 if __name__ == "__main__":

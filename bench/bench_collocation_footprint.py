@@ -6,8 +6,9 @@ same down-ranges: the report's parameter-optimized footprint (creep + pattern on
 Section II.5, down-range within TTOL 50 nmi, 2 workers) and the single-parameter footprint (Section II.6,
 examples/footprint_lod189.json). Then all three with the radiation-equilibrium temperature <= 2,550 degR
 (reference heating): the true one as a path constraint, creep + pattern on bank and alpha tables (Fig. 29),
-and our temperature-limited single-parameter method (docs/heating.md). Point by point: each one's cross-range at the true boundary's down-ranges, as
-a share of the true one (the single-parameter boundary read on its chords). The first solve of a process
+and our temperature-limited single-parameter method (docs/heating.md). Point by point: each one's cross-range
+at the true boundary's down-ranges, as a share of the true one (the single-parameter boundary read on its
+chords). The first solve of a process
 builds the NLP (from the compiled-object cache after the first run ever: the figures are of a warm cache, as
 numba's are). Writes bench/results/collocation_footprint.json and docs/figures/footprint_true_optimal_lod189.png.
 
@@ -109,19 +110,19 @@ def report(name, true, true_s, single, single_s, search, rows, agreement, iterat
     for r in rows:
         def share(v):
             return f"{v:8,.1f} {v / r['true_crossrange_nmi']:6.1%}" if v is not None else f"{'—':>15}"
-        cp = "infeasible".rjust(15) if r["creep_pattern_feasible"] is False else share(r["creep_pattern_crossrange_nmi"])
+        cp = r["creep_pattern_crossrange_nmi"]
+        cp = "infeasible".rjust(15) if r["creep_pattern_feasible"] is False else share(cp)
         print(f"{r['downrange_nmi']:10,.0f} {r['true_crossrange_nmi']:8,.1f} {cp} "
               f"{share(r['single_parameter_crossrange_nmi'])}")
     return out
 
 
-def figure(true, single, search, title, path):
-    fig = footprints_figure({"true optimal (collocation, IPOPT)": true, "single parameter (II.6)": single},
-                            title=title)
+def figure(true, single, search, title, path, single_label, search_label):
+    fig = footprints_figure({"true optimal (collocation, IPOPT)": true, single_label: single}, title=title)
     ax = fig.axes[0]
     d = [p.downrange_nmi for p in search.points if p.result.feasible]
     c = [p.crossrange_nmi for p in search.points if p.result.feasible]
-    ax.plot(d + d, c + [-v for v in c], "k^", ms=5, label="creep + pattern, bank table (II.5), mirrored")
+    ax.plot(d + d, c + [-v for v in c], "k^", ms=5, label=search_label)
     ax.legend(fontsize="small")
     save(fig, path)
 
@@ -130,10 +131,11 @@ def main():
     fly("footprint_lod189.json")  # numba's first call out of the figures
     free = compare("footprint_lod189_collocation.json", "footprint_lod189.json")
     figure(free[0], free[2], free[4], "L/D 1.89, Table 2 entry, rotating earth: the true boundary and the report's",
-           FIGURE)
+           FIGURE, "single parameter (II.6)", "creep + pattern, bank table (II.5), mirrored")
     hot = compare("footprint_lod189_collocation_2550R.json", "footprint_lod189_limited_2550R.json", 2550.0)
-    figure(hot[0], hot[2], hot[4], "The same at 2,550 °R: true, temperature-limited single parameter, creep + "
-           "pattern (bank and α tables)", FIGURE_2550)
+    figure(hot[0], hot[2], hot[4], "L/D 1.89 at 2,550 °R: the true boundary and ours and the report's", FIGURE_2550,
+           "temperature-limited single parameter (docs/heating.md)",
+           "creep + pattern, bank and α tables (Fig. 29), feasible points, mirrored")
     out = {"unconstrained": report("unconstrained", *free), "at_2550_R": report("at 2,550 degR", *hot)}
     (HERE / "results").mkdir(exist_ok=True)
     (HERE / "results" / "collocation_footprint.json").write_text(json.dumps(out, indent=1) + "\n")

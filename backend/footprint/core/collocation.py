@@ -56,14 +56,18 @@ H_SCALE_FT, V_SCALE_FPS, T_SCALE_S = 1e5, 1e4, 1e3
 ALPHA_SCALE_DEG, BANK_SCALE_DEG = 10.0, 45.0
 # the tables' corners are rounded over this fraction of their shortest interval, stage by stage, each stage
 # started from the last: wide corners converge from a rough guess, narrow ones are the integrator's tables.
-# Measured on the L/D 1.89 maximum cross-range: 0.2 re-flies within 0.01 deg, 0.05 within 0.0025 deg; IPOPT
-# needs thousands of iterations at 0.02 and fails at 0.01 (the corners' curvature grows as 1/width).
-SMOOTHING_STAGES = (0.2, 0.05)
+# Measured on the L/D 1.89 maximum cross-range: 0.2 re-flies within 0.01 deg, 0.05 within 0.0025 deg. Halving
+# matters: from 0.2 straight to 0.05 IPOPT ran out of 3,000 iterations (with the compiled point function),
+# through 0.1 it needs 49 + 90; 0.02 needs thousands and 0.01 fails (the corners' curvature grows as 1/width).
+SMOOTHING_STAGES = (0.2, 0.1, 0.05)
 # the rates' penalty (Problem.smoothing_weight) of every stage but a last polish with a hundredth of it: it removes the
 # singular directions of the controls where the air is too thin to act (the plunge from 364,800 ft: the
 # L/D 1.89 maximum cross-range takes 1,928 iterations without it, 186 with it), and the polish takes its bias
 # out (it moved Betts' heat-limited final time by 8 s); without any the L/D 1.89 polish does not converge
 POLISH_WEIGHT = 1e-2  # the polish's share of smoothing_weight
+# the polish's iterations: a refinement of an optimum that does not end within these keeps the stage before it
+# (on the L/D 1.89 tables it ran out of 3,000 iterations, 230 s, for 1.2 nmi of cross-range)
+POLISH_MAX_ITERATIONS = 300
 STATUS_OF_IPOPT = {"Solve_Succeeded": "optimal", "Solved_To_Acceptable_Level": "optimal",
                    "Infeasible_Problem_Detected": "infeasible"}
 
@@ -311,7 +315,7 @@ class Transcription:
                 "ipopt.linear_solver": "mumps", "expand": not self.compiled}
         self._nlp, self._opts = {"x": w, "f": f, "g": self._g, "p": par}, opts
         self.solver = ca.nlpsol("collocation", "ipopt", self._nlp, opts)
-        self._warm_solver = None
+        self._warm_solvers = {}
         self._violation = ca.Function("g", [w, par], [self._g])
 
     # -- pieces ------------------------------------------------------------------------------------------
@@ -456,13 +460,15 @@ class Transcription:
         # (from the cold solver's start the L/D 1.89 stages do not converge); without tables the polish starts the
         # cold solver from the last point: building the warm-start solver costs as much as the first build (1 s)
         use_warm, x_start = warm is not None, None if warm is not None else self._scaled_guess(guess)
-        for smoothing, reg in plan:
+        kept, note = None, ""  # the last stage that ended optimal: a narrower one that does not falls back to it
+        for stage, (smoothing, reg) in enumerate(plan):
             par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing, reg]])
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
             if use_warm:
                 args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
-                solver = self._warm()
+                polish = stage == len(stages)  # the entry after the stages
+                solver = self._warm(min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polish else pr.max_iterations)
             else:
                 args["x0"] = x_start if warm is None else warm["x"]
             t0 = time.perf_counter()
@@ -473,27 +479,34 @@ class Transcription:
             iterations += int(stats["iter_count"])
             warm = {"x": np.asarray(sol["x"]).ravel(), "lam_x": np.asarray(sol["lam_x"]).ravel(),
                     "lam_g": np.asarray(sol["lam_g"]).ravel()}
-            if stats["return_status"] not in STATUS_OF_IPOPT or STATUS_OF_IPOPT[stats["return_status"]] != "optimal":
+            if STATUS_OF_IPOPT.get(stats["return_status"]) != "optimal":
+                if kept is not None:  # said in the message; the re-flight measures what the wider corners cost
+                    note = (f"; the stage at corners {smoothing:g} (rate weight {reg:g}) ended "
+                            f"{stats['return_status']}: the optimum of the stage before is kept")
+                    warm, par, stats = kept
                 break  # a later stage cannot mend a stage that ended without an optimum
+            kept = (warm, par, stats)
         x = warm["x"]
         gval = np.asarray(self._violation(x, par)).ravel()
         viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
         status = STATUS_OF_IPOPT.get(stats["return_status"], "not_converged")
-        message = stats["return_status"]
+        message = stats["return_status"] + note
         if status != "optimal":
             message = f"{stats['return_status']}; largest violation {self._worst(viol)}"
         result = self._result(x, par, status, message, float(viol.max(initial=0.0)), iterations, seconds)
         result.solver_state = warm
         return result
 
-    def _warm(self):
-        """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push)."""
-        if self._warm_solver is None:
+    def _warm(self, iterations):
+        """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push),
+        one solver per iteration limit (0.2 s to build once the first is)."""
+        if iterations not in self._warm_solvers:
             opts = dict(self._opts, **{"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
                                        "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
-                                       "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.mu_strategy": "monotone"})
-            self._warm_solver = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
-        return self._warm_solver
+                                       "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.mu_strategy": "monotone",
+                                       "ipopt.max_iter": iterations})
+            self._warm_solvers[iterations] = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
+        return self._warm_solvers[iterations]
 
     def _worst(self, viol):
         """The largest violation, named; and the worst terminal constraint's in its unit where that is another."""

@@ -1,11 +1,13 @@
-"""The true reachable boundary (issue 12, "method": "collocation"): cross-range maximized by direct collocation at stepped down-ranges.
+"""The true reachable boundary (issue 12; footprint method "collocation"): cross-range maximized by direct
+collocation at stepped down-ranges.
 
 Five optima open the boundary: the maximum cross-range of each half with the down-range free, the maximum
 down-range, and each half's minimum down-range (the support function in the directions 0 and 180 deg: on the
 L/D 1.89 the nearest point is off the axis, 582 nmi at 292 nmi cross-range where the axis' own nearest is
-976 nmi). Between the extremes, down-ranges on a cosine grid (closer where the boundary turns, at both ends) are held as a terminal
-equality, and each half's cross-range is maximized (the right half's minimized), every solve warm-started
-from its neighbour's primal-dual point: IPOPT needs 8-25 iterations a point where a cold start needs 100-250.
+976 nmi). Between the extremes, down-ranges on a cosine grid (closer where the boundary turns, at both ends)
+are held as a terminal equality, and each half's cross-range is maximized (the right half's minimized), every
+solve warm-started from its neighbour's primal-dual point: IPOPT needs 8-60 iterations a point where a cold
+start needs 100-250.
 Stepping the down-range rather than the support direction reaches concave stretches of the boundary too.
 
 Every boundary point is where the compiled integrator lands when it flies the optimum's control tables
@@ -17,6 +19,7 @@ is left out and counted in Footprint.asymmetry["failed"], never replaced by a gu
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from footprint.core import collocation as col
@@ -24,21 +27,23 @@ from footprint.core.footprints import Footprint, area_nmi2, mirror_is_exact, poi
 from footprint.core.optimize import Constraint
 from footprint.core.trajectory import FlightSpec, simulate
 
-FREE_NMI = 1e6  # the down-range band of the free-down-range solves
+FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
 OBJECTIVE = (("downrange_nmi", 0.0), ("crossrange_nmi", 1.0))  # weighted by each solve
 
 
 def collocation_footprint(spec: FlightSpec, points_per_half: int = 11, limit_R: float | None = None,
-                      max_load_factor: float | None = None, mirror: bool = True,
-                      fine: bool = False, intervals: int = 100, alpha_bounds_deg=None,
-                      bank_bounds_deg=(-180.0, 180.0), on_step=None) -> Footprint:
+                          max_load_factor: float | None = None, mirror: bool = True, fine: bool = False,
+                          intervals: int = 100, alpha_bounds_deg=None, bank_bounds_deg=(-180.0, 180.0),
+                          on_step=None) -> Footprint:
     """The true optimal footprint of `spec` (its vehicle, planet, entry, stop altitude and heating model).
 
     points_per_half down-ranges between the extremes, each half solved (the right half reflected instead only
     where that is exact, mirror=True on a symmetric planet); limit_R holds the radiation-equilibrium temperature
-    along the path and max_load_factor the load (g); fine adds the narrow table corners (collocation.SMOOTHING_STAGES) to every point: the
-    re-flight comes closer, at about three times the cost. on_step(done, total) after every solve."""
-    constraints = (Constraint("downrange_nmi", "at_least", -FREE_NMI), Constraint("crossrange_nmi", "at_least", -FREE_NMI))
+    along the path and max_load_factor the load (g); fine adds the narrow table corners
+    (collocation.SMOOTHING_STAGES) to every point: the re-flight comes closer, at about three times the cost.
+    on_step(done, total) after every solve."""
+    constraints = (Constraint("downrange_nmi", "at_least", -FREE_NMI),
+                   Constraint("crossrange_nmi", "at_least", -FREE_NMI))
     if limit_R is not None:
         constraints += (Constraint("max_temperature_R", "at_most", float(limit_R)),)
     if max_load_factor is not None:
