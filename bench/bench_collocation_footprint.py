@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from footprint.core import constrained as C
-from footprint.core.footprints import footprint
+from footprint.core.footprints import crossrange_at_nmi, footprint
 from footprint.figures import footprints_figure, save
 from footprint.studies import parse_study
 
@@ -44,13 +44,6 @@ def fly(name):
     return study, footprint(study.case.to_spec(), study.method, **study.to_params())
 
 
-def chord(points, downrange_nmi):
-    """A left boundary's cross-range at a down-range, on its chords; None outside the down-ranges it reaches."""
-    left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in points if p.crossrange_nmi >= 0)
-    d, c = np.array(left).T
-    return float(np.interp(downrange_nmi, d, c)) if d[0] <= downrange_nmi <= d[-1] else None
-
-
 def compare(true_study, single_study, limit_R=None):
     """The true footprint and the report's two at the true one's down-ranges, with limit_R on all three."""
     (study, true), true_s = timed(lambda: fly(true_study))
@@ -65,7 +58,7 @@ def compare(true_study, single_study, limit_R=None):
     for p in sorted((p for p in true.points if p.side == "left"), key=lambda p: p.downrange_nmi):
         target = p.parameter["downrange_target_nmi"]
         cp = next((q for q in search.points if q.target_downrange_nmi == target), None) if target else None
-        sp = chord(single.points, p.downrange_nmi)
+        sp = crossrange_at_nmi(single.points, p.downrange_nmi)
         rows.append({"downrange_nmi": round(p.downrange_nmi, 1), "true_crossrange_nmi": round(p.crossrange_nmi, 1),
                      "agreement_deg": round(p.parameter["agreement_deg"], 4),
                      "creep_pattern_crossrange_nmi": None if cp is None or not cp.result.feasible

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from footprint.core.footprints import footprint
+from footprint.core.footprints import crossrange_at_nmi, footprint
 from footprint.studies import parse_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,12 +24,16 @@ def fly(study):
     return footprint(study.case.to_spec(), study.method, **study.to_params())
 
 
-def cross_at(points, downrange_nmi):
-    """A left boundary's cross-range at a down-range, linear between its points: on a convex stretch the chord
-    lies inside the boundary it samples, so a family's chord is at most the family's own reach there."""
-    left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in points if p.crossrange_nmi >= 0)
-    d, c = np.array(left).T
-    return float(np.interp(downrange_nmi, d, c))
+def family_below(optimal, family, tolerance_nmi):
+    """Each left point of the true boundary against the family's chord at its down-range (a chord is at most
+    the family's own reach there); the number of points compared."""
+    compared = 0
+    for p in optimal.points:
+        chord = crossrange_at_nmi(family.points, p.downrange_nmi) if p.side == "left" else None
+        if chord is not None:
+            assert chord <= p.crossrange_nmi + tolerance_nmi, p
+            compared += 1
+    return compared
 
 
 @pytest.fixture(scope="module")
@@ -44,9 +48,7 @@ def shuttle():
 
 def test_the_optimal_boundary_holds_every_single_parameter_point(shuttle):
     optimal, family = shuttle
-    for p in optimal.points:
-        if p.side == "left":
-            assert cross_at(family.points, p.downrange_nmi) <= p.crossrange_nmi + 1.0, p
+    assert family_below(optimal, family, 1.0) >= 3
     assert optimal.max_downrange_nmi >= family.max_downrange_nmi
     assert optimal.min_downrange_nmi <= family.min_downrange_nmi
     assert optimal.max_crossrange_nmi >= family.max_crossrange_nmi
@@ -90,9 +92,7 @@ def test_lod189_optimal_footprint_on_the_rotating_earth():
     assert optimal.asymmetry is None and len(optimal.points) >= 24
     assert {p.side for p in optimal.points} == {"axis", "left", "right"}
     assert optimal.max_crossrange_nmi >= 2044.5
-    for p in optimal.points:
-        if p.side == "left":
-            assert cross_at(family.points, p.downrange_nmi) <= p.crossrange_nmi + 2.0, p
+    assert family_below(optimal, family, 2.0) >= 9
     assert optimal.area_nmi2 > family.area_nmi2
 
 

@@ -199,3 +199,15 @@ def test_a_steep_bank_past_the_pole_of_the_initial_great_circle_does_not_chatter
     assert t.summary["stop_reason"] == "velocity" and t.summary["steps"] < 5_000
     assert np.max(np.abs(t.history["bank_deg"])) == 180.0
     assert np.max(t.history["crossrange_nmi"]) > 0.98 * math.pi / 2 * MEAN_RADIUS_NMI
+
+
+def test_crossrange_at_a_downrange_is_read_on_the_left_half_chords():
+    """By hand: the left half (0, 0) - (1000, 400) - (3000, 600) at 2,000 nmi is halfway up the second chord."""
+    from types import SimpleNamespace
+
+    from footprint.core.footprints import crossrange_at_nmi
+
+    pts = [SimpleNamespace(downrange_nmi=d, crossrange_nmi=c)
+           for d, c in ((3000, 600), (1000, 400), (0, 0), (1000, -400), (3000, -600))]
+    assert crossrange_at_nmi(pts, 2000.0) == pytest.approx(500.0)
+    assert crossrange_at_nmi(pts, 3500.0) is None

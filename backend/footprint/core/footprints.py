@@ -406,6 +406,14 @@ def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
     return abs(total) * radius_nmi ** 2
 
 
+def crossrange_at_nmi(points, downrange_nmi):
+    """The left half's cross-range at a down-range, linear between its points (on a convex stretch the chord
+    lies inside the boundary it samples); None outside the down-ranges the half reaches."""
+    left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in points if p.crossrange_nmi >= 0.0)
+    d, c = np.array(left).T
+    return float(np.interp(downrange_nmi, d, c)) if d[0] <= downrange_nmi <= d[-1] else None
+
+
 def upper_boundary(points):
     """The outer (upper) convex chain of (down-range, cross-range) points from the shortest down-range to
     the longest, dropped to the axis at both ends."""
