@@ -44,6 +44,7 @@ from footprint.core import constrained
 from footprint.core import optimize as opt
 from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
 from footprint.core.errors import InputError
+from footprint.core.trajectory import simulate
 
 QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
               "final_gamma_deg", "final_heading_deg", "flight_time_s", "max_temperature_R",
@@ -350,10 +351,21 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
                        max_seconds=o.max_seconds)
 
 
-def run_optimization(study) -> opt.Result | col.Result:
+def fly_optimum(study, result: opt.Result | col.Result):
+    """The optimum flown by the integrator: the collocation's control tables (its re-flight), or the parameter
+    search's best parameters through the study's control laws."""
     study = parse_optimization(study)
     if study.method == "collocation":
-        return col.solve(collocation_problem(study))
+        return col.refly(collocation_problem(study), result)
+    problem = problem_of(study)
+    return simulate(problem.controls(problem.base, result.params))
+
+
+def run_optimization(study, on_progress=None) -> opt.Result | col.Result:
+    """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations."""
+    study = parse_optimization(study)
+    if study.method == "collocation":
+        return col.solve(collocation_problem(study), on_progress=on_progress)
     problem = problem_of(study)
     if study.method != "creep_pattern":
         return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories)

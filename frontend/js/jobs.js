@@ -55,8 +55,15 @@ export function buildOptimizationStudy() {
     constraints.push({ quantity: "max_temperature_R", at_most: number("o-temperature"), tolerance: 5 });
     c.heating = { model: "reference" }; // the temperature constraint needs the Section III heating model
   }
-  return { case: c, payoff: { quantity: $("o-payoff").value, goal: $("o-goal").value }, constraints,
-           controls: $("o-controls").value.split(","), method: "creep_pattern" };
+  const method = $("o-method").value;
+  const study = { case: c, payoff: { quantity: $("o-payoff").value, goal: $("o-goal").value }, constraints, method };
+  if (method === "creep_pattern") study.controls = $("o-controls").value.split(","); // IPOPT shapes both itself
+  return study;
+}
+
+function showOptimizerFields() {
+  const method = $("o-method").value;
+  document.querySelectorAll("#optimize-fields [data-optimizer]").forEach((el) => { el.hidden = el.dataset.optimizer !== method; });
 }
 
 function showMethodFields() {
@@ -67,10 +74,12 @@ function showMethodFields() {
 }
 
 export class JobsPanel {
-  constructor({ onSucceeded }) {
+  constructor({ onSucceeded, onOptimum }) {
     this.onSucceeded = onSucceeded;
+    this.onOptimum = onOptimum;
     this.form = $("job-form");
     $("job-method").addEventListener("change", showMethodFields);
+    $("o-method").addEventListener("change", showOptimizerFields);
     $("optimize-toggle").addEventListener("change", (e) => {
       $("optimize-fields").hidden = !e.target.checked;
       $("method-fields").hidden = e.target.checked;
@@ -78,6 +87,7 @@ export class JobsPanel {
     });
     this.form.addEventListener("submit", (e) => { e.preventDefault(); this.submit(); });
     showMethodFields();
+    showOptimizerFields();
   }
 
   async loadVehicles() {
@@ -110,12 +120,14 @@ export class JobsPanel {
     const li = document.createElement("li");
     li.dataset.jobId = id;
     li.innerHTML = `<div class="job-line"><span class="job-label">${escapeHtml(label)}</span><span class="job-status">queued</span></div>`
-      + `<progress max="100" value="0" aria-label="Progress of ${escapeHtml(label)}"></progress> <span class="job-percent">0 %</span>`;
+      + `<progress max="100" value="0" aria-label="Progress of ${escapeHtml(label)}"></progress> <span class="job-percent">0 %</span>`
+      + `<div class="job-note"></div>`;
     $("job-list").prepend(li);
-    const update = (status, progress) => {
+    const update = (status, progress, note) => {
       const pct = Math.round(100 * (status === "succeeded" ? 1 : progress ?? 0));
       li.querySelector("progress").value = pct;
       li.querySelector(".job-percent").textContent = `${pct} %`;
+      li.querySelector(".job-note").textContent = status === "running" ? note ?? "" : "";  // IPOPT's iteration
       const s = li.querySelector(".job-status");
       s.textContent = status;
       s.className = `job-status ${status}`;
@@ -125,13 +137,15 @@ export class JobsPanel {
       if (finished) return;
       finished = true;
       const job = await api(`/api/jobs/${id}`);
-      update(job.status, job.progress);
+      update(job.status, job.progress, job.progress_note);
       if (job.status === "succeeded") {
         const o = job.result?.optimization;
         if (o) {
+          const cost = o.method === "collocation" ? `${fmt(o.iterations)} IPOPT iterations` : `${fmt(o.trajectories)} trajectories`;
           li.insertAdjacentHTML("beforeend", `<div class="${o.feasible ? "succeeded" : "failed"}">optimum: cross-range `
             + `${fmt(o.summary.crossrange_nmi)} nmi at down-range ${fmt(o.summary.downrange_nmi)} nmi, `
-            + `${fmt(o.trajectories)} trajectories${o.feasible ? "" : ", constraints not met"}</div>`);
+            + `${cost}${o.feasible ? "" : ", constraints not met"}</div>`);
+          this.onOptimum?.(label, o);
         }
         await this.onSucceeded(job);
       } else if (job.error) {
@@ -142,14 +156,14 @@ export class JobsPanel {
       while (!finished) {
         const job = await api(`/api/jobs/${id}`).catch(() => null);
         if (job && ["succeeded", "failed", "cancelled"].includes(job.status)) return finish();
-        if (job) update(job.status, job.progress);
+        if (job) update(job.status, job.progress, job.progress_note);
         await new Promise((r) => setTimeout(r, POLL_MS));
       }
     };
     const events = new EventSource(`/api/jobs/${id}/events`);
     events.addEventListener("progress", (e) => {
       const data = JSON.parse(e.data);
-      update(data.status, data.progress);
+      update(data.status, data.progress, data.progress_note);
       if (["succeeded", "failed", "cancelled"].includes(data.status)) { events.close(); finish(); }
     });
     events.addEventListener("end", () => { events.close(); finish(); });

@@ -7,6 +7,7 @@ import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
 import { GlobeView } from "./globe.js";
 import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
+import { drawHistories } from "./histories.js";
 import { drawRangePlot } from "./rangeplot.js";
 import { SitesPanel } from "./sites.js";
 
@@ -15,7 +16,8 @@ const PALETTE = ["#1f6fbf", "#d1495b", "#2a9d8f", "#8e5dbf", "#e08a1e", "#5c7c2e
 const DEBOUNCE_MS = 150; // the polygon follows a dragged control without a request per pixel
 const SAME_DEG = 1e-9;
 
-const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0 };
+const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0, optimum: null, plot: "range" };
+const OPTIMUM_COLOR = "#111827";
 
 function toast(message, isError = false) {
   const t = $("toast");
@@ -29,7 +31,7 @@ function toast(message, isError = false) {
 const mapView = new MapView($("map"), { onClick: (latlng) => sites.onMapClick(latlng) });
 const globe = new GlobeView($("globe"));
 const sites = new SitesPanel({ onChange: () => redrawSites(), selectedFootprint: () => selected(), toast });
-const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job) });
+const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOptimum: (name, result) => showOptimum(name, result) });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
 const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
@@ -82,7 +84,7 @@ async function select(id, { fit = false } = {}) {
   if (!fp.visible) await setVisible(fp, true);
   renderList();
   setControls(fp);
-  drawRangePlot($("plot"), fp);
+  setPlot("range");
   if (fit) mapView.fitFootprint(fp);
   if (state.view === "globe") centerGlobe(fp);
 }
@@ -91,7 +93,7 @@ function redraw(fp) {
   if (fp.visible && fp.shown) mapView.drawFootprint(fp); else mapView.removeFootprint(fp.id);
   mapView.setLegend(visible());
   globe.setData(visible(), sites.shown());
-  if (fp.id === state.selectedId) drawRangePlot($("plot"), fp);
+  if (fp.id === state.selectedId) drawPlot();
 }
 
 function redrawSites() {
@@ -131,6 +133,32 @@ async function showJobFootprints(job) {
   if (ids.length && state.footprints.has(ids[0])) await select(ids[0], { fit: true });
   toast(ids.length ? `Job done: ${ids.length} footprint${ids.length > 1 ? "s" : ""} added` : "Job done");
 }
+
+// ------------------------------------------------------------------------------------------ plot, optimum
+function drawPlot() {
+  if (state.plot === "optimum") drawHistories($("plot"), state.optimum);
+  else drawRangePlot($("plot"), selected());
+}
+
+function setPlot(which) {
+  state.plot = which;
+  $("plot-range").setAttribute("aria-pressed", String(which === "range"));
+  $("plot-optimum").setAttribute("aria-pressed", String(which === "optimum"));
+  drawPlot();
+}
+
+/** An optimization job's optimum: its ground track on the map and its histories in the plot. */
+function showOptimum(name, result) {
+  if (!result.flight) return;
+  state.optimum = { name, color: OPTIMUM_COLOR, result };
+  mapView.drawOptimum(state.optimum);
+  mapView.setLegend(visible());
+  mapView.fitOptimum();
+  $("plot-optimum").disabled = false;
+  setPlot("optimum");
+}
+$("plot-range").addEventListener("click", () => setPlot("range"));
+$("plot-optimum").addEventListener("click", () => setPlot("optimum"));
 
 // ---------------------------------------------------------------------------------- live geometry
 const CONTROLS = [["node-longitude", "nodeLongitudeDeg"], ["inclination", "inclinationDeg"], ["step-downrange", "stepDownrangeNmi"]];
@@ -238,7 +266,7 @@ $("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sit
 $("export-csv").addEventListener("click", () => exportCSV(visible()));
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
                                                              sites: sites.shown() }).catch(fail));
-new ResizeObserver(() => { drawRangePlot($("plot"), selected()); if (state.view === "globe") globe.render(); }).observe($("plot"));
+new ResizeObserver(() => { drawPlot(); if (state.view === "globe") globe.render(); }).observe($("plot"));
 
 function fail(err) { console.error(err); toast(err.message || String(err), true); }
 
@@ -253,7 +281,7 @@ async function start() {
   for (const item of first) await setVisible(state.footprints.get(item.id), true);
   if (first.length) await select(first[0].id);
   mapView.fitFootprints(visible());
-  drawRangePlot($("plot"), selected());
+  drawPlot();
   document.body.dataset.ready = "true"; // the browser tests wait for this
   console.info(`map page ready in ${Math.round(performance.now())} ms`);
 }

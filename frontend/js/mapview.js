@@ -120,17 +120,49 @@ export class MapView {
     this.footprintLayers.set(fp.id, group);
   }
 
+  /** The ground track of an optimum ({name, color, result}) as a solid line, its landing point marked. */
+  drawOptimum(optimum) {
+    this.optimumLayer?.remove();
+    const f = optimum.result.flight;
+    const lons = unwrapLongitudes(f.longitude_deg, f.longitude_deg[0]);
+    const s = optimum.result.summary, last = f.time_s.length - 1;
+    const group = L.layerGroup();
+    const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true };
+    for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
+      L.polyline(f.latitude_deg.map((lat, i) => [lat, lons[i] + offset]),
+                 { ...svg, color: optimum.color, weight: 3, opacity: 0.95, className: `optimum-track opt-copy-${offset}`,
+                   interactive: false }).addTo(group);
+      L.circleMarker([f.latitude_deg[last], lons[last] + offset],
+                     { renderer: this.svgRenderer, radius: 6, color: "#111", weight: 2, fillColor: optimum.color,
+                       fillOpacity: 1, className: `optimum-landing opt-copy-${offset}` })
+        .bindTooltip(`<strong>${escapeHtml(optimum.name)}</strong><br>down-range ${fmt(s.downrange_nmi)} nmi, `
+                     + `cross-range ${fmt(s.crossrange_nmi)} nmi<br>${fmt(f.latitude_deg[last], 2)}°, `
+                     + `${fmt(f.longitude_deg[last], 2)}° after ${fmt(f.time_s[last])} s`)
+        .addTo(group);
+    }
+    this.optimumLayer = group.addTo(this.map);
+    this.optimum = optimum;
+  }
+
+  /** Fit the view to the optimum's ground track (its main copy). */
+  fitOptimum() {
+    const main = this.optimumLayer?.getLayers().find((l) => l instanceof L.Polyline && l.options.className.includes("opt-copy-0"));
+    if (main) this.map.fitBounds(main.getBounds().pad(0.3), { maxZoom: 4 });
+  }
+
   removeFootprint(id) {
     this.footprintLayers.get(id)?.remove();
     this.footprintLayers.delete(id);
   }
 
   setLegend(footprints) {
-    this.legendDiv.innerHTML = footprints.length
+    const optimum = this.optimum
+      ? `<div><span class="line" style="background:${this.optimum.color}"></span>${escapeHtml(this.optimum.name)} (optimum)</div>` : "";
+    this.legendDiv.innerHTML = footprints.length || optimum
       ? footprints.map((fp) => `<div><span class="swatch" style="background:${fp.color}"></span>${escapeHtml(fp.name)}</div>`).join("")
-        + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>'
+        + optimum + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>'
       : "";
-    this.legendDiv.hidden = !footprints.length;
+    this.legendDiv.hidden = !(footprints.length || optimum);
   }
 
   /** Landing sites as diamonds; green when the last reach analysis reached them, red when it did not. */

@@ -368,3 +368,31 @@ def test_folium_map_file_works_offline(browser, service, tmp_path):
         assert page.locator("path.leaflet-interactive").count() >= len(ring(service.footprint["points"]))
     finally:
         context.close()
+
+
+def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, service):
+    """Betts' shuttle optimized by IPOPT: the page draws the optimum's flight ending at Betts' published final
+    latitude (34.1412 deg), and plots its alpha, bank, altitude and velocity with every stored sample."""
+    run = open_page(1280, 800)
+    page = run.page
+    study = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
+    job_id = service.call("/api/jobs", {"kind": "optimize", "study": study})["id"]
+    page.evaluate("(id) => window.footprintApp.jobs.follow(id, 'Betts shuttle, IPOPT')", job_id)
+    page.locator("path.optimum-track.opt-copy-0").wait_for(state="attached", timeout=90_000)
+    flight = service.call(f"/api/jobs/{job_id}")["result"]["optimization"]["flight"]
+    landing = page.evaluate("""() => window.footprintApp.mapView.optimumLayer.getLayers()
+        .filter((l) => l.getLatLng && l.options.className.includes('opt-copy-0'))[0].getLatLng()""")
+    assert landing["lat"] == pytest.approx(34.1412, abs=0.01)  # Betts, Practical Methods sec. 6.1
+    assert landing["lat"] == pytest.approx(flight["latitude_deg"][-1], abs=1e-9)
+    assert delta_deg(landing["lng"], flight["longitude_deg"][-1]) == pytest.approx(0.0, abs=1e-9)
+    assert page.get_attribute("#plot-optimum", "aria-pressed") == "true"
+    paths = page.locator("#plot path.history")
+    assert paths.count() == 4
+    assert all(paths.nth(i).get_attribute("d").count("L") + 1 == len(flight["time_s"]) for i in range(4))
+    labels = page.locator("#plot text.axis-label").all_text_contents()
+    assert labels == ["α (deg)", "Bank (deg)", "Altitude (1,000 ft)", "Velocity (ft/s)"]
+    page.locator("#job-list li .job-status", has_text="succeeded").first.wait_for()
+    page.screenshot(path=str(FIGURES / "map_optimum_histories.png"))
+    page.click("#plot-range")
+    assert page.locator("#plot path.history").count() == 0 and page.locator("#plot svg.range-plot").count() == 1
+    assert not run.errors, run.errors

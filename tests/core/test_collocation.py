@@ -194,3 +194,19 @@ def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
     assert not result.ok and not result.feasible
     assert result.seconds <= 15.0  # one stage: the polish does not run after a stage without an optimum
     assert re.search(r"final_l(ati|ongi)tude_deg by \d", result.message), result.message  # in degrees
+
+
+def test_progress_follows_ipopts_iterations_and_a_stop_is_an_answer(betts_free):
+    """Every IPOPT iteration is reported, the fractions rise within [0, 1], and the optimum is the one solved
+    without a listener; a listener that asks to stop ends the solve "stopped", not with a kept optimum."""
+    seen = []
+    result = col.solve(betts_problem(), on_progress=lambda fraction, note: seen.append((fraction, note)))
+    fractions = [f for f, _ in seen]
+    assert result.ok and result.summary["final_latitude_deg"] == betts_free.summary["final_latitude_deg"]
+    assert fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] < 1.0
+    # one report per iteration and one at each stage's start (IPOPT's iteration 0)
+    stages = 1 + betts_problem().polish
+    assert len(seen) == result.iterations + stages
+    assert re.fullmatch(r"100 intervals: IPOPT iteration \d+, stage \d of \d", seen[-1][1])
+    stopped = col.solve(betts_problem(), on_progress=lambda fraction, note: fraction > 0.2)
+    assert stopped.status == "stopped" and not stopped.ok and "User_Requested_Stop" in stopped.message

@@ -19,9 +19,13 @@ BETTS_CASE = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").
 LOD189 = json.loads((ROOT / "examples" / "footprint_lod189_collocation.json").read_text())
 
 
-def fly(study):
+def fly(study, on_progress=None):
     study = parse_study(study)
-    return footprint(study.case.to_spec(), study.method, **study.to_params())
+    return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
+
+
+SHUTTLE = {"case": BETTS_CASE, "method": "collocation", "points_per_half": 3, "mirror": False, "max_load_factor": 3}
+PROGRESS = []  # the shuttle footprint's (fraction, note) reports
 
 
 def family_below(optimal, family, tolerance_nmi):
@@ -41,8 +45,7 @@ def shuttle():
     """Betts' shuttle (polynomial aero, exponential atmosphere, non-rotating sphere), free final state at
     80,000 ft, the load held to 3 g (without a limit the nearest point turns round riding the stop altitude at
     41 g, where the integrator stops at the first touch), both halves solved."""
-    study = {"case": BETTS_CASE, "method": "collocation", "points_per_half": 3, "mirror": False, "max_load_factor": 3}
-    return fly(study), fly({"case": BETTS_CASE, "method": "single_parameter",
+    return fly(SHUTTLE, lambda *report: PROGRESS.append(report)), fly({"case": BETTS_CASE, "method": "single_parameter",
                             "bank0_deg": list(range(0, 151, 15)), "min_range": "zero_lift"})
 
 
@@ -113,3 +116,19 @@ def test_a_temperature_limit_below_the_entry_floor_is_one_line_and_exit_1(tmp_pa
     assert r.returncode == 1 and r.stdout == ""
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: collocation footprint: the maximum cross-range: infeasible")
+
+
+def test_progress_rises_solve_by_solve_and_a_stop_ends_the_footprint(shuttle):
+    """Reported on every IPOPT iteration of every solve: the fractions rise through [0, 1], each note names its
+    solve of the planned number (3 extremes, the way to the nearest point, per half the down-ranges; the right
+    half's maximum and nearest), and a listener that asks to stop ends the footprint with that answer."""
+    from footprint.core.errors import NoOptimum
+
+    fractions = [f for f, _ in PROGRESS]
+    assert fractions == sorted(fractions) and fractions[0] >= 0.0 and fractions[-1] <= 1.0
+    planned = 4 + 3 + 2 + 3
+    solves = {int(note.split()[1]) for _, note in PROGRESS}
+    assert solves == set(range(1, planned + 1)) and all(f"of {planned}:" in note for _, note in PROGRESS)
+    assert fractions[-1] > (planned - 1) / planned
+    with pytest.raises(NoOptimum, match="stopped at solve 2 of 12"):
+        fly(SHUTTLE, lambda fraction, note: note.startswith("solve 2 "))

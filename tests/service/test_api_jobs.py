@@ -5,6 +5,8 @@ import csv
 import io
 import json
 import re
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +17,7 @@ from footprint.api import fly
 from .conftest import wait_for_job
 from .studies import FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
 
+ROOT = Path(__file__).resolve().parents[2]
 POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
               "side", "parameter", "stop_reason", "mirrored")
 
@@ -59,8 +62,26 @@ def optimal_direct():
     return fly_footprint(OPTIMAL_FOOTPRINT)
 
 
+def watched(api, job_id):
+    """The job's final state and every (progress, note) seen while it ran, polled every 0.05 s."""
+    seen = []
+    while (job := api.get(f"/api/jobs/{job_id}").json())["status"] in ("queued", "running"):
+        if job["status"] == "running":
+            seen.append((job["progress"], job["progress_note"]))
+        time.sleep(0.05)
+    return job, seen
+
+
 def test_an_optimal_footprint_job_is_stored_like_the_others(api, optimal_direct, same_numbers):
-    job = run_job(api, "footprint", OPTIMAL_FOOTPRINT)
+    job, seen = watched(api, submit(api, "footprint", OPTIMAL_FOOTPRINT))
+    assert job["status"] == "succeeded", job["error"]
+    # IPOPT's iterations reached the row while the single task ran: rising, short of the end, said
+    notes = [(p, n) for p, n in seen if n is not None]
+    assert notes and all(0.0 <= p < 1.0 for p, _ in notes) and max(p for p, _ in notes) > 0.0, seen
+    assert [p for p, _ in seen] == sorted(p for p, _ in seen)
+    # 4 extremes and 3 down-ranges, the right half mirrored
+    assert all(re.fullmatch(r"solve \d+ of 7: IPOPT iteration \d+", n) for _, n in notes), notes
+    assert job["progress"] == 1.0 and job["progress_note"] is None
     stored = api.get(f"/api/footprints/{job['result']['footprints'][0].rsplit('/', 1)[1]}").json()
     assert stored["method"] == "collocation" and len(stored["points"]) == 1 + 2 * 5
     same_numbers([[p["downrange_nmi"], p["crossrange_nmi"], p["latitude_deg"], p["longitude_deg"]]
@@ -207,9 +228,27 @@ def test_optimize_and_reach_jobs_store_their_results(api):
     again = fly({**OPTIMIZE["case"], "bank": {"law": "table", "heading_deg": [-15, 0, 15, 30, 45, 60, 75, 90],
                                               "bank_deg": list(opt["parameters"].values())}})
     assert opt["summary"]["crossrange_nmi"] == pytest.approx(again.summary["crossrange_nmi"], abs=1e-6)  # nmi
+    flight = opt["flight"]  # the optimum's flight for the map: it ends where the Python door's flight does
+    assert flight["latitude_deg"][-1] == pytest.approx(again.summary["final_latitude_deg"], abs=1e-9)
+    assert flight["longitude_deg"][-1] == pytest.approx(again.summary["final_longitude_deg"], abs=1e-9)
+    assert flight["time_s"][-1] == pytest.approx(again.summary["flight_time_s"], rel=1e-12)
+    assert set(flight) >= {"alpha_deg", "bank_deg", "altitude_ft", "velocity_fps"} and "temperature_R" not in flight
     reach = run_job(api, "reach", REACH)["result"]["reach"]
     assert [s["name"] for s in reach["sites"]] == ["KSC", "Edwards"]
     assert reach["analysis"]["revolutions"] == [1, 3]
+
+
+def test_a_collocation_optimization_job_reports_iterations_and_returns_its_flight(api):
+    """Betts' shuttle by IPOPT over REST: IPOPT's iterations reach the job row while it runs, and the stored
+    flight is the re-flight of the optimum, ending within 0.01 deg of Betts' 34.1412 deg."""
+    study = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
+    job, seen = watched(api, submit(api, "optimize", study))
+    assert job["status"] == "succeeded", job["error"]
+    assert any(n and re.fullmatch(r"100 intervals: IPOPT iteration \d+, stage \d of 2", n) for _, n in seen), seen
+    flight = job["result"]["optimization"]["flight"]
+    assert flight["latitude_deg"][-1] == pytest.approx(34.1412, abs=0.01)
+    assert flight["altitude_ft"][-1] == pytest.approx(80_000, abs=50)
+    assert min(flight["bank_deg"]) >= -1.0 - 1e-6 and max(flight["bank_deg"]) <= 89.0 + 1e-6  # Betts' bounds
 
 
 def test_jobs_are_listed_newest_first_with_filters(api):

@@ -4,6 +4,7 @@ import pytest
 from alembic import command
 from alembic.autogenerate import compare_metadata
 from alembic.migration import MigrationContext
+from alembic.script import ScriptDirectory
 from sqlalchemy import inspect
 
 from footprint.service.db.engine import alembic_config, make_engine, migrate
@@ -44,6 +45,10 @@ def test_upgrade_twice_is_a_no_op_and_downgrade_removes_everything(engine):
         assert set(inspect(connection).get_table_names()) == {"alembic_version"}
 
 
-def test_one_revision_named_by_date():
-    revisions = [p.name for p in (MIGRATIONS_DIR / "versions").glob("*.py")]
-    assert len(revisions) == 1 and revisions[0].startswith("2026_11_23_")
+def test_revisions_are_named_by_date_and_form_one_chain():
+    script = ScriptDirectory.from_config(alembic_config(MIGRATIONS_DIR))
+    revisions = list(script.walk_revisions())  # head first; raises on a fork
+    files = sorted(p.name for p in (MIGRATIONS_DIR / "versions").glob("*.py"))
+    assert len(script.get_heads()) == 1 and len(revisions) == len(files)
+    assert [r.revision[:10] for r in reversed(revisions)] == [f[:10] for f in files]
+    assert revisions[-1].down_revision is None

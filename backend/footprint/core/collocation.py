@@ -68,8 +68,9 @@ POLISH_WEIGHT = 1e-2  # the polish's share of smoothing_weight
 # the polish's iterations: a refinement of an optimum that does not end within these keeps the stage before it
 # (on the L/D 1.89 tables it ran out of 3,000 iterations, 230 s, for 1.2 nmi of cross-range)
 POLISH_MAX_ITERATIONS = 300
+ITERATIONS_HALF_WAY = 50  # a progress estimate: typical iterations of a stage (Betts 20-50, the L/D 1.89 50-120)
 STATUS_OF_IPOPT = {"Solve_Succeeded": "optimal", "Solved_To_Acceptable_Level": "optimal",
-                   "Infeasible_Problem_Detected": "infeasible"}
+                   "Infeasible_Problem_Detected": "infeasible", "User_Requested_Stop": "stopped"}
 
 
 def _jit_options():
@@ -87,6 +88,56 @@ def _jit_options():
                                                 f"--cache={root}"))
     return {"jit": True, "compiler": "shell",
             "jit_options": {"compiler": command, "flags": ["-O1"], "verbose": False, "directory": f"{root / 'build'}/"}}
+
+
+def _map_threads(compiled):
+    """CasADi map arguments that evaluate a compiled point function (and so its derivatives) on every core:
+    the L/D 1.89 true footprint 25-28 s instead of 27-33 on 2 cores; the SX virtual machine stays serial."""
+    return ("thread", os.cpu_count() or 1) if compiled else ()
+
+
+class _Iterations(ca.Callback):
+    """IPOPT's iteration callback (its option iteration_callback): counts the iterations and passes each one to
+    `report(iteration, stage, stages)`, set per solve; a report that returns True stops IPOPT
+    (User_Requested_Stop)."""
+
+    def __init__(self, nx, ng, np_):
+        ca.Callback.__init__(self)
+        self.sizes = {"x": nx, "lam_x": nx, "g": ng, "lam_g": ng, "f": 1, "lam_p": np_}
+        self.report, self.iteration, self.stage, self.stages = None, 0, 0, 1
+        self.construct("iterations", {})
+
+    def get_n_in(self):
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self):
+        return 1
+
+    def get_name_in(self, i):
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i):
+        return "stop"
+
+    def get_sparsity_in(self, i):
+        return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)], 1)
+
+    def eval(self, arg):
+        self.iteration += 1  # IPOPT calls at its iteration 0 of every stage too
+        stop = self.report is not None and self.report(max(self.iteration, 0), self.stage, self.stages)
+        return [1 if stop else 0]
+
+
+def iteration_progress(on_progress, share=(0.0, 1.0), what=""):
+    """An on_iteration that reports on_progress(fraction, note) within share (from, to) of a larger piece of work:
+    iterations have no known end, so each stage moves k / (k + ITERATIONS_HALF_WAY) of its part."""
+    lo, hi = share
+
+    def on_iteration(iteration, stage, stages):
+        fraction = (stage + iteration / (iteration + ITERATIONS_HALF_WAY)) / stages
+        note = f"{what}IPOPT iteration {iteration}" + (f", stage {stage + 1} of {stages}" if stages > 1 else "")
+        return on_progress(lo + (hi - lo) * fraction, note)
+    return on_iteration
 
 
 class CollocationError(ValueError):
@@ -141,7 +192,7 @@ class Guess:
 
 @dataclass
 class Result:
-    status: str  # "optimal" | "infeasible" | "not_converged"
+    status: str  # "optimal" | "infeasible" | "not_converged" | "stopped" (on_iteration asked)
     message: str  # IPOPT's return status, or the largest violation
     objective: float  # in the quantities' own units (weighted sum), the NLP's value
     summary: dict  # the NLP's end state and path maxima, trajectory-summary keys
@@ -263,7 +314,7 @@ class Transcription:
                 dbig[k * d:k * d + d + 1, k * d + j] = dmat[j]
         point = self._point_function()
         u_all = ca.horzcat(us[:, 0], ca.mtimes(us, ca.sparsify(ca.DM(lin))))  # controls at every point, entry included
-        rates, path = point.map(m + 1)(xs, u_all, smoothing)
+        rates, path = point.map(m + 1, *_map_threads(self.compiled))(xs, u_all, smoothing)
         rates = rates[:, 1:]
         t_f = ts * T_SCALE_S
         h = 1.0 / n
@@ -309,7 +360,9 @@ class Transcription:
         self.ubg = np.concatenate([grp[3] for grp in self._groups])
         self._bounds(ns, m, n)
         self._outputs = ca.Function("outputs", [w, par], [xs, us, t_f, path])
+        self._iterations = _Iterations(w.shape[0], self._g.shape[0], par.shape[0])
         opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": pr.tolerance,
+                "iteration_callback": self._iterations,
                 "ipopt.max_iter": pr.max_iterations, "ipopt.max_wall_time": pr.max_seconds,
                 "ipopt.mu_strategy": "adaptive",
                 "ipopt.linear_solver": "mumps", "expand": not self.compiled}
@@ -430,13 +483,13 @@ class Transcription:
 
     # -- solving -----------------------------------------------------------------------------------------
     def solve(self, guess: Guess, *, weights=None, constraint_targets=None, warm: dict | None = None,
-              stages=None) -> Result:
+              stages=None, on_iteration=None) -> Result:
         """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
 
         weights: one per objective term (default: the problem's); constraint_targets: {quantity: (lo, hi)} to
         replace terminal constraint bands without rebuilding; stages: the smoothing of the tables, each stage
         started from the last (default SMOOTHING_STAGES, the last one alone from a warm start; one stage
-        without tables)."""
+        without tables); on_iteration(iteration, stage, stages) after every IPOPT iteration (True stops)."""
         pr = self.problem
         wts = np.array([wt for _, wt in pr.objective] if weights is None else weights, float)
         lbg, ubg = self.lbg.copy(), self.ubg.copy()
@@ -461,7 +514,10 @@ class Transcription:
         # cold solver from the last point: building the warm-start solver costs as much as the first build (1 s)
         use_warm, x_start = warm is not None, None if warm is not None else self._scaled_guess(guess)
         kept, note = None, ""  # the last stage that ended optimal: a narrower one that does not falls back to it
+        listener = self._iterations
+        listener.report, listener.stages = on_iteration, len(plan)
         for stage, (smoothing, reg) in enumerate(plan):
+            listener.stage, listener.iteration = stage, iterations - 1
             par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing, reg]])
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
@@ -480,12 +536,14 @@ class Transcription:
             warm = {"x": np.asarray(sol["x"]).ravel(), "lam_x": np.asarray(sol["lam_x"]).ravel(),
                     "lam_g": np.asarray(sol["lam_g"]).ravel()}
             if STATUS_OF_IPOPT.get(stats["return_status"]) != "optimal":
-                if kept is not None:  # said in the message; the re-flight measures what the wider corners cost
+                # said in the message; the re-flight measures what the wider corners cost (not after a stop)
+                if kept is not None and stats["return_status"] != "User_Requested_Stop":
                     note = (f"; the stage at corners {smoothing:g} (rate weight {reg:g}) ended "
                             f"{stats['return_status']}: the optimum of the stage before is kept")
                     warm, par, stats = kept
                 break  # a later stage cannot mend a stage that ended without an optimum
             kept = (warm, par, stats)
+        listener.report = None
         x = warm["x"]
         gval = np.asarray(self._violation(x, par)).ravel()
         viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
@@ -626,13 +684,16 @@ def agrees(result: Result) -> bool:
         and a["downrange_rel"] <= AGREE_DOWNRANGE_REL
 
 
-def solve(problem: Problem, guess: Guess | None = None) -> Result:
-    """Solve, re-fly, and double the mesh from the last solution until the re-flight agrees (or max_intervals)."""
+def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Result:
+    """Solve, re-fly, and double the mesh from the last solution until the re-flight agrees (or max_intervals);
+    on_progress(fraction, note) after every IPOPT iteration (True stops: the result is "stopped")."""
     if guess is None:
         guess = guess_from_trajectory(problem.base, simulate(problem.base))
-    n, total_s, total_it = problem.intervals, 0.0, 0
-    while True:
-        result = Transcription(problem, n).solve(guess)
+    n, total_s, total_it, mesh = problem.intervals, 0.0, 0, 0
+    while True:  # the k-th mesh reports within [1 - 2^-k, 1 - 2^-(k+1)] (how many there will be is not known)
+        share, mesh = (1.0 - 0.5 ** mesh, 1.0 - 0.5 ** (mesh + 1)), mesh + 1
+        report = None if on_progress is None else iteration_progress(on_progress, share, f"{n} intervals: ")
+        result = Transcription(problem, n).solve(guess, on_iteration=report)
         total_s, total_it = total_s + result.seconds, total_it + result.iterations
         refly(problem, result)
         if not result.ok or agrees(result) or 2 * n > problem.max_intervals:

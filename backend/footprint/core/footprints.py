@@ -209,7 +209,9 @@ METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank,
            "two_parameter": two_parameter, "constant_altitude": constant_altitude}
 
 
-def footprint(spec: FlightSpec, method: str, **params) -> Footprint:
+def footprint(spec: FlightSpec, method: str, on_progress=None, **params) -> Footprint:
+    """The footprint of `spec` by `method`; on_progress(fraction, note) where the method is long enough to
+    report (the collocation's IPOPT iterations)."""
     if method == "temperature_limited":  # constrained.py builds on this module, so it is imported here
         from footprint.core.constrained import temperature_limited_footprint
 
@@ -217,7 +219,7 @@ def footprint(spec: FlightSpec, method: str, **params) -> Footprint:
     if method == "collocation":  # the true optimal boundary (CasADi), built on this module too
         from footprint.core.collocation_footprint import collocation_footprint
 
-        return collocation_footprint(spec, **params)
+        return collocation_footprint(spec, on_progress=on_progress, **params)
     return METHODS[method](spec, **params)
 
 

@@ -35,6 +35,7 @@ class JobSummary(BaseModel):
     name: str | None
     status: JobStatus
     progress: float
+    progress_note: str | None = None  # what a running job is doing: "solve 3 of 27: IPOPT iteration 12"
     error: str | None
     created_at: str
     started_at: str | None

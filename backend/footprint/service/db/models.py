@@ -42,6 +42,7 @@ class Job(Base):
     name: Mapped[str | None] = mapped_column(String(200))
     status: Mapped[str] = mapped_column(String(16), index=True)
     progress: Mapped[float] = mapped_column(Float, default=0.0)
+    progress_note: Mapped[str | None] = mapped_column(String(200))  # what a running job is doing (IPOPT's iteration)
     error: Mapped[str | None] = mapped_column(Text)
     study: Mapped[dict[str, Any]]
     attempts: Mapped[int] = mapped_column(Integer, default=0)  # submissions to the cluster (restarts add one)

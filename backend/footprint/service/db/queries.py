@@ -59,14 +59,15 @@ def start_job(session: Session, *, job_id: str) -> Job | None:
     job = session.get(Job, job_id, with_for_update=True)
     if job is None or job.status not in PENDING:
         return None
-    job.status, job.progress, job.attempts = "running", 0.0, job.attempts + 1
+    job.status, job.progress, job.progress_note, job.attempts = "running", 0.0, None, job.attempts + 1
     job.started_at = job.started_at or utc_now()
     return job
 
 
-def set_progress(session: Session, *, job_id: str, progress: float) -> None:
-    """Record the progress (0-1) of a running job."""
-    session.execute(update(Job).where(Job.id == job_id, Job.status == "running").values(progress=progress))
+def set_progress(session: Session, *, job_id: str, progress: float, note: str | None = None) -> None:
+    """Record the progress (0-1) of a running job, and what it is doing."""
+    session.execute(update(Job).where(Job.id == job_id, Job.status == "running")
+                    .values(progress=progress, progress_note=None if note is None else note[:200]))
 
 
 def fail_job(session: Session, *, job_id: str, error: str) -> None:
@@ -101,6 +102,7 @@ def finish_job(session: Session, *, job_id: str, result: dict, footprints: list[
             for seq, record in enumerate(footprints):
                 session.add(_footprint_row(job_id, seq, record))
             job.status, job.progress, job.finished_at, job.error = "succeeded", 1.0, utc_now(), None
+            job.progress_note = None
         return True
     except IntegrityError:
         return False

@@ -23,6 +23,7 @@ from footprint.service.settings import Settings
 
 log = logging.getLogger("footprint.service.jobs")
 MAX_ERROR_CHARS = 500  # a failed job's error line
+PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
 
 
 def one_line(exc: BaseException) -> str:
@@ -39,6 +40,8 @@ class JobEngine:
         self._stack = ExitStack()
         self._pool = ThreadPoolExecutor(settings.job_threads, thread_name_prefix="footprint-job")
         self._futures: dict[str, list] = {}
+        self._reports: dict[str, tuple[float, str]] = {}  # task key -> its last (progress, note) event
+        self._wakes: dict[str, threading.Event] = {}  # task key -> its job's watcher, woken by each report
         self._lock = threading.Lock()
         self._closing = threading.Event()
         self.client = None
@@ -48,6 +51,7 @@ class JobEngine:
     def start(self) -> None:
         """Connect to (or start) the cluster, warm numba in its workers, and submit the pending jobs again."""
         self.client = self._connect()
+        self.client.subscribe_topic(tasks.PROGRESS_TOPIC, self._on_report)
         threading.Thread(target=self._warm, name="footprint-warm", daemon=True).start()
         with self._sessions.begin() as session:
             pending = q.pending_job_ids(session)
@@ -137,8 +141,6 @@ class JobEngine:
 
     def _compute(self, job_id: str, calls: list) -> list | None:
         """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile."""
-        from distributed import as_completed
-
         token = uuid.uuid4().hex[:8]
         futures = [self.client.submit(fn, *args, key=f"{fn.__name__}-{job_id}-{token}-{i}", pure=False)
                    for i, (fn, *args) in enumerate(calls)]
@@ -146,15 +148,53 @@ class JobEngine:
         with self._lock:
             self._futures[job_id] = futures
         outputs: list = [None] * len(futures)
-        for done, fut in enumerate(as_completed(futures, loop=self.client.loop), 1):
-            if fut.status == "cancelled" or self._cancelled(job_id):
-                self.client.cancel(futures)
-                return None
-            outputs[index[fut.key]] = fut.result()
-            fut.release()
-            with self._sessions.begin() as session:
-                q.set_progress(session, job_id=job_id, progress=done / len(futures))
+        pending, done, written, last_write = list(futures), 0, (0.0, None), -PROGRESS_WRITE_S
+        changed = threading.Event()  # a task ended or reported (or PROGRESS_WRITE_S passed)
+        with self._lock:
+            self._wakes.update((f.key, changed) for f in futures)
+        for fut in futures:
+            fut.add_done_callback(lambda _: changed.set())
+        try:
+            while pending:
+                changed.wait(PROGRESS_WRITE_S)
+                changed.clear()
+                finished = [f for f in pending if f.done()]
+                pending = [f for f in pending if not f.done()]
+                for fut in finished:
+                    if fut.status == "cancelled" or self._cancelled(job_id):
+                        self.client.cancel(futures)
+                        return None
+                    outputs[index[fut.key]] = fut.result()
+                    fut.release()
+                    done += 1
+                progress, note = self._progress(futures, done)
+                due = time.monotonic() - last_write >= PROGRESS_WRITE_S or written[1] is None
+                if (progress, note) != written and progress >= written[0] and due:  # never backwards
+                    with self._sessions.begin() as session:
+                        q.set_progress(session, job_id=job_id, progress=progress, note=note)
+                    written, last_write = (progress, note), time.monotonic()
+        finally:
+            with self._lock:
+                for f in futures:
+                    self._reports.pop(f.key, None)
+                    self._wakes.pop(f.key, None)
         return outputs
+
+    def _on_report(self, event) -> None:
+        """A task's progress event (client's event loop: kept, written by the job's own thread)."""
+        _, msg = event
+        with self._lock:
+            self._reports[msg["key"]] = (min(max(float(msg["progress"]), 0.0), 1.0), str(msg["note"]))
+            wake = self._wakes.get(msg["key"])
+        if wake is not None:
+            wake.set()
+
+    def _progress(self, futures: list, done: int) -> tuple[float, str | None]:
+        """The job's progress: its finished tasks and what the running ones reported; the last note."""
+        with self._lock:
+            reports = [self._reports[f.key] for f in futures if f.key in self._reports and f.status == "pending"]
+        note = reports[-1][1] if reports else None
+        return (done + sum(p for p, _ in reports)) / len(futures), note
 
     def _cancelled(self, job_id: str) -> bool:
         with self._sessions.begin() as session:

@@ -8,8 +8,12 @@ from dataclasses import asdict
 import numpy as np
 
 MAX_TRACK_POINTS = 500  # a stored ground track
+PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (JobEngine subscribes)
+PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
 POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
                 "side", "parameter", "stop_reason", "mirrored")
+FLIGHT_KEYS = ("time_s", "latitude_deg", "longitude_deg", "altitude_ft", "velocity_fps", "alpha_deg", "bank_deg",
+               "downrange_nmi", "crossrange_nmi", "temperature_R")  # an optimum's stored histories (with heating)
 WARM_CASE = {"vehicle": {"builtin": "lod-2.2"},
              "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
              "stop": {"altitude_ft": 250_000}}  # a short flight that loads every compiled kernel
@@ -37,6 +41,26 @@ def decimated(n: int, max_points: int) -> np.ndarray:
     return np.unique(np.linspace(0, n - 1, max_points).round().astype(int))
 
 
+def progress_reporter():
+    """on_progress(fraction, note) for the core's long loops, sent as a Dask event of this task (its key), at
+    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns False: a report never stops the work."""
+    from distributed import get_worker
+
+    try:
+        worker = get_worker()
+    except ValueError:
+        return None
+    key, last = worker.get_current_task(), [0.0]
+
+    def on_progress(fraction: float, note: str) -> bool:
+        now = time.monotonic()
+        if now - last[0] >= PROGRESS_EVERY_S:
+            last[0] = now
+            worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": float(fraction), "note": note})
+        return False
+    return on_progress
+
+
 def warm_numba() -> float:
     """Fly one short trajectory so this process has loaded (or compiled) numba's cache; the seconds taken."""
     from footprint.api import fly
@@ -46,15 +70,18 @@ def warm_numba() -> float:
     return time.perf_counter() - t0
 
 
+def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg")) -> dict:
+    """A trajectory's summary and its histories of `keys` (those it has), decimated for the map."""
+    keep = decimated(len(traj.history["time_s"]), MAX_TRACK_POINTS)
+    return {"summary": plain(traj.summary), **{k: plain(traj.history[k][keep]) for k in keys if k in traj.history}}
+
+
 def ground_track(spec) -> dict:
     """The case flown with zero bank (Section II.6's maximum down-range flight), decimated for the map."""
     from footprint.core.footprints import with_bank
     from footprint.core.trajectory import simulate
 
-    traj = simulate(with_bank(spec, "zero"))
-    keep = decimated(len(traj.history["time_s"]), MAX_TRACK_POINTS)
-    return {"summary": plain(traj.summary),
-            **{k: plain(traj.history[k][keep]) for k in ("time_s", "latitude_deg", "longitude_deg")}}
+    return flown(simulate(with_bank(spec, "zero")))
 
 
 def footprint_record(fp, study, study_dict: dict, track: dict, name: str) -> dict:
@@ -85,7 +112,7 @@ def footprint_task(study_dict: dict, name: str) -> dict:
 
     study = parse_study(study_dict)
     spec = study.case.to_spec()
-    fp = core.footprint(spec, study.method, **study.to_params())
+    fp = core.footprint(spec, study.method, on_progress=progress_reporter(), **study.to_params())
     return footprint_record(fp, study, study_dict, ground_track(spec), name)
 
 
@@ -103,15 +130,17 @@ def sweep_footprint_task(job: dict, name: str) -> dict:
 
 
 def optimize_task(study_dict: dict) -> dict:
-    """An optimization job: the optimum, its parameters and the convergence history; a collocation that ends
-    without an optimum fails the job with its one line (status and largest violation)."""
+    """An optimization job: the optimum, its parameters and the convergence history, and its flight (the
+    integrator's; the ground track and the histories the page plots); a collocation that ends without an
+    optimum fails the job with its one line (status and largest violation)."""
     from footprint.core.collocation import NoOptimum, Result
-    from footprint.optimization import run_optimization
+    from footprint.optimization import fly_optimum, parse_optimization, run_optimization
 
-    result = run_optimization(study_dict)
+    study = parse_optimization(study_dict)
+    result = run_optimization(study, on_progress=progress_reporter())
     if isinstance(result, Result) and not result.ok:
         raise NoOptimum(result.one_line())
-    return plain(result.to_dict())
+    return {**plain(result.to_dict()), "flight": flown(fly_optimum(study, result), FLIGHT_KEYS)}
 
 
 def reach_task(request: dict) -> dict:

@@ -21,6 +21,7 @@ EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
 
 def summary(job) -> dict:
     return {"id": job.id, "kind": job.kind, "name": job.name, "status": job.status, "progress": job.progress,
+            "progress_note": job.progress_note,
             "error": job.error, "created_at": q.iso(job.created_at), "started_at": q.iso(job.started_at),
             "finished_at": q.iso(job.finished_at)}
 
@@ -82,7 +83,8 @@ def cancel_job(job_id: str, request: Request) -> dict:
 def _state(request: Request, job_id: str) -> dict | None:
     with deps.sessions(request).begin() as session:
         job = q.get_job(session, job_id=job_id)
-        return None if job is None else {"id": job.id, "status": job.status, "progress": job.progress}
+        return None if job is None else {"id": job.id, "status": job.status, "progress": job.progress,
+                                         "progress_note": job.progress_note}
 
 
 @router.get("/jobs/{job_id}/events", response_class=StreamingResponse,

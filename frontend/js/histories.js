@@ -1,0 +1,62 @@
+// An optimum's flight against time, as the report plots its trajectories (Fig. 29's histories): alpha, bank,
+// altitude and the radiation-equilibrium temperature (velocity when the study has no heating model).
+import { escapeHtml, fmt } from "./format.js";
+import { niceTicks } from "./rangeplot.js";
+
+const SVG_NS = "http://www.w3.org/2000/svg";
+const MARGIN = { left: 52, right: 22, top: 18, bottom: 22 };
+const TITLE_PX = 20;
+
+/** The four panels of a flight: [key, label, scale] (scale turns the stored unit into the plotted one). */
+export function historyPanels(flight) {
+  return [["alpha_deg", "α (deg)", 1], ["bank_deg", "Bank (deg)", 1], ["altitude_ft", "Altitude (1,000 ft)", 1e-3],
+          flight.temperature_R ? ["temperature_R", "Temperature (°R)", 1] : ["velocity_fps", "Velocity (ft/s)", 1]];
+}
+
+/** Tick labels with as many decimals as their spacing needs (an alpha that moves by tenths of a degree). */
+const tickLabel = (ticks) => {
+  const step = ticks.length > 1 ? ticks[1] - ticks[0] : 1;
+  const digits = Math.min(3, Math.max(0, -Math.floor(Math.log10(step) + 1e-9)));
+  return (v) => fmt(v, digits);
+};
+
+function panel(x, y, w, h, time, values, label, color) {
+  const xt = niceTicks(0, Math.max(...time), 4), yt = niceTicks(Math.min(...values), Math.max(...values), 4);
+  const [x0, x1] = [0, Math.max(xt[xt.length - 1], ...time)];
+  const [y0, y1] = [Math.min(yt[0], ...values), Math.max(yt[yt.length - 1], ...values)];
+  const pw = w - MARGIN.left - MARGIN.right, ph = h - MARGIN.top - MARGIN.bottom;
+  const sx = (v) => x + MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
+  const sy = (v) => y + MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
+  const ylabel = tickLabel(yt);
+  const parts = [`<rect class="frame" x="${sx(x0)}" y="${y + MARGIN.top}" width="${pw}" height="${ph}"/>`];
+  for (const t of xt) parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${y + MARGIN.top}" y2="${y + MARGIN.top + ph}"/>`
+    + `<text class="tick" x="${sx(t)}" y="${y + MARGIN.top + ph + 13}" text-anchor="middle">${fmt(t)}</text>`);
+  for (const t of yt) parts.push(`<line class="grid" x1="${sx(x0)}" x2="${sx(x0) + pw}" y1="${sy(t)}" y2="${sy(t)}"/>`
+    + `<text class="tick" x="${sx(x0) - 5}" y="${sy(t) + 4}" text-anchor="end">${ylabel(t)}</text>`);
+  const d = time.map((t, i) => `${i ? "L" : "M"}${sx(t).toFixed(1)},${sy(values[i]).toFixed(1)}`).join("");
+  parts.push(`<path class="history" d="${d}" style="stroke:${color}"/>`);
+  parts.push(`<text class="axis-label" x="${sx(x0)}" y="${y + MARGIN.top - 5}">${label}</text>`);
+  return parts.join("");
+}
+
+/** Draw `optimum` ({name, color, result}: an optimization job's result with its flight) into the container. */
+export function drawHistories(container, optimum) {
+  if (!optimum?.result?.flight) {
+    container.innerHTML = '<p class="empty">Run an optimization to plot its α, bank, altitude and temperature.</p>';
+    return;
+  }
+  const width = Math.max(container.clientWidth, 240), height = Math.max(container.clientHeight, 200);
+  const { flight } = optimum.result;
+  const panels = historyPanels(flight);
+  const cols = width >= 2 * 220 ? 2 : 1, rows = Math.ceil(panels.length / cols);
+  const w = width / cols, h = (height - TITLE_PX) / rows;
+  const parts = panels.map(([key, label, scale], i) => panel((i % cols) * w, TITLE_PX + Math.floor(i / cols) * h, w, h,
+                                                             flight.time_s, flight[key].map((v) => v * scale), label,
+                                                             optimum.color));
+  const s = optimum.result.summary;
+  const title = `${optimum.name}: cross-range ${fmt(s.crossrange_nmi)} nmi at down-range ${fmt(s.downrange_nmi)} nmi`
+    + " · against flight time (s)";
+  parts.push(`<text class="plot-title" x="6" y="14">${escapeHtml(title)}</text>`);
+  container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot history-plot" viewBox="0 0 ${width} ${height}" width="${width}" `
+    + `height="${height}" role="img" aria-label="Histories of ${escapeHtml(optimum.name)}">${parts.join("")}</svg>`;
+}
