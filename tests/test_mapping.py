@@ -199,3 +199,27 @@ def test_map_figure_draws_footprint_initial_point_track_and_shade():
         shade = next(a for a in ax.get_children() if a.get_gid() == "shade").get_array()
         share = float((shade[..., 3] > 0).mean())
         assert 0.01 < share < 0.5  # the footprint covers part of the map, not none or all of it
+
+
+def test_a_moved_point_keeps_its_flown_down_range_past_half_way_round():
+    """Issue 13 defect 2: a point flown 18,108 nmi came back as -3,507 (folded into +-pi R'). A move is a
+    rotation of the sphere, so the ranges about the moved (and stepped) reference are the flown ones."""
+    from footprint.core.ranges import MEAN_RADIUS_NMI, latlon_from_ranges
+
+    down, cross = np.array([18_108.0, 14_869.0, 6_000.0]), np.array([0.0, 850.0, -1_900.0])
+    lat, lon = latlon_from_ranges(down, cross, 0.0, 0.0, 90.0)
+    points = [{"latitude_deg": float(a), "longitude_deg": float(b), "flight_time_s": 3_000.0, "downrange_nmi": float(d)}
+              for a, b, d in zip(lat, lon, down)]
+    polar = {"latitude_deg": 0.0, "longitude_deg": -60.0, "inclination_deg": 90.0}
+    out = run_transform({"points": points, "from": EAST, "to": polar, "step_downrange_nmi": 2_500.0, "mirror": True})
+    moved = out["points"]
+    # the images of the two points off the axis follow, in reverse order; the one on the axis has none
+    assert [p["downrange_nmi"] for p in moved] == pytest.approx(list(down) + list(down[:0:-1]), abs=1e-6)
+    assert [p["crossrange_nmi"] for p in moved] == pytest.approx(list(cross) + list(-cross[:0:-1]), abs=1e-6)
+    # the approximate earth rotation shifts each point by a few hundred nmi: still on the flown turn
+    shifted = run_transform({"points": points, "from": EAST, "to": polar, "earth_rotation": "approximate"})["points"]
+    assert all(abs(p["downrange_nmi"] - d) < 800.0 for p, d in zip(shifted, down))
+    # without the flown down-range the answer is the chart's, within +-pi R' (as documented)
+    folded = run_transform({"points": [{k: p[k] for k in ("latitude_deg", "longitude_deg")} for p in points],
+                            "from": EAST, "to": polar})["points"]
+    assert folded[0]["downrange_nmi"] == pytest.approx(18_108.0 - 2.0 * math.pi * MEAN_RADIUS_NMI, abs=1e-6)

@@ -122,6 +122,25 @@ def unwrap_ring(latitude_deg, longitude_deg, entry: dict) -> np.ndarray:
     return lon + 360.0 * np.round((entry["longitude_deg"] - lon[nearest]) / 360.0)
 
 
+def _area(points: list[dict], entry: dict, first_lon_deg: float):
+    """core.outline of the boundary (the chart's edges sampled, a polar cap closed along its pole), on the copy
+    where the ring's first point is at first_lon_deg."""
+    from footprint.core.outline import Outline, outline
+    from footprint.core.ranges import downrange_crossrange_nmi
+    from footprint.core.transforms import Reference
+
+    ref = Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
+    if all(p.get("downrange_nmi") is not None and p.get("crossrange_nmi") is not None for p in points):
+        down, cross = [p["downrange_nmi"] for p in points], [p["crossrange_nmi"] for p in points]
+    else:  # a file without ranges: the chart's, continued round the ring (one branch of it is as good)
+        down, cross = downrange_crossrange_nmi([p["latitude_deg"] for p in points],
+                                               [p["longitude_deg"] for p in points], ref.latitude_deg,
+                                               ref.longitude_deg, ref.heading_deg, unwrap=True)
+    o = outline(down, cross, ref)
+    shift = 360.0 * round((first_lon_deg - o.longitude_deg[0]) / 360.0)
+    return Outline(o.latitude_deg, o.longitude_deg + shift, o.pole)
+
+
 def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float, float]]:
     """The ground track of zero bank on a non-rotating sphere: the initial great circle from the entry."""
     from footprint.core.ranges import great_circle_frame
@@ -156,6 +175,7 @@ def footprint_map(footprint: dict, title: str | None = None):
     name = title or footprint.get("name") or f"{footprint.get('vehicle', '')} {footprint.get('method', '')}".strip().replace("_", " ")
     lat = np.array([p["latitude_deg"] for p in points], float)
     lon = unwrap_ring(lat, np.array([p["longitude_deg"] for p in points], float), entry)
+    area = _area(points, entry, lon[0])
     if footprint.get("ground_track"):
         track = [(p["latitude_deg"], p["longitude_deg"]) for p in footprint["ground_track"]]
     else:
@@ -181,12 +201,19 @@ def footprint_map(footprint: dict, title: str | None = None):
     lines += [[(y, -540.0), (y, 540.0)] for y in np.arange(-90.0, 90.1, GRATICULE_DEG)]
     folium.PolyLine(lines, color="#b9c6d2", weight=0.6).add_to(m)
 
-    span = np.concatenate([lon, track_lon])
+    span = np.concatenate([area.longitude_deg, track_lon])
     for offset in WORLD_COPIES_DEG:
         if span.max() + offset < -540 or span.min() + offset > 540:
             continue
-        folium.Polygon(list(zip(lat.tolist(), (lon + offset).tolist())), color=COLOR, weight=2, fill=True,
-                       fill_color=COLOR, fill_opacity=0.22, smooth_factor=0, no_clip=True, tooltip=escape(name)).add_to(m)
+        folium.Polygon(list(zip(area.latitude_deg.tolist(), (area.longitude_deg + offset).tolist())), stroke=False,
+                       fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0, no_clip=True,
+                       tooltip=escape(name)).add_to(m)
+        edge = slice(0, -2) if area.pole else slice(None)  # the edge without the closure along a pole
+        edge_lat, edge_lon = area.latitude_deg[edge], area.longitude_deg[edge] + offset
+        if not area.pole:
+            edge_lat, edge_lon = np.append(edge_lat, edge_lat[0]), np.append(edge_lon, edge_lon[0])
+        folium.PolyLine(list(zip(edge_lat.tolist(), edge_lon.tolist())), color=COLOR, weight=2, smooth_factor=0,
+                        no_clip=True).add_to(m)
         folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR, weight=1.5,
                         dash_array="6 5", tooltip="ground track").add_to(m)
         folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset],
@@ -196,7 +223,8 @@ def footprint_map(footprint: dict, title: str | None = None):
             folium.CircleMarker([p["latitude_deg"], float(x) + offset], radius=4, color=COLOR, weight=1.5, fill=True,
                                 fill_color="#ffffff" if p.get("mirrored") else COLOR, fill_opacity=1.0,
                                 tooltip=_hover(p)).add_to(m)
-    m.fit_bounds([[float(lat.min()), float(lon.min())], [float(lat.max()), float(lon.max())]], padding=(30, 30))
+    m.fit_bounds([[float(area.latitude_deg.min()), float(area.longitude_deg.min())],
+                  [float(area.latitude_deg.max()), float(area.longitude_deg.max())]], padding=(30, 30))
     m.get_root().html.add_child(folium.Element(
         f'<div style="position:fixed;top:10px;left:54px;z-index:1000;background:rgba(255,255,255,.92);'
         f'padding:5px 9px;border-radius:4px;font:13px sans-serif;box-shadow:0 1px 4px rgba(0,0,0,.3)">'

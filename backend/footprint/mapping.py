@@ -3,7 +3,7 @@ deorbit point, add the mirror half, and allow for the earth's rotation (AFWAL-TR
 
 Request (JSON object; the CLI's `footprint transform FILE.json` and, later, the REST endpoint):
 
-    {"points": [{"latitude_deg", "longitude_deg", "flight_time_s"?}, ...],
+    {"points": [{"latitude_deg", "longitude_deg", "flight_time_s"?, "downrange_nmi"?}, ...],
      "from": {"latitude_deg", "longitude_deg", "heading_deg"},
      "to":   {"latitude_deg", "longitude_deg", "heading_deg"}
            | {"latitude_deg", "longitude_deg", "inclination_deg", "ascending": true},
@@ -23,7 +23,10 @@ that footprint's points; the request's points are then not used (they may be lef
 Response: {"points": [{"latitude_deg", "longitude_deg", "flight_time_s", "downrange_nmi",
 "crossrange_nmi", "mirrored"}...], "reference": the destination's initial point and heading after the step
 (the origin of the ranges), "earth_rotation", "points_in"}; "exact" points also carry "side" and
-"parameter". Longitudes are in (-180, 180].
+"parameter". Longitudes are in (-180, 180]. A point's down-range is its flown one where the request gives it
+(a move keeps the ranges about the moved reference; "approximate" takes the turn of the circumference nearest
+it): a footprint past half-way round stays continuous (18,108 nmi, not -3,507); without it the down-range
+lies within +-pi R'.
 """
 
 import csv
@@ -37,7 +40,8 @@ from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_vali
 from footprint.cases import Strict, bounded, error_line
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
+from footprint.core.ranges import downrange_crossrange_nmi
+from footprint.core.rotation import ranges_near
 from footprint.core.transforms import (
     Reference,
     heading_for_inclination,
@@ -51,6 +55,7 @@ from footprint.core.transforms import (
 MAX_POINTS = 1_000_000  # a request's points; the core moves 100,000 in a few milliseconds
 MAX_STEP_NMI = 250_000.0  # about 11 circuits of the earth (2 pi R' = 21,615 nmi)
 MAX_FLIGHT_TIME_S = 100_000.0  # the longest flight a case may ask for (stop.time_s)
+MAX_DOWNRANGE_NMI = 250_000.0  # a flown down-range (the longest flight at orbital speed is ~140,000 nmi)
 ON_AXIS_NMI = 1e-6  # cross-range below which a point lies on the initial great circle (no mirror image)
 
 
@@ -58,6 +63,7 @@ class Point(Strict):
     latitude_deg: bounded(-90, 90, "deg")
     longitude_deg: bounded(-360, 360, "deg")
     flight_time_s: bounded(0, MAX_FLIGHT_TIME_S, "s") | None = None
+    downrange_nmi: bounded(-MAX_DOWNRANGE_NMI, MAX_DOWNRANGE_NMI, "nmi") | None = None  # the flown, continuous one
 
 
 class Place(Strict):
@@ -156,6 +162,7 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
     lon = np.array([p.longitude_deg for p in req.points])
     has_time = all(p.flight_time_s is not None for p in req.points)
     t = np.array([p.flight_time_s if p.flight_time_s is not None else np.nan for p in req.points])
+    flown = np.array([np.nan if p.downrange_nmi is None else p.downrange_nmi for p in req.points])
     mirrored = np.zeros(len(lat), bool)
     if req.mirror:
         _, cross = downrange_crossrange_nmi(lat, lon, src.latitude_deg, src.longitude_deg, src.heading_deg)
@@ -163,12 +170,12 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
         mlat, mlon = mirror(lat[off], lon[off], src)
         lat, lon = np.concatenate([lat, mlat[::-1]]), np.concatenate([lon, mlon[::-1]])
         t, mirrored = np.concatenate([t, t[off][::-1]]), np.concatenate([mirrored, np.ones(len(mlat), bool)])
+        flown = np.concatenate([flown, flown[off][::-1]])  # an image keeps its down-range
     lat, lon = move(lat, lon, src, dst0, req.step_downrange_nmi)
     if req.earth_rotation == "approximate":
         lon = rotation_shift(lon, t, req.rotation_rate_deg_s)
     lon = wrap_longitude(lon)
-    down, cross = downrange_crossrange_nmi(lat, lon, dst.latitude_deg, dst.longitude_deg, dst.heading_deg,
-                                           radius_nmi=MEAN_RADIUS_NMI)
+    down, cross = ranges_near(lat, lon, dst, flown)
     rows = []
     for i in range(len(lat)):
         row = {"latitude_deg": float(lat[i]), "longitude_deg": float(lon[i])}

@@ -2,7 +2,8 @@
 // basemap from the shipped Natural Earth data, the footprints on top): no tiles, no internet.
 /* global d3 */
 import { loadWorld, planarFeatures } from "./basemap.js";
-import { openRing, sphericalRing, toCSV, toGeoJSON, unwrapLongitudes, unwrapRing } from "./geometry.js";
+import { api } from "./api.js";
+import { boundaryLine, openRing, planarOutline, sphericalRing, toCSV, unwrapLongitudes, unwrapRing } from "./geometry.js";
 import { globeProjection } from "./globe.js";
 
 const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
@@ -18,8 +19,28 @@ export function download(filename, content, type) {
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
-export function exportGeoJSON(footprints, sites) {
-  download("footprints.geojson", JSON.stringify(toGeoJSON(footprints, sites), null, 1), "application/geo+json");
+const ROUND = 1e6; // coordinates to 1e-6 deg, as the API writes them (RFC 7946 sec. 11.2)
+
+/** The API's GeoJSON of each shown footprint (a moved one's from its transform), named and coloured as shown,
+ * and the sites: one GeoJSON, the service's, everywhere. */
+export async function geoJSONOf(footprints, sites) {
+  const features = [];
+  for (const fp of footprints) {
+    const collection = fp.shown.geojson ?? await api(`/api/footprints/${fp.id}?format=geojson`);
+    for (const f of collection.features) {
+      features.push({ ...f, properties: { ...f.properties, footprint_id: fp.id, name: fp.name, color: fp.color } });
+    }
+  }
+  for (const s of sites) {
+    features.push({ type: "Feature", properties: { kind: "site", name: s.name, reachable: s.reachable ?? null },
+                    geometry: { type: "Point", coordinates: [Math.round(s.longitude_deg * ROUND) / ROUND,
+                                                             Math.round(s.latitude_deg * ROUND) / ROUND] } });
+  }
+  return { type: "FeatureCollection", features };
+}
+
+export async function exportGeoJSON(footprints, sites) {
+  download("footprints.geojson", JSON.stringify(await geoJSONOf(footprints, sites), null, 1), "application/geo+json");
 }
 
 export function exportCSV(footprints) {
@@ -40,8 +61,11 @@ function footprintShapes(fp, planar) {
   const trackLons = planar ? unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg)
                            : groundTrack.map((p) => p.longitude_deg);
   const coords = ring.map((p, i) => [lons[i], p.latitude_deg]);
+  const area = planar ? planarOutline(fp.shown) : [];
+  const polygon = { type: "Polygon", coordinates: [planar ? area.concat([area[0]]) : sphericalRing(points, d3.geoArea)] };
   return {
-    polygon: { type: "Polygon", coordinates: [planar ? coords.concat([coords[0]]) : sphericalRing(points, d3.geoArea)] },
+    polygon,
+    boundary: planar ? { type: "LineString", coordinates: boundaryLine(fp.shown, area) } : polygon,
     track: { type: "LineString", coordinates: groundTrack.map((p, i) => [trackLons[i], p.latitude_deg]) },
     points: ring.map((p, i) => ({ type: "Point", coordinates: coords[i], mirrored: p.mirrored })),
     entry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] },
@@ -96,7 +120,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites }) 
     for (const fp of footprints) {
       const shape = footprintShapes(fp, !globeView);
       draw(shape.polygon, { fill: fp.color, alpha: 0.22 });
-      draw(shape.polygon, { stroke: fp.color, width: 2 });
+      draw(shape.boundary, { stroke: fp.color, width: 2 });
       if (shape.track.coordinates.length > 1) draw(shape.track, { stroke: fp.color, width: 1.5, dash: [6, 5] });
       for (const q of shape.points) draw(q, { fill: q.mirrored ? "#fff" : fp.color, stroke: fp.color, width: 1.2, radius: 3 });
       draw(shape.entry, { fill: fp.color, stroke: "#fff", width: 2, radius: 6 });

@@ -105,35 +105,22 @@ export function describeParameter(parameter) {
     .map(([k, v]) => `${k} ${typeof v === "number" ? +v.toFixed(3) : v}`).join(", ");
 }
 
-/** The shown footprints (and sites) as a GeoJSON FeatureCollection: the boundary with its longitudes unwrapped
- * about the entry point (never a 360 deg jump), the entry, the ground track and every boundary point. */
-export function toGeoJSON(footprints, sites = []) {
-  const features = [];
-  for (const fp of footprints) {
-    const { points, groundTrack, reference } = fp.shown;
-    const ring = openRing(points);
-    const lons = unwrapRing(ring, reference);
-    const coords = ring.map((p, i) => [lons[i], p.latitude_deg]);
-    if (coords.length) coords.push(coords[0]);
-    const common = { footprint_id: fp.id, name: fp.name };
-    features.push({ type: "Feature", properties: { ...common, kind: "footprint", color: fp.color },
-                    geometry: { type: "Polygon", coordinates: [coords] } });
-    features.push({ type: "Feature", properties: { ...common, kind: "entry", heading_deg: reference.heading_deg },
-                    geometry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] } });
-    if (groundTrack.length > 1) {
-      const tl = unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg);
-      features.push({ type: "Feature", properties: { ...common, kind: "ground_track" },
-                      geometry: { type: "LineString", coordinates: groundTrack.map((p, i) => [tl[i], p.latitude_deg]) } });
-    }
-    ring.forEach((p, i) => features.push({
-      type: "Feature", properties: { ...common, kind: "point", index: i, ...pointFields(p) },
-      geometry: { type: "Point", coordinates: [lons[i], p.latitude_deg] } }));
-  }
-  for (const s of sites) {
-    features.push({ type: "Feature", properties: { kind: "site", name: s.name, reachable: s.reachable ?? null },
-                    geometry: { type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] } });
-  }
-  return { type: "FeatureCollection", features };
+/** The boundary as the cylindrical map fills it: [lon, lat] pairs of the service's outline (the chart's edges
+ * sampled, longitudes continuous, a polar cap closed along its pole), on the copy of the map where the ring's
+ * first point lies as unwrapRing places it; the ring itself where there is no outline. */
+export function planarOutline(shown) {
+  const ring = openRing(shown.points);
+  if (!ring.length) return [];
+  const ringLons = unwrapRing(ring, shown.reference);
+  const o = shown.outline;
+  if (!o?.longitude_deg?.length) return ring.map((p, i) => [ringLons[i], p.latitude_deg]);
+  const shift = 360 * Math.round((ringLons[0] - o.longitude_deg[0]) / 360);
+  return o.longitude_deg.map((lon, i) => [lon + shift, o.latitude_deg[i]]);
+}
+
+/** The footprint's edge in a planarOutline: the outline closed, without its edges along a pole. */
+export function boundaryLine(shown, area) {
+  return shown.outline?.pole ? area.slice(0, -2) : area.concat(area.length ? [area[0]] : []);
 }
 
 function pointFields(p) {

@@ -39,7 +39,7 @@ const visible = () => [...state.footprints.values()].filter((fp) => fp.visible &
 // ------------------------------------------------------------------------------------------- footprints
 function storedGeometry(fp) {
   const e = fp.item.entry;
-  return { points: fp.detail.points, groundTrack: fp.detail.ground_track ?? [],
+  return { points: fp.detail.points, groundTrack: fp.detail.ground_track ?? [], outline: fp.detail.outline, geojson: null,
            reference: { latitude_deg: e.latitude_deg, longitude_deg: e.longitude_deg, heading_deg: e.heading_deg } };
 }
 
@@ -219,8 +219,11 @@ async function moveFootprint(fp) {
     if (sequence !== liveSequence) return;
     fp.shown = shownFromTransform(fp, result);
     const r = fp.shown.reference;
+    const e = fp.shown.approximateError;
     $("live-status").textContent = `Entry at ${fmt(r.latitude_deg, 2)}°, ${fmt(r.longitude_deg, 2)}°, heading ${fmt(r.heading_deg, 1)}°`
-      + ` (${result.earth_rotation} earth rotation).`;
+      + ` (${result.earth_rotation} earth rotation).`
+      + (e?.points ? ` The approximate shift (IV.3) lies up to ${fmt(e.max)} nmi from the exact points, ${fmt(e.mean)} nmi `
+                     + `on average over ${e.points}.` : "");
     redraw(fp);
   } catch (err) {
     if (err.name === "AbortError" || sequence !== liveSequence) return;
@@ -236,7 +239,8 @@ function shownFromTransform(fp, result) {
   else if (points.length === fp.detail.points.length) {
     points = points.map((p, i) => ({ parameter: fp.detail.points[i].parameter, ...p }));
   }
-  return { points, groundTrack: result.ground_track ?? [], reference: result.reference };
+  return { points, groundTrack: result.ground_track ?? [], reference: result.reference, outline: result.outline,
+           geojson: result.geojson, approximateError: result.approximate_error_nmi ?? null };
 }
 
 // ------------------------------------------------------------------------------------- views, exports
@@ -262,7 +266,7 @@ function centerGlobe(fp) {
 
 $("view-map").addEventListener("click", () => setView("map"));
 $("view-globe").addEventListener("click", () => setView("globe"));
-$("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown()));
+$("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown()).catch(fail));
 $("export-csv").addEventListener("click", () => exportCSV(visible()));
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
                                                              sites: sites.shown() }).catch(fail));
@@ -286,4 +290,4 @@ async function start() {
   console.info(`map page ready in ${Math.round(performance.now())} ms`);
 }
 
-window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, ready: start().catch(fail) };
+window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, setVisible, ready: start().catch(fail) };

@@ -2,7 +2,7 @@
 // Figs. 31-32), with Natural Earth land, coastlines and borders drawn from the shipped data.
 /* global L */
 import { loadWorld, planarFeatures } from "./basemap.js";
-import { copyOffsets, describeParameter, openRing, unwrapLongitudes, unwrapRing } from "./geometry.js";
+import { boundaryLine, copyOffsets, describeParameter, openRing, planarOutline, unwrapLongitudes, unwrapRing } from "./geometry.js";
 import { escapeHtml, fmt } from "./format.js";
 
 const GRATICULE_DEG = 30;
@@ -87,15 +87,20 @@ export class MapView {
     const ring = openRing(points);
     if (!ring.length) return;
     const ringLons = unwrapRing(ring, reference);
+    const area = planarOutline(fp.shown);
+    const boundary = boundaryLine(fp.shown, area);
     const trackLons = unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg);
-    const all = ringLons.concat(trackLons, [reference.longitude_deg]);
+    const all = area.map(([lon]) => lon).concat(trackLons, [reference.longitude_deg]);
     const group = L.layerGroup();
     const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true }; // every vertex kept, none clipped
     for (const offset of copyOffsets(Math.min(...all), Math.max(...all))) {
       const copy = `fp-${fp.id} fp-copy-${offset}`;
-      L.polygon(ring.map((p, i) => [p.latitude_deg, ringLons[i] + offset]),
-                { ...svg, color: fp.color, weight: 2, fillColor: fp.color, fillOpacity: 0.22,
+      L.polygon(area.map(([lon, lat]) => [lat, lon + offset]),
+                { ...svg, stroke: false, fillColor: fp.color, fillOpacity: 0.22,
                   className: `fp-polygon ${copy}`, interactive: false }).addTo(group);
+      // the boundary's line: the outline without its closing edges along a pole (no edge of the footprint)
+      L.polyline(boundary.map(([lon, lat]) => [lat, lon + offset]),
+                 { ...svg, color: fp.color, weight: 2, className: `fp-boundary ${copy}`, interactive: false }).addTo(group);
       if (groundTrack.length > 1) {
         L.polyline(groundTrack.map((p, i) => [p.latitude_deg, trackLons[i] + offset]),
                    { ...svg, color: fp.color, weight: 1.5, dashArray: "6 5", opacity: 0.85,

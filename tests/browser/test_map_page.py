@@ -153,12 +153,12 @@ def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):
     path = run.page.locator(polygon_selector(fp["id"]))
     assert path.count() == 1
     d = path.get_attribute("d")
-    assert d.count("M") + d.count("L") == len(ring(fp["points"]))
+    assert d.count("M") + d.count("L") == len(fp["outline"]["latitude_deg"])  # the service's outline, every vertex
     # drawn whole across longitude 180 (the stored longitudes jump from +180 to -180 along the ring), not cut
     # into a band round the world: one continuous outline as wide as the footprint
     raw = [p["longitude_deg"] for p in ring(fp["points"])]
     assert any(abs(a - b) > 180.0 for a, b in zip(raw, raw[1:] + raw[:1]))  # the seeded footprint does cross it
-    lons = unwrapped(raw, raw[0])
+    lons = fp["outline"]["longitude_deg"]
     box = run.page.evaluate(BBOX_JS, polygon_selector(fp["id"]))
     assert box["east"] - box["west"] == pytest.approx(max(lons) - min(lons), abs=2 * PIXEL_DEG)
     assert delta_deg(box["west"], min(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
@@ -192,8 +192,7 @@ def test_node_longitude_control_moves_the_polygon_east(open_page, service):
     moved = service.call(f"/api/footprints/{fp['id']}/transform", {
         "to": {"latitude_deg": entry["latitude_deg"], "longitude_deg": entry["longitude_deg"] + 20,
                "heading_deg": entry["heading_deg"]}, "step_downrange_nmi": 0, "earth_rotation": "none"})
-    raw = [p["longitude_deg"] for p in ring(moved["points"])]
-    lons = unwrapped(raw, raw[0])
+    lons = moved["outline"]["longitude_deg"]
     assert delta_deg(after["west"], min(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
     assert delta_deg(after["east"], max(lons)) == pytest.approx(0.0, abs=PIXEL_DEG)
     # the keyboard moves it too (the range input beside the number)
@@ -220,7 +219,7 @@ def test_submitted_job_reaches_100_percent_and_its_footprint_appears(open_page, 
     page.locator(f"#footprint-list li[data-id='{new_id}']").wait_for()
     page.locator(polygon_selector(new_id)).wait_for(state="attached")
     new = service.call(f"/api/footprints/{new_id}")
-    assert page.get_attribute(polygon_selector(new_id), "d").count("L") + 1 == len(ring(new["points"]))
+    assert page.get_attribute(polygon_selector(new_id), "d").count("L") + 1 == len(new["outline"]["latitude_deg"])
     assert not run.errors, run.errors
 
 
@@ -396,3 +395,57 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     page.click("#plot-range")
     assert page.locator("#plot path.history").count() == 0 and page.locator("#plot svg.range-plot").count() == 1
     assert not run.errors, run.errors
+
+
+POLAR_JOB = {"kind": "footprint", "name": "lod-1.89 north from 40N",
+             "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
+                                "entry": {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0,
+                                          "heading_deg": 0.0, "latitude_deg": 40.0, "longitude_deg": 10.0},
+                                "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                       "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120], "mirror": True}}
+
+
+def pixels(page, latlngs):
+    """The map's RGB at each (lat, lon): a screenshot read at the container points Leaflet gives."""
+    from PIL import Image
+    import io
+
+    points = page.evaluate("""(ll) => { const m = window.footprintApp.mapView.map, r = m.getContainer()
+        .getBoundingClientRect(); return ll.map(([a, o]) => { const p = m.latLngToContainerPoint([a, o]);
+        return [p.x + r.left, p.y + r.top]; }); }""", latlngs)
+    image = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
+    return [image.getpixel((round(x), round(y))) for x, y in points]
+
+
+def test_a_footprint_over_the_pole_fills_the_polar_cap(open_page, service):
+    """Issue 13 defect 1: entered at 40 N heading north, the L/D 1.89 footprint holds the north pole. The
+    cylindrical map fills the cap beyond the pole (a pixel there changes when the footprint is shown) and
+    leaves the other side of the world alone; the API's GeoJSON closes the cap along the pole."""
+    job = service.run_job(POLAR_JOB)
+    fp_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
+    stored = service.call(f"/api/footprints/{fp_id}")
+    assert stored["outline"]["pole"] == "north"
+    page = open_page(1280, 800).page
+    page.evaluate("""async (id) => { const app = window.footprintApp;
+        for (const fp of app.state.footprints.values()) if (fp.id !== id && fp.visible) await app.setVisible(fp, false);
+        await app.select(id); app.mapView.map.fitBounds([[-85, -180], [90, 180]]); }""", fp_id)
+    page.wait_for_timeout(300)
+    # beyond the pole on the far meridian (down-range 3,600 nmi on the axis), and far off the axis / behind
+    probes = [[82.0, -170.0], [86.0, 100.0], [0.0, 100.0], [-60.0, 10.0]]
+    shown = pixels(page, probes)
+    page.screenshot(path=str(FIGURES / "map_polar_footprint.png"))
+    page.evaluate("() => { window.footprintApp.setView('globe'); window.footprintApp.globe.center(10, 75); }")
+    page.locator("path.globe-footprint").first.wait_for()
+    page.screenshot(path=str(FIGURES / "globe_polar_footprint.png"))
+    page.evaluate("() => window.footprintApp.setView('map')")
+    page.evaluate("(id) => window.footprintApp.setVisible(window.footprintApp.state.footprints.get(id), false)", fp_id)
+    page.wait_for_timeout(300)
+    hidden = pixels(page, probes)
+    changed = [sum(abs(a - b) for a, b in zip(s, h)) > 12 for s, h in zip(shown, hidden)]
+    assert changed == [True, True, False, False], (shown, hidden)
+    geojson = service.call(f"/api/footprints/{fp_id}?format=geojson")
+    area = next(f for f in geojson["features"] if f["properties"]["kind"] == "footprint")["geometry"]
+    rings = [poly[0] for poly in area["coordinates"]] if area["type"] == "MultiPolygon" else [area["coordinates"][0]]
+    assert all(-180.0 <= x <= 180.0 and -90.0 <= y <= 90.0 for r in rings for x, y in r)
+    assert any(y == 90.0 for r in rings for _, y in r)  # closed along the pole (RFC 7946)
+    assert all(len(str(x).split(".")[-1]) <= 6 for r in rings for x, _ in r)  # no float noise

@@ -7,6 +7,12 @@ CASE = {"vehicle": {"builtin": "lod-1.89"},
                   "latitude_deg": 10, "longitude_deg": 0},
         "stop": {"altitude_ft": 50_000}}
 FOOTPRINT = {"case": CASE, "method": "single_parameter", "bank0_deg": [0, 45, 90]}  # spans 11-83 deg E
+# the Table 2 entry: reaches 14,869 nmi, past half the circumference (pi R' = 10,807 nmi)
+LONG_FOOTPRINT = {"case": {"vehicle": {"builtin": "lod-1.89"},
+                           "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0,
+                                     "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
+                           "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50_000}},
+                  "method": "single_parameter", "bank0_deg": [0, 60, 120]}
 # the true optimal boundary of a small problem: Betts' shuttle (polynomial aero, non-rotating sphere, both
 # halves by reflection), 3 down-ranges, 3 g: six IPOPT solves, ~8 s
 SHUTTLE = {"name": "Space Shuttle (Betts 2010, sec. 6.1)", "weight_lb": 203000, "reference_area_ft2": 2690,

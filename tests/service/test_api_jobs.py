@@ -4,6 +4,7 @@ reach, listing, cancelling, progress events, a job the core fails, and the store
 import csv
 import io
 import json
+import math
 import re
 import time
 from pathlib import Path
@@ -15,7 +16,7 @@ from footprint.api import footprint as fly_footprint
 from footprint.api import fly
 
 from .conftest import wait_for_job
-from .studies import FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
+from .studies import FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
 
 ROOT = Path(__file__).resolve().parents[2]
 POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
@@ -115,7 +116,11 @@ def test_footprint_list_csv_and_geojson(api, footprint_job):
     assert kinds == ["footprint", "entry", "ground_track"] + ["point"] * len(stored["points"])
     ring = gj["features"][0]["geometry"]["coordinates"][0]  # 11-83 deg E: no antimeridian, one polygon
     assert gj["features"][0]["geometry"]["type"] == "Polygon" and ring[0] == ring[-1]
-    assert ring[:-1] == [[p["longitude_deg"], p["latitude_deg"]] for p in stored["points"]]
+    # the outline (the chart's edges sampled) to 1e-6 deg, through every stored boundary point
+    o = stored["outline"]
+    assert ring[:-1] == [[round(x, 6), round(y, 6)] for x, y in zip(o["longitude_deg"], o["latitude_deg"])]
+    for p in stored["points"]:
+        assert min(abs(x - p["longitude_deg"]) + abs(y - p["latitude_deg"]) for x, y in ring) < 2e-6
 
 
 def test_the_offline_map_page_of_a_footprint(api, footprint_job):
@@ -150,8 +155,8 @@ def test_a_footprint_across_the_date_line_is_split_there(api):
         assert all(abs(b[0] - a[0]) < 180 for a, b in zip(ring, ring[1:]))  # no jump inside a piece
     (west_lo, _), (_, east_hi) = sorted((min(x for x, _ in r), max(x for x, _ in r)) for r in pieces)
     assert (west_lo, east_hi) == (-180.0, 180.0)  # the cut lies on the antimeridian
-    east = [[p["longitude_deg"] % 360, p["latitude_deg"]] for p in stored["points"]]
-    assert sum(_shoelace(r) for r in pieces) == pytest.approx(_shoelace(east), rel=1e-12)  # nothing lost or added
+    whole = list(zip(stored["outline"]["longitude_deg"], stored["outline"]["latitude_deg"]))  # continuous
+    assert sum(_shoelace(r) for r in pieces) == pytest.approx(_shoelace(whole), rel=1e-8)  # nothing lost or added
     track = api.get(job["result"]["footprints"][0], params={"format": "geojson"}).json()["features"][2]["geometry"]
     assert track["type"] == "MultiLineString"
     assert all(abs(b[0] - a[0]) < 180 for line in track["coordinates"] for a, b in zip(line, line[1:]))
@@ -323,3 +328,53 @@ def test_a_job_the_core_fails_ends_failed_and_the_service_goes_on(api, scheduler
     assert job["error"] == "FloatingPointError: the integrator diverged (injected in the worker)"
     assert api.get("/api/health").json()["status"] == "ok"
     assert run_job(api, "footprint", FOOTPRINT)["status"] == "succeeded"
+
+
+@pytest.fixture(scope="module")
+def long_footprint(api):
+    job = run_job(api, "footprint", LONG_FOOTPRINT)
+    return api.get(job["result"]["footprints"][0]).json()
+
+
+def test_a_move_keeps_the_flown_ranges_and_draws_the_polar_cap(api, long_footprint):
+    """Issue 13 defects 1, 2 and 4 over REST: on a polar orbit the L/D 1.89 footprint keeps each point's flown
+    down-range (14,869 nmi came back as -6,746) and cross-range, its outline closes the north polar cap, and
+    its GeoJSON is the stored one's kind: cut at the antimeridian, closed along the pole, 6 decimals."""
+    stored = long_footprint
+    assert max(p["downrange_nmi"] for p in stored["points"]) > 14_000
+    moved = api.post(f"/api/footprints/{stored['id']}/transform",
+                     json={"to": {"latitude_deg": 0, "longitude_deg": -60, "inclination_deg": 90},
+                           "step_downrange_nmi": 1_000}).json()
+    assert [p["downrange_nmi"] for p in moved["points"]] == pytest.approx(
+        [p["downrange_nmi"] for p in stored["points"]], abs=1e-6)
+    assert [p["crossrange_nmi"] for p in moved["points"]] == pytest.approx(
+        [p["crossrange_nmi"] for p in stored["points"]], abs=1e-6)
+    assert moved["outline"]["pole"] == "north" and stored["outline"]["pole"] is None
+    area = next(f for f in moved["geojson"]["features"] if f["properties"]["kind"] == "footprint")["geometry"]
+    rings = [poly[0] for poly in area["coordinates"]]
+    assert area["type"] == "MultiPolygon" and all(-180 <= x <= 180 for r in rings for x, _ in r)
+    assert any(y == 90.0 for r in rings for _, y in r)
+
+
+def test_an_exact_move_flies_the_track_again_and_measures_the_approximate_shift(api, long_footprint):
+    """Issue 13 defect 3: with "exact" the dashed track is flown again too, so it ends at the exact footprint's
+    far tip (the zero-bank point, the same flight); the approximate shift's distance from the exact points is
+    reported (Section IV.3) and agrees with the two transforms' own points."""
+    stored = long_footprint
+    to = {"latitude_deg": 20, "longitude_deg": 30, "heading_deg": 45}
+    exact = api.post(f"/api/footprints/{stored['id']}/transform", json={"to": to, "earth_rotation": "exact"}).json()
+    tip = next(p for p in exact["points"] if p["on_boundary"] and p["parameter"].get("bank0_deg") == 0)
+    end = exact["ground_track"][-1]
+    assert end["latitude_deg"] == pytest.approx(tip["latitude_deg"], abs=1e-9)
+    assert end["longitude_deg"] == pytest.approx(tip["longitude_deg"], abs=1e-9)
+    approximate = api.post(f"/api/footprints/{stored['id']}/transform",
+                           json={"to": to, "earth_rotation": "approximate"}).json()
+    a_tip = next(q for p, q in zip(stored["points"], approximate["points"]) if p["parameter"].get("bank0_deg") == 0)
+    assert approximate["ground_track"][-1]["longitude_deg"] == pytest.approx(a_tip["longitude_deg"], abs=1e-6)
+    error = exact["approximate_error_nmi"]
+    boundary = [p for p in exact["points"] if p["on_boundary"]]
+    assert error["points"] == len(stored["points"]) == len(boundary)
+    # the far tip's own distance, by the spherical law of cosines on R' (the largest is at least this)
+    (a1, o1), (a2, o2) = [(math.radians(p["latitude_deg"]), math.radians(p["longitude_deg"])) for p in (tip, a_tip)]
+    gap = 3_440.065 * math.acos(min(1.0, math.sin(a1) * math.sin(a2) + math.cos(a1) * math.cos(a2) * math.cos(o1 - o2)))
+    assert error["max"] >= gap - 1e-6 and error["mean"] > 0 and gap > 10.0  # nmi

@@ -1,9 +1,15 @@
-"""GeoJSON geometry near the antimeridian: rings and lines cut there, in either direction, nothing lost."""
+"""GeoJSON geometry near the antimeridian and over the poles: rings and lines cut there, in either direction,
+nothing lost; a polar cap closed along its pole."""
 
 import numpy as np
 import pytest
 
+from footprint.core.outline import Outline
 from footprint.service import geo
+
+
+def ring(lat, lon, pole=None):
+    return Outline(np.array(lat, float), np.array(lon, float), pole)
 
 
 def shoelace(ring) -> float:
@@ -12,19 +18,28 @@ def shoelace(ring) -> float:
 
 
 def test_a_ring_near_but_not_across_the_antimeridian_stays_one_polygon():
-    lat, lon = [0, 10, 10, 0], [170, 170, 179.5, 179.5]
-    geometry = geo.polygon(lat, lon)
+    geometry = geo.polygon(ring([0, 10, 10, 0], [170, 170, 179.5, 179.5]))
     assert geometry == {"type": "Polygon",
                         "coordinates": [[[170, 0], [170, 10], [179.5, 10], [179.5, 0], [170, 0]]]}
 
 
-def test_a_ring_given_in_wrapped_longitudes_is_cut_into_two_pieces():
-    lat, lon = [0, 0, 20, 20], [170, -170, -170, 170]  # a 20-deg box centred on 180
-    geometry = geo.polygon(lat, lon)
+def test_a_ring_across_the_antimeridian_is_cut_into_two_pieces():
+    geometry = geo.polygon(ring([0, 0, 20, 20], [170, 190, 190, 170]))  # a 20-deg box centred on 180
     assert geometry["type"] == "MultiPolygon"
     pieces = sorted((poly[0] for poly in geometry["coordinates"]), key=lambda r: r[0][0])
     assert [shoelace(r) for r in pieces] == pytest.approx([200.0, 200.0])  # 10 deg x 20 deg each
     assert {x for x, _ in pieces[0]} == {-180.0, -170.0} and {x for x, _ in pieces[1]} == {170.0, 180.0}
+
+
+def test_a_polar_cap_is_cut_at_the_antimeridian_and_closed_along_the_pole():
+    # a cap above 60 N drawn from 30 E once round to 390 E, closed along the pole
+    lon = list(np.linspace(30.0, 390.0, 13)) + [390.0, 30.0]
+    geometry = geo.polygon(ring([60.0] * 13 + [90.0, 90.0], lon, "north"))
+    assert geometry["type"] == "MultiPolygon"
+    pieces = [poly[0] for poly in geometry["coordinates"]]
+    assert all(-180.0 <= x <= 180.0 for r in pieces for x, _ in r)
+    assert all(any(y == 90.0 for _, y in r) for r in pieces)  # each piece reaches the pole
+    assert sum(shoelace(r) for r in pieces) == pytest.approx(360.0 * 30.0)  # the whole cap, once
 
 
 @pytest.mark.parametrize("lon, crossing_lat", [

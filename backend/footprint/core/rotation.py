@@ -155,7 +155,7 @@ def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Refer
     alat, alon = approximate_points(base, dst, step_downrange_nmi, omega, points=pa)
     elat, elon = np.array([p.latitude_deg for p in pe]), np.array([p.longitude_deg for p in pe])
     err = distance_nmi(alat, alon, elat, elon)
-    down_a, cross_a = _ranges(alat, alon, start, [p.downrange_nmi for p in pa])
+    down_a, cross_a = ranges_near(alat, alon, start, [p.downrange_nmi for p in pa])
     rows = []
     for i, (a, e) in enumerate(zip(pa, pe)):
         rows.append({"side": a.side, "parameter": a.parameter,
@@ -191,13 +191,14 @@ def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Refer
                       downrange_extent_nmi=extent, move_error_nmi=move_error, nonrotating=base, exact=exact)
 
 
-def _ranges(lat, lon, ref: Reference, near_downrange_nmi):
+def ranges_near(lat, lon, ref: Reference, near_downrange_nmi):
     """Down-range and cross-range about ref, the down-range unwrapped to the turn nearest a known value
-    (footprints reach past half the circumference)."""
+    (footprints reach past half the circumference); where that value is NaN, within +-pi R'."""
     down, cross = downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
     circumference = 2.0 * math.pi * MEAN_RADIUS_NMI
     near = np.asarray(near_downrange_nmi, float)
-    return down + circumference * np.round((near - down) / circumference), cross
+    turns = np.round((near - down) / circumference)
+    return down + circumference * np.where(np.isnan(turns), 0.0, turns), cross
 
 
 def _extent(down):

@@ -1,9 +1,14 @@
-"""GeoJSON for a stored footprint: longitudes unwrapped (a ring never jumps 360 deg between neighbours) and cut
-at the antimeridian into pieces that each lie within -180..180 deg (RFC 7946 section 3.1.9)."""
+"""GeoJSON for a footprint: its outline (core.outline: the chart's edges sampled, longitudes continuous, a polar
+cap closed along its pole) cut at the antimeridian into pieces that each lie within -180..180 deg (RFC 7946
+section 3.1.9), coordinates to 1e-6 deg (RFC 7946 section 11.2)."""
 
 import numpy as np
 
+from footprint.core.outline import Outline, outline
+from footprint.core.transforms import Reference
+
 ANTIMERIDIAN_DEG = 180.0
+DIGITS = 6  # decimals of a coordinate: 0.1 m
 
 
 def unwrapped(lon_deg) -> np.ndarray:
@@ -35,16 +40,23 @@ def _windows(lon: np.ndarray) -> range:
     return range(first, last + 1)
 
 
-def polygon(lat_deg, lon_deg) -> dict:
-    """A Polygon, or a MultiPolygon of its pieces when the boundary crosses the antimeridian."""
-    lon = unwrapped(lon_deg)
-    ring = list(zip(lon.tolist(), np.asarray(lat_deg, float).tolist()))
+def area(points: list[dict], entry: dict) -> Outline:
+    """The outline of a footprint's boundary points (their flown down-range and cross-range about the entry)."""
+    return outline([p["downrange_nmi"] for p in points], [p["crossrange_nmi"] for p in points],
+                   Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"]))
+
+
+def polygon(o: Outline) -> dict:
+    """A Polygon, or a MultiPolygon of its pieces when the outline crosses the antimeridian."""
+    lon = np.asarray(o.longitude_deg, float)
+    ring = list(zip(lon.tolist(), np.asarray(o.latitude_deg, float).tolist()))
     pieces = []
     for k in _windows(lon):
         shift = 360.0 * k
         part = _clip(ring, -ANTIMERIDIAN_DEG + shift, ANTIMERIDIAN_DEG + shift)
         if len(part) >= 3:
-            pieces.append([[x - shift, y] for x, y in part] + [[part[0][0] - shift, part[0][1]]])
+            part = [[round(x - shift, DIGITS), round(y, DIGITS)] for x, y in part]
+            pieces.append(part + [part[0]])
     if len(pieces) == 1:
         return {"type": "Polygon", "coordinates": [pieces[0]]}
     return {"type": "MultiPolygon", "coordinates": [[p] for p in pieces]}
@@ -66,6 +78,7 @@ def line(lat_deg, lon_deg) -> dict:
         window = k
         current.append([float(lon[i] - 360.0 * k), float(lat[i])])
     pieces.append(current)
+    pieces = [[[round(x, DIGITS), round(y, DIGITS)] for x, y in piece] for piece in pieces]
     if len(pieces) == 1:
         return {"type": "LineString", "coordinates": pieces[0]}
     return {"type": "MultiLineString", "coordinates": pieces}
@@ -76,24 +89,27 @@ def wrapped(lon_deg: float) -> float:
     return (lon_deg + ANTIMERIDIAN_DEG) % 360.0 - ANTIMERIDIAN_DEG
 
 
-def feature_collection(item: dict) -> dict:
-    """The footprint (a stored footprint's JSON view) as GeoJSON features: boundary, entry, track, points."""
+def _point(p: dict) -> dict:
+    return {"type": "Point", "coordinates": [round(wrapped(p["longitude_deg"]), DIGITS), round(p["latitude_deg"], DIGITS)]}
+
+
+def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
+    """The footprint (a stored footprint's JSON view, or a moved one) as GeoJSON features: boundary (its outline,
+    where already made), entry, track, points."""
     pts, track, entry = item["points"], item["ground_track"], item["entry"]
     features = [
-        {"type": "Feature", "geometry": polygon([p["latitude_deg"] for p in pts], [p["longitude_deg"] for p in pts]),
+        {"type": "Feature", "geometry": polygon(outline_ or area(pts, entry)),
          "properties": {"kind": "footprint", "id": item["id"], "name": item["name"], "vehicle": item["vehicle"],
                         "method": item["method"], "area_nmi2": item["area_nmi2"],
                         "max_crossrange_nmi": item["max_crossrange_nmi"],
                         "max_downrange_nmi": item["max_downrange_nmi"]}},
-        {"type": "Feature", "geometry": {"type": "Point", "coordinates": [wrapped(entry["longitude_deg"]),
-                                                                           entry["latitude_deg"]]},
+        {"type": "Feature", "geometry": _point(entry),
          "properties": {"kind": "entry", **entry}},
     ]
     if len(track) >= 2:
         features.append({"type": "Feature",
                          "geometry": line([t["latitude_deg"] for t in track], [t["longitude_deg"] for t in track]),
                          "properties": {"kind": "ground_track", "flight_time_s": track[-1]["time_s"]}})
-    features += [{"type": "Feature", "geometry": {"type": "Point", "coordinates": [wrapped(p["longitude_deg"]),
-                                                                                   p["latitude_deg"]]},
+    features += [{"type": "Feature", "geometry": _point(p),
                   "properties": {"kind": "point", "index": i, **p}} for i, p in enumerate(pts)]
     return {"type": "FeatureCollection", "features": features}

@@ -137,10 +137,19 @@ class TrackPoint(BaseModel):
     time_s: float
 
 
+class OutlineRead(BaseModel):
+    """The boundary as an area on the map (core.outline): latitude and continuous longitude (deg), a polar cap
+    closed along its pole (its last two points)."""
+    latitude_deg: list[float]
+    longitude_deg: list[float]
+    pole: Literal["north", "south"] | None
+
+
 class FootprintRead(FootprintSummary):
     points: list[PointRead]
     interior: list[PointRead]
     ground_track: list[TrackPoint]
+    outline: OutlineRead
 
 
 class Health(BaseModel):

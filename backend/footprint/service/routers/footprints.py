@@ -66,7 +66,7 @@ def get_footprint(footprint_id: str, request: Request,
     if format == "csv":
         return Response(_csv(item["points"]), media_type="text/csv",
                         headers={"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
-    return item
+    return item | {"outline": geo.area(item["points"], item["entry"]).to_dict()}
 
 
 def _csv(points: list[dict]) -> str:
@@ -107,7 +107,9 @@ TRANSFORM_KEYS = {"to", "step_downrange_nmi", "earth_rotation", "mirror", "rotat
 def transform_footprint(footprint_id: str, request: Request,
                         body: dict[str, Any] = Body(..., description='{"to", "step_downrange_nmi", '
                                                                      '"earth_rotation"}')) -> dict:
-    """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV)."""
+    """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV); the
+    moved boundary's outline and GeoJSON geometry; with "exact", the track flown again and how far the report's
+    approximate shift lies from the exact points."""
     extra = set(body) - TRANSFORM_KEYS
     if extra:
         raise RequestInvalid(f"{sorted(extra)[0]}: not a field of a footprint transform (allowed: "
@@ -117,14 +119,52 @@ def transform_footprint(footprint_id: str, request: Request,
     common = {"from": origin, **body}
     exact = body.get("earth_rotation") == "exact"
     points = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
-               "flight_time_s": p["flight_time_s"]} for p in item["points"]]
+               "flight_time_s": p["flight_time_s"], "downrange_nmi": p["downrange_nmi"]} for p in item["points"]]
     result = transform(common | ({"study": study} if exact else {"points": points}))
-    track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"], "flight_time_s": t["time_s"]}
-             for t in item["ground_track"]]
-    if track:
-        # the track is moved as points; "exact" flies only the footprint again, so its track is shifted approximately
-        track_rotation = "approximate" if exact else body.get("earth_rotation", "none")
-        moved = transform(common | {"points": track, "earth_rotation": track_rotation, "mirror": False})
+    boundary = [p for p in result["points"] if p.get("on_boundary", True)]
+    area = geo.area(boundary, result["reference"])
+    result["outline"] = area.to_dict()
+    if exact:
+        result["ground_track"] = _exact_track(study, result["reference"])
+        shifted = transform(common | {"points": points, "earth_rotation": "approximate"})
+        result["approximate_error_nmi"] = _error_nmi(item["points"], shifted["points"], boundary)
+    elif item["ground_track"]:
+        track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"],
+                  "flight_time_s": t["time_s"]} for t in item["ground_track"]]
+        moved = transform(common | {"points": track, "mirror": False})
         result["ground_track"] = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
                                    "time_s": p.get("flight_time_s")} for p in moved["points"]]
+    moved_item = item | {"points": boundary, "ground_track": result.get("ground_track", []),
+                         "entry": item["entry"] | result["reference"]}
+    result["geojson"] = geo.feature_collection(moved_item, area)  # the same GeoJSON as the stored footprint's
     return result
+
+
+def _exact_track(study: dict, reference: dict) -> list[dict]:
+    """The zero-bank track flown from the destination on the rotating earth (as a job stores it)."""
+    from footprint.core.rotation import at_geometry
+    from footprint.core.transforms import Reference
+    from footprint.service.jobs.tasks import ground_track
+    from footprint.studies import parse_study
+
+    dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
+    track = ground_track(at_geometry(parse_study(study).case.to_spec(), dst, rotating=True))
+    return [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
+            for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])]
+
+
+def _error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) -> dict:
+    """Section IV.3's question for this footprint: the approximate shift of each stored point against the point
+    of the same control flown again (largest and mean distance on the sphere, nmi, over the points in both)."""
+    from footprint.core.rotation import distance_nmi
+
+    def key(p):
+        return p["side"], json.dumps(p["parameter"], sort_keys=True)
+
+    flown = {key(p): p for p in exact}
+    pairs = [(a, flown[key(s)]) for s, a in zip(stored, shifted) if key(s) in flown]
+    if not pairs:
+        return {"max": None, "mean": None, "points": 0}
+    d = distance_nmi([a["latitude_deg"] for a, _ in pairs], [a["longitude_deg"] for a, _ in pairs],
+                     [e["latitude_deg"] for _, e in pairs], [e["longitude_deg"] for _, e in pairs])
+    return {"max": float(d.max()), "mean": float(d.mean()), "points": len(pairs)}
