@@ -12,7 +12,8 @@ from footprint.core.footprints import with_bank
 from footprint.core.trajectory import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
-TABLE2 = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
+EXAMPLES = ROOT / "examples"
+TABLE2 = json.loads((EXAMPLES / "table2_lod22.json").read_text())
 
 
 def run(*args, cwd=None):
@@ -153,3 +154,31 @@ def test_a_temperature_limited_footprint_needs_a_heating_model(tmp_path):
     study = {"case": study["case"], "method": "temperature_limited", "limit_R": 2_550}
     r = run("footprint", write_case(tmp_path, study))
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "case.heating" in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("args, option", [
+    (("fly", EXAMPLES / "table2_lod22.json", "--history", "{missing}/h.csv"), "--history"),
+    (("footprint", EXAMPLES / "footprint_lod189.json", "--plot", "{missing}/f.png"), "--plot"),
+    (("optimize", EXAMPLES / "optimize_betts_collocation.json", "--plot", "{missing}/o.png"), "--plot"),
+    (("map", EXAMPLES / "footprint_lod189.json", "--out", "{missing}/m.html"), "--out"),
+])
+def test_an_output_into_a_missing_folder_is_one_line_and_nothing_is_made(tmp_path, args, option):
+    """Issue 13 item 10: --history printed a traceback and --plot made the folders a typo named."""
+    missing = tmp_path / "no" / "such"
+    r = run(*[str(a).format(missing=missing) for a in args])
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert r.stderr.strip() == f"error: {option}: the folder {missing} does not exist (create it first)"
+    assert not (tmp_path / "no").exists()
+
+
+@pytest.mark.parametrize("study, line", [
+    ({"method": "wiggle"}, "error: method: 'wiggle' is not one of 'single_parameter', 'constant_bank', 'staged', "
+                           "'two_parameter', 'constant_altitude', 'temperature_limited', 'collocation'"),
+    (None, "error: method: missing (this looks like a case: a study holds it as 'case' and names its 'method')"),
+])
+def test_a_wrong_method_or_a_case_file_is_named_not_dumped(tmp_path, study, line):
+    case = json.loads((EXAMPLES / "table2_lod22.json").read_text())
+    path = tmp_path / "study.json"
+    path.write_text(json.dumps(case if study is None else {"case": case} | study))
+    r = run("footprint", path)
+    assert r.returncode == 2 and r.stderr.strip() == line

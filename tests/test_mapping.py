@@ -223,3 +223,23 @@ def test_a_moved_point_keeps_its_flown_down_range_past_half_way_round():
     folded = run_transform({"points": [{k: p[k] for k in ("latitude_deg", "longitude_deg")} for p in points],
                             "from": EAST, "to": polar})["points"]
     assert folded[0]["downrange_nmi"] == pytest.approx(18_108.0 - 2.0 * math.pi * MEAN_RADIUS_NMI, abs=1e-6)
+
+
+def test_a_place_may_be_an_orbit_point():
+    """Issue 13 item 9: "to" as node longitude, inclination and argument of latitude (the map's controls),
+    without the page's arithmetic; by hand: the ascending node heads 90 - i, and u is an arc of R' along it."""
+    from footprint.core.ranges import MEAN_RADIUS_NMI
+
+    by_orbit = run_transform(request(to={"node_longitude_deg": -60.0, "inclination_deg": 51.6,
+                                         "argument_of_latitude_deg": 30.0}, step_downrange_nmi=500.0))
+    by_hand = run_transform(request(to={"latitude_deg": 0.0, "longitude_deg": -60.0, "heading_deg": 90.0 - 51.6},
+                                    step_downrange_nmi=500.0 + math.radians(30.0) * MEAN_RADIUS_NMI))
+    for a, b in zip(by_orbit["points"], by_hand["points"]):
+        assert a["latitude_deg"] == pytest.approx(b["latitude_deg"], abs=ANGLE_DEG)
+        assert a["longitude_deg"] == pytest.approx(b["longitude_deg"], abs=ANGLE_DEG)
+    # u = 90 deg on a 51.6 deg orbit is its northernmost point, heading east
+    top = run_transform(request(to={"node_longitude_deg": 0.0, "inclination_deg": 51.6, "argument_of_latitude_deg": 90.0}))
+    assert top["reference"]["latitude_deg"] == pytest.approx(51.6, abs=ANGLE_DEG)
+    assert top["reference"]["heading_deg"] == pytest.approx(90.0, abs=ANGLE_DEG)
+    with pytest.raises(ValueError, match="missing argument_of_latitude_deg"):
+        TransformRequest.model_validate(request(to={"node_longitude_deg": 0.0, "inclination_deg": 51.6}))

@@ -413,10 +413,27 @@ def error_line(exc: ValidationError | InputError) -> str:
                 continue  # a discriminated union's tag (a law, a study's method), not a field
             loc.append(str(x))
         msg = err["msg"].removeprefix("Value error, ")
-        if err["type"] not in ("missing", "value_error") and "input" in err:
-            msg += f" (got {err['input']!r})"
+        if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it, not the input
+            ctx = err.get("ctx", {})
+            tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
+            loc.append(tag)
+            if "tag" in ctx:
+                msg = f"{ctx['tag']!r} is not one of {allowed}"
+            else:
+                msg = "missing" + (f"; one of {allowed}" if allowed else "")
+            if tag == "method" and err["type"] == "union_tag_not_found" and isinstance(err.get("input"), dict) \
+                    and "vehicle" in err["input"]:
+                msg += " (this looks like a case: a study holds it as 'case' and names its 'method')"
+        elif err["type"] not in ("missing", "value_error") and "input" in err:
+            msg += f" (got {_short(err['input'])})"
         parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
     return "; ".join(parts)
+
+
+def _short(value, limit=80) -> str:
+    """A user's input as it lands in a one-line error: repr, cut at limit characters."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 _LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",

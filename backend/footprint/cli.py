@@ -34,6 +34,13 @@ def _read_json(path: Path) -> dict:
     return data
 
 
+def _writable(path: Optional[Path], option: str) -> None:
+    """An output file or folder named on the command line goes into a folder that exists: one line and exit 2
+    before any work, never a traceback or folders made where a typo points."""
+    if path is not None and not path.resolve().parent.is_dir():
+        _fail(f"{option}: the folder {path.parent} does not exist (create it first)")
+
+
 def _json_default(o):
     return float(o) if hasattr(o, "__float__") else str(o)
 
@@ -44,6 +51,7 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
     """Fly one trajectory and print its summary as JSON."""
     from footprint.core.trajectory import simulate
 
+    _writable(history, "--history")
     data = _read_json(case_file)
     try:
         spec = parse_case(data).to_spec()
@@ -64,6 +72,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
     from footprint.core.footprints import footprint as run
     from footprint.studies import parse_study
 
+    _writable(plot, "--plot")
     data = _read_json(study_file)
     try:
         study = parse_study(data)
@@ -100,6 +109,7 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
 
     from footprint.sweeps import check_vehicles, dask_client, parse_sweep, run_sweep
 
+    _writable(out, "--out")
     data = _read_json(sweep_file)
     try:
         sw = parse_sweep(data)
@@ -155,6 +165,7 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
     allow for the earth's rotation; print the moved points as JSON."""
     from footprint.mapping import run_transform, write_csv
 
+    _writable(csv_out, "--csv")
     data = _read_json(request_file)
     try:
         result = run_transform(data)
@@ -176,6 +187,7 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
     argument of latitude per revolution and site)."""
     from footprint.reach import parse_reach, run_reach, write_windows_csv
 
+    _writable(csv_out, "--csv")
     data = _read_json(request_file)
     try:
         request = parse_reach(data)
@@ -197,6 +209,7 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
     on stderr, say by how much)."""
     from footprint.optimization import parse_optimization, run_optimization
 
+    _writable(plot, "--plot")
     data = _read_json(study_file)
     try:
         study = parse_optimization(data)
@@ -224,6 +237,7 @@ def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
     offline: Leaflet and the coastlines are inlined, nothing is loaded from the internet."""
     from footprint.foliummap import write_footprint_map
 
+    _writable(out, "--out")
     data = _read_json(footprint_file)
     try:
         write_footprint_map(data, out, title)
@@ -251,6 +265,9 @@ def serve(host: Optional[str] = typer.Option(None, "--host", help="address to li
         settings = load_settings(host=host, port=port, database_url=database_url, dask_workers=workers)
     except ValidationError as exc:
         _fail(error_line(exc))
+    base = f"http://{settings.host}:{settings.port}"
+    typer.echo(f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
+               f"{base}/redoc (database {settings.database_url.split('://')[0]})", err=True)
     uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level="info")
 
 

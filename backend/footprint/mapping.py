@@ -6,7 +6,8 @@ Request (JSON object; the CLI's `footprint transform FILE.json` and, later, the 
     {"points": [{"latitude_deg", "longitude_deg", "flight_time_s"?, "downrange_nmi"?}, ...],
      "from": {"latitude_deg", "longitude_deg", "heading_deg"},
      "to":   {"latitude_deg", "longitude_deg", "heading_deg"}
-           | {"latitude_deg", "longitude_deg", "inclination_deg", "ascending": true},
+           | {"latitude_deg", "longitude_deg", "inclination_deg", "ascending": true}
+           | {"node_longitude_deg", "inclination_deg", "argument_of_latitude_deg"},
      "step_downrange_nmi": 0, "mirror": false,
      "earth_rotation": "none" | "approximate" | "exact", "study": {...a footprint study...}}
 
@@ -40,7 +41,7 @@ from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_vali
 from footprint.cases import Strict, bounded, error_line
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
-from footprint.core.ranges import downrange_crossrange_nmi
+from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
 from footprint.core.rotation import ranges_near
 from footprint.core.transforms import (
     Reference,
@@ -68,16 +69,32 @@ class Point(Strict):
 
 class Place(Strict):
     """An initial point and the direction of the initial great circle there: a heading (deg from north,
-    clockwise) or an orbit's inclination with the pass (ascending: northbound)."""
+    clockwise) or an orbit's inclination with the pass (ascending: northbound); or the point of an orbit its
+    argument of latitude past the ascending node (the orbit's own direction there), as the map's controls say
+    it."""
 
-    latitude_deg: bounded(-90, 90, "deg")
-    longitude_deg: bounded(-360, 360, "deg")
+    latitude_deg: bounded(-90, 90, "deg") | None = None
+    longitude_deg: bounded(-360, 360, "deg") | None = None
     heading_deg: bounded(-360, 360, "deg") | None = None
     inclination_deg: bounded(0, 180, "deg") | None = None
     ascending: bool = True
+    node_longitude_deg: bounded(-360, 360, "deg") | None = None
+    argument_of_latitude_deg: bounded(-360, 360, "deg") | None = None
 
     @model_validator(mode="after")
     def _one_direction(self):
+        orbit = ("node_longitude_deg", "argument_of_latitude_deg")
+        if any(getattr(self, k) is not None for k in orbit):
+            given = [k for k in ("latitude_deg", "longitude_deg", "heading_deg", "ascending") if k in self.model_fields_set]
+            missing = [k for k in orbit + ("inclination_deg",) if getattr(self, k) is None]
+            if given or missing:
+                raise ValueError("an orbit's point is node_longitude_deg (-360 to 360 deg), inclination_deg (0 to "
+                                 "180 deg) and argument_of_latitude_deg (-360 to 360 deg) "
+                                 + (f"(missing {', '.join(missing)})" if missing else f"without {', '.join(given)}"))
+            return self
+        if self.latitude_deg is None or self.longitude_deg is None:
+            raise ValueError("give latitude_deg (-90 to 90 deg) and longitude_deg (-360 to 360 deg), or an orbit's "
+                             "node_longitude_deg, inclination_deg and argument_of_latitude_deg")
         if (self.heading_deg is None) == (self.inclination_deg is None):
             raise ValueError("give exactly one of heading_deg (-360 to 360 deg) or inclination_deg (0 to 180 deg)")
         if self.heading_deg is not None and "ascending" in self.model_fields_set:
@@ -85,6 +102,11 @@ class Place(Strict):
         return self
 
     def reference(self, where: str) -> Reference:
+        if self.node_longitude_deg is not None:  # from the ascending node along the orbit, u as an arc of R'
+            from footprint.core.rotation import stepped_reference
+
+            node = Reference(0.0, self.node_longitude_deg, float(heading_for_inclination(0.0, self.inclination_deg)))
+            return stepped_reference(node, np.radians(self.argument_of_latitude_deg) * MEAN_RADIUS_NMI)
         if self.heading_deg is not None:
             return Reference(self.latitude_deg, self.longitude_deg, self.heading_deg)
         try:

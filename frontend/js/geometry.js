@@ -1,7 +1,6 @@
-// Pure geometry of the page: longitudes across +-180, the orbit of an entry point, GeoJSON and CSV of
-// footprints. No DOM and no Leaflet here, so that the browser tests can check it through the page.
+// Pure geometry of the page: longitudes across +-180, the orbit of an entry point, the service's outline on the
+// map, CSV of footprints. No DOM and no Leaflet here, so that the browser tests can check it through the page.
 
-export const MEAN_RADIUS_NMI = 6371008.8 / 1852.0; // R' of AFWAL-TR-82-3036 eqs. (8)-(11), as footprint.core.ranges
 const RAD_PER_DEG = Math.PI / 180.0;
 
 /** A longitude in (-180, 180]. */
@@ -77,13 +76,13 @@ export function orbitOfEntry(latitudeDeg, longitudeDeg, headingDeg) {
 }
 
 /** The body of POST /api/footprints/{id}/transform that puts the footprint's entry on the orbit of the given
- * node longitude and inclination, at the entry's own argument of latitude, then stepDownrangeNmi further on:
- * the destination is the ascending node, and the step carries it u (as an arc of R') along the orbit. */
+ * node longitude and inclination, at the entry's own argument of latitude (the service's orbit place), then
+ * stepDownrangeNmi further on. */
 export function transformRequest(orbit, controls) {
   return {
-    to: { latitude_deg: 0.0, longitude_deg: controls.nodeLongitudeDeg, inclination_deg: controls.inclinationDeg,
-          ascending: true },
-    step_downrange_nmi: orbit.uDeg * RAD_PER_DEG * MEAN_RADIUS_NMI + controls.stepDownrangeNmi,
+    to: { node_longitude_deg: controls.nodeLongitudeDeg, inclination_deg: controls.inclinationDeg,
+          argument_of_latitude_deg: orbit.uDeg },
+    step_downrange_nmi: controls.stepDownrangeNmi,
     earth_rotation: controls.earthRotation,
   };
 }

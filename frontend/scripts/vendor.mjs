@@ -20,6 +20,10 @@ const FILES = [
   ["world-atlas", "land-50m.json", "world/land-50m.json"],
   ["world-atlas", "countries-110m.json", "world/countries-110m.json"],
   ["world-atlas", "land-110m.json", "world/land-110m.json"],
+  // the API's documentation pages (/docs, /redoc), served by the service instead of a CDN
+  ["swagger-ui-dist", "swagger-ui-bundle.js", "swagger-ui/swagger-ui-bundle.js"],
+  ["swagger-ui-dist", "swagger-ui.css", "swagger-ui/swagger-ui.css"],
+  ["redoc", "bundles/redoc.standalone.js", "redoc/redoc.standalone.js"],
 ];
 
 rmSync(vendor, { recursive: true, force: true });
@@ -30,5 +34,11 @@ for (const [pkg, from, to] of FILES) {
   cpSync(join(modules, pkg, from), target, { recursive: true });
   versions[pkg] = JSON.parse(readFileSync(join(modules, pkg, "package.json"), "utf8")).version;
 }
+// Redoc's one address on the internet, its "powered by" logo, is blanked: the image then fails and Redoc hides it
+const redoc = join(vendor, "redoc/redoc.standalone.js");
+const logo = "https://cdn.redoc.ly/redoc/logo-mini.svg";
+const bundle = readFileSync(redoc, "utf8");
+if (!bundle.includes(logo)) throw new Error(`${redoc}: ${logo} not found (a new Redoc: look for its internet addresses)`);
+writeFileSync(redoc, bundle.replaceAll(logo, "data:,"));
 writeFileSync(join(vendor, "VERSIONS.json"), JSON.stringify(versions, null, 2) + "\n");
 console.log(`vendor/: ${FILES.length} entries from ${Object.keys(versions).join(", ")}`);

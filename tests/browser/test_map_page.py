@@ -449,3 +449,19 @@ def test_a_footprint_over_the_pole_fills_the_polar_cap(open_page, service):
     assert all(-180.0 <= x <= 180.0 and -90.0 <= y <= 90.0 for r in rings for x, y in r)
     assert any(y == 90.0 for r in rings for _, y in r)  # closed along the pole (RFC 7946)
     assert all(len(str(x).split(".")[-1]) <= 6 for r in rings for x, _ in r)  # no float noise
+
+
+@pytest.mark.parametrize("path, ready", [("/docs", ".swagger-ui .opblock"), ("/redoc", "[role=search], .menu-content")])
+def test_the_api_docs_work_with_no_internet(browser, service, path, ready):
+    """Issue 13 item 9: FastAPI's /docs and /redoc load their scripts from a CDN; ours come from the page's
+    vendor/ copies, and every request they make stays on the service."""
+    context = browser.new_context()
+    run = PageRun(context.new_page())
+    try:
+        run.page.goto(service.base_url + path)
+        run.page.locator(ready).first.wait_for(timeout=30_000)
+        assert "footprint" in run.page.content().lower() and "/api/jobs" in run.page.content()
+        hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
+        assert hosts <= LOCAL_HOSTS, hosts
+    finally:
+        context.close()

@@ -26,8 +26,12 @@ POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg"
 def submit(api, kind, study, **extra):
     r = api.post("/api/jobs", json={"kind": kind, "study": study, **extra})
     assert r.status_code == 202, r.text
-    assert r.json()["status"] == "queued"
-    return r.json()["id"]
+    job_id = r.json()["id"]
+    # issue 13 item 9: the job's URL in the Location header and the body
+    assert r.json() | {"id": None} == {"id": None, "status": "queued", "url": f"/api/jobs/{job_id}",
+                                       "events": f"/api/jobs/{job_id}/events"}
+    assert r.headers["location"] == f"/api/jobs/{job_id}"
+    return job_id
 
 
 def run_job(api, kind, study, **extra) -> dict:

@@ -6,6 +6,7 @@ from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
+from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
@@ -36,7 +37,7 @@ def create_app(settings: Settings) -> FastAPI:
             await run_in_threadpool(app.state.jobs.close)
             db.dispose()
 
-    app = FastAPI(title="Footprint", version=footprint.__version__, lifespan=lifespan,
+    app = FastAPI(title="Footprint", version=footprint.__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   description="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036): jobs, "
                               "footprints, trajectories, geometry, landing sites. See docs/api.md.")
     app.state.settings, app.state.dialect = settings, db.dialect.name
@@ -50,9 +51,28 @@ def create_app(settings: Settings) -> FastAPI:
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
+    _api_docs(app)
     if settings.frontend_dir.is_dir():
         app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")
     return app
+
+
+def _api_docs(app: FastAPI) -> None:
+    """/docs (Swagger UI) and /redoc from the page's vendor/ copies (npm swagger-ui-dist and redoc, `npm ci`):
+    FastAPI's defaults load them from a CDN, which a machine without the internet cannot reach."""
+    from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
+
+    @app.get("/docs", include_in_schema=False)
+    def swagger_ui() -> HTMLResponse:
+        return get_swagger_ui_html(openapi_url=app.openapi_url, title="Footprint API",
+                                   swagger_js_url="/vendor/swagger-ui/swagger-ui-bundle.js",
+                                   swagger_css_url="/vendor/swagger-ui/swagger-ui.css", swagger_favicon_url="data:,")
+
+    @app.get("/redoc", include_in_schema=False)
+    def redoc() -> HTMLResponse:
+        return get_redoc_html(openapi_url=app.openapi_url, title="Footprint API",
+                              redoc_js_url="/vendor/redoc/redoc.standalone.js", redoc_favicon_url="data:,",
+                              with_google_fonts=False)
 
 
 class GuardMiddleware:

@@ -27,6 +27,8 @@ class JobCreate(_Strict):
 class JobCreated(BaseModel):
     id: str
     status: JobStatus
+    url: str  # the job (GET to poll, DELETE to cancel); also the response's Location header
+    events: str  # its server-sent progress events
 
 
 class JobSummary(BaseModel):

@@ -3,7 +3,7 @@
 import asyncio
 import json
 
-from fastapi import APIRouter, Query, Request
+from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import StreamingResponse
 from starlette.concurrency import run_in_threadpool
 
@@ -34,16 +34,19 @@ def _read(session, job) -> dict:
     return summary(job) | {"study": job.study, "result": result}
 
 
-@router.post("/jobs", response_model=JobCreated, status_code=202)
-def create_job(body: JobCreate, request: Request) -> dict:
-    """Check the study for its kind, store a queued job and hand it to the engine."""
+@router.post("/jobs", response_model=JobCreated, status_code=202,
+             responses={202: {"headers": {"Location": {"description": "the job's URL", "schema": {"type": "string"}}}}})
+def create_job(body: JobCreate, request: Request, response: Response) -> dict:
+    """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
+    as the Location header) to poll or follow."""
     study = resolve_vehicles(body.study, lookup=stored_vehicle_lookup(request), path="study")
     check_study(body.kind, study)
     with deps.sessions(request).begin() as session:
         job = q.create_job(session, kind=body.kind, study=study, name=body.name)
         job_id = job.id
     deps.engine(request).submit(job_id=job_id)
-    return {"id": job_id, "status": "queued"}
+    response.headers["Location"] = url = f"/api/jobs/{job_id}"
+    return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
 
 
 @router.get("/jobs", response_model=JobList)
