@@ -188,3 +188,18 @@ def test_bad_input_gets_one_line_and_exit_status_2(tmp_path, data, field, words)
     assert len(lines) == 1 and lines[0].startswith("error: "), r.stderr
     assert field in lines[0] and words in lines[0], lines[0]
     assert "Traceback" not in r.stderr
+
+
+def test_each_window_carries_the_deorbit_points_that_reach_its_site():
+    """Issue 13 item 6: the map draws where the vehicle deorbits to reach a site. Each window's points are
+    one per grid value of u in the window, under the orbit: by hand, a window that opens at the ascending node
+    of revolution 1 starts on the equator at the node's longitude, and every point lies within the orbit's
+    latitude band."""
+    result = run_reach(json.loads(EXAMPLE.read_text()))
+    for w in result["windows"]:
+        pts = w["deorbit_points"]
+        assert len(pts["latitude_deg"]) == len(pts["longitude_deg"]) == w["samples"]
+        assert max(abs(a) for a in pts["latitude_deg"]) <= 28.5 + 1e-9
+    first = next(w for w in result["windows"] if w["revolution"] == 1 and w["u_start_deg"] == 0.0)
+    assert first["deorbit_points"]["latitude_deg"][0] == pytest.approx(0.0, abs=1e-9)
+    assert first["deorbit_points"]["longitude_deg"][0] == pytest.approx(-170.0, abs=1e-9)

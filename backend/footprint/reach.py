@@ -206,7 +206,8 @@ def run_reach(request: dict | ReachRequest) -> dict:
                    entry_offset_nmi=req.entry_offset_nmi, time_span_s=span_end_s)
     seconds = time.perf_counter() - t0
     names = [s.name for s in req.sites]
-    windows = [w.to_dict() | {"site": names[w.site], "u_width_deg": w.u_end_deg - w.u_start_deg}
+    windows = [w.to_dict() | {"site": names[w.site], "u_width_deg": w.u_end_deg - w.u_start_deg,
+                              "deorbit_points": _deorbit_points(orbit, w, req.u_step_deg)}
                for w in result.windows]
     sites = []
     for i, s in enumerate(req.sites):
@@ -237,6 +238,16 @@ def run_reach(request: dict | ReachRequest) -> dict:
         "windows": windows,
         "notes": notes,
     }
+
+
+def _deorbit_points(orbit, window, u_step_deg) -> dict:
+    """Where the vehicle is when it deorbits within a window: the ground points under the orbit at the window's
+    grid values of u (core.orbits.position), for the map."""
+    from footprint.core.orbits import position
+
+    u = np.arange(window.u_start_deg, window.u_end_deg + 0.5 * u_step_deg, u_step_deg)
+    lat, lon = position(orbit, window.revolution, u)
+    return {"latitude_deg": np.atleast_1d(lat).tolist(), "longitude_deg": np.atleast_1d(lon).tolist()}
 
 
 WINDOW_COLUMNS = ("site", "revolution", "u_start_deg", "u_end_deg", "u_width_deg", "samples", "max_margin_nmi",

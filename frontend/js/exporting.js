@@ -3,6 +3,7 @@
 /* global d3 */
 import { loadWorld, planarFeatures } from "./basemap.js";
 import { api } from "./api.js";
+import { fmt } from "./format.js";
 import { boundaryLine, openRing, planarOutline, sphericalRing, toCSV, unwrapLongitudes, unwrapRing } from "./geometry.js";
 import { globeProjection } from "./globe.js";
 
@@ -128,6 +129,8 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites }) 
     for (const s of sites) {
       const fill = s.reachable == null ? "#5b6b7b" : s.reachable ? "#2e7d32" : "#b3261e";
       draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] }, { fill, stroke: "#fff", width: 1.5, radius: 5 });
+      const at = path.centroid({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] });
+      if (Number.isFinite(at[0])) label(ctx, s.name, at[0] + 8, at[1] + 4);
     }
   }
   if (globeView) draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
@@ -135,25 +138,47 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites }) 
   return canvas;
 }
 
+function label(ctx, text, x, y) {
+  ctx.font = "11px 'DejaVu Sans', Arial, sans-serif";
+  ctx.lineWidth = 3;
+  ctx.strokeStyle = "rgba(255,255,255,0.85)";
+  ctx.strokeText(text, x, y);
+  ctx.fillStyle = "#1d2733";
+  ctx.fillText(text, x, y);
+}
+
+/** What a footprint is, for the PNG's caption (three lines): name, vehicle and method; entry state; where it
+ * is shown (the live orbit controls). */
+export function caption(fp) {
+  const e = fp.item.entry, c = fp.controls;
+  return [`${fp.name}: ${fp.item.vehicle}, ${fp.item.method.replace(/_/g, " ")}`,
+          `entry ${fmt(e.altitude_ft)} ft, ${fmt(e.velocity_fps)} ft/s, γ ${fmt(e.gamma_deg, 1)}°, heading `
+          + `${fmt(e.heading_deg, 1)}° at ${fmt(e.latitude_deg, 2)}°, ${fmt(e.longitude_deg, 2)}°`,
+          c ? `node ${fmt(c.nodeLongitudeDeg, 2)}°, inclination ${fmt(c.inclinationDeg, 2)}°, step `
+              + `${fmt(c.stepDownrangeNmi)} nmi, earth rotation ${c.earthRotation}` : "as stored"];
+}
+
 function drawLegend(ctx, footprints, projectionName) {
-  const lines = footprints.map((fp) => [fp.color, fp.name]);
+  const LINE = 15, GAP = 6;
   ctx.font = "12px 'DejaVu Sans', Arial, sans-serif";
-  const w = Math.max(180, ...lines.map(([, t]) => ctx.measureText(t).width + 34));
-  const h = 26 + 17 * lines.length;
+  const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
+  const w = Math.max(180, ...blocks.flatMap(([, ls]) => ls.map((t) => ctx.measureText(t).width + 34)));
+  const h = 26 + blocks.reduce((sum, [, ls]) => sum + ls.length * LINE + GAP, 0);
   ctx.fillStyle = "rgba(255,255,255,0.92)";
   ctx.fillRect(10, 10, w, h);
   ctx.strokeStyle = "#9aa8b5";
   ctx.strokeRect(10, 10, w, h);
   ctx.fillStyle = "#34495e";
   ctx.fillText(`${projectionName} · Natural Earth`, 18, 27);
-  lines.forEach(([color, text], i) => {
+  let y = 36;
+  for (const [color, ls] of blocks) {
     ctx.globalAlpha = 0.85;
     ctx.fillStyle = color;
-    ctx.fillRect(18, 36 + 17 * i, 14, 10);
+    ctx.fillRect(18, y, 14, 10);
     ctx.globalAlpha = 1;
-    ctx.fillStyle = "#1d2733";
-    ctx.fillText(text, 38, 45 + 17 * i);
-  });
+    ls.forEach((t, k) => { ctx.fillStyle = k ? "#4a5a6a" : "#1d2733"; ctx.fillText(t, 38, y + 9 + k * LINE); });
+    y += ls.length * LINE + GAP;
+  }
 }
 
 export async function exportPNG(options) {

@@ -1,6 +1,8 @@
 // Pure geometry of the page: longitudes across +-180, the orbit of an entry point, the service's outline on the
 // map, CSV of footprints. No DOM and no Leaflet here, so that the browser tests can check it through the page.
 
+import { fmt } from "./format.js";
+
 const RAD_PER_DEG = Math.PI / 180.0;
 
 /** A longitude in (-180, 180]. */
@@ -96,12 +98,25 @@ export function openRing(points) {
   return points;
 }
 
-/** A parameter dict ({"bank0_deg": 45, "min_range": null}) as one short line. */
+// a footprint point's control parameters in the words of the report (Sections II.5-II.6, App. C)
+const PARAMETER_WORDS = {
+  bank0_deg: ["initial bank", "°"], k: ["K", ""], sigma_f_deg: ["σf", "°"], bank_deg: ["bank", "°"],
+  turn_deg: ["wings level after a turn of", "°"], limit_deg: ["bank limit", "°"], downrange_target_nmi: ["down-range held at", " nmi"],
+  agreement_deg: ["re-flown within", "°"], iterations: ["IPOPT iterations", ""], steps: ["steps", ""],
+};
+const MIN_RANGE_WORDS = { zero_lift: "zero lift (shortest flight)", cl_max: "C_L max, no bank (shortest flight)" };
+
+/** A parameter dict ({"bank0_deg": 105, "k": 1.17}) in words: "initial bank 105°, K 1.17". */
 export function describeParameter(parameter) {
   if (parameter == null) return "";
   if (typeof parameter !== "object") return String(parameter);
-  return Object.entries(parameter).filter(([, v]) => v != null)
-    .map(([k, v]) => `${k} ${typeof v === "number" ? +v.toFixed(3) : v}`).join(", ");
+  return Object.entries(parameter).filter(([k, v]) => v != null && !k.startsWith("nlp_"))
+    .map(([k, v]) => {
+      if (k === "min_range") return MIN_RANGE_WORDS[v] ?? `shortest flight: ${v}`;
+      const [word, unit] = PARAMETER_WORDS[k] ?? [k.replace(/_/g, " "), ""];
+      const shown = typeof v === "number" ? (Math.abs(v) >= 100 ? fmt(v) : +v.toFixed(Math.abs(v) < 1 ? 3 : 2)) : v;
+      return `${word} ${shown}${unit}`;
+    }).join(", ");
 }
 
 /** The boundary as the cylindrical map fills it: [lon, lat] pairs of the service's outline (the chart's edges
@@ -125,7 +140,7 @@ export function boundaryLine(shown, area) {
 function pointFields(p) {
   return { latitude_deg: p.latitude_deg, longitude_deg: p.longitude_deg, downrange_nmi: p.downrange_nmi ?? null,
            crossrange_nmi: p.crossrange_nmi ?? null, flight_time_s: p.flight_time_s ?? null,
-           parameter: describeParameter(p.parameter), mirrored: p.mirrored ?? null };
+           parameter: p.parameter == null ? null : JSON.stringify(p.parameter), mirrored: p.mirrored ?? null };
 }
 
 export const CSV_COLUMNS = ["footprint_id", "name", "index", "latitude_deg", "longitude_deg", "downrange_nmi",

@@ -69,12 +69,18 @@ export class GlobeView {
       const e = path.pointRadius(6)(f.entry);
       if (e) parts.push(`<path class="globe-entry fp-${fp.id}" style="fill:${fp.color}" d="${e}"><title>${escapeHtml(fp.name)}: entry</title></path>`);
     }
-    for (const s of this.sites) {
-      const d = path.pointRadius(5)({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] });
+    for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
+      if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
+      const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
       const state = s.reachable == null ? "unknown" : s.reachable ? "reached" : "missed";
-      if (d) parts.push(`<path class="globe-site site-${state}" d="${d}"><title>${escapeHtml(s.name)}</title></path>`);
+      parts.push(`<path class="globe-site site-${state}" d="M${x},${y - 7}L${x + 7},${y}L${x},${y + 7}L${x - 7},${y}Z">`
+        + `<title>${escapeHtml(s.name)}: ${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°</title></path>`
+        + `<text class="globe-site-label" x="${x + 10}" y="${y + 4}">${escapeHtml(s.name)}</text>`);
     }
     parts.push(`<path class="globe-limb" d="${path({ type: "Sphere" })}"/>`);
+    this.footprints.forEach((fp, i) => parts.push( // the legend, as the map's
+      `<rect class="globe-legend-swatch" x="12" y="${14 + 18 * i}" width="14" height="10" style="fill:${fp.color}"/>`
+      + `<text class="globe-legend" x="32" y="${23 + 18 * i}">${escapeHtml(fp.name)}</text>`));
     this.svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
     this.svg.innerHTML = parts.join("");
   }

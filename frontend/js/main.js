@@ -9,6 +9,7 @@ import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
 import { drawHistories } from "./histories.js";
 import { drawRangePlot } from "./rangeplot.js";
+import { drawTimeline, siteColor } from "./timeline.js";
 import { SitesPanel } from "./sites.js";
 
 const $ = (id) => document.getElementById(id);
@@ -16,7 +17,8 @@ const PALETTE = ["#1f6fbf", "#d1495b", "#2a9d8f", "#8e5dbf", "#e08a1e", "#5c7c2e
 const DEBOUNCE_MS = 150; // the polygon follows a dragged control without a request per pixel
 const SAME_DEG = 1e-9;
 
-const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0, optimum: null, plot: "range" };
+const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0, optimum: null, reach: null,
+                plot: "range" };
 const OPTIMUM_COLOR = "#111827";
 
 function toast(message, isError = false) {
@@ -30,7 +32,8 @@ function toast(message, isError = false) {
 
 const mapView = new MapView($("map"), { onClick: (latlng) => sites.onMapClick(latlng) });
 const globe = new GlobeView($("globe"));
-const sites = new SitesPanel({ onChange: () => redrawSites(), selectedFootprint: () => selected(), toast });
+const sites = new SitesPanel({ onChange: () => redrawSites(), onReach: (result) => showReach(result),
+                               selectedFootprint: () => selected(), toast });
 const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOptimum: (name, result) => showOptimum(name, result) });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
@@ -135,16 +138,23 @@ async function showJobFootprints(job) {
 }
 
 // ------------------------------------------------------------------------------------------ plot, optimum
-function drawPlot() {
-  if (state.plot === "optimum") drawHistories($("plot"), state.optimum);
-  else drawRangePlot($("plot"), selected());
-}
+const PLOTS = { range: () => drawRangePlot($("plot"), selected()), optimum: () => drawHistories($("plot"), state.optimum),
+                reach: () => drawTimeline($("plot"), state.reach) };
+const drawPlot = () => PLOTS[state.plot]();
 
 function setPlot(which) {
   state.plot = which;
-  $("plot-range").setAttribute("aria-pressed", String(which === "range"));
-  $("plot-optimum").setAttribute("aria-pressed", String(which === "optimum"));
+  for (const name of Object.keys(PLOTS)) $(`plot-${name}`).setAttribute("aria-pressed", String(which === name));
   drawPlot();
+}
+
+/** A reach analysis: the deorbit points of each window on the map, the windows in time in the plot. */
+function showReach(result) {
+  state.reach = result;
+  mapView.drawReach(result, siteColor);
+  mapView.setLegend(visible());
+  $("plot-reach").disabled = false;
+  setPlot("reach");
 }
 
 /** An optimization job's optimum: its ground track on the map and its histories in the plot. */
@@ -159,6 +169,7 @@ function showOptimum(name, result) {
 }
 $("plot-range").addEventListener("click", () => setPlot("range"));
 $("plot-optimum").addEventListener("click", () => setPlot("optimum"));
+$("plot-reach").addEventListener("click", () => setPlot("reach"));
 
 // ---------------------------------------------------------------------------------- live geometry
 const CONTROLS = [["node-longitude", "nodeLongitudeDeg"], ["inclination", "inclinationDeg"], ["step-downrange", "stepDownrangeNmi"]];

@@ -149,6 +149,26 @@ export class MapView {
     this.optimum = optimum;
   }
 
+  /** The deorbit points of each landing window of a reach result: a line along the orbit where deorbiting reaches
+   * the site, in the site's colour (as the timeline), with its revolution, times and site. */
+  drawReach(reach, color) {
+    this.reachLayer?.remove();
+    const group = L.layerGroup();
+    const index = new Map(reach.sites.map((s, i) => [s.name, i]));
+    for (const w of reach.windows) {
+      const p = w.deorbit_points, lons = unwrapLongitudes(p.longitude_deg, p.longitude_deg[0]);
+      const tip = `deorbit on revolution ${w.revolution}, ${fmt(w.deorbit_time_start_s / 3600, 2)}–`
+        + `${fmt(w.deorbit_time_end_s / 3600, 2)} h: reaches ${escapeHtml(w.site)}`;
+      for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
+        const latlngs = p.latitude_deg.map((lat, i) => [lat, lons[i] + offset]);
+        const style = { renderer: this.svgRenderer, color: color(index.get(w.site)), className: "reach-deorbit" };
+        (latlngs.length > 1 ? L.polyline(latlngs, { ...style, weight: 3, opacity: 0.65 })
+          : L.circleMarker(latlngs[0], { ...style, radius: 4, fillOpacity: 0.8 })).bindTooltip(tip).addTo(group);
+      }
+    }
+    this.reachLayer = group.addTo(this.map);
+  }
+
   /** Fit the view to the optimum's ground track (its main copy). */
   fitOptimum() {
     const main = this.optimumLayer?.getLayers().find((l) => l instanceof L.Polyline && l.options.className.includes("opt-copy-0"));
@@ -161,11 +181,13 @@ export class MapView {
   }
 
   setLegend(footprints) {
+    const reach = this.reachLayer ? '<div class="legend-key">coloured lines: where deorbiting reaches a site (as the '
+      + "landing-window timeline)</div>" : "";
     const optimum = this.optimum
       ? `<div><span class="line" style="background:${this.optimum.color}"></span>${escapeHtml(this.optimum.name)} (optimum)</div>` : "";
     this.legendDiv.innerHTML = footprints.length || optimum
       ? footprints.map((fp) => `<div><span class="swatch" style="background:${fp.color}"></span>${escapeHtml(fp.name)}</div>`).join("")
-        + optimum + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>'
+        + optimum + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>' + reach
       : "";
     this.legendDiv.hidden = !(footprints.length || optimum);
   }
@@ -179,8 +201,8 @@ export class MapView {
         L.marker([s.latitude_deg, s.longitude_deg + offset],
                  { icon: L.divIcon({ className: "site-marker", html: `<span class="site-icon site-${state}"></span>`,
                                      iconSize: [14, 14] }), keyboard: false,
-                   title: s.name })
-          .bindTooltip(`${escapeHtml(s.name)}<br>${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°`)
+                   title: `${s.name}: ${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°` })
+          .bindTooltip(escapeHtml(s.name), { permanent: true, direction: "right", offset: [8, 0], className: "site-label" })
           .addTo(this.sitesLayer);
       }
     }

@@ -8,10 +8,11 @@ const $ = (id) => document.getElementById(id);
 const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : +v; };
 
 export class SitesPanel {
-  constructor({ onChange, selectedFootprint, toast }) {
+  constructor({ onChange, onReach, selectedFootprint, toast }) {
     this.sites = [];
     this.reach = null; // the last reach result, by site name
     this.onChange = onChange;
+    this.onReach = onReach;
     this.selectedFootprint = selectedFootprint;
     this.toast = toast;
     this.adding = false;
@@ -85,9 +86,10 @@ export class SitesPanel {
     if (!this.sites.length) { $("reach-error").textContent = "Add a landing site first."; $("reach-error").hidden = false; return; }
     const points = openRing(fp.detail.points).map((p) => ({ downrange_nmi: p.downrange_nmi, crossrange_nmi: p.crossrange_nmi,
                                                             flight_time_s: p.flight_time_s }));
+    const orbit = fp.controls; // the live orbit controls of the selected footprint
     const body = {
       footprint: { points },
-      orbit: { inclination_deg: num("r-inclination"), altitude_nmi: num("r-altitude"), node_longitude_deg: num("r-node") },
+      orbit: { inclination_deg: orbit.inclinationDeg, altitude_nmi: num("r-altitude"), node_longitude_deg: orbit.nodeLongitudeDeg },
       sites: this.sites.map(({ name, latitude_deg, longitude_deg }) => ({ name, latitude_deg, longitude_deg })),
       revolutions: { first: 1, hours: num("r-hours") },
       earth_rotation: $("r-rotation").value,
@@ -98,6 +100,7 @@ export class SitesPanel {
       this.reach = new Map(result.sites.map((s) => [s.name, s]));
       this.renderReach(result);
       this.render();
+      this.onReach?.(result, fp);
     } catch (err) {
       showFieldError(form, err, $("reach-error"));
     } finally {

@@ -284,6 +284,23 @@ def test_landing_sites_and_reach(open_page, service):
     page.locator("table.reach tbody tr").first.wait_for(timeout=20_000)
     assert page.locator("table.reach tbody tr").count() == 4
     assert page.locator(".site-reached, .site-missed").count() >= 4  # markers coloured by the verdict
+    # issue 13 item 6: the same request over the API (the live orbit of the selected footprint) has as many
+    # windows as the timeline has bars, and each window's deorbit points are drawn on the map
+    fp = page.evaluate("""() => { const f = window.footprintApp.state.footprints.get(window.footprintApp.state.selectedId);
+        return {points: f.detail.points, controls: f.controls}; }""")
+    stored = page.evaluate("() => window.footprintApp.sites.sites")
+    ring_points = fp["points"][:-1] if fp["points"][0] == fp["points"][-1] else fp["points"]
+    body = {"footprint": {"points": [{k: p[k] for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s")}
+                                     for p in ring_points]},
+            "orbit": {"inclination_deg": fp["controls"]["inclinationDeg"], "altitude_nmi": 100,
+                      "node_longitude_deg": fp["controls"]["nodeLongitudeDeg"]},
+            "sites": [{k: s[k] for k in ("name", "latitude_deg", "longitude_deg")} for s in stored],
+            "revolutions": {"first": 1, "hours": 24}, "earth_rotation": "approximate"}
+    windows = service.call("/api/reach", body)["windows"]
+    assert len(windows) > 0
+    assert page.locator("#plot svg.timeline-plot rect.window").count() == len(windows)
+    assert page.locator("path.reach-deorbit").count() >= len(windows)  # one line per window (and its copies)
+    page.screenshot(path=str(FIGURES / "map_reach_timeline.png"))
 
 
 def test_exports_of_what_is_shown(open_page, service):
@@ -300,7 +317,15 @@ def test_exports_of_what_is_shown(open_page, service):
     assert lines[0].startswith("footprint_id,name,index,latitude_deg,longitude_deg,downrange_nmi,crossrange_nmi")
     with page.expect_download() as info:
         page.click("#export-png")
-    assert Path(info.value.path()).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    png = Path(info.value.path()).read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    (FIGURES / "export_equirectangular.png").write_bytes(png)
+    # the caption says what each footprint is and where it is shown (issue 13 item 5)
+    caption = page.evaluate("""async () => { const { caption } = await import('/js/exporting.js');
+        const app = window.footprintApp; return caption(app.state.footprints.get(app.state.selectedId)); }""")
+    assert re.fullmatch(r".+: lod-1\.89, single parameter", caption[0]), caption
+    assert re.fullmatch(r"entry 364,800 ft, 24,480 ft/s, γ -2\.0°, heading .+° at .+°, .+°", caption[1]), caption
+    assert re.fullmatch(r"node .+°, inclination .+°, step 0 nmi, earth rotation none", caption[2]), caption
 
 
 def test_globe_turns_and_clips_the_far_side(open_page, service):
