@@ -112,7 +112,9 @@ function renderList() {
       + `<input type="checkbox" class="fp-visible" ${fp.visible ? "checked" : ""} aria-label="Show ${escapeHtml(fp.name)}">`
       + `<span class="swatch" style="background:${fp.color}"></span>`
       + `<button type="button" class="fp-select" aria-pressed="${fp.id === state.selectedId}">${escapeHtml(fp.name)}`
-      + `<span class="meta">${meta}</span></button></li>`;
+      + `<span class="meta">${meta}</span></button>`
+      + `<button type="button" class="fp-rename icon" aria-label="Rename ${escapeHtml(fp.name)}" title="Rename">✎</button>`
+      + `<button type="button" class="fp-delete icon" aria-label="Delete ${escapeHtml(fp.name)}" title="Delete">×</button></li>`;
   }).join("");
 }
 
@@ -125,9 +127,50 @@ $("footprint-list").addEventListener("change", (e) => {
   }
 });
 $("footprint-list").addEventListener("click", (e) => {
-  const id = e.target.closest("button.fp-select")?.closest("li").dataset.id;
-  if (id) select(id, { fit: true }).then(() => refocus(id, ".fp-select")).catch(fail);
+  const button = e.target.closest("button");
+  const id = button?.closest("li").dataset.id;
+  if (!id) return;
+  if (button.classList.contains("fp-select")) select(id, { fit: true }).then(() => refocus(id, ".fp-select")).catch(fail);
+  else if (button.classList.contains("fp-rename")) startRename(id);
+  else if (button.classList.contains("fp-delete")) deleteFootprint(id).catch(fail);
 });
+
+/** The name becomes a text field: Enter stores the new name (the service may number it), Escape keeps the old. */
+function startRename(id) {
+  const fp = state.footprints.get(id), li = document.querySelector(`#footprint-list li[data-id="${id}"]`);
+  const input = document.createElement("input");
+  Object.assign(input, { value: fp.name, className: "fp-name-input", maxLength: 200 });
+  input.setAttribute("aria-label", `New name of ${fp.name}`);
+  li.querySelector(".fp-select").replaceWith(input);
+  input.focus();
+  input.select();
+  input.addEventListener("keydown", async (e) => {
+    if (e.key === "Escape") { renderList(); refocus(id, ".fp-rename"); return; }
+    if (e.key !== "Enter") return;
+    try {
+      const item = await api(`/api/footprints/${id}`, { method: "PATCH", body: { name: input.value } });
+      fp.item = { ...fp.item, name: item.name };
+      fp.name = item.name;
+      renderList();
+      redraw(fp);
+      refocus(id, ".fp-select");
+    } catch (err) { toast(err.message, true); }
+  });
+}
+
+async function deleteFootprint(id) {
+  const fp = state.footprints.get(id);
+  if (!window.confirm(`Delete the footprint “${fp.name}” and its points for good?`)) return;
+  await api(`/api/footprints/${id}`, { method: "DELETE" });
+  mapView.removeFootprint(id);
+  state.footprints.delete(id);
+  if (state.selectedId === id) state.selectedId = null;
+  renderList();
+  mapView.setLegend(visible());
+  globe.setData(visible(), sites.shown());
+  drawPlot();
+  toast(`Deleted “${fp.name}”`);
+}
 
 async function showJobFootprints(job) {
   const ids = (job.result?.footprints ?? []).map((url) => url.split("/").pop());

@@ -19,6 +19,30 @@ export function pointTooltip(fp, p) {
   return `<strong>${escapeHtml(fp.name)}</strong><table>${rows.map(([k, v]) => `<tr><th>${k}</th><td>${v}</td></tr>`).join("")}</table>`;
 }
 
+/** The shortest arc of longitude [west, east] (east - west <= 360) that covers every [west, east] interval,
+ * each taken at any multiple of 360 deg: the complement of the widest gap between them on the circle; placed on
+ * the copy of the map whose middle is nearest nearDeg. */
+export function shortestCover(intervals, nearDeg = 0) {
+  if (intervals.some(([w, e]) => e - w >= 360)) return [-180, 180];
+  const spans = intervals.map(([w, e]) => { const s = ((w % 360) + 360) % 360; return [s, s + (e - w)]; })
+    .sort((a, b) => a[0] - b[0]);
+  const merged = [];
+  for (const [s, e] of spans) {
+    if (merged.length && s <= merged[merged.length - 1][1]) merged[merged.length - 1][1] = Math.max(merged[merged.length - 1][1], e);
+    else merged.push([s, e]);
+  }
+  let best = { gap: merged[0][0] + 360 - merged[merged.length - 1][1], start: 0 }; // the gap across 360
+  for (let i = 1; i < merged.length; i++) {
+    const gap = merged[i][0] - merged[i - 1][1];
+    if (gap > best.gap) best = { gap, start: i };
+  }
+  if (best.gap <= 0) return [-180, 180];
+  const west = merged[best.start][0];
+  const east = best.start === 0 ? merged[merged.length - 1][1] : merged[best.start - 1][1] + 360;
+  const shift = 360 * Math.round((nearDeg - (west + east) / 2) / 360);
+  return [west + shift, east + shift];
+}
+
 export class MapView {
   constructor(element, { onClick } = {}) {
     this.map = L.map(element, { crs: L.CRS.EPSG4326, zoomSnap: 0.25, zoomDelta: 0.5, minZoom: 0, maxZoom: 9,
@@ -208,15 +232,17 @@ export class MapView {
     }
   }
 
-  /** Fit the view to the shown footprints (their main copies), at most a little more than the whole world. */
+  /** Fit the view to the shown footprints on one world copy: their longitude spans placed on the circle so that
+   * together they cover the shortest arc (footprints either side of 180 deg side by side, not 2.5 worlds apart). */
   fitFootprints(footprints) {
-    let bounds = null;
-    for (const fp of footprints) {
-      const main = this.footprintLayers.get(fp.id)?.getLayers()
-        .find((l) => l instanceof L.Polygon && l.options.className.includes("fp-copy-0"));
-      if (main) bounds = bounds ? bounds.extend(main.getBounds()) : main.getBounds();
-    }
-    if (bounds) this.map.fitBounds(bounds, { maxZoom: 4, paddingTopLeft: [50, 30], paddingBottomRight: [40, 70] });
+    const boxes = footprints.map((fp) => this.footprintLayers.get(fp.id)?.getLayers()
+      .find((l) => l instanceof L.Polygon && l.options.className.includes("fp-copy-0"))?.getBounds()).filter(Boolean);
+    if (!boxes.length) return;
+    // on the copy of the first footprint's main polygon (the one the page and its tests address)
+    const [west, east] = shortestCover(boxes.map((b) => [b.getWest(), b.getEast()]), boxes[0].getCenter().lng);
+    const south = Math.min(...boxes.map((b) => b.getSouth())), north = Math.max(...boxes.map((b) => b.getNorth()));
+    this.map.fitBounds([[south, west], [north, east]], { maxZoom: 4, paddingTopLeft: [50, 30], paddingBottomRight: [40, 70],
+                                                         animate: false });
   }
 
   fitFootprint(fp) {

@@ -12,7 +12,7 @@ from urllib.parse import urlparse
 
 import pytest
 
-from .conftest import PageRun
+from .conftest import SEED_JOB, PageRun
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
@@ -490,3 +490,43 @@ def test_the_api_docs_work_with_no_internet(browser, service, path, ready):
         assert hosts <= LOCAL_HOSTS, hosts
     finally:
         context.close()
+
+
+def test_a_footprint_is_renamed_and_deleted_from_the_list(open_page, service):
+    """Issue 13 item 5: rename in place (Enter stores it, the legend follows) and delete (asked first)."""
+    job = service.run_job(SEED_JOB | {"name": "to rename"})
+    fp_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
+    run = open_page()
+    page = run.page
+    row = page.locator(f"#footprint-list li[data-id='{fp_id}']")
+    row.locator(".fp-rename").click()
+    row.locator("input.fp-name-input").fill("Pacific <b>east</b>")
+    row.locator("input.fp-name-input").press("Enter")
+    row.locator(".fp-select", has_text="Pacific <b>east</b>").wait_for()  # shown as text, not markup
+    assert service.call(f"/api/footprints/{fp_id}")["name"] == "Pacific <b>east</b>"
+    page.evaluate("(id) => window.footprintApp.select(id)", fp_id)
+    assert "Pacific <b>east</b>" in page.locator(".map-legend").inner_text()
+    page.once("dialog", lambda d: d.accept())
+    row.locator(".fp-delete").click()
+    row.wait_for(state="detached")
+    with pytest.raises(Exception, match="404"):
+        service.call(f"/api/footprints/{fp_id}")
+    assert page.locator(f"path.fp-{fp_id}").count() == 0
+    assert not run.errors, run.errors
+
+
+def test_footprints_either_side_of_180_fit_one_world(open_page, service):
+    """Issue 13 item 5: the footprints entered at 150 E and 40 W were fitted 2.5 worlds wide."""
+    page = open_page(1280, 800).page
+    page.evaluate("""async () => { const app = window.footprintApp;
+        for (const fp of app.state.footprints.values()) await app.setVisible(fp, true);
+        app.mapView.fitFootprints([...app.state.footprints.values()]); }""")
+    page.wait_for_timeout(300)
+    bounds = page.evaluate("() => { const b = window.footprintApp.mapView.map.getBounds(); return [b.getWest(), b.getEast()]; }")
+    assert bounds[1] - bounds[0] <= 500.0  # one world, the padding and a quarter zoom step (2.5 worlds before)
+    # by hand: [150, 250] and [-40, 60] leave gaps of 70 deg (250 to 320) and 90 deg (60 to 150): the cover is
+    # 150 E eastward across 180 to 60 E, [-210, 60]; [170, 190] and [-175, -170] lie in [170, 190]
+    cover = page.evaluate("""async () => { const { shortestCover } = await import('/js/mapview.js');
+        return [shortestCover([[150, 250], [-40, 60]]), shortestCover([[170, 190], [-175, -170]]),
+                shortestCover([[0, 400]])]; }""")
+    assert cover == [[-210, 60], [170, 190], [-180, 180]]

@@ -382,3 +382,20 @@ def test_an_exact_move_flies_the_track_again_and_measures_the_approximate_shift(
     (a1, o1), (a2, o2) = [(math.radians(p["latitude_deg"]), math.radians(p["longitude_deg"])) for p in (tip, a_tip)]
     gap = 3_440.065 * math.acos(min(1.0, math.sin(a1) * math.sin(a2) + math.cos(a1) * math.cos(a2) * math.cos(o1 - o2)))
     assert error["max"] >= gap - 1e-6 and error["mean"] > 0 and gap > 10.0  # nmi
+
+
+def test_footprints_get_unique_names_and_can_be_renamed(api):
+    """Issue 13 item 5: the same study twice gave two footprints of one name; a planner renames them."""
+    study = footprint_study(latitude_deg=-33.0)
+    first, second = (api.get(run_job(api, "footprint", study, name="twin")["result"]["footprints"][0]).json()
+                     for _ in range(2))
+    assert (first["name"], second["name"]) == ("twin", "twin (2)")
+    renamed = api.patch(f"/api/footprints/{second['id']}", json={"name": "  Vandenberg south  "})
+    assert renamed.status_code == 200 and renamed.json()["name"] == "Vandenberg south"
+    again = api.patch(f"/api/footprints/{first['id']}", json={"name": "Vandenberg south"}).json()
+    assert again["name"] == "Vandenberg south (2)"
+    assert api.patch(f"/api/footprints/{first['id']}", json={"name": "Vandenberg south (2)"}).json()["name"] \
+        == "Vandenberg south (2)"  # its own name is not taken by itself
+    blank = api.patch(f"/api/footprints/{first['id']}", json={"name": "   "})
+    assert blank.status_code == 422 and "name" in blank.json()["detail"]
+    assert api.patch("/api/footprints/nope", json={"name": "x"}).status_code == 404

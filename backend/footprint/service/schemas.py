@@ -24,6 +24,10 @@ class JobCreate(_Strict):
     name: str | None = Field(default=None, max_length=200)
 
 
+class FootprintRename(_Strict):
+    name: str = Field(min_length=1, max_length=200, pattern=r"^[^\x00-\x1f]*\S[^\x00-\x1f]*$")  # printable, not blank
+
+
 class JobCreated(BaseModel):
     id: str
     status: JobStatus

@@ -99,13 +99,38 @@ def finish_job(session: Session, *, job_id: str, result: dict, footprints: list[
             if job is None or job.status != "running":
                 return False
             session.add(JobResult(job_id=job_id, result=result, created_at=utc_now()))
+            taken: set[str] = set()
             for seq, record in enumerate(footprints):
-                session.add(_footprint_row(job_id, seq, record))
+                name = unique_name(session, record["name"], taken)
+                taken.add(name)
+                session.add(_footprint_row(job_id, seq, record | {"name": name}))
             job.status, job.progress, job.finished_at, job.error = "succeeded", 1.0, utc_now(), None
             job.progress_note = None
         return True
     except IntegrityError:
         return False
+
+
+def unique_name(session: Session, name: str, taken=frozenset(), exclude_id: str | None = None) -> str:
+    """`name`, or `name (2)`, `name (3)`... the first that no stored footprint (nor one of `taken`) has."""
+    like = name.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
+    rows = select(Footprint.name).where(Footprint.name.like(f"{like}%", escape="\\"))
+    if exclude_id is not None:
+        rows = rows.where(Footprint.id != exclude_id)
+    used = set(session.scalars(rows)) | set(taken)
+    candidate, n = name, 1
+    while candidate in used:
+        n += 1
+        candidate = f"{name} ({n})"
+    return candidate
+
+
+def rename_footprint(session: Session, *, footprint_id: str, name: str) -> Footprint | None:
+    """Give a footprint a new name (made unique as a job's are); None for an unknown id."""
+    fp = session.get(Footprint, footprint_id)
+    if fp is not None:
+        fp.name = unique_name(session, name, exclude_id=footprint_id)
+    return fp
 
 
 def _footprint_row(job_id: str, seq: int, record: dict) -> Footprint:

@@ -13,7 +13,7 @@ from footprint.service.db import queries as q
 from footprint.core.errors import InputError
 from footprint.service.errors import NotFound, RequestInvalid, Unavailable
 from footprint.service.routers.geometry import transform
-from footprint.service.schemas import FootprintList, FootprintRead
+from footprint.service.schemas import FootprintList, FootprintRead, FootprintRename, FootprintSummary
 
 router = APIRouter(tags=["footprints"])
 CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
@@ -89,6 +89,16 @@ def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
         return HTMLResponse(footprint_map_html(item, title=item["name"]))
     except InputError as exc:  # the page's npm packages are not installed: the server's state, not the request's
         raise Unavailable(exc.message) from None
+
+
+@router.patch("/footprints/{footprint_id}", response_model=FootprintSummary)
+def rename_footprint(footprint_id: str, body: FootprintRename, request: Request) -> dict:
+    """Rename a footprint; a name another footprint has gets a number, as a job's default names do."""
+    with deps.sessions(request).begin() as session:
+        fp = q.rename_footprint(session, footprint_id=footprint_id, name=body.name.strip())
+        if fp is None:
+            raise NotFound(f"no footprint {footprint_id!r}")
+        return _summary(fp)
 
 
 @router.delete("/footprints/{footprint_id}", status_code=204)
