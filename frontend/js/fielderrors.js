@@ -21,6 +21,25 @@ export function clearFieldErrors(form) {
   form.querySelectorAll("[aria-invalid]").forEach((e) => e.removeAttribute("aria-invalid"));
 }
 
+/** The text of an input's label, without its sub-elements ("Velocity, earth-relative (ft/s)"). */
+function labelText(input) {
+  const label = input.closest("label");
+  if (!label) return null;
+  return [...label.childNodes].filter((n) => n.nodeType === Node.TEXT_NODE).map((n) => n.textContent).join("").trim() || null;
+}
+
+/** The service's message with its field path ("case.entry.velocity_fps: 50 is outside ...") worded by the
+ * label a planner sees ("Velocity, earth-relative (ft/s): 50 is outside ..."). */
+export function wordedMessage(message, field, input) {
+  const label = input && labelText(input);
+  if (!label || !field) return message;
+  const name = field.replace(/^(body\.)?/, "");
+  for (const path of [name, name.replace(/^study\./, "")]) {
+    if (message.startsWith(`${path}: `)) return `${label}: ${message.slice(path.length + 2)}`;
+  }
+  return message;
+}
+
 /** Show the message next to the field's input (or in `fallback` when no input holds that field). */
 export function showFieldError(form, error, fallback) {
   const input = inputForField(form, error.field);
@@ -34,7 +53,7 @@ export function showFieldError(form, error, fallback) {
   note.dataset.for = input.id;
   note.id = `${input.id}-error`;
   note.setAttribute("role", "alert");
-  note.textContent = error.message;
+  note.textContent = wordedMessage(error.message, error.field, input);
   input.setAttribute("aria-invalid", "true");
   input.setAttribute("aria-describedby", note.id);
   input.insertAdjacentElement("afterend", note);

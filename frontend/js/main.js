@@ -262,6 +262,7 @@ async function moveFootprint(fp) {
   liveAbort = new AbortController();
   if (atStoredOrbit(fp)) {
     fp.shown = storedGeometry(fp);
+    fp.stale = false;
     $("live-status").textContent = "At the stored orbit.";
     redraw(fp);
     return;
@@ -272,6 +273,7 @@ async function moveFootprint(fp) {
                              { method: "POST", body: transformRequest(fp.orbit, fp.controls), signal: liveAbort.signal });
     if (sequence !== liveSequence) return;
     fp.shown = shownFromTransform(fp, result);
+    fp.stale = false;
     const r = fp.shown.reference;
     const e = fp.shown.approximateError;
     $("live-status").textContent = `Entry at ${fmt(r.latitude_deg, 2)}°, ${fmt(r.longitude_deg, 2)}°, heading ${fmt(r.heading_deg, 1)}°`
@@ -281,7 +283,10 @@ async function moveFootprint(fp) {
     redraw(fp);
   } catch (err) {
     if (err.name === "AbortError" || sequence !== liveSequence) return;
-    $("live-status").textContent = err.message;
+    fp.stale = true; // the drawing no longer matches the controls: say so on the map and under them
+    $("live-status").textContent = `Not moved: ${err.message}. The footprint drawn (hatched) is where the last `
+      + "accepted move put it.";
+    redraw(fp);
   }
 }
 

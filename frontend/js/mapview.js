@@ -61,7 +61,10 @@ export class MapView {
     this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
     this.legend.addTo(this.map);
     this.map.on("click", (e) => onClick?.(e.latlng));
-    this.ready = this._drawBasemap();
+    this.gridLabels = L.layerGroup().addTo(this.map);
+    this.map.on("moveend zoomend", () => this._labelGraticule());
+    this._addScale();
+    this.ready = this._drawBasemap().then(() => this._labelGraticule());
   }
 
   async _drawBasemap() {
@@ -83,6 +86,44 @@ export class MapView {
     for (let lon = -540; lon <= 540; lon += GRATICULE_DEG) lines.push([[-90, lon], [90, lon]]);
     for (let lat = -90; lat <= 90; lat += GRATICULE_DEG) lines.push([[lat, -540], [lat, 540]]);
     L.polyline(lines, { ...canvas, color: "#b9c6d2", weight: 0.6 }).addTo(this.map);
+  }
+
+  /** Latitude and longitude labels of the graticule along the view's left and bottom edges. */
+  _labelGraticule() {
+    this.gridLabels.clearLayers();
+    const b = this.map.getBounds(), z = this.map.getZoom();
+    const step = z >= 3.5 ? 10 : GRATICULE_DEG;
+    const icon = (text, cls) => L.divIcon({ className: `grid-label ${cls}`, html: text, iconSize: null });
+    const pad = (b.getNorth() - b.getSouth()) * 0.01;
+    for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
+      const w = ((lon + 180) % 360 + 360) % 360 - 180;
+      const text = w === 0 ? "0°" : Math.abs(w) === 180 ? "180°" : `${Math.abs(w)}°${w > 0 ? "E" : "W"}`;
+      L.marker([Math.max(b.getSouth(), -90) + pad, lon], { icon: icon(text, "lon"), interactive: false, keyboard: false })
+        .addTo(this.gridLabels);
+    }
+    for (let lat = Math.ceil(Math.max(b.getSouth(), -90) / step) * step; lat <= Math.min(b.getNorth(), 90); lat += step) {
+      const text = lat === 0 ? "0°" : `${Math.abs(lat)}°${lat > 0 ? "N" : "S"}`;
+      L.marker([lat, b.getWest()], { icon: icon(text, "lat"), interactive: false, keyboard: false }).addTo(this.gridLabels);
+    }
+  }
+
+  /** A scale bar in nautical miles along a meridian, where this map's scale is the same everywhere (east-west it
+   * grows as 1 / cos latitude). */
+  _addScale() {
+    const control = L.control({ position: "bottomleft" });
+    control.onAdd = () => {
+      const div = L.DomUtil.create("div", "map-scale");
+      const update = () => {
+        const c = this.map.getCenter(), y0 = this.map.latLngToContainerPoint(c).y;
+        const pxPerNmi = Math.abs(this.map.latLngToContainerPoint([c.lat + 1, c.lng]).y - y0) / 60; // 1 deg = 60 nmi
+        const nmi = [50, 100, 200, 500, 1000, 2000, 5000].find((n) => n * pxPerNmi >= 60) ?? 5000;
+        div.innerHTML = `<span class="bar" style="width:${Math.round(nmi * pxPerNmi)}px"></span>${fmt(nmi)} nmi along a meridian`;
+      };
+      this.map.on("zoomend moveend", update);
+      update();
+      return div;
+    };
+    control.addTo(this.map);
   }
 
   /** Land is filled, unless the online tiles are shown under the coastlines and borders. */
@@ -146,6 +187,7 @@ export class MapView {
       });
     }
     group.addTo(this.map);
+    for (const layer of group.getLayers()) layer.getElement?.()?.classList.toggle("stale", Boolean(fp.stale));
     this.footprintLayers.set(fp.id, group);
   }
 

@@ -230,7 +230,9 @@ def test_bad_field_shows_its_error_next_to_that_field(open_page):
     page.click("#job-submit")
     note = page.locator("#entry-velocity + .field-error")
     note.wait_for(timeout=10_000)
-    assert "velocity" in note.inner_text() and "50" in note.inner_text()
+    assert "velocity" in note.inner_text().lower() and "50" in note.inner_text()
+    # worded by the label the planner sees, not the API's path (issue 13 item 7)
+    assert note.inner_text().startswith("Velocity, earth-relative (ft/s): ") and "case.entry" not in note.inner_text()
     assert page.get_attribute("#entry-velocity", "aria-invalid") == "true"
     assert page.locator(".field-error:visible").count() == 1  # next to that field only
     assert page.locator("#job-list li").count() == 0  # no job was queued
@@ -530,3 +532,27 @@ def test_footprints_either_side_of_180_fit_one_world(open_page, service):
         return [shortestCover([[150, 250], [-40, 60]]), shortestCover([[170, 190], [-175, -170]]),
                 shortestCover([[0, 400]])]; }""")
     assert cover == [[-210, 60], [170, 190], [-180, 180]]
+
+
+def test_a_move_keeps_the_flown_ranges_in_the_plot_and_a_rejected_one_is_marked(open_page, service):
+    """Issue 13 defects 2 and item 7: after a move the range plot shows the stored footprint's own extent (it
+    spanned the whole axis when down-ranges folded), and a move the service refuses leaves the drawing marked
+    as stale, with the service's reason under the controls."""
+    run, fp = open_page(), service.footprint
+    page = run.page
+    page.evaluate("(id) => window.footprintApp.select(id)", fp["id"])  # the live controls move the selected one
+    selector = polygon_selector(fp["id"])
+    d0 = page.get_attribute(selector, "d")
+    page.fill("#inclination", "75")
+    page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
+                           timeout=10_000)
+    shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown.points.map(p => p.downrange_nmi)",
+                          fp["id"])
+    assert shown == pytest.approx([p["downrange_nmi"] for p in fp["points"]], abs=1e-6)
+    ticks = [float(t.replace(",", "")) for t in page.locator("#plot text.tick").all_text_contents()]
+    # the axes end near the footprint (cross-range within +-2,000 nmi), not at -10,800 nmi for a folded far tip
+    assert min(ticks) > -2_500 and max(ticks) < max(shown) + 2_500
+    page.fill("#inclination", "200")
+    page.locator("#live-status", has_text="Not moved").wait_for(timeout=10_000)
+    assert "inclination_deg" in page.inner_text("#live-status") and "0 to 180" in page.inner_text("#live-status")
+    assert "stale" in page.get_attribute(selector, "class")
