@@ -1,6 +1,7 @@
 """The `footprint` command, run as a user runs it: a new process, exit status, stdout and stderr."""
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -182,3 +183,47 @@ def test_a_wrong_method_or_a_case_file_is_named_not_dumped(tmp_path, study, line
     path.write_text(json.dumps(case if study is None else {"case": case} | study))
     r = run("footprint", path)
     assert r.returncode == 2 and r.stderr.strip() == line
+
+
+def run_on_terminal(*args):
+    """The command with its stdout on a pseudo-terminal, as a person runs it: (exit status, what it printed)."""
+    import os
+    import pty
+
+    leader, follower = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "footprint.cli", *map(str, args)], stdout=follower,
+                            stderr=subprocess.PIPE, text=True)
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            data = os.read(leader, 65536)
+        except OSError:  # the command closed its end
+            break
+        if not data:
+            break
+        chunks.append(data)
+    proc.wait(timeout=300)
+    os.close(leader)
+    text = b"".join(chunks).decode().replace("\r\n", "\n")
+    return proc.returncode, re.sub(r"\x1b\[[0-9;]*m", "", text)  # the terminal's colour resets
+
+
+def test_reach_and_optimize_print_a_summary_on_a_terminal_and_json_when_piped():
+    """Issue 13 item 10: a person reads a few lines; a script (piped, or --json) gets the whole result."""
+    code, text = run_on_terminal("reach", EXAMPLES / "reach_20_sites.json")
+    assert code == 0 and text.startswith("orbit: inclination 28.5 deg, node -170 deg")
+    piped = run("reach", EXAMPLES / "reach_20_sites.json")
+    result = json.loads(piped.stdout)
+    assert f"{len(result['windows'])} landing windows" in text
+    for site in result["sites"][:3]:
+        assert f"  {site['name']}: " in text
+    assert len(text.splitlines()) <= len(result["sites"]) + 4 and "(the full result: --json)" in text
+    code, text = run_on_terminal("reach", EXAMPLES / "reach_20_sites.json", "--json")
+    again = json.loads(text)
+    for r in (again, result):
+        r["analysis"].pop("seconds")  # the run's own time
+    assert again == result
+    code, text = run_on_terminal("optimize", EXAMPLES / "optimize_betts_collocation.json")
+    assert code == 0 and text.startswith("optimal: cross-range ") and "IPOPT iterations" in text
+    assert "re-flown by the integrator within 0.00" in text

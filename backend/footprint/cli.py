@@ -41,6 +41,46 @@ def _writable(path: Optional[Path], option: str) -> None:
         _fail(f"{option}: the folder {path.parent} does not exist (create it first)")
 
 
+def _answer(result: dict, as_json: bool, lines) -> None:
+    """The full JSON when asked or piped (other tools read it); a few lines for a person at a terminal."""
+    if as_json or not sys.stdout.isatty():
+        typer.echo(json.dumps(result, indent=2, default=_json_default))
+    else:
+        typer.echo("\n".join(lines(result)) + "\n(the full result: --json)")
+
+
+def _reach_lines(r: dict) -> list[str]:
+    o, a = r["orbit"], r["analysis"]
+    out = [f"orbit: inclination {o['inclination_deg']:g} deg, node {o['node_longitude_deg']:g} deg, period "
+           f"{o['period_s'] / 60:.1f} min; revolutions {a['revolutions'][0]}-{a['revolutions'][1]}, "
+           f"{len(r['windows'])} landing windows, {sum(s['reachable'] for s in r['sites'])} of {len(r['sites'])} "
+           "sites reached"]
+    for s in r["sites"]:
+        if s["reachable"]:
+            out.append(f"  {s['name']}: {s['windows']} windows on revolutions "
+                       f"{', '.join(map(str, s['revolutions'][:8]))}{'...' if len(s['revolutions']) > 8 else ''}; "
+                       f"first deorbit at {s['first_deorbit_time_s'] / 3600:.2f} h")
+        else:
+            short = "" if s["best_margin_nmi"] is None else f" (the nearest placement falls {-s['best_margin_nmi']:,.0f} nmi short)"
+            out.append(f"  {s['name']}: not reached{short}")
+    return out + [f"note: {n}" for n in r.get("notes", [])]
+
+
+def _optimum_lines(r: dict) -> list[str]:
+    s = r["summary"]
+    verdict = "optimal" if r.get("feasible") else "NOT feasible"
+    cost = (f"{r['iterations']} IPOPT iterations, {r['seconds']:.1f} s" if r.get("method") == "collocation"
+            else f"{r['trajectories']} trajectories, {r['seconds']:.1f} s")
+    out = [f"{verdict}: cross-range {s['crossrange_nmi']:,.1f} nmi at down-range {s['downrange_nmi']:,.1f} nmi, "
+           f"flight {s.get('flight_time_s', float('nan')):,.0f} s ({cost})"]
+    if r.get("method") == "collocation" and r.get("agreement"):
+        g = r["agreement"]
+        out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['longitude_deg']):.4f} deg")
+    if r.get("message") and not r.get("feasible"):
+        out.append(r["message"])
+    return out
+
+
 def _json_default(o):
     return float(o) if hasattr(o, "__float__") else str(o)
 
@@ -180,11 +220,12 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
 def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
                                             help="reach request: footprint, orbit, sites, revolutions"),
           csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="FILE.csv",
-                                                 help="also write the windows as CSV")):
+                                                 help="also write the windows as CSV"),
+          as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
     """Which landing sites a footprint reaches from which deorbit points of which revolutions (Section IV).
 
     Prints JSON: the orbit, the footprint, a summary per site and the windows (contiguous runs of deorbit
-    argument of latitude per revolution and site)."""
+    argument of latitude per revolution and site); on a terminal, a short summary unless --json."""
     from footprint.reach import parse_reach, run_reach, write_windows_csv
 
     _writable(csv_out, "--csv")
@@ -196,17 +237,18 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
     result = run_reach(request)
     if csv_out is not None:
         write_windows_csv(result, csv_out)
-    typer.echo(json.dumps(result, indent=2, default=_json_default))
+    _answer(result, as_json, _reach_lines)
 
 
 @app.command()
 def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
              plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
-                                                 help="draw the convergence history and the bank schedule")):
+                                                 help="draw the convergence history and the bank schedule"),
+             as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
     """Optimize the bank schedule (creep + pattern, Section II.4) or, with "method": "collocation", alpha(t) and
     bank(t) to the true optimum (IPOPT): prints the optimum, its parameters or control tables and the convergence
     history as JSON. Exit status 1 when no feasible point was found (the result, and for the collocation one line
-    on stderr, say by how much)."""
+    on stderr, say by how much). On a terminal, a short summary unless --json."""
     from footprint.optimization import parse_optimization, run_optimization
 
     _writable(plot, "--plot")
@@ -221,7 +263,7 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
         from footprint.figures import collocation_figure, optimization_figure, save
 
         save((collocation_figure if study.method == "collocation" else optimization_figure)(result), plot)
-    typer.echo(json.dumps(result.to_dict(), indent=2, default=_json_default))
+    _answer(result.to_dict(), as_json, _optimum_lines)
     if study.method == "collocation" and not result.feasible:
         typer.echo(f"error: {result.one_line()}", err=True)
     if not result.feasible:

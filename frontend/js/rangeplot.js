@@ -17,7 +17,8 @@ export function niceTicks(lo, hi, count = 5) {
 }
 
 export function drawRangePlot(container, fp) {
-  const width = Math.max(container.clientWidth, 200), height = Math.max(container.clientHeight, 160);
+  // a tall column (the plot beside the map on a wide screen) keeps the figure's 5:4, not a stretched one
+  const width = Math.max(container.clientWidth, 200), height = Math.max(Math.min(container.clientHeight, width * 0.8), 160);
   if (!fp) {
     container.innerHTML = '<p class="empty">Select a footprint to plot it in down-range and cross-range.</p>';
     return;

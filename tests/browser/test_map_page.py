@@ -556,3 +556,15 @@ def test_a_move_keeps_the_flown_ranges_in_the_plot_and_a_rejected_one_is_marked(
     page.locator("#live-status", has_text="Not moved").wait_for(timeout=10_000)
     assert "inclination_deg" in page.inner_text("#live-status") and "0 to 180" in page.inner_text("#live-status")
     assert "stale" in page.get_attribute(selector, "class")
+
+
+def test_a_wide_screen_keeps_the_range_plot_in_proportion_and_labels_whole(open_page):
+    """Issue 13 item 8: at 1920 x 1080 the plot column is tall; the range plot keeps 5:4; the vehicle list shows
+    whole labels."""
+    page = open_page(1920, 1080).page
+    box = page.evaluate("() => document.querySelector('#plot svg.range-plot').getBoundingClientRect().toJSON()")
+    assert box["height"] <= 0.8 * box["width"] + 1
+    vehicle = page.evaluate("""() => { const s = document.getElementById('job-vehicle');
+        const c = document.createElement('canvas').getContext('2d'); c.font = getComputedStyle(s).font;
+        return [Math.max(...[...s.options].map(o => c.measureText(o.text).width)), s.clientWidth]; }""")
+    assert vehicle[0] + 24 <= vehicle[1], vehicle  # the longest label and the arrow fit
