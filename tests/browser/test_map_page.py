@@ -461,9 +461,24 @@ def test_a_footprint_over_the_pole_fills_the_polar_cap(open_page, service):
     probes = [[82.0, -170.0], [86.0, 100.0], [0.0, 100.0], [-60.0, 10.0]]
     shown = pixels(page, probes)
     page.screenshot(path=str(FIGURES / "map_polar_footprint.png"))
-    page.evaluate("() => { window.footprintApp.setView('globe'); window.footprintApp.globe.center(10, 75); }")
+    page.evaluate("() => { window.footprintApp.setView('globe'); window.footprintApp.globe.center(10, 90); }")
     page.locator("path.globe-footprint").first.wait_for()
     page.screenshot(path=str(FIGURES / "globe_polar_footprint.png"))
+    # on the globe centred on the pole: the pole itself is inside, the equator far off the axis is not
+    pole_and_off = page.evaluate("""() => { const g = window.footprintApp.globe, p = g.projection(),
+        r = g.element.getBoundingClientRect(); return [p([0, 90]), p([100, 5])].map(([x, y]) => [x + r.left, y + r.top]); }""")
+    from PIL import Image
+    import io
+
+    def globe_pixels():
+        image = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
+        return [image.getpixel((round(x), round(y))) for x, y in pole_and_off]
+
+    with_fp = globe_pixels()
+    page.evaluate("(id) => window.footprintApp.setVisible(window.footprintApp.state.footprints.get(id), false)", fp_id)
+    without = globe_pixels()
+    page.evaluate("(id) => window.footprintApp.setVisible(window.footprintApp.state.footprints.get(id), true)", fp_id)
+    assert [sum(abs(a - b) for a, b in zip(s, h)) > 12 for s, h in zip(with_fp, without)] == [True, False]
     page.evaluate("() => window.footprintApp.setView('map')")
     page.evaluate("(id) => window.footprintApp.setVisible(window.footprintApp.state.footprints.get(id), false)", fp_id)
     page.wait_for_timeout(300)
@@ -568,3 +583,25 @@ def test_a_wide_screen_keeps_the_range_plot_in_proportion_and_labels_whole(open_
         const c = document.createElement('canvas').getContext('2d'); c.font = getComputedStyle(s).font;
         return [Math.max(...[...s.options].map(o => c.measureText(o.text).width)), s.clientWidth]; }""")
     assert vehicle[0] + 24 <= vehicle[1], vehicle  # the longest label and the arrow fit
+
+
+def test_an_exact_move_draws_the_track_flown_again_and_says_how_far_the_shift_is(open_page, service):
+    """Issue 13 defect 3 on the page: with "exact" the dashed track ends at the far tip of the footprint flown
+    again, and the status under the controls gives the approximate shift's distance from it (IV.3)."""
+    run, fp = open_page(), service.footprint
+    page = run.page
+    page.evaluate("(id) => window.footprintApp.select(id)", fp["id"])
+    page.select_option("#earth-rotation", "exact")
+    status = page.locator("#live-status", has_text="approximate shift")
+    status.wait_for(timeout=30_000)
+    numbers = re.search(r"lies up to ([\d,]+) nmi from the exact points, ([\d,]+) nmi on average over (\d+)", status.inner_text())
+    assert numbers, status.inner_text()
+    largest, mean = (float(numbers.group(i).replace(",", "")) for i in (1, 2))
+    assert largest >= mean > 0 and int(numbers.group(3)) == len(ring(fp["points"]))
+    shown = page.evaluate("""(id) => { const s = window.footprintApp.state.footprints.get(id).shown;
+        return {track: s.groundTrack[s.groundTrack.length - 1], tip: s.points.find(p => p.parameter?.bank0_deg === 0)}; }""",
+                          fp["id"])
+    # the same flight by two control laws (the zero-bank law, and K = 0 of phi = K zeta): to 1e-6 deg, 0.1 m
+    assert shown["track"]["latitude_deg"] == pytest.approx(shown["tip"]["latitude_deg"], abs=1e-6)
+    assert delta_deg(shown["track"]["longitude_deg"], shown["tip"]["longitude_deg"]) == pytest.approx(0.0, abs=1e-6)
+    assert not run.errors, run.errors
