@@ -1,7 +1,7 @@
 // An optimum's flight against time, as the report plots its trajectories (Fig. 29's histories): alpha, bank,
 // altitude and the radiation-equilibrium temperature (velocity when the study has no heating model).
 import { escapeHtml, fmt } from "./format.js";
-import { niceTicks } from "./rangeplot.js";
+import { gridAndTicks, niceTicks } from "./rangeplot.js";
 
 const SVG_NS = "http://www.w3.org/2000/svg";
 const MARGIN = { left: 52, right: 22, top: 18, bottom: 22 };
@@ -28,11 +28,8 @@ function panel(x, y, w, h, time, values, label, color) {
   const sx = (v) => x + MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
   const sy = (v) => y + MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
   const ylabel = tickLabel(yt);
-  const parts = [`<rect class="frame" x="${sx(x0)}" y="${y + MARGIN.top}" width="${pw}" height="${ph}"/>`];
-  for (const t of xt) parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${y + MARGIN.top}" y2="${y + MARGIN.top + ph}"/>`
-    + `<text class="tick" x="${sx(t)}" y="${y + MARGIN.top + ph + 13}" text-anchor="middle">${fmt(t)}</text>`);
-  for (const t of yt) parts.push(`<line class="grid" x1="${sx(x0)}" x2="${sx(x0) + pw}" y1="${sy(t)}" y2="${sy(t)}"/>`
-    + `<text class="tick" x="${sx(x0) - 5}" y="${sy(t) + 4}" text-anchor="end">${ylabel(t)}</text>`);
+  const parts = [`<rect class="frame" x="${sx(x0)}" y="${y + MARGIN.top}" width="${pw}" height="${ph}"/>`,
+                 ...gridAndTicks({ xt, yt, sx, sy, left: sx(x0), top: y + MARGIN.top, width: pw, height: ph, yTick: ylabel })];
   const d = time.map((t, i) => `${i ? "L" : "M"}${sx(t).toFixed(1)},${sy(values[i]).toFixed(1)}`).join("");
   parts.push(`<path class="history" d="${d}" style="stroke:${color}"/>`);
   parts.push(`<text class="axis-label" x="${sx(x0)}" y="${y + MARGIN.top - 5}">${label}</text>`);

@@ -16,6 +16,17 @@ export function niceTicks(lo, hi, count = 5) {
   return ticks;
 }
 
+/** The grid lines and tick labels of a plot box (left, top, width, height in px) with scales sx, sy; yTick
+ * formats the y labels (fmt by default). Every plot of the page draws its axes with this. */
+export function gridAndTicks({ xt, yt, sx, sy, left, top, width, height, yTick = fmt }) {
+  const parts = [];
+  for (const t of xt) parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${top}" y2="${top + height}"/>`
+    + `<text class="tick" x="${sx(t)}" y="${top + height + 14}" text-anchor="middle">${fmt(t, t % 1 ? 1 : 0)}</text>`);
+  for (const t of yt) parts.push(`<line class="grid" x1="${left}" x2="${left + width}" y1="${sy(t)}" y2="${sy(t)}"/>`
+    + `<text class="tick" x="${left - 5}" y="${sy(t) + 4}" text-anchor="end">${yTick(t)}</text>`);
+  return parts;
+}
+
 export function drawRangePlot(container, fp) {
   // a tall column (the plot beside the map on a wide screen) keeps the figure's 5:4, not a stretched one
   const width = Math.max(container.clientWidth, 200), height = Math.max(Math.min(container.clientHeight, width * 0.8), 160);
@@ -31,11 +42,7 @@ export function drawRangePlot(container, fp) {
   const pw = width - MARGIN.left - MARGIN.right, ph = height - MARGIN.top - MARGIN.bottom;
   const sx = (v) => MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
   const sy = (v) => MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
-  const parts = [];
-  for (const t of xt) parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${MARGIN.top}" y2="${MARGIN.top + ph}"/>`
-    + `<text class="tick" x="${sx(t)}" y="${MARGIN.top + ph + 15}" text-anchor="middle">${fmt(t)}</text>`);
-  for (const t of yt) parts.push(`<line class="grid" x1="${MARGIN.left}" x2="${MARGIN.left + pw}" y1="${sy(t)}" y2="${sy(t)}"/>`
-    + `<text class="tick" x="${MARGIN.left - 6}" y="${sy(t) + 4}" text-anchor="end">${fmt(t)}</text>`);
+  const parts = gridAndTicks({ xt, yt, sx, sy, left: MARGIN.left, top: MARGIN.top, width: pw, height: ph });
   parts.push(`<line class="axis-zero" x1="${MARGIN.left}" x2="${MARGIN.left + pw}" y1="${sy(0)}" y2="${sy(0)}"/>`);
   parts.push(`<rect class="frame" x="${MARGIN.left}" y="${MARGIN.top}" width="${pw}" height="${ph}"/>`);
   if (pts.length) {

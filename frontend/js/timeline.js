@@ -2,7 +2,7 @@
 // requested hours across, a bar for each window from its first to its last deorbit time; a planner reads
 // "when" from it.
 import { escapeHtml, fmt } from "./format.js";
-import { niceTicks } from "./rangeplot.js";
+import { gridAndTicks, niceTicks } from "./rangeplot.js";
 
 const SVG_NS = "http://www.w3.org/2000/svg";
 const MARGIN = { left: 150, right: 16, top: 28, bottom: 34 };
@@ -22,11 +22,9 @@ export function drawTimeline(container, reach) {
   const pw = width - MARGIN.left - MARGIN.right, ph = height - MARGIN.top - MARGIN.bottom;
   const row = ph / Math.max(sites.length, 1);
   const sx = (h) => MARGIN.left + (h / (hours || 1)) * pw;
-  const parts = [`<rect class="frame" x="${MARGIN.left}" y="${MARGIN.top}" width="${pw}" height="${ph}"/>`];
-  for (const t of niceTicks(0, hours, 8)) {
-    parts.push(`<line class="grid" x1="${sx(t)}" x2="${sx(t)}" y1="${MARGIN.top}" y2="${MARGIN.top + ph}"/>`
-      + `<text class="tick" x="${sx(t)}" y="${MARGIN.top + ph + 14}" text-anchor="middle">${fmt(t, t % 1 ? 1 : 0)}</text>`);
-  }
+  const parts = [`<rect class="frame" x="${MARGIN.left}" y="${MARGIN.top}" width="${pw}" height="${ph}"/>`,
+                 ...gridAndTicks({ xt: niceTicks(0, hours, 8), yt: [], sx, sy: null, left: MARGIN.left, top: MARGIN.top,
+                                   width: pw, height: ph })];
   sites.forEach((s, i) => {
     const y = MARGIN.top + i * row;
     parts.push(`<text class="tick site-label${s.reachable ? "" : " missed"}" x="${MARGIN.left - 6}" y="${y + row / 2 + 4}" `
