@@ -192,7 +192,9 @@ def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
                        "collocation": {"intervals": 100, "max_seconds": 10}}
     result = run_optimization(far)
     assert not result.ok and not result.feasible
-    assert result.seconds <= 15.0  # one stage: the polish does not run after a stage without an optimum
+    # one stage: the polish does not run after a stage without an optimum (two stages would take 2 x 10 s; the
+    # wall time is checked between iterations, and far from an optimum one iteration can take seconds)
+    assert result.seconds < 20.0, result.message
     assert re.search(r"final_l(ati|ongi)tude_deg by \d", result.message), result.message  # in degrees
 
 
