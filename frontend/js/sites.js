@@ -7,6 +7,14 @@ import { openRing, wrapLongitude } from "./geometry.js";
 const $ = (id) => document.getElementById(id);
 const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : +v; };
 
+/** A site's stored verdict in a few words: "reached by lod-1.89 ... (node -30°, 45.9°)". */
+function verdict(s) {
+  const v = s.last_reach;
+  if (!v) return "";
+  return `<span class="verdict ${v.reachable ? "reached" : "missed"}">${v.reachable ? "reached" : "not reached"} by `
+    + `${escapeHtml(v.footprint)} (node ${fmt(v.orbit.node_longitude_deg, 1)}°, i ${fmt(v.orbit.inclination_deg, 1)}°)</span>`;
+}
+
 export class SitesPanel {
   constructor({ onChange, onReach, selectedFootprint, toast }) {
     this.sites = [];
@@ -31,9 +39,10 @@ export class SitesPanel {
     document.getElementById("map").classList.toggle("adding-sites", on);
   }
 
-  /** The sites with the last reach verdict attached (null: not analysed). */
+  /** The sites with the last reach verdict attached: this session's, else the one stored with the site (null:
+   * never analysed). */
   shown() {
-    return this.sites.map((s) => ({ ...s, reachable: this.reach?.get(s.name)?.reachable ?? null }));
+    return this.sites.map((s) => ({ ...s, reachable: this.reach?.get(s.name)?.reachable ?? s.last_reach?.reachable ?? null }));
   }
 
   async load() {
@@ -43,7 +52,7 @@ export class SitesPanel {
 
   render() {
     $("site-list").innerHTML = this.shown().map((s) => `<li><span>${escapeHtml(s.name)} <span class="muted">`
-      + `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°</span></span>`
+      + `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°</span>${verdict(s)}</span>`
       + `<button type="button" data-delete="${escapeHtml(String(s.id))}" aria-label="Delete ${escapeHtml(s.name)}">×</button></li>`).join("");
     this.onChange();
   }
@@ -87,19 +96,19 @@ export class SitesPanel {
     const points = openRing(fp.detail.points).map((p) => ({ downrange_nmi: p.downrange_nmi, crossrange_nmi: p.crossrange_nmi,
                                                             flight_time_s: p.flight_time_s }));
     const orbit = fp.controls; // the live orbit controls of the selected footprint
-    const body = {
+    const body = { // the stored sites, so that the service keeps each one's verdict with it
+      description: fp.name,
       footprint: { points },
       orbit: { inclination_deg: orbit.inclinationDeg, altitude_nmi: num("r-altitude"), node_longitude_deg: orbit.nodeLongitudeDeg },
-      sites: this.sites.map(({ name, latitude_deg, longitude_deg }) => ({ name, latitude_deg, longitude_deg })),
       revolutions: { first: 1, hours: num("r-hours") },
       earth_rotation: $("r-rotation").value,
     };
     $("reach-submit").disabled = true;
     try {
-      const result = await api("/api/reach", { method: "POST", body });
+      const result = await api("/api/reach?store_verdicts=true", { method: "POST", body });
       this.reach = new Map(result.sites.map((s) => [s.name, s]));
       this.renderReach(result);
-      this.render();
+      await this.load(); // the verdicts as stored
       this.onReach?.(result, fp);
     } catch (err) {
       showFieldError(form, err, $("reach-error"));

@@ -303,6 +303,11 @@ def test_landing_sites_and_reach(open_page, service):
     assert page.locator("#plot svg.timeline-plot rect.window").count() == len(windows)
     assert page.locator("path.reach-deorbit").count() >= len(windows)  # one line per window (and its copies)
     page.screenshot(path=str(FIGURES / "map_reach_timeline.png"))
+    # the verdicts are kept with the sites: after a reload the markers and the list still say them
+    page.reload()
+    page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+    assert page.locator("#site-list .verdict").count() == len(stored)
+    assert page.locator(".site-icon.site-reached, .site-icon.site-missed").count() >= len(stored)
 
 
 def test_exports_of_what_is_shown(open_page, service):

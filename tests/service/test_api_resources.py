@@ -107,7 +107,8 @@ def test_sites_crud_and_csv_upload(api):
     site = created.json()
     assert api.get(f"/api/sites/{site['id']}").json() == site
     moved = api.put(f"/api/sites/{site['id']}", json={"name": "WSSH", "latitude_deg": 32.94, "longitude_deg": -106.42})
-    assert moved.json() == {"id": site["id"], "name": "WSSH", "latitude_deg": 32.94, "longitude_deg": -106.42}
+    assert moved.json() == {"id": site["id"], "name": "WSSH", "latitude_deg": 32.94, "longitude_deg": -106.42,
+                            "last_reach": None}
     assert api.delete(f"/api/sites/{site['id']}").status_code == 204
     for method in ("get", "delete"):
         assert getattr(api, method)(f"/api/sites/{site['id']}").status_code == 404
@@ -136,3 +137,30 @@ def test_reach_uses_the_stored_sites_when_none_are_given(api):
     given = api.post("/api/reach", json=REACH).json()
     assert [s["name"] for s in given["sites"]] == ["KSC", "Edwards"]
     assert given["footprint"]["points"] == len(REACH_POINTS)
+
+
+def test_a_reach_may_keep_each_stored_sites_verdict(api):
+    """Issue 13 item 6: verdicts stored with the sites, shown again after a reload; only when asked, and only for
+    the stored sites (a reach that gives its own sites stores nothing)."""
+    from .studies import REACH
+
+    for site in REACH["sites"]:
+        assert api.post("/api/sites", json=site).status_code == 201
+    request = {k: v for k, v in REACH.items() if k != "sites"} | {"description": "four-point footprint"}
+    plain = api.post("/api/reach", json=request)
+    assert plain.status_code == 200 and all(s["last_reach"] is None for s in api.get("/api/sites").json())
+    kept = api.post("/api/reach", params={"store_verdicts": "true"}, json=request).json()
+    stored = {s["name"]: s["last_reach"] for s in api.get("/api/sites").json()}
+    for site in kept["sites"]:
+        v = stored[site["name"]]
+        assert (v["reachable"], v["windows"], v["footprint"]) == (site["reachable"], site["windows"],
+                                                                   "four-point footprint")
+        assert v["orbit"] == {"inclination_deg": 28.5, "node_longitude_deg": 0.0}
+    refused = api.post("/api/reach", params={"store_verdicts": "true"}, json=REACH)
+    assert refused.status_code == 422 and refused.json()["field"] == "store_verdicts"
+    site = next(s for s in api.get("/api/sites").json() if s["last_reach"] is not None)
+    renamed = api.put(f"/api/sites/{site['id']}", json={"name": "renamed", "latitude_deg": site["latitude_deg"],
+                                                        "longitude_deg": site["longitude_deg"]}).json()
+    assert renamed["last_reach"] == site["last_reach"]  # a new name keeps the verdict; a new place does not
+    moved = api.put(f"/api/sites/{site['id']}", json={"name": "renamed", "latitude_deg": 0.0, "longitude_deg": 0.0})
+    assert moved.json()["last_reach"] is None

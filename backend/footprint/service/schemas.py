@@ -89,6 +89,8 @@ class VehicleDetail(VehicleItem):
 
 class SiteRead(Site):
     id: int
+    last_reach: dict[str, Any] | None = None  # {"reachable", "windows", "first_deorbit_time_s", "best_margin_nmi",
+    # "footprint", "orbit", "checked_at"}: the last reach stored for it
 
 
 class SitesCreated(BaseModel):

@@ -126,6 +126,7 @@ class Site(Base):
     name: Mapped[str] = mapped_column(String(200))
     latitude_deg: Mapped[float] = mapped_column(Float)
     longitude_deg: Mapped[float] = mapped_column(Float)
+    last_reach: Mapped[dict[str, Any] | None]  # the verdict of the last reach stored for it (POST /api/reach?store_verdicts=true)
     created_at: Mapped[datetime] = mapped_column(default=utc_now)
 
 

@@ -239,10 +239,20 @@ def create_sites(session: Session, *, sites: list[dict]) -> list[Site]:
     return rows
 
 
+def store_verdicts(session: Session, *, verdicts: dict[int, dict]) -> None:
+    """Each site's last reach verdict, by site id (sites deleted meanwhile are skipped)."""
+    for site_id, verdict in verdicts.items():
+        row = session.get(Site, site_id)
+        if row is not None:
+            row.last_reach = verdict
+
+
 def update_site(session: Session, *, site_id: int, site: dict) -> Site | None:
-    """Replace a site's fields; None for an unknown id."""
+    """Replace a site's fields; None for an unknown id. A site moved loses its reach verdict."""
     row = session.get(Site, site_id)
     if row is not None:
+        if (row.latitude_deg, row.longitude_deg) != (site["latitude_deg"], site["longitude_deg"]):
+            row.last_reach = None
         for k, v in site.items():
             setattr(row, k, v)
     return row

@@ -5,7 +5,7 @@ import csv
 import io
 from typing import Any
 
-from fastapi import APIRouter, Body, Request, Response
+from fastapi import APIRouter, Body, Query, Request, Response
 from pydantic import ValidationError
 
 from footprint.cases import error_line
@@ -25,7 +25,13 @@ MAX_CSV_SITES = 10_000
 
 
 def _read(row) -> dict:
-    return {"id": row.id, "name": row.name, "latitude_deg": row.latitude_deg, "longitude_deg": row.longitude_deg}
+    return {"id": row.id, "name": row.name, "latitude_deg": row.latitude_deg, "longitude_deg": row.longitude_deg,
+            "last_reach": row.last_reach}
+
+
+def _site(row) -> dict:
+    """A stored site as the reach contract takes it."""
+    return {"name": row.name, "latitude_deg": row.latitude_deg, "longitude_deg": row.longitude_deg}
 
 
 @router.get("/sites", response_model=list[SiteRead])
@@ -106,20 +112,39 @@ def delete_site(site_id: int, request: Request) -> Response:
 
 
 @router.post("/reach")
-def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.reach request")) -> dict:
-    """Which sites the footprint reaches from which deorbit points (the stored sites when none are given)."""
+def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.reach request"),
+          store_verdicts: bool = Query(False, description="keep each stored site's verdict with it (stored sites "
+                                                          "only: the request gives no sites)")) -> dict:
+    """Which sites the footprint reaches from which deorbit points (the stored sites when none are given); with
+    store_verdicts, each stored site keeps its verdict (shown again after a reload)."""
     body = resolve_vehicles(body, lookup=stored_vehicle_lookup(request))
+    ids = None
     if not body.get("sites"):
         with deps.sessions(request).begin() as session:
-            body["sites"] = [{k: v for k, v in _read(r).items() if k != "id"} for r in q.list_sites(session)]
+            rows = q.list_sites(session)
+            body["sites"], ids = [_site(r) for r in rows], [r.id for r in rows]
         if not body["sites"]:
             raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
+    elif store_verdicts:
+        raise RequestInvalid("store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts")
     try:
         req = parse_reach(body)
         if req.footprint.study is not None:
             from footprint.studies import parse_study
 
             check_points(parse_study(req.footprint.study), "footprint.study.")
-        return plain(run_reach(req))
+        result = plain(run_reach(req))
     except (ValidationError, InputError) as exc:
         raise invalid(exc) from None
+    if store_verdicts:
+        with deps.sessions(request).begin() as session:
+            q.store_verdicts(session, verdicts={i: _verdict(s, req, result) for i, s in zip(ids, result["sites"])})
+    return result
+
+
+def _verdict(site: dict, req, result: dict) -> dict:
+    """What a site keeps of a reach: its verdict, and of what footprint and orbit."""
+    return {k: site[k] for k in ("reachable", "windows", "first_deorbit_time_s", "best_margin_nmi")} | {
+        "footprint": req.description or "footprint", "orbit": {k: result["orbit"][k] for k in
+                                                                ("inclination_deg", "node_longitude_deg")},
+        "checked_at": q.iso(q.utc_now())}
