@@ -123,8 +123,12 @@ export class SitesPanel {
       + `<td>${s.revolutions.slice(0, 4).join(", ")}${s.revolutions.length > 4 ? "…" : ""}</td>`
       + `<td>${fmt(s.best_margin_nmi)}</td><td>${s.first_deorbit_time_s == null ? "–" : fmt(s.first_deorbit_time_s / 3600, 2)}</td></tr>`);
     const notes = (result.notes || []).map((n) => `<p class="muted small">${escapeHtml(n)}</p>`).join("");
+    const reached = result.sites.filter((s) => s.reachable).length;
+    $("reach-summary").innerHTML = `${reached} of ${result.sites.length} sites reached, ${result.windows.length} landing `
+      + `windows (the timeline below the map) <button type="button" id="reach-table">Site table</button>${notes}`;
+    $("reach-table").addEventListener("click", () => $("reach-dialog").showModal());
     $("reach-result").innerHTML = `<table class="reach"><caption class="small muted">${fmt(result.analysis.placements)} deorbit points, `
       + `${fmt(result.analysis.seconds, 2)} s</caption><thead><tr><th>Site</th><th>Reach</th><th>Windows</th><th>Revs</th>`
-      + `<th>Best margin (nmi)</th><th>First (h)</th></tr></thead><tbody>${rows.join("")}</tbody></table>${notes}`;
+      + `<th>Best margin (nmi)</th><th>First (h)</th></tr></thead><tbody>${rows.join("")}</tbody></table>`;
   }
 }

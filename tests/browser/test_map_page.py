@@ -253,7 +253,7 @@ def test_keyboard_reaches_every_control_with_a_visible_focus(open_page):
     assert all(outlines[i] != "none" for i in wanted), {i: outlines[i] for i in wanted}
 
 
-@pytest.mark.parametrize("width,height", [(1280, 800), (800, 600)])
+@pytest.mark.parametrize("width,height", [(1280, 800), (1280, 720), (800, 600)])
 def test_layout_is_readable(open_page, width, height):
     page = open_page(width, height).page
     sizes = page.evaluate("""() => Object.fromEntries(['map', 'plot', 'live-controls'].map(
@@ -283,8 +283,12 @@ def test_landing_sites_and_reach(open_page, service):
     page.locator("#map").click(position={"x": 300, "y": 200})
     page.locator("#site-list li", has_text="Clicked site").wait_for()
     page.click("#reach-submit")
-    page.locator("table.reach tbody tr").first.wait_for(timeout=20_000)
+    page.locator("table.reach tbody tr").first.wait_for(state="attached", timeout=20_000)
     assert page.locator("table.reach tbody tr").count() == 4
+    page.click("#reach-table")  # the wide table gets a dialog of its own, not the sidebar (issue 13 item 6)
+    assert page.locator("#reach-dialog table.reach").is_visible()
+    assert page.locator("#reach-dialog").bounding_box()["width"] > 400
+    page.click("#reach-dialog-close")
     assert page.locator(".site-reached, .site-missed").count() >= 4  # markers coloured by the verdict
     # issue 13 item 6: the same request over the API (the live orbit of the selected footprint) has as many
     # windows as the timeline has bars, and each window's deorbit points are drawn on the map
@@ -364,7 +368,7 @@ def test_screenshots_of_both_projections(open_page, service):
     page = open_page(1280, 800).page
     FIGURES.mkdir(parents=True, exist_ok=True)
     page.click("#reach-submit")  # the landing sites coloured by the reach of the selected footprint
-    page.locator("table.reach").wait_for(timeout=20_000)
+    page.locator("table.reach").wait_for(state="attached", timeout=20_000)
     page.evaluate("() => { document.querySelector('.sidebar').scrollTop = 0; }")
     page.evaluate("() => window.footprintApp.mapView.fitFootprints([...window.footprintApp.state.footprints.values()])")
     page.wait_for_timeout(400)
