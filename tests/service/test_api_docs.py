@@ -24,3 +24,32 @@ def test_every_example_in_the_api_document_is_accepted(api, method, path, body):
     if path == "/api/jobs":
         job = wait_for_job(api, response.json()["id"])
         assert job["status"] == "succeeded", job["error"]
+
+
+def test_the_openapi_document_declares_the_error_body_the_service_sends(api):
+    """Issue 14 item 2 (part): FastAPI's default 422 schema (a list of loc/msg) is not what the service answers;
+    every operation declares ErrorBody for its errors, and real error answers fit it."""
+    from footprint.service.errors import ErrorBody
+
+    spec = api.get("/openapi.json").json()
+    ref = {"$ref": "#/components/schemas/ErrorBody"}
+    assert "HTTPValidationError" not in spec["components"]["schemas"]
+    for path, operations in spec["paths"].items():
+        for method, op in operations.items():
+            errors = {c: r for c, r in op["responses"].items() if c.startswith(("4", "5"))}
+            assert "422" in errors, (method, path)
+            assert all(r["content"]["application/json"]["schema"] == ref for r in errors.values()), (method, path)
+            if "{" in path:
+                assert "404" in errors, (method, path)
+            if method in ("post", "put", "patch", "delete"):
+                assert {"401", "413"} <= set(errors), (method, path)
+    assert "409" in spec["paths"]["/api/vehicles"]["post"]["responses"]
+    answers = [api.post("/api/trajectories", json={"vehicle": {"builtin": "lod-1.89"},
+                                                   "entry": {"altitude_ft": 364800, "velocity_fps": 50, "gamma_deg": -2}}),
+               api.get("/api/footprints/nope"), api.post("/api/jobs", json={"kind": "nope"}),
+               api.post("/api/vehicles", json={"id": "lod-1.89", "vehicle": {"aero": {"constant": {"cl": 1, "cd": 1}},
+                                                                             "wing_loading_psf": 50}})]
+    assert [a.status_code for a in answers] == [422, 404, 422, 409]
+    for a in answers:
+        ErrorBody.model_validate(a.json(), strict=True)
+        assert set(a.json()) <= {"detail", "field"}

@@ -45,6 +45,7 @@ def create_app(settings: Settings) -> FastAPI:
     app.state.read_sessions = make_sessions(db, reads_only=True)
     app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings)
     errors.install(app)
+    errors.document(app)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
         app.include_router(module.router, prefix="/api")
     app.add_middleware(GuardMiddleware, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)

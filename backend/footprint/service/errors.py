@@ -6,7 +6,7 @@ field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from footprint.cases import error_line
@@ -39,6 +39,19 @@ class BodyTooLarge(Exception):
 
 class Unavailable(RuntimeError):
     """Something the service needs is not installed or not reachable (503)."""
+
+
+class ErrorBody(BaseModel):
+    """Every error the service answers (issue 14: the OpenAPI document declares this, not FastAPI's default)."""
+
+    detail: str  # one readable line
+    field: str | None = None  # a 422's offending field, its dotted path in the request
+
+
+ERRORS = {422: "a field out of range or inconsistent, named in `field`", 404: "no such id",
+          401: "a write without the bearer token (when FOOTPRINT_API_TOKEN is set)",
+          413: "a body over the limit", 409: "a clash with stored state", 503: "a part the service needs is missing"}
+WRITES = {"post", "put", "patch", "delete"}
 
 
 STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
@@ -98,6 +111,35 @@ def status_of(exc: Exception) -> int:
         if isinstance(exc, kind):
             return status
     return 500
+
+
+def document(app: FastAPI) -> None:
+    """Declare ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation schema,
+    which the service never sends), 404 under a path with an id, 401 and 413 on writes, and the 409 and 503 that
+    routes declare themselves."""
+    plain = app.openapi
+
+    def openapi() -> dict:
+        if app.openapi_schema:
+            return app.openapi_schema
+        spec = plain()
+        ref = {"$ref": "#/components/schemas/ErrorBody"}
+        schemas = spec.setdefault("components", {}).setdefault("schemas", {})
+        schemas["ErrorBody"] = ErrorBody.model_json_schema()
+        for path, operations in spec["paths"].items():
+            for method, op in operations.items():
+                responses = op.setdefault("responses", {})
+                codes = {"422"} | ({"404"} if "{" in path else set()) | ({"401", "413"} if method in WRITES else set())
+                codes |= {c for c in ("409", "503") if c in responses}
+                for code in codes:
+                    responses[code] = {"description": ERRORS[int(code)],
+                                       "content": {"application/json": {"schema": ref}}}
+        for unused in ("HTTPValidationError", "ValidationError"):
+            schemas.pop(unused, None)
+        app.openapi_schema = spec
+        return spec
+
+    app.openapi = openapi
 
 
 def install(app: FastAPI) -> None:

@@ -79,7 +79,7 @@ def _csv(points: list[dict]) -> str:
     return out.getvalue()
 
 
-@router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse)
+@router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse, responses={503: {}})
 def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
     """A standalone folium map of the footprint that works offline (footprint.foliummap)."""
     from footprint.foliummap import footprint_map_html

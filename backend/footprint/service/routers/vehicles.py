@@ -113,7 +113,7 @@ def get_vehicle(vehicle_id: str, request: Request) -> dict:
     return _custom_item(row) | {"definition": row.definition, "aero": _aero(vehicle)}
 
 
-@router.post("/vehicles", response_model=VehicleDetail, status_code=201)
+@router.post("/vehicles", response_model=VehicleDetail, status_code=201, responses={409: {}})
 def create_vehicle(body: VehicleCreate, request: Request) -> dict:
     """Store a custom vehicle (tables, polynomial or constant CL/CD, plus its wing loading)."""
     if body.id in builtin_vehicle_ids():
@@ -134,7 +134,7 @@ def create_vehicle(body: VehicleCreate, request: Request) -> dict:
     return _custom_item(row) | {"definition": definition, "aero": _aero(vehicle)}
 
 
-@router.delete("/vehicles/{vehicle_id}", status_code=204)
+@router.delete("/vehicles/{vehicle_id}", status_code=204, responses={409: {}})
 def delete_vehicle(vehicle_id: str, request: Request) -> Response:
     """Delete a custom vehicle (a built-in: 409)."""
     if vehicle_id in builtin_vehicle_ids():
