@@ -399,3 +399,13 @@ def test_footprints_get_unique_names_and_can_be_renamed(api):
     blank = api.patch(f"/api/footprints/{first['id']}", json={"name": "   "})
     assert blank.status_code == 422 and "name" in blank.json()["detail"]
     assert api.patch("/api/footprints/nope", json={"name": "x"}).status_code == 404
+
+
+def test_a_footprint_jobs_default_name_is_set_when_it_is_created(api):
+    """Issue 14 item 2 (part): the name was computed by the engine, parsing the study again, when the job ran."""
+    job_id = submit(api, "footprint", FOOTPRINT)
+    queued = api.get(f"/api/jobs/{job_id}").json()
+    assert queued["name"] == "lod-1.89 single_parameter 22000 fps -3 deg"  # the study's vehicle, method and entry
+    done = wait_for_job(api, job_id)
+    stored = api.get(done["result"]["footprints"][0]).json()
+    assert stored["name"].startswith(queued["name"])  # numbered when another footprint has it

@@ -228,12 +228,11 @@ def _calls(kind: str, study: dict, name: str | None) -> list[tuple]:
 
 
 def _footprint_name(study: dict) -> str:
+    """A job stored before its default name was set at creation (a restart resubmits it)."""
+    from footprint.service.jobs.studies import footprint_name
     from footprint.studies import parse_study
-    from footprint.sweeps import vehicle_label
 
-    s = parse_study(study)
-    e = s.case.entry
-    return f"{vehicle_label(s.case.vehicle)} {s.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"
+    return footprint_name(parse_study(study))
 
 
 def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:

@@ -49,18 +49,28 @@ def _stored(value: dict, lookup, where: str) -> dict:
     return definition
 
 
-def check_study(kind: str, study: dict) -> None:
-    """Validate a job's study for its kind; RequestInvalid (422) names `study.<field>`."""
+def check_study(kind: str, study: dict) -> str | None:
+    """Validate a job's study for its kind; RequestInvalid (422) names `study.<field>`. Returns the job's
+    default name (a footprint job's: its vehicle, method and entry), computed once here, at creation."""
     try:
-        CHECKS[kind](study)
+        return CHECKS[kind](study)
     except (ValidationError, InputError) as exc:
         raise invalid(exc, "study.") from None
 
 
-def _check_footprint(study: dict) -> None:
+def footprint_name(study) -> str:
+    """A footprint study's default name: vehicle, method, entry speed and flight-path angle."""
+    from footprint.sweeps import vehicle_label
+
+    e = study.case.entry
+    return f"{vehicle_label(study.case.vehicle)} {study.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"
+
+
+def _check_footprint(study: dict) -> str:
     parsed = parse_study(study)
     check_points(parsed, "study.")
     _case_spec(parsed.case, "study.case.")
+    return footprint_name(parsed)
 
 
 def _check_optimize(study: dict) -> None:

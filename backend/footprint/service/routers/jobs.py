@@ -40,9 +40,9 @@ def create_job(body: JobCreate, request: Request, response: Response) -> dict:
     """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
     as the Location header) to poll or follow."""
     study = resolve_vehicles(body.study, lookup=stored_vehicle_lookup(request), path="study")
-    check_study(body.kind, study)
+    default_name = check_study(body.kind, study)
     with deps.sessions(request).begin() as session:
-        job = q.create_job(session, kind=body.kind, study=study, name=body.name)
+        job = q.create_job(session, kind=body.kind, study=study, name=body.name or default_name)
         job_id = job.id
     deps.engine(request).submit(job_id=job_id)
     response.headers["Location"] = url = f"/api/jobs/{job_id}"
