@@ -1,7 +1,7 @@
 """A footprint's boundary as an area on a map of latitude and longitude (issue 13).
 
-The boundary's edges are straight in the (down-range, cross-range) chart about the entry, as
-footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and longitude instead,
+The boundary's edges are straight in the (down-range, cross-range) chart about the entry (AFWAL-TR-82-3036
+eqs. 8-11, core.ranges), as footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and longitude instead,
 the long edges of a footprint over a pole become chords between points far apart in longitude. So each edge
 is sampled in the chart (every MAX_EDGE_NMI) and carried to latitude and longitude (ranges.latlon_from_ranges),
 the longitudes kept continuous. A boundary that goes once round the earth's axis encloses a pole (which one,
@@ -18,7 +18,7 @@ from footprint.core.ranges import latlon_from_ranges
 from footprint.core.reach import placement_margins
 from footprint.core.transforms import Reference
 
-MAX_EDGE_NMI = 60.0  # chart length of an outline's edge: within 0.1 nmi of the chart's straight edge
+MAX_EDGE_NMI = 60.0  # chart length of an outline's edge (1 deg of arc): short beside any footprint's features
 
 
 @dataclass(frozen=True)
