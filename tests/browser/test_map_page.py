@@ -614,3 +614,35 @@ def test_an_exact_move_draws_the_track_flown_again_and_says_how_far_the_shift_is
     assert shown["track"]["latitude_deg"] == pytest.approx(shown["tip"]["latitude_deg"], abs=1e-6)
     assert delta_deg(shown["track"]["longitude_deg"], shown["tip"]["longitude_deg"]) == pytest.approx(0.0, abs=1e-6)
     assert not run.errors, run.errors
+
+
+LONG_JOB = {"kind": "footprint", "name": "lod-1.89 Table 2 entry, past half-way round",
+            "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
+                               "entry": {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0,
+                                         "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
+                               "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                      "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120, 150], "mirror": True}}
+
+
+def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service):
+    """The L/D 1.89 footprint reaches 14,869 nmi, past half the circumference; moved to a polar orbit (node
+    -60 deg) it crosses both the pole and the antimeridian. The map fills one area, the range plot keeps the
+    flown down-range (no point folded below 0), and the picture is kept for docs/figures."""
+    job = service.run_job(LONG_JOB)
+    fp_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
+    page = open_page(1280, 800).page
+    page.evaluate("""async (id) => { const app = window.footprintApp;
+        for (const fp of app.state.footprints.values()) if (fp.id !== id && fp.visible) await app.setVisible(fp, false);
+        await app.select(id); }""", fp_id)
+    selector = polygon_selector(fp_id)
+    d0 = page.get_attribute(selector, "d")
+    page.fill("#node-longitude", "-60")
+    page.fill("#inclination", "90")
+    page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
+                           timeout=10_000)
+    page.evaluate("() => window.footprintApp.mapView.map.fitBounds([[-85, -200], [90, 200]], {animate: false})")
+    page.wait_for_timeout(300)
+    shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown", fp_id)
+    assert shown["outline"]["pole"] == "north"
+    assert min(p["downrange_nmi"] for p in shown["points"]) > 0 and max(p["downrange_nmi"] for p in shown["points"]) > 14_000
+    page.screenshot(path=str(FIGURES / "map_past_halfway_polar.png"))

@@ -85,8 +85,13 @@ def all_points(fp: Footprint) -> list[FootprintPoint]:
     return list(fp.points) + list(fp.interior)
 
 
+def control_key(side: str, parameter: dict):
+    """What names a footprint point across two flights of one study: its side and control parameters."""
+    return side, tuple(sorted(parameter.items()))
+
+
 def point_key(p: FootprintPoint):
-    return p.side, tuple(sorted(p.parameter.items()))
+    return control_key(p.side, p.parameter)
 
 
 def approximate_points(fp: Footprint, dst: Reference, step_downrange_nmi=0.0,

@@ -166,13 +166,10 @@ def _exact_track(study: dict, reference: dict) -> list[dict]:
 def _error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) -> dict:
     """Section IV.3's question for this footprint: the approximate shift of each stored point against the point
     of the same control flown again (largest and mean distance on the sphere, nmi, over the points in both)."""
-    from footprint.core.rotation import distance_nmi
+    from footprint.core.rotation import control_key, distance_nmi
 
-    def key(p):
-        return p["side"], json.dumps(p["parameter"], sort_keys=True)
-
-    flown = {key(p): p for p in exact}
-    pairs = [(a, flown[key(s)]) for s, a in zip(stored, shifted) if key(s) in flown]
+    flown = {control_key(p["side"], p["parameter"]): p for p in exact}
+    pairs = [(a, flown[k]) for s, a in zip(stored, shifted) if (k := control_key(s["side"], s["parameter"])) in flown]
     if not pairs:
         return {"max": None, "mean": None, "points": 0}
     d = distance_nmi([a["latitude_deg"] for a, _ in pairs], [a["longitude_deg"] for a, _ in pairs],
