@@ -15,10 +15,10 @@ import json
 import time
 from pathlib import Path
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import collocation as col
 from footprint.core import optimize as O
-from footprint.optimization import collocation_problem, parse_optimization, run_optimization
+from footprint.contracts.optimization import collocation_problem, parse_optimization, run_optimization
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"

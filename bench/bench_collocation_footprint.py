@@ -23,8 +23,8 @@ import numpy as np
 
 from footprint.core import constrained as C
 from footprint.core.footprints import crossrange_at_nmi, footprint
-from footprint.figures import footprints_figure, save
-from footprint.studies import parse_study
+from footprint.pictures.figures import footprints_figure, save
+from footprint.contracts.footprint import parse_study
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"

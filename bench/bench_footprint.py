@@ -13,7 +13,7 @@ import json
 from pathlib import Path
 
 from bench_trajectory import scipy_flight
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core.footprints import single_parameter, with_bank
 from _timing import median_ms  # noqa: E402
 

@@ -14,7 +14,7 @@ down-range within 5 % of the optimized ones, at >= 10x less computation.
 import json
 from pathlib import Path
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 
 HERE = Path(__file__).resolve().parent

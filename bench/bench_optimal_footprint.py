@@ -12,7 +12,7 @@ import json
 from pathlib import Path
 
 import numpy as np
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 
 HERE = Path(__file__).resolve().parent

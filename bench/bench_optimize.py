@@ -13,7 +13,7 @@ import json
 import statistics
 from pathlib import Path
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import optimize as O
 
 HERE = Path(__file__).resolve().parent

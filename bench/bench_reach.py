@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 from footprint.api import footprint  # noqa: E402
 from footprint.core.orbits import frames  # noqa: E402
 from footprint.core.reach import margins_reference, reach  # noqa: E402
-from footprint.reach import parse_reach  # noqa: E402
+from footprint.contracts.reach import parse_reach  # noqa: E402
 from _timing import timings_s  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

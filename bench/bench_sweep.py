@@ -18,7 +18,7 @@ from pathlib import Path
 
 from distributed import Client, LocalCluster
 
-from footprint.sweeps import parse_sweep, run_sweep
+from footprint.contracts.sweep import parse_sweep, run_sweep
 
 HERE = Path(__file__).resolve().parent
 PRESET = HERE.parent / "examples" / "sweep_dataset1.json"

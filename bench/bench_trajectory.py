@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
 from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, _set_left_pole
 from _timing import median_ms  # noqa: E402

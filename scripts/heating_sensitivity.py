@@ -22,7 +22,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.core.aero import ld_max
 from footprint.core.controls import pack_controls

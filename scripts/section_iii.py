@@ -13,12 +13,12 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.core.controls import pack_controls
 from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import simulate
-from footprint.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
+from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
 from matplotlib.figure import Figure
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.core.footprints import with_bank
 from footprint.core.trajectory import simulate

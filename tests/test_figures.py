@@ -1,4 +1,4 @@
-"""Figures (footprint.figures): what is drawn is the data, in the report's axes and units; files are valid."""
+"""Figures (footprint.pictures.figures): what is drawn is the data, in the report's axes and units; files are valid."""
 
 import xml.etree.ElementTree as ET
 from dataclasses import replace
@@ -9,8 +9,8 @@ from matplotlib.colors import to_rgb
 import numpy as np
 import pytest
 
-from footprint import figures as G
-from footprint.cases import parse_case
+from footprint.pictures import figures as G
+from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core.trajectory import Trajectory
 

@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from footprint.foliummap import FRONTEND_DIR, topojson_features, unwrap_longitudes, unwrap_ring
+from footprint.pictures.folium_page import FRONTEND_DIR, topojson_features, unwrap_longitudes, unwrap_ring
 
 pytestmark = pytest.mark.skipif(not (FRONTEND_DIR / "vendor" / "leaflet").is_dir(),
                                 reason="run `npm ci` in frontend/ (the map inlines the npm leaflet package)")

@@ -1,4 +1,4 @@
-"""The transform contract (footprint.mapping, `footprint transform`) and the world maps (footprint.mapfigures)."""
+"""The transform contract (footprint.contracts.transform, `footprint transform`) and the world maps (footprint.pictures.maps)."""
 
 import csv
 import json
@@ -9,10 +9,10 @@ import sys
 import numpy as np
 import pytest
 
-from footprint import mapfigures as M
+from footprint.pictures import maps as M
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.transforms import Reference
-from footprint.mapping import TransformRequest, run_transform
+from footprint.contracts.transform import TransformRequest, run_transform
 
 EAST = {"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0}
 # the L/D 1.89 footprint's left half, non-rotating (front, left side, back): lat, lon deg, flight time s

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from footprint.optimization import parse_optimization
+from footprint.contracts.optimization import parse_optimization
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDY = json.loads((ROOT / "examples" / "optimize_lod189_4000nmi.json").read_text())

@@ -1,4 +1,4 @@
-"""The reach request (footprint.reach) and `footprint reach`, run as a user runs it: a new process, exit status,
+"""The reach request (footprint.contracts.reach) and `footprint reach`, run as a user runs it: a new process, exit status,
 stdout and stderr."""
 
 import csv
@@ -12,7 +12,7 @@ import pytest
 
 from footprint.core.errors import InputError
 from footprint.core.orbits import CircularOrbit, position
-from footprint.reach import parse_reach, run_reach
+from footprint.contracts.reach import parse_reach, run_reach
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "reach_20_sites.json"

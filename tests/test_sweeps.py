@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 from distributed import Client, LocalCluster, get_task_stream
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
-from footprint.sweeps import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep, run_sweep
+from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep, run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 MEDIUM = {"builtin": "lod-2.6", "wing_loading_psf": 70}  # Appendix C's medium L/D vehicle, as the figures label it
@@ -146,7 +146,7 @@ def test_the_point_table_has_one_row_per_point_with_the_declared_columns(small, 
 
 def test_figures_per_vehicle_and_velocity_and_the_pullout_carpet(small, tmp_path):
     result, _, _ = small
-    pytest.importorskip("footprint.figures")
+    pytest.importorskip("footprint.pictures.figures")
     written = result.write(tmp_path)
     names = sorted(p.name for p in written if p.suffix == ".png")
     assert names == ["lod-2.6_70psf_V22000_footprints.png", "lod-2.6_70psf_V25800_footprints.png",
@@ -156,7 +156,7 @@ def test_figures_per_vehicle_and_velocity_and_the_pullout_carpet(small, tmp_path
 
 def test_no_figures_module_means_tables_only(small, tmp_path, monkeypatch):
     result, _, _ = small
-    monkeypatch.setitem(sys.modules, "footprint.figures", None)  # as if the module were not there
+    monkeypatch.setitem(sys.modules, "footprint.pictures.figures", None)  # as if the module were not there
     written = result.write(tmp_path)
     assert [p.name for p in written] == ["points.csv", "summary.csv", "sweep.json"]
     assert "figures skipped" in result.figures_note

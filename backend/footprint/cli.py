@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 from pydantic import ValidationError
 
-from footprint.cases import error_line, parse_case
+from footprint.contracts.case import error_line, parse_case
 from footprint.core.errors import InputError, NoOptimum
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
@@ -110,7 +110,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
     """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories). Exit status
     1 with one line on stderr when a collocation footprint's first solves end without an optimum."""
     from footprint.core.footprints import footprint as run
-    from footprint.studies import parse_study
+    from footprint.contracts.footprint import parse_study
 
     _writable(plot, "--plot")
     data = _read_json(study_file)
@@ -125,7 +125,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(1) from None
     if plot is not None:
-        from footprint.figures import save_footprint_plot
+        from footprint.pictures.figures import save_footprint_plot
 
         save_footprint_plot(fp, plot)
     typer.echo(json.dumps(fp.to_dict(), indent=2, default=_json_default))
@@ -147,7 +147,7 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
 
     from tqdm import tqdm
 
-    from footprint.sweeps import check_vehicles, dask_client, parse_sweep, run_sweep
+    from footprint.contracts.sweep import check_vehicles, dask_client, parse_sweep, run_sweep
 
     _writable(out, "--out")
     data = _read_json(sweep_file)
@@ -203,7 +203,7 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
                                                      help="also write the points as CSV")):
     """Move footprint points to another node, inclination or deorbit point (Section IV), mirror a half, and
     allow for the earth's rotation; print the moved points as JSON."""
-    from footprint.mapping import run_transform, write_csv
+    from footprint.contracts.transform import run_transform, write_csv
 
     _writable(csv_out, "--csv")
     data = _read_json(request_file)
@@ -226,7 +226,7 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
 
     Prints JSON: the orbit, the footprint, a summary per site and the windows (contiguous runs of deorbit
     argument of latitude per revolution and site); on a terminal, a short summary unless --json."""
-    from footprint.reach import parse_reach, run_reach, write_windows_csv
+    from footprint.contracts.reach import parse_reach, run_reach, write_windows_csv
 
     _writable(csv_out, "--csv")
     data = _read_json(request_file)
@@ -249,7 +249,7 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
     bank(t) to the true optimum (IPOPT): prints the optimum, its parameters or control tables and the convergence
     history as JSON. Exit status 1 when no feasible point was found (the result, and for the collocation one line
     on stderr, say by how much). On a terminal, a short summary unless --json."""
-    from footprint.optimization import parse_optimization, run_optimization
+    from footprint.contracts.optimization import parse_optimization, run_optimization
 
     _writable(plot, "--plot")
     data = _read_json(study_file)
@@ -260,7 +260,7 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
         _fail(error_line(exc))
     result = run_optimization(study)
     if plot is not None:
-        from footprint.figures import collocation_figure, optimization_figure, save
+        from footprint.pictures.figures import collocation_figure, optimization_figure, save
 
         save((collocation_figure if study.method == "collocation" else optimization_figure)(result), plot)
     _answer(result.to_dict(), as_json, _optimum_lines)
@@ -277,7 +277,7 @@ def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
          title: Optional[str] = typer.Option(None, "--title", help="the map's title [vehicle and method]")):
     """Write a standalone HTML map of a footprint (folium, cylindrical equidistant, Natural Earth) that works
     offline: Leaflet and the coastlines are inlined, nothing is loaded from the internet."""
-    from footprint.foliummap import write_footprint_map
+    from footprint.pictures.folium_page import write_footprint_map
 
     _writable(out, "--out")
     data = _read_json(footprint_file)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from footprint.core.footprints import crossrange_at_nmi, footprint
-from footprint.studies import parse_study
+from footprint.contracts.footprint import parse_study
 
 ROOT = Path(__file__).resolve().parents[2]
 BETTS_CASE = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())["case"]

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.core.constants import G0_FT_S2
 from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating

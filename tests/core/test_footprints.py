@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core.ranges import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate

@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from footprint.api import fly
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core.atmosphere import FT_PER_M, KG_PER_SLUG, atmosphere_table
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import (

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core import optimize as O
 

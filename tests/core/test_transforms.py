@@ -391,7 +391,7 @@ ROTATION_STUDY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -
 
 
 def l189_spec():
-    from footprint.cases import parse_case
+    from footprint.contracts.case import parse_case
 
     return parse_case({"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": False},
                        "entry": ROTATION_STUDY, "stop": {"altitude_ft": 50_000}}).to_spec()

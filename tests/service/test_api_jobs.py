@@ -128,7 +128,7 @@ def test_footprint_list_csv_and_geojson(api, footprint_job):
 
 
 def test_the_offline_map_page_of_a_footprint(api, footprint_job):
-    from footprint.foliummap import FRONTEND_DIR
+    from footprint.pictures.folium_page import FRONTEND_DIR
 
     _, stored = footprint_job
     r = api.get(f"/api/footprints/{stored['id']}/map")

@@ -10,7 +10,7 @@ from pathlib import Path
 import footprint.core
 
 CORE = Path(footprint.core.__file__).parent
-FORBIDDEN = ("footprint.service", "footprint.cli", "footprint.cases", "pydantic", "fastapi", "starlette",
+FORBIDDEN = ("footprint.service", "footprint.cli", "footprint.contracts.case", "pydantic", "fastapi", "starlette",
              "sqlalchemy", "alembic", "distributed", "dask", "uvicorn", "psycopg")
 
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from footprint.core.outline import Outline
-from footprint.service import geo
+from footprint.pictures import geojson as geo
 
 
 def ring(lat, lon, pole=None):

@@ -133,7 +133,7 @@ def test_every_footprint_method_has_its_point_count_checked():
     `turn_deg` and answered 500 on every route that accepts it)."""
     from footprint.service.errors import RequestInvalid
     from footprint.service.jobs.studies import check_points
-    from footprint.studies import parse_study
+    from footprint.contracts.footprint import parse_study
 
     heated = CASE | {"heating": {"model": "reference"}}
     check_points(parse_study({"case": heated, "method": "temperature_limited", "limit_R": 2550}), "study.")

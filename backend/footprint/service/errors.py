@@ -1,6 +1,6 @@
 """One table from exception types to HTTP status, and the one-line bodies: {"detail": "...", "field": ...}.
 
-Validation errors reuse footprint.cases.error_line, so a REST user reads the same line as a CLI user, with the
+Validation errors reuse footprint.contracts.case.error_line, so a REST user reads the same line as a CLI user, with the
 field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
 from fastapi import FastAPI, Request
@@ -9,7 +9,7 @@ from fastapi.responses import JSONResponse
 from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from footprint.cases import error_line
+from footprint.contracts.case import error_line
 from footprint.core.errors import InputError
 
 

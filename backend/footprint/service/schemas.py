@@ -1,12 +1,12 @@
 """Request and response models of the REST API (docs/api.md). Cases and studies are not redefined here: a
 job's study, a trajectory's case, a transform or a reach request are parsed by their contract modules
-(footprint.cases, .studies, .optimization, .sweeps, .mapping, .reach); landing sites reuse footprint.reach.Site."""
+(footprint.contracts.case, .studies, .optimization, .sweeps, .mapping, .reach); landing sites reuse footprint.contracts.reach.Site."""
 
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from footprint.reach import Site
+from footprint.contracts.reach import Site
 from footprint.service.jobs.studies import KINDS
 
 JobKind = Literal[KINDS]
@@ -20,7 +20,7 @@ class _Strict(BaseModel):
 
 class JobCreate(_Strict):
     kind: JobKind
-    study: dict[str, Any]  # checked by the kind's contract parser (footprint.studies, .optimization, ...)
+    study: dict[str, Any]  # checked by the kind's contract parser (footprint.contracts.footprint, .optimization, ...)
     name: str | None = Field(default=None, max_length=200)
 
 
@@ -61,7 +61,7 @@ class JobList(BaseModel):
 class VehicleCreate(_Strict):
     id: str = Field(pattern=VEHICLE_ID_PATTERN)
     description: str = Field(default="", max_length=4_000)
-    vehicle: dict[str, Any]  # the case contract's vehicle (footprint.cases.VehicleCase)
+    vehicle: dict[str, Any]  # the case contract's vehicle (footprint.contracts.case.VehicleCase)
 
 
 class VehicleItem(BaseModel):

@@ -1,7 +1,7 @@
 """The job engine: each job's tasks on Dask, its progress and results in the database.
 
 One Dask client for the service's life: an in-process LocalCluster (processes, one thread each) or an external
-scheduler, through footprint.sweeps.dask_client (the same code path as `footprint sweep`). A small thread pool
+scheduler, through footprint.contracts.sweep.dask_client (the same code path as `footprint sweep`). A small thread pool
 in the service process watches the jobs: it submits a job's tasks, records progress as they complete, and
 writes the results with the status `succeeded` in one transaction. A restart submits queued and running jobs
 again; the unique keys on the results make a second write of the same job impossible (so two service processes
@@ -217,7 +217,7 @@ def _calls(kind: str, study: dict, name: str | None) -> list[tuple]:
     if kind == "footprint":
         return [(tasks.footprint_task, study, name or _footprint_name(study))]
     if kind == "sweep":
-        from footprint.sweeps import parse_sweep
+        from footprint.contracts.sweep import parse_sweep
 
         sweep = parse_sweep(study)
         return [(tasks.sweep_footprint_task, job, f"{sweep.name} {job['key'][0]} {job['key'][1]:g} fps "
@@ -230,7 +230,7 @@ def _calls(kind: str, study: dict, name: str | None) -> list[tuple]:
 def _footprint_name(study: dict) -> str:
     """A job stored before its default name was set at creation (a restart resubmits it)."""
     from footprint.service.jobs.studies import footprint_name
-    from footprint.studies import parse_study
+    from footprint.contracts.footprint import parse_study
 
     return footprint_name(parse_study(study))
 

@@ -6,11 +6,11 @@ from typing import Callable
 from pydantic import ValidationError
 
 from footprint.core.errors import InputError
-from footprint.optimization import parse_optimization
-from footprint.reach import parse_reach
+from footprint.contracts.optimization import parse_optimization
+from footprint.contracts.reach import parse_reach
 from footprint.service.errors import RequestInvalid, invalid
-from footprint.studies import parse_study
-from footprint.sweeps import check_vehicles, parse_sweep
+from footprint.contracts.footprint import parse_study
+from footprint.contracts.sweep import check_vehicles, parse_sweep
 
 KINDS = ("footprint", "optimize", "sweep", "reach")
 MAX_FOOTPRINT_POINTS = 200  # one footprint study over HTTP (the contract allows more for the CLI)
@@ -60,7 +60,7 @@ def check_study(kind: str, study: dict) -> str | None:
 
 def footprint_name(study) -> str:
     """A footprint study's default name: vehicle, method, entry speed and flight-path angle."""
-    from footprint.sweeps import vehicle_label
+    from footprint.contracts.sweep import vehicle_label
 
     e = study.case.entry
     return f"{vehicle_label(study.case.vehicle)} {study.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"

@@ -86,7 +86,7 @@ def ground_track(spec) -> dict:
 
 def footprint_record(fp, study, study_dict: dict, track: dict, name: str) -> dict:
     """A flown footprint as the row data the store writes (summary, points, interior, ground track)."""
-    from footprint.sweeps import vehicle_label
+    from footprint.contracts.sweep import vehicle_label
 
     entry = study.case.entry
     return {"name": name, "vehicle": vehicle_label(study.case.vehicle), "method": fp.method, "study": study_dict,
@@ -108,7 +108,7 @@ def _point(p) -> dict:
 def footprint_task(study_dict: dict, name: str) -> dict:
     """A footprint job: the footprint and its zero-bank ground track. Raises what the core raises."""
     from footprint.core import footprints as core
-    from footprint.studies import parse_study
+    from footprint.contracts.footprint import parse_study
 
     study = parse_study(study_dict)
     spec = study.case.to_spec()
@@ -117,10 +117,10 @@ def footprint_task(study_dict: dict, name: str) -> dict:
 
 
 def sweep_footprint_task(job: dict, name: str) -> dict:
-    """One footprint of a sweep (footprint.sweeps.fly_footprint) and its ground track; a footprint the core
+    """One footprint of a sweep (footprint.contracts.sweep.fly_footprint) and its ground track; a footprint the core
     fails on comes back as {"key", "error"}."""
-    from footprint.studies import parse_study
-    from footprint.sweeps import fly_footprint
+    from footprint.contracts.footprint import parse_study
+    from footprint.contracts.sweep import fly_footprint
 
     run = fly_footprint(job)
     if run.footprint is None:
@@ -134,7 +134,7 @@ def optimize_task(study_dict: dict) -> dict:
     integrator's; the ground track and the histories the page plots); a collocation that ends without an
     optimum fails the job with its one line (status and largest violation)."""
     from footprint.core.collocation import NoOptimum, Result
-    from footprint.optimization import fly_optimum, parse_optimization, run_optimization
+    from footprint.contracts.optimization import fly_optimum, parse_optimization, run_optimization
 
     study = parse_optimization(study_dict)
     result = run_optimization(study, on_progress=progress_reporter())
@@ -144,7 +144,7 @@ def optimize_task(study_dict: dict) -> dict:
 
 
 def reach_task(request: dict) -> dict:
-    """A reach job: footprint.reach's windows and per-site summary."""
-    from footprint.reach import run_reach
+    """A reach job: footprint.contracts.reach's windows and per-site summary."""
+    from footprint.contracts.reach import run_reach
 
     return plain(run_reach(request))

@@ -8,7 +8,8 @@ from typing import Any, Literal
 from fastapi import APIRouter, Body, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
-from footprint.service import deps, geo
+from footprint.pictures import geojson
+from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.core.errors import InputError
 from footprint.service.errors import NotFound, RequestInvalid, Unavailable
@@ -62,11 +63,11 @@ def get_footprint(footprint_id: str, request: Request,
     """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV."""
     item, _ = _full(request, footprint_id)
     if format == "geojson":
-        return Response(json.dumps(geo.feature_collection(item)), media_type="application/geo+json")
+        return Response(json.dumps(geojson.feature_collection(item)), media_type="application/geo+json")
     if format == "csv":
         return Response(_csv(item["points"]), media_type="text/csv",
                         headers={"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
-    return item | {"outline": geo.area(item["points"], item["entry"]).to_dict()}
+    return item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()}
 
 
 def _csv(points: list[dict]) -> str:
@@ -81,8 +82,8 @@ def _csv(points: list[dict]) -> str:
 
 @router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse, responses={503: {}})
 def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
-    """A standalone folium map of the footprint that works offline (footprint.foliummap)."""
-    from footprint.foliummap import footprint_map_html
+    """A standalone folium map of the footprint that works offline (footprint.pictures.folium_page)."""
+    from footprint.pictures.folium_page import footprint_map_html
 
     item, _ = _full(request, footprint_id)
     try:
@@ -132,7 +133,7 @@ def transform_footprint(footprint_id: str, request: Request,
                "flight_time_s": p["flight_time_s"], "downrange_nmi": p["downrange_nmi"]} for p in item["points"]]
     result = transform(common | ({"study": study} if exact else {"points": points}))
     boundary = [p for p in result["points"] if p.get("on_boundary", True)]
-    area = geo.area(boundary, result["reference"])
+    area = geojson.area(boundary, result["reference"])
     result["outline"] = area.to_dict()
     if exact:
         result["ground_track"] = _exact_track(study, result["reference"])
@@ -146,7 +147,7 @@ def transform_footprint(footprint_id: str, request: Request,
                                    "time_s": p.get("flight_time_s")} for p in moved["points"]]
     moved_item = item | {"points": boundary, "ground_track": result.get("ground_track", []),
                          "entry": item["entry"] | result["reference"]}
-    result["geojson"] = geo.feature_collection(moved_item, area)  # the same GeoJSON as the stored footprint's
+    result["geojson"] = geojson.feature_collection(moved_item, area)  # the same GeoJSON as the stored footprint's
     return result
 
 
@@ -155,7 +156,7 @@ def _exact_track(study: dict, reference: dict) -> list[dict]:
     from footprint.core.rotation import at_geometry
     from footprint.core.transforms import Reference
     from footprint.service.jobs.tasks import ground_track
-    from footprint.studies import parse_study
+    from footprint.contracts.footprint import parse_study
 
     dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
     track = ground_track(at_geometry(parse_study(study).case.to_spec(), dst, rotating=True))

@@ -1,4 +1,4 @@
-"""POST /api/transform: footprint.mapping's transform contract, at most 10,000 points over HTTP."""
+"""POST /api/transform: footprint.contracts.transform's transform contract, at most 10,000 points over HTTP."""
 
 from typing import Any
 
@@ -6,7 +6,7 @@ from fastapi import APIRouter, Body, Request
 from pydantic import ValidationError
 
 from footprint.core.errors import InputError
-from footprint.mapping import run_transform
+from footprint.contracts.transform import run_transform
 from footprint.service.errors import RequestInvalid, invalid
 from footprint.service.jobs.studies import check_points, resolve_vehicles
 from footprint.service.routers.vehicles import stored_vehicle_lookup
@@ -23,7 +23,7 @@ def transform(request_body: dict) -> dict:
                              f"{MAX_TRANSFORM_POINTS:,} over HTTP", "points")
     try:
         if isinstance(request_body.get("study"), dict):
-            from footprint.studies import parse_study
+            from footprint.contracts.footprint import parse_study
 
             check_points(parse_study(request_body["study"]), "study.")
         return run_transform(request_body)
@@ -32,6 +32,6 @@ def transform(request_body: dict) -> dict:
 
 
 @router.post("/transform")
-def transform_points(request: Request, body: dict[str, Any] = Body(..., description="footprint.mapping request")):
+def transform_points(request: Request, body: dict[str, Any] = Body(..., description="footprint.contracts.transform request")):
     """Move points to another node, inclination or deorbit point; mirror; earth rotation."""
     return transform(resolve_vehicles(body, lookup=stored_vehicle_lookup(request)))

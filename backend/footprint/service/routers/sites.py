@@ -1,4 +1,4 @@
-"""Landing sites: CRUD and CSV upload; POST /api/reach (footprint.reach, synchronous) with the stored sites
+"""Landing sites: CRUD and CSV upload; POST /api/reach (footprint.contracts.reach, synchronous) with the stored sites
 when the request gives none."""
 
 import csv
@@ -8,9 +8,9 @@ from typing import Any
 from fastapi import APIRouter, Body, Query, Request, Response
 from pydantic import ValidationError
 
-from footprint.cases import error_line
+from footprint.contracts.case import error_line
 from footprint.core.errors import InputError
-from footprint.reach import Site, parse_reach, run_reach
+from footprint.contracts.reach import Site, parse_reach, run_reach
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.errors import NotFound, RequestInvalid, invalid
@@ -112,7 +112,7 @@ def delete_site(site_id: int, request: Request) -> Response:
 
 
 @router.post("/reach")
-def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.reach request"),
+def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.contracts.reach request"),
           store_verdicts: bool = Query(False, description="keep each stored site's verdict with it (stored sites "
                                                           "only: the request gives no sites)")) -> dict:
     """Which sites the footprint reaches from which deorbit points (the stored sites when none are given); with
@@ -130,7 +130,7 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
     try:
         req = parse_reach(body)
         if req.footprint.study is not None:
-            from footprint.studies import parse_study
+            from footprint.contracts.footprint import parse_study
 
             check_points(parse_study(req.footprint.study), "footprint.study.")
         result = plain(run_reach(req))

@@ -5,7 +5,7 @@ from typing import Any
 from fastapi import APIRouter, Body, Request
 from pydantic import ValidationError
 
-from footprint.cases import parse_case
+from footprint.contracts.case import parse_case
 from footprint.core.errors import InputError
 from footprint.core.trajectory import simulate
 from footprint.service.errors import invalid
@@ -18,7 +18,7 @@ MAX_HISTORY_ROWS = 2_000
 
 
 @router.post("/trajectories")
-def fly(request: Request, case: dict[str, Any] = Body(..., description="a case (footprint.cases.Case)")) -> dict:
+def fly(request: Request, case: dict[str, Any] = Body(..., description="a case (footprint.contracts.case.Case)")) -> dict:
     """Fly one case: its summary and its time histories (at most 2,000 rows)."""
     case = resolve_vehicles(case, lookup=stored_vehicle_lookup(request))
     try:

@@ -7,7 +7,7 @@ import threading
 from fastapi import APIRouter, Request, Response
 from pydantic import ValidationError
 
-from footprint.cases import VehicleCase
+from footprint.contracts.case import VehicleCase
 from footprint.core.aero import SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_cl_max_deg, builtin_vehicle, \
     builtin_vehicle_ids, coefficients, ld_max, vehicle_summaries
 from footprint.core.errors import InputError

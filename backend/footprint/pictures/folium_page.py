@@ -27,7 +27,7 @@ from footprint.core.errors import InputError
 from footprint.core.ranges import MEAN_RADIUS_NMI
 from footprint.core.transforms import latlon_of
 
-FRONTEND_DIR = Path(__file__).resolve().parents[2] / "frontend"  # the page's folder in the repository
+FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"  # the page's folder in the repository
 WORLD_COPIES_DEG = (-360.0, 0.0, 360.0)
 GRATICULE_DEG = 30.0
 TRACK_SAMPLE_DEG = 1.0  # the initial great circle's samples when the footprint carries no ground track

@@ -27,7 +27,7 @@ from typing import Annotated, ClassVar, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, TypeAdapter, model_validator
 
-from footprint.cases import (
+from footprint.contracts.case import (
     Bank,
     Case,
     EnergyNode,

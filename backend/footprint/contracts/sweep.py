@@ -7,7 +7,7 @@ contours). The contract:
 
     {"name": "dataset1",
      "base": CASE without vehicle, bank and the swept entry fields,
-     "method": "single_parameter" | "constant_altitude", plus that method's parameters (as in studies.py),
+     "method": "single_parameter" | "constant_altitude", plus that method's parameters (as in contracts/footprint.py),
      "vehicles": ["low-lod", {"builtin": "lod-2.6", "wing_loading_psf": 70}, ...],
      "entry_velocity_fps": [...], "entry_gamma_deg": [...], "velocity_frame": "inertial",
      "contours_fps": [...]}
@@ -15,7 +15,7 @@ contours). The contract:
 `run_sweep` flies it on Dask (an in-process LocalCluster by default, or a scheduler address; the same
 code path) and gathers the footprints as they complete. A footprint the core fails on becomes a row
 with its error message; the rest of the sweep goes on. `SweepResult.write(folder)` writes the tidy
-point table, the per-footprint summary and, when footprint.figures is there, the figures.
+point table, the per-footprint summary and, when footprint.pictures.figures is there, the figures.
 
 Each task also flies the footprint's zero-bank reference trajectory (the case's own alpha law, bank
 held at zero), which gives the pull-out point of Figs. C-34 and C-35: every point that shares its
@@ -37,9 +37,9 @@ from typing import Annotated, Any, Callable, Literal, Union
 
 from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, create_model, model_validator
 
-from footprint.cases import Case, EntryCase, Strict, VehicleCase, bounded, error_line
+from footprint.contracts.case import Case, EntryCase, Strict, VehicleCase, bounded, error_line
 from footprint.core.errors import InputError
-from footprint.studies import ConstantAltitudeStudy, SingleParameterStudy, parse_study
+from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, parse_study
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
 SWEPT_ENTRY_FIELDS = ("velocity_fps", "gamma_deg", "velocity_frame")
@@ -397,7 +397,7 @@ class SweepResult:
         return rows
 
     def write(self, folder, figures: bool = True) -> list[Path]:
-        """points.csv, summary.csv and sweep.json in `folder`; figures/ too when footprint.figures exists."""
+        """points.csv, summary.csv and sweep.json in `folder`; figures/ too when footprint.pictures.figures exists."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         written = [_write_csv(folder / "points.csv", POINT_COLUMNS, self.point_rows()),
@@ -411,7 +411,7 @@ class SweepResult:
     def write_figures(self, folder) -> list[Path]:
         """Per vehicle and entry velocity, the footprints over entry angle; per vehicle, the pull-out carpet;
         per footprint with iso-velocity contours, the contours. Skipped (see `figures_note`) while
-        footprint.figures is not there."""
+        footprint.pictures.figures is not there."""
         fig = _figures_module()
         if isinstance(fig, str):
             self.figures_note = fig
@@ -442,21 +442,21 @@ class SweepResult:
 
 
 def _figures_module():
-    """footprint.figures, or a note saying why there are no figures."""
+    """footprint.pictures.figures, or a note saying why there are no figures."""
     import importlib
     import warnings
 
     try:
-        fig = importlib.import_module("footprint.figures")
+        fig = importlib.import_module("footprint.pictures.figures")
     except ModuleNotFoundError as exc:
-        if exc.name != "footprint.figures":
+        if exc.name != "footprint.pictures.figures":
             warnings.warn(f"figures skipped: {exc}", stacklevel=3)
             return f"figures skipped: {exc}"
-        return "figures skipped: footprint.figures is not installed"
+        return "figures skipped: footprint.pictures.figures is not installed"
     missing = [f for f in ("footprints_figure", "contours_figure", "pullout_carpet_figure", "save")
                if not hasattr(fig, f)]
     if missing:
-        return f"figures skipped: footprint.figures has no {', '.join(missing)}"
+        return f"figures skipped: footprint.pictures.figures has no {', '.join(missing)}"
     return fig
 
 

@@ -38,7 +38,7 @@ from typing import Literal
 import numpy as np
 from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_validator
 
-from footprint.cases import Strict, bounded, error_line
+from footprint.contracts.case import Strict, bounded, error_line
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
@@ -126,7 +126,7 @@ class TransformRequest(Strict):
     mirror: bool = False
     earth_rotation: Literal["none", "approximate", "exact"] = "none"
     rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = OMEGA_EARTH_DEG_S  # omega_p of the shift
-    study: dict | None = None  # a footprint study (footprint.studies): "exact" flies it again
+    study: dict | None = None  # a footprint study (footprint.contracts.footprint): "exact" flies it again
 
     _study = PrivateAttr(default=None)
 
@@ -145,7 +145,7 @@ class TransformRequest(Strict):
             if self.study is None:
                 raise ValueError("study: required with earth_rotation 'exact' (a footprint study to fly again on the "
                                  "rotating earth from the destination)")
-            from footprint.studies import parse_study
+            from footprint.contracts.footprint import parse_study
 
             try:
                 self._study = parse_study(self.study)

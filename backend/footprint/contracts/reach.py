@@ -2,7 +2,7 @@
 (AFWAL-TR-82-3036 Section IV, questions 1-3). One pydantic request, shared by the CLI and the REST API:
 
     {"footprint": {"points": [{"downrange_nmi", "crossrange_nmi", "flight_time_s"}, ...], "mirror": false}
-                  or {"study": <a footprint study, as footprint.studies accepts>},
+                  or {"study": <a footprint study, as footprint.contracts.footprint accepts>},
      "orbit": {"inclination_deg", "altitude_ft" | "altitude_nmi",
                "node_longitude_deg" | "right_ascension_deg" + "greenwich_sidereal_deg", "nodal_regression", ...},
      "sites": [{"name", "latitude_deg", "longitude_deg"}, ...],
@@ -23,7 +23,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, ValidationError, model_validator
 
-from footprint.cases import Strict, bounded, error_line
+from footprint.contracts.case import Strict, bounded, error_line
 from footprint.core import constants as K
 from footprint.core.errors import InputError
 from footprint.core.orbits import J2, CircularOrbit
@@ -153,7 +153,7 @@ def parse_reach(data: dict | ReachRequest) -> ReachRequest:
     """Validate a request; a footprint study inside it is validated too (errors name footprint.study...)."""
     req = data if isinstance(data, ReachRequest) else ReachRequest.model_validate(data)
     if req.footprint.study is not None:
-        from footprint.studies import parse_study
+        from footprint.contracts.footprint import parse_study
 
         try:
             parse_study(req.footprint.study)
@@ -167,7 +167,7 @@ def footprint_polygon(req: ReachRequest):
     fp = req.footprint
     if fp.study is not None:
         from footprint.api import footprint as fly_footprint
-        from footprint.studies import parse_study
+        from footprint.contracts.footprint import parse_study
 
         study = parse_study(fp.study)
         flown = fly_footprint(study)

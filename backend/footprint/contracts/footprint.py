@@ -8,7 +8,7 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, TypeAdapter, model_validator
 
-from footprint.cases import Case, Strict, bounded
+from footprint.contracts.case import Case, Strict, bounded
 
 BankDeg = bounded(-180, 180, "deg")
 

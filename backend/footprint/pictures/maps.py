@@ -9,7 +9,7 @@ would cross longitude 180 is cut there, each piece drawn to the map's edge (the 
 unconnected, Fig. 32); on the orthographic map lines stop at the limb.
 
 Every function returns a matplotlib Figure built without pyplot's registry; write it with
-footprint.figures.save (PNG or SVG by the suffix).
+footprint.pictures.figures.save (PNG or SVG by the suffix).
 """
 
 import math
