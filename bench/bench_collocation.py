@@ -18,7 +18,8 @@ from pathlib import Path
 from footprint.contracts.case import parse_case
 from footprint.core import collocation as col
 from footprint.core import optimize as O
-from footprint.contracts.optimization import collocation_problem, parse_optimization, run_optimization
+from footprint.contracts.optimization import collocation_problem, parse_optimization
+from footprint.contracts.optimization import run as run_optimization
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"

@@ -18,7 +18,8 @@ from pathlib import Path
 
 from distributed import Client, LocalCluster
 
-from footprint.contracts.sweep import parse_sweep, run_sweep
+from footprint.contracts.sweep import parse_sweep
+from footprint.contracts.sweep import run as run_sweep
 
 HERE = Path(__file__).resolve().parent
 PRESET = HERE.parent / "examples" / "sweep_dataset1.json"

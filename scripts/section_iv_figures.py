@@ -264,7 +264,7 @@ the shift, and holds for the flown footprints only in the inertial sense.
 
 ## The transform contract
 
-`footprint transform FILE.json [--csv OUT.csv]` (and `footprint.contracts.transform.run_transform` from Python) takes
+`footprint transform FILE.json [--csv OUT.csv]` (and `footprint.contracts.transform.run` from Python) takes
 
 ```json
 {{"points": [{{"latitude_deg": 13.18, "longitude_deg": 115.44, "flight_time_s": 2753}},

@@ -12,7 +12,8 @@ import pytest
 from footprint.pictures import maps as M
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.transforms import Reference
-from footprint.contracts.transform import TransformRequest, run_transform
+from footprint.contracts.transform import TransformRequest
+from footprint.contracts.transform import run as run_transform
 
 EAST = {"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0}
 # the L/D 1.89 footprint's left half, non-rotating (front, left side, back): lat, lon deg, flight time s

@@ -12,7 +12,8 @@ from distributed import Client, LocalCluster, get_task_stream
 
 from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
-from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep, run_sweep
+from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep
+from footprint.contracts.sweep import run as run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 MEDIUM = {"builtin": "lod-2.6", "wing_loading_psf": 70}  # Appendix C's medium L/D vehicle, as the figures label it
@@ -174,7 +175,7 @@ def run_cli(*args, cwd=None):
     ({"bank0_deg": [0, 200]}, "bank0_deg.1: 200 is outside the allowed range 0 to 180 deg"),
     ({"method": "spiral"}, "method"),
     ({"steps": 4}, "steps: Extra inputs are not permitted"),
-    ({"vehicles": ["lod-9.9"]}, "vehicles[0].builtin: unknown vehicle 'lod-9.9'"),
+    ({"vehicles": ["lod-9.9"]}, "vehicles.0.builtin: unknown vehicle 'lod-9.9'"),
     ({"base": {**BASE, "entry": {"altitude_ft": -5}}}, "base.entry.altitude_ft: -5 is outside the allowed range"),
     ({"contours_fps": [2_000, 2_000]}, "contours_fps: 2000 is listed twice"),
 ])

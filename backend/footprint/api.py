@@ -1,18 +1,15 @@
-"""The Python door: fly(case) and footprint(study), with dicts or validated models."""
+"""The Python door: fly(case) and footprint(study), with dicts or validated models (footprint.contracts)."""
 
-from footprint.contracts.case import Case, parse_case
-from footprint.core.footprints import Footprint
-from footprint.core.footprints import footprint as _footprint
-from footprint.core.trajectory import Trajectory, simulate
-from footprint.contracts.footprint import parse_study
+from footprint import contracts
 
 
-def fly(case: dict | Case) -> Trajectory:
-    """Fly one trajectory. `case` follows the case contract (see footprint.contracts.case.Case)."""
-    return simulate(parse_case(case).to_spec())
+def fly(case):
+    """Fly one trajectory (footprint.core.trajectory.Trajectory). `case` follows the case contract
+    (footprint.contracts.case.Case)."""
+    return contracts.module("case").run(contracts.parse("case", case))
 
 
-def footprint(study) -> Footprint:
-    """A landing footprint. `study` follows the study contract (see footprint.contracts.footprint)."""
-    study = parse_study(study)
-    return _footprint(study.case.to_spec(), study.method, **study.to_params())
+def footprint(study, on_progress=None):
+    """A landing footprint (footprint.core.footprints.Footprint). `study` follows the study contract
+    (footprint.contracts.footprint)."""
+    return contracts.module("footprint").run(contracts.parse("footprint", study), on_progress)

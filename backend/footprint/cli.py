@@ -8,7 +8,8 @@ from typing import Optional
 import typer
 from pydantic import ValidationError
 
-from footprint.contracts.case import error_line, parse_case
+from footprint import contracts
+from footprint.contracts.case import error_line
 from footprint.core.errors import InputError, NoOptimum
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
@@ -32,6 +33,15 @@ def _read_json(path: Path) -> dict:
     if not isinstance(data, dict):
         _fail(f"{path}: expected a JSON object")
     return data
+
+
+def _request(kind: str, path: Path):
+    """The file's request of this kind, parsed once (footprint.contracts); a mistake: one line, exit 2."""
+    data = _read_json(path)
+    try:
+        return contracts.parse(kind, data)
+    except (ValidationError, InputError) as exc:
+        _fail(error_line(exc))
 
 
 def _writable(path: Optional[Path], option: str) -> None:
@@ -89,15 +99,8 @@ def _json_default(o):
 def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case file (see README: the case contract)"),
         history: Optional[Path] = typer.Option(None, "--history", metavar="FILE.csv", help="write the time histories")):
     """Fly one trajectory and print its summary as JSON."""
-    from footprint.core.trajectory import simulate
-
     _writable(history, "--history")
-    data = _read_json(case_file)
-    try:
-        spec = parse_case(data).to_spec()
-    except (ValidationError, InputError) as exc:
-        _fail(error_line(exc))
-    traj = simulate(spec)
+    traj = contracts.module("case").run(_request("case", case_file))
     if history is not None:
         traj.write_csv(history)
     typer.echo(json.dumps(traj.summary, indent=2, default=_json_default))
@@ -109,18 +112,10 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
                                                    help="draw the footprint (PNG or SVG by the suffix)")):
     """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories). Exit status
     1 with one line on stderr when a collocation footprint's first solves end without an optimum."""
-    from footprint.core.footprints import footprint as run
-    from footprint.contracts.footprint import parse_study
-
     _writable(plot, "--plot")
-    data = _read_json(study_file)
+    study = _request("footprint", study_file)
     try:
-        study = parse_study(data)
-        spec = study.case.to_spec()
-    except (ValidationError, InputError) as exc:
-        _fail(error_line(exc))
-    try:
-        fp = run(spec, study.method, **study.to_params())
+        fp = contracts.module("footprint").run(study)
     except NoOptimum as exc:  # a collocation footprint's first solves
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(1) from None
@@ -147,15 +142,10 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
 
     from tqdm import tqdm
 
-    from footprint.contracts.sweep import check_vehicles, dask_client, parse_sweep, run_sweep
+    from footprint.contracts.sweep import dask_client
 
     _writable(out, "--out")
-    data = _read_json(sweep_file)
-    try:
-        sw = parse_sweep(data)
-        check_vehicles(sw)
-    except (ValidationError, InputError) as exc:
-        _fail(error_line(exc))
+    sw = _request("sweep", sweep_file)
     if workers is not None and not 1 <= workers <= 256:
         _fail(f"--workers: {workers} is outside the allowed range 1 to 256")
     if scheduler is not None and (workers is not None or "://" not in scheduler):
@@ -167,7 +157,8 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
         bar = stack.enter_context(tqdm(total=sw.size, unit="footprint", file=sys.stderr, mininterval=0.5))
-        result = run_sweep(sw, client=client, progress=lambda done, total: bar.update(done - bar.n))
+        result = contracts.module("sweep").run(sw, client=client,
+                                               progress=lambda done, total: bar.update(done - bar.n))
     written = result.write(folder)
     _print_sweep_summary(result)
     figures = sum(p.suffix in (".png", ".svg") for p in written)
@@ -203,13 +194,13 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
                                                      help="also write the points as CSV")):
     """Move footprint points to another node, inclination or deorbit point (Section IV), mirror a half, and
     allow for the earth's rotation; print the moved points as JSON."""
-    from footprint.contracts.transform import run_transform, write_csv
+    from footprint.contracts.transform import write_csv
 
     _writable(csv_out, "--csv")
-    data = _read_json(request_file)
+    request = _request("transform", request_file)
     try:
-        result = run_transform(data)
-    except (ValidationError, InputError) as exc:
+        result = contracts.module("transform").run(request)
+    except InputError as exc:  # a place the request's numbers cannot make (an inclination the latitude cannot fly)
         _fail(error_line(exc))
     if csv_out is not None:
         write_csv(result, csv_out)
@@ -226,15 +217,10 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
 
     Prints JSON: the orbit, the footprint, a summary per site and the windows (contiguous runs of deorbit
     argument of latitude per revolution and site); on a terminal, a short summary unless --json."""
-    from footprint.contracts.reach import parse_reach, run_reach, write_windows_csv
+    from footprint.contracts.reach import write_windows_csv
 
     _writable(csv_out, "--csv")
-    data = _read_json(request_file)
-    try:
-        request = parse_reach(data)
-    except (ValidationError, InputError) as exc:
-        _fail(error_line(exc))
-    result = run_reach(request)
+    result = contracts.module("reach").run(_request("reach", request_file))
     if csv_out is not None:
         write_windows_csv(result, csv_out)
     _answer(result, as_json, _reach_lines)
@@ -249,16 +235,9 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
     bank(t) to the true optimum (IPOPT): prints the optimum, its parameters or control tables and the convergence
     history as JSON. Exit status 1 when no feasible point was found (the result, and for the collocation one line
     on stderr, say by how much). On a terminal, a short summary unless --json."""
-    from footprint.contracts.optimization import parse_optimization, run_optimization
-
     _writable(plot, "--plot")
-    data = _read_json(study_file)
-    try:
-        study = parse_optimization(data)
-        study.case.to_spec()
-    except (ValidationError, InputError) as exc:
-        _fail(error_line(exc))
-    result = run_optimization(study)
+    study = _request("optimize", study_file)
+    result = contracts.module("optimize").run(study)
     if plot is not None:
         from footprint.pictures.figures import collocation_figure, optimization_figure, save
 

@@ -42,7 +42,7 @@ def test_other_job_kinds_name_their_fields(api):
     r = post_job(api, "sweep", with_changes(SWEEP, "entry_velocity_fps", [500]))
     assert r.status_code == 422 and r.json()["field"] == "study.entry_velocity_fps.0"
     r = post_job(api, "sweep", with_changes(SWEEP, "vehicles", [{"stored": "nobody"}]))
-    assert r.status_code == 422 and r.json()["field"] == "study.vehicles[0].stored"
+    assert r.status_code == 422 and r.json()["field"] == "study.vehicles.0.stored"
     r = post_job(api, "optimize", {"case": CASE, "max_trajectories": 5})
     assert r.status_code == 422 and r.json()["field"] == "study.max_trajectories"
     r = post_job(api, "reach", with_changes(REACH, "orbit.inclination_deg", 200))
@@ -129,15 +129,21 @@ def test_cors_allows_the_configured_origins_only(guarded, api):
 
 
 def test_every_footprint_method_has_its_point_count_checked():
-    """The service's count of boundary points knows every method (a temperature-limited study reached
-    `turn_deg` and answered 500 on every route that accepts it)."""
-    from footprint.service.errors import RequestInvalid
-    from footprint.service.jobs.studies import check_points
-    from footprint.contracts.footprint import parse_study
+    """The count of boundary points lives on each study model and knows every method (a temperature-limited
+    study reached `turn_deg` in the service's own switch and answered 500 on every route that accepts it)."""
+    from pydantic import ValidationError
+
+    from footprint import contracts
+    from footprint.contracts.case import HTTP, context, error_line
 
     heated = CASE | {"heating": {"model": "reference"}}
-    check_points(parse_study({"case": heated, "method": "temperature_limited", "limit_R": 2550}), "study.")
-    check_points(parse_study({"case": CASE, "method": "collocation", "points_per_half": 11}), "study.")
-    with pytest.raises(RequestInvalid, match="study.bank0_deg"):
-        check_points(parse_study({"case": heated, "method": "temperature_limited", "limit_R": 2550,
-                                  "bank0_deg": [float(b % 180) for b in range(181)]}), "study.")
+    http = context(HTTP)
+    contracts.parse("footprint", {"case": heated, "method": "temperature_limited", "limit_R": 2550}, http)
+    contracts.parse("footprint", {"case": CASE, "method": "collocation", "points_per_half": 11}, http)
+    wide = {"case": heated, "method": "temperature_limited", "limit_R": 2550,
+            "bank0_deg": [float(b % 180) for b in range(181)]}
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("footprint", wide, http)
+    assert error_line(err.value).startswith("bank0_deg: 181 settings x 2 sides = 362 footprint points is outside "
+                                            "the allowed range 1 to 200 over HTTP")
+    assert contracts.parse("footprint", wide).settings() == ("bank0_deg", 181)  # the CLI's own machine: allowed

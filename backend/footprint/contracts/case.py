@@ -4,10 +4,14 @@ Each model converts itself into the core's plain types (`to_spec`). Every quanti
 every number is bounded, and a value out of range is reported as "field: value is outside ...".
 """
 
+import functools
+import json
+import re
 from dataclasses import replace
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, ValidationError,
+                      ValidationInfo, model_validator)
 
 from footprint.core import constants as K
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
@@ -18,22 +22,66 @@ from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
 
 
 def bounded(lo: float, hi: float, unit: str = "", kind: type = float):
-    """A float (or `kind`, e.g. int) in [lo, hi]; the error names the range and the unit."""
+    """A float (or `kind`, e.g. int) in [lo, hi]; the error names the range and the unit. JSON's true and false are
+    not numbers here (pydantic would read false as 0)."""
 
     def check(v):
         if not lo <= v <= hi:
             raise ValueError(f"{v:g} is outside the allowed range {lo:g} to {hi:g}{' ' + unit if unit else ''}")
         return v
 
-    return Annotated[kind, AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})]
+    return Annotated[kind, BeforeValidator(_not_bool), AfterValidator(check),
+                     Field(json_schema_extra={"minimum": lo, "maximum": hi})]
+
+
+def _not_bool(v):
+    if isinstance(v, bool):
+        raise ValueError(f"{str(v).lower()} is not a number")
+    return v
 
 
 class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
+def model_fields(model, exclude=(), **replace) -> dict:
+    """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
+    out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}
+    return out | replace
+
+
+# ------------------------------------------------------------------------------------ doors and their limits
+# A request is validated with a context: the door it came through ("python" for the CLI and the Python API, "http"
+# for the service, which shares its workers and bounds the work more tightly) and, over HTTP, the stored vehicles.
+HTTP = "http"
+
+
+def context(door: str = "python", vehicles=None) -> dict:
+    """The validation context of a door; `vehicles(id) -> definition | None` resolves {"stored": id}."""
+    return {"door": door, "vehicles": vehicles}
+
+
+def door_limit(info: ValidationInfo, python: int, http: int) -> tuple[int, str]:
+    """The limit that applies through the request's door, and how to say it."""
+    if (info.context or {}).get("door") == HTTP:
+        return http, " over HTTP"
+    return python, ""
+
+
+def parse(adapter: TypeAdapter, data, model: type, ctx: dict | None = None):
+    """One request of a kind: a model passes through; a dict is validated (pydantic's ValidationError names the
+    field, an InputError from the core too)."""
+    return data if isinstance(data, model) else adapter.validate_python(data, context=ctx or context())
+
+
 # ----------------------------------------------------------------------------------------- vehicle
 class VehicleCase(Strict):
+    """A built-in vehicle (with an optional wing-loading change), an inline aero definition, or (over HTTP) a vehicle
+    stored in the service, {"stored": id}."""
+
+    model_config = ConfigDict(extra="forbid", json_schema_extra={
+        "anyOf": [{"required": ["builtin"]}, {"required": ["aero"]}, {"required": ["stored"]}]})
+    stored: str | None = Field(default=None, max_length=64)  # replaced by its definition as it is parsed
     builtin: str | None = None
     name: str | None = None
     wing_loading_psf: bounded(1, 2000, "lb/ft^2") | None = None
@@ -41,10 +89,31 @@ class VehicleCase(Strict):
     reference_area_ft2: bounded(0.01, 1e5, "ft^2") | None = None
     aero: dict[str, Any] | None = None
 
+    @model_validator(mode="before")
+    @classmethod
+    def _stored(cls, data, info: ValidationInfo):
+        if not isinstance(data, dict) or "stored" not in data:
+            return data
+        if set(data) != {"stored"}:
+            raise ValueError("stored: a stored vehicle is given by its id alone")
+        lookup = (info.context or {}).get("vehicles")
+        if lookup is None:
+            raise ValueError("stored: stored vehicles live in the service (POST /api/vehicles); give 'builtin' or "
+                             "'aero' here")
+        definition = lookup(str(data["stored"]))
+        if definition is None:
+            raise ValueError(f"stored: no stored vehicle {data['stored']!r} (GET /api/vehicles lists them)")
+        return definition
+
     @model_validator(mode="after")
     def _one_source(self):
         if self.builtin is None and self.aero is None:
             raise ValueError("give either 'builtin' (a built-in vehicle id) or 'aero' with a wing loading")
+        try:  # the core's checks of an id or of inline tables, here, where the request is parsed (built once: cached)
+            self.to_vehicle()
+        except InputError as exc:
+            below = exc.field.removeprefix("vehicle").lstrip(".")
+            raise ValueError(f"{below}: {exc.message}" if below else exc.message) from None
         return self
 
     def to_vehicle(self):
@@ -52,7 +121,26 @@ class VehicleCase(Strict):
             v = builtin_vehicle(self.builtin)
             d = self.model_dump(exclude_none=True, exclude={"builtin"})
             return replace(v, wing_loading_psf=_wing_loading(d, v.wing_loading_psf))
-        return vehicle_from_definition(self.model_dump(exclude_none=True), field="vehicle")
+        return _inline_vehicle(self.model_dump_json(exclude_none=True))
+
+    def label(self) -> str:
+        """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""
+        if self.name:
+            return self.name
+        if self.builtin is None:
+            return "inline"
+        if self.wing_loading_psf is not None:
+            return f"{self.builtin}@{self.wing_loading_psf:g}psf"
+        if self.weight_lb is not None and self.reference_area_ft2 is not None:
+            return f"{self.builtin}@{self.weight_lb / self.reference_area_ft2:g}psf"
+        return self.builtin
+
+
+@functools.lru_cache(maxsize=32)
+def _inline_vehicle(definition_json: str):
+    """An inline aero definition packed once per process (packing its tables takes up to a second; a sweep's
+    footprints share one)."""
+    return vehicle_from_definition(json.loads(definition_json), field="vehicle")
 
 
 def _wing_loading(d, default):
@@ -408,8 +496,9 @@ def error_line(exc: ValidationError | InputError) -> str:
     for err in exc.errors():
         loc = []
         for i, x in enumerate(err["loc"]):
-            if (i == 0 or err["loc"][i - 1] in ("bank", "alpha", "heating")) and isinstance(x, str) \
-                    and x in _LAW_TAGS:
+            after = err["loc"][i - 1] if i else None
+            if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating", "study") and x in _LAW_TAGS)
+                                       or (after == "study" and x in _STUDY_TAGS)):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
             loc.append(str(x))
         msg = err["msg"].removeprefix("Value error, ")
@@ -426,8 +515,14 @@ def error_line(exc: ValidationError | InputError) -> str:
                 msg += " (this looks like a case: a study holds it as 'case' and names its 'method')"
         elif err["type"] not in ("missing", "value_error") and "input" in err:
             msg += f" (got {_short(err['input'])})"
-        parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
+        if loc and _FIELD_FIRST.match(msg):  # a model validator's message names the field below its location
+            parts.append(f"{'.'.join(loc)}.{msg}")
+        else:
+            parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
     return "; ".join(parts)
+
+
+_FIELD_FIRST = re.compile(r"^[A-Za-z_][\w.]*: ")
 
 
 def _short(value, limit=80) -> str:
@@ -438,8 +533,23 @@ def _short(value, limit=80) -> str:
 
 _LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",
              "constant_altitude", "max_ld", "cl_max", "level_flight", "gamma_hold", "constant_bank", "reference",
-             "correlation"}
+             "correlation", "temperature_limited"}
+_STUDY_TAGS = {"collocation"}  # a study's method that is also a field name (the optimization's "collocation")
 
 
-def parse_case(data: dict | Case) -> Case:
-    return data if isinstance(data, Case) else Case.model_validate(data)
+REQUEST = Case  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
+
+
+def parse_request(data, ctx: dict | None = None) -> Case:
+    return parse(ADAPTER, data, Case, ctx)
+
+
+parse_case = parse_request
+
+
+def run(case: Case):
+    """Fly the case: footprint.core.trajectory.Trajectory (summary and histories)."""
+    from footprint.core.trajectory import simulate
+
+    return simulate(case.to_spec())

@@ -4,28 +4,50 @@ One pydantic model per method (discriminated on "method"); `to_params()` gives t
 the core generator in footprint.core.footprints. The case's own bank law is replaced by the method's.
 """
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, ClassVar, Literal, Union
 
-from pydantic import Field, TypeAdapter, model_validator
+from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Case, Strict, bounded
+from footprint.contracts.case import Case, Strict, bounded, door_limit, parse
 
 BankDeg = bounded(-180, 180, "deg")
+MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
+MAX_POINTS_HTTP = 200  # over HTTP, where the workers are shared
 
 
 class _Study(Strict):
     case: Case
     mirror: bool = True
     contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)  # iso-velocity points
+    SETTINGS: ClassVar[str]  # the field whose values (one trajectory set each) make the footprint's points
 
     def to_params(self) -> dict:
         return self.model_dump(exclude={"case", "method"}, exclude_none=True)
+
+    def settings(self) -> tuple[str, int]:
+        """(the field that sets them, how many parameter settings the study flies on each side)."""
+        return self.SETTINGS, len(getattr(self, self.SETTINGS))
+
+    @model_validator(mode="after")
+    def _points(self, info: ValidationInfo):
+        limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP)
+        (field, n), sides = self.settings(), 2 if self.mirror else 1
+        if n * sides > limit:
+            raise ValueError(f"{field}: {n} settings x {sides} sides = {n * sides} footprint points is "
+                             f"outside the allowed range 1 to {limit}{where}")
+        return self
+
+    def default_name(self) -> str:
+        """The footprint's name unless one is given: vehicle, method, entry speed and flight-path angle."""
+        e = self.case.entry
+        return f"{self.case.vehicle.label()} {self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"
 
 
 class SingleParameterStudy(_Study):
     """Section II.6 a-d: phi_B = K zeta, K = phi0 / 90 deg."""
 
     method: Literal["single_parameter"]
+    SETTINGS: ClassVar[str] = "bank0_deg"
     bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
                                                       max_length=181)
     limit_deg: bounded(0, 180, "deg") | None = None
@@ -40,6 +62,7 @@ class ConstantBankStudy(_Study):
     """Fig. 14: constant bank for the whole flight."""
 
     method: Literal["constant_bank"]
+    SETTINGS: ClassVar[str] = "bank_deg"
     bank_deg: list[BankDeg] = Field(default=[0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0], min_length=1, max_length=181)
     min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
 
@@ -60,6 +83,9 @@ class TwoParameterStudy(_Study):
                                                          min_length=1, max_length=181)
     limit_deg: bounded(0, 180, "deg") = 75.0
 
+    def settings(self) -> tuple[str, int]:
+        return "sigma_f_deg", len(self.k) * len(self.sigma_f_deg)
+
 
 class ConstantAltitudeStudy(_Study):
     """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""
@@ -68,12 +94,16 @@ class ConstantAltitudeStudy(_Study):
     turn_deg: list[bounded(0, 179, "deg")] | None = None
     steps: int = Field(default=6, ge=1, le=60)
 
+    def settings(self) -> tuple[str, int]:  # the turns, or the count of steps when none are listed
+        return ("steps", self.steps) if self.turn_deg is None else ("turn_deg", len(self.turn_deg))
+
 
 class TemperatureLimitedStudy(_Study):
     """Beyond the report: single-parameter bank settings, alpha raised above 16,000 ft/s just enough that the
     radiation-equilibrium temperature stays within limit_R (footprint.core.constrained); needs case.heating."""
 
     method: Literal["temperature_limited"]
+    SETTINGS: ClassVar[str] = "bank0_deg"
     limit_R: bounded(500, 10_000, "degR")
     tolerance_R: bounded(0, 100, "degR") = 5.0  # TTOL of Section II.4
     bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
@@ -105,6 +135,9 @@ class CollocationStudy(_Study):
     fine: bool = False  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
     intervals: int = Field(default=100, ge=20, le=400)  # collocation mesh intervals
 
+    def settings(self) -> tuple[str, int]:
+        return "points_per_half", self.points_per_half + 1
+
     @model_validator(mode="after")
     def _checks(self):
         if self.limit_R is not None and self.case.heating is None:
@@ -125,8 +158,20 @@ FootprintStudy = Annotated[Union[SingleParameterStudy, ConstantBankStudy, Staged
                                  ConstantAltitudeStudy, TemperatureLimitedStudy, CollocationStudy],
                            Field(discriminator="method")]
 
-_ADAPTER = TypeAdapter(FootprintStudy)
+REQUEST = FootprintStudy  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_study(data):
-    return data if isinstance(data, _Study) else _ADAPTER.validate_python(data)
+def parse_request(data, ctx: dict | None = None) -> _Study:
+    return parse(ADAPTER, data, _Study, ctx)
+
+
+parse_study = parse_request
+
+
+def run(study: _Study, on_progress=None):
+    """Fly the study's footprint (footprint.core.footprints.Footprint); on_progress(fraction, note) where the
+    method reports (the collocation's IPOPT iterations)."""
+    from footprint.core.footprints import footprint
+
+    return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())

@@ -1,5 +1,5 @@
 """The optimization study contract (DESIGN.md): a case, a payoff, constraints with tolerances, the controls
-to vary and the method; `run_optimization` turns it into a core Problem (footprint.core.optimize).
+to vary and the method; `run` turns it into a core Problem (footprint.core.optimize).
 
 Controls: "bank" is the report's eight-parameter bank table against the remaining heading change
 (-15 to 90 deg every 15 deg, linear, Section II.5 and Fig. 2), from the case's bank start, bounds 0-180 deg,
@@ -37,6 +37,7 @@ from footprint.contracts.case import (
     VelocityNode,
     bounded,
     check_increasing,
+    parse,
     table_abscissa,
 )
 from footprint.core import collocation as col
@@ -304,11 +305,15 @@ class OptimizationStudy(Strict):
 
 
 COLLOCATION_QUANTITIES = col.QUANTITIES
-_ADAPTER = TypeAdapter(OptimizationStudy)
+REQUEST = OptimizationStudy  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_optimization(data) -> OptimizationStudy:
-    return data if isinstance(data, OptimizationStudy) else _ADAPTER.validate_python(data)
+def parse_request(data, ctx: dict | None = None) -> OptimizationStudy:
+    return parse(ADAPTER, data, OptimizationStudy, ctx)
+
+
+parse_optimization = parse_request
 
 
 def _bank_alpha(study: OptimizationStudy) -> bool:
@@ -361,7 +366,7 @@ def fly_optimum(study, result: opt.Result | col.Result):
     return simulate(problem.controls(problem.base, result.params))
 
 
-def run_optimization(study, on_progress=None) -> opt.Result | col.Result:
+def run(study, on_progress=None) -> opt.Result | col.Result:
     """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations."""
     study = parse_optimization(study)
     if study.method == "collocation":

@@ -18,14 +18,15 @@ rotation is applied here (Section IV.3 takes its flight times from non-rotating 
 import csv
 import math
 import time
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
-from pydantic import Field, ValidationError, model_validator
+from pydantic import Field, TypeAdapter, model_validator
 
-from footprint.contracts.case import Strict, bounded, error_line
+from footprint.contracts.case import Strict, bounded, parse
+from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.footprint import run as fly_study
 from footprint.core import constants as K
-from footprint.core.errors import InputError
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import reach
 
@@ -44,7 +45,7 @@ class ReachFootprint(Strict):
 
     points: list[ReachPoint] | None = Field(default=None, min_length=3, max_length=5_000)
     mirror: bool = False  # points: the left half only; the right half is its reflection (Section IV)
-    study: dict[str, Any] | None = None
+    study: FootprintStudy | None = None
 
     @model_validator(mode="after")
     def _one_source(self):
@@ -129,7 +130,7 @@ class ReachRequest(Strict):
     description: str | None = Field(default=None, max_length=4_000)
     footprint: ReachFootprint
     orbit: ReachOrbit
-    sites: list[Site] = Field(min_length=1, max_length=1_000)
+    sites: list[Site] = Field(default=[], max_length=1_000)  # the service's stored sites when none are given
     revolutions: Revolutions = Revolutions(hours=24.0)
     u_step_deg: bounded(0.01, 30, "deg") = 1.0
     earth_rotation: Literal["none", "approximate"] = "approximate"
@@ -137,6 +138,8 @@ class ReachRequest(Strict):
 
     @model_validator(mode="after")
     def _size(self):
+        if not self.sites:
+            raise ValueError("sites: give at least one site (1 to 1,000)")
         revs, _ = self.revolutions.span(self.orbit.to_orbit())
         placements = len(revs) * len(np.arange(0.0, 360.0 - 1e-9, self.u_step_deg))
         if placements > MAX_PLACEMENTS:
@@ -149,28 +152,24 @@ class ReachRequest(Strict):
         return self
 
 
-def parse_reach(data: dict | ReachRequest) -> ReachRequest:
-    """Validate a request; a footprint study inside it is validated too (errors name footprint.study...)."""
-    req = data if isinstance(data, ReachRequest) else ReachRequest.model_validate(data)
-    if req.footprint.study is not None:
-        from footprint.contracts.footprint import parse_study
+REQUEST = ReachRequest  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
 
-        try:
-            parse_study(req.footprint.study)
-        except ValidationError as exc:
-            raise InputError("footprint.study", error_line(exc)) from None
-    return req
+
+def parse_request(data, ctx: dict | None = None) -> ReachRequest:
+    """Validate a request; a footprint study inside it is validated too (errors name footprint.study...)."""
+    return parse(ADAPTER, data, ReachRequest, ctx)
+
+
+parse_reach = parse_request
 
 
 def footprint_polygon(req: ReachRequest):
     """(down-range nmi, cross-range nmi, flight time s) of the closed boundary, and a description."""
     fp = req.footprint
     if fp.study is not None:
-        from footprint.api import footprint as fly_footprint
-        from footprint.contracts.footprint import parse_study
-
-        study = parse_study(fp.study)
-        flown = fly_footprint(study)
+        study = fp.study
+        flown = fly_study(study)
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in flown.points]
         info = {"source": "study", "method": study.method, "trajectories": flown.trajectories,
                 "reference": flown.entry, "planet_rotating": study.case.planet.rotating}
@@ -187,7 +186,7 @@ def footprint_polygon(req: ReachRequest):
     return arr[:, 0], arr[:, 1], arr[:, 2], info
 
 
-def run_reach(request: dict | ReachRequest) -> dict:
+def run(request: dict | ReachRequest) -> dict:
     """The reach analysis: windows and a per-site summary, as a JSON-ready dict."""
     req = parse_reach(request)
     orbit = req.orbit.to_orbit()

@@ -12,7 +12,7 @@ contours). The contract:
      "entry_velocity_fps": [...], "entry_gamma_deg": [...], "velocity_frame": "inertial",
      "contours_fps": [...]}
 
-`run_sweep` flies it on Dask (an in-process LocalCluster by default, or a scheduler address; the same
+`run` flies it on Dask (an in-process LocalCluster by default, or a scheduler address; the same
 code path) and gathers the footprints as they complete. A footprint the core fails on becomes a row
 with its error message; the rest of the sweep goes on. `SweepResult.write(folder)` writes the tidy
 point table, the per-footprint summary and, when footprint.pictures.figures is there, the figures.
@@ -23,7 +23,6 @@ pull-out (all (L/D)max points when bank starts at pull-out) gets its pull-out do
 """
 
 import csv
-import functools
 import json
 import logging
 import math
@@ -31,35 +30,32 @@ import os
 import time
 import uuid
 from contextlib import contextmanager
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Callable, Literal, Union
 
-from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, create_model, model_validator
+from pydantic import (BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model,
+                      model_validator)
 
-from footprint.contracts.case import Case, EntryCase, Strict, VehicleCase, bounded, error_line
-from footprint.core.errors import InputError
+from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, bounded, door_limit, error_line,
+                                     model_fields, parse)
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, parse_study
+from footprint.contracts.footprint import run as fly_study
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
+MAX_FOOTPRINTS_HTTP = 1_000  # one sweep job
 SWEPT_ENTRY_FIELDS = ("velocity_fps", "gamma_deg", "velocity_frame")
 UNFINISHED = ("max_steps", "step_underflow", "none")  # stop reasons of a flight the integrator gave up on
 
 
 # ---------------------------------------------------------------------------------------- contract
-def _fields(model, exclude=(), **replace) -> dict:
-    """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
-    out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}
-    return out | replace
-
-
 # The entry state shared by every footprint: the case's entry less what the sweep varies.
-SweepEntry = create_model("SweepEntry", __base__=Strict, **_fields(EntryCase, exclude=SWEPT_ENTRY_FIELDS))
+SweepEntry = create_model("SweepEntry", __base__=Strict, **model_fields(EntryCase, exclude=SWEPT_ENTRY_FIELDS))
 
 # The base case: the case contract less the vehicle (the sweep's list), the bank law (the method's)
 # and the swept entry fields.
 SweepBase = create_model("SweepBase", __base__=Strict,
-                         **_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...)))
+                         **model_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...)))
 
 
 def _vehicle_ref(value):
@@ -67,19 +63,6 @@ def _vehicle_ref(value):
 
 
 VehicleRef = Annotated[VehicleCase, BeforeValidator(_vehicle_ref)]
-
-
-def vehicle_label(vehicle: VehicleCase) -> str:
-    """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""
-    if vehicle.name:
-        return vehicle.name
-    if vehicle.builtin is None:
-        return "inline"
-    if vehicle.wing_loading_psf is not None:
-        return f"{vehicle.builtin}@{vehicle.wing_loading_psf:g}psf"
-    if vehicle.weight_lb is not None and vehicle.reference_area_ft2 is not None:
-        return f"{vehicle.builtin}@{vehicle.weight_lb / vehicle.reference_area_ft2:g}psf"
-    return vehicle.builtin
 
 
 class _Sweep(Strict):
@@ -93,8 +76,8 @@ class _Sweep(Strict):
     contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)
 
     @model_validator(mode="after")
-    def _grid(self):
-        labels = [vehicle_label(v) for v in self.vehicles]
+    def _grid(self, info: ValidationInfo):
+        labels = [v.label() for v in self.vehicles]
         if len(set(labels)) < len(labels):
             raise ValueError(f"vehicles: two vehicles share the label {_first_duplicate(labels)!r}; "
                              "give each a distinct 'name'")
@@ -102,9 +85,14 @@ class _Sweep(Strict):
                              ("entry_gamma_deg", self.entry_gamma_deg), ("contours_fps", self.contours_fps)):
             if len(set(values)) < len(values):
                 raise ValueError(f"{what}: {_first_duplicate(values):g} is listed twice")
-        n = len(self.vehicles) * len(self.entry_velocity_fps) * len(self.entry_gamma_deg)
-        if n > MAX_FOOTPRINTS:
-            raise ValueError(f"the sweep has {n} footprints; allowed: at most {MAX_FOOTPRINTS}")
+        limit, where = door_limit(info, MAX_FOOTPRINTS, MAX_FOOTPRINTS_HTTP)
+        if self.size > limit:
+            raise ValueError(f"vehicles: the sweep has {self.size} footprints (vehicles x entry_velocity_fps x "
+                             f"entry_gamma_deg); allowed{where}: 1 to {limit}")
+        try:  # every footprint flies the same settings: the first one's points bound them all
+            parse_study(self.jobs()[0]["study"], info.context)
+        except ValidationError as exc:
+            raise ValueError(error_line(exc)) from None
         for v in self.entry_velocity_fps:  # every combination must be a valid case (the vehicle is irrelevant)
             for g in self.entry_gamma_deg:
                 try:
@@ -125,9 +113,9 @@ class _Sweep(Strict):
 
     def jobs(self) -> list[dict]:
         """One job per footprint, in sweep order (vehicle, velocity, angle): plain data, small to ship."""
-        return [{"key": (vehicle_label(veh), float(v), float(g)),
-                 "study": {"case": self.case_dict(veh, v, g), "method": self.method, **self.method_params()},
-                 "contours_fps": list(self.contours_fps)}
+        return [{"key": (veh.label(), float(v), float(g)),
+                 "study": {"case": self.case_dict(veh, v, g), "method": self.method, **self.method_params(),
+                           "contours_fps": list(self.contours_fps)}}
                 for veh in self.vehicles for v in self.entry_velocity_fps for g in self.entry_gamma_deg]
 
     @property
@@ -145,27 +133,22 @@ def _first_duplicate(values):
 
 # One sweep model per method: the shared fields plus that method's parameters from the study contract.
 SingleParameterSweep = create_model("SingleParameterSweep", __base__=_Sweep,
-                                    **_fields(SingleParameterStudy, exclude=("case",)))
+                                    **model_fields(SingleParameterStudy, exclude=("case",)))
 ConstantAltitudeSweep = create_model("ConstantAltitudeSweep", __base__=_Sweep,
-                                     **_fields(ConstantAltitudeStudy, exclude=("case",)))
+                                     **model_fields(ConstantAltitudeStudy, exclude=("case",)))
 Sweep = Annotated[Union[SingleParameterSweep, ConstantAltitudeSweep], Field(discriminator="method")]
 
-_ADAPTER = TypeAdapter(Sweep)
+REQUEST = Sweep  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_sweep(data) -> _Sweep:
-    """Validate a sweep (dict or model). Raises pydantic's ValidationError; `error_line` makes it one line."""
-    return data if isinstance(data, _Sweep) else _ADAPTER.validate_python(data)
+def parse_request(data, ctx: dict | None = None) -> _Sweep:
+    """Validate a sweep (dict or model); its vehicles are built as they are parsed (an inline definition is checked
+    by the core here, not in 40 tasks later). Raises pydantic's ValidationError (`error_line` makes it one line)."""
+    return parse(ADAPTER, data, _Sweep, ctx)
 
 
-def check_vehicles(sweep: _Sweep) -> None:
-    """Build every vehicle once in this process (an inline definition is checked by the core here, not in
-    40 tasks later). Raises InputError naming `vehicles[i]...`."""
-    for i, veh in enumerate(sweep.vehicles):
-        try:
-            veh.to_vehicle() if veh.aero is None else _inline_vehicle(veh.model_dump_json(exclude_none=True))
-        except InputError as exc:
-            raise InputError(f"vehicles[{i}]{exc.field.removeprefix('vehicle')}", exc.message) from None
+parse_sweep = parse_request
 
 
 # ------------------------------------------------------------------------------------------ worker
@@ -189,18 +172,15 @@ class FootprintRun:
         return self.vehicle, self.entry_velocity_fps, self.entry_gamma_deg
 
 
-def fly_footprint(job: dict) -> FootprintRun:
-    """The task: fly one footprint. Never raises: a failure in the core comes back as a run with `error` set."""
-    from footprint.core.footprints import footprint
-
+def fly_footprint(job: dict, study=None) -> FootprintRun:
+    """The task: fly one footprint (`study`: job["study"] parsed already). Never raises: a failure in the core comes
+    back as a run with `error` set."""
     vehicle, velocity_fps, gamma_deg = job["key"]
     run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,
                        method=job["study"]["method"], worker=f"pid {os.getpid()}")
     t0 = time.perf_counter()
     try:
-        study = parse_study(job["study"])
-        spec = _spec(study.case)
-        run.footprint = footprint(spec, study.method, **(study.to_params() | {"contours_fps": tuple(job["contours_fps"])}))
+        run.footprint = fly_study(study or parse_study(job["study"]))
         first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
         run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
         run.trajectories = run.footprint.trajectories
@@ -210,36 +190,13 @@ def fly_footprint(job: dict) -> FootprintRun:
     return run
 
 
-def _spec(case: Case):
-    """case.to_spec(), with an inline aero definition packed once per process (packing tables takes up to
-    a second or so; a built-in vehicle is cached by the core already)."""
-    if case.vehicle.aero is None:
-        return case.to_spec()
-    vehicle = _inline_vehicle(case.vehicle.model_dump_json(exclude_none=True))
-    stand_in = case.model_copy(update={"vehicle": VehicleCase(builtin=_any_builtin())})
-    return replace(stand_in.to_spec(), vehicle=vehicle)
-
-
-@functools.lru_cache(maxsize=32)
-def _inline_vehicle(definition_json: str):
-    return VehicleCase.model_validate_json(definition_json).to_vehicle()
-
-
-@functools.lru_cache(maxsize=1)
-def _any_builtin() -> str:
-    from footprint.core.aero import builtin_vehicle_ids
-
-    return builtin_vehicle_ids()[0]
-
-
 def warm_numba(sweep: _Sweep) -> float:
     """Fly one trajectory here so numba's on-disk cache is written before the workers start (they only
     load it). Returns the seconds taken."""
     from footprint.core.trajectory import simulate
 
     t0 = time.perf_counter()
-    job = sweep.jobs()[0]
-    simulate(_spec(parse_study(job["study"]).case))
+    simulate(parse_study(sweep.jobs()[0]["study"]).case.to_spec())
     return time.perf_counter() - t0
 
 
@@ -270,7 +227,7 @@ def dask_client(client=None, *, workers: int | None = None, scheduler: str | Non
         yield c
 
 
-def run_sweep(sweep, client=None, progress: Callable[[int, int], None] | None = None, *,
+def run(sweep, client=None, progress: Callable[[int, int], None] | None = None, *,
               workers: int | None = None, scheduler: str | None = None) -> "SweepResult":
     """Fly every footprint of the sweep on Dask, one task per footprint, gathered as they complete.
 
@@ -281,7 +238,6 @@ def run_sweep(sweep, client=None, progress: Callable[[int, int], None] | None = 
     from distributed import as_completed
 
     sweep = parse_sweep(sweep)
-    check_vehicles(sweep)
     jobs = sweep.jobs()
     warm_s = warm_numba(sweep)
     runs: dict[tuple, FootprintRun] = {}

@@ -36,9 +36,10 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_validator
+from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Strict, bounded, error_line
+from footprint.contracts.case import Strict, bounded, door_limit, parse
+from footprint.contracts.footprint import FootprintStudy
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
@@ -54,6 +55,7 @@ from footprint.core.transforms import (
 )
 
 MAX_POINTS = 1_000_000  # a request's points; the core moves 100,000 in a few milliseconds
+MAX_POINTS_HTTP = 10_000  # over HTTP
 MAX_STEP_NMI = 250_000.0  # about 11 circuits of the earth (2 pi R' = 21,615 nmi)
 MAX_FLIGHT_TIME_S = 100_000.0  # the longest flight a case may ask for (stop.time_s)
 MAX_DOWNRANGE_NMI = 250_000.0  # a flown down-range (the longest flight at orbital speed is ~140,000 nmi)
@@ -126,12 +128,13 @@ class TransformRequest(Strict):
     mirror: bool = False
     earth_rotation: Literal["none", "approximate", "exact"] = "none"
     rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = OMEGA_EARTH_DEG_S  # omega_p of the shift
-    study: dict | None = None  # a footprint study (footprint.contracts.footprint): "exact" flies it again
-
-    _study = PrivateAttr(default=None)
+    study: FootprintStudy | None = None  # "exact" flies it again
 
     @model_validator(mode="after")
-    def _consistent(self):
+    def _consistent(self, info: ValidationInfo):
+        limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP)
+        if len(self.points) > limit:
+            raise ValueError(f"points: {len(self.points)} points is outside the allowed range 1 to {limit:,}{where}")
         if self.earth_rotation != "exact" and not self.points:
             raise ValueError("points: give at least one point (1 to 1000000), or earth_rotation 'exact' with a study")
         if self.earth_rotation == "approximate":
@@ -145,13 +148,7 @@ class TransformRequest(Strict):
             if self.study is None:
                 raise ValueError("study: required with earth_rotation 'exact' (a footprint study to fly again on the "
                                  "rotating earth from the destination)")
-            from footprint.contracts.footprint import parse_study
-
-            try:
-                self._study = parse_study(self.study)
-            except ValidationError as exc:
-                raise ValueError("; ".join(f"study.{part}" for part in error_line(exc).split("; "))) from None
-            if self._study.method == "collocation":  # a minute of NLP solves is a job, not a synchronous request
+            if self.study.method == "collocation":  # a minute of NLP solves is a job, not a synchronous request
                 raise ValueError("study.method: 'collocation' is not re-solved by a transform; submit a footprint job "
                                  "with the destination's entry instead")
         elif self.study is not None:
@@ -159,11 +156,18 @@ class TransformRequest(Strict):
         return self
 
 
-def parse_transform(data) -> TransformRequest:
-    return data if isinstance(data, TransformRequest) else TransformRequest.model_validate(data)
+REQUEST = TransformRequest  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
 
 
-def run_transform(request) -> dict:
+def parse_request(data, ctx: dict | None = None) -> TransformRequest:
+    return parse(ADAPTER, data, TransformRequest, ctx)
+
+
+parse_transform = parse_request
+
+
+def run(request) -> dict:
     """Carry out a transform request (a dict or a TransformRequest); raises pydantic's ValidationError or
     InputError for a user's mistake."""
     req = parse_transform(request)
@@ -211,7 +215,7 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
 def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
     from footprint.core.rotation import all_points, fly_at
 
-    study = req._study
+    study = req.study
     spec = study.case.to_spec()
     fp = fly_at(spec, study.method, study.to_params(), dst, rotating=True)
     return [{"latitude_deg": p.latitude_deg, "longitude_deg": float(wrap_longitude(p.longitude_deg)),

@@ -12,7 +12,7 @@ from starlette.concurrency import run_in_threadpool
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
-from footprint.service import errors
+from footprint.service import errors, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
@@ -45,7 +45,7 @@ def create_app(settings: Settings) -> FastAPI:
     app.state.read_sessions = make_sessions(db, reads_only=True)
     app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings)
     errors.install(app)
-    errors.document(app)
+    errors.document(app, schemas.CONTRACT_BODIES)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
         app.include_router(module.router, prefix="/api")
     app.add_middleware(GuardMiddleware, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)

@@ -13,3 +13,31 @@ def sessions(request: Request) -> sessionmaker[Session]:
 
 def engine(request: Request) -> JobEngine:
     return request.app.state.jobs
+
+
+def parse_body(request: Request, kind: str, data, prefix: str = ""):
+    """A request of a contract kind (footprint.contracts), parsed once here with the HTTP door's limits and the
+    stored vehicles; a mistake is a 422 naming the field (below `prefix` in the body)."""
+    from pydantic import ValidationError
+
+    from footprint import contracts
+    from footprint.contracts.case import HTTP, context
+    from footprint.core.errors import InputError
+    from footprint.service.db import queries as q
+    from footprint.service.errors import invalid
+
+    def stored(vehicle_id: str) -> dict | None:
+        with sessions(request).begin() as session:
+            row = q.get_vehicle(session, vehicle_id=vehicle_id)
+            return None if row is None else row.definition
+
+    try:
+        return contracts.parse(kind, data, context(HTTP, stored))
+    except (ValidationError, InputError) as exc:
+        raise invalid(exc, prefix) from None
+
+
+def stored_form(request_model) -> dict:
+    """A parsed request as the job store and the workers read it: JSON, by alias, what was given (stored vehicles
+    resolved)."""
+    return request_model.model_dump(mode="json", by_alias=True, exclude_unset=True)

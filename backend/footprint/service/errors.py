@@ -3,6 +3,8 @@
 Validation errors reuse footprint.contracts.case.error_line, so a REST user reads the same line as a CLI user, with the
 field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
+import json
+
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
@@ -48,7 +50,8 @@ class ErrorBody(BaseModel):
     field: str | None = None  # a 422's offending field, its dotted path in the request
 
 
-ERRORS = {422: "a field out of range or inconsistent, named in `field`", 404: "no such id",
+ERRORS = {422: "a field out of range or inconsistent, named in `field`", 400: "a body that cannot be read",
+          404: "no such id",
           401: "a write without the bearer token (when FOOTPRINT_API_TOKEN is set)",
           413: "a body over the limit", 409: "a clash with stored state", 503: "a part the service needs is missing"}
 WRITES = {"post", "put", "patch", "delete"}
@@ -113,10 +116,11 @@ def status_of(exc: Exception) -> int:
     return 500
 
 
-def document(app: FastAPI) -> None:
-    """Declare ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation schema,
-    which the service never sends), 404 under a path with an id, 401 and 413 on writes, and the 409 and 503 that
-    routes declare themselves."""
+def document(app: FastAPI, bodies: dict) -> None:
+    """Declare the typed request bodies that routes parse themselves (`bodies`: (method, path) -> a contract's
+    request type) and ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation
+    schema, which the service never sends), 400 where a body is read, 404 under a path with an id, 401 and 413 on
+    writes, and the 409 and 503 that routes declare themselves."""
     plain = app.openapi
 
     def openapi() -> dict:
@@ -126,10 +130,21 @@ def document(app: FastAPI) -> None:
         ref = {"$ref": "#/components/schemas/ErrorBody"}
         schemas = spec.setdefault("components", {}).setdefault("schemas", {})
         schemas["ErrorBody"] = ErrorBody.model_json_schema()
+        replaced = set()
+        for (method, path), kind in bodies.items():
+            op = spec["paths"][path][method]
+            replaced.add(op.get("requestBody", {}).get("content", {}).get("application/json", {}).get("schema", {})
+                         .get("$ref", "").rsplit("/", 1)[-1])
+            op["requestBody"] = {"required": True,
+                                 "content": {"application/json": {"schema": _component(schemas, kind)}}}
+        for name in replaced - {""}:  # the route's own reading of the body (e.g. its kind) is not the document's
+            if f'"#/components/schemas/{name}"' not in json.dumps(spec):
+                schemas.pop(name, None)
         for path, operations in spec["paths"].items():
             for method, op in operations.items():
                 responses = op.setdefault("responses", {})
                 codes = {"422"} | ({"404"} if "{" in path else set()) | ({"401", "413"} if method in WRITES else set())
+                codes |= {"400"} if "requestBody" in op else set()
                 codes |= {c for c in ("409", "503") if c in responses}
                 for code in codes:
                     responses[code] = {"description": ERRORS[int(code)],
@@ -142,6 +157,26 @@ def document(app: FastAPI) -> None:
     app.openapi = openapi
 
 
+def _component(schemas: dict, kind) -> dict:
+    """The JSON schema of a type, its definitions added to the document's components (a model FastAPI has declared
+    already keeps FastAPI's rendering of it: model names are unique in the package)."""
+    from pydantic import TypeAdapter
+
+    schema = TypeAdapter(kind).json_schema(ref_template="#/components/schemas/{model}")
+    for name, definition in schema.pop("$defs", {}).items():
+        schemas.setdefault(name, definition)
+    return schema
+
+
+def _allowed(app: FastAPI, path: str) -> list[str]:
+    """Every method some route answers at this path."""
+    methods = set()
+    for route in app.routes:
+        if getattr(route, "methods", None) and route.path_regex.match(path):
+            methods |= route.methods
+    return sorted(methods)
+
+
 def install(app: FastAPI) -> None:
     """Answer every exception type of the table with its status and a one-line body."""
 
@@ -149,8 +184,11 @@ def install(app: FastAPI) -> None:
         headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, Unauthorized) else None
         return JSONResponse(error_body(exc), status_code=status_of(exc), headers=headers)
 
-    async def http_error(_request: Request, exc: StarletteHTTPException) -> JSONResponse:
-        return JSONResponse({"detail": str(exc.detail)}, status_code=exc.status_code, headers=exc.headers)
+    async def http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        headers = exc.headers
+        if exc.status_code == 405:  # Starlette's Allow names the first matching route's methods, not the path's
+            headers = {"Allow": ", ".join(_allowed(app, request.url.path))}
+        return JSONResponse({"detail": str(exc.detail)}, status_code=exc.status_code, headers=headers)
 
     for kind in STATUS_BY_EXCEPTION:
         app.add_exception_handler(kind, handle)

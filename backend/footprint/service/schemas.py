@@ -2,14 +2,16 @@
 job's study, a trajectory's case, a transform or a reach request are parsed by their contract modules
 (footprint.contracts.case, .studies, .optimization, .sweeps, .mapping, .reach); landing sites reuse footprint.contracts.reach.Site."""
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, create_model
 
+from footprint import contracts
+from footprint.contracts import JOB_KINDS
+from footprint.contracts.case import model_fields
 from footprint.contracts.reach import Site
-from footprint.service.jobs.studies import KINDS
 
-JobKind = Literal[KINDS]
+JobKind = Literal[JOB_KINDS]
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 VEHICLE_ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$"
 
@@ -19,9 +21,32 @@ class _Strict(BaseModel):
 
 
 class JobCreate(_Strict):
+    """What the router reads before the study: its kind. The study is parsed by the kind's contract (the OpenAPI
+    document declares the typed union, service.openapi)."""
+
     kind: JobKind
-    study: dict[str, Any]  # checked by the kind's contract parser (footprint.contracts.footprint, .optimization, ...)
+    study: dict[str, Any]
     name: str | None = Field(default=None, max_length=200)
+
+
+def _typed_job(kind: str) -> type[BaseModel]:
+    return create_model(f"{kind.capitalize()}Job", __base__=_Strict, kind=(Literal[kind], ...),
+                        study=(contracts.module(kind).REQUEST, ...),
+                        name=(str | None, Field(default=None, max_length=200)))
+
+
+# POST /api/jobs as the OpenAPI document declares it: one typed study per kind, discriminated on "kind"
+TypedJobCreate = Annotated[Union[tuple(_typed_job(k) for k in JOB_KINDS)], Field(discriminator="kind")]
+# the other bodies that are a contract's request (service.errors.document declares them)
+CONTRACT_BODIES = {("post", "/api/jobs"): TypedJobCreate, ("post", "/api/trajectories"): contracts.module("case").REQUEST,
+                   ("post", "/api/transform"): contracts.module("transform").REQUEST,
+                   ("post", "/api/reach"): contracts.module("reach").REQUEST}
+
+
+# POST /api/footprints/{id}/transform: a transform request less what the stored footprint gives (its points, its
+# entry as "from", its study)
+FootprintTransform = create_model("FootprintTransform", __base__=_Strict, **model_fields(
+    contracts.module("transform").REQUEST, exclude=("points", "from_", "study")))
 
 
 class FootprintRename(_Strict):

@@ -17,6 +17,7 @@ from contextlib import ExitStack, contextmanager
 
 from sqlalchemy.orm import Session, sessionmaker
 
+from footprint import contracts
 from footprint.service.db import queries as q
 from footprint.service.jobs import tasks
 from footprint.service.settings import Settings
@@ -104,9 +105,10 @@ class JobEngine:
                     "error": one_line(exc)}
 
     # ---------------------------------------------------------------------------------------- jobs
-    def submit(self, *, job_id: str) -> None:
-        """Watch a queued job (its tasks go to Dask at once)."""
-        self._pool.submit(self._run, job_id)
+    def submit(self, *, job_id: str, request=None) -> None:
+        """Watch a queued job (its tasks go to Dask at once); `request`: its study as the router parsed it (a job
+        submitted again after a restart is parsed from its row)."""
+        self._pool.submit(self._run, job_id, request)
 
     def cancel(self, *, job_id: str) -> None:
         """Cancel the job's tasks on the cluster (its row is marked cancelled by the caller)."""
@@ -115,14 +117,14 @@ class JobEngine:
         if futures:
             self.client.cancel(futures)
 
-    def _run(self, job_id: str) -> None:
+    def _run(self, job_id: str, request) -> None:
         try:
             with self._sessions.begin() as session:
                 job = q.start_job(session, job_id=job_id)
                 if job is None:
                     return
                 kind, study, name = job.kind, job.study, job.name
-            outputs = self._compute(job_id, _calls(kind, study, name))
+            outputs = self._compute(job_id, _calls(kind, request or contracts.parse(kind, study), study, name))
             if outputs is None:
                 return
             result, footprints = _results(kind, study, outputs)
@@ -212,27 +214,15 @@ def _closing(thing):
         thing.close()
 
 
-def _calls(kind: str, study: dict, name: str | None) -> list[tuple]:
-    """The job's Dask tasks: (function, arguments...) each, coarse (a footprint, an optimization, a reach)."""
+def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:
+    """The job's Dask tasks: (function, arguments...) each, coarse (a footprint, an optimization, a reach); the
+    workers get the stored study (plain data) and parse it once each."""
     if kind == "footprint":
-        return [(tasks.footprint_task, study, name or _footprint_name(study))]
+        return [(tasks.footprint_task, study, name or request.default_name())]
     if kind == "sweep":
-        from footprint.contracts.sweep import parse_sweep
-
-        sweep = parse_sweep(study)
-        return [(tasks.sweep_footprint_task, job, f"{sweep.name} {job['key'][0]} {job['key'][1]:g} fps "
-                                                  f"{job['key'][2]:g} deg") for job in sweep.jobs()]
-    if kind == "optimize":
-        return [(tasks.optimize_task, study)]
-    return [(tasks.reach_task, study)]
-
-
-def _footprint_name(study: dict) -> str:
-    """A job stored before its default name was set at creation (a restart resubmits it)."""
-    from footprint.service.jobs.studies import footprint_name
-    from footprint.contracts.footprint import parse_study
-
-    return footprint_name(parse_study(study))
+        return [(tasks.sweep_footprint_task, job, f"{request.name} {job['key'][0]} {job['key'][1]:g} fps "
+                                                  f"{job['key'][2]:g} deg") for job in request.jobs()]
+    return [(tasks.TASKS[kind], study)]
 
 
 def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:

@@ -7,6 +7,8 @@ from dataclasses import asdict
 
 import numpy as np
 
+from footprint import contracts
+
 MAX_TRACK_POINTS = 500  # a stored ground track
 PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (JobEngine subscribes)
 PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
@@ -86,10 +88,8 @@ def ground_track(spec) -> dict:
 
 def footprint_record(fp, study, study_dict: dict, track: dict, name: str) -> dict:
     """A flown footprint as the row data the store writes (summary, points, interior, ground track)."""
-    from footprint.contracts.sweep import vehicle_label
-
     entry = study.case.entry
-    return {"name": name, "vehicle": vehicle_label(study.case.vehicle), "method": fp.method, "study": study_dict,
+    return {"name": name, "vehicle": study.case.vehicle.label(), "method": fp.method, "study": study_dict,
             "entry": {**{k: float(fp.entry[k]) for k in ("latitude_deg", "longitude_deg", "heading_deg")},
                       "velocity_fps": entry.velocity_fps, "gamma_deg": entry.gamma_deg,
                       "altitude_ft": entry.altitude_ft},
@@ -107,25 +107,20 @@ def _point(p) -> dict:
 
 def footprint_task(study_dict: dict, name: str) -> dict:
     """A footprint job: the footprint and its zero-bank ground track. Raises what the core raises."""
-    from footprint.core import footprints as core
-    from footprint.contracts.footprint import parse_study
-
-    study = parse_study(study_dict)
-    spec = study.case.to_spec()
-    fp = core.footprint(spec, study.method, on_progress=progress_reporter(), **study.to_params())
-    return footprint_record(fp, study, study_dict, ground_track(spec), name)
+    study = contracts.parse("footprint", study_dict)
+    fp = contracts.module("footprint").run(study, on_progress=progress_reporter())
+    return footprint_record(fp, study, study_dict, ground_track(study.case.to_spec()), name)
 
 
 def sweep_footprint_task(job: dict, name: str) -> dict:
     """One footprint of a sweep (footprint.contracts.sweep.fly_footprint) and its ground track; a footprint the core
     fails on comes back as {"key", "error"}."""
-    from footprint.contracts.footprint import parse_study
     from footprint.contracts.sweep import fly_footprint
 
-    run = fly_footprint(job)
+    study = contracts.parse("footprint", job["study"])
+    run = fly_footprint(job, study)
     if run.footprint is None:
         return {"key": list(job["key"]), "error": run.error}
-    study = parse_study(job["study"])
     return footprint_record(run.footprint, study, job["study"], ground_track(study.case.to_spec()), name)
 
 
@@ -133,11 +128,11 @@ def optimize_task(study_dict: dict) -> dict:
     """An optimization job: the optimum, its parameters and the convergence history, and its flight (the
     integrator's; the ground track and the histories the page plots); a collocation that ends without an
     optimum fails the job with its one line (status and largest violation)."""
+    from footprint.contracts.optimization import fly_optimum
     from footprint.core.collocation import NoOptimum, Result
-    from footprint.contracts.optimization import fly_optimum, parse_optimization, run_optimization
 
-    study = parse_optimization(study_dict)
-    result = run_optimization(study, on_progress=progress_reporter())
+    study = contracts.parse("optimize", study_dict)
+    result = contracts.module("optimize").run(study, on_progress=progress_reporter())
     if isinstance(result, Result) and not result.ok:
         raise NoOptimum(result.one_line())
     return {**plain(result.to_dict()), "flight": flown(fly_optimum(study, result), FLIGHT_KEYS)}
@@ -145,6 +140,7 @@ def optimize_task(study_dict: dict) -> dict:
 
 def reach_task(request: dict) -> dict:
     """A reach job: footprint.contracts.reach's windows and per-site summary."""
-    from footprint.contracts.reach import run_reach
+    return plain(contracts.module("reach").run(contracts.parse("reach", request)))
 
-    return plain(run_reach(request))
+
+TASKS = {"optimize": optimize_task, "reach": reach_task}  # the single-task kinds (footprint and sweep: engine._calls)

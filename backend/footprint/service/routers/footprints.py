@@ -3,18 +3,19 @@
 import csv
 import io
 import json
-from typing import Any, Literal
+from typing import Literal
 
-from fastapi import APIRouter, Body, Query, Request, Response
+from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
 from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.core.errors import InputError
-from footprint.service.errors import NotFound, RequestInvalid, Unavailable
+from footprint.service.errors import NotFound, Unavailable
 from footprint.service.routers.geometry import transform
-from footprint.service.schemas import FootprintList, FootprintRead, FootprintRename, FootprintSummary
+from footprint.service.schemas import (FootprintList, FootprintRead, FootprintRename, FootprintSummary,
+                                       FootprintTransform)
 
 router = APIRouter(tags=["footprints"])
 CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
@@ -111,38 +112,30 @@ def delete_footprint(footprint_id: str, request: Request) -> Response:
     return Response(status_code=204)
 
 
-TRANSFORM_KEYS = {"to", "step_downrange_nmi", "earth_rotation", "mirror", "rotation_rate_deg_s"}
-
-
 @router.post("/footprints/{footprint_id}/transform")
-def transform_footprint(footprint_id: str, request: Request,
-                        body: dict[str, Any] = Body(..., description='{"to", "step_downrange_nmi", '
-                                                                     '"earth_rotation"}')) -> dict:
+def transform_footprint(footprint_id: str, request: Request, body: FootprintTransform) -> dict:
     """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV); the
     moved boundary's outline and GeoJSON geometry; with "exact", the track flown again and how far the report's
     approximate shift lies from the exact points."""
-    extra = set(body) - TRANSFORM_KEYS
-    if extra:
-        raise RequestInvalid(f"{sorted(extra)[0]}: not a field of a footprint transform (allowed: "
-                             f"{', '.join(sorted(TRANSFORM_KEYS))})", sorted(extra)[0])
+    body = body.model_dump(mode="json", by_alias=True, exclude_unset=True)
     item, study = _full(request, footprint_id)
     origin = {k: item["entry"][k] for k in ("latitude_deg", "longitude_deg", "heading_deg")}
     common = {"from": origin, **body}
     exact = body.get("earth_rotation") == "exact"
     points = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
                "flight_time_s": p["flight_time_s"], "downrange_nmi": p["downrange_nmi"]} for p in item["points"]]
-    result = transform(common | ({"study": study} if exact else {"points": points}))
+    result = transform(request, common | ({"study": study} if exact else {"points": points}))
     boundary = [p for p in result["points"] if p.get("on_boundary", True)]
     area = geojson.area(boundary, result["reference"])
     result["outline"] = area.to_dict()
     if exact:
         result["ground_track"] = _exact_track(study, result["reference"])
-        shifted = transform(common | {"points": points, "earth_rotation": "approximate"})
+        shifted = transform(request, common | {"points": points, "earth_rotation": "approximate"})
         result["approximate_error_nmi"] = _error_nmi(item["points"], shifted["points"], boundary)
     elif item["ground_track"]:
         track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"],
                   "flight_time_s": t["time_s"]} for t in item["ground_track"]]
-        moved = transform(common | {"points": track, "mirror": False})
+        moved = transform(request, common | {"points": track, "mirror": False})
         result["ground_track"] = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
                                    "time_s": p.get("flight_time_s")} for p in moved["points"]]
     moved_item = item | {"points": boundary, "ground_track": result.get("ground_track", []),

@@ -11,8 +11,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, PENDING
 from footprint.service.errors import NotFound
-from footprint.service.jobs.studies import KINDS, check_study, resolve_vehicles
-from footprint.service.routers.vehicles import stored_vehicle_lookup
+from footprint.contracts import JOB_KINDS
 from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead
 
 router = APIRouter(tags=["jobs"])
@@ -39,19 +38,19 @@ def _read(session, job) -> dict:
 def create_job(body: JobCreate, request: Request, response: Response) -> dict:
     """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
     as the Location header) to poll or follow."""
-    study = resolve_vehicles(body.study, lookup=stored_vehicle_lookup(request), path="study")
-    default_name = check_study(body.kind, study)
+    study = deps.parse_body(request, body.kind, body.study, "study.")
+    name = body.name or (study.default_name() if body.kind == "footprint" else None)
     with deps.sessions(request).begin() as session:
-        job = q.create_job(session, kind=body.kind, study=study, name=body.name or default_name)
+        job = q.create_job(session, kind=body.kind, study=deps.stored_form(study), name=name)
         job_id = job.id
-    deps.engine(request).submit(job_id=job_id)
+    deps.engine(request).submit(job_id=job_id, request=study)
     response.headers["Location"] = url = f"/api/jobs/{job_id}"
     return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
 
 
 @router.get("/jobs", response_model=JobList)
 def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
-              kind: str | None = Query(None, pattern=f"^({'|'.join(KINDS)})$"),
+              kind: str | None = Query(None, pattern=f"^({'|'.join(JOB_KINDS)})$"),
               limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0)) -> dict:
     """Jobs newest first, filtered by status and kind."""
     with deps.sessions(request).begin() as session:

@@ -9,14 +9,12 @@ from fastapi import APIRouter, Body, Query, Request, Response
 from pydantic import ValidationError
 
 from footprint.contracts.case import error_line
-from footprint.core.errors import InputError
-from footprint.contracts.reach import Site, parse_reach, run_reach
+from footprint import contracts
+from footprint.contracts.reach import Site
 from footprint.service import deps
 from footprint.service.db import queries as q
-from footprint.service.errors import NotFound, RequestInvalid, invalid
-from footprint.service.jobs.studies import check_points, resolve_vehicles
+from footprint.service.errors import NotFound, RequestInvalid
 from footprint.service.jobs.tasks import plain
-from footprint.service.routers.vehicles import stored_vehicle_lookup
 from footprint.service.schemas import SiteRead, SitesCreated
 
 router = APIRouter(tags=["sites"])
@@ -82,7 +80,7 @@ def _parse_csv(body: bytes) -> list[dict]:
     return sites
 
 
-@router.get("/sites/{site_id}", response_model=SiteRead)
+@router.get("/sites/{site_id:int}", response_model=SiteRead)
 def get_site(site_id: int, request: Request) -> dict:
     """One landing site."""
     with deps.sessions(request).begin() as session:
@@ -92,7 +90,7 @@ def get_site(site_id: int, request: Request) -> dict:
         return _read(row)
 
 
-@router.put("/sites/{site_id}", response_model=SiteRead)
+@router.put("/sites/{site_id:int}", response_model=SiteRead)
 def update_site(site_id: int, site: Site, request: Request) -> dict:
     """Replace a landing site's name and place."""
     with deps.sessions(request).begin() as session:
@@ -102,7 +100,7 @@ def update_site(site_id: int, site: Site, request: Request) -> dict:
         return _read(row)
 
 
-@router.delete("/sites/{site_id}", status_code=204)
+@router.delete("/sites/{site_id:int}", status_code=204)
 def delete_site(site_id: int, request: Request) -> Response:
     """Delete a landing site."""
     with deps.sessions(request).begin() as session:
@@ -117,7 +115,6 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
                                                           "only: the request gives no sites)")) -> dict:
     """Which sites the footprint reaches from which deorbit points (the stored sites when none are given); with
     store_verdicts, each stored site keeps its verdict (shown again after a reload)."""
-    body = resolve_vehicles(body, lookup=stored_vehicle_lookup(request))
     ids = None
     if not body.get("sites"):
         with deps.sessions(request).begin() as session:
@@ -127,15 +124,8 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
             raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
     elif store_verdicts:
         raise RequestInvalid("store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts")
-    try:
-        req = parse_reach(body)
-        if req.footprint.study is not None:
-            from footprint.contracts.footprint import parse_study
-
-            check_points(parse_study(req.footprint.study), "footprint.study.")
-        result = plain(run_reach(req))
-    except (ValidationError, InputError) as exc:
-        raise invalid(exc) from None
+    req = deps.parse_body(request, "reach", body)
+    result = plain(contracts.module("reach").run(req))
     if store_verdicts:
         with deps.sessions(request).begin() as session:
             q.store_verdicts(session, verdicts={i: _verdict(s, req, result) for i, s in zip(ids, result["sites"])})

@@ -143,14 +143,3 @@ def delete_vehicle(vehicle_id: str, request: Request) -> Response:
         if not q.delete_vehicle(session, vehicle_id=vehicle_id):
             raise NotFound(f"no vehicle {vehicle_id!r}")
     return Response(status_code=204)
-
-
-def stored_vehicle_lookup(request: Request):
-    """A function id -> stored vehicle definition (or None), for resolving {"vehicle": {"stored": id}}."""
-
-    def lookup(vehicle_id: str) -> dict | None:
-        with deps.sessions(request).begin() as session:
-            row = q.get_vehicle(session, vehicle_id=vehicle_id)
-            return None if row is None else row.definition
-
-    return lookup
