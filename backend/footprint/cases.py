@@ -370,18 +370,18 @@ class Case(Strict):
         b, a = self.bank, self.alpha
         kw: dict[str, Any] = {"bank_law": b.law}
         if isinstance(b, (BankConstant, BankStaged)):
-            kw["bank_value"] = b.bank_deg
+            kw["bank_deg"] = b.bank_deg
         if isinstance(b, BankStaged):
             kw["turn_deg"] = b.turn_deg
         if isinstance(b, (BankTwoParameter, BankSingleParameter)):
-            kw.update(bank_value=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
+            kw.update(bank_gain=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
         if isinstance(b, BankTwoParameter):
             kw["sigma_f_deg"] = b.sigma_f_deg
         if isinstance(b, BankTable):
             variable, x = b.abscissa()
             kw.update(bank_table=(x, b.bank_deg), mirror=b.side == "right", bank_variable=variable)
         if isinstance(b, BankConstantAltitude):
-            kw.update(turn_deg=b.turn_deg, bank_value=1.0 if b.side == "left" else -1.0)
+            kw.update(turn_deg=b.turn_deg, side=1.0 if b.side == "left" else -1.0)
         start = self.bank_start
         if isinstance(start, BankStartAltitude):
             kw.update(bank_start="altitude", bank_start_altitude_ft=start.altitude_ft)
@@ -389,9 +389,9 @@ class Case(Strict):
             kw["bank_start"] = start
         kw["alpha_law"] = a.law
         if isinstance(a, AlphaConstant):
-            kw["alpha_value"] = a.alpha_deg
+            kw["alpha_deg"] = a.alpha_deg
         if isinstance(a, AlphaGammaHold):
-            kw["alpha_value"] = a.gamma_deg
+            kw["gamma_deg"] = a.gamma_deg
         if isinstance(a, (AlphaLevelFlight, AlphaGammaHold)):
             kw["alpha_before"] = a.before_pullout
         if isinstance(a, AlphaTable):

@@ -31,7 +31,7 @@ def vacuum_orbit(rotating):
     return FlightSpec(vehicle=vehicle, planet=planet,
                       entry=Entry(altitude_ft=364_800, velocity_fps=26_500, gamma_deg=1.0, heading_deg=60,
                                   latitude_deg=10, velocity_frame="inertial"),
-                      ctrl=pack_controls(bank_law="constant", bank_value=30.0, bank_start="entry"),
+                      ctrl=pack_controls(bank_law="constant", bank_deg=30.0, bank_start="entry"),
                       stop=Stop(altitude_ft=None, time_s=5_000.0, skip_altitude_ft=1e9), rtol=1e-10)
 
 

@@ -25,8 +25,7 @@ from footprint.core.controls import (
     ALPHA_MAX_LD_FLOOR,
     ALPHA_TABLE_BY_ABSCISSA,
     ALPHA_TABLE_VELOCITY,
-    alpha_law_name,
-    replace_controls,
+    replace_alpha_table,
 )
 from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
@@ -67,13 +66,7 @@ def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VEL
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
     flight (law ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY: the nodes are times in s / energy heights in ft;
     ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the rest of the control laws kept."""
-    v = np.asarray(velocities_fps, dtype=float)
-    a = np.asarray(alpha_deg, dtype=float)
-    if v.shape != a.shape or np.any(np.diff(v) <= 0.0):
-        raise ValueError(f"alpha table: {len(v)} velocities (must ascend) for {len(a)} angles")
-    alpha_law, abscissa = alpha_law_name(law)
-    return replace(spec, ctrl=replace_controls(spec.ctrl, alpha_law=alpha_law, alpha_table=(v, a),
-                                               alpha_table_abscissa=abscissa))
+    return replace(spec, ctrl=replace_alpha_table(spec.ctrl, alpha_deg, velocities_fps, law))
 
 
 def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
@@ -403,8 +396,8 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
     t0 = time.perf_counter()
 
     def search(settings, right=False):
-        return [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG, right=right), limit_R,
-                              tolerance_R, bank0_deg=float(b)) for b in settings]
+        return [coolest_floor(with_bank(spec, "single_parameter", bank_gain=b / SIGMA0_DEG, right=right),
+                              limit_R, tolerance_R, bank0_deg=float(b)) for b in settings]
 
     left = search(bank0_deg)
     for _ in range(REFINE_HALVINGS):  # the grid halved around its max cross-range setting
@@ -417,7 +410,7 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
     right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
     family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
                lambda s, to_right, p=p, q=q: with_alpha_floor(
-                   with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG, right=to_right),
+                   with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
                    q.floor_deg if to_right else p.floor_deg),
                p.bank0_deg == 0.0)
               for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]

@@ -13,19 +13,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from footprint.core.controls import (
-    ALPHA_LAWS,
-    BANK_LAWS,
-    C_ALPHA_LAW,
-    C_BANK_LAW,
-    C_BANK_LIMIT,
-    C_BANK_VALUE,
-    C_BANK_VAR,
-    C_MIRROR,
-    C_SIGMA_F,
-    C_TURN,
-    NO_LIMIT,
-)
+from footprint.core.controls import replace_alpha_law, replace_bank_law
 from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate
 
@@ -99,31 +87,14 @@ class Footprint:
 
 
 # ------------------------------------------------------------------------------------ control variants
-def with_bank(spec: FlightSpec, law, value=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
-              right=False) -> FlightSpec:
-    """The spec with its bank law replaced; everything else in the control array (alpha law, start) kept."""
-    ctrl = spec.ctrl.copy()
-    ctrl[C_BANK_LAW] = BANK_LAWS[law]
-    ctrl[C_BANK_VALUE] = value
-    ctrl[C_BANK_LIMIT] = NO_LIMIT if limit_deg is None else limit_deg
-    ctrl[C_SIGMA_F] = sigma_f_deg
-    ctrl[C_TURN] = turn_deg
-    ctrl[C_BANK_VAR] = 0.0  # zeta: the procedure for any inclination (Section II.6)
-    ctrl[C_MIRROR] = 0.0
-    if law == "constant_altitude":
-        ctrl[C_BANK_VALUE] = -1.0 if right else 1.0  # the side to turn to
-    elif right:
-        if law in ("constant", "staged"):
-            ctrl[C_BANK_VALUE] = -value
-        else:
-            ctrl[C_MIRROR] = 1.0
-    return replace(spec, ctrl=ctrl)
+def with_bank(spec: FlightSpec, law, **variant) -> FlightSpec:
+    """The spec with its bank law replaced (controls.replace_bank_law: bank_deg, bank_gain, limit_deg,
+    sigma_f_deg, turn_deg, right); everything else in the control array (alpha law, start) kept."""
+    return replace(spec, ctrl=replace_bank_law(spec.ctrl, law, **variant))
 
 
 def with_alpha(spec: FlightSpec, law) -> FlightSpec:
-    ctrl = spec.ctrl.copy()
-    ctrl[C_ALPHA_LAW] = ALPHA_LAWS[law]
-    return replace(spec, ctrl=ctrl)
+    return replace(spec, ctrl=replace_alpha_law(spec.ctrl, law))
 
 
 # ------------------------------------------------------------------------------------------ the methods
@@ -132,7 +103,8 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
     family = [({"bank0_deg": float(b), "k": b / SIGMA0_DEG},
-               lambda s, right, b=b: with_bank(s, "single_parameter", b / SIGMA0_DEG, limit_deg, right=right),
+               lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
+                                               right=right),
                b == 0)
               for b in bank0_deg]
     return footprint_of_family("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
@@ -143,7 +115,7 @@ def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn
     """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
     law = "staged" if staged else "constant"
     family = [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
-               lambda s, right, b=b: with_bank(s, law, b, turn_deg=turn_deg, right=right), b == 0)
+               lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right), b == 0)
               for b in bank_deg]
     return footprint_of_family(law, spec, family + _min_range(min_range), mirror, contours_fps)
 
@@ -158,7 +130,8 @@ def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15
     sets, flights = {}, []
     for kk in k:
         family = [({"k": float(kk), "sigma_f_deg": float(sf)},
-                   lambda s, right, kk=kk, sf=sf: with_bank(s, "two_parameter", kk, limit_deg, sf, right=right),
+                   lambda s, right, kk=kk, sf=sf: with_bank(s, "two_parameter", bank_gain=kk, limit_deg=limit_deg,
+                                                            sigma_f_deg=sf, right=right),
                    sf >= SIGMA0_DEG)
                   for sf in sigma_f_deg]
         f = _fly(spec, family, mirror, contours_fps)
