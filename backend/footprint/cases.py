@@ -9,7 +9,7 @@ from typing import Annotated, Any, Literal, Union
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.errors import InputError
@@ -77,13 +77,13 @@ class PlanetCase(Strict):
     rotating: bool = True
     oblate: bool = True
     atmosphere: AtmosphereCase = AtmosphereCase()
-    radius_ft: bounded(1e5, 1e9, "ft") = K.RADIUS_EQUATORIAL_FT
+    radius_ft: bounded(1e5, 1e9, "ft") = c.RADIUS_EQUATORIAL_FT
     polar_radius_ft: bounded(1e5, 1e9, "ft") | None = None
-    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = K.MU_EARTH_FT3_S2
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = K.OMEGA_EARTH_DEG_S
-    j: bounded(-0.1, 0.1) = K.J_REPORT
-    h: bounded(-0.1, 0.1) = K.H_REPORT
-    k: bounded(-0.1, 0.1) = K.K_REPORT
+    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = c.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = c.OMEGA_EARTH_DEG_S
+    j: bounded(-0.1, 0.1) = c.J_ZONAL
+    h: bounded(-0.1, 0.1) = c.H_ZONAL
+    k: bounded(-0.1, 0.1) = c.K_ZONAL
 
     @model_validator(mode="after")
     def _polar(self):
@@ -94,7 +94,7 @@ class PlanetCase(Strict):
     def to_planet(self) -> Planet:
         polar = self.polar_radius_ft
         if polar is None:  # scale the default flattening to the given equatorial radius
-            polar = self.radius_ft * K.RADIUS_POLAR_FT / K.RADIUS_EQUATORIAL_FT
+            polar = self.radius_ft * c.RADIUS_POLAR_FT / c.RADIUS_EQUATORIAL_FT
         a = self.atmosphere
         return Planet(rotating=self.rotating, oblate=self.oblate, radius_ft=self.radius_ft, polar_radius_ft=polar,
                       mu_ft3_s2=self.mu_ft3_s2, rotation_rate_deg_s=self.rotation_rate_deg_s, j=self.j, h=self.h,

@@ -60,6 +60,11 @@ class TwoParameterStudy(_Study):
                                                          min_length=1, max_length=181)
     limit_deg: bounded(0, 180, "deg") = 75.0
 
+    def to_params(self):
+        params = super().to_params()
+        params["bank_gain"] = params.pop("k")  # the core's name for K
+        return params
+
 
 class ConstantAltitudeStudy(_Study):
     """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from footprint.cases import parse_case
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core import constrained as C
 from footprint.core.aero import builtin_vehicle, ld_max
 from footprint.core.footprints import constant_altitude, single_parameter, staged, two_parameter
@@ -68,7 +68,7 @@ def _fmt(x, unit):
 def common_setup(r: Report):
     p = pack_parameters(table2_spec("lod-2.2"))
     s = initial_state(table2_spec("lod-2.2"), p)
-    w = math.radians(K.OMEGA_EARTH_DEG_S)
+    w = math.radians(c.OMEGA_EARTH_DEG_S)
     vi = math.hypot(math.hypot(s[3] - w * s[1], s[4] + w * s[0]), s[5])
     r.add("Table 2 inertial entry speed (24,480 ft/s relative, γ −2°)", 26_031.0, vi, "ft/s",
           "the text says 26,032; the check is exact")
@@ -110,9 +110,9 @@ def section_ii(r: Report, figs: dict):
         dense = single_parameter(s, bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False)
         stg, two = staged(s, mirror=False), two_parameter(s, mirror=False)
         pts = sorted((p.downrange_nmi, p.crossrange_nmi) for p in dense.points)
-        d, c = np.array(pts).T
+        d, cross = np.array(pts).T
         others = [(p.downrange_nmi, p.crossrange_nmi) for p in stg.points] + two.outer_boundary
-        excess = max(co - np.interp(do, d, c) for do, co in others if d.min() <= do <= d.max())
+        excess = max(co - np.interp(do, d, cross) for do, co in others if d.min() <= do <= d.max())
         r.add(f"{vid}: farthest the staged / two-parameter sets reach beyond K·σ", "< 5 %",
               f"{excess:,.0f} nmi ({100 * excess / dense.max_crossrange_nmi:.1f} %)", "",
               "Figs. 9, 14; 5 % is the report's yardstick for 'compares closely'")

@@ -103,7 +103,7 @@ def test_single_parameter_starts_the_bank_at_phi0_and_the_zero_lift_point_flies_
 def test_the_footprint_boundary_runs_down_the_left_half_and_back_up_the_right():
     fp = F.single_parameter(spec("lod-2.2"), bank0_deg=range(0, 91, 15))
     assert [p.side for p in fp.points] == ["axis"] + ["left"] * 6 + ["axis"] + ["right"] * 6
-    assert fp.points[0].parameter == {"bank0_deg": 0.0, "k": 0.0}
+    assert fp.points[0].parameter == {"bank0_deg": 0.0, "bank_gain": 0.0}
     assert fp.points[7].parameter == {"min_range": "zero_lift"} and fp.interior == []
     assert all(p.crossrange_nmi > 0 for p in fp.points[1:7])
     assert fp.trajectories == 1 + 2 * 6 + 1 and sum(p.mirrored for p in fp.points) == 0  # rotating: all flown

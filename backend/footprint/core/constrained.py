@@ -408,7 +408,7 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
         between = {0.5 * (kept[i].bank0_deg + kept[j].bank0_deg) for j in (i - 1, i + 1) if 0 <= j < len(kept)}
         left = sorted(left + search(sorted(between)), key=lambda p: p.bank0_deg)
     right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
-    family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
+    family = [({"bank0_deg": p.bank0_deg, "bank_gain": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
                lambda s, to_right, p=p, q=q: with_alpha_floor(
                    with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
                    q.floor_deg if to_right else p.floor_deg),

@@ -102,7 +102,7 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
                      mirror=True, contours_fps=()):
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
-    family = [({"bank0_deg": float(b), "k": b / SIGMA0_DEG},
+    family = [({"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
                lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
                                                right=right),
                b == 0)
@@ -120,7 +120,7 @@ def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn
     return footprint_of_family(law, spec, family + _min_range(min_range), mirror, contours_fps)
 
 
-def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
+def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
                   mirror=True, contours_fps=()):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited to 75 deg; one set per K, sigma_f varied.
 
@@ -128,14 +128,14 @@ def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15
     boundary of the parametric data", as the upper convex chain); each set is kept in `sets`.
     """
     sets, flights = {}, []
-    for kk in k:
-        family = [({"k": float(kk), "sigma_f_deg": float(sf)},
-                   lambda s, right, kk=kk, sf=sf: with_bank(s, "two_parameter", bank_gain=kk, limit_deg=limit_deg,
-                                                            sigma_f_deg=sf, right=right),
+    for gain in bank_gain:
+        family = [({"bank_gain": float(gain), "sigma_f_deg": float(sf)},
+                   lambda s, right, gain=gain, sf=sf: with_bank(s, "two_parameter", bank_gain=gain, limit_deg=limit_deg,
+                                                                sigma_f_deg=sf, right=right),
                    sf >= SIGMA0_DEG)
                   for sf in sigma_f_deg]
         f = _fly(spec, family, mirror, contours_fps)
-        sets[f"k={kk:g}"] = f.axis + f.left
+        sets[f"k={gain:g}"] = f.axis + f.left
         flights.append(f)
     pairs = [(l, r) for f in flights for l, r in zip(f.left, f.right or [None] * len(f.left))]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])

@@ -401,9 +401,9 @@ def with_bank_table(spec: FlightSpec, bank_deg, nodes=BANK_TABLE_HEADINGS_DEG, v
     return replace(spec, ctrl=replace_bank_table(spec.ctrl, bank_deg, nodes, variable))
 
 
-def nominal_bank_deg(k=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):
+def nominal_bank_deg(bank_gain=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):
     """Fig. 2's nominal schedule: the linear ramp phi_B = K zeta at the table points, within the bounds."""
-    return np.clip(k * np.asarray(headings_deg, dtype=float), *bounds)
+    return np.clip(bank_gain * np.asarray(headings_deg, dtype=float), *bounds)
 
 
 def cross_range_problem(spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL_DOWNRANGE_NMI, initial=None,
