@@ -147,7 +147,8 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
 
     from tqdm import tqdm
 
-    from footprint.sweeps import check_vehicles, dask_client, parse_sweep, run_sweep
+    from footprint.parallel import dask_client
+    from footprint.sweeps import check_vehicles, parse_sweep, run_sweep
 
     _writable(out, "--out")
     data = _read_json(sweep_file)

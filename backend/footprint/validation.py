@@ -20,10 +20,12 @@ from footprint.core.aero import builtin_vehicle, ld_max
 from footprint.core.footprints import constant_altitude, single_parameter, staged, two_parameter
 from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import initial_state, pack_parameters
+from footprint.parallel import client_map, dask_client
 
 TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90.0}
 APPENDIX_C_ENTRY = {"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
                     "gamma_deg": -15.0, "heading_deg": 90.0}
+OPTIMIZATION_WORKERS = 2  # Dask worker processes for Section III's optimized points (one task per point)
 
 
 def table2_spec(vehicle, **case):
@@ -148,9 +150,10 @@ def section_iii(r: Report):
     """Section III: the optimal L/D 1.89 footprint's end points, unconstrained and at RET <= 2,550 degR
     (bank table, plus an alpha table under the limit); docs/heating.md has the whole study."""
     spec = table2_spec("lod-1.89", heating={"model": "reference"})
-    free = C.optimal_footprint(spec, min_downrange=True)
-    hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(2_550.0),), controls="bank_alpha",
-                              min_downrange=True, max_evaluations=3_000)
+    with dask_client(workers=OPTIMIZATION_WORKERS) as client:
+        free = C.optimal_footprint(spec, min_downrange=True, map_tasks=client_map(client))
+        hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(2_550.0),), controls="bank_alpha",
+                                  min_downrange=True, max_evaluations=3_000, map_tasks=client_map(client))
     top = free.point("max_crossrange")
     r.add("L/D 1.89 optimal max cross-range (bank table, Table 2 entry)", 1_964.0, top.crossrange_nmi, "nmi",
           "Section III unconstrained footprint (Fig. 21)")

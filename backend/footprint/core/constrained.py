@@ -4,7 +4,7 @@
   maximum cross-range at a prescribed down-range (held within TTOL 50 nmi), plus the unconstrained
   maximum cross-range and the maximum down-range point ("except for the maximum down-range point, all of the
   points on the footprint were obtained by maximizing the lateral range at various down-range distances").
-  The points are independent and are solved in parallel over processes.
+  The points are independent: the caller's `map_tasks` (builtin map, or footprint.parallel.client_map) runs them.
 * Section III controls ("bank_alpha"): the eight-point bank table vs zeta (Fig. 2) plus an angle-of-attack
   table vs earth-relative velocity, "both of the control parameters were modulated over the entire trajectory
   with the exception that during the initial plunge into the atmosphere the bank angle was set to zero" (the
@@ -16,7 +16,6 @@ Pure core: numpy and the standard library only.
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -57,7 +56,6 @@ CONTROLS = ("bank", "bank_alpha")
 # integrator steps allowed per searched flight: a normal Table 2 flight takes 100-600 steps; some steep-bank,
 # high-alpha corners chatter to the 200,000-step default (0.5 s each). Such a flight ends "max_steps".
 SEARCH_MAX_STEPS = 20_000
-WORKERS = 2
 
 
 # ------------------------------------------------------------------------------------------------- controls
@@ -239,7 +237,6 @@ class OptimalFootprint:
     points: list[OptimalPoint]
     trajectories: int
     seconds: float  # wall clock
-    workers: int
     controls: str
     constraints: tuple = field(default_factory=tuple)
 
@@ -247,7 +244,7 @@ class OptimalFootprint:
         return next(p for p in self.points if p.label == label)
 
     def to_dict(self):
-        return {"controls": self.controls, "workers": self.workers, "trajectories": self.trajectories,
+        return {"controls": self.controls, "trajectories": self.trajectories,
                 "seconds": self.seconds, "constraints": [c.__dict__ for c in self.constraints],
                 "points": [p.to_dict() for p in self.points]}
 
@@ -258,15 +255,16 @@ def _solve_task(task):
 
 
 def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), controls="bank", *,
-                      max_crossrange=True, max_downrange=True, min_downrange=False, workers=WORKERS,
+                      max_crossrange=True, max_downrange=True, min_downrange=False, map_tasks=map,
                       max_evaluations=1_500, initial=None, **options) -> OptimalFootprint:
     """Section II.5 / Fig. 12, 21 (and Fig. 29 with a temperature constraint): maximum cross-range at each
     prescribed down-range (TTOL 50 nmi), the unconstrained maximum cross-range, the maximum down-range and,
     when asked, the minimum down-range, all subject to `constraints` (e.g. temperature_limit(2_550)).
 
-    Each point is an independent optimization; workers > 1 runs them on a process pool (the search is
-    deterministic, so the points equal the serial ones exactly). Returns the points in the order
-    max cross-range, the down-ranges as given, max down-range, min down-range."""
+    Each point is an independent optimization, run by map_tasks (builtin map's signature, results in order; a
+    parallel one such as footprint.parallel.client_map gives the serial points exactly, the search being
+    deterministic). Returns the points in the order max cross-range, the down-ranges as given, max down-range,
+    min down-range."""
     cons = tuple(constraints)
     nb = len(BANK_TABLE_HEADINGS_DEG)
     common = dict(controls=controls, max_evaluations=max_evaluations, **options)
@@ -288,19 +286,16 @@ def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), contr
         tasks.append(("min_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="min",
                                                         constraints=cons, initial=x0)))
     t0 = time.perf_counter()
-    if workers > 1 and len(tasks) > 1:
-        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
-            points = list(pool.map(_solve_task, tasks))
-    else:
-        points = [_solve_task(t) for t in tasks]
+    points = list(map_tasks(_solve_task, tasks))
     return OptimalFootprint(points=points, trajectories=sum(p.result.trajectories for p in points),
-                            seconds=time.perf_counter() - t0, workers=workers, controls=controls, constraints=cons)
+                            seconds=time.perf_counter() - t0, controls=controls, constraints=cons)
 
 
-def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS, max_evaluations=1_500,
+def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, map_tasks=map, max_evaluations=1_500,
                                   initial=None, **options):
     """Fig. 22: the maximum cross-range with bank and alpha tables under each RET limit (None: unconstrained,
-    bank only at (L/D)max alpha, as Fig. 20's unconstrained case). Returns [(limit, Result)]."""
+    bank only at (L/D)max alpha, as Fig. 20's unconstrained case), one task per limit run by map_tasks (as in
+    optimal_footprint). Returns [(limit, Result)]."""
     tasks = []
     for lim in limits_R:
         if lim is None or (isinstance(lim, float) and math.isinf(lim)):
@@ -310,11 +305,7 @@ def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS
             tasks.append((f"ret_{lim:g}", None, spec, dict(controls="bank_alpha", constraints=(temperature_limit(lim),),
                                                          max_evaluations=max_evaluations, initial=initial,
                                                          **options)))
-    if workers > 1 and len(tasks) > 1:
-        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
-            points = list(pool.map(_solve_task, tasks))
-    else:
-        points = [_solve_task(t) for t in tasks]
+    points = list(map_tasks(_solve_task, tasks))
     return [(lim, p.result) for lim, p in zip(limits_R, points)]
 
 
