@@ -22,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from footprint.core import constrained as C
-from footprint.core.footprints import crossrange_at_nmi, footprint
+from footprint.core.footprint_methods import footprint
+from footprint.core.footprints import crossrange_at_nmi
 from footprint.figures import footprints_figure, save
 from footprint.parallel import client_map, dask_client, worker_count
 from footprint.studies import parse_study

@@ -2,7 +2,7 @@
 
 from footprint.cases import Case, parse_case
 from footprint.core.footprints import Footprint
-from footprint.core.footprints import footprint as _footprint
+from footprint.core.footprint_methods import footprint as _footprint
 from footprint.core.trajectory import Trajectory, simulate
 from footprint.studies import parse_study
 

@@ -109,7 +109,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
                                                    help="draw the footprint (PNG or SVG by the suffix)")):
     """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories). Exit status
     1 with one line on stderr when a collocation footprint's first solves end without an optimum."""
-    from footprint.core.footprints import footprint as run
+    from footprint.core.footprint_methods import footprint as run
     from footprint.studies import parse_study
 
     _writable(plot, "--plot")

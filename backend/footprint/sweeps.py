@@ -190,7 +190,7 @@ class FootprintRun:
 
 def fly_footprint(job: dict) -> FootprintRun:
     """The task: fly one footprint. Never raises: a failure in the core comes back as a run with `error` set."""
-    from footprint.core.footprints import footprint
+    from footprint.core.footprint_methods import footprint
 
     vehicle, velocity_fps, gamma_deg = job["key"]
     run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,

@@ -178,24 +178,6 @@ def staged(spec, **params):
     return constant_bank(spec, staged=True, **params)
 
 
-METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank, "staged": staged,
-           "two_parameter": two_parameter, "constant_altitude": constant_altitude}
-
-
-def footprint(spec: FlightSpec, method: str, on_progress=None, **params) -> Footprint:
-    """The footprint of `spec` by `method`; on_progress(fraction, note) where the method is long enough to
-    report (the collocation's IPOPT iterations)."""
-    if method == "temperature_limited":  # constrained.py builds on this module, so it is imported here
-        from footprint.core.constrained import temperature_limited_footprint
-
-        return temperature_limited_footprint(spec, **params).footprint
-    if method == "collocation":  # the true optimal boundary (CasADi), built on this module too
-        from footprint.core.collocation_footprint import collocation_footprint
-
-        return collocation_footprint(spec, on_progress=on_progress, **params)
-    return METHODS[method](spec, **params)
-
-
 # ------------------------------------------------------------------------------------------ machinery
 def _min_range(kind):
     if kind is None:

@@ -107,7 +107,7 @@ def _point(p) -> dict:
 
 def footprint_task(study_dict: dict, name: str) -> dict:
     """A footprint job: the footprint and its zero-bank ground track. Raises what the core raises."""
-    from footprint.core import footprints as core
+    from footprint.core import footprint_methods as core
     from footprint.studies import parse_study
 
     study = parse_study(study_dict)
