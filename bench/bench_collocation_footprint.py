@@ -22,8 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from footprint.core import constrained as C
-from footprint.core.footprints import crossrange_at_nmi, footprint
+from footprint.core.footprint_methods import footprint
+from footprint.core.footprints import crossrange_at_nmi
 from footprint.pictures.figures import footprints_figure, save
+from footprint.parallel import client_map, dask_client, worker_count
 from footprint.contracts.footprint import parse_study
 
 HERE = Path(__file__).resolve().parent
@@ -31,6 +33,7 @@ EXAMPLES = HERE.parent / "examples"
 FIGURE = HERE.parent / "docs" / "figures" / "footprint_true_optimal_lod189.png"
 FIGURE_2550 = HERE.parent / "docs" / "figures" / "footprint_true_optimal_lod189_2550R.png"
 TARGET_S = 30.0  # issue 12: an optimal footprint of >= 24 points on this 2-core machine
+WORKERS = 2  # Dask worker processes for the creep + pattern points
 
 
 def timed(fn):
@@ -64,9 +67,11 @@ def compare(true_study, single_study, limit_R=None):
     spec = study.case.to_spec()
     grid = [p.parameter["downrange_target_nmi"] for p in true.points
             if p.side == "left" and p.parameter["downrange_target_nmi"] is not None]
-    search = C.optimal_footprint(spec, downranges_nmi=grid, controls="bank" if limit_R is None else "bank_alpha",
-                                 constraints=() if limit_R is None else (C.temperature_limit(limit_R),),
-                                 min_downrange=limit_R is not None, workers=2)
+    with dask_client(workers=WORKERS) as client:
+        workers = worker_count(client)
+        search = C.optimal_footprint(spec, downranges_nmi=grid, controls="bank" if limit_R is None else "bank_alpha",
+                                     constraints=() if limit_R is None else (C.temperature_limit(limit_R),),
+                                     min_downrange=limit_R is not None, map_tasks=client_map(client))
     rows = []
     for p in sorted((p for p in true.points if p.side == "left"), key=lambda p: p.downrange_nmi):
         target = p.parameter["downrange_target_nmi"]
@@ -80,10 +85,10 @@ def compare(true_study, single_study, limit_R=None):
                      "single_parameter_crossrange_nmi": None if sp is None else round(sp, 1)})
     agreement = [p.parameter["agreement_deg"] for p in true.points]
     iterations = sum(p.parameter["iterations"] for p in true.points)
-    return true, true_s, single, single_s, search, rows, agreement, iterations
+    return true, true_s, single, single_s, search, workers, rows, agreement, iterations
 
 
-def report(name, true, true_s, single, single_s, search, rows, agreement, iterations):
+def report(name, true, true_s, single, single_s, search, workers, rows, agreement, iterations):
     out = {
         "true_optimal": {"points": len(true.points), "solves": true.trajectories, "ipopt_iterations": iterations,
                          "seconds": round(true_s, 1), "target_seconds": TARGET_S,
@@ -94,7 +99,7 @@ def report(name, true, true_s, single, single_s, search, rows, agreement, iterat
                          "agreement_deg_median": round(float(np.median(agreement)), 4),
                          "failed": (true.asymmetry or {}).get("failed", [])},
         "creep_pattern": {"points": len(search.points), "trajectories": search.trajectories,
-                          "seconds": round(search.seconds, 1), "workers": search.workers,
+                          "seconds": round(search.seconds, 1), "workers": workers,
                           "max_crossrange_nmi": round(search.point("max_crossrange").crossrange_nmi, 1),
                           "max_downrange_nmi": round(search.point("max_downrange").downrange_nmi, 1)},
         "single_parameter": {"points": len(single.points), "trajectories": single.trajectories,
@@ -110,7 +115,7 @@ def report(name, true, true_s, single, single_s, search, rows, agreement, iterat
           f"(target {TARGET_S:g} s: {'met' if true_s <= TARGET_S else 'MISSED'}); max cross-range "
           f"{t['max_crossrange_nmi']:,.1f} nmi, down-range {t['min_downrange_nmi']:,.0f}-{t['max_downrange_nmi']:,.0f}"
           f" nmi; re-flight within {t['agreement_deg_max']:.3f} deg (median {t['agreement_deg_median']:.4f})")
-    print(f"creep + pattern: {search.trajectories} trajectories, {search.seconds:.1f} s on {search.workers} workers; "
+    print(f"creep + pattern: {search.trajectories} trajectories, {search.seconds:.1f} s on {workers} workers; "
           f"single parameter: {single.trajectories} trajectories, {single_s:.2f} s")
     print(f"{'down-range':>10} {'true':>8} {'creep+pattern':>14} {'single':>8}   (cross-range, nmi; share of true)")
     for r in rows:

@@ -24,7 +24,7 @@ BANK0_DEG = tuple(range(0, 166, 15))
 
 def by_scipy(spec):
     for b in BANK0_DEG:
-        scipy_flight(with_bank(spec, "single_parameter", b / 90.0))
+        scipy_flight(with_bank(spec, "single_parameter", bank_gain=b / 90.0))
     scipy_flight(with_bank(spec, "zero_lift"))
 
 

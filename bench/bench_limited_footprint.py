@@ -16,6 +16,7 @@ from pathlib import Path
 
 from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
+from footprint.parallel import client_map, dask_client
 
 HERE = Path(__file__).resolve().parent
 CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480,
@@ -30,8 +31,10 @@ def main():
     spec = parse_case(CASE).to_spec()
     C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process
     simple = C.temperature_limited_footprint(spec, LIMIT_R)
-    opt = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
-                              controls="bank_alpha", min_downrange=True, max_evaluations=MAX_EVALUATIONS)
+    with dask_client(workers=2) as client:
+        opt = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
+                                  controls="bank_alpha", min_downrange=True, max_evaluations=MAX_EVALUATIONS,
+                                  map_tasks=client_map(client))
     fp = simple.footprint
     best = {"max_crossrange_nmi": opt.point("max_crossrange").crossrange_nmi,
             "max_downrange_nmi": opt.point("max_downrange").downrange_nmi,

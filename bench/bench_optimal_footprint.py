@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
+from footprint.parallel import client_map, dask_client, worker_count
 
 HERE = Path(__file__).resolve().parent
 CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480,
@@ -28,11 +29,13 @@ def main():
     C.solve(spec, max_evaluations=3)  # compile in this process
     kw = {"downranges_nmi": DOWNRANGES_NMI, "controls": "bank", "max_crossrange": False, "max_downrange": False,
           "max_evaluations": MAX_EVALUATIONS}
-    par = C.optimal_footprint(spec, workers=2, **kw)
-    ser = C.optimal_footprint(spec, workers=1, **kw)
+    with dask_client(workers=2) as client:
+        workers = worker_count(client)
+        par = C.optimal_footprint(spec, map_tasks=client_map(client), **kw)
+    ser = C.optimal_footprint(spec, **kw)
     same = all(np.array_equal(a.result.params, b.result.params) for a, b in zip(par.points, ser.points))
     out = {
-        "points": len(par.points), "workers": 2, "seconds_2_workers": round(par.seconds, 3),
+        "points": len(par.points), "workers": workers, "seconds_2_workers": round(par.seconds, 3),
         "seconds_1_worker": round(ser.seconds, 3), "speedup_1_over_2": round(ser.seconds / par.seconds, 2),
         "trajectories": par.trajectories, "target_seconds": TARGET_S, "within_target": par.seconds <= TARGET_S,
         "identical_to_serial": same,

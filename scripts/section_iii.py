@@ -19,6 +19,7 @@ from footprint.core.controls import pack_controls
 from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import simulate
 from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
+from footprint.parallel import client_map, dask_client
 from matplotlib.figure import Figure
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -36,19 +37,24 @@ FIG22_LIMITS_R = (None, 2_600.0, 2_550.0, 2_500.0, 2_450.0, 2_400.0, 2_350.0)
 DOWNRANGES_NMI = (2_000.0, 4_000.0, 8_000.0, 11_000.0)
 MAX_EVALUATIONS = 1_500
 HOT_MAX_EVALUATIONS = 3_000  # the constrained footprint points: at 1,500 some ended 1-8 degR outside the band
+WORKERS = 2  # Dask worker processes for the optimized points
 
 
 def main():
     t0 = time.perf_counter()
     spec = parse_case(TABLE2_CASE).to_spec()
-    fig22 = C.max_crossrange_vs_temperature(spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS)
-    print("fig22", [(lim, round(r.payoff, 1), round(r.summary["max_temperature_R"], 1)) for lim, r in fig22],
-          flush=True)
-    free = C.optimal_footprint(spec, DOWNRANGES_NMI, controls="bank", min_downrange=True,
-                               max_evaluations=MAX_EVALUATIONS)
-    print("free", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi)) for p in free.points], flush=True)
-    hot = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
-                              controls="bank_alpha", min_downrange=True, max_evaluations=HOT_MAX_EVALUATIONS)
+    with dask_client(workers=WORKERS) as client:
+        map_tasks = client_map(client)
+        fig22 = C.max_crossrange_vs_temperature(spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS,
+                                                map_tasks=map_tasks)
+        print("fig22", [(lim, round(r.payoff, 1), round(r.summary["max_temperature_R"], 1)) for lim, r in fig22],
+              flush=True)
+        free = C.optimal_footprint(spec, DOWNRANGES_NMI, controls="bank", min_downrange=True,
+                                   max_evaluations=MAX_EVALUATIONS, map_tasks=map_tasks)
+        print("free", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi)) for p in free.points], flush=True)
+        hot = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
+                                  controls="bank_alpha", min_downrange=True, max_evaluations=HOT_MAX_EVALUATIONS,
+                                  map_tasks=map_tasks)
     print("2550", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi), p.result.feasible)
                    for p in hot.points], flush=True)
     C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process: time the method

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from footprint.core.footprints import footprint
+from footprint.core.footprint_methods import footprint
 from footprint.core.rotation import VELOCITY_FRAMES, approximate_points, approximate_vs_exact
 from footprint.core.transforms import Reference, heading_for_inclination, mirror, move
 from footprint.pictures.figures import save

@@ -14,16 +14,18 @@ from pathlib import Path
 import numpy as np
 
 from footprint.contracts.case import parse_case
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core import constrained as C
 from footprint.core.aero import builtin_vehicle, ld_max
 from footprint.core.footprints import constant_altitude, single_parameter, staged, two_parameter
 from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import initial_state, pack_parameters
+from footprint.parallel import client_map, dask_client
 
 TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90.0}
 APPENDIX_C_ENTRY = {"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
                     "gamma_deg": -15.0, "heading_deg": 90.0}
+OPTIMIZATION_WORKERS = 2  # Dask worker processes for Section III's optimized points (one task per point)
 
 
 def table2_spec(vehicle, **case):
@@ -68,7 +70,7 @@ def _fmt(x, unit):
 def common_setup(r: Report):
     p = pack_parameters(table2_spec("lod-2.2"))
     s = initial_state(table2_spec("lod-2.2"), p)
-    w = math.radians(K.OMEGA_EARTH_DEG_S)
+    w = math.radians(c.OMEGA_EARTH_DEG_S)
     vi = math.hypot(math.hypot(s[3] - w * s[1], s[4] + w * s[0]), s[5])
     r.add("Table 2 inertial entry speed (24,480 ft/s relative, γ −2°)", 26_031.0, vi, "ft/s",
           "the text says 26,032; the check is exact")
@@ -110,9 +112,9 @@ def section_ii(r: Report, figs: dict):
         dense = single_parameter(s, bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False)
         stg, two = staged(s, mirror=False), two_parameter(s, mirror=False)
         pts = sorted((p.downrange_nmi, p.crossrange_nmi) for p in dense.points)
-        d, c = np.array(pts).T
+        d, cross = np.array(pts).T
         others = [(p.downrange_nmi, p.crossrange_nmi) for p in stg.points] + two.outer_boundary
-        excess = max(co - np.interp(do, d, c) for do, co in others if d.min() <= do <= d.max())
+        excess = max(co - np.interp(do, d, cross) for do, co in others if d.min() <= do <= d.max())
         r.add(f"{vid}: farthest the staged / two-parameter sets reach beyond K·σ", "< 5 %",
               f"{excess:,.0f} nmi ({100 * excess / dense.max_crossrange_nmi:.1f} %)", "",
               "Figs. 9, 14; 5 % is the report's yardstick for 'compares closely'")
@@ -148,9 +150,10 @@ def section_iii(r: Report):
     """Section III: the optimal L/D 1.89 footprint's end points, unconstrained and at RET <= 2,550 degR
     (bank table, plus an alpha table under the limit); docs/heating.md has the whole study."""
     spec = table2_spec("lod-1.89", heating={"model": "reference"})
-    free = C.optimal_footprint(spec, min_downrange=True)
-    hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(2_550.0),), controls="bank_alpha",
-                              min_downrange=True, max_evaluations=3_000)
+    with dask_client(workers=OPTIMIZATION_WORKERS) as client:
+        free = C.optimal_footprint(spec, min_downrange=True, map_tasks=client_map(client))
+        hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(2_550.0),), controls="bank_alpha",
+                                  min_downrange=True, max_evaluations=3_000, map_tasks=client_map(client))
     top = free.point("max_crossrange")
     r.add("L/D 1.89 optimal max cross-range (bank table, Table 2 entry)", 1_964.0, top.crossrange_nmi, "nmi",
           "Section III unconstrained footprint (Fig. 21)")

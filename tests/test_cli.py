@@ -144,7 +144,7 @@ def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limi
     assert out["trajectories"] > 5  # the floor searches are counted, not only the five flights drawn
     base = parse_case(study["case"]).to_spec()
     for p in out["points"]:  # fly each point again: its own bank law, side and alpha floor
-        spec = with_bank(base, "single_parameter", p["parameter"]["k"], right=p["side"] == "right")
+        spec = with_bank(base, "single_parameter", bank_gain=p["parameter"]["bank_gain"], right=p["side"] == "right")
         s = simulate(C.with_alpha_floor(spec, p["parameter"]["alpha_floor_deg"])).summary
         assert s["max_temperature_R"] <= 2_555.0  # degR: the limit plus the TTOL band
         assert s["downrange_nmi"] == pytest.approx(p["downrange_nmi"], abs=1e-3)  # nmi: the flight re-flown

@@ -40,11 +40,11 @@ def hand_footprint(with_contours=False):
         out = (contour(6000.0, d - 300, 0.8 * c),)
         return out + ((contour(2000.0, d - 50, 0.95 * c),) if d != 3000.0 else ())
 
-    left = [pt(2500.0, 900.0, parameter={"bank0_deg": 45.0, "k": 0.5}, contours=cs(2500.0, 900.0)),
-            pt(900.0, 600.0, parameter={"bank0_deg": 90.0, "k": 1.0}, contours=cs(900.0, 600.0))]
+    left = [pt(2500.0, 900.0, parameter={"bank0_deg": 45.0, "bank_gain": 0.5}, contours=cs(2500.0, 900.0)),
+            pt(900.0, 600.0, parameter={"bank0_deg": 90.0, "bank_gain": 1.0}, contours=cs(900.0, 600.0))]
     right = [pt(p.downrange_nmi, -p.crossrange_nmi, "right", p.parameter, True,
                 tuple(c | {"crossrange_nmi": -c["crossrange_nmi"]} for c in p.contours)) for p in left]
-    points = ([pt(3000.0, 0.0, "axis", {"bank0_deg": 0.0, "k": 0.0}, contours=cs(3000.0, 0.0))] + left
+    points = ([pt(3000.0, 0.0, "axis", {"bank0_deg": 0.0, "bank_gain": 0.0}, contours=cs(3000.0, 0.0))] + left
               + [pt(500.0, 0.0, "axis", {"min_range": "zero_lift"}, contours=cs(500.0, 0.0))] + right[::-1])
     return F.Footprint(method="single_parameter", points=points, area_nmi2=F.area_nmi2(points), trajectories=4,
                        entry={"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0})
@@ -135,8 +135,8 @@ def test_drawing_into_a_given_axes_returns_its_figure():
 
 
 @pytest.mark.parametrize("parameter, label", [
-    ({"bank0_deg": 45.0, "k": 0.5}, r"$\phi_0$=45°"),
-    ({"k": 0.67, "sigma_f_deg": -15.0}, r"K=0.67, $\sigma_f$=-15°"),
+    ({"bank0_deg": 45.0, "bank_gain": 0.5}, r"$\phi_0$=45°"),
+    ({"bank_gain": 0.67, "sigma_f_deg": -15.0}, r"K=0.67, $\sigma_f$=-15°"),
     ({"bank_deg": 30.0, "turn_deg": 90.0}, r"$\phi$=30°"),
     ({"turn_deg": 11.448540987}, r"$\Delta\sigma$=11.4°"),
     ({"turn_deg": 38.2, "until": "wings_level"}, r"$\Delta\sigma$=38.2° (max)"),

@@ -11,7 +11,8 @@ import pytest
 from distributed import Client, LocalCluster, get_task_stream
 
 from footprint.contracts.case import parse_case
-from footprint.core import footprints as F
+from footprint.core import footprint_methods as M
+from footprint.core.footprint_methods import footprint
 from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep
 from footprint.contracts.sweep import run as run_sweep
 
@@ -35,7 +36,7 @@ def serial_footprint(vehicle, velocity_fps, gamma_deg, method="single_parameter"
             "entry": {"altitude_ft": 300_000, "velocity_fps": velocity_fps, "velocity_frame": "inertial",
                       "gamma_deg": gamma_deg, "heading_deg": 90},
             "stop": {"altitude_ft": None, "velocity_fps": 2_000}}
-    return F.footprint(parse_case(case).to_spec(), method, **params)
+    return footprint(parse_case(case).to_spec(), method, **params)
 
 
 @pytest.fixture(scope="module")
@@ -93,14 +94,14 @@ def test_the_same_code_path_through_a_scheduler_address(client, small, same_numb
 
 
 def test_a_failing_footprint_is_a_row_and_the_others_survive(tmp_path, monkeypatch):
-    real = F.footprint
+    real = M.footprint
 
     def flaky(spec, method, **params):
         if spec.entry.gamma_deg == -10.0 and spec.entry.velocity_fps == 25_800.0:
             raise FloatingPointError("integrator blew up")
         return real(spec, method, **params)
 
-    monkeypatch.setattr(F, "footprint", flaky)  # threads in this process see it (processes=False)
+    monkeypatch.setattr(M, "footprint", flaky)  # threads in this process see it (processes=False)
     with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0") as cluster, \
             Client(cluster) as c:
         result = run_sweep(sweep_dict(), client=c)

@@ -142,7 +142,7 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
 
     from tqdm import tqdm
 
-    from footprint.contracts.sweep import dask_client
+    from footprint.parallel import dask_client
 
     _writable(out, "--out")
     sw = _request("sweep", sweep_file)

@@ -100,13 +100,13 @@ export function openRing(points) {
 
 // a footprint point's control parameters in the words of the report (Sections II.5-II.6, App. C)
 const PARAMETER_WORDS = {
-  bank0_deg: ["initial bank", "°"], k: ["K", ""], sigma_f_deg: ["σf", "°"], bank_deg: ["bank", "°"],
+  bank0_deg: ["initial bank", "°"], bank_gain: ["K", ""], sigma_f_deg: ["σf", "°"], bank_deg: ["bank", "°"],
   turn_deg: ["wings level after a turn of", "°"], limit_deg: ["bank limit", "°"], downrange_target_nmi: ["down-range held at", " nmi"],
   agreement_deg: ["re-flown within", "°"], iterations: ["IPOPT iterations", ""], steps: ["steps", ""],
 };
 const MIN_RANGE_WORDS = { zero_lift: "zero lift (shortest flight)", cl_max: "C_L max, no bank (shortest flight)" };
 
-/** A parameter dict ({"bank0_deg": 105, "k": 1.17}) in words: "initial bank 105°, K 1.17". */
+/** A parameter dict ({"bank0_deg": 105, "bank_gain": 1.17}) in words: "initial bank 105°, K 1.17". */
 export function describeParameter(parameter) {
   if (parameter == null) return "";
   if (typeof parameter !== "object") return String(parameter);

@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from footprint.core.footprints import crossrange_at_nmi, footprint
+from footprint.core.footprint_methods import footprint
+from footprint.core.footprints import crossrange_at_nmi
 from footprint.contracts.footprint import parse_study
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -8,6 +8,7 @@ from footprint.core.constants import G0_FT_S2
 from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating
 from footprint.core.optimize import Problem, creep_pattern_feasible
 from footprint.core.trajectory import simulate
+from footprint.parallel import client_map, dask_client
 
 TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # report Table 2
 SINGLE_PARAMETER_BANK = {"law": "single_parameter", "k": 75 / 90}  # the best single-parameter point, 2,024 nmi
@@ -99,8 +100,9 @@ def test_parallel_and_serial_optimal_footprints_agree(same_numbers):
     """Same search, same steps; the summaries may differ in the last bit (NumPy's SIMD paths vary by process)."""
     spec = lod189()
     kw = {"downranges_nmi": (3_000.0, 6_000.0), "controls": "bank", "max_evaluations": 40}
-    par = C.optimal_footprint(spec, workers=2, **kw)
-    ser = C.optimal_footprint(spec, workers=1, **kw)
+    with dask_client(workers=2) as client:  # the core runs its points through the map it is given
+        par = C.optimal_footprint(spec, map_tasks=client_map(client), **kw)
+    ser = C.optimal_footprint(spec, **kw)
     assert [p.label for p in par.points] == ["max_crossrange", "downrange_3000", "downrange_6000", "max_downrange"]
     assert par.trajectories == ser.trajectories
     for a, b in zip(par.points, ser.points):

@@ -148,13 +148,13 @@ def test_inertial_entry_velocity_is_converted():
 
 
 @pytest.mark.parametrize("kw", [
-    {"bank_law": "two_parameter", "bank_value": 0.8, "bank_limit_deg": 75.0, "sigma_f_deg": 30.0, "mirror": True,
-     "bank_variable": "heading", "alpha_law": "gamma_hold", "alpha_value": -1.5, "alpha_before": "cl_max",
+    {"bank_law": "two_parameter", "bank_gain": 0.8, "bank_limit_deg": 75.0, "sigma_f_deg": 30.0, "mirror": True,
+     "bank_variable": "heading", "alpha_law": "gamma_hold", "gamma_deg": -1.5, "alpha_before": "cl_max",
      "hold_time_constant_s": 20.0},
     {"bank_law": "table", "bank_variable": "energy", "bank_table": ([1e5, 5e6], [10.0, 60.0]),
      "bank_start": "altitude", "bank_start_altitude_ft": 250_000.0, "alpha_law": "table",
      "alpha_table": ([0.0, 900.0, 2_000.0], [40.0, 20.0, 15.0]), "alpha_table_abscissa": "time"},
-    {"bank_law": "staged", "bank_value": 40.0, "turn_deg": 45.0, "bank_start": "entry", "alpha_law": "max_ld_floor",
+    {"bank_law": "staged", "bank_deg": 40.0, "turn_deg": 45.0, "bank_start": "entry", "alpha_law": "max_ld_floor",
      "alpha_table": ([12_000.0, 16_000.0], [0.0, 20.0])},
 ])
 def test_unpack_controls_inverts_pack_controls(kw):

@@ -62,8 +62,9 @@ def test_reflected_half_equals_the_flown_right_half_on_a_sphere_without_rotation
              entry={**TABLE2_ENTRY, "latitude_deg": 20.0, "longitude_deg": 40.0, "heading_deg": 50.0})
     assert F.mirror_is_exact(s)
     for b in (30.0, 105.0):
-        left = F.point_of_trajectory({}, "left", simulate(F.with_bank(s, "single_parameter", b / 90.0)))
-        flown = F.point_of_trajectory({}, "right", simulate(F.with_bank(s, "single_parameter", b / 90.0, right=True)))
+        left = F.point_of_trajectory({}, "left", simulate(F.with_bank(s, "single_parameter", bank_gain=b / 90.0)))
+        right = F.with_bank(s, "single_parameter", bank_gain=b / 90.0, right=True)
+        flown = F.point_of_trajectory({}, "right", simulate(right))
         mirrored = F.reflect(s, left)
         assert mirrored.crossrange_nmi == pytest.approx(flown.crossrange_nmi, abs=5e-3)
         assert mirrored.downrange_nmi == pytest.approx(flown.downrange_nmi, abs=5e-3)
@@ -89,7 +90,7 @@ def test_an_inclined_entry_on_the_rotating_earth_has_unequal_halves():
 # -------------------------------------------------------------------------------------- the methods
 def test_single_parameter_starts_the_bank_at_phi0_and_the_zero_lift_point_flies_no_lift():
     s = spec("lod-2.2")
-    t = simulate(F.with_bank(s, "single_parameter", 120.0 / 90.0))
+    t = simulate(F.with_bank(s, "single_parameter", bank_gain=120.0 / 90.0))
     h, po = t.history, t.summary["pullout_time_s"]
     first = np.nonzero(h["time_s"] > po)[0][0]
     # K = phi0 / 90: the bank at pull-out is phi0 (no limit: Section II.6 removes the 85 deg limit)
@@ -102,7 +103,7 @@ def test_single_parameter_starts_the_bank_at_phi0_and_the_zero_lift_point_flies_
 def test_the_footprint_boundary_runs_down_the_left_half_and_back_up_the_right():
     fp = F.single_parameter(spec("lod-2.2"), bank0_deg=range(0, 91, 15))
     assert [p.side for p in fp.points] == ["axis"] + ["left"] * 6 + ["axis"] + ["right"] * 6
-    assert fp.points[0].parameter == {"bank0_deg": 0.0, "k": 0.0}
+    assert fp.points[0].parameter == {"bank0_deg": 0.0, "bank_gain": 0.0}
     assert fp.points[7].parameter == {"min_range": "zero_lift"} and fp.interior == []
     assert all(p.crossrange_nmi > 0 for p in fp.points[1:7])
     assert fp.trajectories == 1 + 2 * 6 + 1 and sum(p.mirrored for p in fp.points) == 0  # rotating: all flown
@@ -195,7 +196,7 @@ def test_a_steep_bank_past_the_pole_of_the_initial_great_circle_does_not_chatter
     # +-180 deg (the physical end of the bank range) the same one
     s = spec("high-lod", entry={"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
                                 "gamma_deg": -1.5}, stop={"altitude_ft": None, "velocity_fps": 2_000})
-    t = simulate(F.with_bank(s, "single_parameter", 120.0 / 90.0))
+    t = simulate(F.with_bank(s, "single_parameter", bank_gain=120.0 / 90.0))
     assert t.summary["stop_reason"] == "velocity" and t.summary["steps"] < 5_000
     assert np.max(np.abs(t.history["bank_deg"])) == 180.0
     assert np.max(t.history["crossrange_nmi"]) > 0.98 * math.pi / 2 * MEAN_RADIUS_NMI

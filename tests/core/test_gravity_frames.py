@@ -7,12 +7,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, velocity_from_angles
 from footprint.core.gravity import gravity_ecef
 from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
 
-RE, RP, MU = K.RADIUS_EQUATORIAL_FT, K.RADIUS_POLAR_FT, K.MU_EARTH_FT3_S2
+RE, RP, MU = c.RADIUS_EQUATORIAL_FT, c.RADIUS_POLAR_FT, c.MU_EARTH_FT3_S2
 
 
 def zonal_potential(x, y, z, j2, j3, j4):
@@ -39,12 +39,12 @@ def potential_gradient(x, y, z, j2, j3, j4, h=20.0):
 @pytest.mark.parametrize("alt_ft", [0.0, 300_000.0, 2_000_000.0])
 def test_eq_a10_is_the_gradient_of_the_zonal_potential(lat_deg, alt_ft):
     # J = 1.5 J2, H = 2.5 J3, K = -3.75 J4 (derivation in gravity.py)
-    j2, j3, j4 = K.J_REPORT / 1.5, K.H_REPORT / 2.5, -K.K_REPORT / 3.75
+    j2, j3, j4 = c.J_ZONAL / 1.5, c.H_ZONAL / 2.5, -c.K_ZONAL / 3.75
     lon = math.radians(37.0)
     r = RE + alt_ft
     x, y, z = r * math.cos(math.radians(lat_deg)) * math.cos(lon), r * math.cos(math.radians(lat_deg)) * math.sin(
         lon), r * math.sin(math.radians(lat_deg))
-    g = np.array(gravity_ecef(x, y, z, MU, RE, K.J_REPORT, K.H_REPORT, K.K_REPORT, True))
+    g = np.array(gravity_ecef(x, y, z, MU, RE, c.J_ZONAL, c.H_ZONAL, c.K_ZONAL, True))
     ref = potential_gradient(x, y, z, j2, j3, j4)
     # central differences at h = 20 ft resolve 1e-8 ft/s^2; the J3 and J4 terms are ~1e-4 ft/s^2,
     # so a wrong sign or factor on any of them fails here
@@ -53,16 +53,16 @@ def test_eq_a10_is_the_gradient_of_the_zonal_potential(lat_deg, alt_ft):
 
 def test_equatorial_surface_gravity_closed_form():
     # at the equator (phi = 0): g = mu/Re^2 (1 + J + K/2), northward component zero
-    gx, gy, gz = gravity_ecef(RE, 0.0, 0.0, MU, RE, K.J_REPORT, K.H_REPORT, K.K_REPORT, True)
-    assert -gx == pytest.approx(MU / RE**2 * (1 + K.J_REPORT + K.K_REPORT / 2), rel=1e-14)
+    gx, gy, gz = gravity_ecef(RE, 0.0, 0.0, MU, RE, c.J_ZONAL, c.H_ZONAL, c.K_ZONAL, True)
+    assert -gx == pytest.approx(MU / RE**2 * (1 + c.J_ZONAL + c.K_ZONAL / 2), rel=1e-14)
     assert gy == 0.0
     # the odd (J3) term pulls along the axis at the equator: 3H/5 mu/Re^2
-    assert gz == pytest.approx(0.6 * K.H_REPORT * MU / RE**2, rel=1e-12)
+    assert gz == pytest.approx(0.6 * c.H_ZONAL * MU / RE**2, rel=1e-12)
 
 
 def test_spherical_gravity_is_mu_over_r_squared():
     x, y, z = 1.1e7, -1.3e7, 0.9e7
-    g = np.array(gravity_ecef(x, y, z, MU, RE, K.J_REPORT, K.H_REPORT, K.K_REPORT, False))
+    g = np.array(gravity_ecef(x, y, z, MU, RE, c.J_ZONAL, c.H_ZONAL, c.K_ZONAL, False))
     r = math.sqrt(x * x + y * y + z * z)
     np.testing.assert_allclose(g, -MU / r**3 * np.array([x, y, z]), rtol=1e-15)
 
@@ -103,16 +103,16 @@ def test_table2_inertial_speed():
     r = RE + 364_800.0
     x, y, z = r, 0.0, 0.0
     vx, vy, vz = velocity_from_angles(x, y, z, 24_480.0, math.radians(-2.0), math.radians(90.0))
-    vy_inertial = vy + K.OMEGA_EARTH_RAD_S * r
+    vy_inertial = vy + c.OMEGA_EARTH_RAD_S * r
     assert math.hypot(vx, vy_inertial, vz) == pytest.approx(26_031.6, abs=0.1)
 
 
 def test_ranges_closed_forms():
     # eastbound along the equator: 10 deg of longitude is 10 deg of down-range; north is positive cross-range
     arc = MEAN_RADIUS_NMI * math.radians(10.0)
-    d, c = downrange_crossrange_nmi([0.0, 10.0, 0.0, -10.0], [10.0, 0.0, -10.0, 0.0], 0.0, 0.0, 90.0)
+    d, cross = downrange_crossrange_nmi([0.0, 10.0, 0.0, -10.0], [10.0, 0.0, -10.0, 0.0], 0.0, 0.0, 90.0)
     np.testing.assert_allclose(d, [arc, 0.0, -arc, 0.0], atol=1e-9)
-    np.testing.assert_allclose(c, [0.0, arc, 0.0, -arc], atol=1e-9)
+    np.testing.assert_allclose(cross, [0.0, arc, 0.0, -arc], atol=1e-9)
     # a path that goes 3/4 of the way around the equator unwraps past half a circumference
     lon = np.linspace(0.0, 270.0, 28)
     d, _ = downrange_crossrange_nmi(np.zeros_like(lon), lon, 0.0, 0.0, 90.0, unwrap=True)
@@ -131,6 +131,6 @@ def test_ranges_match_report_spherical_triangles():
         xi = zeta - sig0
         yd = math.asin(math.sin(lf) * math.sin(xi))  # (11)
         xd = math.acos(math.cos(lf) / math.cos(yd))  # (10)
-        d, c = downrange_crossrange_nmi([lat], [lon], 20.0, -30.0, 60.0)
-        assert c[0] == pytest.approx(-MEAN_RADIUS_NMI * yd, abs=1e-6)  # printed eq. (11) is positive to the right
+        d, cross = downrange_crossrange_nmi([lat], [lon], 20.0, -30.0, 60.0)
+        assert cross[0] == pytest.approx(-MEAN_RADIUS_NMI * yd, abs=1e-6)  # printed eq. (11) is positive to the right
         assert abs(d[0]) == pytest.approx(MEAN_RADIUS_NMI * xd, abs=1e-6)

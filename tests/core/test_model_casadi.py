@@ -80,8 +80,8 @@ KINK_CLEARANCE_FT = 2 * (ATMOSPHERE_GRID_FT[1] - ATMOSPHERE_GRID_FT[0])  # two s
 
 
 def _spec(vehicle, planet, alpha_deg, bank_deg):
-    ctrl = pack_controls(bank_law="constant", bank_value=bank_deg, bank_start="entry", alpha_law="constant",
-                         alpha_value=alpha_deg)
+    ctrl = pack_controls(bank_law="constant", bank_deg=bank_deg, bank_start="entry", alpha_law="constant",
+                         alpha_deg=alpha_deg)
     return FlightSpec(vehicle=vehicle, planet=planet, entry=Entry(200_000.0, 20_000.0, -1.0),  # unused here
                       ctrl=ctrl)
 

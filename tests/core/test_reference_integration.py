@@ -33,15 +33,15 @@ from scipy.integrate import solve_ivp
 
 import footprint
 from footprint.core import aero
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.atmosphere import MODEL_IDS, atmosphere
 
-MU = K.MU_EARTH_FT3_S2
-RE = K.RADIUS_EQUATORIAL_FT
-RP = K.RADIUS_POLAR_FT  # the case contract's default polar radius
+MU = c.MU_EARTH_FT3_S2
+RE = c.RADIUS_EQUATORIAL_FT
+RP = c.RADIUS_POLAR_FT  # the case contract's default polar radius
 E2 = 1.0 - (RP / RE) ** 2
-J2, J3, J4 = K.J_REPORT / 1.5, K.H_REPORT / 2.5, -K.K_REPORT / 3.75
-G0 = K.G0_FT_S2
+J2, J3, J4 = c.J_ZONAL / 1.5, c.H_ZONAL / 2.5, -c.K_ZONAL / 3.75
+G0 = c.G0_FT_S2
 Z_HAT = np.array([0.0, 0.0, 1.0])
 ARDC = MODEL_IDS["ardc1959"]
 
@@ -81,9 +81,9 @@ def gravity(r_vec, oblate):
     du_dr = -MU / (r * r)
     du_ds = 0.0
     for n, jn, pn, dpn in ((2, J2, p[0], dp[0]), (3, J3, p[1], dp[1]), (4, J4, p[2], dp[2])):
-        c = MU * jn * q**n / r
-        du_dr += (n + 1) * c * pn / r
-        du_ds -= c * dpn
+        coeff = MU * jn * q**n / r
+        du_dr += (n + 1) * coeff * pn / r
+        du_ds -= coeff * dpn
     return du_dr * rhat + du_ds / r * (Z_HAT - s * rhat)
 
 
@@ -100,32 +100,32 @@ def geodetic(p, z, oblate):
         return math.atan2(z, p), math.hypot(p, z) - RE
     phi = math.atan2(z, p * (1.0 - E2))  # the latitude of the surface point below: a close start
     for _ in range(10):
-        s, c = math.sin(phi), math.cos(phi)
-        w2 = 1.0 - E2 * s * s
+        sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+        w2 = 1.0 - E2 * sin_phi * sin_phi
         n = RE / math.sqrt(w2)
-        f = p * s - z * c - E2 * n * s * c
-        dn = n * E2 * s * c / w2
-        df = p * c + z * s - E2 * (dn * s * c + n * (c * c - s * s))
+        f = p * sin_phi - z * cos_phi - E2 * n * sin_phi * cos_phi
+        dn = n * E2 * sin_phi * cos_phi / w2
+        df = p * cos_phi + z * sin_phi - E2 * (dn * sin_phi * cos_phi + n * (cos_phi * cos_phi - sin_phi * sin_phi))
         step = f / df
         phi -= step
         if abs(step) < 1e-15:
             break
-    s, c = math.sin(phi), math.cos(phi)
-    return phi, p * c + z * s - RE * math.sqrt(1.0 - E2 * s * s)
+    sin_phi, cos_phi = math.sin(phi), math.cos(phi)
+    return phi, p * cos_phi + z * sin_phi - RE * math.sqrt(1.0 - E2 * sin_phi * sin_phi)
 
 
 def position_from_geodetic(lat, lon, alt, oblate):
-    s, c = math.sin(lat), math.cos(lat)
+    sin_lat, cos_lat = math.sin(lat), math.cos(lat)
     if not oblate:
         r = RE + alt
-        return np.array([r * c * math.cos(lon), r * c * math.sin(lon), r * s])
-    n = RE / math.sqrt(1.0 - E2 * s * s)
-    return np.array([(n + alt) * c * math.cos(lon), (n + alt) * c * math.sin(lon), (n * (1.0 - E2) + alt) * s])
+        return np.array([r * cos_lat * math.cos(lon), r * cos_lat * math.sin(lon), r * sin_lat])
+    n = RE / math.sqrt(1.0 - E2 * sin_lat * sin_lat)
+    return np.array([(n + alt) * cos_lat * math.cos(lon), (n + alt) * cos_lat * math.sin(lon), (n * (1.0 - E2) + alt) * sin_lat])
 
 
 def rot_z(angle):
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    cos_a, sin_a = math.cos(angle), math.sin(angle)
+    return np.array([[cos_a, -sin_a, 0.0], [sin_a, cos_a, 0.0], [0.0, 0.0, 1.0]])
 
 
 class Reference:
@@ -133,7 +133,7 @@ class Reference:
 
     def __init__(self, *, oblate, rotating, entry, bank, vehicle, stop_alt_ft=50_000.0):
         self.oblate = oblate
-        self.omega = K.OMEGA_EARTH_RAD_S if rotating else 0.0
+        self.omega = c.OMEGA_EARTH_RAD_S if rotating else 0.0
         self.bank = bank  # ("constant", deg) or ("single_parameter", K, limit_deg or None)
         self.vehicle = vehicle  # ("blob", blob, W/S) or ("constant", CL, CD, W/S)
         self.stop_alt = stop_alt_ft
@@ -161,9 +161,9 @@ class Reference:
         """Angle, clockwise from above, from the horizontal projection of the pole to that of v_rel."""
         rhat = r / np.linalg.norm(r)
         pole = rot_z(self.omega * t) @ self.pole_e  # the pole turns with the earth
-        c = pole - (pole @ rhat) * rhat
+        pole_h = pole - (pole @ rhat) * rhat
         vh = v_rel - (v_rel @ rhat) * rhat
-        return math.degrees(math.atan2(rhat @ np.cross(vh, c), c @ vh))
+        return math.degrees(math.atan2(rhat @ np.cross(vh, pole_h), pole_h @ vh))
 
     def bank_deg(self, t, r, v_rel, active):
         if not active:
@@ -276,8 +276,8 @@ def reference_for(name):
     planet, bank, vehicle, entry = CASES[name]
     oblate, rotating = PLANETS[planet]
     if vehicle == "constant":
-        c = CONSTANT_VEHICLE
-        veh = ("constant", c["aero"]["constant"]["cl"], c["aero"]["constant"]["cd"], c["wing_loading_psf"])
+        const = CONSTANT_VEHICLE
+        veh = ("constant", const["aero"]["constant"]["cl"], const["aero"]["constant"]["cd"], const["wing_loading_psf"])
     else:
         v = aero.builtin_vehicle(vehicle)
         veh = ("blob", v.blob, v.wing_loading_psf)

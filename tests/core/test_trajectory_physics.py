@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import footprint
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.aero import vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, simulate
@@ -15,12 +15,12 @@ TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.
 
 
 def case(vehicle="lod-2.2", bank=None, planet=None, **kw):
-    c = {"vehicle": vehicle if isinstance(vehicle, dict) else {"builtin": vehicle}, "entry": dict(TABLE2_ENTRY), "alpha": {"law": "max_ld"},
+    definition = {"vehicle": vehicle if isinstance(vehicle, dict) else {"builtin": vehicle}, "entry": dict(TABLE2_ENTRY), "alpha": {"law": "max_ld"},
          "bank": bank or {"law": "zero"}, "stop": {"altitude_ft": 50_000}}
     if planet is not None:
-        c["planet"] = planet
-    c.update(kw)
-    return c
+        definition["planet"] = planet
+    definition.update(kw)
+    return definition
 
 
 def vacuum_orbit(rotating):
@@ -31,7 +31,7 @@ def vacuum_orbit(rotating):
     return FlightSpec(vehicle=vehicle, planet=planet,
                       entry=Entry(altitude_ft=364_800, velocity_fps=26_500, gamma_deg=1.0, heading_deg=60,
                                   latitude_deg=10, velocity_frame="inertial"),
-                      ctrl=pack_controls(bank_law="constant", bank_value=30.0, bank_start="entry"),
+                      ctrl=pack_controls(bank_law="constant", bank_deg=30.0, bank_start="entry"),
                       stop=Stop(altitude_ft=None, time_s=5_000.0, skip_altitude_ft=1e9), rtol=1e-10)
 
 
@@ -39,9 +39,9 @@ def potential(x, y, z):
     """Zonal potential of App. A with J2 = J/1.5, J3 = H/2.5, J4 = -K/3.75 (see gravity.py)."""
     r = np.sqrt(x * x + y * y + z * z)
     s = z / r
-    q = K.RADIUS_EQUATORIAL_FT / r
-    j2, j3, j4 = K.J_REPORT / 1.5, K.H_REPORT / 2.5, -K.K_REPORT / 3.75
-    return K.MU_EARTH_FT3_S2 / r * (1 - j2 * q**2 * (3 * s**2 - 1) / 2 - j3 * q**3 * (5 * s**3 - 3 * s) / 2
+    q = c.RADIUS_EQUATORIAL_FT / r
+    j2, j3, j4 = c.J_ZONAL / 1.5, c.H_ZONAL / 2.5, -c.K_ZONAL / 3.75
+    return c.MU_EARTH_FT3_S2 / r * (1 - j2 * q**2 * (3 * s**2 - 1) / 2 - j3 * q**3 * (5 * s**3 - 3 * s) / 2
                                     - j4 * q**4 * (35 * s**4 - 30 * s**2 + 3) / 8)
 
 
@@ -52,14 +52,14 @@ def test_energy_is_conserved_without_air(rotating):
     h = traj.history
     lat, lon = np.radians(h["latitude_deg"]), np.radians(h["longitude_deg"])
     # rebuild positions from the recorded geodetic coordinates through an independent ellipsoid formula
-    re, rp = K.RADIUS_EQUATORIAL_FT, K.RADIUS_POLAR_FT
+    re, rp = c.RADIUS_EQUATORIAL_FT, c.RADIUS_POLAR_FT
     e2 = 1 - (rp / re) ** 2
     n = re / np.sqrt(1 - e2 * np.sin(lat) ** 2)
     alt = h["altitude_ft"]
     x = (n + alt) * np.cos(lat) * np.cos(lon)
     y = (n + alt) * np.cos(lat) * np.sin(lon)
     z = (n * (1 - e2) + alt) * np.sin(lat)
-    w = K.OMEGA_EARTH_RAD_S if rotating else 0.0
+    w = c.OMEGA_EARTH_RAD_S if rotating else 0.0
     # Jacobi integral in the rotating frame (energy when w = 0)
     energy = h["velocity_fps"] ** 2 / 2 - potential(x, y, z) - 0.5 * w * w * (x * x + y * y)
     assert h["time_s"][-1] == pytest.approx(5_000.0, abs=1e-6)

@@ -304,19 +304,19 @@ def test_cancel_a_running_job_and_keep_a_finished_ones_status(api):
 
 
 def _break_core():
-    from footprint.core import footprints
+    from footprint.core import footprint_methods
 
     def broken(*_args, **_kwargs):
         raise FloatingPointError("the integrator diverged (injected in the worker)")
 
-    footprints.original_footprint = footprints.footprint
-    footprints.footprint = broken
+    footprint_methods.original_footprint = footprint_methods.footprint
+    footprint_methods.footprint = broken
 
 
 def _mend_core():
-    from footprint.core import footprints
+    from footprint.core import footprint_methods
 
-    footprints.footprint = footprints.original_footprint
+    footprint_methods.footprint = footprint_methods.original_footprint
 
 
 def test_a_job_the_core_fails_ends_failed_and_the_service_goes_on(api, scheduler_address):

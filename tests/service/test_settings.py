@@ -5,7 +5,7 @@ import pytest
 from pydantic import ValidationError
 
 from footprint.service.settings import load_settings
-from footprint.contracts.sweep import default_workers
+from footprint.parallel import default_workers
 
 from .conftest import database_url, running_service
 

@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, ValidationError,
                       ValidationInfo, model_validator)
 
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.errors import InputError
@@ -165,13 +165,13 @@ class PlanetCase(Strict):
     rotating: bool = True
     oblate: bool = True
     atmosphere: AtmosphereCase = AtmosphereCase()
-    radius_ft: bounded(1e5, 1e9, "ft") = K.RADIUS_EQUATORIAL_FT
+    radius_ft: bounded(1e5, 1e9, "ft") = c.RADIUS_EQUATORIAL_FT
     polar_radius_ft: bounded(1e5, 1e9, "ft") | None = None
-    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = K.MU_EARTH_FT3_S2
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = K.OMEGA_EARTH_DEG_S
-    j: bounded(-0.1, 0.1) = K.J_REPORT
-    h: bounded(-0.1, 0.1) = K.H_REPORT
-    k: bounded(-0.1, 0.1) = K.K_REPORT
+    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = c.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = c.OMEGA_EARTH_DEG_S
+    j: bounded(-0.1, 0.1) = c.J_ZONAL
+    h: bounded(-0.1, 0.1) = c.H_ZONAL
+    k: bounded(-0.1, 0.1) = c.K_ZONAL
 
     @model_validator(mode="after")
     def _polar(self):
@@ -182,7 +182,7 @@ class PlanetCase(Strict):
     def to_planet(self) -> Planet:
         polar = self.polar_radius_ft
         if polar is None:  # scale the default flattening to the given equatorial radius
-            polar = self.radius_ft * K.RADIUS_POLAR_FT / K.RADIUS_EQUATORIAL_FT
+            polar = self.radius_ft * c.RADIUS_POLAR_FT / c.RADIUS_EQUATORIAL_FT
         a = self.atmosphere
         return Planet(rotating=self.rotating, oblate=self.oblate, radius_ft=self.radius_ft, polar_radius_ft=polar,
                       mu_ft3_s2=self.mu_ft3_s2, rotation_rate_deg_s=self.rotation_rate_deg_s, j=self.j, h=self.h,
@@ -458,18 +458,18 @@ class Case(Strict):
         b, a = self.bank, self.alpha
         kw: dict[str, Any] = {"bank_law": b.law}
         if isinstance(b, (BankConstant, BankStaged)):
-            kw["bank_value"] = b.bank_deg
+            kw["bank_deg"] = b.bank_deg
         if isinstance(b, BankStaged):
             kw["turn_deg"] = b.turn_deg
         if isinstance(b, (BankTwoParameter, BankSingleParameter)):
-            kw.update(bank_value=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
+            kw.update(bank_gain=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
         if isinstance(b, BankTwoParameter):
             kw["sigma_f_deg"] = b.sigma_f_deg
         if isinstance(b, BankTable):
             variable, x = b.abscissa()
             kw.update(bank_table=(x, b.bank_deg), mirror=b.side == "right", bank_variable=variable)
         if isinstance(b, BankConstantAltitude):
-            kw.update(turn_deg=b.turn_deg, bank_value=1.0 if b.side == "left" else -1.0)
+            kw.update(turn_deg=b.turn_deg, side=1.0 if b.side == "left" else -1.0)
         start = self.bank_start
         if isinstance(start, BankStartAltitude):
             kw.update(bank_start="altitude", bank_start_altitude_ft=start.altitude_ft)
@@ -477,9 +477,9 @@ class Case(Strict):
             kw["bank_start"] = start
         kw["alpha_law"] = a.law
         if isinstance(a, AlphaConstant):
-            kw["alpha_value"] = a.alpha_deg
+            kw["alpha_deg"] = a.alpha_deg
         if isinstance(a, AlphaGammaHold):
-            kw["alpha_value"] = a.gamma_deg
+            kw["gamma_deg"] = a.gamma_deg
         if isinstance(a, (AlphaLevelFlight, AlphaGammaHold)):
             kw["alpha_before"] = a.before_pullout
         if isinstance(a, AlphaTable):

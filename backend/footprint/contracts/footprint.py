@@ -86,6 +86,11 @@ class TwoParameterStudy(_Study):
     def settings(self) -> tuple[str, int]:
         return "sigma_f_deg", len(self.k) * len(self.sigma_f_deg)
 
+    def to_params(self):
+        params = super().to_params()
+        params["bank_gain"] = params.pop("k")  # the core's name for K
+        return params
+
 
 class ConstantAltitudeStudy(_Study):
     """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""
@@ -172,6 +177,6 @@ parse_study = parse_request
 def run(study: _Study, on_progress=None):
     """Fly the study's footprint (footprint.core.footprints.Footprint); on_progress(fraction, note) where the
     method reports (the collocation's IPOPT iterations)."""
-    from footprint.core.footprints import footprint
+    from footprint.core.footprint_methods import footprint
 
     return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())

@@ -26,7 +26,7 @@ from pydantic import Field, TypeAdapter, model_validator
 from footprint.contracts.case import Strict, bounded, parse
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import run as fly_study
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import reach
 
@@ -67,9 +67,9 @@ class ReachOrbit(Strict):
     right_ascension_deg: bounded(-360, 360, "deg") | None = None
     greenwich_sidereal_deg: bounded(-360, 360, "deg") | None = None
     nodal_regression: bool = True
-    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = K.MU_EARTH_FT3_S2
-    radius_ft: bounded(1e5, 1e9, "ft") = K.RADIUS_EQUATORIAL_FT
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = K.OMEGA_EARTH_DEG_S
+    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = c.MU_EARTH_FT3_S2
+    radius_ft: bounded(1e5, 1e9, "ft") = c.RADIUS_EQUATORIAL_FT
+    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = c.OMEGA_EARTH_DEG_S
     j2: bounded(-0.1, 0.1) = J2
 
     @model_validator(mode="after")
@@ -85,7 +85,7 @@ class ReachOrbit(Strict):
         return self
 
     def to_orbit(self) -> CircularOrbit:
-        alt = self.altitude_ft if self.altitude_ft is not None else self.altitude_nmi * K.FT_PER_NMI
+        alt = self.altitude_ft if self.altitude_ft is not None else self.altitude_nmi * c.FT_PER_NMI
         kw = dict(inclination_deg=self.inclination_deg, altitude_ft=alt, mu_ft3_s2=self.mu_ft3_s2,
                   radius_ft=self.radius_ft, rotation_rate_deg_s=self.rotation_rate_deg_s, j2=self.j2,
                   nodal_regression=self.nodal_regression)
@@ -176,9 +176,9 @@ def footprint_polygon(req: ReachRequest):
     else:
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in fp.points]
         if fp.mirror:
-            pts += [(d, -c, t) for d, c, t in reversed(pts) if c != 0.0]
+            pts += [(d, -cross, t) for d, cross, t in reversed(pts) if cross != 0.0]
         info = {"source": "points"}
-    if all(c >= 0.0 for _, c, _ in pts) or all(c <= 0.0 for _, c, _ in pts):  # a half: close along the axis
+    if all(x >= 0.0 for _, x, _ in pts) or all(x <= 0.0 for _, x, _ in pts):  # a half: close along the axis
         pts = [(pts[0][0], 0.0, pts[0][2])] + pts + [(pts[-1][0], 0.0, pts[-1][2])]
     arr = np.array(pts, float)
     info |= {"points": len(pts), "max_downrange_nmi": float(arr[:, 0].max()),

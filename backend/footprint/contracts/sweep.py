@@ -24,12 +24,10 @@ pull-out (all (L/D)max points when bank starts at pull-out) gets its pull-out do
 
 import csv
 import json
-import logging
 import math
 import os
 import time
 import uuid
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Callable, Literal, Union
@@ -41,6 +39,7 @@ from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, boun
                                      model_fields, parse)
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, parse_study
 from footprint.contracts.footprint import run as fly_study
+from footprint.parallel import dask_client, worker_count
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
 MAX_FOOTPRINTS_HTTP = 1_000  # one sweep job
@@ -200,33 +199,6 @@ def warm_numba(sweep: _Sweep) -> float:
     return time.perf_counter() - t0
 
 
-# --------------------------------------------------------------------------------------- scheduler
-def default_workers() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return os.cpu_count() or 1
-
-
-@contextmanager
-def dask_client(client=None, *, workers: int | None = None, scheduler: str | None = None):
-    """The client to submit to: the one given; or one connected to `scheduler` ("tcp://host:port"); or a
-    LocalCluster of `workers` processes (default: the cores), one thread each, closed on exit."""
-    from distributed import Client, LocalCluster
-
-    if client is not None:
-        yield client
-        return
-    if scheduler is not None:
-        with Client(scheduler, timeout="10s") as c:
-            yield c
-        return
-    # ":0": any free port for the scheduler's HTTP routes (None would still take 8787, or warn when it is taken)
-    with LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as c:
-        yield c
-
-
 def run(sweep, client=None, progress: Callable[[int, int], None] | None = None, *,
               workers: int | None = None, scheduler: str | None = None) -> "SweepResult":
     """Fly every footprint of the sweep on Dask, one task per footprint, gathered as they complete.
@@ -244,7 +216,7 @@ def run(sweep, client=None, progress: Callable[[int, int], None] | None = None, 
     t0 = time.perf_counter()
     with dask_client(client, workers=workers, scheduler=scheduler) as c:
         started = time.perf_counter()
-        n_workers = len(c.scheduler_info(n_workers=-1)["workers"])
+        n_workers = worker_count(c)
         token = uuid.uuid4().hex[:8]
         futures = {c.submit(fly_footprint, job, key=f"footprint-{token}-{i}", pure=False): job
                    for i, job in enumerate(jobs)}

@@ -9,9 +9,9 @@ import math
 # --- Earth, AFWAL-TR-82-3036 Appendix A (eq. A10 constants) -------------------------------------
 MU_EARTH_FT3_S2 = 1.407698e16  # App. A, universal gravity constant times earth mass
 RADIUS_EQUATORIAL_FT = 20_925_631.0  # App. A, R_e
-J_REPORT = 1623.41e-6  # App. A, J (= 1.5 J2)
-H_REPORT = 6.04e-6  # App. A, H (= 2.5 J3 in the report's sign convention)
-K_REPORT = 6.37e-6  # App. A, K (= -3.75 J4)
+J_ZONAL = 1623.41e-6  # App. A, J (= 1.5 J2)
+H_ZONAL = 6.04e-6  # App. A, H (= 2.5 J3 in the report's sign convention)
+K_ZONAL = 6.37e-6  # App. A, K (= -3.75 J4)
 # App. A prints R_p = 20,885,965 ft, a flattening of 1/527 that no earth model has. One digit read 8 for 5
 # gives 20,855,965 ft (f = 1/300.4), which we use; the printed value stays available as a planet override.
 RADIUS_POLAR_FT = 20_855_965.0

@@ -4,7 +4,7 @@
   maximum cross-range at a prescribed down-range (held within TTOL 50 nmi), plus the unconstrained
   maximum cross-range and the maximum down-range point ("except for the maximum down-range point, all of the
   points on the footprint were obtained by maximizing the lateral range at various down-range distances").
-  The points are independent and are solved in parallel over processes.
+  The points are independent: the caller's `map_tasks` (builtin map, or footprint.parallel.client_map) runs them.
 * Section III controls ("bank_alpha"): the eight-point bank table vs zeta (Fig. 2) plus an angle-of-attack
   table vs earth-relative velocity, "both of the control parameters were modulated over the entire trajectory
   with the exception that during the initial plunge into the atmosphere the bank angle was set to zero" (the
@@ -16,7 +16,6 @@ Pure core: numpy and the standard library only.
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -25,8 +24,7 @@ from footprint.core.controls import (
     ALPHA_MAX_LD_FLOOR,
     ALPHA_TABLE_BY_ABSCISSA,
     ALPHA_TABLE_VELOCITY,
-    alpha_law_name,
-    replace_controls,
+    replace_alpha_table,
 )
 from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
@@ -58,7 +56,6 @@ CONTROLS = ("bank", "bank_alpha")
 # integrator steps allowed per searched flight: a normal Table 2 flight takes 100-600 steps; some steep-bank,
 # high-alpha corners chatter to the 200,000-step default (0.5 s each). Such a flight ends "max_steps".
 SEARCH_MAX_STEPS = 20_000
-WORKERS = 2
 
 
 # ------------------------------------------------------------------------------------------------- controls
@@ -67,13 +64,7 @@ def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VEL
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
     flight (law ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY: the nodes are times in s / energy heights in ft;
     ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the rest of the control laws kept."""
-    v = np.asarray(velocities_fps, dtype=float)
-    a = np.asarray(alpha_deg, dtype=float)
-    if v.shape != a.shape or np.any(np.diff(v) <= 0.0):
-        raise ValueError(f"alpha table: {len(v)} velocities (must ascend) for {len(a)} angles")
-    alpha_law, abscissa = alpha_law_name(law)
-    return replace(spec, ctrl=replace_controls(spec.ctrl, alpha_law=alpha_law, alpha_table=(v, a),
-                                               alpha_table_abscissa=abscissa))
+    return replace(spec, ctrl=replace_alpha_table(spec.ctrl, alpha_deg, velocities_fps, law))
 
 
 def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
@@ -246,7 +237,6 @@ class OptimalFootprint:
     points: list[OptimalPoint]
     trajectories: int
     seconds: float  # wall clock
-    workers: int
     controls: str
     constraints: tuple = field(default_factory=tuple)
 
@@ -254,7 +244,7 @@ class OptimalFootprint:
         return next(p for p in self.points if p.label == label)
 
     def to_dict(self):
-        return {"controls": self.controls, "workers": self.workers, "trajectories": self.trajectories,
+        return {"controls": self.controls, "trajectories": self.trajectories,
                 "seconds": self.seconds, "constraints": [c.__dict__ for c in self.constraints],
                 "points": [p.to_dict() for p in self.points]}
 
@@ -265,15 +255,16 @@ def _solve_task(task):
 
 
 def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), controls="bank", *,
-                      max_crossrange=True, max_downrange=True, min_downrange=False, workers=WORKERS,
+                      max_crossrange=True, max_downrange=True, min_downrange=False, map_tasks=map,
                       max_evaluations=1_500, initial=None, **options) -> OptimalFootprint:
     """Section II.5 / Fig. 12, 21 (and Fig. 29 with a temperature constraint): maximum cross-range at each
     prescribed down-range (TTOL 50 nmi), the unconstrained maximum cross-range, the maximum down-range and,
     when asked, the minimum down-range, all subject to `constraints` (e.g. temperature_limit(2_550)).
 
-    Each point is an independent optimization; workers > 1 runs them on a process pool (the search is
-    deterministic, so the points equal the serial ones exactly). Returns the points in the order
-    max cross-range, the down-ranges as given, max down-range, min down-range."""
+    Each point is an independent optimization, run by map_tasks (builtin map's signature, results in order; a
+    parallel one such as footprint.parallel.client_map gives the serial points exactly, the search being
+    deterministic). Returns the points in the order max cross-range, the down-ranges as given, max down-range,
+    min down-range."""
     cons = tuple(constraints)
     nb = len(BANK_TABLE_HEADINGS_DEG)
     common = dict(controls=controls, max_evaluations=max_evaluations, **options)
@@ -295,19 +286,16 @@ def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), contr
         tasks.append(("min_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="min",
                                                         constraints=cons, initial=x0)))
     t0 = time.perf_counter()
-    if workers > 1 and len(tasks) > 1:
-        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
-            points = list(pool.map(_solve_task, tasks))
-    else:
-        points = [_solve_task(t) for t in tasks]
+    points = list(map_tasks(_solve_task, tasks))
     return OptimalFootprint(points=points, trajectories=sum(p.result.trajectories for p in points),
-                            seconds=time.perf_counter() - t0, workers=workers, controls=controls, constraints=cons)
+                            seconds=time.perf_counter() - t0, controls=controls, constraints=cons)
 
 
-def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS, max_evaluations=1_500,
+def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, map_tasks=map, max_evaluations=1_500,
                                   initial=None, **options):
     """Fig. 22: the maximum cross-range with bank and alpha tables under each RET limit (None: unconstrained,
-    bank only at (L/D)max alpha, as Fig. 20's unconstrained case). Returns [(limit, Result)]."""
+    bank only at (L/D)max alpha, as Fig. 20's unconstrained case), one task per limit run by map_tasks (as in
+    optimal_footprint). Returns [(limit, Result)]."""
     tasks = []
     for lim in limits_R:
         if lim is None or (isinstance(lim, float) and math.isinf(lim)):
@@ -317,11 +305,7 @@ def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, workers=WORKERS
             tasks.append((f"ret_{lim:g}", None, spec, dict(controls="bank_alpha", constraints=(temperature_limit(lim),),
                                                          max_evaluations=max_evaluations, initial=initial,
                                                          **options)))
-    if workers > 1 and len(tasks) > 1:
-        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
-            points = list(pool.map(_solve_task, tasks))
-    else:
-        points = [_solve_task(t) for t in tasks]
+    points = list(map_tasks(_solve_task, tasks))
     return [(lim, p.result) for lim, p in zip(limits_R, points)]
 
 
@@ -403,8 +387,8 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
     t0 = time.perf_counter()
 
     def search(settings, right=False):
-        return [coolest_floor(with_bank(spec, "single_parameter", b / SIGMA0_DEG, right=right), limit_R,
-                              tolerance_R, bank0_deg=float(b)) for b in settings]
+        return [coolest_floor(with_bank(spec, "single_parameter", bank_gain=b / SIGMA0_DEG, right=right),
+                              limit_R, tolerance_R, bank0_deg=float(b)) for b in settings]
 
     left = search(bank0_deg)
     for _ in range(REFINE_HALVINGS):  # the grid halved around its max cross-range setting
@@ -415,9 +399,9 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
         between = {0.5 * (kept[i].bank0_deg + kept[j].bank0_deg) for j in (i - 1, i + 1) if 0 <= j < len(kept)}
         left = sorted(left + search(sorted(between)), key=lambda p: p.bank0_deg)
     right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
-    family = [({"bank0_deg": p.bank0_deg, "k": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
+    family = [({"bank0_deg": p.bank0_deg, "bank_gain": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
                lambda s, to_right, p=p, q=q: with_alpha_floor(
-                   with_bank(s, "single_parameter", p.bank0_deg / SIGMA0_DEG, right=to_right),
+                   with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
                    q.floor_deg if to_right else p.floor_deg),
                p.bank0_deg == 0.0)
               for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]

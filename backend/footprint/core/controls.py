@@ -69,34 +69,40 @@ START_PULLOUT = 1
 START_ALTITUDE = 2
 BANK_STARTS = {"entry": START_ENTRY, "pullout": START_PULLOUT, "altitude": START_ALTITUDE}
 
-# --- ctrl array layout ---
+# --- ctrl array layout (one quantity per slot, its unit in the name) ---
 C_BANK_LAW = 0
-C_BANK_VALUE = 1  # bank_deg (constant, staged), K (two/single parameter), +1/-1 (constant_altitude side)
-C_BANK_LIMIT = 2  # deg; NO_LIMIT when none
-C_SIGMA_F = 3  # deg, two-parameter final heading
-C_TURN = 4  # deg, staged / constant-altitude heading change
-C_BANK_VAR = 5  # one of BANK_VARIABLES
-C_MIRROR = 6  # 1: right-hand version of the law
-C_START = 7
-C_START_ALT = 8  # ft
-C_ALPHA_LAW = 9
-C_ALPHA_VALUE = 10  # alpha_deg (constant) or gamma_deg (gamma_hold)
-C_ALPHA_BEFORE = 11  # law before pull-out for level_flight / gamma_hold: ALPHA_MAX_LD or ALPHA_CL_MAX
-C_BANK_TABLE = 12  # offset of (n, x[n], y[n]) or -1
-C_ALPHA_TABLE = 13
-C_TAU = 14  # s, time constant of the flight-path and altitude holds
-C_SIZE = 15
+C_BANK_DEG = 1  # deg, bank of the constant and staged laws
+C_BANK_GAIN = 2  # K, deg of bank per deg of steering angle (two- and single-parameter laws)
+C_SIDE = 3  # +1 left, -1 right: where a constant-altitude turn banks
+C_BANK_LIMIT = 4  # deg; NO_LIMIT when none
+C_SIGMA_F = 5  # deg, two-parameter final heading
+C_TURN = 6  # deg, staged / constant-altitude heading change
+C_BANK_VAR = 7  # one of BANK_VARIABLES
+C_MIRROR = 8  # 1: right-hand version of the law
+C_START = 9
+C_START_ALT = 10  # ft
+C_ALPHA_LAW = 11
+C_ALPHA_DEG = 12  # deg, alpha of the constant law
+C_GAMMA_DEG = 13  # deg, flight-path angle the gamma_hold law holds after pull-out
+C_ALPHA_BEFORE = 14  # law before pull-out for level_flight / gamma_hold: ALPHA_MAX_LD or ALPHA_CL_MAX
+C_BANK_TABLE = 15  # offset of (n, x[n], y[n]) or -1
+C_ALPHA_TABLE = 16
+C_TAU = 17  # s, time constant of the flight-path and altitude holds
+C_SIZE = 18
 NO_LIMIT = 1.0e9
+LEFT, RIGHT = 1.0, -1.0  # C_SIDE values
 
 
-def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
-                  bank_variable="zeta", mirror=False, bank_start="pullout", bank_start_altitude_ft=0.0,
-                  alpha_law="max_ld", alpha_value=0.0, alpha_before="max_ld", bank_table=None,
+def pack_controls(*, bank_law, bank_deg=0.0, bank_gain=0.0, side=LEFT, bank_limit_deg=None, sigma_f_deg=0.0,
+                  turn_deg=90.0, bank_variable="zeta", mirror=False, bank_start="pullout", bank_start_altitude_ft=0.0,
+                  alpha_law="max_ld", alpha_deg=0.0, gamma_deg=0.0, alpha_before="max_ld", bank_table=None,
                   alpha_table=None, alpha_table_abscissa="velocity", hold_time_constant_s=10.0):
     """Build the ctrl array from plain values (validated by the caller)."""
     ctrl = np.zeros(C_SIZE)
     ctrl[C_BANK_LAW] = BANK_LAWS[bank_law]
-    ctrl[C_BANK_VALUE] = bank_value
+    ctrl[C_BANK_DEG] = bank_deg
+    ctrl[C_BANK_GAIN] = bank_gain
+    ctrl[C_SIDE] = side
     ctrl[C_BANK_LIMIT] = NO_LIMIT if bank_limit_deg is None else bank_limit_deg
     ctrl[C_SIGMA_F] = sigma_f_deg
     ctrl[C_TURN] = turn_deg
@@ -108,7 +114,8 @@ def pack_controls(*, bank_law, bank_value=0.0, bank_limit_deg=None, sigma_f_deg=
     if alpha_law == "table":
         law = ALPHA_TABLE_BY_ABSCISSA[alpha_table_abscissa]
     ctrl[C_ALPHA_LAW] = law
-    ctrl[C_ALPHA_VALUE] = alpha_value
+    ctrl[C_ALPHA_DEG] = alpha_deg
+    ctrl[C_GAMMA_DEG] = gamma_deg
     ctrl[C_ALPHA_BEFORE] = ALPHA_LAWS[alpha_before]
     ctrl[C_TAU] = hold_time_constant_s
     parts = [ctrl]
@@ -145,12 +152,14 @@ def _table(ctrl, slot):
 def unpack_controls(ctrl) -> dict:
     """The keyword arguments of pack_controls that rebuild ctrl (its inverse)."""
     alpha_law, abscissa = alpha_law_name(ctrl[C_ALPHA_LAW])
-    return {"bank_law": _name_of(BANK_LAWS, ctrl[C_BANK_LAW]), "bank_value": float(ctrl[C_BANK_VALUE]),
+    return {"bank_law": _name_of(BANK_LAWS, ctrl[C_BANK_LAW]), "bank_deg": float(ctrl[C_BANK_DEG]),
+            "bank_gain": float(ctrl[C_BANK_GAIN]), "side": float(ctrl[C_SIDE]),
             "bank_limit_deg": None if ctrl[C_BANK_LIMIT] == NO_LIMIT else float(ctrl[C_BANK_LIMIT]),
             "sigma_f_deg": float(ctrl[C_SIGMA_F]), "turn_deg": float(ctrl[C_TURN]),
             "bank_variable": _name_of(BANK_VARIABLES, ctrl[C_BANK_VAR]), "mirror": ctrl[C_MIRROR] != 0.0,
             "bank_start": _name_of(BANK_STARTS, ctrl[C_START]), "bank_start_altitude_ft": float(ctrl[C_START_ALT]),
-            "alpha_law": alpha_law, "alpha_value": float(ctrl[C_ALPHA_VALUE]),
+            "alpha_law": alpha_law, "alpha_deg": float(ctrl[C_ALPHA_DEG]),
+            "gamma_deg": float(ctrl[C_GAMMA_DEG]),
             "alpha_before": _name_of(ALPHA_LAWS, ctrl[C_ALPHA_BEFORE]), "bank_table": _table(ctrl, C_BANK_TABLE),
             "alpha_table": _table(ctrl, C_ALPHA_TABLE), "alpha_table_abscissa": abscissa,
             "hold_time_constant_s": float(ctrl[C_TAU])}
@@ -159,6 +168,43 @@ def unpack_controls(ctrl) -> dict:
 def replace_controls(ctrl, **changes):
     """ctrl with some of pack_controls' arguments changed (e.g. a new bank table), the rest kept."""
     return pack_controls(**(unpack_controls(ctrl) | changes))
+
+
+# The variants the footprint, optimization and heating methods fly, all through replace_controls.
+def replace_bank_law(ctrl, law, *, bank_deg=0.0, bank_gain=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
+                     right=False):
+    """ctrl with its bank law replaced, steering on zeta (the procedure for any inclination, Section II.6); the
+    alpha law, the bank start and the tables kept. right: the right-hand version of the law (a negative bank
+    for the constant and staged laws, a turn to the right for constant altitude, the mirrored rule otherwise)."""
+    signed = law in ("constant", "staged")
+    return replace_controls(ctrl, bank_law=law, bank_deg=-bank_deg if right and signed else bank_deg,
+                            bank_gain=bank_gain, side=RIGHT if right and law == "constant_altitude" else LEFT,
+                            bank_limit_deg=limit_deg, sigma_f_deg=sigma_f_deg, turn_deg=turn_deg,
+                            bank_variable="zeta", mirror=right and not signed and law != "constant_altitude")
+
+
+def replace_alpha_law(ctrl, law):
+    """ctrl with its angle-of-attack law replaced (a law without a table), the rest kept."""
+    return replace_controls(ctrl, alpha_law=law)
+
+
+def replace_bank_table(ctrl, bank_deg, nodes, variable="zeta"):
+    """ctrl flying bank = linear interpolation in (variable, bank) (Section II.5, Fig. 2: in zeta), nodes in the
+    unit of BANK_VARIABLES[variable], held at the table's ends, no limit, left-hand; the rest kept."""
+    return replace_controls(ctrl, bank_law="table", bank_limit_deg=None, bank_variable=variable, mirror=False,
+                            bank_table=(nodes, bank_deg))
+
+
+def replace_alpha_table(ctrl, alpha_deg, nodes, law=ALPHA_TABLE_VELOCITY):
+    """ctrl flying alpha = linear interpolation in (node, alpha), held at the table's ends, over the whole flight:
+    nodes are velocities in ft/s (ALPHA_TABLE_VELOCITY, and ALPHA_MAX_LD_FLOOR: (L/D)max, never below the
+    table), times in s (ALPHA_TABLE_TIME) or energy heights in ft (ALPHA_TABLE_ENERGY); the rest kept."""
+    x = np.asarray(nodes, dtype=float)
+    a = np.asarray(alpha_deg, dtype=float)
+    if x.shape != a.shape or np.any(np.diff(x) <= 0.0):
+        raise ValueError(f"alpha table: {len(x)} nodes (must ascend) for {len(a)} angles")
+    alpha_law, abscissa = alpha_law_name(law)
+    return replace_controls(ctrl, alpha_law=alpha_law, alpha_table=(x, a), alpha_table_abscissa=abscissa)
 
 
 @njit
@@ -218,15 +264,14 @@ def bank_from_law(ctrl, mode_active, mode_done, angle_deg, table_x=math.nan):
     if mode_active == 0.0:
         return 0.0
     law = int(ctrl[C_BANK_LAW])
-    value = ctrl[C_BANK_VALUE]
     if law == BANK_CONSTANT:
-        bank = value
+        bank = ctrl[C_BANK_DEG]
     elif law == BANK_STAGED:
-        bank = 0.0 if mode_done != 0.0 else value  # Section I / Fig. 14: constant until the turn, then zero
+        bank = 0.0 if mode_done != 0.0 else ctrl[C_BANK_DEG]  # Section I / Fig. 14: constant until the turn, then zero
     elif law == BANK_TWO_PARAMETER:
-        bank = value * (angle_deg - ctrl[C_SIGMA_F])  # Section II.5, phi_B = K (sigma - sigma_f), Fig. 5
+        bank = ctrl[C_BANK_GAIN] * (angle_deg - ctrl[C_SIGMA_F])  # Section II.5, phi_B = K (sigma - sigma_f), Fig. 5
     elif law == BANK_SINGLE_PARAMETER:
-        bank = value * angle_deg  # Section II.5-II.6, phi_B = K sigma (K zeta), Fig. 8
+        bank = ctrl[C_BANK_GAIN] * angle_deg  # Section II.5-II.6, phi_B = K sigma (K zeta), Fig. 8
     elif law == BANK_TABLE:
         x = angle_deg if ctrl[C_BANK_VAR] <= VAR_HEADING else table_x
         bank = table_interp(ctrl, ctrl[C_BANK_TABLE], x)  # Section II.5, Fig. 2: linear in heading (or time...)

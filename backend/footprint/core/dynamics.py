@@ -28,9 +28,10 @@ from footprint.core.controls import (
     C_ALPHA_BEFORE,
     C_ALPHA_LAW,
     C_ALPHA_TABLE,
-    C_ALPHA_VALUE,
+    C_ALPHA_DEG,
     C_BANK_LAW,
-    C_BANK_VALUE,
+    C_GAMMA_DEG,
+    C_SIDE,
     C_TAU,
     bank_abscissa,
     bank_from_law,
@@ -78,6 +79,20 @@ M_PULLOUT_ALT = 7
 M_TURN_DONE_DEG = 8  # heading change (steering angle) when a staged / constant-altitude turn ended
 M_SIZE = 9
 
+# --- evaluate's outputs (a tuple: numba returns it without allocating) ---
+EV_AX, EV_AY, EV_AZ = 0, 1, 2  # ft/s^2, d/dt of the earth-relative velocity in the earth-fixed frame
+EV_ALPHA_DEG = 3
+EV_BANK_DEG = 4
+EV_MACH = 5
+EV_Q_PSF = 6  # dynamic pressure, lb/ft^2
+EV_CL = 7
+EV_CD = 8
+EV_ALTITUDE_FT = 9
+EV_SPEED_FPS = 10  # earth-relative
+EV_SIN_GAMMA = 11
+EV_STEER_DEG = 12  # the angle the heading laws steer on (controls.steering_angle_deg)
+EV_NEED_RATIO = 13  # lift needed over lift available (the holds, the constant-altitude turn; else 0)
+EV_RHO_SLUG_FT3 = 14
 
 
 @njit
@@ -118,11 +133,7 @@ def steering_angles(x, y, z, vx, vy, vz, p):
 
 @njit
 def evaluate(t, s, p, aero, ctrl, mode):
-    """Accelerations and every derived quantity at one state.
-
-    Returns (ax, ay, az, alpha_deg, bank_deg, mach, q_psf, cl, cd, altitude_ft, speed_fps, sin_gamma,
-    steering_deg, lift_needed_over_available, rho).
-    """
+    """Accelerations and every derived quantity at one state, in the slots EV_* above."""
     x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
     omega = p[P_OMEGA]
     alt = altitude_ft(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
@@ -155,7 +166,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
     gamma = math.asin(sin_gamma)
     gamma_cmd = 0.0
     if int(ctrl[C_ALPHA_LAW]) == ALPHA_GAMMA_HOLD:
-        gamma_cmd = math.radians(ctrl[C_ALPHA_VALUE])
+        gamma_cmd = math.radians(ctrl[C_GAMMA_DEG])
     if int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE:
         gamma_cmd = -(alt - mode[M_HOLD_ALT]) / (v * tau)  # Appendix C data set 2: hold the pull-out altitude
     vert_needed = v * (gamma_cmd - gamma) / tau - v * v * cos_gamma * ivr - (a0x * upx + a0y * upy + a0z * upz)
@@ -173,7 +184,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
     elif alpha_law == ALPHA_CL_MAX:
         alpha = _aero.alpha_cl_max_deg(aero, mach, alt)
     elif alpha_law == ALPHA_CONSTANT:
-        alpha = ctrl[C_ALPHA_VALUE]
+        alpha = ctrl[C_ALPHA_DEG]
     elif alpha_law == ALPHA_TABLE_VELOCITY:
         alpha = table_interp(ctrl, ctrl[C_ALPHA_TABLE], v)
     elif alpha_law == ALPHA_TABLE_TIME:
@@ -196,7 +207,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
         need_ratio = vert_needed / available if available > 0.0 else 2.0
         bank = 0.0
         if mode[M_BANK_ACTIVE] != 0.0 and mode[M_BANK_DONE] == 0.0 and need_ratio < 1.0:
-            bank = math.degrees(math.acos(max(need_ratio, 0.0))) * ctrl[C_BANK_VALUE]
+            bank = math.degrees(math.acos(max(need_ratio, 0.0))) * ctrl[C_SIDE]
     else:
         table_x = bank_abscissa(ctrl, steer, t, v, energy_height_ft(alt, v, p[P_G0]))
         bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer, table_x)
@@ -228,6 +239,6 @@ def rhs(t, s, p, aero, ctrl, mode, out):
     out[0] = s[3]
     out[1] = s[4]
     out[2] = s[5]
-    out[3] = res[0]
-    out[4] = res[1]
-    out[5] = res[2]
+    out[3] = res[EV_AX]
+    out[4] = res[EV_AY]
+    out[5] = res[EV_AZ]

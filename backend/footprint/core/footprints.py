@@ -13,19 +13,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from footprint.core.controls import (
-    ALPHA_LAWS,
-    BANK_LAWS,
-    C_ALPHA_LAW,
-    C_BANK_LAW,
-    C_BANK_LIMIT,
-    C_BANK_VALUE,
-    C_BANK_VAR,
-    C_MIRROR,
-    C_SIGMA_F,
-    C_TURN,
-    NO_LIMIT,
-)
+from footprint.core.controls import replace_alpha_law, replace_bank_law
 from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate
 
@@ -99,31 +87,14 @@ class Footprint:
 
 
 # ------------------------------------------------------------------------------------ control variants
-def with_bank(spec: FlightSpec, law, value=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
-              right=False) -> FlightSpec:
-    """The spec with its bank law replaced; everything else in the control array (alpha law, start) kept."""
-    ctrl = spec.ctrl.copy()
-    ctrl[C_BANK_LAW] = BANK_LAWS[law]
-    ctrl[C_BANK_VALUE] = value
-    ctrl[C_BANK_LIMIT] = NO_LIMIT if limit_deg is None else limit_deg
-    ctrl[C_SIGMA_F] = sigma_f_deg
-    ctrl[C_TURN] = turn_deg
-    ctrl[C_BANK_VAR] = 0.0  # zeta: the procedure for any inclination (Section II.6)
-    ctrl[C_MIRROR] = 0.0
-    if law == "constant_altitude":
-        ctrl[C_BANK_VALUE] = -1.0 if right else 1.0  # the side to turn to
-    elif right:
-        if law in ("constant", "staged"):
-            ctrl[C_BANK_VALUE] = -value
-        else:
-            ctrl[C_MIRROR] = 1.0
-    return replace(spec, ctrl=ctrl)
+def with_bank(spec: FlightSpec, law, **variant) -> FlightSpec:
+    """The spec with its bank law replaced (controls.replace_bank_law: bank_deg, bank_gain, limit_deg,
+    sigma_f_deg, turn_deg, right); everything else in the control array (alpha law, start) kept."""
+    return replace(spec, ctrl=replace_bank_law(spec.ctrl, law, **variant))
 
 
 def with_alpha(spec: FlightSpec, law) -> FlightSpec:
-    ctrl = spec.ctrl.copy()
-    ctrl[C_ALPHA_LAW] = ALPHA_LAWS[law]
-    return replace(spec, ctrl=ctrl)
+    return replace(spec, ctrl=replace_alpha_law(spec.ctrl, law))
 
 
 # ------------------------------------------------------------------------------------------ the methods
@@ -131,8 +102,9 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
                      mirror=True, contours_fps=()):
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
-    family = [({"bank0_deg": float(b), "k": b / SIGMA0_DEG},
-               lambda s, right, b=b: with_bank(s, "single_parameter", b / SIGMA0_DEG, limit_deg, right=right),
+    family = [({"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
+               lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
+                                               right=right),
                b == 0)
               for b in bank0_deg]
     return footprint_of_family("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
@@ -143,12 +115,12 @@ def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn
     """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
     law = "staged" if staged else "constant"
     family = [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
-               lambda s, right, b=b: with_bank(s, law, b, turn_deg=turn_deg, right=right), b == 0)
+               lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right), b == 0)
               for b in bank_deg]
     return footprint_of_family(law, spec, family + _min_range(min_range), mirror, contours_fps)
 
 
-def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
+def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
                   mirror=True, contours_fps=()):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited to 75 deg; one set per K, sigma_f varied.
 
@@ -156,13 +128,14 @@ def two_parameter(spec, k=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15
     boundary of the parametric data", as the upper convex chain); each set is kept in `sets`.
     """
     sets, flights = {}, []
-    for kk in k:
-        family = [({"k": float(kk), "sigma_f_deg": float(sf)},
-                   lambda s, right, kk=kk, sf=sf: with_bank(s, "two_parameter", kk, limit_deg, sf, right=right),
+    for gain in bank_gain:
+        family = [({"bank_gain": float(gain), "sigma_f_deg": float(sf)},
+                   lambda s, right, gain=gain, sf=sf: with_bank(s, "two_parameter", bank_gain=gain, limit_deg=limit_deg,
+                                                                sigma_f_deg=sf, right=right),
                    sf >= SIGMA0_DEG)
                   for sf in sigma_f_deg]
         f = _fly(spec, family, mirror, contours_fps)
-        sets[f"k={kk:g}"] = f.axis + f.left
+        sets[f"k={gain:g}"] = f.axis + f.left
         flights.append(f)
     pairs = [(l, r) for f in flights for l, r in zip(f.left, f.right or [None] * len(f.left))]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])
@@ -203,24 +176,6 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
 def staged(spec, **params):
     """Fig. 14: constant bank until the heading has changed turn_deg (90 deg), then wings level."""
     return constant_bank(spec, staged=True, **params)
-
-
-METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank, "staged": staged,
-           "two_parameter": two_parameter, "constant_altitude": constant_altitude}
-
-
-def footprint(spec: FlightSpec, method: str, on_progress=None, **params) -> Footprint:
-    """The footprint of `spec` by `method`; on_progress(fraction, note) where the method is long enough to
-    report (the collocation's IPOPT iterations)."""
-    if method == "temperature_limited":  # constrained.py builds on this module, so it is imported here
-        from footprint.core.constrained import temperature_limited_footprint
-
-        return temperature_limited_footprint(spec, **params).footprint
-    if method == "collocation":  # the true optimal boundary (CasADi), built on this module too
-        from footprint.core.collocation_footprint import collocation_footprint
-
-        return collocation_footprint(spec, on_progress=on_progress, **params)
-    return METHODS[method](spec, **params)
 
 
 # ------------------------------------------------------------------------------------------ machinery

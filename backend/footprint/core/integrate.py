@@ -27,6 +27,20 @@ from footprint.core.controls import (
     wrap_deg,
 )
 from footprint.core.dynamics import (
+    EV_ALPHA_DEG,
+    EV_ALTITUDE_FT,
+    EV_AX,
+    EV_AY,
+    EV_AZ,
+    EV_BANK_DEG,
+    EV_CD,
+    EV_CL,
+    EV_MACH,
+    EV_NEED_RATIO,
+    EV_Q_PSF,
+    EV_SIN_GAMMA,
+    EV_SPEED_FPS,
+    EV_STEER_DEG,
     M_BANK_ACTIVE,
     M_BANK_DONE,
     M_HOLD_ALT,
@@ -91,7 +105,7 @@ D5, D6, D7 = 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0, 69997
 def _derivative(t, s, p, aero, ctrl, mode, out):
     res = evaluate(t, s, p, aero, ctrl, mode)
     out[0], out[1], out[2] = s[3], s[4], s[5]
-    out[3], out[4], out[5] = res[0], res[1], res[2]
+    out[3], out[4], out[5] = res[EV_AX], res[EV_AY], res[EV_AZ]
     return res
 
 
@@ -100,7 +114,8 @@ def _event_values(t, s, res, p, ctrl, mode, g):
     """Event functions; NaN where an event cannot happen in the present mode."""
     for i in range(N_EVENTS):
         g[i] = np.nan
-    alt, v, sin_gamma, steer, need_ratio = res[9], res[10], res[11], res[12], res[13]
+    alt, v, sin_gamma = res[EV_ALTITUDE_FT], res[EV_SPEED_FPS], res[EV_SIN_GAMMA]
+    steer, need_ratio = res[EV_STEER_DEG], res[EV_NEED_RATIO]
     if mode[M_PULLED_OUT] == 0.0:
         g[E_PULLOUT] = sin_gamma  # first gamma = 0 (Section II.2)
     if mode[M_BANK_ACTIVE] == 0.0 and int(ctrl[C_START]) == START_ALTITUDE:
@@ -128,17 +143,17 @@ def _apply_event(event, t, res, ctrl, mode):
     if event == E_PULLOUT:
         mode[M_PULLED_OUT] = 1.0
         mode[M_PULLOUT_T] = t
-        mode[M_PULLOUT_ALT] = res[9]
-        mode[M_HOLD_ALT] = res[9]
+        mode[M_PULLOUT_ALT] = res[EV_ALTITUDE_FT]
+        mode[M_HOLD_ALT] = res[EV_ALTITUDE_FT]
         if mode[M_BANK_ACTIVE] == 0.0 and int(ctrl[C_START]) == START_PULLOUT:
             mode[M_BANK_ACTIVE] = 1.0
-            mode[M_REF_ANGLE] = res[12]
+            mode[M_REF_ANGLE] = res[EV_STEER_DEG]
     elif event == E_BANK_START:
         mode[M_BANK_ACTIVE] = 1.0
-        mode[M_REF_ANGLE] = res[12]
+        mode[M_REF_ANGLE] = res[EV_STEER_DEG]
     elif event == E_TURN_DONE:
         mode[M_BANK_DONE] = 1.0
-        mode[M_TURN_DONE_DEG] = abs(wrap_deg(res[12] - mode[M_REF_ANGLE]))
+        mode[M_TURN_DONE_DEG] = abs(wrap_deg(res[EV_STEER_DEG] - mode[M_REF_ANGLE]))
     elif event == E_ALPHA_LATCH:
         mode[M_LATCHED] = 1.0
     elif event == E_STOP_ALTITUDE:
@@ -166,18 +181,18 @@ def _record(rows, n, t, s, res):
         bigger = np.empty((2 * n, N_COLS))
         bigger[:n] = rows
         rows = bigger
-    rows[n, 0] = t
+    rows[n, R_T] = t
     for i in range(6):
-        rows[n, 1 + i] = s[i]
-    rows[n, R_ALPHA] = res[3]
-    rows[n, R_BANK] = res[4]
-    rows[n, R_MACH] = res[5]
-    rows[n, R_Q] = res[6]
-    rows[n, R_CL] = res[7]
-    rows[n, R_CD] = res[8]
-    rows[n, R_ALT] = res[9]
-    rows[n, R_V] = res[10]
-    rows[n, R_SIN_GAMMA] = res[11]
+        rows[n, R_X + i] = s[i]
+    rows[n, R_ALPHA] = res[EV_ALPHA_DEG]
+    rows[n, R_BANK] = res[EV_BANK_DEG]
+    rows[n, R_MACH] = res[EV_MACH]
+    rows[n, R_Q] = res[EV_Q_PSF]
+    rows[n, R_CL] = res[EV_CL]
+    rows[n, R_CD] = res[EV_CD]
+    rows[n, R_ALT] = res[EV_ALTITUDE_FT]
+    rows[n, R_V] = res[EV_SPEED_FPS]
+    rows[n, R_SIN_GAMMA] = res[EV_SIN_GAMMA]
     return rows
 
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from footprint.core.controls import replace_controls
+from footprint.core.controls import replace_bank_table
 from footprint.core.trajectory import FlightSpec, simulate
 
 # Section II.5 / Fig. 2: the eight table points, heading (remaining heading change) -15 to 90 deg by 15
@@ -398,13 +398,12 @@ def with_bank_table(spec: FlightSpec, bank_deg, nodes=BANK_TABLE_HEADINGS_DEG, v
     """The spec flying bank = linear interpolation in (zeta, bank) (Fig. 2), or in (variable, bank) for another
     abscissa of controls.BANK_VARIABLES (nodes in its unit), held at the table's ends, no limit, left-hand; the
     rest of the control laws (alpha law and its table, bank start) kept."""
-    return replace(spec, ctrl=replace_controls(spec.ctrl, bank_law="table", bank_limit_deg=None,
-                                               bank_variable=variable, mirror=False, bank_table=(nodes, bank_deg)))
+    return replace(spec, ctrl=replace_bank_table(spec.ctrl, bank_deg, nodes, variable))
 
 
-def nominal_bank_deg(k=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):
+def nominal_bank_deg(bank_gain=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):
     """Fig. 2's nominal schedule: the linear ramp phi_B = K zeta at the table points, within the bounds."""
-    return np.clip(k * np.asarray(headings_deg, dtype=float), *bounds)
+    return np.clip(bank_gain * np.asarray(headings_deg, dtype=float), *bounds)
 
 
 def cross_range_problem(spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL_DOWNRANGE_NMI, initial=None,

@@ -26,11 +26,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from footprint.core.constants import J_REPORT, MU_EARTH_FT3_S2, OMEGA_EARTH_DEG_S, RADIUS_EQUATORIAL_FT
+from footprint.core.constants import J_ZONAL, MU_EARTH_FT3_S2, OMEGA_EARTH_DEG_S, RADIUS_EQUATORIAL_FT
 from footprint.core.ranges import MEAN_RADIUS_NMI
 from footprint.core.transforms import Reference, latlon_of
 
-J2 = J_REPORT / 1.5  # App. A gives J = 1.5 J2 (1623.41e-6), so J2 = 1082.27e-6
+J2 = J_ZONAL / 1.5  # App. A gives J = 1.5 J2 (1623.41e-6), so J2 = 1082.27e-6
 SECONDS_PER_DAY = 86_400.0
 
 

@@ -22,7 +22,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S
-from footprint.core.footprints import Footprint, FootprintPoint, footprint
+from footprint.core.footprint_methods import footprint
+from footprint.core.footprints import Footprint, FootprintPoint
 from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi, great_circle_frame
 from footprint.core.trajectory import FlightSpec
 from footprint.core.transforms import Reference, move, rotation_shift

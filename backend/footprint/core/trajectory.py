@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from footprint.core import constants as K
+from footprint.core import constants as c
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
 from footprint.core.atmosphere import MODEL_IDS, isothermal_temperature_R
@@ -61,13 +61,13 @@ class Planet:
 
     rotating: bool = True
     oblate: bool = True
-    radius_ft: float = K.RADIUS_EQUATORIAL_FT
-    polar_radius_ft: float = K.RADIUS_POLAR_FT
-    mu_ft3_s2: float = K.MU_EARTH_FT3_S2
-    rotation_rate_deg_s: float = K.OMEGA_EARTH_DEG_S
-    j: float = K.J_REPORT
-    h: float = K.H_REPORT
-    k: float = K.K_REPORT
+    radius_ft: float = c.RADIUS_EQUATORIAL_FT
+    polar_radius_ft: float = c.RADIUS_POLAR_FT
+    mu_ft3_s2: float = c.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: float = c.OMEGA_EARTH_DEG_S
+    j: float = c.J_ZONAL
+    h: float = c.H_ZONAL
+    k: float = c.K_ZONAL
     atmosphere: str = "ardc1959"
     rho0_slug_ft3: float = 0.0027
     scale_height_ft: float = 23_800.0
@@ -135,7 +135,7 @@ def pack_parameters(spec: FlightSpec) -> np.ndarray:
     p[P_RHO0], p[P_SCALE_H] = pl.rho0_slug_ft3, pl.scale_height_ft
     p[P_ATM_T] = pl.temperature_R if pl.temperature_R is not None else isothermal_temperature_R(pl.scale_height_ft)
     p[P_WS] = spec.vehicle.wing_loading_psf
-    p[P_G0] = K.G0_FT_S2
+    p[P_G0] = c.G0_FT_S2
     p[P_STOP_ALT] = np.nan if st.altitude_ft is None else st.altitude_ft
     p[P_STOP_VEL] = np.nan if st.velocity_fps is None else st.velocity_fps
     p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
@@ -255,7 +255,7 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         # load factor sqrt(L^2 + D^2) / W = q sqrt(CL^2 + CD^2) / (W/S)
         "max_load_factor": float(np.max(rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD]))
                                  / spec.vehicle.wing_loading_psf),
-        "final_energy_ft": float(energy_height_ft(rows[-1, R_ALT], rows[-1, R_V], K.G0_FT_S2)),
+        "final_energy_ft": float(energy_height_ft(rows[-1, R_ALT], rows[-1, R_V], c.G0_FT_S2)),
         "heat_load_btu_ft2": heat_load,
         "max_heat_rate_btu_ft2_s": max_heat_rate,
         "max_temperature_R": max_temperature,

@@ -291,7 +291,7 @@ def parameter_label(parameter: dict) -> str:
     if "min_range" in parameter:
         return "zero lift" if parameter["min_range"] == "zero_lift" else r"$C_{L\,max}$"
     if "sigma_f_deg" in parameter:
-        return rf"K={parameter['k']:.3g}, $\sigma_f$={parameter['sigma_f_deg']:.3g}°"
+        return rf"K={parameter['bank_gain']:.3g}, $\sigma_f$={parameter['sigma_f_deg']:.3g}°"
     if "bank0_deg" in parameter:
         return rf"$\phi_0$={parameter['bank0_deg']:.3g}°"
     if "bank_deg" in parameter:

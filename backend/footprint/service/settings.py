@@ -5,7 +5,7 @@ from pathlib import Path
 from pydantic import Field, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
-from footprint.contracts.sweep import default_workers
+from footprint.parallel import default_workers
 
 MIGRATIONS_DIR = Path(__file__).resolve().parents[3] / "migrations"  # the repository's top-level migrations/
 FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"
