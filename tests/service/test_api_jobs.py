@@ -16,7 +16,7 @@ from footprint.api import footprint as fly_footprint
 from footprint.api import fly
 
 from .conftest import wait_for_job
-from .studies import FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
+from .sample_requests import FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
 
 ROOT = Path(__file__).resolve().parents[2]
 POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",

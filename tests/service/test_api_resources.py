@@ -10,7 +10,7 @@ import pytest
 import footprint
 from footprint.api import fly
 
-from .studies import CASE, REACH, REACH_POINTS
+from .sample_requests import CASE, REACH, REACH_POINTS
 
 ROOT = Path(__file__).resolve().parents[2]
 GLIDER = {"aero": {"constant": {"cl": 0.5, "cd": 0.25}}, "wing_loading_psf": 50}  # L/D 2 at every alpha
@@ -142,7 +142,7 @@ def test_reach_uses_the_stored_sites_when_none_are_given(api):
 def test_a_reach_may_keep_each_stored_sites_verdict(api):
     """Issue 13 item 6: verdicts stored with the sites, shown again after a reload; only when asked, and only for
     the stored sites (a reach that gives its own sites stores nothing)."""
-    from .studies import REACH
+    from .sample_requests import REACH
 
     for site in REACH["sites"]:
         assert api.post("/api/sites", json=site).status_code == 201
