@@ -3,11 +3,13 @@
     REPORT[key].value / .unit / .where / .quote   AFWAL-TR-82-3036 (afwal_tr_82_3036.json beside this file)
     example(name)                                 examples/<name>.json, parsed
     table2_entry(**changes), table2_stop()        the report's Table 2 entry and stop, from examples/table2_lod22.json
+    betts(case)                                   Betts' published shuttle optimum (betts_shuttle_reentry.csv)
 
 Standard library only: tests import it as tests.authorities.report; bench/ and scripts/ put the repository
 root on sys.path first.
 """
 
+import csv
 import json
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -40,3 +42,10 @@ def table2_entry(**changes) -> dict:
 def table2_stop() -> dict:
     """Table 2's stop: 50,000 ft."""
     return example("table2_lod22")["stop"]
+
+
+def betts(case: str = "max_crossrange_no_heating_limit") -> dict:
+    """Betts' published Space Shuttle optimum, a row of betts_shuttle_reentry.csv: final_latitude_deg, flight_time_s."""
+    with open(HERE / "betts_shuttle_reentry.csv") as f:
+        rows = {r.pop("case"): r for r in csv.DictReader(line for line in f if not line.startswith("#"))}
+    return {k: float(v) for k, v in rows[case].items()}

@@ -12,7 +12,6 @@ import time
 from contextlib import closing
 
 import httpx
-import pytest
 
 from .sample_requests import CASE, FOOTPRINT
 
