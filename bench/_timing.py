@@ -1,7 +1,15 @@
-"""Timing shared by the benchmarks (run as `python3 bench/NAME.py`, so this folder is on sys.path)."""
+"""Timing shared by the benchmarks (run as `python3 bench/NAME.py`, so this folder is on sys.path), and the
+report's numbers and examples through the tests' one loader (tests/authorities/report.py)."""
 
 import statistics
+import sys
 import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import REPORT, betts, example, table2_entry, table2_stop  # noqa: E402
+
+__all__ = ["REPORT", "betts", "example", "table2_entry", "table2_stop", "timings_s", "median_ms"]
 
 
 def timings_s(fn, repeat):

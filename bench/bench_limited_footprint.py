@@ -17,12 +17,12 @@ from pathlib import Path
 from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client
+from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480,
-                                                      "gamma_deg": -2.0}, "stop": {"altitude_ft": 50_000},
+CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop(),
         "heating": {"model": "reference"}}
-LIMIT_R = 2_550.0
+LIMIT_R = REPORT["sec3.limit_R"].value
 DOWNRANGES_NMI = (2_000.0, 4_000.0, 8_000.0, 11_000.0)  # as scripts/section_iii.py
 MAX_EVALUATIONS = 3_000
 

@@ -15,10 +15,10 @@ import numpy as np
 from footprint.contracts.case import parse_case
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client, worker_count
+from _timing import table2_entry, table2_stop  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480,
-                                                      "gamma_deg": -2.0}, "stop": {"altitude_ft": 50_000}}
+CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
 DOWNRANGES_NMI = tuple(float(d) for d in range(2_000, 12_001, 1_111))[:10]  # 10 points, 2,000-12,000 nmi
 MAX_EVALUATIONS = 1_500
 TARGET_S = 10.0

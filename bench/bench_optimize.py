@@ -15,10 +15,10 @@ from pathlib import Path
 
 from footprint.contracts.case import parse_case
 from footprint.core import optimize as O
+from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480,
-                                                      "gamma_deg": -2.0}, "stop": {"altitude_ft": 50_000}}
+CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
 REPEAT = 5
 
 
@@ -56,8 +56,10 @@ def main():
     sq = O.optimize_scipy(O.cross_range_problem(spec), "SLSQP", max_evaluations=1_500, eps=1.0)
     out["unconstrained"]["scipy_slsqp_eps_1deg"] = {"crossrange_nmi": round(sq.payoff, 1),
                                                     "trajectories": sq.trajectories, "seconds": round(sq.seconds, 3)}
-    out["report"] = {"trajectories_per_optimum": 110, "cyber175_s_per_trajectory": 30,
-                     "cyber175_s_per_optimum": 3_300, "max_crossrange_lod189_nmi": 1_964}
+    per_optimum, s_each = REPORT["sec2.iterations_per_optimum"].value, REPORT["sec2.cyber175_s_per_trajectory"].value
+    out["report"] = {"trajectories_per_optimum": per_optimum, "cyber175_s_per_trajectory": int(s_each),
+                     "cyber175_s_per_optimum": int(per_optimum * s_each),
+                     "max_crossrange_lod189_nmi": int(REPORT["sec3.max_crossrange_nmi"].value)}
     (HERE / "results").mkdir(exist_ok=True)
     (HERE / "results" / "optimize.json").write_text(json.dumps(out, indent=2) + "\n")
     print(json.dumps(out, indent=2))

@@ -16,6 +16,7 @@ Run: python3 scripts/heating_sensitivity.py  (about two minutes on 2 workers)
 """
 
 import json
+import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
@@ -31,11 +32,14 @@ from footprint.core.heating import ReferenceHeating, calibrate_reference_radius_
 from footprint.core.optimize import creep_pattern_feasible
 from footprint.core.trajectory import pack_parameters, simulate
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import REPORT, table2_entry  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 LOD189 = ROOT / "backend" / "footprint" / "core" / "data" / "vehicles" / "lod-1.89.json"
-ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # report Table 2
-LIMIT_R = 2_550.0
+ENTRY = table2_entry()
+LIMIT_R = REPORT["sec3.limit_R"].value
 SKINS_BTU_FT2_R = (0.5, 1.0, 2.0)
 TIME_NODES_S = (0.0, 150.0, 300.0, 450.0, 700.0, 1_200.0, 2_500.0)  # the plunge peaks at ~190-240 s
 BUDGET = 4_000  # trajectories per constrained point

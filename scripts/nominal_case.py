@@ -4,10 +4,14 @@ L/D 2.2 and 1.89 vehicles and entry angles -2 to -5 deg (the conditions of Fig. 
     python3 scripts/nominal_case.py
 """
 
+import sys
 from pathlib import Path
 
 from footprint import fly
 from footprint.core.aero import builtin_vehicle
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import table2_entry, table2_stop  # noqa: E402
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "nominal_case.md"
 GAMMAS = (-2.0, -3.0, -4.0, -5.0)
@@ -17,8 +21,8 @@ VEHICLES = ("lod-2.2", "lod-1.89", "lod-2.6")
 def case(vehicle, gamma_deg):
     return {"vehicle": {"builtin": vehicle},
             "planet": {"rotating": True, "oblate": True, "atmosphere": {"model": "ardc1959"}},
-            "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": gamma_deg, "heading_deg": 90},
-            "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": {"altitude_ft": 50_000}}
+            "entry": table2_entry(gamma_deg=gamma_deg),
+            "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": table2_stop()}
 
 
 def row(vehicle, gamma_deg):

@@ -22,16 +22,17 @@ from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
 from footprint.parallel import client_map, dask_client
 from matplotlib.figure import Figure
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import REPORT as PUBLISHED, table2_entry, table2_stop  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"},
-               "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
-               "stop": {"altitude_ft": 50_000}, "heating": {"model": "reference"}}
-# the report's numbers (shared/data/paper_results.md section C)
-REPORT = {"max_crossrange_unconstrained_nmi": 1_964.0, "max_crossrange_2550_nmi": 1_780.0,
-          "max_downrange_unconstrained_nmi": 14_500.0, "max_downrange_2550_nmi": 11_700.0,
-          "min_downrange_unconstrained_nmi": 1_000.0, "min_downrange_2550_nmi": 2_000.0}
-LIMIT_R = 2_550.0
+TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop(),
+               "heating": {"model": "reference"}}
+# the report's numbers (Section III)
+REPORT = {f"{end}_{which}_nmi": PUBLISHED[f"sec3.{end}{'' if which == 'unconstrained' else '_2550'}_nmi"].value
+          for end in ("max_crossrange", "max_downrange", "min_downrange") for which in ("unconstrained", "2550")}
+LIMIT_R = PUBLISHED["sec3.limit_R"].value
 # Fig. 22's limits, and lower ones: in our heating model 2,550 degR is far from the plunge's floor (see notes)
 FIG22_LIMITS_R = (None, 2_600.0, 2_550.0, 2_500.0, 2_450.0, 2_400.0, 2_350.0)
 DOWNRANGES_NMI = (2_000.0, 4_000.0, 8_000.0, 11_000.0)
@@ -106,7 +107,7 @@ def figures(spec, fig22, free, hot, simple):
     if bad:
         ax.plot(*zip(*bad), "o", mfc="none", color="k", label="ours, limit not met (at the RET reached)")
     t = [x for x, _ in ok + bad]
-    ax.plot([2_670.0, 2_550.0], [REPORT["max_crossrange_unconstrained_nmi"], REPORT["max_crossrange_2550_nmi"]],
+    ax.plot([PUBLISHED["sec3.max_temperature_R"].value, LIMIT_R], [REPORT["max_crossrange_unconstrained_nmi"], REPORT["max_crossrange_2550_nmi"]],
             "s--", color="0.5", label="report (Fig. 22 end points)")
     ax.set_xlim(min(t) - 50, 2_700)
     ax.set_ylim(1_000, 2_200)

@@ -24,19 +24,21 @@ from footprint.pictures.figures import save
 from footprint.pictures.maps import footprint_layer, panels_figure
 from footprint.contracts.footprint import parse_study
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import REPORT, table2_entry, table2_stop  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 FIGURES = ROOT / "docs" / "figures"
 DOC = ROOT / "docs" / "maps.md"
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90.0,
-                "latitude_deg": 0.0, "longitude_deg": 0.0}
-TABLE2_INERTIAL_FPS = 26_031  # Table 2: the same entry's inertial speed (east, equator, rotating earth)
+TABLE2_ENTRY = table2_entry()
+TABLE2_INERTIAL_FPS = int(REPORT["table2.inertial_velocity_fps"].value)  # the same entry's inertial speed
 ORIGIN_EAST = Reference(0.0, 0.0, 90.0)
 
 
 def study(vehicle, velocity_fps=24_480, mirror_half=True):
     return parse_study({"case": {"vehicle": {"builtin": vehicle}, "planet": {"rotating": False},
                                  "entry": TABLE2_ENTRY | {"velocity_fps": velocity_fps},
-                                 "stop": {"altitude_ft": 50_000}},
+                                 "stop": table2_stop()},
                         "method": "single_parameter", "mirror": mirror_half})
 
 

@@ -3,11 +3,13 @@ docs/validation.md (ours beside the report's, with the relative difference) and 
 
     python3 scripts/validation.py --out FOLDER      (--out docs regenerates the tracked docs/validation.md)
 
-The report's numbers are those of ../shared/data/paper_results.md (sections A-C, E).
+The report's numbers are read from tests/authorities/afwal_tr_82_3036.json (each with where it is printed;
+shared/data/paper_results.md sections A-C, E discuss them), the Table 2 entry from examples/table2_lod22.json.
 """
 
 import argparse
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -22,21 +24,30 @@ from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import initial_state, pack_parameters
 from footprint.parallel import client_map, dask_client
 
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90.0}
-APPENDIX_C_ENTRY = {"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
-                    "gamma_deg": -15.0, "heading_deg": 90.0}
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
+from tests.authorities.report import REPORT, table2_entry, table2_stop  # noqa: E402
+
+
+def rep(key):
+    """The report's number `key` (tests/authorities/afwal_tr_82_3036.json)."""
+    return REPORT[key].value
+
+
+TABLE2_ENTRY = table2_entry()
+APPENDIX_C_ENTRY = {"altitude_ft": rep("appc.entry_altitude_ft"), "velocity_fps": rep("appc.velocity_fps"),
+                    "velocity_frame": "inertial", "gamma_deg": rep("appc.gamma_deg"), "heading_deg": 90.0}
 OPTIMIZATION_WORKERS = 2  # Dask worker processes for Section III's optimized points (one task per point)
 
 
 def table2_spec(vehicle, **case):
-    return parse_case({"vehicle": {"builtin": vehicle}, "entry": TABLE2_ENTRY, "stop": {"altitude_ft": 50_000},
+    return parse_case({"vehicle": {"builtin": vehicle}, "entry": TABLE2_ENTRY, "stop": table2_stop(),
                        **case}).to_spec()
 
 
-def appendix_c_spec(gamma_deg=-15.0):
-    return parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": 70.0},
+def appendix_c_spec(gamma_deg=rep("appc.gamma_deg")):
+    return parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": rep("appc.medium_wing_loading_psf")},
                        "entry": {**APPENDIX_C_ENTRY, "gamma_deg": gamma_deg},
-                       "stop": {"altitude_ft": None, "velocity_fps": 2_000}}).to_spec()
+                       "stop": {"altitude_ft": None, "velocity_fps": rep("appc.stop_velocity_fps")}}).to_spec()
 
 
 class Report:
@@ -72,30 +83,32 @@ def common_setup(r: Report):
     s = initial_state(table2_spec("lod-2.2"), p)
     w = math.radians(c.OMEGA_EARTH_DEG_S)
     vi = math.hypot(math.hypot(s[3] - w * s[1], s[4] + w * s[0]), s[5])
-    r.add("Table 2 inertial entry speed (24,480 ft/s relative, γ −2°)", 26_031.0, vi, "ft/s",
-          "the text says 26,032; the check is exact")
-    for vid, rep in (("lod-1.89", 1.89), ("lod-2.2", 2.2), ("lod-2.6", 2.6)):
-        ld, _ = ld_max(builtin_vehicle(vid), 20.0, 200_000.0)
+    r.add("Table 2 inertial entry speed (24,480 ft/s relative, γ −2°)", rep("table2.inertial_velocity_fps"), vi,
+          "ft/s", "the text says 26,032; the check is exact")
+    for vid in ("lod-1.89", "lod-2.2", "lod-2.6"):
+        ld, _ = ld_max(builtin_vehicle(vid), rep("vehicle.ld_max_mach"), rep("vehicle.ld_max_altitude_ft"))
         note = {"lod-1.89": "B-1 lift table synthesized to give 1.89",
                 "lod-2.2": "Table B-3 as printed",
                 "lod-2.6": "B-4/B-5 as printed stop at Mach 10 and give 2.83: kept"}[vid]
-        r.add(f"(L/D)max at Mach 20, 200,000 ft, {vid}", rep, ld, "", note)
+        r.add(f"(L/D)max at Mach 20, 200,000 ft, {vid}", rep(f"vehicle.{vid}.ld_max"), ld, "", note)
 
 
 def section_ii(r: Report, figs: dict):
     fp = single_parameter(table2_spec("lod-1.89"))
     best = max(fp.points, key=lambda p: p.crossrange_nmi)
     times = [p.flight_time_s for p in fp.points]
-    r.add("L/D 1.89 max cross-range (single parameter; the report's is optimized)", 1_964.0, best.crossrange_nmi,
-          "nmi", "Section III unconstrained footprint, Fig. 21")
-    r.add("… its down-range", 6_000.0, best.downrange_nmi, "nmi", "'≈6,000' read from the text")
-    r.add("L/D 1.89 max down-range (zero bank)", 14_500.0, fp.max_downrange_nmi, "nmi", "")
-    r.add("L/D 1.89 min down-range", 1_000.0, fp.min_downrange_nmi, "nmi",
+    r.add("L/D 1.89 max cross-range (single parameter; the report's is optimized)", rep("sec3.max_crossrange_nmi"),
+          best.crossrange_nmi, "nmi", "Section III unconstrained footprint, Fig. 21")
+    r.add("… its down-range", rep("sec3.max_crossrange_downrange_nmi"), best.downrange_nmi, "nmi",
+          "'≈6,000' read from the text")
+    r.add("L/D 1.89 max down-range (zero bank)", rep("sec3.max_downrange_nmi"), fp.max_downrange_nmi, "nmi", "")
+    r.add("L/D 1.89 min down-range", rep("sec3.min_downrange_nmi"), fp.min_downrange_nmi, "nmi",
           "report: '≈1,000', method not stated; ours: 150° bank (zero lift lands at "
           f"{(fp.interior or fp.points)[0].downrange_nmi:,.0f} nmi)")
-    r.add("flight times across the footprint", "2,000–4,000 s", f"{min(times):,.0f}–{max(times):,.0f} s", "",
+    published = f"{rep('sec4.flight_time_min_s'):,.0f}–{rep('sec4.flight_time_max_s'):,.0f} s"
+    r.add("flight times across the footprint", published, f"{min(times):,.0f}–{max(times):,.0f} s", "",
           "the short ones are the steep-bank points behind the report's")
-    r.add("trajectories per footprint", 13, fp.trajectories, "",
+    r.add("trajectories per footprint", rep("sec2.points_per_footprint"), fp.trajectories, "",
           "report: 13 for a half (11 banks + zero lift + one); ours flies both halves on the rotating earth")
     figs["fig12_lod189_single_parameter"] = ("footprint", fp, "L/D 1.89, Table 2 entry, single parameter (Figs. 12, 21)")
 
@@ -132,10 +145,11 @@ def section_ii(r: Report, figs: dict):
 def appendix_c(r: Report, figs: dict):
     sp = single_parameter(appendix_c_spec(), min_range="cl_max")
     ca = constant_altitude(appendix_c_spec())
-    r.add("App. C medium L/D, 25,800 ft/s, γ −15°: max cross-range, single parameter", 3_200.0,
+    single, turns = rep("appc.max_crossrange_single_parameter_nmi"), rep("appc.max_crossrange_constant_altitude_nmi")
+    r.add("App. C medium L/D, 25,800 ft/s, γ −15°: max cross-range, single parameter", single,
           sp.max_crossrange_nmi, "nmi", "Fig. C-21; γ read from the figure numbering")
-    r.add("… constant-altitude turns", 930.0, ca.max_crossrange_nmi, "nmi", "Fig. C-46 (γ likewise inferred)")
-    r.add("… ratio of the two", 930.0 / 3_200.0, ca.max_crossrange_nmi / sp.max_crossrange_nmi, "", "")
+    r.add("… constant-altitude turns", turns, ca.max_crossrange_nmi, "nmi", "Fig. C-46 (γ likewise inferred)")
+    r.add("… ratio of the two", turns / single, ca.max_crossrange_nmi / sp.max_crossrange_nmi, "", "")
     figs["figC21_C46_medium_lod"] = ("family", {"single parameter K·σ (Fig. C-21)": sp,
                                                 "constant-altitude turns (Fig. C-46)": ca},
                                      "Medium L/D, 70 psf, V_i 25,800 ft/s, γ −15°: Appendix C data sets 1 and 2")
@@ -152,16 +166,16 @@ def section_iii(r: Report):
     spec = table2_spec("lod-1.89", heating={"model": "reference"})
     with dask_client(workers=OPTIMIZATION_WORKERS) as client:
         free = C.optimal_footprint(spec, min_downrange=True, map_tasks=client_map(client))
-        hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(2_550.0),), controls="bank_alpha",
+        hot = C.optimal_footprint(spec, constraints=(C.temperature_limit(rep("sec3.limit_R")),), controls="bank_alpha",
                                   min_downrange=True, max_evaluations=3_000, map_tasks=client_map(client))
     top = free.point("max_crossrange")
-    r.add("L/D 1.89 optimal max cross-range (bank table, Table 2 entry)", 1_964.0, top.crossrange_nmi, "nmi",
-          "Section III unconstrained footprint (Fig. 21)")
-    r.add("… its max RET", 2_670.0, top.result.summary["max_temperature_R"], "°R",
+    r.add("L/D 1.89 optimal max cross-range (bank table, Table 2 entry)", rep("sec3.max_crossrange_nmi"),
+          top.crossrange_nmi, "nmi", "Section III unconstrained footprint (Fig. 21)")
+    r.add("… its max RET", rep("sec3.max_temperature_R"), top.result.summary["max_temperature_R"], "°R",
           f"the calibration point of core/heating.py (reference radius {REFERENCE_RADIUS_FT} ft), not a check")
-    rows = (("max cross-range", "max_crossrange", "crossrange_nmi", 1_964.0, 1_780.0),
-            ("max down-range", "max_downrange", "downrange_nmi", 14_500.0, 11_700.0),
-            ("min down-range", "min_downrange", "downrange_nmi", 1_000.0, 2_000.0))
+    rows = [(name, label, key, rep(f"sec3.{label}_nmi"), rep(f"sec3.{label}_2550_nmi")) for name, label, key in (
+        ("max cross-range", "max_crossrange", "crossrange_nmi"), ("max down-range", "max_downrange", "downrange_nmi"),
+        ("min down-range", "min_downrange", "downrange_nmi"))]
     for name, label, key, rep_free, rep_hot in rows:
         a, b = getattr(free.point(label), key), getattr(hot.point(label), key)
         feasible = "" if hot.point(label).result.feasible else "; the limit is not met"

@@ -13,10 +13,9 @@ from footprint.pictures import figures as G
 from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core.trajectory import Trajectory
+from tests.authorities.report import table2_entry, table2_stop
 
-TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"},
-               "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
-               "stop": {"altitude_ft": 50_000}}
+TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 MIN_FILE_BYTES = 5_000  # a drawn footprint, not an empty canvas
 

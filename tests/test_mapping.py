@@ -14,15 +14,14 @@ from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.transforms import Reference
 from footprint.contracts.transform import TransformRequest
 from footprint.contracts.transform import run as run_transform
+from tests.authorities.report import table2_entry, table2_stop
 
 EAST = {"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0}
 # the L/D 1.89 footprint's left half, non-rotating (front, left side, back): lat, lon deg, flight time s
 HALF = [(0.0, 120.17, 2818.0), (13.18, 115.44, 2753.0), (26.98, 90.97, 2412.0), (29.88, 58.77, 1944.0),
         (23.79, 30.77, 1464.0), (10.02, 18.99, 1008.0), (0.0, 16.26, 266.0)]
 POINTS = [{"latitude_deg": a, "longitude_deg": b, "flight_time_s": t} for a, b, t in HALF]
-SMALL_STUDY = {"case": {"vehicle": {"builtin": "lod-1.89"},
-                        "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
-                        "stop": {"altitude_ft": 50_000}},
+SMALL_STUDY = {"case": {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()},
                "method": "single_parameter", "bank0_deg": [0, 60], "min_range": None, "mirror": False}
 ANGLE_DEG = 1e-9  # the moves are closed forms: a few ulps
 

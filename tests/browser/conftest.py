@@ -17,6 +17,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.authorities.report import table2_entry, table2_stop
+
 ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -26,11 +28,10 @@ JOB_TIMEOUT_S = 120.0
 
 # A single-parameter footprint of 4 bank settings (7 trajectories with the mirror), entered at 150 E heading
 # north-east: its boundary crosses longitude 180, so the tests also see the map unwrap it.
-SEED_ENTRY = {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0, "heading_deg": 60.0,
-              "latitude_deg": 28.5, "longitude_deg": 150.0}
+SEED_ENTRY = table2_entry(heading_deg=60.0, latitude_deg=28.5, longitude_deg=150.0)
 SEED_JOB = {"kind": "footprint", "name": "lod-1.89, 4 banks, 150E",
             "study": {"case": {"vehicle": {"builtin": "lod-1.89"}, "entry": SEED_ENTRY, "alpha": {"law": "max_ld"},
-                               "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                               "bank_start": "pullout", "stop": table2_stop()},
                       "method": "single_parameter", "bank0_deg": [0, 45, 90, 135], "mirror": True}}
 
 

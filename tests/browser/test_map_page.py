@@ -12,6 +12,8 @@ from urllib.parse import urlparse
 
 import pytest
 
+from tests.authorities.report import REPORT, betts, table2_entry, table2_stop
+
 from .conftest import SEED_JOB, PageRun
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -335,7 +337,9 @@ def test_exports_of_what_is_shown(open_page, service):
     caption = page.evaluate("""async () => { const { caption } = await import('/js/exporting.js');
         const app = window.footprintApp; return caption(app.state.footprints.get(app.state.selectedId)); }""")
     assert re.fullmatch(r".+: lod-1\.89, single parameter", caption[0]), caption
-    assert re.fullmatch(r"entry 364,800 ft, 24,480 ft/s, γ -2\.0°, heading .+° at .+°, .+°", caption[1]), caption
+    alt, v, g = (REPORT[f"table2.{k}"].value for k in ("altitude_ft", "velocity_fps", "gamma_deg"))
+    entry = re.escape(f"entry {alt:,.0f} ft, {v:,.0f} ft/s, γ {g:.1f}°")
+    assert re.fullmatch(entry + r", heading .+° at .+°, .+°", caption[1]), caption
     assert re.fullmatch(r"node .+°, inclination .+°, step 0 nmi, earth rotation none", caption[2]), caption
 
 
@@ -417,7 +421,7 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     flight = service.call(f"/api/jobs/{job_id}")["result"]["optimization"]["flight"]
     landing = page.evaluate("""() => window.footprintApp.mapView.optimumLayer.getLayers()
         .filter((l) => l.getLatLng && l.options.className.includes('opt-copy-0'))[0].getLatLng()""")
-    assert landing["lat"] == pytest.approx(34.1412, abs=0.01)  # Betts, Practical Methods sec. 6.1
+    assert landing["lat"] == pytest.approx(betts()["final_latitude_deg"], abs=0.01)
     assert landing["lat"] == pytest.approx(flight["latitude_deg"][-1], abs=1e-9)
     assert delta_deg(landing["lng"], flight["longitude_deg"][-1]) == pytest.approx(0.0, abs=1e-9)
     assert page.get_attribute("#plot-optimum", "aria-pressed") == "true"
@@ -435,9 +439,8 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
 
 POLAR_JOB = {"kind": "footprint", "name": "lod-1.89 north from 40N",
              "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
-                                "entry": {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0,
-                                          "heading_deg": 0.0, "latitude_deg": 40.0, "longitude_deg": 10.0},
-                                "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                                "entry": table2_entry(heading_deg=0.0, latitude_deg=40.0, longitude_deg=10.0),
+                                "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": table2_stop()},
                        "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120], "mirror": True}}
 
 
@@ -618,9 +621,8 @@ def test_an_exact_move_draws_the_track_flown_again_and_says_how_far_the_shift_is
 
 LONG_JOB = {"kind": "footprint", "name": "lod-1.89 Table 2 entry, past half-way round",
             "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
-                               "entry": {"altitude_ft": 364800, "velocity_fps": 24480, "gamma_deg": -2.0,
-                                         "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
-                               "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50000}},
+                               "entry": table2_entry(), "alpha": {"law": "max_ld"}, "bank_start": "pullout",
+                               "stop": table2_stop()},
                       "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120, 150], "mirror": True}}
 
 

@@ -18,6 +18,7 @@ from footprint.core.atmosphere import (
     atmosphere_table,
     isothermal_temperature_R,
 )
+from tests.authorities.report import REPORT
 
 # Unit conversions written out from their definitions, independently of the module under test.
 M_PER_FT = 0.3048
@@ -125,7 +126,7 @@ def test_ardc1959_layer_bases_to_printed_digits(base):
 
 def test_ardc1959_entry_altitude_option1():
     # ardc1959.md §3 option 1 (+4.0 K/km' continued above 105 km') at the Table 2 entry altitude.
-    z_ft = 364_800.0
+    z_ft = REPORT["table2.altitude_ft"].value
     h_ft = atm.ARDC_EARTH_RADIUS_FT * z_ft / (atm.ARDC_EARTH_RADIUS_FT + z_ft)
     assert_printed(z_ft * M_PER_FT / 1000.0, "111.19", "z km")
     assert_printed(h_ft * M_PER_FT / 1000.0, "109.28", "H km'")

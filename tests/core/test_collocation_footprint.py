@@ -106,7 +106,7 @@ def test_a_temperature_limit_below_the_entry_floor_is_one_line_and_exit_1(tmp_pa
     import subprocess
     import sys
 
-    from tests.service.studies import OPTIMAL_FOOTPRINT
+    from tests.service.sample_requests import OPTIMAL_FOOTPRINT
 
     study = json.loads(json.dumps(OPTIMAL_FOOTPRINT))
     study["case"]["heating"] = {"model": "reference"}

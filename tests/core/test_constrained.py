@@ -9,16 +9,17 @@ from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating
 from footprint.core.optimize import Problem, creep_pattern_feasible
 from footprint.core.trajectory import simulate
 from footprint.parallel import client_map, dask_client
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # report Table 2
+TABLE2_ENTRY = table2_entry()
 SINGLE_PARAMETER_BANK = {"law": "single_parameter", "k": 75 / 90}  # the best single-parameter point, 2,024 nmi
 OPTIMAL_BANK = {"law": "table", "heading_deg": list(range(-15, 91, 15)), "bank_deg": list(CALIBRATION_BANK_DEG)}
-LIMIT_R = 2_550.0  # Section III.2, the most stringent limit
+LIMIT_R = REPORT["sec3.limit_R"].value  # the most stringent limit
 BAND_R = 0.5 * C.TTOL_TEMPERATURE_R  # degR, half the tolerance band of the temperature constraint
 
 
 def lod189(bank=None):
-    case = {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY, "stop": {"altitude_ft": 50_000},
+    case = {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY, "stop": table2_stop(),
             "heating": {"model": "reference"}}
     if bank is not None:
         case["bank"] = bank
@@ -79,7 +80,7 @@ def test_temperature_constrained_optimum_is_in_the_band():
     free = simulate(spec).summary  # the unconstrained optimum at (L/D)max: 2,670 degR by calibration
     r = creep_pattern_feasible(alpha_only_problem(spec, LIMIT_R), max_evaluations=200,
                                step=5.0, min_step=0.2, soft_start=1e-2)
-    assert free["max_temperature_R"] == pytest.approx(2_670.0, abs=5.0)
+    assert free["max_temperature_R"] == pytest.approx(REPORT["sec3.max_temperature_R"].value, abs=5.0)
     assert r.feasible
     assert r.summary["max_temperature_R"] <= LIMIT_R + BAND_R + 1e-9
     assert r.summary["crossrange_nmi"] < free["crossrange_nmi"]  # the limit costs cross-range
@@ -194,7 +195,8 @@ def test_the_limit_doubles_the_minimum_downrange_as_the_report_says(limited_2550
     """Section III: under 2,550 degR the minimum down-range about doubles (1,000 -> 2,000 nmi)."""
     free = C.temperature_limited_footprint(lod189(), 1e9).footprint  # no limit: the plain footprint
     ratio = limited_2550.footprint.min_downrange_nmi / free.min_downrange_nmi
-    assert 1.5 < ratio < 2.5
+    report = REPORT["sec3.min_downrange_2550_nmi"].value / REPORT["sec3.min_downrange_nmi"].value  # 2
+    assert abs(ratio - report) < 0.5
 
 
 def test_the_simple_method_is_within_5_percent_of_the_optimizer_at_a_tenth_of_the_cost(limited_2550):

@@ -6,14 +6,14 @@ import pytest
 import footprint
 from footprint.core.aero import builtin_vehicle, coefficients
 from footprint.core.controls import pack_controls, replace_controls, unpack_controls
+from tests.authorities.report import table2_entry, table2_stop
 
-ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90,
-         "latitude_deg": 0, "longitude_deg": 0}  # report Table 2
+ENTRY = table2_entry()
 
 
 def fly(bank=None, alpha=None, vehicle="lod-2.2", **kw):
     case = {"vehicle": {"builtin": vehicle}, "entry": dict(ENTRY), "alpha": alpha or {"law": "max_ld"},
-            "bank": bank or {"law": "zero"}, "stop": {"altitude_ft": 50_000}}
+            "bank": bank or {"law": "zero"}, "stop": table2_stop()}
     case.update(kw)
     t = footprint.fly(case)
     return t.summary, t.history

@@ -9,13 +9,14 @@ from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core.ranges import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}
+TABLE2_ENTRY = table2_entry()
 
 
 def spec(vehicle="lod-1.89", entry=None, **case):
     return parse_case({"vehicle": {"builtin": vehicle}, "entry": entry or TABLE2_ENTRY,
-                       "stop": {"altitude_ft": 50_000}, **case}).to_spec()
+                       "stop": table2_stop(), **case}).to_spec()
 
 
 def pt(d, c):
@@ -150,13 +151,13 @@ def test_velocity_contours_come_in_time_order():
 
 # --------------------------------------------------------------------------------- against the report
 def test_lod189_single_parameter_footprint_matches_section_iii():
-    # paper_results.md C: max cross-range 1,964 nmi at about 6,000 nmi down-range, max down-range 14,500 nmi;
-    # flight times 2,000-4,000 s (Section IV). The B-1 lift table is synthesized: 10 % allowed.
+    # Section III: max cross-range at about its down-range, max down-range; the B-1 lift table is synthesized:
+    # 10 % allowed.
     fp = F.single_parameter(spec("lod-1.89"))
     best = max(fp.points, key=lambda p: p.crossrange_nmi)
-    assert best.crossrange_nmi == pytest.approx(1_964, rel=0.10)
-    assert best.downrange_nmi == pytest.approx(6_000, rel=0.15)
-    assert fp.max_downrange_nmi == pytest.approx(14_500, rel=0.10)
+    assert best.crossrange_nmi == pytest.approx(REPORT["sec3.max_crossrange_nmi"].value, rel=0.10)
+    assert best.downrange_nmi == pytest.approx(REPORT["sec3.max_crossrange_downrange_nmi"].value, rel=0.15)
+    assert fp.max_downrange_nmi == pytest.approx(REPORT["sec3.max_downrange_nmi"].value, rel=0.10)
     assert all(p.stop_reason == "altitude" for p in fp.points)
 
 
@@ -176,15 +177,16 @@ def test_single_parameter_reaches_what_the_staged_and_two_parameter_sets_reach(v
 
 
 def test_appendix_c_medium_vehicle_loses_most_of_its_cross_range_in_constant_altitude_turns():
-    # paper_results.md E: medium L/D, 70 psf, 300,000 ft, inertial 25,800 ft/s, gamma about -15 deg, stop at
-    # 2,000 ft/s: 3,200 nmi with K sigma (Fig. C-21) against 930 nmi turning at constant altitude (Fig. C-46)
-    s = parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": 70.0},
-                    "entry": {"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
-                              "gamma_deg": -15.0},
-                    "stop": {"altitude_ft": None, "velocity_fps": 2_000}}).to_spec()
+    # Appendix C: medium L/D, K sigma (Fig. C-21) against turning at constant altitude (Fig. C-46)
+    s = parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": REPORT["appc.medium_wing_loading_psf"].value},
+                    "entry": {"altitude_ft": REPORT["appc.entry_altitude_ft"].value,
+                              "velocity_fps": REPORT["appc.velocity_fps"].value, "velocity_frame": "inertial",
+                              "gamma_deg": REPORT["appc.gamma_deg"].value},
+                    "stop": {"altitude_ft": None, "velocity_fps": REPORT["appc.stop_velocity_fps"].value}}).to_spec()
     single = F.single_parameter(s, min_range="cl_max", mirror=False)
     turns = F.constant_altitude(s, mirror=False)
-    assert single.max_crossrange_nmi == pytest.approx(3_200, rel=0.10)
+    assert single.max_crossrange_nmi == pytest.approx(REPORT["appc.max_crossrange_single_parameter_nmi"].value,
+                                                      rel=0.10)
     assert all(p.stop_reason == "velocity" for p in single.points + turns.points)  # the skips come back
     # the report's ratio is 0.29; the turns keep between a fifth and a third of the cross-range
     assert 0.2 < turns.max_crossrange_nmi / single.max_crossrange_nmi < 1 / 3

@@ -11,6 +11,7 @@ from footprint.core import constants as c
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, velocity_from_angles
 from footprint.core.gravity import gravity_ecef
 from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
+from tests.authorities.report import REPORT
 
 RE, RP, MU = c.RADIUS_EQUATORIAL_FT, c.RADIUS_POLAR_FT, c.MU_EARTH_FT3_S2
 
@@ -99,10 +100,12 @@ def test_flight_angles_round_trip(lat, lon, v, gamma, heading):
 
 
 def test_table2_inertial_speed():
-    # paper_results.md F.1: V_rel 24,480 ft/s, gamma -2 deg east at the equator, 364,800 ft -> V_I 26,031.6 ft/s
-    r = RE + 364_800.0
+    # paper_results.md F.1: the Table 2 entry (relative, east at the equator) -> V_I 26,031.6 ft/s (Table 2: 26,031)
+    t2 = {k: REPORT[f"table2.{k}"].value for k in ("altitude_ft", "velocity_fps", "gamma_deg", "heading_deg")}
+    r = RE + t2["altitude_ft"]
     x, y, z = r, 0.0, 0.0
-    vx, vy, vz = velocity_from_angles(x, y, z, 24_480.0, math.radians(-2.0), math.radians(90.0))
+    vx, vy, vz = velocity_from_angles(x, y, z, t2["velocity_fps"], math.radians(t2["gamma_deg"]),
+                                      math.radians(t2["heading_deg"]))
     vy_inertial = vy + c.OMEGA_EARTH_RAD_S * r
     assert math.hypot(vx, vy_inertial, vz) == pytest.approx(26_031.6, abs=0.1)
 

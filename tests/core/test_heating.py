@@ -26,16 +26,17 @@ from footprint.core.heating import (
     wall_equilibrium_R,
 )
 from footprint.core.trajectory import pack_parameters, simulate
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 W_M2_PER_BTU_FT2_S = 11_356.53  # 1 Btu_IT/(ft^2 s)
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # report Table 2
+TABLE2_ENTRY = table2_entry()
 # Section III.1's calibration flight: the unconstrained optimum, an 8-point bank table vs zeta, 2,044.5 nmi
 MAX_CROSS_RANGE_BANK = {"law": "table", "heading_deg": list(range(-15, 91, 15)), "bank_deg": list(CALIBRATION_BANK_DEG)}
 
 
 def lod189(alpha=None, bank=None, heating=None):
     case = {"vehicle": {"builtin": "lod-1.89"}, "entry": dict(TABLE2_ENTRY), "alpha": alpha or {"law": "max_ld"},
-            "bank": bank or dict(MAX_CROSS_RANGE_BANK), "stop": {"altitude_ft": 50_000}}
+            "bank": bank or dict(MAX_CROSS_RANGE_BANK), "stop": table2_stop()}
     if heating is not None:
         case["heating"] = heating
     return case
@@ -43,7 +44,7 @@ def lod189(alpha=None, bank=None, heating=None):
 
 # --- Table 1 and eq. (7) ---------------------------------------------------------------------------------------
 @pytest.mark.parametrize("alpha_deg, ratio", [
-    (0, 0.17), (20, 0.175), (25, 0.20), (30, 0.23), (40, 0.23), (45, 0.26), (50, 0.30),  # Table 1 as printed
+    *(tuple(row) for row in REPORT["table1.h_ratio_vs_alpha"].value),  # Table 1 as printed
     (10, 0.1725), (22.5, 0.1875), (35, 0.23), (47.5, 0.28),  # linear between rows
     (-5, 0.17), (70, 0.30),  # held at the ends
 ])
@@ -107,7 +108,7 @@ def max_crossrange():
 def test_calibration_max_crossrange_peaks_at_2670R(max_crossrange):
     s = max_crossrange.summary
     assert s["crossrange_nmi"] == pytest.approx(2_044.5, abs=0.5)  # nmi: the optimum (bench/results/optimize.json)
-    assert s["max_temperature_R"] == pytest.approx(2_670, abs=5)  # degR, Section III.1
+    assert s["max_temperature_R"] == pytest.approx(REPORT["sec3.max_temperature_R"].value, abs=5)  # degR
     assert s["max_heat_rate_btu_ft2_s"] == pytest.approx(max_crossrange.history["heat_rate_btu_ft2_s"].max())
 
 

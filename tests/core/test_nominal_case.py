@@ -3,18 +3,18 @@
 import pytest
 
 from footprint import fly
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 
-def nominal(vehicle, gamma_deg=-2.0):
-    return fly({"vehicle": {"builtin": vehicle},
-                "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": gamma_deg},
-                "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": {"altitude_ft": 50_000}}).summary
+def nominal(vehicle, gamma_deg=REPORT["table2.gamma_deg"].value):
+    return fly({"vehicle": {"builtin": vehicle}, "entry": table2_entry(gamma_deg=gamma_deg),
+                "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": table2_stop()}).summary
 
 
 def test_lod_189_zero_bank_reaches_the_reported_maximum_downrange():
-    # Section III: maximum down-range about 14,500 nmi (L/D 1.89, 70 psf); B-1 is synthesized, so 10 %
+    # Section III's maximum down-range (L/D 1.89, 70 psf); B-1 is synthesized, so 10 %
     s = nominal("lod-1.89")
-    assert s["downrange_nmi"] == pytest.approx(14_500, rel=0.10)
+    assert s["downrange_nmi"] == pytest.approx(REPORT["sec3.max_downrange_nmi"].value, rel=0.10)
     assert s["stop_reason"] == "altitude"
 
 

@@ -5,15 +5,16 @@ import pytest
 from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core import optimize as O
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}
-REPORT_MAX_CROSSRANGE_NMI = 1_964.0  # paper_results.md B / Fig. 9, L/D 1.89 optimum (figure value)
+TABLE2_ENTRY = table2_entry()
+REPORT_MAX_CROSSRANGE_NMI = REPORT["sec3.max_crossrange_nmi"].value  # the L/D 1.89 optimum
 
 
 @pytest.fixture(scope="module")
 def lod189():
     return parse_case({"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY,
-                       "stop": {"altitude_ft": 50_000}}).to_spec()
+                       "stop": table2_stop()}).to_spec()
 
 
 def rosenbrock(x):

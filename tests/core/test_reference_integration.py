@@ -35,6 +35,7 @@ import footprint
 from footprint.core import aero
 from footprint.core import constants as c
 from footprint.core.atmosphere import MODEL_IDS, atmosphere
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 MU = c.MU_EARTH_FT3_S2
 RE = c.RADIUS_EQUATORIAL_FT
@@ -245,10 +246,8 @@ class Reference:
 
 
 # ---------------------------------------------------------------------------------------------- cases
-TABLE2_ENTRY = {"altitude_ft": 364_800.0, "velocity_fps": 24_480.0, "gamma_deg": -2.0, "heading_deg": 90.0,
-                "latitude_deg": 0.0, "longitude_deg": 0.0}
-INCLINED_ENTRY = {"altitude_ft": 364_800.0, "velocity_fps": 24_480.0, "gamma_deg": -2.0, "heading_deg": 50.0,
-                  "latitude_deg": 28.5, "longitude_deg": -80.0}
+TABLE2_ENTRY = table2_entry()
+INCLINED_ENTRY = table2_entry(heading_deg=50.0, latitude_deg=28.5, longitude_deg=-80.0)
 CONSTANT_VEHICLE = {"name": "c", "wing_loading_psf": 40.0, "aero": {"constant": {"cl": 0.35, "cd": 0.16}}}
 BANKS = {
     "bank30": ({"law": "constant", "bank_deg": 30.0}, ("constant", 30.0)),
@@ -269,7 +268,7 @@ def case_dict(name):
     return {"vehicle": CONSTANT_VEHICLE if vehicle == "constant" else {"builtin": vehicle},
             "planet": {"rotating": rotating, "oblate": oblate}, "entry": dict(entry),
             "alpha": {"law": "max_ld"}, "bank": BANKS[bank][0], "bank_start": "pullout",
-            "stop": {"altitude_ft": 50_000.0}}
+            "stop": table2_stop()}
 
 
 def reference_for(name):
@@ -340,11 +339,13 @@ def test_reference_geodetic_inverts_the_ellipsoid(lat_deg, alt_ft):
 def test_reference_initial_state_is_table_2():
     ref = reference_for("oblate-rot-K0.8")
     r, v_i = ref.y0[:3], ref.y0[3:]
-    assert np.linalg.norm(ref.v_rel(ref.y0)) == pytest.approx(24_480.0, rel=1e-14)
+    v_rel = REPORT["table2.velocity_fps"].value
+    assert np.linalg.norm(ref.v_rel(ref.y0)) == pytest.approx(v_rel, rel=1e-14)
     # Section II.2: 24,480 ft/s relative "corresponds to an inertial velocity of 26,032 feet/second"
-    assert np.linalg.norm(v_i) == pytest.approx(26_032.0, abs=3.0)
-    assert math.degrees(math.asin(r @ ref.v_rel(ref.y0) / np.linalg.norm(r) / 24_480.0)) == pytest.approx(-2.0)
-    assert ref.zeta_deg(0.0, r, ref.v_rel(ref.y0)) == pytest.approx(90.0, abs=1e-12)
+    assert np.linalg.norm(v_i) == pytest.approx(REPORT["entry.inertial_velocity_text_fps"].value, abs=3.0)
+    assert math.degrees(math.asin(r @ ref.v_rel(ref.y0) / np.linalg.norm(r) / v_rel)) == pytest.approx(
+        REPORT["table2.gamma_deg"].value)
+    assert ref.zeta_deg(0.0, r, ref.v_rel(ref.y0)) == pytest.approx(REPORT["table2.heading_deg"].value, abs=1e-12)
 
 
 # ----------------------------------------------------------------------------------------- fly vs reference

@@ -9,14 +9,14 @@ from footprint.core import constants as c
 from footprint.core.aero import vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, simulate
+from tests.authorities.report import table2_entry, table2_stop
 
-TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0, "heading_deg": 90,
-                "latitude_deg": 0, "longitude_deg": 0}  # report Table 2
+TABLE2_ENTRY = table2_entry()
 
 
 def case(vehicle="lod-2.2", bank=None, planet=None, **kw):
     definition = {"vehicle": vehicle if isinstance(vehicle, dict) else {"builtin": vehicle}, "entry": dict(TABLE2_ENTRY), "alpha": {"law": "max_ld"},
-         "bank": bank or {"law": "zero"}, "stop": {"altitude_ft": 50_000}}
+         "bank": bank or {"law": "zero"}, "stop": table2_stop()}
     if planet is not None:
         definition["planet"] = planet
     definition.update(kw)

@@ -24,6 +24,7 @@ from footprint.core.transforms import (
     move,
     rotation_shift,
 )
+from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 R = MEAN_RADIUS_NMI  # R', nmi
 CIRCUMFERENCE_NMI = 2.0 * math.pi * R
@@ -370,13 +371,14 @@ def test_within_a_hundredth_of_a_degree_of_the_poles(lat0):
 
 
 # -------------------------------------------------------------------------------------- rotation shift
-@pytest.mark.parametrize("t_s, report_deg", [(2_000.0, 8.36), (4_000.0, 16.71)])
+@pytest.mark.parametrize("t_s, report_deg", [(REPORT["sec4.flight_time_min_s"].value, 8.36),
+                                              (REPORT["sec4.flight_time_max_s"].value, 16.71)])
 def test_rotation_shift_matches_the_report(t_s, report_deg):
     """Section IV.3: omega_p = .004178 deg/s; "a longitude shift of 8.4 to 16.7 degrees" for 2,000 to
     4,000 s, "toward the west, that is toward more negative values"; latitude unchanged."""
-    assert OMEGA_EARTH_DEG_S == 0.004178
+    assert OMEGA_EARTH_DEG_S == REPORT["sec4.omega_deg_s"].value
     shifted = float(rotation_shift(30.0, t_s))
-    assert 30.0 - shifted == pytest.approx(report_deg, abs=0.005)  # the report's two decimals
+    assert 30.0 - shifted == pytest.approx(report_deg, abs=0.005)  # omega_p t by hand (printed: 8.4, 16.7)
     assert shifted < 30.0
 
 
@@ -387,14 +389,14 @@ def test_rotation_shift_is_per_point_and_wraps_west_over_the_date_line():
 
 
 # ------------------------------------------------------------- rotation: the first-order shift vs flying
-ROTATION_STUDY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}  # Table 2 entry
+ROTATION_STUDY = table2_entry()
 
 
 def l189_spec():
     from footprint.contracts.case import parse_case
 
     return parse_case({"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": False},
-                       "entry": ROTATION_STUDY, "stop": {"altitude_ft": 50_000}}).to_spec()
+                       "entry": ROTATION_STUDY, "stop": table2_stop()}).to_spec()
 
 
 @settings(max_examples=100, deadline=None)
@@ -416,7 +418,8 @@ def test_at_geometry_changes_only_the_entry_point_heading_rotation_and_frame():
     moved = at_geometry(spec, Reference(10.0, -20.0, 30.0), rotating=True, velocity_frame="inertial")
     e = moved.entry
     assert (e.latitude_deg, e.longitude_deg, e.heading_deg, e.velocity_frame) == (10.0, -20.0, 30.0, "inertial")
-    assert (e.altitude_ft, e.velocity_fps, e.gamma_deg) == (364_800, 24_480, -2.0)
+    assert (e.altitude_ft, e.velocity_fps, e.gamma_deg) == tuple(REPORT[f"table2.{k}"].value for k in
+                                                              ("altitude_ft", "velocity_fps", "gamma_deg"))
     assert moved.planet.rotating and not spec.planet.rotating
     assert moved.vehicle is spec.vehicle and np.array_equal(moved.ctrl, spec.ctrl)
 

@@ -6,7 +6,7 @@ import copy
 import pytest
 
 from .conftest import database_url, running_service
-from .studies import CASE, FOOTPRINT, REACH, SWEEP
+from .sample_requests import CASE, FOOTPRINT, REACH, SWEEP
 
 
 def post_job(api, kind, study, **headers):

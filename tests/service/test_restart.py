@@ -12,9 +12,8 @@ import time
 from contextlib import closing
 
 import httpx
-import pytest
 
-from .studies import CASE, FOOTPRINT
+from .sample_requests import CASE, FOOTPRINT
 
 START_TIMEOUT_S = 120.0  # a cold numba cache compiles for up to a minute
 OPTIMIZE_1S = {"case": CASE, "constraints": [{"quantity": "downrange_nmi", "equals": 3_000}],

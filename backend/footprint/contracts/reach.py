@@ -139,7 +139,7 @@ class ReachRequest(Strict):
     @model_validator(mode="after")
     def _size(self):
         if not self.sites:
-            raise ValueError("sites: give at least one site (1 to 1,000)")
+            raise ValueError("sites: give at least 1 site (allowed: 1 to 1,000)")
         revs, _ = self.revolutions.span(self.orbit.to_orbit())
         placements = len(revs) * len(np.arange(0.0, 360.0 - 1e-9, self.u_step_deg))
         if placements > MAX_PLACEMENTS:

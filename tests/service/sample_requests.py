@@ -1,6 +1,9 @@
-"""Small studies for the service tests (each footprint flies in well under a second)."""
+"""Sample requests for the service tests: small studies (each footprint flies in well under a second), one
+long one, a reach and a sweep."""
 
 import copy
+
+from tests.authorities.report import table2_entry, table2_stop
 
 CASE = {"vehicle": {"builtin": "lod-1.89"},
         "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3, "heading_deg": 90,
@@ -9,9 +12,8 @@ CASE = {"vehicle": {"builtin": "lod-1.89"},
 FOOTPRINT = {"case": CASE, "method": "single_parameter", "bank0_deg": [0, 45, 90]}  # spans 11-83 deg E
 # the Table 2 entry: reaches 14,869 nmi, past half the circumference (pi R' = 10,807 nmi)
 LONG_FOOTPRINT = {"case": {"vehicle": {"builtin": "lod-1.89"},
-                           "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0,
-                                     "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
-                           "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": {"altitude_ft": 50_000}},
+                           "entry": table2_entry(), "alpha": {"law": "max_ld"}, "bank_start": "pullout",
+                           "stop": table2_stop()},
                   "method": "single_parameter", "bank0_deg": [0, 60, 120]}
 # the true optimal boundary of a small problem: Betts' shuttle (polynomial aero, non-rotating sphere, both
 # halves by reflection), 3 down-ranges, 3 g: six IPOPT solves, ~8 s
