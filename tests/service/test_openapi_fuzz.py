@@ -1,13 +1,24 @@
 """schemathesis (issue 14 item 3): every operation of our own OpenAPI document, fuzzed with all its checks.
 
 The app runs its real lifespan (migrations on a SQLite file, the shared Dask cluster); schemathesis reaches it
-in-process (ASGI). A bounded example count keeps the default suite quick."""
+in-process (ASGI). A bounded example count keeps the default suite quick.
+
+One check is narrowed, and replaced: a contract's request (a case, a study, a transform, a reach, a vehicle) has
+rules between its fields that JSON Schema cannot state (the stop altitude below the entry altitude, exactly one of
+points or study, a heading or an inclination), and a CSV upload has a header; so a schema-valid body may be refused
+there, and the refusal must then be the documented 422 that names a field (or line) of the body."""
+
+import json
 
 import pytest
 import schemathesis
 from hypothesis import HealthCheck, settings
+from schemathesis.specs.openapi.checks import positive_data_acceptance
 
 EXAMPLES = 12  # per operation
+CONTRACT_BODIES = {("POST", "/api/jobs"), ("POST", "/api/trajectories"), ("POST", "/api/transform"),
+                   ("POST", "/api/reach"), ("POST", "/api/footprints/{footprint_id}/transform"),
+                   ("POST", "/api/vehicles"), ("POST", "/api/sites/csv")}
 
 
 @pytest.fixture(scope="module")
@@ -29,4 +40,8 @@ schema = schemathesis.pytest.from_fixture("api_schema")
 @schema.parametrize()
 @settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
 def test_every_operation_answers_as_documented(case):
-    case.call_and_validate()
+    contract = (case.method.upper(), case.operation.path) in CONTRACT_BODIES
+    response = case.call_and_validate(excluded_checks=[positive_data_acceptance] if contract else [])
+    if contract and response.status_code == 422:
+        body = json.loads(response.content)
+        assert body["field"] and body["detail"].split(": ")[0], body

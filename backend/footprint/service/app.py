@@ -48,7 +48,7 @@ def create_app(settings: Settings) -> FastAPI:
     errors.document(app, schemas.CONTRACT_BODIES)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
         app.include_router(module.router, prefix="/api")
-    app.add_middleware(GuardMiddleware, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)
+    app.add_middleware(GuardMiddleware, api=app, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
@@ -77,15 +77,24 @@ def _api_docs(app: FastAPI) -> None:
 
 
 class GuardMiddleware:
-    """Bearer token on writes (401; reads stay open) and the body limit (413), before any route runs."""
+    """Before any route runs: a path under /api that no route has (404) or a method its routes do not answer (405,
+    never the page's static files), the bearer token on writes (401; reads stay open) and the body limit (413)."""
 
-    def __init__(self, app: ASGIApp, *, token: str, max_body_bytes: int):
-        self.app, self.token, self.max_body_bytes = app, token, max_body_bytes
+    def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int):
+        self.app, self.api, self.token, self.max_body_bytes = app, api, token, max_body_bytes
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        if scope["path"].startswith("/api/"):
+            methods = errors.allowed(self.api, scope["path"])
+            if not methods:
+                await _reply(scope, receive, send, errors.NotFound(f"no such path: {scope['path'][:200]}"))
+                return
+            if scope["method"] not in methods:
+                await _reply(scope, receive, send, errors.MethodNotAllowed(methods))
+                return
         if self.token and scope["method"] in WRITE_METHODS and not self._authorized(scope):
             await _reply(scope, receive, send, errors.Unauthorized(
                 "missing or wrong bearer token: writes need the header 'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"))
@@ -140,7 +149,4 @@ def _replay(body: bytes) -> Receive:
 
 
 async def _reply(scope: Scope, receive: Receive, send: Send, exc: Exception) -> None:
-    from fastapi.responses import JSONResponse
-
-    headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, errors.Unauthorized) else None
-    await JSONResponse(errors.error_body(exc), status_code=errors.status_of(exc), headers=headers)(scope, receive, send)
+    await errors.error_response(exc)(scope, receive, send)

@@ -43,6 +43,14 @@ class Unavailable(RuntimeError):
     """Something the service needs is not installed or not reachable (503)."""
 
 
+class MethodNotAllowed(Exception):
+    """A method the path does not answer (405, with the path's Allow)."""
+
+    def __init__(self, allowed: list[str]):
+        super().__init__(f"Method Not Allowed (allowed: {', '.join(allowed)})")
+        self.allowed = allowed
+
+
 class ErrorBody(BaseModel):
     """Every error the service answers (issue 14: the OpenAPI document declares this, not FastAPI's default)."""
 
@@ -67,6 +75,7 @@ STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
     Unauthorized: 401,
     BodyTooLarge: 413,
     Unavailable: 503,
+    MethodNotAllowed: 405,
 }
 
 
@@ -168,27 +177,38 @@ def _component(schemas: dict, kind) -> dict:
     return schema
 
 
-def _allowed(app: FastAPI, path: str) -> list[str]:
-    """Every method some route answers at this path."""
-    methods = set()
-    for route in app.routes:
-        if getattr(route, "methods", None) and route.path_regex.match(path):
-            methods |= route.methods
-    return sorted(methods)
+def error_response(exc: Exception) -> JSONResponse:
+    """The one-line body with the exception's status (and the headers that go with a 401 or a 405)."""
+    headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, Unauthorized) else None
+    if isinstance(exc, MethodNotAllowed):
+        headers = {"Allow": ", ".join(exc.allowed)}
+    return JSONResponse(error_body(exc), status_code=status_of(exc), headers=headers)
+
+
+HTTP_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS", "TRACE")
+
+
+def allowed(app: FastAPI, path: str) -> list[str]:
+    """Every method some route of the API answers at this path (none: no such path); the page's static files (a
+    mount at "/") are not the API's."""
+    from starlette.routing import Match, Mount
+
+    routes = [r for r in app.routes if not isinstance(r, Mount)]
+    return [m for m in HTTP_METHODS
+            if any(r.matches({"type": "http", "path": path, "method": m, "root_path": ""})[0] == Match.FULL
+                   for r in routes)]
 
 
 def install(app: FastAPI) -> None:
     """Answer every exception type of the table with its status and a one-line body."""
 
     async def handle(_request: Request, exc: Exception) -> JSONResponse:
-        headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, Unauthorized) else None
-        return JSONResponse(error_body(exc), status_code=status_of(exc), headers=headers)
+        return error_response(exc)
 
     async def http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
-        headers = exc.headers
         if exc.status_code == 405:  # Starlette's Allow names the first matching route's methods, not the path's
-            headers = {"Allow": ", ".join(_allowed(app, request.url.path))}
-        return JSONResponse({"detail": str(exc.detail)}, status_code=exc.status_code, headers=headers)
+            return error_response(MethodNotAllowed(allowed(app, request.url.path)))
+        return JSONResponse({"detail": str(exc.detail)}, status_code=exc.status_code, headers=exc.headers)
 
     for kind in STATUS_BY_EXCEPTION:
         app.add_exception_handler(kind, handle)
