@@ -7,7 +7,7 @@ import pytest
 
 from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
-from footprint.core.ranges import MEAN_RADIUS_NMI
+from footprint.core.sphere import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
 
 TABLE2_ENTRY = {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0}

@@ -41,10 +41,11 @@ from pydantic import ConfigDict, Field, PrivateAttr, ValidationError, model_vali
 from footprint.contracts.case import Strict, bounded, error_line
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
 from footprint.core.rotation import ranges_near
-from footprint.core.transforms import (
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
     Reference,
+    downrange_crossrange_nmi,
     heading_for_inclination,
     inclination_for_heading,
     mirror,
