@@ -4,7 +4,7 @@ The job: points of an L/D 1.89-sized footprint about (0 deg, 0 deg, heading 90 d
 -40 deg, re-inclined to heading 30 deg (inclination 60 deg), stepped 500 nmi around the orbit, and shifted
 west by omega_p t for the earth's rotation (Section IV.3), each point with its own flight time.
 
-- ours: footprint.core.transforms.move (one 3x3 rotation of unit vectors) + rotation_shift.
+- ours: footprint.core.sphere.move (one 3x3 rotation of unit vectors) + rotation_shift.
 - the report's way, vectorized: eqs. (8)-(11) forward in numpy, the step added to the down-range, then eqs.
   (12)-(14) and the iteration on latitude (guess phi, eq. 8 for the longitude difference, eq. 9 for zeta,
   compare with zeta_M) run as a bisection over all points at once for a fixed 56 halvings (the bracket
@@ -30,8 +30,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S  # noqa: E402
-from footprint.core.ranges import MEAN_RADIUS_NMI, latlon_from_ranges  # noqa: E402
-from footprint.core.transforms import Reference, move, rotation_shift  # noqa: E402
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges, move, rotation_shift  # noqa: E402
 from _timing import median_ms  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

@@ -19,7 +19,7 @@ import numpy as np
 
 from footprint.core.footprint_methods import footprint
 from footprint.core.rotation import VELOCITY_FRAMES, approximate_points, approximate_vs_exact
-from footprint.core.transforms import Reference, heading_for_inclination, mirror, move
+from footprint.core.sphere import Reference, heading_for_inclination, mirror, move
 from footprint.pictures.figures import save
 from footprint.pictures.maps import footprint_layer, panels_figure
 from footprint.contracts.footprint import parse_study

@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-from footprint.pictures.folium_page import FRONTEND_DIR, topojson_features, unwrap_longitudes, unwrap_ring
+from footprint.core.sphere import unwrap_longitude
+from footprint.pictures.folium_page import FRONTEND_DIR, topojson_features, unwrap_ring
 
 pytestmark = pytest.mark.skipif(not (FRONTEND_DIR / "vendor" / "leaflet").is_dir(),
                                 reason="run `npm ci` in frontend/ (the map inlines the npm leaflet package)")
@@ -55,7 +56,7 @@ def test_bad_footprint_file_is_one_line_and_status_2(tmp_path):
 def test_ring_across_180_is_drawn_whole_next_to_its_entry():
     lon = unwrap_ring([0.0, 10.0, -10.0], [-150.0, 179.0, 179.0], FOOTPRINT["entry"])
     assert lon.tolist() == [210.0, 179.0, 179.0]  # -150 is drawn at 210, east of 180, not 330 deg away
-    assert unwrap_longitudes([170.0, -170.0, -150.0], 0.0).tolist() == [170.0, 190.0, 210.0]
+    assert unwrap_longitude([170.0, -170.0, -150.0], 0.0).tolist() == [170.0, 190.0, 210.0]
 
 
 def test_topojson_decoding_with_reversed_arcs():

@@ -11,7 +11,7 @@ import pytest
 
 from footprint.pictures import maps as M
 from footprint.core.constants import OMEGA_EARTH_DEG_S
-from footprint.core.transforms import Reference
+from footprint.core.sphere import Reference
 from footprint.contracts.transform import TransformRequest
 from footprint.contracts.transform import run as run_transform
 from tests.authorities.report import table2_entry, table2_stop
@@ -204,7 +204,7 @@ def test_map_figure_draws_footprint_initial_point_track_and_shade():
 def test_a_moved_point_keeps_its_flown_down_range_past_half_way_round():
     """Issue 13 defect 2: a point flown 18,108 nmi came back as -3,507 (folded into +-pi R'). A move is a
     rotation of the sphere, so the ranges about the moved (and stepped) reference are the flown ones."""
-    from footprint.core.ranges import MEAN_RADIUS_NMI, latlon_from_ranges
+    from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
 
     down, cross = np.array([18_108.0, 14_869.0, 6_000.0]), np.array([0.0, 850.0, -1_900.0])
     lat, lon = latlon_from_ranges(down, cross, 0.0, 0.0, 90.0)
@@ -228,7 +228,7 @@ def test_a_moved_point_keeps_its_flown_down_range_past_half_way_round():
 def test_a_place_may_be_an_orbit_point():
     """Issue 13 item 9: "to" as node longitude, inclination and argument of latitude (the map's controls),
     without the page's arithmetic; by hand: the ascending node heads 90 - i, and u is an arc of R' along it."""
-    from footprint.core.ranges import MEAN_RADIUS_NMI
+    from footprint.core.sphere import MEAN_RADIUS_NMI
 
     by_orbit = run_transform(request(to={"node_longitude_deg": -60.0, "inclination_deg": 51.6,
                                          "argument_of_latitude_deg": 30.0}, step_downrange_nmi=500.0))

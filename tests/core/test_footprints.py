@@ -7,7 +7,7 @@ import pytest
 
 from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
-from footprint.core.ranges import MEAN_RADIUS_NMI
+from footprint.core.sphere import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
 from tests.authorities.report import REPORT, table2_entry, table2_stop
 

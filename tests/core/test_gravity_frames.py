@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from footprint.core import constants as c
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, velocity_from_angles
 from footprint.core.gravity import gravity_ecef
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
+from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi
 from tests.authorities.report import REPORT
 
 RE, RP, MU = c.RADIUS_EQUATORIAL_FT, c.RADIUS_POLAR_FT, c.MU_EARTH_FT3_S2

@@ -17,8 +17,7 @@ from footprint.core.orbits import (
     revolution_node_longitude_deg,
     time_s,
 )
-from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame
-from footprint.core.transforms import heading_for_inclination
+from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, heading_for_inclination
 
 LEO = CircularOrbit(inclination_deg=28.5, altitude_ft=100 * FT_PER_NMI, node_longitude_deg=-80.0)
 U = np.linspace(0.0, 360.0, 721)

@@ -10,9 +10,8 @@ import pytest
 from matplotlib.path import Path as PlanePath
 
 from footprint.core.outline import outline
-from footprint.core.ranges import MEAN_RADIUS_NMI
 from footprint.core.reach import placement_margins
-from footprint.core.transforms import Reference
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference
 
 HALF_ROUND_NMI = np.pi * MEAN_RADIUS_NMI
 
@@ -71,7 +70,7 @@ def test_the_polar_cap_is_inside_and_the_far_hemisphere_is_not():
 def test_an_outline_keeps_the_boundary_points_and_follows_the_chart_edges():
     reference, (down, cross), _ = CASES["north-east across the antimeridian"]
     o = outline(down, cross, reference, max_edge_nmi=50.0)
-    from footprint.core.ranges import downrange_crossrange_nmi
+    from footprint.core.sphere import downrange_crossrange_nmi
 
     d, c = downrange_crossrange_nmi(o.latitude_deg, o.longitude_deg, reference.latitude_deg,
                                     reference.longitude_deg, reference.heading_deg, unwrap=True)

@@ -7,9 +7,8 @@ import pytest
 
 from footprint.core.constants import FT_PER_NMI, OMEGA_EARTH_DEG_S
 from footprint.core.orbits import CircularOrbit, frames, position
-from footprint.core.ranges import MEAN_RADIUS_NMI, latlon_from_ranges, unit_vectors
 from footprint.core.reach import margins, margins_reference, placement_margins, reach
-from footprint.core.transforms import Reference
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges, unit_vectors
 
 R_NMI = MEAN_RADIUS_NMI
 # A small convex footprint about its reference: down-range, cross-range (nmi), flight time (s).

@@ -1,6 +1,6 @@
 """Section IV geometry (AFWAL-TR-82-3036 eqs. 8-15): ranges both ways, move, mirror, rotation shift.
 
-Three routes to the same numbers: ours (unit vectors, closed form, footprint.core.ranges/transforms), the
+Three routes to the same numbers: ours (unit vectors, closed form, footprint.core.sphere), the
 report's own spherical trigonometry and iteration as printed (below, with the two sign fixes DESIGN.md
 asks for), and geographiclib's geodesics on a sphere of radius R' (an outside authority). Tolerances are
 angles on the earth: 1e-9 deg is 6.5 mm, 1e-6 deg is 6.4 m.
@@ -15,11 +15,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges
-from footprint.core.transforms import (
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
     Reference,
+    downrange_crossrange_nmi,
     heading_for_inclination,
     inclination_for_heading,
+    latlon_from_ranges,
     mirror,
     move,
     rotation_shift,
@@ -32,7 +34,7 @@ SPHERE = Geodesic(R, 0.0)  # geographiclib on the sphere of radius R' (lengths i
 NMI_PER_DEG = math.radians(1.0) * R  # 60.04 nmi of arc per degree
 
 ROUND_TRIP_DEG = 1e-9  # closed forms both ways: a few ulps of an angle
-# ranges.py takes the cross-range as asin(P . n); within 0.001 deg (0.06 nmi) of the initial great circle's
+# the cross-range as asin(P . n) (eq. 11's form): within 0.001 deg (0.06 nmi) of the initial great circle's
 # poles the arc sine's slope turns a rounding of P . n into up to 1.5e-8 rad (9 cm). The cross-range
 # round trips are asserted outside that band (atan2(P . n, |P x n|) would hold everywhere)
 CIRCLE_POLE_BAND_NMI = math.radians(0.001) * MEAN_RADIUS_NMI

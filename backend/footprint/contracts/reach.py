@@ -29,6 +29,7 @@ from footprint.contracts.footprint import run as fly_study
 from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import reach
+from footprint.core.sphere import close_half_along_axis
 
 MAX_PLACEMENTS = 2_000_000  # revolutions x (360 / u_step_deg): ~80 s of work for 20 sites and 30 points
 MAX_WORK = 5e9  # placements x sites x footprint points
@@ -178,8 +179,7 @@ def footprint_polygon(req: ReachRequest):
         if fp.mirror:
             pts += [(d, -cross, t) for d, cross, t in reversed(pts) if cross != 0.0]
         info = {"source": "points"}
-    if all(x >= 0.0 for _, x, _ in pts) or all(x <= 0.0 for _, x, _ in pts):  # a half: close along the axis
-        pts = [(pts[0][0], 0.0, pts[0][2])] + pts + [(pts[-1][0], 0.0, pts[-1][2])]
+    pts = close_half_along_axis(pts)
     arr = np.array(pts, float)
     info |= {"points": len(pts), "max_downrange_nmi": float(arr[:, 0].max()),
              "min_downrange_nmi": float(arr[:, 0].min()), "max_crossrange_nmi": float(np.abs(arr[:, 1]).max())}

@@ -24,10 +24,10 @@ that footprint's points; the request's points are then not used (they may be lef
 Response: {"points": [{"latitude_deg", "longitude_deg", "flight_time_s", "downrange_nmi",
 "crossrange_nmi", "mirrored"}...], "reference": the destination's initial point and heading after the step
 (the origin of the ranges), "earth_rotation", "points_in"}; "exact" points also carry "side" and
-"parameter". Longitudes are in (-180, 180]. A point's down-range is its flown one where the request gives it
-(a move keeps the ranges about the moved reference; "approximate" takes the turn of the circumference nearest
-it): a footprint past half-way round stays continuous (18,108 nmi, not -3,507); without it the down-range
-lies within +-pi R'.
+"parameter". Longitudes are in [-180, 180) (core.sphere.wrap_longitude: +180 is given as -180). A point's
+down-range is its flown one where the request gives it (a move keeps the ranges about the moved reference;
+"approximate" takes the turn of the circumference nearest it): a footprint past half-way round stays continuous
+(18,108 nmi, not -3,507); without it the down-range lies within +-pi R'.
 """
 
 import csv
@@ -42,10 +42,11 @@ from footprint.contracts.case import Strict, bounded, door_limit, parse
 from footprint.contracts.footprint import FootprintStudy
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi
 from footprint.core.rotation import ranges_near
-from footprint.core.transforms import (
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
     Reference,
+    downrange_crossrange_nmi,
     heading_for_inclination,
     inclination_for_heading,
     mirror,

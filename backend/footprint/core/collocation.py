@@ -37,7 +37,7 @@ from footprint.core.errors import NoOptimum  # noqa: F401 (the collocation's fai
 from footprint.core.frames import ecef_from_geodetic, flight_angles
 from footprint.core.model_casadi import FlightModel, geodetic
 from footprint.core.optimize import Constraint
-from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame
+from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
 from footprint.core.trajectory import FlightSpec, Trajectory, initial_state, pack_parameters, simulate
 
 TERMINAL = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
@@ -421,7 +421,7 @@ class Transcription:
         e = self.entry
         p0, d0, pole = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
         pt = ca.vertcat(ca.cos(lat) * ca.cos(lon), ca.cos(lat) * ca.sin(lon), ca.sin(lat))
-        # eqs. (8)-(11) as core.ranges, the down-range angle measured from the guess's (continuous past 180 deg)
+        # eqs. (8)-(11) as core.sphere, the down-range angle measured from the guess's (continuous past 180 deg)
         a_p, a_d = ca.dot(pt, ca.DM(p0)), ca.dot(pt, ca.DM(d0))
         along_ref = ca.cos(theta_ref) * a_p + ca.sin(theta_ref) * a_d
         across_ref = -ca.sin(theta_ref) * a_p + ca.cos(theta_ref) * a_d
@@ -657,7 +657,7 @@ def refly(problem: Problem, result: Result) -> Trajectory:
     """Fly the optimum's control tables with the compiled integrator and record the agreement."""
     trajectory = simulate(control_tables_spec(problem.base, result.controls))
     s, n = trajectory.summary, result.summary
-    d_lon = (s["final_longitude_deg"] - n["final_longitude_deg"] + 180.0) % 360.0 - 180.0
+    d_lon = float(wrap_longitude(s["final_longitude_deg"] - n["final_longitude_deg"]))
     down = n["downrange_nmi"]
     result.refly = {k: s[k] for k in ("downrange_nmi", "crossrange_nmi", "final_latitude_deg", "final_longitude_deg",
                                       "final_velocity_fps", "final_gamma_deg", "final_heading_deg", "flight_time_s",

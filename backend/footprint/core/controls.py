@@ -227,7 +227,8 @@ def table_interp(ctrl, offset, x):
 
 @njit
 def wrap_deg(a):
-    """Angle wrapped to (-180, 180]."""
+    """Angle wrapped to (-180, 180] (core.sphere.wrap_longitude with closed_above=True; this one stays a numba kernel
+    because the compiled integrator calls it)."""
     return a - 360.0 * math.ceil((a - 180.0) / 360.0)
 
 

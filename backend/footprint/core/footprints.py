@@ -14,7 +14,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
-from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
+from footprint.core.sphere import MEAN_RADIUS_NMI, close_half_along_axis, great_circle_frame, unit_vectors, wrap_longitude
 from footprint.core.trajectory import FlightSpec, simulate
 
 SIGMA0_DEG = 90.0  # Section II.6 a: the initial heading (remaining heading change) of the procedure
@@ -201,8 +201,8 @@ def velocity_crossings(traj, velocities_fps) -> tuple:
         w = (v[i - 1] - vc) / (v[i - 1] - v[i])
         at = {k: float(h[k][i - 1] + w * (h[k][i] - h[k][i - 1]))
               for k in ("downrange_nmi", "crossrange_nmi", "time_s", "altitude_ft", "latitude_deg")}
-        dlon = (h["longitude_deg"][i] - h["longitude_deg"][i - 1] + 180.0) % 360.0 - 180.0
-        at["longitude_deg"] = float((h["longitude_deg"][i - 1] + w * dlon + 180.0) % 360.0 - 180.0)
+        dlon = wrap_longitude(h["longitude_deg"][i] - h["longitude_deg"][i - 1])
+        at["longitude_deg"] = float(wrap_longitude(h["longitude_deg"][i - 1] + w * dlon))
         out.append({"velocity_fps": float(vc), "downrange_nmi": at["downrange_nmi"],
                     "crossrange_nmi": at["crossrange_nmi"], "flight_time_s": at["time_s"],
                     "altitude_ft": at["altitude_ft"], "latitude_deg": at["latitude_deg"],
@@ -352,8 +352,7 @@ def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
     pts = [(p.downrange_nmi, p.crossrange_nmi) for p in points]
     if len(pts) < 2:
         return 0.0
-    if all(c >= 0.0 for _, c in pts) or all(c <= 0.0 for _, c in pts):  # a half: close along the axis
-        pts = [(pts[0][0], 0.0)] + pts + [(pts[-1][0], 0.0)]
+    pts = close_half_along_axis(pts)
     total = 0.0
     for (d0, c0), (d1, c1) in zip(pts, pts[1:] + pts[:1]):
         b0, b1 = c0 / radius_nmi, c1 / radius_nmi

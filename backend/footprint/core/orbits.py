@@ -27,8 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from footprint.core.constants import J_ZONAL, MU_EARTH_FT3_S2, OMEGA_EARTH_DEG_S, RADIUS_EQUATORIAL_FT
-from footprint.core.ranges import MEAN_RADIUS_NMI
-from footprint.core.transforms import Reference, latlon_of
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_of, wrap_longitude
 
 J2 = J_ZONAL / 1.5  # App. A gives J = 1.5 J2 (1623.41e-6), so J2 = 1082.27e-6
 SECONDS_PER_DAY = 86_400.0
@@ -57,7 +56,7 @@ class CircularOrbit:
                              **kwargs):
         """The node's earth-fixed longitude is its right ascension less the Greenwich sidereal angle."""
         return cls(inclination_deg=inclination_deg, altitude_ft=altitude_ft,
-                   node_longitude_deg=_wrap(right_ascension_deg - greenwich_sidereal_deg), **kwargs)
+                   node_longitude_deg=wrap_longitude(right_ascension_deg - greenwich_sidereal_deg), **kwargs)
 
     @property
     def semi_major_axis_ft(self) -> float:
@@ -95,18 +94,14 @@ class CircularOrbit:
         return np.arange(1, math.ceil(hours * 3600.0 / self.period_s - 1e-12) + 1)
 
 
-def _wrap(lon):
-    return (np.asarray(lon, float) + 180.0) % 360.0 - 180.0
-
-
 def time_s(orbit: CircularOrbit, revolution, u_deg):
     """Seconds since the epoch at argument of latitude u of a revolution (revolution 1 starts at t = 0)."""
     return ((np.asarray(revolution, float) - 1.0) + np.asarray(u_deg, float) / 360.0) * orbit.period_s
 
 
 def node_longitude_deg(orbit: CircularOrbit, t_s):
-    """Earth-fixed longitude of the ascending node at time t, in (-180, 180]."""
-    return _wrap(orbit.node_longitude_deg + orbit.node_drift_deg_s * np.asarray(t_s, float))
+    """Earth-fixed longitude of the ascending node at time t, in [-180, 180)."""
+    return wrap_longitude(orbit.node_longitude_deg + orbit.node_drift_deg_s * np.asarray(t_s, float))
 
 
 def revolution_node_longitude_deg(orbit: CircularOrbit, revolution):

@@ -1,9 +1,9 @@
 """A footprint's boundary as an area on a map of latitude and longitude (issue 13).
 
 The boundary's edges are straight in the (down-range, cross-range) chart about the entry (AFWAL-TR-82-3036
-eqs. 8-11, core.ranges), as footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and longitude instead,
+eqs. 8-11, core.sphere), as footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and longitude instead,
 the long edges of a footprint over a pole become chords between points far apart in longitude. So each edge
-is sampled in the chart (every MAX_EDGE_NMI) and carried to latitude and longitude (ranges.latlon_from_ranges),
+is sampled in the chart (every MAX_EDGE_NMI) and carried to latitude and longitude (sphere.latlon_from_ranges),
 the longitudes kept continuous. A boundary that goes once round the earth's axis encloses a pole (which one,
 reach.placement_margins says, in the chart): it is closed along that pole (latitude +-90 at both ends of the
 360 deg it spans), so that a fill on the cylindrical map, a GeoJSON ring and an even-odd test in latitude and
@@ -14,9 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from footprint.core.ranges import latlon_from_ranges
 from footprint.core.reach import placement_margins
-from footprint.core.transforms import Reference
+from footprint.core.sphere import Reference, latlon_from_ranges, unwrap_longitude
 
 MAX_EDGE_NMI = 60.0  # chart length of an outline's edge (1 deg of arc): short beside any footprint's features
 
@@ -53,7 +52,7 @@ def outline(downrange_nmi, crossrange_nmi, reference: Reference, max_edge_nmi=MA
     the boundary) about `reference`, the entry point and heading they are measured from."""
     ds, cs = sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi)
     lat, lon = latlon_from_ranges(ds, cs, reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
-    lon = np.unwrap(lon, period=360.0)
+    lon = unwrap_longitude(lon)
     turns = round((lon[-1] - lon[0]) / 360.0)  # the closing point is the first again: 0 or +-1 turns
     if turns == 0:
         return Outline(lat[:-1], lon[:-1], None)

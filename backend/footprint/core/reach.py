@@ -31,8 +31,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from footprint.core.orbits import CircularOrbit, frames, time_s
-from footprint.core.ranges import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
-from footprint.core.transforms import Reference
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, great_circle_frame, unit_vectors
 
 EARTH_ROTATION = ("none", "approximate")
 ON_BOUNDARY_NMI = 1e-6  # a site this close to an edge counts as inside (as footprints._inside does)

@@ -24,9 +24,15 @@ import numpy as np
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import Footprint, FootprintPoint
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi, great_circle_frame
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
+    Reference,
+    downrange_crossrange_nmi,
+    great_circle_frame,
+    move,
+    rotation_shift,
+)
 from footprint.core.trajectory import FlightSpec
-from footprint.core.transforms import Reference, move, rotation_shift
 
 VELOCITY_FRAMES = ("inertial", "relative")
 

@@ -52,7 +52,7 @@ from footprint.core.heating import CorrelationHeating, ReferenceHeating, traject
 from footprint.core.integrate import (
     R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, STOP_REASONS, integrate,
 )
-from footprint.core.ranges import downrange_crossrange_nmi
+from footprint.core.sphere import downrange_crossrange_nmi
 
 
 @dataclass(frozen=True)

@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from footprint.core.errors import InputError
-from footprint.core.ranges import MEAN_RADIUS_NMI
-from footprint.core.transforms import latlon_of
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
+    unit_vectors, unwrap_longitude
 
 FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"  # the page's folder in the repository
 WORLD_COPIES_DEG = (-360.0, 0.0, 360.0)
@@ -71,7 +71,7 @@ def _ring(arcs: list[np.ndarray], indices: list[int]) -> list[list[float]]:
         arc = arcs[i] if i >= 0 else arcs[~i][::-1]  # ~i: arc i reversed (TopoJSON spec)
         parts.append(arc[1:] if k else arc)
     coords = np.vstack(parts)
-    coords[:, 0] = unwrap_longitudes(coords[:, 0], coords[0, 0])
+    coords[:, 0] = unwrap_longitude(coords[:, 0], coords[0, 0])
     if abs(coords[-1, 0] - coords[0, 0]) > 180.0:
         pole = -90.0 if coords[:, 1].mean() < 0 else 90.0
         coords = np.vstack([coords, [[coords[-1, 0], pole], [coords[0, 0], pole]]])
@@ -100,23 +100,10 @@ def countries_geojson() -> dict:
 
 
 # ---------------------------------------------------------------------------------------------- geometry
-def unwrap_longitudes(longitude_deg, reference_deg: float) -> np.ndarray:
-    """Longitudes made continuous: the first within 180 deg of the reference, each next within 180 deg of the
-    one before (a ring that crosses +-180 deg never jumps by 360 deg)."""
-    lon = np.asarray(longitude_deg, float)
-    if lon.size == 0:
-        return lon
-    first = reference_deg + (lon[0] - reference_deg + 180.0) % 360.0 - 180.0
-    steps = (np.diff(lon) + 180.0) % 360.0 - 180.0
-    return np.concatenate([[first], first + np.cumsum(steps)])
-
-
 def unwrap_ring(latitude_deg, longitude_deg, entry: dict) -> np.ndarray:
     """A footprint ring's longitudes made continuous and placed where its point nearest the entry lies within
     180 deg of the entry (its first point is often the far zero-bank point, 180 deg or more away)."""
-    from footprint.core.ranges import unit_vectors
-
-    lon = unwrap_longitudes(longitude_deg, float(longitude_deg[0]))
+    lon = unwrap_longitude(longitude_deg, float(longitude_deg[0]))
     nearest = int(np.argmax(unit_vectors(latitude_deg, longitude_deg)
                             @ unit_vectors(entry["latitude_deg"], entry["longitude_deg"])))
     return lon + 360.0 * np.round((entry["longitude_deg"] - lon[nearest]) / 360.0)
@@ -126,8 +113,6 @@ def _area(points: list[dict], entry: dict, first_lon_deg: float):
     """core.outline of the boundary (the chart's edges sampled, a polar cap closed along its pole), on the copy
     where the ring's first point is at first_lon_deg."""
     from footprint.core.outline import Outline, outline
-    from footprint.core.ranges import downrange_crossrange_nmi
-    from footprint.core.transforms import Reference
 
     ref = Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
     if all(p.get("downrange_nmi") is not None and p.get("crossrange_nmi") is not None for p in points):
@@ -143,11 +128,8 @@ def _area(points: list[dict], entry: dict, first_lon_deg: float):
 
 def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float, float]]:
     """The ground track of zero bank on a non-rotating sphere: the initial great circle from the entry."""
-    from footprint.core.ranges import great_circle_frame
-
-    p0, d0, _ = great_circle_frame(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
-    a = np.radians(np.arange(0.0, downrange_deg + TRACK_SAMPLE_DEG, TRACK_SAMPLE_DEG))[:, None]
-    lat, lon = latlon_of(np.cos(a) * p0 + np.sin(a) * d0)
+    ref = Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
+    lat, lon = latlon_of(great_circle(ref, np.arange(0.0, downrange_deg + TRACK_SAMPLE_DEG, TRACK_SAMPLE_DEG)))
     return list(zip(np.atleast_1d(lat).tolist(), np.atleast_1d(lon).tolist()))
 
 
@@ -181,7 +163,7 @@ def footprint_map(footprint: dict, title: str | None = None):
     else:
         far_deg = np.degrees(max((p.get("downrange_nmi") or 0.0) for p in points) / MEAN_RADIUS_NMI)
         track = _initial_great_circle(entry, max(far_deg, 1.0))
-    track_lon = unwrap_longitudes([t[1] for t in track], entry["longitude_deg"])
+    track_lon = unwrap_longitude([t[1] for t in track], entry["longitude_deg"])
 
     m = folium.Map(location=[float(lat.mean()), float(lon.mean())], zoom_start=2, tiles=None, crs="EPSG4326",
                    control_scale=False, prefer_canvas=False)

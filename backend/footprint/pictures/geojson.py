@@ -5,15 +5,10 @@ section 3.1.9), coordinates to 1e-6 deg (RFC 7946 section 11.2)."""
 import numpy as np
 
 from footprint.core.outline import Outline, outline
-from footprint.core.transforms import Reference
+from footprint.core.sphere import Reference, unwrap_longitude, wrap_longitude
 
 ANTIMERIDIAN_DEG = 180.0
 DIGITS = 6  # decimals of a coordinate: 0.1 m
-
-
-def unwrapped(lon_deg) -> np.ndarray:
-    """Longitudes with 360 deg added or taken where neighbours would jump more than 180 deg."""
-    return np.unwrap(np.asarray(lon_deg, float), period=360.0)
 
 
 def _clip(ring: list, lo: float, hi: float) -> list:
@@ -64,7 +59,7 @@ def polygon(o: Outline) -> dict:
 
 def line(lat_deg, lon_deg) -> dict:
     """A LineString, or a MultiLineString cut where it crosses the antimeridian."""
-    lon, lat = unwrapped(lon_deg), np.asarray(lat_deg, float)
+    lon, lat = unwrap_longitude(lon_deg), np.asarray(lat_deg, float)
     pieces, current, window = [], [], None
     for i in range(len(lon)):
         k = int(np.floor((lon[i] + ANTIMERIDIAN_DEG) / 360.0))
@@ -84,13 +79,8 @@ def line(lat_deg, lon_deg) -> dict:
     return {"type": "MultiLineString", "coordinates": pieces}
 
 
-def wrapped(lon_deg: float) -> float:
-    """A longitude in [-180, 180)."""
-    return (lon_deg + ANTIMERIDIAN_DEG) % 360.0 - ANTIMERIDIAN_DEG
-
-
 def _point(p: dict) -> dict:
-    return {"type": "Point", "coordinates": [round(wrapped(p["longitude_deg"]), DIGITS), round(p["latitude_deg"], DIGITS)]}
+    return {"type": "Point", "coordinates": [round(float(wrap_longitude(p["longitude_deg"])), DIGITS), round(p["latitude_deg"], DIGITS)]}
 
 
 def feature_collection(item: dict, outline_: Outline | None = None) -> dict:

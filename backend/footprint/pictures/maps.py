@@ -19,8 +19,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.path import Path as PolygonPath
 
-from footprint.core.ranges import MEAN_RADIUS_NMI, downrange_crossrange_nmi, great_circle_frame
-from footprint.core.transforms import Reference, latlon_of
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
+    unit_vectors, wrap_longitude
 
 GRATICULE_DEG = 30.0  # the graticule's spacing, meridians and parallels
 SAMPLE_DEG = 0.5  # lines are densified along great circles to at most this arc between samples
@@ -53,15 +53,10 @@ def footprint_layer(latitude_deg, longitude_deg, reference: Reference | None = N
                     downrange_hint_nmi=None if downrange_nmi is None else np.asarray(downrange_nmi, float), **style)
 
 
-# --------------------------------------------------------------------------------------- sphere helpers
-def _xyz(lat_deg, lon_deg):
-    lat, lon = np.broadcast_arrays(np.radians(np.asarray(lat_deg, float)), np.radians(np.asarray(lon_deg, float)))
-    return np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)
-
-
+# ----------------------------------------------------------------------- sampling (the sphere: core.sphere)
 def densify(latitude_deg, longitude_deg, closed=False, sample_deg=SAMPLE_DEG):
     """Unit vectors along the great-circle arcs joining the points, no sample more than sample_deg apart."""
-    v = _xyz(latitude_deg, longitude_deg)
+    v = unit_vectors(latitude_deg, longitude_deg)
     if closed and len(v) > 1:
         v = np.vstack([v, v[:1]])
     out = [v[:1]]
@@ -77,18 +72,16 @@ def densify(latitude_deg, longitude_deg, closed=False, sample_deg=SAMPLE_DEG):
     return np.vstack(out)
 
 
-def great_circle(ref: Reference, start_deg=-180.0, stop_deg=180.0, sample_deg=SAMPLE_DEG):
-    """Unit vectors along the initial great circle, by down-range angle from the initial point."""
-    p0, d0, _ = great_circle_frame(ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
-    a = np.radians(np.arange(start_deg, stop_deg + 0.5 * sample_deg, sample_deg))[:, None]
-    return np.cos(a) * p0 + np.sin(a) * d0
+def arc_deg(start_deg=-180.0, stop_deg=180.0, sample_deg=SAMPLE_DEG) -> np.ndarray:
+    """Angles from start_deg to stop_deg (both included) every sample_deg: where a great circle is sampled."""
+    return np.arange(start_deg, stop_deg + 0.5 * sample_deg, sample_deg)
 
 
 def footprint_center(latitude_deg, longitude_deg):
     """A view centre for a footprint: the direction of the mean of its densified boundary (lat, lon deg)."""
     v = densify(latitude_deg, longitude_deg, closed=True).mean(axis=0)
     if np.linalg.norm(v) < 1e-9:
-        v = _xyz(latitude_deg[0], longitude_deg[0])
+        v = unit_vectors(latitude_deg[0], longitude_deg[0])
     lat, lon = latlon_of(v / np.linalg.norm(v))
     return float(lat), float(lon)
 
@@ -130,7 +123,7 @@ class Cylindrical:
         lon = np.linspace(-180.0, 180.0, 2 * n, endpoint=False) + 180.0 / (2 * n)
         lat = np.linspace(-90.0, 90.0, n, endpoint=False) + 90.0 / n
         LON, LAT = np.meshgrid(lon, lat)
-        return _xyz(LAT, LON), np.ones(LAT.shape, bool), (-180.0, 180.0, -90.0, 90.0)
+        return unit_vectors(LAT, LON), np.ones(LAT.shape, bool), (-180.0, 180.0, -90.0, 90.0)
 
     def setup(self, ax):
         x0, x1, y0, y1 = self.extent
@@ -187,11 +180,11 @@ class Orthographic:
         return np.array(xs, float), np.array(ys, float)
 
     def points(self, lat_deg, lon_deg):
-        v = _xyz(lat_deg, lon_deg)
+        v = unit_vectors(lat_deg, lon_deg)
         return v @ self.e, v @ self.n
 
     def visible(self, lat_deg, lon_deg):
-        return _xyz(lat_deg, lon_deg) @ self.c >= 0.0
+        return unit_vectors(lat_deg, lon_deg) @ self.c >= 0.0
 
     def raster(self, n=SHADE_PIXELS):
         s = np.linspace(-1.0, 1.0, n, endpoint=False) + 1.0 / n
@@ -205,9 +198,9 @@ class Orthographic:
         t = np.linspace(0.0, 2.0 * math.pi, 721)
         ax.fill(np.cos(t), np.sin(t), color="white", zorder=0)
         for lon in np.arange(-180.0, 180.0, GRATICULE_DEG):
-            ax.plot(*self.lines(_xyz(np.arange(-90.0, 90.0 + 1e-9, SAMPLE_DEG), lon)), **GRID_STYLE)
+            ax.plot(*self.lines(unit_vectors(np.arange(-90.0, 90.0 + 1e-9, SAMPLE_DEG), lon)), **GRID_STYLE)
         for lat in np.arange(-60.0, 60.0 + 1e-9, GRATICULE_DEG):
-            ax.plot(*self.lines(_xyz(lat, np.arange(-180.0, 180.0 + 1e-9, SAMPLE_DEG))), **GRID_STYLE)
+            ax.plot(*self.lines(unit_vectors(lat, np.arange(-180.0, 180.0 + 1e-9, SAMPLE_DEG))), **GRID_STYLE)
         ax.plot(np.cos(t), np.sin(t), color="k", lw=1.0, zorder=4)  # the limb
         ax.set_xlim(-1.04, 1.04)
         ax.set_ylim(-1.04, 1.04)
@@ -218,7 +211,7 @@ class Orthographic:
 
 
 def _lon_label(x):
-    x = (float(x) + 180.0) % 360.0 - 180.0 if abs(float(x)) != 180.0 else 180.0
+    x = float(wrap_longitude(float(x), closed_above=True))
     return f"{abs(x):.0f}°" + ("" if x in (0.0, 180.0) else ("E" if x > 0 else "W"))
 
 
@@ -246,7 +239,7 @@ def draw_map(ax, projection, layers: list[MapLayer], title=None, legend="lower l
         if layer.reference is not None and layer.reference not in refs:
             refs.append(layer.reference)
     for ref in refs:
-        ax.plot(*projection.lines(great_circle(ref)), **TRACK_STYLE, gid="ground_track")
+        ax.plot(*projection.lines(great_circle(ref, arc_deg())), **TRACK_STYLE, gid="ground_track")
         _direction_arrow(ax, projection, ref)
         if projection.visible(ref.latitude_deg, ref.longitude_deg):
             px, py = projection.points(ref.latitude_deg, ref.longitude_deg)
@@ -260,7 +253,7 @@ def draw_map(ax, projection, layers: list[MapLayer], title=None, legend="lower l
 
 def _direction_arrow(ax, projection, ref):
     """An arrowhead on the ground track a few degrees past the initial point: the way the entry heads."""
-    v = great_circle(ref, 6.0, 10.0, 2.0)
+    v = great_circle(ref, arc_deg(6.0, 10.0, 2.0))
     if np.all(projection.visible(*latlon_of(v))):
         lat, lon = latlon_of(v)
         (x0, x1), (y0, y1) = projection.points(lat[[0, -1]], lon[[0, -1]])
@@ -295,7 +288,7 @@ def _boundary_ranges(layer: MapLayer):
     v = densify(layer.latitude_deg, layer.longitude_deg, closed=True)
     lat, lon = latlon_of(v)
     d, c = downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
-    ang = np.unwrap(d / MEAN_RADIUS_NMI)
+    ang = np.unwrap(d / MEAN_RADIUS_NMI)  # downrange_crossrange_nmi(unwrap=True) but for the rounding of d / R'
     d = ang * MEAN_RADIUS_NMI
     if layer.downrange_hint_nmi is not None:
         d += CIRCUMFERENCE_NMI * round((layer.downrange_hint_nmi[0] - d[0]) / CIRCUMFERENCE_NMI)

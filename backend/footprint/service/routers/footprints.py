@@ -147,7 +147,7 @@ def transform_footprint(footprint_id: str, request: Request, body: FootprintTran
 def _exact_track(study: dict, reference: dict) -> list[dict]:
     """The zero-bank track flown from the destination on the rotating earth (as a job stores it)."""
     from footprint.core.rotation import at_geometry
-    from footprint.core.transforms import Reference
+    from footprint.core.sphere import Reference
     from footprint.service.jobs.tasks import ground_track
     from footprint.contracts.footprint import parse_study
 

@@ -1,0 +1,197 @@
+"""The sphere of radius R': points as unit vectors, down-range and cross-range about an initial great circle
+(AFWAL-TR-82-3036 eqs. 8-11), moving a footprint to another node, inclination or deorbit point, mirroring a
+half and shifting it for the earth's rotation (Section IV, eqs. 12-15), longitude wrapping and unwrapping,
+and the initial great circle itself. Every module that needs the sphere's geometry takes it from here.
+
+Ranges. Closed form with unit vectors instead of the report's spherical triangles: with p0 the initial
+point, d0 the initial direction and n = p0 x d0 the left pole, a point P has cross-range R' asin(P.n)
+(positive to the left, where a positive bank turns) and down-range R' atan2(P.d0, P.p0) measured along the
+great circle, negative behind the initial point. Eq. (11) as printed has the opposite cross-range sign and
+eq. (10) loses the sign of points behind; this form keeps both. Along a trajectory the down-range is
+unwrapped so that it can exceed half the circumference (the report's footprints reach 14,500 nmi).
+
+Moves. The report converts each point to down-range and cross-range (eqs. 8-11), changes the initial
+point's longitude (re-node), its heading (re-incline) or adds down-range (step around the orbit), and
+iterates back to latitude and longitude (eqs. 12-15). Every such move keeps a point's place relative to the
+initial great circle, so it is one rotation of the sphere: R = F_to . S(step) . F_from^T with F the frame
+(p0, d0, n) of a reference and S a turn about the pole n by the step. Applied to unit vectors it is exact
+and vectorized; the report's iteration is kept only as a cross-check in the tests.
+
+Longitudes. `wrap_longitude` puts a longitude in [-180, 180) (about a centre, optionally (-180, 180]);
+`unwrap_longitude` makes a sequence continuous. The compiled integrator wraps its heading with its own
+numba kernel, core.controls.wrap_deg ((-180, 180]), which must stay inside the compiled code.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from footprint.core.constants import FT_PER_NMI, MEAN_RADIUS_FT, OMEGA_EARTH_DEG_S
+from footprint.core.errors import InputError
+
+MEAN_RADIUS_NMI = MEAN_RADIUS_FT / FT_PER_NMI
+
+
+# ------------------------------------------------------------------------------------------ longitudes
+def wrap_longitude(longitude_deg, center_deg=0.0, *, closed_above=False):
+    """Longitudes (deg, any shape) moved by whole turns into the 360 deg about center_deg:
+    [center - 180, center + 180) by default, so +180 becomes -180 (the transform's, the orbits' and the
+    GeoJSON's convention); with closed_above=True (center - 180, center + 180], so -180 becomes +180 (the
+    map's axis labels; core.controls.wrap_deg's convention for headings)."""
+    lon = np.asarray(longitude_deg, float)
+    wrapped = center_deg + (lon - center_deg + 180.0) % 360.0 - 180.0  # floor modulo: 0 <= x % 360 < 360
+    if closed_above:
+        wrapped = np.where(wrapped == center_deg - 180.0, center_deg + 180.0, wrapped)
+    return wrapped
+
+
+def unwrap_longitude(longitude_deg, reference_deg=None) -> np.ndarray:
+    """Longitudes (deg) of a path or ring made continuous: 360 deg added or taken wherever neighbours would
+    differ by more than 180 deg. Without reference_deg the first longitude stays as given (numpy.unwrap with
+    a period of 360 deg); with it the first is put within 180 deg of reference_deg and each next one a step
+    of at most 180 deg from the one before (a ring that crosses +-180 deg never jumps by 360 deg)."""
+    lon = np.asarray(longitude_deg, float)
+    if reference_deg is None:
+        return np.unwrap(lon, period=360.0)
+    if lon.size == 0:
+        return lon
+    first = wrap_longitude(lon[0], reference_deg)
+    return np.concatenate([[first], first + np.cumsum(wrap_longitude(np.diff(lon)))])
+
+
+# -------------------------------------------------------------------------------------- unit vectors
+def unit_vectors(latitude_deg, longitude_deg):
+    """Unit vectors (..., 3) of points given by latitude and longitude (deg; broadcast together): x towards
+    latitude 0, longitude 0, z towards the north pole."""
+    lat, lon = np.broadcast_arrays(np.radians(np.asarray(latitude_deg, float)),
+                                   np.radians(np.asarray(longitude_deg, float)))
+    return np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)  # spherical to xyz
+
+
+def latlon_of(v):
+    """(lat, lon) in degrees of unit vectors (last axis xyz); longitude in [-180, 180] (atan2: +180 where
+    y is +0 and x < 0, -180 where y is -0)."""
+    lat = np.degrees(np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1])))  # xyz to spherical, exact near the poles
+    return lat, np.degrees(np.arctan2(v[..., 1], v[..., 0]))
+
+
+# ----------------------------------------------------------------------------- the initial great circle
+def great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg):
+    """(p0, d0, n): initial point, initial direction, left pole; unit vectors."""
+    lat, lon, hdg = np.radians(latitude0_deg), np.radians(longitude0_deg), np.radians(heading0_deg)
+    p0 = unit_vectors(latitude0_deg, longitude0_deg)
+    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
+    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
+    d0 = np.cos(hdg) * north + np.sin(hdg) * east  # the heading is the azimuth from north (the report's sigma_0)
+    return p0, d0, np.cross(p0, d0)
+
+
+@dataclass(frozen=True)
+class Reference:
+    """The initial point and heading that define the initial great circle (the report's L and sigma_0)."""
+
+    latitude_deg: float
+    longitude_deg: float
+    heading_deg: float
+
+
+def great_circle(ref: Reference, downrange_deg):
+    """Unit vectors (..., 3) on ref's initial great circle at the given down-range angles (deg) from the
+    initial point: cos(a) p0 + sin(a) d0 (latlon_from_ranges at zero cross-range)."""
+    p0, d0, _ = great_circle_frame(ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
+    a = np.radians(downrange_deg)[..., None]
+    return np.cos(a) * p0 + np.sin(a) * d0
+
+
+# ------------------------------------------------------------------------------- eqs. (8)-(15): ranges
+def latlon_from_ranges(downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_deg, heading0_deg,
+                       radius_nmi=MEAN_RADIUS_NMI):
+    """Inverse of downrange_crossrange_nmi in closed form (the report iterates, eqs. 12-15):
+    P = cos(c) (cos(d) p0 + sin(d) d0) + sin(c) n with d, c the ranges as angles. Returns (lat, lon) deg."""
+    p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
+    a = np.asarray(downrange_nmi, float)[..., None] / radius_nmi
+    b = np.asarray(crossrange_nmi, float)[..., None] / radius_nmi
+    return latlon_of(np.cos(b) * (np.cos(a) * p0 + np.sin(a) * d0) + np.sin(b) * n)
+
+
+def downrange_crossrange_nmi(latitude_deg, longitude_deg, latitude0_deg, longitude0_deg, heading0_deg,
+                             radius_nmi=MEAN_RADIUS_NMI, unwrap=False):
+    """Down-range and cross-range (nmi) of points about the great circle through the initial point
+    (eqs. 8-11 in closed form, see the module docstring).
+
+    `unwrap=True` treats the points as a path from the initial point and lets the down-range grow past
+    half a circumference.
+    """
+    p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
+    pts = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
+    along_p0, along_d0 = pts @ p0, pts @ d0
+    cross = np.arctan2(pts @ n, np.hypot(along_p0, along_d0))  # not asin: exact near the poles too
+    down = np.arctan2(along_d0, along_p0)
+    if unwrap:
+        down = np.unwrap(np.atleast_1d(down))
+    return radius_nmi * down, radius_nmi * cross
+
+
+def close_half_along_axis(points) -> list:
+    """A half footprint (every cross-range >= 0, or every one <= 0) closed along the initial great circle:
+    a point of cross-range 0 added at its first and at its last down-range; any other boundary as given.
+    points: tuples (down-range, cross-range, ...); an added point copies the rest of its neighbour's."""
+    pts = list(points)
+    if all(p[1] >= 0.0 for p in pts) or all(p[1] <= 0.0 for p in pts):
+        pts = [(pts[0][0], 0.0, *pts[0][2:])] + pts + [(pts[-1][0], 0.0, *pts[-1][2:])]
+    return pts
+
+
+# ---------------------------------------------------------------------------- Section IV: moving a footprint
+def frame(ref: Reference) -> np.ndarray:
+    """Columns p0, d0, n: the initial point, the initial direction, the left pole."""
+    return np.column_stack(great_circle_frame(ref.latitude_deg, ref.longitude_deg, ref.heading_deg))
+
+
+def rotation(src: Reference, dst: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI) -> np.ndarray:
+    """The 3x3 rotation that carries a footprint about src to the same place about dst, moved on by the step."""
+    a = step_downrange_nmi / radius_nmi
+    step = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    return frame(dst) @ step @ frame(src).T  # R = F_to . S(step) . F_from^T
+
+
+def move(latitude_deg, longitude_deg, src: Reference, dst: Reference, step_downrange_nmi=0.0,
+         radius_nmi=MEAN_RADIUS_NMI):
+    """Re-node, re-incline and step around the orbit in one: (lat, lon) in degrees, arrays of any shape."""
+    u = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
+    v = u @ rotation(src, dst, step_downrange_nmi, radius_nmi).T
+    return latlon_of(v)
+
+
+def mirror(latitude_deg, longitude_deg, ref: Reference):
+    """The other half of a symmetric footprint: each point reflected in the plane of the initial great circle."""
+    n = frame(ref)[:, 2]
+    u = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
+    return latlon_of(u - 2.0 * (u @ n)[..., None] * n)  # Householder reflection in the plane normal to n
+
+
+def rotation_shift(longitude_deg, flight_time_s, omega_deg_s=OMEGA_EARTH_DEG_S):
+    """Section IV.3, the first-order earth-rotation shift: theta_rot = theta - omega_p t (latitude unchanged);
+    longitude in [-180, 180)."""
+    lon = np.asarray(longitude_deg, float) - omega_deg_s * np.asarray(flight_time_s, float)
+    return wrap_longitude(lon)
+
+
+def heading_for_inclination(latitude_deg, inclination_deg, ascending=True):
+    """Heading (azimuth from north) of a circular orbit of the given inclination where it crosses a latitude.
+
+    Spherical trigonometry of the orbit plane: cos i = sin(heading) cos(latitude); ascending passes head
+    north (|heading| < 90 deg), descending ones south. At the node heading = 90 - i.
+    """
+    lat, inc = np.radians(latitude_deg), np.radians(inclination_deg)
+    s = np.cos(inc) / np.cos(lat)
+    if np.any(np.abs(s) > 1.0 + 1e-12):
+        raise InputError("inclination_deg", f"an orbit of inclination {inclination_deg} deg never reaches "
+                                            f"latitude {latitude_deg} deg (it reaches +-{min(inclination_deg, 180 - inclination_deg)} deg)")
+    az = np.degrees(np.arcsin(np.clip(s, -1.0, 1.0)))
+    return az if ascending else 180.0 - az
+
+
+def inclination_for_heading(latitude_deg, heading_deg):
+    """Inverse of heading_for_inclination: cos i = sin(heading) cos(latitude)."""
+    return np.degrees(np.arccos(np.sin(np.radians(heading_deg)) * np.cos(np.radians(latitude_deg))))
