@@ -7,14 +7,14 @@ study (a second route to the same numbers)."""
 import pytest
 
 import footprint
+from tests.authorities.report import example
 from tests.service.conftest import wait_for_job
 from tests.service.sample_requests import CASE
 
-LIMITED = {"case": CASE | {"heating": {"model": "reference"}}, "method": "temperature_limited", "limit_R": 2_550,
-           "bank0_deg": [0, 60]}
+LIMITED = example("footprint_lod189_limited_2550R") | {"bank0_deg": [0, 60]}  # Section III's limit, 0.8 s
 ORBIT = {"inclination_deg": 28.5, "altitude_nmi": 150, "node_longitude_deg": 0}
-SITES = [{"name": "near the track", "latitude_deg": 10.0, "longitude_deg": 40.0},
-         {"name": "antipode", "latitude_deg": -10.0, "longitude_deg": -140.0}]
+SITES = [{"name": "near the track", "latitude_deg": 0.0, "longitude_deg": 60.0},
+         {"name": "antipode", "latitude_deg": 0.0, "longitude_deg": 180.0}]
 
 
 @pytest.fixture(scope="module")
@@ -47,11 +47,26 @@ def test_a_reach_of_a_temperature_limited_study_runs_synchronously_and_as_a_job(
 
 
 def test_an_exact_transform_flies_a_temperature_limited_study_again(api, direct):
-    entry = CASE["entry"]
+    """The exact transform flies the study again on the rotating earth from the destination: over HTTP as from
+    Python (footprint.contracts.transform), one point per flown point of the footprint."""
+    from footprint import contracts
+
+    entry = LIMITED["case"]["entry"]
     here = {"latitude_deg": entry["latitude_deg"], "longitude_deg": entry["longitude_deg"],
             "heading_deg": entry["heading_deg"]}
-    r = api.post("/api/transform", json={"from": here, "to": here, "earth_rotation": "exact", "study": LIMITED})
+    request = {"from": here, "to": here | {"longitude_deg": 30.0}, "earth_rotation": "exact", "study": LIMITED}
+    r = api.post("/api/transform", json=request)
     assert r.status_code == 200, r.text
-    boundary = [p for p in r.json()["points"] if p["on_boundary"]]
-    assert len(boundary) == len(direct.points)  # the same study flown from the same place: the same boundary
-    assert max(p["downrange_nmi"] for p in boundary) == pytest.approx(direct.max_downrange_nmi, rel=1e-9)
+    python = contracts.module("transform").run(contracts.parse("transform", request))
+    assert r.json()["points"] == pytest.approx(python["points"], rel=1e-12)
+    assert sum(p["on_boundary"] for p in r.json()["points"]) == len(direct.points)
+
+
+def test_a_limit_no_setting_can_meet_fails_the_job_with_one_line(api):
+    """At 22,000 ft/s and -3 deg no single-parameter setting of the L/D 1.89 vehicle cools to 2,550 degR with any
+    alpha floor: the job fails and says so (it once failed with "max() arg is an empty sequence")."""
+    hot = {"case": CASE | {"heating": {"model": "reference"}}, "method": "temperature_limited", "limit_R": 2_550,
+           "bank0_deg": [0, 60]}
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": hot}).json()["id"])
+    assert job["status"] == "failed"
+    assert job["error"].startswith("NoOptimum: limit_R 2550 degR: no bank setting of bank0_deg can be held to it")
