@@ -18,7 +18,6 @@ Run: python3 scripts/heating_sensitivity.py  (about two minutes on 2 workers)
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
 
@@ -31,6 +30,7 @@ from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import ReferenceHeating, calibrate_reference_radius_ft
 from footprint.core.optimize import creep_pattern_feasible
 from footprint.core.trajectory import pack_parameters, simulate
+from footprint.parallel import client_map, dask_client
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
 from tests.authorities.report import REPORT, table2_entry  # noqa: E402
@@ -60,15 +60,15 @@ def fill_b_vehicle():
     for m in range(len(t["first"]["mach"])):
         cd_m = cd[m, :, 2] if t["first"]["mach"][m] >= 20.0 else cd[m, :, 0]
 
-        def ld_max(ca0, cd_m=cd_m):
+        def ld_max_with(ca0, cd_m=cd_m):
             cl = (cd_m * np.cos(np.radians(alpha)) - ca0) / np.sin(np.radians(alpha))
             return np.max(np.interp(fine, alpha, cl) / np.interp(fine, alpha, cd_m)), cl
 
         target = np.max(np.interp(fine, alpha, cl_a[m]) / np.interp(fine, alpha, cd_m))
         lo, hi = 0.0, 0.3
         for _ in range(60):  # (L/D)max falls as CA0 grows
-            lo, hi = ((lo + hi) / 2, hi) if ld_max((lo + hi) / 2)[0] > target else (lo, (lo + hi) / 2)
-        lift.append(ld_max(lo)[1])
+            lo, hi = ((lo + hi) / 2, hi) if ld_max_with((lo + hi) / 2)[0] > target else (lo, (lo + hi) / 2)
+        lift.append(ld_max_with(lo)[1])
     first = dict(t["first"], values=[[[v] for v in row] for row in np.round(lift, 6).tolist()])
     return {"name": "L/D 1.89, lift fill (b)", "wing_loading_psf": d["wing_loading_psf"],
             "aero": {"tables": {"form": "lift_drag", "first": first, "second": t["second"]}}}
@@ -127,8 +127,8 @@ def main():
                     for alpha0 in (alpha_ld, *ALPHA_STARTS_DEG):
                         jobs.append(((name, abscissa, free.payoff), (hot, free.params, alpha0, times_s)))
             print(rows[-1], flush=True)
-    with ProcessPoolExecutor(max_workers=2) as pool:
-        found = list(pool.map(limited_max_crossrange, [j for _, j in jobs]))
+    with dask_client(workers=2) as client:  # the package's one parallel path (footprint.parallel)
+        found = client_map(client)(limited_max_crossrange, [j for _, j in jobs])
 
     def rank(r):  # a feasible point by its cross-range, an infeasible one by its temperature
         return (r["feasible"], r["crossrange_nmi"] if r["feasible"] else -r["max_temperature_R"])

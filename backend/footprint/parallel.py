@@ -14,23 +14,39 @@ def default_workers() -> int:
         return os.cpu_count() or 1
 
 
-@contextmanager
-def dask_client(client=None, *, workers: int | None = None, scheduler: str | None = None):
-    """The client to submit to: the one given; or one connected to `scheduler` ("tcp://host:port"); or a
-    LocalCluster of `workers` processes (default: the cores), one thread each, closed on exit."""
+def start_client(*, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True):
+    """(client, close): a client of `scheduler` ("tcp://host:port"), or of a new LocalCluster of `workers` processes
+    (default: the cores), one thread each, no dashboard (its HTTP routes on any free port). close() shuts them from
+    any thread (their context managers bind a context variable to the thread that entered them; the service starts
+    and stops in different threads)."""
     from distributed import Client, LocalCluster
 
+    if scheduler is not None:
+        client = Client(scheduler, timeout="10s", set_as_default=set_as_default)
+        return client, client.close
+    # ":0": any free port for the scheduler's HTTP routes (None would still take 8787, or warn when it is taken)
+    cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
+                           dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
+    client = Client(cluster, set_as_default=set_as_default)
+
+    def close():
+        client.close()
+        cluster.close()
+
+    return client, close
+
+
+@contextmanager
+def dask_client(client=None, *, workers: int | None = None, scheduler: str | None = None):
+    """The client to submit to: the one given, else start_client's, closed on exit."""
     if client is not None:
         yield client
         return
-    if scheduler is not None:
-        with Client(scheduler, timeout="10s") as c:
-            yield c
-        return
-    # ":0": any free port for the scheduler's HTTP routes (None would still take 8787, or warn when it is taken)
-    with LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as c:
-        yield c
+    started, close = start_client(workers=workers, scheduler=scheduler)
+    try:
+        yield started
+    finally:
+        close()
 
 
 def client_map(client):

@@ -1,7 +1,7 @@
 """The job engine: each job's tasks on Dask, its progress and results in the database.
 
 One Dask client for the service's life: an in-process LocalCluster (processes, one thread each) or an external
-scheduler, through footprint.contracts.sweep.dask_client (the same code path as `footprint sweep`). A small thread pool
+scheduler, through footprint.parallel.start_client (the same code path as `footprint sweep`). A small thread pool
 in the service process watches the jobs: it submits a job's tasks, records progress as they complete, and
 writes the results with the status `succeeded` in one transaction. A restart submits queued and running jobs
 again; the unique keys on the results make a second write of the same job impossible (so two service processes
@@ -13,7 +13,7 @@ import threading
 import time
 import uuid
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import ExitStack, contextmanager
+from contextlib import ExitStack
 
 from sqlalchemy.orm import Session, sessionmaker
 
@@ -62,17 +62,14 @@ class JobEngine:
             log.info("resubmitted %d pending jobs", len(pending))
 
     def _connect(self):
-        """A client of the configured scheduler, or of a new LocalCluster (processes, one thread each, no
-        dashboard; its HTTP routes on any free port). Not the default client: the service's threads pass it."""
-        from distributed import Client, LocalCluster
+        """A client of the configured scheduler, or of a new LocalCluster (footprint.parallel.start_client, the path
+        `footprint sweep` takes). Not the default client: the service's threads pass it."""
+        from footprint.parallel import start_client
 
         s = self._settings
-        if s.dask_scheduler:
-            return self._stack.enter_context(_closing(Client(s.dask_scheduler, timeout="10s", set_as_default=False)))
-        cluster = self._stack.enter_context(_closing(LocalCluster(
-            n_workers=s.dask_workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-            scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)))
-        return self._stack.enter_context(_closing(Client(cluster, set_as_default=False)))
+        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False)
+        self._stack.callback(close)
+        return client
 
     def _warm(self) -> None:
         t0 = time.perf_counter()
@@ -202,16 +199,6 @@ class JobEngine:
         with self._sessions.begin() as session:
             job = q.get_job(session, job_id=job_id)
             return job is None or job.status != "running"
-
-
-@contextmanager
-def _closing(thing):
-    """Close a client or cluster on exit without its own context manager (which binds a context variable to
-    the thread that entered it; the service starts and stops in different threads)."""
-    try:
-        yield thing
-    finally:
-        thing.close()
 
 
 def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:
