@@ -14,11 +14,10 @@ report's 8-point bank table (2,044.5 nmi).
 import json
 import time
 from pathlib import Path
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import collocation as col
 from footprint.core import optimize as O
-from footprint.contracts.optimization import collocation_problem, parse_optimization
+from footprint.contracts.optimization import collocation_problem
 from footprint.contracts.optimization import run as run_optimization
 from _timing import betts  # noqa: E402
 
@@ -34,7 +33,7 @@ def timed(fn):
 
 
 def betts():
-    study = parse_optimization(json.loads((EXAMPLES / "optimize_betts_collocation.json").read_text()))
+    study = parse("optimize", json.loads((EXAMPLES / "optimize_betts_collocation.json").read_text()))
     problem = collocation_problem(study)
     col.solve(problem)  # once, so that numba's and CasADi's first-call costs are not in the figures
     cold, cold_s = timed(lambda: col.solve(problem))
@@ -69,7 +68,7 @@ def betts():
 
 def lod189():
     case = json.loads((EXAMPLES / "footprint_lod189.json").read_text())["case"]
-    spec = parse_case(case).to_spec()
+    spec = parse("case", case).to_spec()
     optimum, optimum_s = timed(lambda: col.solve(col.Problem(base=spec)))
     search, search_s = timed(lambda: O.optimize(O.cross_range_problem(spec), max_evaluations=1_500,
                                                 **O.CROSS_RANGE_SEARCH))

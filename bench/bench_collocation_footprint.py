@@ -21,12 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import crossrange_at_nmi
 from footprint.pictures.figures import footprints_figure, save
 from footprint.parallel import client_map, dask_client, worker_count
-from footprint.contracts.footprint import parse_study
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"
@@ -43,7 +43,7 @@ def timed(fn):
 
 
 def fly(name, **change):
-    study = parse_study({**json.loads((EXAMPLES / name).read_text()), **change})
+    study = parse("footprint", {**json.loads((EXAMPLES / name).read_text()), **change})
     return study, footprint(study.case.to_spec(), study.method, **study.to_params())
 
 

@@ -13,7 +13,7 @@ import json
 from pathlib import Path
 
 from bench_trajectory import scipy_flight
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core.footprints import single_parameter, with_bank
 from _timing import median_ms  # noqa: E402
 
@@ -29,7 +29,7 @@ def by_scipy(spec):
 
 
 def main():
-    spec = parse_case(CASE).to_spec()
+    spec = parse("case", CASE).to_spec()
     half = single_parameter(spec, bank0_deg=BANK0_DEG, mirror=False)
     whole = single_parameter(spec, bank0_deg=BANK0_DEG, mirror=True)
     ms_half = median_ms(lambda: single_parameter(spec, bank0_deg=BANK0_DEG, mirror=False), 50)

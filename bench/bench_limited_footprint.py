@@ -13,8 +13,7 @@ down-range within 5 % of the optimized ones, at >= 10x less computation.
 
 import json
 from pathlib import Path
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client
 from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
@@ -28,7 +27,7 @@ MAX_EVALUATIONS = 3_000
 
 
 def main():
-    spec = parse_case(CASE).to_spec()
+    spec = parse("case", CASE).to_spec()
     C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process
     simple = C.temperature_limited_footprint(spec, LIMIT_R)
     with dask_client(workers=2) as client:

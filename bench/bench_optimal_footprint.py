@@ -12,7 +12,7 @@ import json
 from pathlib import Path
 
 import numpy as np
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client, worker_count
 from _timing import table2_entry, table2_stop  # noqa: E402
@@ -25,7 +25,7 @@ TARGET_S = 10.0
 
 
 def main():
-    spec = parse_case(CASE).to_spec()
+    spec = parse("case", CASE).to_spec()
     C.solve(spec, max_evaluations=3)  # compile in this process
     kw = {"downranges_nmi": DOWNRANGES_NMI, "controls": "bank", "max_crossrange": False, "max_downrange": False,
           "max_evaluations": MAX_EVALUATIONS}

@@ -12,8 +12,7 @@ constrained point (4,000 nmi) both ways.
 import json
 import statistics
 from pathlib import Path
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import optimize as O
 from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
 
@@ -28,7 +27,7 @@ def median_run(fn, repeat=REPEAT):
 
 
 def main():
-    spec = parse_case(CASE).to_spec()
+    spec = parse("case", CASE).to_spec()
     O.creep_pattern(O.cross_range_problem(spec), max_evaluations=3)  # compile the table law
     out = {}
     for name, dr, opts in (("unconstrained", None, O.CROSS_RANGE_SEARCH),

@@ -28,9 +28,9 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from footprint.api import footprint  # noqa: E402
+from footprint.contracts import parse  # noqa: E402
 from footprint.core.orbits import frames  # noqa: E402
 from footprint.core.reach import margins_reference, reach  # noqa: E402
-from footprint.contracts.reach import parse_reach  # noqa: E402
 from _timing import timings_s  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -39,7 +39,7 @@ BANK0_DEG = list(range(0, 141, 10))
 
 
 def main():
-    req = parse_reach(REQUEST)
+    req = parse("reach", REQUEST)
     study = dict(REQUEST["footprint"]["study"], bank0_deg=BANK0_DEG)
     fp = footprint(study)
     d = np.array([p.downrange_nmi for p in fp.points])

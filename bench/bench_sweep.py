@@ -17,8 +17,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from distributed import Client, LocalCluster
-
-from footprint.contracts.sweep import parse_sweep
+from footprint.contracts import parse
 from footprint.contracts.sweep import run as run_sweep
 
 HERE = Path(__file__).resolve().parent
@@ -56,7 +55,7 @@ def measure(sweep, n_workers):
 
 
 def main():
-    sweep = parse_sweep(json.loads(PRESET.read_text()))
+    sweep = parse("sweep", json.loads(PRESET.read_text()))
     one, r1 = measure(sweep, 1)
     print(json.dumps(one, indent=2), flush=True)
     two, r2 = measure(sweep, 2)

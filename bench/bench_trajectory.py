@@ -23,8 +23,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
 from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, _set_left_pole
 from _timing import median_ms  # noqa: E402
@@ -89,7 +88,7 @@ def first_cli_seconds():
 
 
 def main():
-    spec = parse_case(json.loads(CASE.read_text())).to_spec()
+    spec = parse("case", json.loads(CASE.read_text())).to_spec()
     ours = simulate(spec).summary  # compiles or loads the cache
     plain = interpreted_dynamics()
     t_base, nfev_base = scipy_flight(spec)

@@ -22,7 +22,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.aero import ld_max
 from footprint.core.controls import pack_controls
@@ -77,7 +77,7 @@ def fill_b_vehicle():
 def base_spec(vehicle):
     case = {"vehicle": vehicle, "entry": ENTRY, "alpha": {"law": "max_ld"}, "bank": {"law": "zero"},
             "stop": {"altitude_ft": 50_000}}
-    return parse_case(case).to_spec()
+    return parse("case", case).to_spec()
 
 
 def calibrated(spec, free, skin=0.0):

@@ -12,8 +12,7 @@ import sys
 import time
 from dataclasses import replace
 from pathlib import Path
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.controls import pack_controls
 from footprint.core.heating import REFERENCE_RADIUS_FT
@@ -43,7 +42,7 @@ WORKERS = 2  # Dask worker processes for the optimized points
 
 def main():
     t0 = time.perf_counter()
-    spec = parse_case(TABLE2_CASE).to_spec()
+    spec = parse("case", TABLE2_CASE).to_spec()
     with dask_client(workers=WORKERS) as client:
         map_tasks = client_map(client)
         fig22 = C.max_crossrange_vs_temperature(spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS,

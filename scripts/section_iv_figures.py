@@ -17,12 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from footprint.contracts import parse
 from footprint.core.footprint_methods import footprint
 from footprint.core.rotation import VELOCITY_FRAMES, approximate_points, approximate_vs_exact
 from footprint.core.sphere import Reference, heading_for_inclination, mirror, move
 from footprint.pictures.figures import save
 from footprint.pictures.maps import footprint_layer, panels_figure
-from footprint.contracts.footprint import parse_study
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
 from tests.authorities.report import REPORT, table2_entry, table2_stop  # noqa: E402
@@ -36,7 +36,7 @@ ORIGIN_EAST = Reference(0.0, 0.0, 90.0)
 
 
 def study(vehicle, velocity_fps=24_480, mirror_half=True):
-    return parse_study({"case": {"vehicle": {"builtin": vehicle}, "planet": {"rotating": False},
+    return parse("footprint", {"case": {"vehicle": {"builtin": vehicle}, "planet": {"rotating": False},
                                  "entry": TABLE2_ENTRY | {"velocity_fps": velocity_fps},
                                  "stop": table2_stop()},
                         "method": "single_parameter", "mirror": mirror_half})

@@ -14,8 +14,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constants as c
 from footprint.core import constrained as C
 from footprint.core.aero import builtin_vehicle, ld_max
@@ -40,12 +39,12 @@ OPTIMIZATION_WORKERS = 2  # Dask worker processes for Section III's optimized po
 
 
 def table2_spec(vehicle, **case):
-    return parse_case({"vehicle": {"builtin": vehicle}, "entry": TABLE2_ENTRY, "stop": table2_stop(),
+    return parse("case", {"vehicle": {"builtin": vehicle}, "entry": TABLE2_ENTRY, "stop": table2_stop(),
                        **case}).to_spec()
 
 
 def appendix_c_spec(gamma_deg=rep("appc.gamma_deg")):
-    return parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": rep("appc.medium_wing_loading_psf")},
+    return parse("case", {"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": rep("appc.medium_wing_loading_psf")},
                        "entry": {**APPENDIX_C_ENTRY, "gamma_deg": gamma_deg},
                        "stop": {"altitude_ft": None, "velocity_fps": rep("appc.stop_velocity_fps")}}).to_spec()
 

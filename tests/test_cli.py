@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.footprints import with_bank
 from footprint.core.trajectory import simulate
@@ -145,7 +145,7 @@ def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limi
     assert len(left) > 2  # the grid refined around its max cross-range setting
     assert all(12.5 <= p["parameter"]["alpha_floor_deg"] <= 40.0 for p in out["points"])
     assert out["trajectories"] > 5  # the floor searches are counted, not only the five flights drawn
-    base = parse_case(study["case"]).to_spec()
+    base = parse("case", study["case"]).to_spec()
     for p in out["points"]:  # fly each point again: its own bank law, side and alpha floor
         spec = with_bank(base, "single_parameter", bank_gain=p["parameter"]["bank_gain"], right=p["side"] == "right")
         s = simulate(C.with_alpha_floor(spec, p["parameter"]["alpha_floor_deg"])).summary

@@ -9,8 +9,8 @@ from matplotlib.colors import to_rgb
 import numpy as np
 import pytest
 
+from footprint.contracts import parse
 from footprint.pictures import figures as G
-from footprint.contracts.case import parse_case
 from footprint.core import footprints as F
 from footprint.core.trajectory import Trajectory
 from tests.authorities.report import table2_entry, table2_stop
@@ -64,7 +64,7 @@ def down_cross(points):
 @pytest.fixture(scope="module")
 def table2_footprint():
     """One real single-parameter footprint (Fig. 12's L/D 1.89 vehicle, Table 2 entry), with two contours."""
-    spec = parse_case(TABLE2_CASE).to_spec()
+    spec = parse("case", TABLE2_CASE).to_spec()
     return F.single_parameter(spec, bank0_deg=(0, 30, 60, 90, 120, 150), contours_fps=(6000.0, 10000.0))
 
 

@@ -7,7 +7,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from footprint.contracts.optimization import parse_optimization
+
+from footprint.contracts import parse
 from tests.authorities.report import REPORT
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -126,12 +127,12 @@ def test_a_scipy_method_searches_the_same_tables(tmp_path):
 
 
 def test_constraints_are_scaled_by_their_tolerance_by_default_only_with_a_table_block():
-    assert [c.scale for c in parse_optimization(BETTS).core_constraints()] == [10.0, 0.1]  # ft/s, deg
-    assert [c.scale for c in parse_optimization({**BETTS, "constraint_scaling": "none"}).core_constraints()] == [1, 1]
+    assert [c.scale for c in parse("optimize", BETTS).core_constraints()] == [10.0, 0.1]  # ft/s, deg
+    assert [c.scale for c in parse("optimize", {**BETTS, "constraint_scaling": "none"}).core_constraints()] == [1, 1]
     plain = {k: v for k, v in BETTS.items() if k not in ("bank_table", "alpha_table")}
-    assert [c.scale for c in parse_optimization(plain).core_constraints()] == [1.0, 1.0]  # eq. (4) as before
+    assert [c.scale for c in parse("optimize", plain).core_constraints()] == [1.0, 1.0]  # eq. (4) as before
     given = dict(BETTS["constraints"][0], scale=2.0)
-    assert parse_optimization({**plain, "constraints": [given], "constraint_scaling": "tolerance"}) \
+    assert parse("optimize", {**plain, "constraints": [given], "constraint_scaling": "tolerance"}) \
         .core_constraints()[0].scale == 2.0
 
 

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
+from footprint.contracts import parse
 from footprint.core.orbits import CircularOrbit, position
 from footprint.contracts.case import error_line
-from footprint.contracts.reach import parse_reach
 from footprint.contracts.reach import run as run_reach
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -130,7 +130,7 @@ def test_a_bad_study_names_its_field():
     study = json.loads(EXAMPLE.read_text())["footprint"]["study"]
     study["case"]["entry"]["gamma_deg"] = -95.0
     with pytest.raises(ValidationError) as err:
-        parse_reach(edited("footprint", {"study": study}))
+        parse("reach", edited("footprint", {"study": study}))
     assert error_line(err.value).startswith("footprint.study.case.entry.gamma_deg: -95 is outside")
 
 

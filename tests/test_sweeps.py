@@ -9,11 +9,10 @@ from pathlib import Path
 
 import pytest
 from distributed import Client, LocalCluster, get_task_stream
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import footprint_methods as M
 from footprint.core.footprint_methods import footprint
-from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS, parse_sweep
+from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS
 from footprint.contracts.sweep import run as run_sweep
 from tests.authorities.report import REPORT
 
@@ -37,7 +36,7 @@ def serial_footprint(vehicle, velocity_fps, gamma_deg, method="single_parameter"
             "entry": {"altitude_ft": 300_000, "velocity_fps": velocity_fps, "velocity_frame": "inertial",
                       "gamma_deg": gamma_deg, "heading_deg": 90},
             "stop": {"altitude_ft": None, "velocity_fps": 2_000}}
-    return footprint(parse_case(case).to_spec(), method, **params)
+    return footprint(parse("case", case).to_spec(), method, **params)
 
 
 @pytest.fixture(scope="module")
@@ -251,9 +250,9 @@ def medium_25800(client):
 
 
 def test_the_data_set_1_preset_is_the_report_grid():
-    sweep = parse_sweep(json.loads((ROOT / "examples" / "sweep_dataset1.json").read_text()))
+    sweep = parse("sweep", json.loads((ROOT / "examples" / "sweep_dataset1.json").read_text()))
     assert sweep.size == 3 * 4 * 10 and sweep.min_range == "cl_max" and sweep.velocity_frame == "inertial"
-    sweep = parse_sweep(json.loads((ROOT / "examples" / "sweep_dataset2.json").read_text()))
+    sweep = parse("sweep", json.loads((ROOT / "examples" / "sweep_dataset2.json").read_text()))
     assert sweep.size == 4 * 5 and sweep.method == "constant_altitude" and sweep.contours_fps == CONTOURS_FPS
 
 

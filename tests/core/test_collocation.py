@@ -17,8 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import collocation as col
 from footprint.core.heating import CorrelationHeating
 from footprint.core.optimize import Constraint
@@ -42,7 +41,7 @@ BETTS_HEAT_RATE_LIMIT = 70.0  # Btu/(ft^2 s), Betts sec. 6.1
 
 
 def betts_problem(**changes):
-    spec = parse_case(STUDY["case"]).to_spec()
+    spec = parse("case", STUDY["case"]).to_spec()
     problem = col.Problem(base=spec, objective=(("final_latitude_deg", 1.0),), goal="max",
                           constraints=(Constraint("final_velocity_fps", "equals", 2500.0),
                                        Constraint("final_gamma_deg", "equals", -5.0)),
@@ -149,7 +148,7 @@ def test_lod189_true_maximum_cross_range_beats_the_parameter_search_and_refly_ag
     """The report's L/D 1.89 vehicle, Table 2 entry, rotating oblate earth, ARDC 1959, Appendix B tables:
     the true optimum is at least the creep + pattern result (2,044.5 nmi, bench/results/optimize.json) and
     above the report's 1,964 nmi (Section II.5)."""
-    spec = parse_case(LOD189).to_spec()
+    spec = parse("case", LOD189).to_spec()
     result = col.solve(col.Problem(base=spec))
     assert result.ok, result.message
     assert result.refly["crossrange_nmi"] >= 2044.5

@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from footprint.contracts import parse
 from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import crossrange_at_nmi
-from footprint.contracts.footprint import parse_study
 
 ROOT = Path(__file__).resolve().parents[2]
 BETTS_CASE = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())["case"]
@@ -21,7 +21,7 @@ LOD189 = json.loads((ROOT / "examples" / "footprint_lod189_collocation.json").re
 
 
 def fly(study, on_progress=None):
-    study = parse_study(study)
+    study = parse("footprint", study)
     return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
 
 
@@ -82,9 +82,9 @@ def test_on_a_non_rotating_sphere_the_solved_halves_are_mirror_images(shuttle):
 
 def test_an_optimal_study_names_what_it_lacks():
     with pytest.raises(ValueError, match="case.heating: a temperature limit needs a heating model"):
-        parse_study({"case": BETTS_CASE, "method": "collocation", "limit_R": 2550})
+        parse("footprint", {"case": BETTS_CASE, "method": "collocation", "limit_R": 2550})
     with pytest.raises(ValueError, match="points_per_half"):
-        parse_study({"case": BETTS_CASE, "method": "collocation", "points_per_half": 500})
+        parse("footprint", {"case": BETTS_CASE, "method": "collocation", "points_per_half": 500})
 
 
 @pytest.mark.slow

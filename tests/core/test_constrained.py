@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.constants import G0_FT_S2
 from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating
@@ -23,7 +23,7 @@ def lod189(bank=None):
             "heating": {"model": "reference"}}
     if bank is not None:
         case["bank"] = bank
-    return parse_case(case).to_spec()
+    return parse("case", case).to_spec()
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +42,7 @@ def alpha_only_problem(spec, limit_R):
 
 def test_spec_carries_the_heating_model(single_parameter_spec):
     assert isinstance(single_parameter_spec.heating, ReferenceHeating)
-    spec = parse_case({"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY}).to_spec()
+    spec = parse("case", {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY}).to_spec()
     with pytest.raises(ValueError, match="heating model"):
         C.control_problem(spec, constraints=(C.temperature_limit(LIMIT_R),), controls="bank_alpha")
 

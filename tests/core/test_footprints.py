@@ -4,8 +4,7 @@ import math
 
 import numpy as np
 import pytest
-
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import footprints as F
 from footprint.core.sphere import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
@@ -15,7 +14,7 @@ TABLE2_ENTRY = table2_entry()
 
 
 def spec(vehicle="lod-1.89", entry=None, **case):
-    return parse_case({"vehicle": {"builtin": vehicle}, "entry": entry or TABLE2_ENTRY,
+    return parse("case", {"vehicle": {"builtin": vehicle}, "entry": entry or TABLE2_ENTRY,
                        "stop": table2_stop(), **case}).to_spec()
 
 
@@ -178,7 +177,7 @@ def test_single_parameter_reaches_what_the_staged_and_two_parameter_sets_reach(v
 
 def test_appendix_c_medium_vehicle_loses_most_of_its_cross_range_in_constant_altitude_turns():
     # Appendix C: medium L/D, K sigma (Fig. C-21) against turning at constant altitude (Fig. C-46)
-    s = parse_case({"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": REPORT["appc.medium_wing_loading_psf"].value},
+    s = parse("case", {"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": REPORT["appc.medium_wing_loading_psf"].value},
                     "entry": {"altitude_ft": REPORT["appc.entry_altitude_ft"].value,
                               "velocity_fps": REPORT["appc.velocity_fps"].value, "velocity_frame": "inertial",
                               "gamma_deg": REPORT["appc.gamma_deg"].value},

@@ -7,8 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from footprint.contracts import parse
 from footprint.api import fly
-from footprint.contracts.case import parse_case
 from footprint.core.atmosphere import FT_PER_M, KG_PER_SLUG, atmosphere_table
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import (
@@ -113,7 +113,7 @@ def test_calibration_max_crossrange_peaks_at_2670R(max_crossrange):
 
 
 def test_calibration_recomputes_the_reference_radius(max_crossrange):
-    spec = parse_case(lod189()).to_spec()
+    spec = parse("case", lod189()).to_spec()
     p = pack_parameters(spec)
     h = max_crossrange.history
     radius_ft = calibrate_reference_radius_ft(h["altitude_ft"], h["velocity_fps"], h["alpha_deg"],
@@ -123,7 +123,7 @@ def test_calibration_recomputes_the_reference_radius(max_crossrange):
 
 def test_peak_does_not_depend_on_the_output_step(max_crossrange):
     """The peak is read from the integrator's rows: a 10x finer output must not move it."""
-    spec = replace(parse_case(lod189(heating={"model": "reference"})).to_spec(), max_step_s=5.0)
+    spec = replace(parse("case", lod189(heating={"model": "reference"})).to_spec(), max_step_s=5.0)
     fine = simulate(spec).summary["max_temperature_R"]
     assert fine == pytest.approx(max_crossrange.summary["max_temperature_R"], abs=1.0)  # degR
 
@@ -194,7 +194,7 @@ def test_correlation_by_hand():
     rho, v, a = 2e-6, 20_000.0, 30.0
     c = BETTS_SHUTTLE["alpha_polynomial_deg"]
     by_hand = 17_700 * np.sqrt(rho) * (1e-4 * v) ** 3.07 * (c[0] + c[1] * a + c[2] * a**2 + c[3] * a**3)
-    model = parse_case(lod189(heating=dict(BETTS_SHUTTLE, emissivity=0.85))).to_spec().heating
+    model = parse("case", lod189(heating=dict(BETTS_SHUTTLE, emissivity=0.85))).to_spec().heating
     assert isinstance(model, CorrelationHeating)
     q, t = model.evaluate(rho, v, a)
     assert q == pytest.approx(by_hand, rel=1e-12)
@@ -218,7 +218,7 @@ def test_no_model_no_heating():
 
 
 def test_reference_defaults_are_the_calibrated_ones():
-    model = parse_case(lod189(heating={"model": "reference"})).to_spec().heating
+    model = parse("case", lod189(heating={"model": "reference"})).to_spec().heating
     assert model == ReferenceHeating(reference_radius_ft=REFERENCE_RADIUS_FT, emissivity=0.8)
 
 

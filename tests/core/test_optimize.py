@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from footprint.contracts.case import parse_case
+from footprint.contracts import parse
 from footprint.core import footprints as F
 from footprint.core import optimize as O
 from tests.authorities.report import REPORT, table2_entry, table2_stop
@@ -13,7 +13,7 @@ REPORT_MAX_CROSSRANGE_NMI = REPORT["sec3.max_crossrange_nmi"].value  # the L/D 1
 
 @pytest.fixture(scope="module")
 def lod189():
-    return parse_case({"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY,
+    return parse("case", {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY,
                        "stop": table2_stop()}).to_spec()
 
 

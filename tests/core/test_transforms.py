@@ -14,6 +14,7 @@ from geographiclib.geodesic import Geodesic
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from footprint.contracts import parse
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
@@ -395,9 +396,8 @@ ROTATION_STUDY = table2_entry()
 
 
 def l189_spec():
-    from footprint.contracts.case import parse_case
 
-    return parse_case({"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": False},
+    return parse("case", {"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": False},
                        "entry": ROTATION_STUDY, "stop": table2_stop()}).to_spec()
 
 

@@ -68,7 +68,7 @@ def door_limit(info: ValidationInfo, python: int, http: int) -> tuple[int, str]:
     return python, ""
 
 
-def parse(adapter: TypeAdapter, data, model: type, ctx: dict | None = None):
+def validated(adapter: TypeAdapter, data, model: type, ctx: dict | None = None):
     """One request of a kind: a model passes through; a dict is validated (pydantic's ValidationError names the
     field, an InputError from the core too)."""
     return data if isinstance(data, model) else adapter.validate_python(data, context=ctx or context())
@@ -542,10 +542,8 @@ ADAPTER = TypeAdapter(REQUEST)
 
 
 def parse_request(data, ctx: dict | None = None) -> Case:
-    return parse(ADAPTER, data, Case, ctx)
+    return validated(ADAPTER, data, Case, ctx)
 
-
-parse_case = parse_request
 
 
 def run(case: Case):

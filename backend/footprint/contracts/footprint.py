@@ -8,7 +8,7 @@ from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Case, Strict, bounded, door_limit, parse
+from footprint.contracts.case import Case, Strict, bounded, door_limit, validated
 
 BankDeg = bounded(-180, 180, "deg")
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
@@ -168,10 +168,8 @@ ADAPTER = TypeAdapter(REQUEST)
 
 
 def parse_request(data, ctx: dict | None = None) -> _Study:
-    return parse(ADAPTER, data, _Study, ctx)
+    return validated(ADAPTER, data, _Study, ctx)
 
-
-parse_study = parse_request
 
 
 def run(study: _Study, on_progress=None):

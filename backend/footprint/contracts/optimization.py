@@ -27,6 +27,7 @@ from typing import Annotated, ClassVar, Literal
 import numpy as np
 from pydantic import BeforeValidator, Field, TypeAdapter, model_validator
 
+from footprint.contracts import parse
 from footprint.contracts.case import (
     Bank,
     Case,
@@ -37,7 +38,7 @@ from footprint.contracts.case import (
     VelocityNode,
     bounded,
     check_increasing,
-    parse,
+    validated,
     table_abscissa,
 )
 from footprint.core import collocation as col
@@ -310,10 +311,8 @@ ADAPTER = TypeAdapter(REQUEST)
 
 
 def parse_request(data, ctx: dict | None = None) -> OptimizationStudy:
-    return parse(ADAPTER, data, OptimizationStudy, ctx)
+    return validated(ADAPTER, data, OptimizationStudy, ctx)
 
-
-parse_optimization = parse_request
 
 
 def _bank_alpha(study: OptimizationStudy) -> bool:
@@ -359,7 +358,7 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
 def fly_optimum(study, result: opt.Result | col.Result):
     """The optimum flown by the integrator: the collocation's control tables (its re-flight), or the parameter
     search's best parameters through the study's control laws."""
-    study = parse_optimization(study)
+    study = parse("optimize", study)
     if study.method == "collocation":
         return col.refly(collocation_problem(study), result)
     problem = problem_of(study)
@@ -368,7 +367,7 @@ def fly_optimum(study, result: opt.Result | col.Result):
 
 def run(study, on_progress=None) -> opt.Result | col.Result:
     """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations."""
-    study = parse_optimization(study)
+    study = parse("optimize", study)
     if study.method == "collocation":
         return col.solve(collocation_problem(study), on_progress=on_progress)
     problem = problem_of(study)

@@ -23,7 +23,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, TypeAdapter, model_validator
 
-from footprint.contracts.case import Strict, bounded, parse
+from footprint.contracts import parse
+from footprint.contracts.case import Strict, bounded, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import run as fly_study
 from footprint.core import constants as c
@@ -159,10 +160,8 @@ ADAPTER = TypeAdapter(REQUEST)
 
 def parse_request(data, ctx: dict | None = None) -> ReachRequest:
     """Validate a request; a footprint study inside it is validated too (errors name footprint.study...)."""
-    return parse(ADAPTER, data, ReachRequest, ctx)
+    return validated(ADAPTER, data, ReachRequest, ctx)
 
-
-parse_reach = parse_request
 
 
 def footprint_polygon(req: ReachRequest):
@@ -188,7 +187,7 @@ def footprint_polygon(req: ReachRequest):
 
 def run(request: dict | ReachRequest) -> dict:
     """The reach analysis: windows and a per-site summary, as a JSON-ready dict."""
-    req = parse_reach(request)
+    req = parse("reach", request)
     orbit = req.orbit.to_orbit()
     revs, span_end_s = req.revolutions.span(orbit)
     down, cross, flight_time, info = footprint_polygon(req)

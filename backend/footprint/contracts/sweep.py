@@ -35,9 +35,10 @@ from typing import Annotated, Any, Callable, Literal, Union
 from pydantic import (BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model,
                       model_validator)
 
+from footprint.contracts import parse
 from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, bounded, door_limit, error_line,
-                                     model_fields, parse)
-from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, parse_study
+                                     model_fields, validated)
+from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy
 from footprint.contracts.footprint import run as fly_study
 from footprint.parallel import dask_client, worker_count
 
@@ -89,7 +90,7 @@ class _Sweep(Strict):
             raise ValueError(f"vehicles: the sweep has {self.size} footprints (vehicles x entry_velocity_fps x "
                              f"entry_gamma_deg); allowed{where}: 1 to {limit}")
         try:  # every footprint flies the same settings: the first one's points bound them all
-            parse_study(self.jobs()[0]["study"], info.context)
+            parse("footprint", self.jobs()[0]["study"], info.context)
         except ValidationError as exc:
             raise ValueError(error_line(exc)) from None
         for v in self.entry_velocity_fps:  # every combination must be a valid case (the vehicle is irrelevant)
@@ -144,10 +145,8 @@ ADAPTER = TypeAdapter(REQUEST)
 def parse_request(data, ctx: dict | None = None) -> _Sweep:
     """Validate a sweep (dict or model); its vehicles are built as they are parsed (an inline definition is checked
     by the core here, not in 40 tasks later). Raises pydantic's ValidationError (`error_line` makes it one line)."""
-    return parse(ADAPTER, data, _Sweep, ctx)
+    return validated(ADAPTER, data, _Sweep, ctx)
 
-
-parse_sweep = parse_request
 
 
 # ------------------------------------------------------------------------------------------ worker
@@ -179,7 +178,7 @@ def fly_footprint(job: dict, study=None) -> FootprintRun:
                        method=job["study"]["method"], worker=f"pid {os.getpid()}")
     t0 = time.perf_counter()
     try:
-        run.footprint = fly_study(study or parse_study(job["study"]))
+        run.footprint = fly_study(study or parse("footprint", job["study"]))
         first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
         run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
         run.trajectories = run.footprint.trajectories
@@ -195,7 +194,7 @@ def warm_numba(sweep: _Sweep) -> float:
     from footprint.core.trajectory import simulate
 
     t0 = time.perf_counter()
-    simulate(parse_study(sweep.jobs()[0]["study"]).case.to_spec())
+    simulate(parse("footprint", sweep.jobs()[0]["study"]).case.to_spec())
     return time.perf_counter() - t0
 
 
@@ -209,7 +208,7 @@ def run(sweep, client=None, progress: Callable[[int, int], None] | None = None, 
     """
     from distributed import as_completed
 
-    sweep = parse_sweep(sweep)
+    sweep = parse("sweep", sweep)
     jobs = sweep.jobs()
     warm_s = warm_numba(sweep)
     runs: dict[tuple, FootprintRun] = {}

@@ -38,7 +38,8 @@ from typing import Literal
 import numpy as np
 from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Strict, bounded, door_limit, parse
+from footprint.contracts import parse
+from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
@@ -162,16 +163,14 @@ ADAPTER = TypeAdapter(REQUEST)
 
 
 def parse_request(data, ctx: dict | None = None) -> TransformRequest:
-    return parse(ADAPTER, data, TransformRequest, ctx)
+    return validated(ADAPTER, data, TransformRequest, ctx)
 
-
-parse_transform = parse_request
 
 
 def run(request) -> dict:
     """Carry out a transform request (a dict or a TransformRequest); raises pydantic's ValidationError or
     InputError for a user's mistake."""
-    req = parse_transform(request)
+    req = parse("transform", request)
     src, dst0 = req.from_.reference("from"), req.to.reference("to")
     from footprint.core.rotation import stepped_reference
 

@@ -8,6 +8,7 @@ from typing import Literal
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
+from footprint.contracts import parse
 from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
@@ -149,10 +150,9 @@ def _exact_track(study: dict, reference: dict) -> list[dict]:
     from footprint.core.rotation import at_geometry
     from footprint.core.sphere import Reference
     from footprint.service.jobs.tasks import ground_track
-    from footprint.contracts.footprint import parse_study
 
     dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
-    track = ground_track(at_geometry(parse_study(study).case.to_spec(), dst, rotating=True))
+    track = ground_track(at_geometry(parse("footprint", study).case.to_spec(), dst, rotating=True))
     return [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
             for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])]
 
