@@ -162,7 +162,7 @@ def test_overlay_has_one_curve_per_footprint_legend_from_keys_and_distinct_style
 
 def test_two_parameter_sets_each_a_curve_and_the_outer_boundary_heaviest():
     fp = hand_footprint()
-    fp.sets = {"k=0.5": fp.points[:2], "k=1": [fp.points[0], fp.points[2]]}
+    fp.sets = {"bank_gain=0.5": fp.points[:2], "bank_gain=1": [fp.points[0], fp.points[2]]}
     fp.outer_boundary = [(900.0, 0.0), (900.0, 600.0), (2500.0, 900.0), (3000.0, 0.0)]
     ax = G.two_parameter_figure(fp).axes[0]
     sets, (outer,) = lines(ax, "set"), lines(ax, "outer_boundary")

@@ -37,7 +37,7 @@ export function buildFootprintStudy() {
     study.bank_deg = parseList($("p-bank").value);
     if (method === "staged") study.turn_deg = number("p-turn");
   } else if (method === "two_parameter") {
-    study.k = parseList($("p-k").value);
+    study.bank_gain = parseList($("p-k").value);
     study.sigma_f_deg = parseList($("p-sigma-f").value);
     if (number("p-limit") != null) study.limit_deg = number("p-limit");
   } else if (method === "constant_altitude") {

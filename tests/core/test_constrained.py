@@ -12,7 +12,7 @@ from footprint.parallel import client_map, dask_client
 from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 TABLE2_ENTRY = table2_entry()
-SINGLE_PARAMETER_BANK = {"law": "single_parameter", "k": 75 / 90}  # the best single-parameter point, 2,024 nmi
+SINGLE_PARAMETER_BANK = {"law": "single_parameter", "bank_gain": 75 / 90}  # the best single-parameter point, 2,024 nmi
 OPTIMAL_BANK = {"law": "table", "heading_deg": list(range(-15, 91, 15)), "bank_deg": list(CALIBRATION_BANK_DEG)}
 LIMIT_R = REPORT["sec3.limit_R"].value  # the most stringent limit
 BAND_R = 0.5 * C.TTOL_TEMPERATURE_R  # degR, half the tolerance band of the temperature constraint

@@ -38,17 +38,17 @@ def test_staged_bank_holds_until_the_heading_has_turned_then_rolls_out():
 
 
 def test_two_parameter_bank_is_linear_in_heading_and_limited():
-    s, h = fly({"law": "two_parameter", "k": 1.0, "sigma_f_deg": 30, "limit_deg": 75})
+    s, h = fly({"law": "two_parameter", "bank_gain": 1.0, "sigma_f_deg": 30, "limit_deg": 75})
     m = after_pullout(s, h)
     expected = np.clip(1.0 * (signed_heading(h)[m] - 30.0), -75.0, 75.0)  # Fig. 5-6: K (sigma - sigma_f)
     np.testing.assert_allclose(h["bank_deg"][m], expected, atol=1e-9)
-    s2, h2 = fly({"law": "two_parameter", "k": 1.0, "sigma_f_deg": 0, "limit_deg": 75})
+    s2, h2 = fly({"law": "two_parameter", "bank_gain": 1.0, "sigma_f_deg": 0, "limit_deg": 75})
     assert h2["bank_deg"].max() == 75.0  # K sigma_0 = 90 deg is cut at the 75 deg limit
     assert s["final_heading_deg"] == pytest.approx(30.0, abs=3.0)  # the law steers onto sigma_f
 
 
 def test_single_parameter_without_limit_banks_past_85_degrees():
-    s, h = fly({"law": "single_parameter", "k": 1.5})
+    s, h = fly({"law": "single_parameter", "bank_gain": 1.5})
     m = after_pullout(s, h)
     np.testing.assert_allclose(h["bank_deg"][m], 1.5 * signed_heading(h)[m], atol=1e-9)  # Fig. 8: K sigma
     assert h["bank_deg"][m].max() > 100.0
@@ -137,7 +137,7 @@ def test_constant_altitude_turn_ends_when_the_wings_come_level():
     assert 2.0 < 90.0 - h["heading_deg"][end] < 60.0
     assert h["bank_deg"][end - 1] < 5.0  # the bank had come down to level
     assert np.all(h["bank_deg"][end:] == 0.0)
-    assert s["crossrange_nmi"] < fly({"law": "single_parameter", "k": 0.8, "limit_deg": 85})[0]["crossrange_nmi"]
+    assert s["crossrange_nmi"] < fly({"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85})[0]["crossrange_nmi"]
 
 
 def test_inertial_entry_velocity_is_converted():

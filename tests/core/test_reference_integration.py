@@ -251,8 +251,8 @@ INCLINED_ENTRY = table2_entry(heading_deg=50.0, latitude_deg=28.5, longitude_deg
 CONSTANT_VEHICLE = {"name": "c", "wing_loading_psf": 40.0, "aero": {"constant": {"cl": 0.35, "cd": 0.16}}}
 BANKS = {
     "bank30": ({"law": "constant", "bank_deg": 30.0}, ("constant", 30.0)),
-    "K0.8": ({"law": "single_parameter", "k": 0.8, "limit_deg": 85.0}, ("single_parameter", 0.8, 85.0)),
-    "K0.6": ({"law": "single_parameter", "k": 0.6}, ("single_parameter", 0.6, None)),
+    "K0.8": ({"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85.0}, ("single_parameter", 0.8, 85.0)),
+    "K0.6": ({"law": "single_parameter", "bank_gain": 0.6}, ("single_parameter", 0.6, None)),
 }
 PLANETS = {"sphere-fixed": (False, False), "sphere-rot": (False, True), "oblate-fixed": (True, False),
            "oblate-rot": (True, True)}

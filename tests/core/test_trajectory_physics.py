@@ -67,13 +67,13 @@ def test_energy_is_conserved_without_air(rotating):
 
 
 @pytest.mark.parametrize("bank", [{"law": "constant", "bank_deg": 35},
-                                  {"law": "single_parameter", "k": 0.9, "limit_deg": 85}])
+                                  {"law": "single_parameter", "bank_gain": 0.9, "limit_deg": 85}])
 def test_mirror_bank_gives_mirror_crossrange(bank):
     # non-rotating earth without the odd zonal term H (J3), the only north-south asymmetry of App. A
     planet = {"rotating": False, "oblate": True, "h": 0.0}
     left = footprint.fly(case(bank=bank, planet=planet)).summary
     mirrored = dict(bank)
-    mirrored["bank_deg" if "bank_deg" in bank else "k"] *= -1
+    mirrored["bank_deg" if "bank_deg" in bank else "bank_gain"] *= -1
     right = footprint.fly(case(bank=mirrored, planet=planet)).summary
     assert left["crossrange_nmi"] > 300.0  # the bank really turned the vehicle, to the left (north)
     # mirror images to the integration accuracy (rtol 1e-9 moves the end point ~1e-3 nmi): round-off
@@ -99,7 +99,7 @@ def test_report_j3_term_moves_an_equatorial_flight_by_a_few_hundred_feet_only():
 
 
 def test_halving_the_tolerance_twice_moves_downrange_less_than_a_tenth_of_a_mile():
-    bank = {"law": "single_parameter", "k": 0.8, "limit_deg": 85}
+    bank = {"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85}
     base = footprint.fly(case(bank=bank)).summary
     fine = footprint.fly(case(bank=bank, integrator={"rtol": 0.25e-9})).summary
     assert abs(fine["downrange_nmi"] - base["downrange_nmi"]) < 0.1
@@ -108,7 +108,7 @@ def test_halving_the_tolerance_twice_moves_downrange_less_than_a_tenth_of_a_mile
 
 
 def test_stop_events_are_located_to_a_foot_and_pullout_to_zero_gamma():
-    traj = footprint.fly(case(bank={"law": "single_parameter", "k": 0.8, "limit_deg": 85}))
+    traj = footprint.fly(case(bank={"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85}))
     s, h = traj.summary, traj.history
     assert s["stop_reason"] == "altitude"
     assert abs(s["final_altitude_ft"] - 50_000.0) < 1.0

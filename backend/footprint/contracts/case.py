@@ -234,16 +234,20 @@ class BankStaged(Strict):
 
 
 class BankTwoParameter(Strict):
+    """Section II.6, Figs. 5-7: phi_B = K (zeta - sigma_f), K the bank gain (deg of bank per deg of heading)."""
+
     law: Literal["two_parameter"]
-    k: bounded(-10, 10)
+    bank_gain: bounded(-10, 10)
     sigma_f_deg: bounded(-180, 180, "deg") = 0.0
     limit_deg: bounded(0, 180, "deg") | None = 75.0
     variable: Literal["zeta", "heading"] = "zeta"
 
 
 class BankSingleParameter(Strict):
+    """Section II.6 a-d: phi_B = K zeta, K the bank gain (negative: the right-hand law)."""
+
     law: Literal["single_parameter"]
-    k: bounded(-10, 10)
+    bank_gain: bounded(-10, 10)
     limit_deg: bounded(0, 180, "deg") | None = None
     variable: Literal["zeta", "heading"] = "zeta"
 
@@ -462,7 +466,7 @@ class Case(Strict):
         if isinstance(b, BankStaged):
             kw["turn_deg"] = b.turn_deg
         if isinstance(b, (BankTwoParameter, BankSingleParameter)):
-            kw.update(bank_gain=abs(b.k), mirror=b.k < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
+            kw.update(bank_gain=abs(b.bank_gain), mirror=b.bank_gain < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
         if isinstance(b, BankTwoParameter):
             kw["sigma_f_deg"] = b.sigma_f_deg
         if isinstance(b, BankTable):

@@ -78,18 +78,13 @@ class TwoParameterStudy(_Study):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited; one set per K."""
 
     method: Literal["two_parameter"]
-    k: list[bounded(0, 10)] = Field(default=[0.5, 0.67, 1.0], min_length=1, max_length=20)
+    bank_gain: list[bounded(0, 10)] = Field(default=[0.5, 0.67, 1.0], min_length=1, max_length=20)  # K, deg/deg
     sigma_f_deg: list[bounded(-180, 180, "deg")] = Field(default=[float(s) for s in range(90, -46, -15)],
                                                          min_length=1, max_length=181)
     limit_deg: bounded(0, 180, "deg") = 75.0
 
     def settings(self) -> tuple[str, int]:
-        return "sigma_f_deg", len(self.k) * len(self.sigma_f_deg)
-
-    def to_params(self):
-        params = super().to_params()
-        params["bank_gain"] = params.pop("k")  # the core's name for K
-        return params
+        return "sigma_f_deg", len(self.bank_gain) * len(self.sigma_f_deg)
 
 
 class ConstantAltitudeStudy(_Study):

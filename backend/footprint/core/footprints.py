@@ -135,7 +135,7 @@ def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, 
                    sf >= SIGMA0_DEG)
                   for sf in sigma_f_deg]
         f = _fly(spec, family, mirror, contours_fps)
-        sets[f"k={gain:g}"] = f.axis + f.left
+        sets[f"bank_gain={gain:g}"] = f.axis + f.left
         flights.append(f)
     pairs = [(l, r) for f in flights for l, r in zip(f.left, f.right or [None] * len(f.left))]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])

@@ -68,7 +68,7 @@ def two_parameter_figure(fp: Footprint, title=None) -> Figure:
     """Fig. 7: one curve per K set (sigma_f varied along it), the faired outer boundary heavier."""
     fig, ax = _axes(None)
     for (name, pts), (ls, marker) in zip(fp.sets.items(), cycle(LINE_STYLES[1:])):
-        ax.plot(*_xy(pts), ls=ls, marker=marker, ms=4, lw=1.0, label=name.replace("k=", "K = "), gid="set")
+        ax.plot(*_xy(pts), ls=ls, marker=marker, ms=4, lw=1.0, label=name.replace("bank_gain=", "K = "), gid="set")
     if fp.outer_boundary:
         d, c = zip(*fp.outer_boundary)
         ax.plot(d, c, "k-", lw=2.4, label="outer boundary", gid="outer_boundary", zorder=3)
