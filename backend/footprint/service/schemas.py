@@ -167,7 +167,7 @@ class PointRead(BaseModel):
 class TrackPoint(BaseModel):
     latitude_deg: float
     longitude_deg: float
-    time_s: float
+    time_s: float | None  # a moved track without flight times has none
 
 
 class OutlineRead(BaseModel):
@@ -183,6 +183,67 @@ class FootprintRead(FootprintSummary):
     interior: list[PointRead]
     ground_track: list[TrackPoint]
     outline: OutlineRead
+
+
+class TrajectoryRead(BaseModel):
+    summary: dict[str, Any]  # footprint.core.trajectory's summary: downrange_nmi, crossrange_nmi, flight_time_s, ...
+    history: dict[str, list[float | None]]  # time_s, altitude_ft, ... (at most 2,000 rows)
+
+
+class MovedPoint(BaseModel):
+    latitude_deg: float
+    longitude_deg: float
+    flight_time_s: float | None = None
+    downrange_nmi: float
+    crossrange_nmi: float
+    mirrored: bool
+    side: str | None = None  # "exact": the flown point's side and control, and whether it bounds the footprint
+    parameter: dict[str, Any] | None = None
+    on_boundary: bool | None = None
+
+
+class PlaceRead(BaseModel):
+    """The destination's initial point and heading after the step: the origin of the moved ranges."""
+    latitude_deg: float
+    longitude_deg: float
+    heading_deg: float
+    inclination_deg: float
+
+
+class TransformRead(BaseModel):
+    points: list[MovedPoint]
+    reference: PlaceRead
+    earth_rotation: Literal["none", "approximate", "exact"]
+    points_in: int
+
+
+class FootprintTransformRead(TransformRead):
+    outline: OutlineRead
+    geojson: dict[str, Any]  # the moved footprint as the stored one's GeoJSON FeatureCollection
+    ground_track: list[TrackPoint] = []
+    approximate_error_nmi: dict[str, float | int | None] | None = None  # "exact": max, mean, points
+
+
+class SiteVerdict(BaseModel):
+    name: str
+    latitude_deg: float
+    longitude_deg: float
+    reachable: bool
+    passes: int  # windows joined across the node
+    windows: int
+    revolutions: list[int]
+    coverage_u_deg: float
+    best_margin_nmi: float | None  # negative: how far short the nearest placement falls
+    first_deorbit_time_s: float | None
+
+
+class ReachRead(BaseModel):
+    orbit: dict[str, Any]
+    footprint: dict[str, Any]
+    analysis: dict[str, Any]
+    sites: list[SiteVerdict]
+    windows: list[dict[str, Any]]  # site, revolution, u_start_deg, u_end_deg, ..., deorbit_points
+    notes: list[str]
 
 
 class Health(BaseModel):

@@ -16,7 +16,7 @@ from footprint.core.errors import InputError
 from footprint.service.errors import NotFound, Unavailable
 from footprint.service.routers.geometry import transform
 from footprint.service.schemas import (FootprintList, FootprintRead, FootprintRename, FootprintSummary,
-                                       FootprintTransform)
+                                       FootprintTransform, FootprintTransformRead)
 
 router = APIRouter(tags=["footprints"])
 CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
@@ -113,7 +113,8 @@ def delete_footprint(footprint_id: str, request: Request) -> Response:
     return Response(status_code=204)
 
 
-@router.post("/footprints/{footprint_id}/transform")
+@router.post("/footprints/{footprint_id}/transform", response_model=FootprintTransformRead,
+             response_model_exclude_unset=True)
 def transform_footprint(footprint_id: str, request: Request, body: FootprintTransform) -> dict:
     """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV); the
     moved boundary's outline and GeoJSON geometry; with "exact", the track flown again and how far the report's

@@ -9,6 +9,7 @@ from footprint import contracts
 from footprint.core.errors import InputError
 from footprint.service import deps
 from footprint.service.errors import invalid
+from footprint.service.schemas import TransformRead
 
 router = APIRouter(tags=["geometry"])
 
@@ -22,7 +23,7 @@ def transform(request: Request, body: dict) -> dict:
         raise invalid(exc) from None
 
 
-@router.post("/transform")
+@router.post("/transform", response_model=TransformRead, response_model_exclude_unset=True)
 def transform_points(request: Request, body: dict[str, Any] = Body(...)) -> dict:
     """Move points to another node, inclination or deorbit point; mirror; earth rotation."""
     return transform(request, body)

@@ -15,7 +15,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.errors import NotFound, RequestInvalid
 from footprint.service.jobs.tasks import plain
-from footprint.service.schemas import SiteRead, SitesCreated
+from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 
 router = APIRouter(tags=["sites"])
 CSV_COLUMNS = ("name", "latitude_deg", "longitude_deg")
@@ -109,7 +109,7 @@ def delete_site(site_id: int, request: Request) -> Response:
     return Response(status_code=204)
 
 
-@router.post("/reach")
+@router.post("/reach", response_model=ReachRead)
 def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.contracts.reach request"),
           store_verdicts: bool = Query(False, description="keep each stored site's verdict with it (stored sites "
                                                           "only: the request gives no sites)")) -> dict:

@@ -7,12 +7,13 @@ from fastapi import APIRouter, Body, Request
 from footprint import contracts
 from footprint.service import deps
 from footprint.service.jobs.tasks import decimated, plain
+from footprint.service.schemas import TrajectoryRead
 
 router = APIRouter(tags=["trajectories"])
 MAX_HISTORY_ROWS = 2_000
 
 
-@router.post("/trajectories")
+@router.post("/trajectories", response_model=TrajectoryRead)
 def fly(request: Request, case: dict[str, Any] = Body(...)) -> dict:
     """Fly one case: its summary and its time histories (at most 2,000 rows)."""
     traj = contracts.module("case").run(deps.parse_body(request, "case", case))
