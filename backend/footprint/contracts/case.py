@@ -10,8 +10,8 @@ import re
 from dataclasses import replace
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, ValidationError,
-                      ValidationInfo, model_validator)
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, TypeAdapter,
+                      ValidationError, ValidationInfo, model_validator)
 
 from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
@@ -447,7 +447,15 @@ class Case(Strict):
             raise ValueError("bank law 'constant_altitude' flies alpha at (L/D)max: alpha.law must be 'max_ld'")
         return self
 
+    _spec: FlightSpec | None = PrivateAttr(default=None)
+
     def to_spec(self) -> FlightSpec:
+        """The core's flight spec, built once per parsed case (the footprint and its ground track share it)."""
+        if self._spec is None:
+            self._spec = self._build_spec()
+        return self._spec
+
+    def _build_spec(self) -> FlightSpec:
         return FlightSpec(vehicle=self.vehicle.to_vehicle(), planet=self.planet.to_planet(),
                           entry=self.entry.to_entry(), ctrl=self.controls(), stop=self._stop(),
                           rtol=self.integrator.rtol, max_step_s=self.integrator.max_step_s,
