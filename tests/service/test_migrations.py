@@ -52,3 +52,29 @@ def test_revisions_are_named_by_date_and_form_one_chain():
     assert len(script.get_heads()) == 1 and len(revisions) == len(files)
     assert [r.revision[:10] for r in reversed(revisions)] == [f[:10] for f in files]
     assert revisions[-1].down_revision is None
+
+
+def test_the_bank_gain_migration_renames_k_in_stored_studies_and_points_only(engine):
+    """Issue 14 renamed the bank gain K from `k` to `bank_gain`: a job stored before it (a pending one is submitted
+    again on restart) and a stored footprint's points keep working; the planet's zonal k is not touched."""
+    import json
+
+    from sqlalchemy import text
+
+    cfg = alembic_config(MIGRATIONS_DIR)
+    with engine.begin() as connection:
+        cfg.attributes["connection"] = connection
+        command.upgrade(cfg, "2026_12_02_0002")
+    case = {"vehicle": {"builtin": "lod-2.2"}, "planet": {"k": 0.001},
+            "bank": {"law": "single_parameter", "k": 0.8, "limit_deg": 85}}
+    study = {"case": case, "method": "two_parameter", "k": [0.5, 1.0]}
+    with engine.begin() as c:
+        c.execute(text("INSERT INTO jobs (id, kind, status, progress, study, attempts, created_at) VALUES "
+                       "('j', 'footprint', 'queued', 0, :s, 0, CURRENT_TIMESTAMP)"), {"s": json.dumps(study)})
+    migrate(engine, MIGRATIONS_DIR)
+    with engine.connect() as c:
+        stored = c.execute(text("SELECT study FROM jobs WHERE id = 'j'")).scalar_one()
+    stored = json.loads(stored) if isinstance(stored, str) else stored
+    assert stored["bank_gain"] == [0.5, 1.0] and "k" not in stored
+    assert stored["case"]["bank"] == {"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85}
+    assert stored["case"]["planet"] == {"k": 0.001}
