@@ -230,3 +230,37 @@ def test_reach_and_optimize_print_a_summary_on_a_terminal_and_json_when_piped():
     code, text = run_on_terminal("optimize", EXAMPLES / "optimize_betts_collocation.json")
     assert code == 0 and text.startswith("optimal: cross-range ") and "IPOPT iterations" in text
     assert "re-flown by the integrator within 0.00" in text
+
+
+def _unreadable_files(tmp_path):
+    nested = tmp_path / "nested.json"
+    nested.write_text('{"case": ' + "[" * 100_000 + "]" * 100_000 + "}")
+    latin = tmp_path / "latin.json"
+    latin.write_bytes('{"vehicle": {"builtin": "lod-2.2", "name": "caf\xe9"}}'.encode("latin-1"))
+    return {"nested": (nested, "nested deeper than"), "latin": (latin, "not UTF-8")}
+
+
+@pytest.mark.parametrize("which", ["nested", "latin"])
+@pytest.mark.parametrize("command", ["fly", "footprint", "optimize", "sweep", "transform", "reach", "map"])
+def test_a_file_json_cannot_read_is_one_line_and_exit_2(tmp_path, which, command):
+    """Issue 15 item 10: a deeply nested file (RecursionError) and a file that is not UTF-8 printed tracebacks."""
+    path, words = _unreadable_files(tmp_path)[which]
+    r = run(command, path)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1 and words in lines[0], r.stderr
+    assert "Traceback" not in r.stderr
+
+
+def test_a_temperature_limit_no_setting_can_meet_is_one_line_and_exit_2(tmp_path):
+    """Issue 15 item 10: a temperature-limited study whose limit cannot be met (22,000 ft/s at -3 deg, 2,550 degR)
+    is the user's limit, named with its value: one line, exit 2."""
+    study = {"case": {"vehicle": {"builtin": "lod-1.89"}, "heating": {"model": "reference"},
+                      "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3},
+                      "stop": {"altitude_ft": 50_000}},
+             "method": "temperature_limited", "limit_R": 2_550, "bank0_deg": [0, 60]}
+    path = tmp_path / "hot.json"
+    path.write_text(json.dumps(study))
+    r = run("footprint", path)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1, r.stderr
+    assert lines[0].startswith("error: limit_R: 2550 degR cannot be met"), lines[0]

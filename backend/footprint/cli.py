@@ -23,13 +23,17 @@ def _fail(message: str) -> None:
 
 def _read_json(path: Path) -> dict:
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         _fail(f"{path}: cannot read ({exc.strerror})")
+    except UnicodeDecodeError as exc:  # JSON is UTF-8 (RFC 8259)
+        _fail(f"{path}: not UTF-8 text (byte {exc.start}: {exc.reason}); save it as UTF-8")
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         _fail(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})")
+    except RecursionError:
+        _fail(f"{path}: not a request: nested deeper than Python's JSON reader goes (about 1,000 levels)")
     if not isinstance(data, dict):
         _fail(f"{path}: expected a JSON object")
     return data

@@ -69,4 +69,4 @@ def test_a_limit_no_setting_can_meet_fails_the_job_with_one_line(api):
            "bank0_deg": [0, 60]}
     job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": hot}).json()["id"])
     assert job["status"] == "failed"
-    assert job["error"].startswith("NoOptimum: limit_R 2550 degR: no bank setting of bank0_deg can be held to it")
+    assert job["error"].startswith("InputError: limit_R: 2550 degR cannot be met: no bank setting of bank0_deg")

@@ -26,7 +26,7 @@ from footprint.core.controls import (
     ALPHA_TABLE_VELOCITY,
     replace_alpha_table,
 )
-from footprint.core.errors import NoOptimum
+from footprint.core.errors import InputError
 from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
@@ -406,9 +406,9 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
                    q.floor_deg if to_right else p.floor_deg),
                p.bank0_deg == 0.0)
               for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]
-    if not family:
-        raise NoOptimum(f"limit_R {limit_R:g} degR: no bank setting of bank0_deg can be held to it (even the "
-                        "coolest alpha floor leaves each one hotter); raise the limit or change the entry")
+    if not family:  # the user's limit, not a solver's failure
+        raise InputError("limit_R", f"{limit_R:g} degR cannot be met: no bank setting of bank0_deg is held to it, "
+                                    "even with the coolest alpha floor; raise the limit or change the entry")
     fp = footprint_of_family("temperature_limited", spec, family, mirror)
     if right is not left:  # a flown right point names its own floor
         floors = {q.bank0_deg: q.floor_deg for q in right}

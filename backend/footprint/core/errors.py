@@ -15,5 +15,4 @@ class InputError(ValueError):
 
 
 class NoOptimum(RuntimeError):
-    """A collocation ended without an optimum (IPOPT's status and the largest violation), or no setting of a
-    constrained footprint meets its limit: the job's one line."""
+    """A collocation ended without an optimum (IPOPT's status and the largest violation): the job's one line."""
