@@ -65,6 +65,29 @@ def test_a_custom_vehicle_is_stored_used_by_name_and_deleted(api):
     assert api.delete("/api/vehicles/lod-2.2").status_code == 409
 
 
+def test_listing_custom_vehicles_rebuilds_none_of_them(api, monkeypatch):
+    """Issue 15 item 8: GET /api/vehicles rebuilt every custom vehicle through a 64-entry cache walked in order
+    (1.1-1.4 s a request past 64 vehicles). The list item's numbers are stored with the vehicle: listing packs no
+    tables and searches no (L/D)max (bench/bench_vehicles.py: 1,000 vehicles)."""
+    from footprint.service.routers import vehicles
+
+    for i, ld in enumerate((1.5, 2.0, 3.0)):
+        glider = {"aero": {"constant": {"cl": 0.5, "cd": 0.5 / ld}}, "wing_loading_psf": 40 + i}
+        assert api.post("/api/vehicles", json={"id": f"listed-{i}", "vehicle": glider}).status_code == 201
+
+    def rebuilt(*_a, **_k):
+        raise AssertionError("a stored vehicle was rebuilt to be listed")
+
+    monkeypatch.setattr(vehicles, "ld_max", rebuilt)
+    monkeypatch.setattr(vehicles, "_custom_vehicle", rebuilt)
+    listed = {v["id"]: v for v in api.get("/api/vehicles").json()}
+    assert [listed[f"listed-{i}"]["ld_max"] for i in range(3)] == pytest.approx([1.5, 2.0, 3.0], rel=1e-9)
+    assert [listed[f"listed-{i}"]["wing_loading_psf"] for i in range(3)] == [40, 41, 42]
+    monkeypatch.undo()
+    for i in range(3):
+        assert api.delete(f"/api/vehicles/listed-{i}").status_code == 204
+
+
 def test_a_bad_custom_vehicle_names_its_field(api):
     r = api.post("/api/vehicles", json={"id": "bad", "vehicle": {"aero": {"constant": {"cl": 0.5, "cd": -0.1}},
                                                                   "wing_loading_psf": 50}})

@@ -32,6 +32,8 @@ class Vehicle(Base):
     id: Mapped[str] = mapped_column(String(64), primary_key=True)
     description: Mapped[str] = mapped_column(Text, default="")
     definition: Mapped[dict[str, Any]]
+    # the list item's numbers (wing_loading_psf, ld_max, alpha_ld_max_deg), computed once when it is stored
+    summary: Mapped[dict[str, Any] | None]
     created_at: Mapped[datetime] = mapped_column(default=utc_now)
 
 

@@ -207,9 +207,10 @@ def get_vehicle(session: Session, *, vehicle_id: str) -> Vehicle | None:
     return session.get(Vehicle, vehicle_id)
 
 
-def create_vehicle(session: Session, *, vehicle_id: str, description: str, definition: dict) -> Vehicle:
-    """Store a custom vehicle (the caller checks the id is free)."""
-    row = Vehicle(id=vehicle_id, description=description, definition=definition, created_at=utc_now())
+def create_vehicle(session: Session, *, vehicle_id: str, description: str, definition: dict, summary: dict) -> Vehicle:
+    """Store a custom vehicle with its list item's numbers (the caller checks the id is free)."""
+    row = Vehicle(id=vehicle_id, description=description, definition=definition, summary=summary,
+                  created_at=utc_now())
     session.add(row)
     session.flush()
     return row

@@ -1,7 +1,5 @@
 """Vehicles: the built-ins (Appendix B) and stored custom vehicles."""
 
-import functools
-import json
 import threading
 
 from fastapi import APIRouter, Request, Response
@@ -63,20 +61,26 @@ def _builtins() -> dict[str, dict]:
     return BUILTINS.get()[0]
 
 
-@functools.lru_cache(maxsize=64)
-def _custom_vehicle(definition_json: str):
-    return VehicleCase.model_validate_json(definition_json).to_vehicle()
+def _custom_vehicle(definition: dict):
+    """The core's vehicle of a stored definition (inline tables packed once per process: contracts.case)."""
+    return VehicleCase.model_validate(definition).to_vehicle()
 
 
 def _finite(x: float) -> float | None:
     return x if x == x and abs(x) != float("inf") else None
 
 
+def _summary(vehicle) -> dict:
+    """A vehicle's list item numbers: wing loading, (L/D)max and its alpha at Mach 20, 200,000 ft."""
+    ld, alpha = ld_max(vehicle, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)
+    return {"wing_loading_psf": vehicle.wing_loading_psf, "ld_max": _finite(round(ld, 4)),
+            "alpha_ld_max_deg": _finite(round(alpha, 2))}
+
+
 def _custom_item(row) -> dict:
-    v = _custom_vehicle(json.dumps(row.definition, sort_keys=True))
-    ld, alpha = ld_max(v, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)
-    return {"id": row.id, "builtin": False, "description": row.description, "wing_loading_psf": v.wing_loading_psf,
-            "ld_max": _finite(round(ld, 4)), "alpha_ld_max_deg": _finite(round(alpha, 2)), "reported_ld_max": None}
+    """A stored vehicle's list item from its stored summary (one stored before it had one is summarized now)."""
+    summary = row.summary or _summary(_custom_vehicle(row.definition))
+    return {"id": row.id, "builtin": False, "description": row.description, **summary, "reported_ld_max": None}
 
 
 def _aero(vehicle) -> dict:
@@ -109,8 +113,7 @@ def get_vehicle(vehicle_id: str, request: Request) -> dict:
         row = q.get_vehicle(session, vehicle_id=vehicle_id)
     if row is None:
         raise NotFound(f"no vehicle {vehicle_id!r}")
-    vehicle = _custom_vehicle(json.dumps(row.definition, sort_keys=True))
-    return _custom_item(row) | {"definition": row.definition, "aero": _aero(vehicle)}
+    return _custom_item(row) | {"definition": row.definition, "aero": _aero(_custom_vehicle(row.definition))}
 
 
 @router.post("/vehicles", response_model=VehicleDetail, status_code=201, responses={409: {}})
@@ -130,7 +133,8 @@ def create_vehicle(body: VehicleCreate, request: Request) -> dict:
     with deps.sessions(request).begin() as session:
         if q.get_vehicle(session, vehicle_id=body.id) is not None:
             raise Conflict(f"id: a vehicle {body.id!r} is stored already")
-        row = q.create_vehicle(session, vehicle_id=body.id, description=body.description, definition=definition)
+        row = q.create_vehicle(session, vehicle_id=body.id, description=body.description, definition=definition,
+                               summary=_summary(vehicle))
     return _custom_item(row) | {"definition": definition, "aero": _aero(vehicle)}
 
 
