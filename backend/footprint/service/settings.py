@@ -28,6 +28,8 @@ class Settings(BaseSettings):
     frontend_dir: Path = FRONTEND_DIR
     migrations_dir: Path = MIGRATIONS_DIR
     job_threads: int = Field(default=16, ge=1, le=256)  # jobs watched at once by the service process
+    # a job's wall time from its first task's start; past it the job fails and its workers are restarted
+    job_time_limit_s: float = Field(default=3_600.0, ge=1.0, le=7 * 86_400.0)
 
     @field_validator("dask_scheduler")
     @classmethod

@@ -55,13 +55,19 @@ def pending_job_ids(session: Session) -> list[str]:
 
 
 def start_job(session: Session, *, job_id: str) -> Job | None:
-    """Mark a pending job running (another attempt); None when it is no longer pending."""
+    """Take a pending job for another attempt (it stays "queued" until a worker runs it: mark_running); None when
+    it is no longer pending."""
     job = session.get(Job, job_id, with_for_update=True)
     if job is None or job.status not in PENDING:
         return None
-    job.status, job.progress, job.progress_note, job.attempts = "running", 0.0, None, job.attempts + 1
-    job.started_at = job.started_at or utc_now()
+    job.progress, job.progress_note, job.attempts = 0.0, None, job.attempts + 1
     return job
+
+
+def mark_running(session: Session, *, job_id: str) -> None:
+    """A worker has started the job's first task."""
+    session.execute(update(Job).where(Job.id == job_id, Job.status.in_(PENDING))
+                    .values(status="running", started_at=func.coalesce(Job.started_at, utc_now())))
 
 
 def set_progress(session: Session, *, job_id: str, progress: float, note: str | None = None) -> None:

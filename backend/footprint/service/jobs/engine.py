@@ -19,12 +19,18 @@ from sqlalchemy.orm import Session, sessionmaker
 
 from footprint import contracts
 from footprint.service.db import queries as q
+from footprint.service.db.models import PENDING
 from footprint.service.jobs import tasks
 from footprint.service.settings import Settings
 
 log = logging.getLogger("footprint.service.jobs")
 MAX_ERROR_CHARS = 500  # a failed job's error line
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
+STOP_GRACE_S = 0.5  # a cancelled task that is still running after this has its worker restarted
+
+
+class JobTimeLimit(RuntimeError):
+    """A job ran past FOOTPRINT_JOB_TIME_LIMIT_S."""
 
 
 def one_line(exc: BaseException) -> str:
@@ -42,7 +48,9 @@ class JobEngine:
         self._pool = ThreadPoolExecutor(settings.job_threads, thread_name_prefix="footprint-job")
         self._futures: dict[str, list] = {}
         self._reports: dict[str, tuple[float, str]] = {}  # task key -> its last (progress, note) event
+        self._started: dict[str, float] = {}  # task key -> when a worker started it (monotonic), from its first event
         self._wakes: dict[str, threading.Event] = {}  # task key -> its job's watcher, woken by each report
+        self._cancels: set[str] = set()  # jobs cancelled through this process, not yet stopped
         self._lock = threading.Lock()
         self._closing = threading.Event()
         self.client = None
@@ -108,11 +116,35 @@ class JobEngine:
         self._pool.submit(self._run, job_id, request)
 
     def cancel(self, *, job_id: str) -> None:
-        """Cancel the job's tasks on the cluster (its row is marked cancelled by the caller)."""
+        """Stop the job's tasks (its row is marked cancelled by the caller): its watcher stops them at once, the
+        workers that run them restarted if need be (stop)."""
         with self._lock:
             futures = list(self._futures.get(job_id, ()))
-        if futures:
-            self.client.cancel(futures)
+            self._cancels.add(job_id)
+            wakes = {self._wakes[f.key] for f in futures if f.key in self._wakes}
+        for wake in wakes:
+            wake.set()
+        if not futures:
+            with self._lock:
+                self._cancels.discard(job_id)
+
+    def stop(self, futures: list) -> None:
+        """Cancel the futures, and restart the workers still running one (Dask cannot interrupt a running task: a
+        worker process that keeps computing a cancelled job would hold its core for hours)."""
+        keys = {f.key for f in futures}
+        self.client.cancel(futures)
+        deadline = time.monotonic() + STOP_GRACE_S
+        while True:
+            busy = [w for w, ks in self.client.processing().items() if keys & set(ks)]
+            if not busy or time.monotonic() >= deadline:
+                break
+            time.sleep(0.1)
+        if busy:
+            log.info("restarting %d worker(s) to stop a cancelled or timed-out job", len(busy))
+            try:
+                self.client.restart_workers(busy, raise_for_error=False)
+            except Exception as exc:  # noqa: BLE001 -- a worker without a nanny cannot be restarted: say so
+                log.warning("could not restart worker(s) %s: %s", busy, one_line(exc))
 
     def _run(self, job_id: str, request) -> None:
         try:
@@ -153,15 +185,30 @@ class JobEngine:
             self._wakes.update((f.key, changed) for f in futures)
         for fut in futures:
             fut.add_done_callback(lambda _: changed.set())
+        running = False
         try:
             while pending:
                 changed.wait(PROGRESS_WRITE_S)
                 changed.clear()
+                with self._lock:
+                    cancelled = job_id in self._cancels
+                    starts = [self._started[f.key] for f in futures if f.key in self._started]
+                if cancelled:
+                    self.stop(futures)
+                    return None
+                if starts and not running:  # "queued" until a worker really runs it
+                    with self._sessions.begin() as session:
+                        q.mark_running(session, job_id=job_id)
+                    running = True
+                if starts and time.monotonic() - min(starts) > self._settings.job_time_limit_s:
+                    self.stop(futures)
+                    raise JobTimeLimit(f"the job ran past its time limit of {self._settings.job_time_limit_s:g} s "
+                                       "(FOOTPRINT_JOB_TIME_LIMIT_S) and was stopped")
                 finished = [f for f in pending if f.done()]
                 pending = [f for f in pending if not f.done()]
                 for fut in finished:
                     if fut.status == "cancelled" or self._cancelled(job_id):
-                        self.client.cancel(futures)
+                        self.stop(futures)
                         return None
                     outputs[index[fut.key]] = fut.result()
                     fut.release()
@@ -174,8 +221,10 @@ class JobEngine:
                     written, last_write = (progress, note), time.monotonic()
         finally:
             with self._lock:
+                self._cancels.discard(job_id)
                 for f in futures:
                     self._reports.pop(f.key, None)
+                    self._started.pop(f.key, None)
                     self._wakes.pop(f.key, None)
         return outputs
 
@@ -183,7 +232,9 @@ class JobEngine:
         """A task's progress event (client's event loop: kept, written by the job's own thread)."""
         _, msg = event
         with self._lock:
-            self._reports[msg["key"]] = (min(max(float(msg["progress"]), 0.0), 1.0), str(msg["note"]))
+            self._started.setdefault(msg["key"], time.monotonic())
+            if msg.get("note"):  # the first event only says the task started
+                self._reports[msg["key"]] = (min(max(float(msg["progress"]), 0.0), 1.0), str(msg["note"]))
             wake = self._wakes.get(msg["key"])
         if wake is not None:
             wake.set()
@@ -196,9 +247,10 @@ class JobEngine:
         return (done + sum(p for p, _ in reports)) / len(futures), note
 
     def _cancelled(self, job_id: str) -> bool:
+        """Cancelled (or deleted) in the database: by this process or another one over the same database."""
         with self._sessions.begin() as session:
             job = q.get_job(session, job_id=job_id)
-            return job is None or job.status != "running"
+            return job is None or job.status not in PENDING
 
 
 def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:

@@ -45,7 +45,9 @@ def decimated(n: int, max_points: int) -> np.ndarray:
 
 def progress_reporter():
     """on_progress(fraction, note) for the core's long loops, sent as a Dask event of this task (its key), at
-    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns False: a report never stops the work."""
+    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns False: a report never stops the work. Its
+    creation sends the task's first event, which tells the engine a worker has started it (the job is "running",
+    its time limit counts)."""
     from distributed import get_worker
 
     try:
@@ -53,6 +55,7 @@ def progress_reporter():
     except ValueError:
         return None
     key, last = worker.get_current_task(), [0.0]
+    worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": 0.0, "note": ""})
 
     def on_progress(fraction: float, note: str) -> bool:
         now = time.monotonic()
@@ -117,6 +120,7 @@ def sweep_footprint_task(job: dict, name: str) -> dict:
     fails on comes back as {"key", "error"}."""
     from footprint.contracts.sweep import fly_footprint
 
+    progress_reporter()  # started
     study = contracts.parse("footprint", job["study"])
     run = fly_footprint(job, study)
     if run.footprint is None:
@@ -140,6 +144,7 @@ def optimize_task(study_dict: dict) -> dict:
 
 def reach_task(request: dict) -> dict:
     """A reach job: footprint.contracts.reach's windows and per-site summary."""
+    progress_reporter()  # started
     return plain(contracts.module("reach").run(contracts.parse("reach", request)))
 
 
