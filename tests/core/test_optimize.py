@@ -66,6 +66,24 @@ def test_constrained_quadratic_by_two_routes():
     assert r.payoff == pytest.approx(s.payoff, abs=5e-3)
 
 
+def test_the_search_reports_every_flight_and_stops_when_asked():
+    """Issue 15 item 2: a creep + pattern job sat at 0 % until it ended, and could not be stopped. Its listener hears
+    each flight (the fraction of the budget flown, never backwards) and may stop it; the result is then the best
+    point so far, from no more flights than were reported."""
+    heard = []
+    full = O.optimize(constrained_quadratic(), max_evaluations=400, on_progress=lambda f, note: heard.append(f))
+    assert len(heard) == full.trajectories and heard == sorted(heard) and heard[-1] <= 1.0
+    assert heard[:3] == pytest.approx([1 / 400, 2 / 400, 3 / 400])
+    stops = []
+    cut = O.optimize(constrained_quadratic(), max_evaluations=400,
+                     on_progress=lambda f, note: stops.append(f) or len(stops) >= 25)
+    assert len(stops) == 25 and cut.trajectories == 25 and cut.augmented_payoff >= full.augmented_payoff
+    scipy_heard = []
+    O.optimize_scipy(constrained_quadratic(), "Nelder-Mead", max_evaluations=50,
+                     on_progress=lambda f, note: scipy_heard.append(note))
+    assert scipy_heard[0] == "trajectory 1 of at most 50"
+
+
 def test_penalty_is_zero_inside_the_band_and_quadratic_outside():
     eq = O.Constraint("downrange_nmi", "equals", 4000.0, O.TTOL_DOWNRANGE_NMI)
     for d in (3975.0, 4000.0, 4010.0, 4025.0):

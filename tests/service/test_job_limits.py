@@ -34,6 +34,11 @@ def test_cancelled_jobs_free_their_workers_and_a_waiting_job_says_queued(service
     long = [service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"] for _ in range(2)]
     for job_id in long:
         _status_soon(service, job_id, "running")  # both workers busy
+    deadline = time.monotonic() + 20.0  # a single-task job reports as it goes (it sat at 0 % until the end)
+    while not (service.get(f"/api/jobs/{long[0]}").json()["progress_note"] or "").startswith("trajectory "):
+        assert time.monotonic() < deadline, service.get(f"/api/jobs/{long[0]}").json()
+        time.sleep(0.2)
+    assert 0.0 < service.get(f"/api/jobs/{long[0]}").json()["progress"] < 0.01
     waiting = service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
     time.sleep(2.0)
     assert service.get(f"/api/jobs/{waiting}").json()["status"] == "queued"  # no worker has it yet

@@ -366,14 +366,16 @@ def fly_optimum(study, result: opt.Result | col.Result):
 
 
 def run(study, on_progress=None) -> opt.Result | col.Result:
-    """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations."""
+    """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations or the search's
+    flights (True from it stops the search with the best point so far)."""
     study = parse("optimize", study)
     if study.method == "collocation":
         return col.solve(collocation_problem(study), on_progress=on_progress)
     problem = problem_of(study)
     if study.method != "creep_pattern":
-        return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories)
+        return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories, on_progress=on_progress)
     bank, alpha = tables_of(study, problem.base.vehicle)
     search = constrained.search_options("bank_alpha" if alpha else "bank", constrained=bool(study.constraints),
                                         velocities_fps=alpha.nodes if alpha else (), bank_nodes=bank.nodes)
-    return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, **search)
+    return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, on_progress=on_progress,
+                        **search)

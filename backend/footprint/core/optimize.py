@@ -163,8 +163,8 @@ class Result:
 class _Evaluator:
     """Flies (or evaluates) each distinct parameter vector once and keeps the best and the history."""
 
-    def __init__(self, problem: Problem, max_evaluations):
-        self.problem, self.max_evaluations = problem, max_evaluations
+    def __init__(self, problem: Problem, max_evaluations, progress=None):
+        self.problem, self.max_evaluations, self.progress = problem, max_evaluations, progress
         self.cache, self.history, self.n = {}, [], 0
         self.best_x, self.best_j, self.best_summary = None, math.inf, None
         self.phase = "start"
@@ -180,6 +180,8 @@ class _Evaluator:
         j = augmented(self.problem, s)
         self.n += 1
         self.cache[key] = (j, s)
+        if self.progress is not None and self.progress(self.n):  # the listener asks to stop: the best so far
+            self.max_evaluations = self.n
         if j < self.best_j:
             self.best_x, self.best_j, self.best_summary = x.copy(), j, s
         phi = self.best_summary.get(self.problem.payoff) if self.best_summary else None
@@ -213,7 +215,7 @@ class _Budget(Exception):
 
 
 def creep_pattern(problem: Problem, *, step=None, min_step=None, grow=2.0, shrink=0.5, pattern_growth=2.0,
-                  max_evaluations=300, ftol=0.0) -> Result:
+                  max_evaluations=300, ftol=0.0, progress=None) -> Result:
     """Adaptive creeping search followed by a pattern search, repeated (Section II.4).
 
     step: initial perturbation per parameter (default a tenth of each bound range); min_step: converged
@@ -222,14 +224,15 @@ def creep_pattern(problem: Problem, *, step=None, min_step=None, grow=2.0, shrin
     keeps its direction, a failure both ways shrinks it (x shrink). Pattern: along the move the creep cycle
     made, the whole vector is stepped 1, grow, grow^2 ... times that move while it keeps improving.
     ftol: also converged when a whole creep + pattern cycle improves phi* by less than ftol while all steps
-    are already small (below 10 min_step). Every trial point is clipped into the bounds.
+    are already small (below 10 min_step). Every trial point is clipped into the bounds. progress(n) after each
+    flight; when it returns True the search ends with the best point so far.
     """
     pr = problem
     t0 = time.perf_counter()
     span = np.where(pr.upper > pr.lower, pr.upper - pr.lower, 1.0)
     s = np.array(step, dtype=float) * np.ones_like(span) if step is not None else 0.1 * span
     s_min = np.array(min_step, dtype=float) * np.ones_like(span) if min_step is not None else 1e-3 * span
-    ev = _Evaluator(pr, max_evaluations)
+    ev = _Evaluator(pr, max_evaluations, progress)
     x = pr.initial.copy()
     converged = False
     try:
@@ -278,8 +281,7 @@ def creep_pattern(problem: Problem, *, step=None, min_step=None, grow=2.0, shrin
 
 
 def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0, weight_factor=100.0, rounds=4,
-                           restarts=0,
-                           max_evaluations=300, **options) -> Result:
+                           restarts=0, max_evaluations=300, on_progress=None, **options) -> Result:
     """creep_pattern in stages that differ only in the penalty weights, each starting from the last optimum,
     all within one trajectory budget:
 
@@ -292,17 +294,27 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
       `rounds` times, searching on with small steps.
 
     A constraint that cannot be met stays infeasible: the result says so and gives the smallest violation
-    found. The history runs on across the stages (payoff: the best of the current stage)."""
+    found. The history runs on across the stages (payoff: the best of the current stage). on_progress(fraction,
+    note) after each flight (the fraction of the budget flown); a listener that returns True ends the search with
+    the best point so far."""
     t0 = time.perf_counter()
     span = np.where(problem.upper > problem.lower, problem.upper - problem.lower, 1.0)
     fine = dict(options, step=np.asarray(options.get("min_step", 1e-3 * span)) * 10.0)
     history, flown, r, x = [], 0, None, problem.initial
+    stopped = False
+
+    def report(n) -> bool:  # n: this stage's flights
+        nonlocal stopped
+        if on_progress is not None and not stopped:
+            stopped = bool(on_progress((flown + n) / max_evaluations,
+                                       f"trajectory {flown + n} of at most {max_evaluations}"))
+        return stopped
 
     def stage(scale, opts):
-        nonlocal history, flown, x
+        nonlocal flown
         pr = replace(problem, initial=x,
                      constraints=tuple(replace(c, weight=c.weight * scale) for c in problem.constraints))
-        r2 = creep_pattern(pr, max_evaluations=max_evaluations - flown, **opts)
+        r2 = creep_pattern(pr, max_evaluations=max_evaluations - flown, progress=report, **opts)
         for e in r2.history:
             history.append(dict(e, iteration=e["iteration"] + flown, trajectories=e["trajectories"] + flown))
         flown += r2.trajectories
@@ -311,7 +323,7 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
     scale = soft_start if problem.constraints else 1.0
     while True:  # soft stages, ending with the problem's own weights
         scale = min(scale, 1.0)
-        if flown >= max_evaluations and r is not None:
+        if (flown >= max_evaluations or stopped) and r is not None:
             break
         r = stage(scale, options if r is None else dict(options, step=0.5 * np.asarray(options.get("step", 0.1 * span))))
         x = r.params
@@ -319,7 +331,7 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
             break
         scale *= soft_factor
     for _ in range(restarts):
-        if flown >= max_evaluations:
+        if flown >= max_evaluations or stopped:
             break
         r2 = stage(1.0, options)
         gain = (r2.augmented_payoff - r.augmented_payoff) * (1.0 if problem.goal == "max" else -1.0)
@@ -329,7 +341,7 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
             break
     scale = 1.0
     for _ in range(rounds):
-        if r.feasible or flown >= max_evaluations:
+        if r.feasible or flown >= max_evaluations or stopped:
             break
         scale *= weight_factor
         r2 = stage(scale, fine)
@@ -347,7 +359,8 @@ def optimize(problem: Problem, method="creep_pattern", **options) -> Result:
     return optimize_scipy(problem, method, **options)
 
 
-def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000, **options) -> Result:
+def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000, on_progress=None,
+                   **options) -> Result:
     """The same problem by a scipy optimizer, for a side-by-side comparison (STYLE: two routes).
 
     Nelder-Mead (or any derivative-free method) minimizes the same phi* within the bounds; SLSQP is given
@@ -362,7 +375,9 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
 
     pr = problem
     t0 = time.perf_counter()
-    ev = _Evaluator(pr, max_evaluations)
+    progress = None if on_progress is None else (
+        lambda n: on_progress(n / max_evaluations, f"trajectory {n} of at most {max_evaluations}"))
+    ev = _Evaluator(pr, max_evaluations, progress)
     bounds = Bounds(pr.lower, pr.upper)
     ev.phase = method
     converged = False
