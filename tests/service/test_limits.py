@@ -147,3 +147,21 @@ def test_every_footprint_method_has_its_point_count_checked():
     assert error_line(err.value).startswith("bank0_deg: 181 settings x 2 sides = 362 footprint points is outside "
                                             "the allowed range 1 to 200 over HTTP")
     assert contracts.parse("footprint", wide).settings() == ("bank0_deg", 181)  # the CLI's own machine: allowed
+
+
+def test_a_synchronous_reach_is_bounded_to_seconds_and_the_same_reach_runs_as_a_job(api):
+    """Issue 15 item 3: POST /api/reach at its documented caps took 44 s in the API process. A synchronous request
+    is bounded to about two seconds of work (a 422 naming the field and the limit); the same request is a reach job,
+    whose limit is the contract's; a collocation study (a minute of NLP solves) is only ever a job."""
+    many = REACH | {"sites": [{"name": f"s{i}", "latitude_deg": (i % 170) - 85.0, "longitude_deg": float(i % 360)}
+                              for i in range(1_000)],
+                    "revolutions": {"first": 1, "last": 60}, "u_step_deg": 0.5}  # 4 points, 43,200 placements
+    r = api.post("/api/reach", json=many)
+    assert r.status_code == 422 and r.json()["field"] == "sites", r.text
+    assert "at most 2e+07 in a synchronous request" in r.json()["detail"]
+    job = api.post("/api/jobs", json={"kind": "reach", "study": many})
+    assert job.status_code == 202, job.text
+    api.delete(f"/api/jobs/{job.json()['id']}")
+    optimal = {"case": CASE, "method": "collocation", "points_per_half": 3}
+    r = api.post("/api/reach", json=REACH | {"footprint": {"study": optimal}})
+    assert r.status_code == 422 and r.json()["field"] == "footprint.study.method", r.text

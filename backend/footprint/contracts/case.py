@@ -52,8 +52,10 @@ def model_fields(model, exclude=(), **replace) -> dict:
 
 # ------------------------------------------------------------------------------------ doors and their limits
 # A request is validated with a context: the door it came through ("python" for the CLI and the Python API, "http"
-# for the service, which shares its workers and bounds the work more tightly) and, over HTTP, the stored vehicles.
+# for the service's jobs, which share its workers and bound the work more tightly, "http-sync" for the requests the
+# API process answers itself, bounded to seconds) and, over HTTP, the stored vehicles.
 HTTP = "http"
+HTTP_SYNC = "http-sync"
 
 
 def context(door: str = "python", vehicles=None) -> dict:
@@ -61,11 +63,20 @@ def context(door: str = "python", vehicles=None) -> dict:
     return {"door": door, "vehicles": vehicles}
 
 
-def door_limit(info: ValidationInfo, python: int, http: int) -> tuple[int, str]:
-    """The limit that applies through the request's door, and how to say it."""
-    if (info.context or {}).get("door") == HTTP:
+def door_limit(info: ValidationInfo, python: float, http: float, sync: float | None = None) -> tuple[float, str]:
+    """The limit that applies through the request's door (`sync`: a synchronous request's, default http's), and
+    how to say it."""
+    door = (info.context or {}).get("door")
+    if door == HTTP_SYNC and sync is not None:
+        return sync, " in a synchronous request (a job may ask for more: POST /api/jobs)"
+    if door in (HTTP, HTTP_SYNC):
         return http, " over HTTP"
     return python, ""
+
+
+def synchronous(info: ValidationInfo) -> bool:
+    """The request is answered by the API process itself, not a worker."""
+    return (info.context or {}).get("door") == HTTP_SYNC
 
 
 def validated(adapter: TypeAdapter, data, model: type, ctx: dict | None = None):

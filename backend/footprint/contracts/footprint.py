@@ -8,11 +8,12 @@ from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Case, Strict, bounded, door_limit, validated
+from footprint.contracts.case import Case, Strict, bounded, door_limit, synchronous, validated
 
 BankDeg = bounded(-180, 180, "deg")
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
 MAX_POINTS_HTTP = 200  # over HTTP, where the workers are shared
+MAX_POINTS_SYNC = 100  # flown in the API process itself (a reach or an exact transform): about a second
 
 
 class _Study(Strict):
@@ -30,7 +31,7 @@ class _Study(Strict):
 
     @model_validator(mode="after")
     def _points(self, info: ValidationInfo):
-        limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP)
+        limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP, MAX_POINTS_SYNC)
         (field, n), sides = self.settings(), 2 if self.mirror else 1
         if n * sides > limit:
             raise ValueError(f"{field}: {n} settings x {sides} sides = {n * sides} footprint points is "
@@ -139,7 +140,10 @@ class CollocationStudy(_Study):
         return "points_per_half", self.points_per_half + 1
 
     @model_validator(mode="after")
-    def _checks(self):
+    def _checks(self, info: ValidationInfo):
+        if synchronous(info):  # a minute of NLP solves is a job, not a request the API process answers itself
+            raise ValueError("method: 'collocation' is solved as a job, not in a synchronous request; submit it with "
+                             "POST /api/jobs")
         if self.limit_R is not None and self.case.heating is None:
             raise ValueError("case.heating: a temperature limit needs a heating model")
         if self.contours_fps:

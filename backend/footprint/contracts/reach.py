@@ -21,10 +21,10 @@ import time
 from typing import Literal
 
 import numpy as np
-from pydantic import Field, TypeAdapter, model_validator
+from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts import parse
-from footprint.contracts.case import Strict, bounded, validated
+from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import run as fly_study
 from footprint.core import constants as c
@@ -34,6 +34,7 @@ from footprint.core.sphere import close_half_along_axis
 
 MAX_PLACEMENTS = 2_000_000  # revolutions x (360 / u_step_deg): ~80 s of work for 20 sites and 30 points
 MAX_WORK = 5e9  # placements x sites x footprint points
+MAX_WORK_SYNC = 2e7  # the same in the API process itself: ~1.7 s (8e-8 s a unit; 20 sites, a day, 21 points: 2.6e6)
 
 
 class ReachPoint(Strict):
@@ -139,7 +140,7 @@ class ReachRequest(Strict):
     entry_offset_nmi: bounded(0, 21_600, "nmi") = 0.0
 
     @model_validator(mode="after")
-    def _size(self):
+    def _size(self, info: ValidationInfo):
         if not self.sites:
             raise ValueError("sites: give at least 1 site (allowed: 1 to 1,000)")
         revs, _ = self.revolutions.span(self.orbit.to_orbit())
@@ -148,9 +149,11 @@ class ReachRequest(Strict):
             raise ValueError(f"revolutions and u_step_deg: {placements:,} deorbit points is outside the allowed "
                              f"range 1 to {MAX_PLACEMENTS:,}; use fewer revolutions or a larger u_step_deg")
         points = len(self.footprint.points) * (2 if self.footprint.mirror else 1) if self.footprint.points else 30
-        if placements * len(self.sites) * points > MAX_WORK:
-            raise ValueError(f"sites x deorbit points x footprint points: {placements * len(self.sites) * points:.3g}"
-                             f" is outside the allowed range (at most {MAX_WORK:.0e})")
+        limit, where = door_limit(info, MAX_WORK, MAX_WORK, MAX_WORK_SYNC)
+        if placements * len(self.sites) * points > limit:
+            work = placements * len(self.sites) * points
+            raise ValueError(f"sites: sites x deorbit points x footprint points = {work:.3g} is outside the allowed "
+                             f"range (at most {limit:.0e}{where})")
         return self
 
 

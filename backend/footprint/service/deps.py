@@ -15,13 +15,14 @@ def engine(request: Request) -> JobEngine:
     return request.app.state.jobs
 
 
-def parse_body(request: Request, kind: str, data, prefix: str = ""):
-    """A request of a contract kind (footprint.contracts), parsed once here with the HTTP door's limits and the
-    stored vehicles; a mistake is a 422 naming the field (below `prefix` in the body)."""
+def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchronous: bool = False):
+    """A request of a contract kind (footprint.contracts), parsed once here with the HTTP door's limits (a job's, or
+    with `synchronous` the tighter ones of work this process does itself) and the stored vehicles; a mistake is a
+    422 naming the field (below `prefix` in the body)."""
     from pydantic import ValidationError
 
     from footprint import contracts
-    from footprint.contracts.case import HTTP, context
+    from footprint.contracts.case import HTTP, HTTP_SYNC, context
     from footprint.core.errors import InputError
     from footprint.service.db import queries as q
     from footprint.service.errors import invalid
@@ -32,7 +33,7 @@ def parse_body(request: Request, kind: str, data, prefix: str = ""):
             return None if row is None else row.definition
 
     try:
-        return contracts.parse(kind, data, context(HTTP, stored))
+        return contracts.parse(kind, data, context(HTTP_SYNC if synchronous else HTTP, stored))
     except (ValidationError, InputError) as exc:
         raise invalid(exc, prefix) from None
 

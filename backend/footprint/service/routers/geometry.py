@@ -16,7 +16,7 @@ router = APIRouter(tags=["geometry"])
 
 def transform(request: Request, body: dict) -> dict:
     """The transform of a request body; 422 names the field."""
-    req = deps.parse_body(request, "transform", body)
+    req = deps.parse_body(request, "transform", body, synchronous=True)
     try:
         return contracts.module("transform").run(req)
     except InputError as exc:  # a place the numbers cannot make (an inclination the latitude cannot fly)

@@ -124,7 +124,7 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
             raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
     elif store_verdicts:
         raise RequestInvalid("store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts")
-    req = deps.parse_body(request, "reach", body)
+    req = deps.parse_body(request, "reach", body, synchronous=True)
     result = plain(contracts.module("reach").run(req))
     if store_verdicts:
         with deps.sessions(request).begin() as session:

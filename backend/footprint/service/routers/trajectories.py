@@ -16,6 +16,6 @@ MAX_HISTORY_ROWS = 2_000
 @router.post("/trajectories", response_model=TrajectoryRead)
 def fly(request: Request, case: dict[str, Any] = Body(...)) -> dict:
     """Fly one case: its summary and its time histories (at most 2,000 rows)."""
-    traj = contracts.module("case").run(deps.parse_body(request, "case", case))
+    traj = contracts.module("case").run(deps.parse_body(request, "case", case, synchronous=True))
     keep = decimated(len(traj.history["time_s"]), MAX_HISTORY_ROWS)
     return {"summary": plain(traj.summary), "history": {k: plain(v[keep]) for k, v in traj.history.items()}}
