@@ -66,11 +66,12 @@ def policy(directives: dict[str, list[str]]) -> str:
     return "; ".join(f"{name} {' '.join(sources)}" for name, sources in directives.items())
 
 
-def page_policy(tile_url: str = "") -> str:
-    """The service's policy for the page, its static files, the API and /redoc: scripts only from the service."""
+def page_policy(tile_url: str = "", script_hashes: list[str] = ()) -> str:
+    """The service's policy for the page, its static files, the API and the docs: scripts only from the service
+    (and the inline ones of script_hashes: /docs' Swagger UI set-up)."""
     tiles = tile_source(tile_url)
     return policy({
-        "default-src": ["'self'"], "script-src": ["'self'"], "style-src": ["'self'", "'unsafe-inline'"],
+        "default-src": ["'self'"], "script-src": ["'self'", *script_hashes], "style-src": ["'self'", "'unsafe-inline'"],
         "img-src": ["'self'", "data:", "blob:"] + ([tiles] if tiles else []), "connect-src": ["'self'"],
         "font-src": ["'self'", "data:"], "worker-src": ["'self'", "blob:"],  # ReDoc's search runs in a blob: worker
         "object-src": ["'none'"], "base-uri": ["'none'"], "form-action": ["'self'"], "frame-ancestors": ["'none'"]})
