@@ -68,3 +68,37 @@ def test_topojson_decoding_with_reversed_arcs():
     features = topojson_features(topology, "square")["features"]
     assert features[0]["geometry"]["coordinates"] == [[[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]]
     assert features[1]["geometry"]["coordinates"] == [[[0, 0], [0, 1], [1, 1], [1, 0], [0, 0]]]
+
+
+HOSTILE_NAME = "x ${alert(document.domain)} </script><img src=x onerror=alert(1)> \"'"
+
+
+def test_user_text_never_enters_a_script_and_the_scripts_are_pinned_by_hash():
+    """Issue 15 item 1: folium's tooltips put text into a JS template literal, where `${...}` runs. The name and a
+    point's parameter now live in a JSON data block only, escaped so that nothing closes it, and the <meta>
+    policy allows exactly the file's inline scripts."""
+    from footprint.csp import inline_script_hashes
+    from footprint.pictures.folium_page import footprint_map_html
+
+    points = [dict(p, parameter={"bank0_deg`${alert(2)}`": 1.0}) for p in FOOTPRINT["points"]]
+    html = footprint_map_html(dict(FOOTPRINT, points=points), title=HOSTILE_NAME)
+    running = [text for attrs, text in re.findall(r"<script(\s[^>]*)?>(.*?)</script>", html, re.S)
+               if "application/json" not in (attrs or "")]
+    assert running and not any("alert" in text for text in running)
+    labels = re.search(r'<script type="application/json" id="footprint-labels">(.*?)</script>', html, re.S).group(1)
+    assert "<" not in labels and HOSTILE_NAME in json.loads(labels)
+    assert "&lt;/script&gt;&lt;img src=x onerror=alert(1)&gt;" in html  # the title, as HTML text
+    policy = re.search(r'<head>\s*<meta http-equiv="Content-Security-Policy" content="([^"]+)">', html).group(1)
+    policy = policy.replace("&#x27;", "'")
+    assert "'unsafe-inline'" not in policy.split("script-src")[1].split(";")[0]
+    assert f"script-src {' '.join(inline_script_hashes(html))};" in policy
+    assert "object-src 'none'" in policy and "base-uri 'none'" in policy
+
+
+def test_js_string_is_safe_in_a_script_element():
+    from footprint.csp import js_string
+
+    text = "</script>\u2028\u2029&`${x}`'\""
+    literal = js_string(text)
+    assert json.loads(literal) == text
+    assert not set(literal) & {"<", ">", "&", "\u2028", "\u2029"}

@@ -2,7 +2,7 @@
 // from the job's event stream, and the new footprint handed to the page when the job succeeds.
 import { api } from "./api.js";
 import { clearFieldErrors, showFieldError } from "./fielderrors.js";
-import { escapeHtml, fmt } from "./format.js";
+import { el, fmt } from "./format.js";
 
 const $ = (id) => document.getElementById(id);
 const POLL_MS = 1000; // when the event stream fails, ask for the job once a second
@@ -92,8 +92,8 @@ export class JobsPanel {
 
   async loadVehicles() {
     const vehicles = await api("/api/vehicles");
-    $("job-vehicle").innerHTML = vehicles.map((v) =>
-      `<option value="${escapeHtml(v.id)}" data-builtin="${v.builtin !== false}">${escapeHtml(v.id)} · (L/D)max ${fmt(v.ld_max, 2)}</option>`).join("");
+    $("job-vehicle").replaceChildren(...vehicles.map((v) =>
+      el("option", { value: v.id, "data-builtin": String(v.builtin !== false) }, `${v.id} · (L/D)max ${fmt(v.ld_max, 2)}`)));
     const preferred = vehicles.find((v) => v.id === "lod-1.89");
     if (preferred) $("job-vehicle").value = preferred.id;
   }
@@ -119,9 +119,10 @@ export class JobsPanel {
   follow(id, label) {
     const li = document.createElement("li");
     li.dataset.jobId = id;
-    li.innerHTML = `<div class="job-line"><span class="job-label">${escapeHtml(label)}</span><span class="job-status">queued</span></div>`
-      + `<progress max="100" value="0" aria-label="Progress of ${escapeHtml(label)}"></progress> <span class="job-percent">0 %</span>`
-      + `<div class="job-note"></div>`;
+    li.append(el("div", { class: "job-line" }, el("span", { class: "job-label" }, label),
+                         el("span", { class: "job-status" }, "queued")),
+              el("progress", { max: "100", value: "0", "aria-label": `Progress of ${label}` }), " ",
+              el("span", { class: "job-percent" }, "0 %"), el("div", { class: "job-note" }));
     $("job-list").prepend(li);
     const update = (status, progress, note) => {
       const pct = Math.round(100 * (status === "succeeded" ? 1 : progress ?? 0));
@@ -149,7 +150,7 @@ export class JobsPanel {
         }
         await this.onSucceeded(job);
       } else if (job.error) {
-        li.insertAdjacentHTML("beforeend", `<div class="failed">${escapeHtml(job.error)}</div>`);
+        li.append(el("div", { class: "failed" }, job.error));
       }
     };
     const poll = async () => {

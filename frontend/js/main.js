@@ -2,7 +2,7 @@
 // transform endpoint, new jobs, landing sites and reach, exports and the range plot.
 import { api } from "./api.js";
 import { exportCSV, exportGeoJSON, exportPNG } from "./exporting.js";
-import { escapeHtml, fmt } from "./format.js";
+import { el, fmt } from "./format.js";
 import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
 import { GlobeView } from "./globe.js";
 import { JobsPanel } from "./jobs.js";
@@ -105,17 +105,18 @@ function redrawSites() {
 }
 
 function renderList() {
-  $("footprint-list").innerHTML = [...state.footprints.values()].reverse().map((fp) => {
+  $("footprint-list").replaceChildren(...[...state.footprints.values()].reverse().map((fp) => {
     const it = fp.item;
     const meta = `max X ${fmt(it.max_crossrange_nmi)} · D ${fmt(it.min_downrange_nmi)}–${fmt(it.max_downrange_nmi)} nmi`;
-    return `<li class="${fp.id === state.selectedId ? "selected" : ""}" data-id="${fp.id}">`
-      + `<input type="checkbox" class="fp-visible" ${fp.visible ? "checked" : ""} aria-label="Show ${escapeHtml(fp.name)}">`
-      + `<span class="swatch" style="background:${fp.color}"></span>`
-      + `<button type="button" class="fp-select" aria-pressed="${fp.id === state.selectedId}">${escapeHtml(fp.name)}`
-      + `<span class="meta">${meta}</span></button>`
-      + `<button type="button" class="fp-rename icon" aria-label="Rename ${escapeHtml(fp.name)}" title="Rename">✎</button>`
-      + `<button type="button" class="fp-delete icon" aria-label="Delete ${escapeHtml(fp.name)}" title="Delete">×</button></li>`;
-  }).join("");
+    const selected = fp.id === state.selectedId;
+    return el("li", { class: selected ? "selected" : "", dataset: { id: fp.id } },
+      el("input", { type: "checkbox", class: "fp-visible", checked: fp.visible, "aria-label": `Show ${fp.name}` }),
+      el("span", { class: "swatch", style: { background: fp.color } }),
+      el("button", { type: "button", class: "fp-select", "aria-pressed": String(selected) }, fp.name,
+         el("span", { class: "meta" }, meta)),
+      el("button", { type: "button", class: "fp-rename icon", "aria-label": `Rename ${fp.name}`, title: "Rename" }, "✎"),
+      el("button", { type: "button", class: "fp-delete icon", "aria-label": `Delete ${fp.name}`, title: "Delete" }, "×"));
+  }));
 }
 
 // the list is drawn afresh on every change: give the focus back to the control the user was on

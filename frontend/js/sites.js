@@ -1,7 +1,7 @@
 // Landing sites (stored by the service) and the reach of the selected footprint from an orbit (Section IV).
 import { api } from "./api.js";
 import { clearFieldErrors, showFieldError } from "./fielderrors.js";
-import { escapeHtml, fmt } from "./format.js";
+import { el, escapeHtml, fmt } from "./format.js";
 import { openRing, wrapLongitude } from "./geometry.js";
 
 const $ = (id) => document.getElementById(id);
@@ -10,9 +10,10 @@ const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : +v;
 /** A site's stored verdict in a few words: "reached by lod-1.89 ... (node -30°, 45.9°)". */
 function verdict(s) {
   const v = s.last_reach;
-  if (!v) return "";
-  return `<span class="verdict ${v.reachable ? "reached" : "missed"}">${v.reachable ? "reached" : "not reached"} by `
-    + `${escapeHtml(v.footprint)} (node ${fmt(v.orbit.node_longitude_deg, 1)}°, i ${fmt(v.orbit.inclination_deg, 1)}°)</span>`;
+  if (!v) return null;
+  return el("span", { class: `verdict ${v.reachable ? "reached" : "missed"}` },
+    `${v.reachable ? "reached" : "not reached"} by ${v.footprint} `
+    + `(node ${fmt(v.orbit.node_longitude_deg, 1)}°, i ${fmt(v.orbit.inclination_deg, 1)}°)`);
 }
 
 export class SitesPanel {
@@ -51,9 +52,10 @@ export class SitesPanel {
   }
 
   render() {
-    $("site-list").innerHTML = this.shown().map((s) => `<li><span>${escapeHtml(s.name)} <span class="muted">`
-      + `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°</span>${verdict(s)}</span>`
-      + `<button type="button" data-delete="${escapeHtml(String(s.id))}" aria-label="Delete ${escapeHtml(s.name)}">×</button></li>`).join("");
+    $("site-list").replaceChildren(...this.shown().map((s) => el("li", {},
+      el("span", {}, `${s.name} `, el("span", { class: "muted" }, `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°`),
+         verdict(s)),
+      el("button", { type: "button", "data-delete": String(s.id), "aria-label": `Delete ${s.name}` }, "×"))));
     this.onChange();
   }
 

@@ -13,6 +13,7 @@ import sys
 import time
 import urllib.error
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -64,16 +65,13 @@ class Service:
         raise TimeoutError(f"job {job_id} did not finish in {JOB_TIMEOUT_S} s")
 
 
-@pytest.fixture(scope="module")
-def service(tmp_path_factory):
-    """The running service, seeded: .base_url, .footprint (the seeded footprint as GET /api/footprints/{id})."""
-    if not (ROOT / "frontend" / "vendor" / "leaflet" / "leaflet.js").exists():
-        pytest.fail("frontend/vendor is missing: run `npm ci` in frontend/ (it copies the libraries there)")
-    folder = tmp_path_factory.mktemp("service")
+@contextmanager
+def running_service(folder: Path, **env):
+    """The service on a free port with a new SQLite file in folder and one Dask worker; env overrides settings."""
     port = _free_port()
     env = os.environ | {"FOOTPRINT_DATABASE_URL": f"sqlite:///{folder / 'footprint.db'}", "FOOTPRINT_DASK_WORKERS": "1",
                         "FOOTPRINT_HOST": "127.0.0.1", "FOOTPRINT_PORT": str(port), "FOOTPRINT_API_TOKEN": "",
-                        "FOOTPRINT_TILE_URL": ""}
+                        "FOOTPRINT_TILE_URL": ""} | env
     log = open(folder / "service.log", "w")
     code = ("import uvicorn\nfrom footprint.service.app import create_app\nfrom footprint.service.settings import "
             "load_settings\ns = load_settings()\nuvicorn.run(create_app(s), host=s.host, port=s.port, log_level='warning')")
@@ -91,8 +89,6 @@ def service(tmp_path_factory):
                 log.flush()
                 pytest.fail(f"the service did not start:\n{(folder / 'service.log').read_text()[-3000:]}")
             time.sleep(0.3)
-        job = svc.run_job(SEED_JOB)
-        svc.footprint = svc.call(job["result"]["footprints"][0])
         yield svc
     finally:
         proc.terminate()
@@ -101,6 +97,17 @@ def service(tmp_path_factory):
         except subprocess.TimeoutExpired:
             proc.kill()
         log.close()
+
+
+@pytest.fixture(scope="module")
+def service(tmp_path_factory):
+    """The running service, seeded: .base_url, .footprint (the seeded footprint as GET /api/footprints/{id})."""
+    if not (ROOT / "frontend" / "vendor" / "leaflet" / "leaflet.js").exists():
+        pytest.fail("frontend/vendor is missing: run `npm ci` in frontend/ (it copies the libraries there)")
+    with running_service(tmp_path_factory.mktemp("service")) as svc:
+        job = svc.run_job(SEED_JOB)
+        svc.footprint = svc.call(job["result"]["footprints"][0])
+        yield svc
 
 
 @pytest.fixture(scope="module")
@@ -117,14 +124,24 @@ def browser():
         b.close()
 
 
+# Content-Security-Policy violations, kept by the page itself (Playwright's init scripts are exempt from the CSP)
+RECORD_VIOLATIONS_JS = """window.__violations = [];
+document.addEventListener("securitypolicyviolation",
+  (e) => window.__violations.push(`${e.effectiveDirective} blocked ${e.blockedURI || "inline"}`));"""
+
+
 class PageRun:
-    """A page with every request and every script error it produced recorded."""
+    """A page with every request, every script error and every CSP violation recorded."""
 
     def __init__(self, page):
         self.page, self.requests, self.errors = page, [], []
+        page.add_init_script(RECORD_VIOLATIONS_JS)
         page.on("request", lambda r: self.requests.append(r.url))
         page.on("pageerror", lambda e: self.errors.append(str(e)))
         page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
+
+    def violations(self) -> list[str]:
+        return self.page.evaluate("() => window.__violations")
 
 
 @pytest.fixture

@@ -1,5 +1,6 @@
 """The map page in Debian's chromium against the real service (issue 7, "Must show")."""
 
+import contextlib
 import json
 import math
 import re
@@ -14,7 +15,7 @@ import pytest
 
 from tests.authorities.report import REPORT, betts, table2_entry, table2_stop
 
-from .conftest import SEED_JOB, PageRun
+from .conftest import SEED_JOB, PageRun, running_service
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
@@ -103,25 +104,20 @@ def tile_server():
 
 
 @pytest.mark.parametrize("tiles", [False, True], ids=["no-tile-url", "tile-url"])
-def test_online_tile_layer_only_when_configured(browser, service, tile_server, tiles):
-    """GET /api/config's tile_url (FOOTPRINT_TILE_URL; the test service has none, so the "tile-url" run hands the
-    page the real answer with a tile_url of a local tile server): tiles requested and drawn with it, none without."""
+def test_online_tile_layer_only_when_configured(browser, service, tile_server, tiles, tmp_path):
+    """GET /api/config's tile_url (FOOTPRINT_TILE_URL): tiles requested and drawn with it, none without. The
+    "tile-url" run starts a service of its own with a local tile server's template, so that its
+    Content-Security-Policy (img-src) is the one that lets the tiles in (issue 15 item 1)."""
     context = browser.new_context(viewport={"width": 1000, "height": 700})
-    configs = []
-
-    def config(route):
-        answer = route.fetch()
-        body = answer.json()
-        assert body["tile_url"] is None  # the service under test has no FOOTPRINT_TILE_URL
-        if tiles:
-            body["tile_url"] = tile_server.url_template
-        configs.append(body)
-        route.fulfill(response=answer, json=body)
-
-    try:
-        context.route("**/api/config", config)
+    with contextlib.ExitStack() as stack:
+        stack.callback(context.close)
+        svc = stack.enter_context(running_service(tmp_path, FOOTPRINT_TILE_URL=tile_server.url_template)) \
+            if tiles else service
+        assert svc.call("/api/config")["tile_url"] == (tile_server.url_template if tiles else None)
+        configs = []
+        context.on("request", lambda r: configs.append(r.url) if r.url.endswith("/api/config") else None)
         run = PageRun(context.new_page())
-        run.page.goto(service.base_url + "/")
+        run.page.goto(svc.base_url + "/")
         run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
         assert len(configs) == 1  # the page asked the service
         if tiles:
@@ -141,12 +137,11 @@ def test_online_tile_layer_only_when_configured(browser, service, tile_server, t
             assert tile_server.paths == []
             assert run.page.locator("img.leaflet-tile").count() == 0
             assert run.page.locator(".leaflet-control-layers").count() == 0
-            assert all(u.startswith((service.base_url, "data:", "blob:")) for u in run.requests), run.requests
+            assert all(u.startswith((svc.base_url, "data:", "blob:")) for u in run.requests), run.requests
         hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
         assert hosts <= LOCAL_HOSTS
         assert not run.errors, run.errors
-    finally:
-        context.close()
+        assert run.violations() == []
 
 
 def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):
@@ -512,11 +507,15 @@ def test_the_api_docs_work_with_no_internet(browser, service, path, ready):
     context = browser.new_context()
     run = PageRun(context.new_page())
     try:
-        run.page.goto(service.base_url + path)
+        answer = run.page.goto(service.base_url + path)
         run.page.locator(ready).first.wait_for(timeout=30_000)
         assert "footprint" in run.page.content().lower() and "/api/jobs" in run.page.content()
         hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
         assert hosts <= LOCAL_HOSTS, hosts
+        # issue 15 item 1: they work under the service's Content-Security-Policy, nothing refused
+        assert "object-src 'none'" in answer.headers["content-security-policy"]
+        run.page.wait_for_timeout(300)
+        assert not run.errors and run.violations() == [], (run.errors, run.violations())
     finally:
         context.close()
 
@@ -648,3 +647,93 @@ def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service)
     assert shown["outline"]["pole"] == "north"
     assert min(p["downrange_nmi"] for p in shown["points"]) > 0 and max(p["downrange_nmi"] for p in shown["points"]) > 14_000
     page.screenshot(path=str(FIGURES / "map_past_halfway_polar.png"))
+
+
+# ------------------------------------------------------------------------------------ issue 15 item 1: no script
+HOSTILE_NAME = "x ${alert(document.domain)} </script><img src=x onerror=alert(1)> \"'"
+
+
+@pytest.fixture(scope="module")
+def hostile_footprint(service):
+    """A footprint named to break out of a JS template literal, a script element and an attribute (deleted after)."""
+    job = service.run_job(SEED_JOB | {"name": HOSTILE_NAME})
+    footprint = service.call(job["result"]["footprints"][0])
+    assert footprint["name"] == HOSTILE_NAME
+    yield footprint
+    service.call(f"/api/footprints/{footprint['id']}", method="DELETE")
+
+
+def assert_standalone_map_is_safe(page, dialogs, footprint):
+    """The folium map drawn, its name shown as text (title and polygon tooltip), no dialog, nothing refused."""
+    page.wait_for_selector("path.leaflet-interactive", state="attached")
+    assert page.locator("path.leaflet-interactive").count() >= len(ring(footprint["points"]))  # not blank
+    assert page.locator("img").count() == 0  # the name's <img> is not an element
+    assert HOSTILE_NAME in page.locator("b").first.inner_text()
+    fill = [b for b in (e.bounding_box() for e in page.locator('path[fill-opacity="0.22"]').all())
+            if b and b["width"] > 20 and b["x"] >= 0 and b["y"] >= 0]
+    assert fill, "the footprint's area is not drawn"
+    page.mouse.move(fill[0]["x"] + fill[0]["width"] * 0.5, fill[0]["y"] + fill[0]["height"] * 0.3)
+    page.wait_for_selector(".leaflet-tooltip")
+    page.wait_for_timeout(300)
+    assert dialogs == []
+    assert page.evaluate("() => window.__violations") == []
+    return page.locator(".leaflet-tooltip").all_inner_texts()
+
+
+def test_a_hostile_name_is_text_in_the_served_map(browser, service, hostile_footprint):
+    """GET /api/footprints/{id}/map: a name with ${...}, </script> and an onerror attribute runs nothing; the map
+    draws; the Content-Security-Policy header allows folium's inline scripts by hash only."""
+    context = browser.new_context(viewport={"width": 1000, "height": 600})
+    try:
+        run, dialogs = PageRun(context.new_page()), []
+        run.page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+        answer = run.page.goto(f"{service.base_url}/api/footprints/{hostile_footprint['id']}/map")
+        tips = assert_standalone_map_is_safe(run.page, dialogs, hostile_footprint)
+        assert HOSTILE_NAME in tips
+        policy = answer.headers.get("content-security-policy", "")
+        assert "script-src 'sha256-" in policy and "'unsafe-inline'" not in policy.split("style-src")[0]
+        assert "frame-ancestors 'none'" in policy and answer.headers["x-content-type-options"] == "nosniff"
+        assert not run.errors, run.errors
+    finally:
+        context.close()
+
+
+def test_a_hostile_name_is_text_in_the_map_file(browser, hostile_footprint, tmp_path):
+    """`footprint map` opened from disk: the same, under the policy of its <meta> tag (a file has no headers)."""
+    import subprocess
+    import sys
+
+    src = tmp_path / "footprint.json"
+    src.write_text(json.dumps(hostile_footprint))
+    out = tmp_path / "map.html"
+    res = subprocess.run([sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    context = browser.new_context(viewport={"width": 1000, "height": 600})
+    try:
+        run, dialogs = PageRun(context.new_page()), []
+        run.page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+        run.page.goto(out.as_uri())
+        meta = run.page.get_attribute('head > meta[http-equiv="Content-Security-Policy"]', "content")
+        assert "script-src 'sha256-" in meta and "object-src 'none'" in meta and "base-uri 'none'" in meta
+        tips = assert_standalone_map_is_safe(run.page, dialogs, hostile_footprint)
+        assert HOSTILE_NAME in tips
+        assert not run.errors, run.errors
+    finally:
+        context.close()
+
+
+def test_a_hostile_name_is_text_on_the_page(open_page, service, hostile_footprint):
+    """The map page under the service's policy: the name in the list, the legend and the tooltip is text; no
+    dialog, no CSP violation."""
+    run = open_page()
+    page, dialogs = run.page, []
+    page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+    fp_id = hostile_footprint["id"]
+    row = page.locator(f"#footprint-list li[data-id='{fp_id}']")
+    assert row.locator(".fp-select").inner_text().startswith(HOSTILE_NAME)
+    page.evaluate("(id) => window.footprintApp.select(id)", fp_id)
+    assert HOSTILE_NAME in page.locator(".map-legend").inner_text()
+    assert page.locator("#footprint-list img, .map-legend img").count() == 0
+    page.wait_for_timeout(300)
+    assert dialogs == [] and not run.errors and run.violations() == [], (dialogs, run.errors, run.violations())

@@ -139,7 +139,13 @@ def test_the_offline_map_page_of_a_footprint(api, footprint_job):
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
     assert stored["name"] in r.text
     assert not re.search(r'<(script|link)[^>]+(src|href)="(https?:)?//', r.text)  # nothing from the internet
-    assert api.get("/api/footprints/0f0e/map").status_code == 404
+    # issue 15 item 1: folium's inline scripts allowed by hash, nothing else (and the page's policy on the 404)
+    from footprint.csp import inline_script_hashes, standalone_policy
+
+    assert r.headers["content-security-policy"] == standalone_policy(inline_script_hashes(r.text), header=True)
+    assert "frame-ancestors 'none'" in r.headers["content-security-policy"]
+    missing = api.get("/api/footprints/0f0e/map")
+    assert missing.status_code == 404 and "script-src 'self';" in missing.headers["content-security-policy"]
 
 
 def _shoelace(ring) -> float:

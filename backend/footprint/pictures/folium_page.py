@@ -12,6 +12,11 @@ The footprint is a dict as `footprint footprint` prints it or GET /api/footprint
 parameter shown on hover), `entry` (latitude_deg, longitude_deg, heading_deg) and, optionally, `ground_track`
 and `name`. Longitudes are unwrapped about the entry so a footprint across +-180 deg is drawn whole; copies at
 +-360 deg show the parts past the map's edge.
+
+No user text (the name, a point's parameters) enters a script: folium's Tooltip writes its text into a JS template
+literal, where `${...}` runs (issue 15 item 1). The labels sit in one JSON data block and are shown as text nodes,
+so every inline script comes from our templates and numbers alone, and the page carries a Content-Security-Policy
+that allows exactly those scripts by their sha256 hashes.
 """
 
 import base64
@@ -23,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from footprint.csp import inline_script_hashes, js_string, standalone_policy, with_policy_meta
 from footprint.core.errors import InputError
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
     unit_vectors, unwrap_longitude
@@ -32,6 +38,16 @@ WORLD_COPIES_DEG = (-360.0, 0.0, 360.0)
 GRATICULE_DEG = 30.0
 TRACK_SAMPLE_DEG = 1.0  # the initial great circle's samples when the footprint carries no ground track
 COLOR = "#1f6fbf"
+LABELS_ID = "footprint-labels"
+# footprintLabel(i): a new tooltip element showing label i of the JSON block as text (one element per layer:
+# a DOM node has one parent); its newlines break lines, as Leaflet's tooltips do not wrap.
+LABEL_JS = ("function footprintLabel(i) {\n"
+            "  footprintLabel.all = footprintLabel.all || JSON.parse(document.getElementById(%s).textContent);\n"
+            "  const div = document.createElement('div');\n"
+            "  div.style.whiteSpace = 'pre';\n"
+            "  div.textContent = footprintLabel.all[i];\n"
+            "  return div;\n"
+            "}" % js_string(LABELS_ID))
 
 
 def vendor_dir() -> Path:
@@ -134,6 +150,7 @@ def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float
 
 
 def _hover(point: dict) -> str:
+    """A boundary point's label, plain text (shown as a text node)."""
     def num(key, unit, digits=0):
         v = point.get(key)
         return "–" if v is None else f"{v:,.{digits}f} {unit}"
@@ -141,8 +158,35 @@ def _hover(point: dict) -> str:
     parameter = point.get("parameter") or {}
     control = ", ".join(f"{k} {v:g}" if isinstance(v, (int, float)) else f"{k} {v}"
                         for k, v in parameter.items() if v is not None) if isinstance(parameter, dict) else str(parameter)
-    return (f"down-range {num('downrange_nmi', 'nmi')}<br>cross-range {num('crossrange_nmi', 'nmi')}<br>"
-            f"flight time {num('flight_time_s', 's')}<br>control {escape(control) or '–'}")
+    return (f"down-range {num('downrange_nmi', 'nmi')}\ncross-range {num('crossrange_nmi', 'nmi')}\n"
+            f"flight time {num('flight_time_s', 's')}\ncontrol {control or '–'}")
+
+
+class _Labels:
+    """The map's tooltip texts: each layer's script names its label by index; the texts go into one JSON block."""
+
+    def __init__(self):
+        self.texts: list[str] = []
+
+    def bind(self, layer, text: str, **options):
+        from branca.element import MacroElement
+        from jinja2 import Template
+
+        self.texts.append(str(text))
+        label = MacroElement()
+        label._name, label.index, label.options = "Label", len(self.texts) - 1, {"sticky": True, **options}
+        label._template = Template("""{% macro script(this, kwargs) %}
+            {{ this._parent.get_name() }}.bindTooltip(footprintLabel({{ this.index }}), {{ this.options|tojson }});
+        {% endmacro %}""")
+        layer.add_child(label)
+        return layer
+
+    def block(self) -> str:
+        """The JSON data block (not run: no CSP hash needed; <, >, & escaped so no text closes the element) and
+        the script that reads it."""
+        texts = "[" + ",".join(js_string(t) for t in self.texts) + "]"
+        return (f'<script type="application/json" id="{LABELS_ID}">{texts}</script>\n'
+                f"<script>{LABEL_JS}</script>")
 
 
 def footprint_map(footprint: dict, title: str | None = None):
@@ -165,6 +209,7 @@ def footprint_map(footprint: dict, title: str | None = None):
         track = _initial_great_circle(entry, max(far_deg, 1.0))
     track_lon = unwrap_longitude([t[1] for t in track], entry["longitude_deg"])
 
+    labels = _Labels()
     m = folium.Map(location=[float(lat.mean()), float(lon.mean())], zoom_start=2, tiles=None, crs="EPSG4326",
                    control_scale=False, prefer_canvas=False)
     m.default_js, m.default_css = [], []  # no CDN: Leaflet goes inline below
@@ -187,30 +232,31 @@ def footprint_map(footprint: dict, title: str | None = None):
     for offset in WORLD_COPIES_DEG:
         if span.max() + offset < -540 or span.min() + offset > 540:
             continue
-        folium.Polygon(list(zip(area.latitude_deg.tolist(), (area.longitude_deg + offset).tolist())), stroke=False,
-                       fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0, no_clip=True,
-                       tooltip=escape(name)).add_to(m)
+        labels.bind(folium.Polygon(list(zip(area.latitude_deg.tolist(), (area.longitude_deg + offset).tolist())),
+                                   stroke=False, fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0,
+                                   no_clip=True), name).add_to(m)
         edge = slice(0, -2) if area.pole else slice(None)  # the edge without the closure along a pole
         edge_lat, edge_lon = area.latitude_deg[edge], area.longitude_deg[edge] + offset
         if not area.pole:
             edge_lat, edge_lon = np.append(edge_lat, edge_lat[0]), np.append(edge_lon, edge_lon[0])
         folium.PolyLine(list(zip(edge_lat.tolist(), edge_lon.tolist())), color=COLOR, weight=2, smooth_factor=0,
                         no_clip=True).add_to(m)
-        folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR, weight=1.5,
-                        dash_array="6 5", tooltip="ground track").add_to(m)
-        folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset],
-                            radius=6, color="#ffffff", weight=2, fill=True, fill_color=COLOR, fill_opacity=1.0,
-                            tooltip=f"entry, heading {entry['heading_deg']:.1f} deg").add_to(m)
+        labels.bind(folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR,
+                                    weight=1.5, dash_array="6 5"), "ground track").add_to(m)
+        labels.bind(folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset], radius=6,
+                                        color="#ffffff", weight=2, fill=True, fill_color=COLOR, fill_opacity=1.0),
+                    f"entry, heading {float(entry['heading_deg']):.1f} deg").add_to(m)
         for p, x in zip(points, lon):
-            folium.CircleMarker([p["latitude_deg"], float(x) + offset], radius=4, color=COLOR, weight=1.5, fill=True,
-                                fill_color="#ffffff" if p.get("mirrored") else COLOR, fill_opacity=1.0,
-                                tooltip=_hover(p)).add_to(m)
+            labels.bind(folium.CircleMarker([p["latitude_deg"], float(x) + offset], radius=4, color=COLOR,
+                                            weight=1.5, fill=True, fill_color="#ffffff" if p.get("mirrored") else COLOR,
+                                            fill_opacity=1.0), _hover(p)).add_to(m)
     m.fit_bounds([[float(area.latitude_deg.min()), float(area.longitude_deg.min())],
                   [float(area.latitude_deg.max()), float(area.longitude_deg.max())]], padding=(30, 30))
     m.get_root().html.add_child(folium.Element(
         f'<div style="position:fixed;top:10px;left:54px;z-index:1000;background:rgba(255,255,255,.92);'
         f'padding:5px 9px;border-radius:4px;font:13px sans-serif;box-shadow:0 1px 4px rgba(0,0,0,.3)">'
         f'<b>{escape(name)}</b> · cylindrical equidistant · Natural Earth (public domain)</div>'))
+    m.get_root().header.add_child(folium.Element(labels.block()), name="labels")
     return m
 
 
@@ -227,8 +273,17 @@ def _shift(collection: dict, offset_deg: float) -> dict:
 
 
 def footprint_map_html(footprint: dict, title: str | None = None) -> str:
-    """The standalone HTML of footprint_map: no script or stylesheet from the internet."""
-    return footprint_map(footprint, title).get_root().render()
+    """The standalone HTML of footprint_map: no script or stylesheet from the internet, and a <meta>
+    Content-Security-Policy allowing only its own inline scripts (a file opened from disk has no headers; the
+    service sends the same policy as a header, see map_policy)."""
+    # the HTML parser turns CR LF into LF before the browser hashes a script: hash what it will see
+    html = footprint_map(footprint, title).get_root().render().replace("\r\n", "\n")
+    return with_policy_meta(html, standalone_policy(inline_script_hashes(html), header=False))
+
+
+def map_policy(html: str) -> str:
+    """The Content-Security-Policy header for footprint_map_html's page."""
+    return standalone_policy(inline_script_hashes(html), header=True)
 
 
 def write_footprint_map(footprint: dict, path, title: str | None = None) -> Path:

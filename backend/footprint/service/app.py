@@ -9,9 +9,11 @@ from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
+from starlette.datastructures import MutableHeaders
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
+from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
 from footprint.service import errors, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine
@@ -52,28 +54,58 @@ def create_app(settings: Settings) -> FastAPI:
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
-    _api_docs(app)
+    _api_docs(app, settings.tile_url)
     if settings.frontend_dir.is_dir():
         app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")
+    # outside Starlette's own outermost layer, so that its 500s carry the headers too
+    build = app.build_middleware_stack
+    app.build_middleware_stack = lambda: SecurityHeadersMiddleware(build(), content_policy=page_policy(settings.tile_url))
     return app
 
 
-def _api_docs(app: FastAPI) -> None:
+def _api_docs(app: FastAPI, tile_url: str) -> None:
     """/docs (Swagger UI) and /redoc from the page's vendor/ copies (npm swagger-ui-dist and redoc, `npm ci`):
     FastAPI's defaults load them from a CDN, which a machine without the internet cannot reach."""
     from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
 
     @app.get("/docs", include_in_schema=False)
     def swagger_ui() -> HTMLResponse:
-        return get_swagger_ui_html(openapi_url=app.openapi_url, title="Footprint API",
+        page = get_swagger_ui_html(openapi_url=app.openapi_url, title="Footprint API",
                                    swagger_js_url="/vendor/swagger-ui/swagger-ui-bundle.js",
                                    swagger_css_url="/vendor/swagger-ui/swagger-ui.css", swagger_favicon_url="data:,")
+        # FastAPI's inline SwaggerUIBundle(...) set-up, allowed by its hash: it holds no user text
+        page.headers["Content-Security-Policy"] = page_policy(tile_url, inline_script_hashes(page.body.decode()))
+        return page
 
     @app.get("/redoc", include_in_schema=False)
     def redoc() -> HTMLResponse:
         return get_redoc_html(openapi_url=app.openapi_url, title="Footprint API",
                               redoc_js_url="/vendor/redoc/redoc.standalone.js", redoc_favicon_url="data:,",
                               with_google_fonts=False)
+
+
+class SecurityHeadersMiddleware:
+    """Every response's Content-Security-Policy (unless its route set its own, as the folium map and /docs
+    do), X-Content-Type-Options and Referrer-Policy (footprint.csp)."""
+
+    def __init__(self, app: ASGIApp, *, content_policy: str):
+        self.app, self.content_policy = app, content_policy
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+
+        async def send_with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                headers = MutableHeaders(raw=list(message.get("headers", [])))
+                headers.setdefault("Content-Security-Policy", self.content_policy)
+                for name, value in SECURITY_HEADERS.items():
+                    headers.setdefault(name, value)
+                message = {**message, "headers": headers.raw}
+            await send(message)
+
+        await self.app(scope, receive, send_with_headers)
 
 
 class GuardMiddleware:

@@ -85,11 +85,13 @@ def _csv(points: list[dict]) -> str:
 @router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse, responses={503: {}})
 def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
     """A standalone folium map of the footprint that works offline (footprint.pictures.folium_page)."""
-    from footprint.pictures.folium_page import footprint_map_html
+    from footprint.pictures.folium_page import footprint_map_html, map_policy
 
     item, _ = _full(request, footprint_id)
     try:
-        return HTMLResponse(footprint_map_html(item, title=item["name"]))
+        html = footprint_map_html(item, title=item["name"])
+        # folium's inline scripts, allowed by hash (the page policy allows no inline script)
+        return HTMLResponse(html, headers={"Content-Security-Policy": map_policy(html)})
     except InputError as exc:  # the page's npm packages are not installed: the server's state, not the request's
         raise Unavailable(exc.message) from None
 
