@@ -12,7 +12,7 @@ from starlette.concurrency import run_in_threadpool
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
-from footprint.service import errors, schemas
+from footprint.service import deps, errors, nul, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
@@ -78,7 +78,8 @@ def _api_docs(app: FastAPI) -> None:
 
 class GuardMiddleware:
     """Before any route runs: a path under /api that no route has (404) or a method its routes do not answer (405,
-    never the page's static files), the bearer token on writes (401; reads stay open) and the body limit (413)."""
+    never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
+    character in any text (service.nul)."""
 
     def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int):
         self.app, self.api, self.token, self.max_body_bytes = app, api, token, max_body_bytes
@@ -103,16 +104,22 @@ class GuardMiddleware:
         if declared is not None and declared.isdigit() and int(declared) > self.max_body_bytes:
             await _reply(scope, receive, send, _too_large(int(declared), self.max_body_bytes))
             return
+        body = None
         if scope["method"] in WRITE_METHODS:
             body = await self._buffered(receive)
             if body is None:
                 await _reply(scope, receive, send, _too_large(None, self.max_body_bytes))
                 return
             receive = _replay(body)
+        refused = nul.refusal(scope["path"], scope["query_string"], body,
+                              dict(scope["headers"]).get(b"content-type", b"").decode("latin-1"))
+        if refused is not None:
+            await _reply(scope, receive, send, refused)
+            return
         await self.app(scope, receive, send)
 
     def _authorized(self, scope: Scope) -> bool:
-        return dict(scope["headers"]).get(b"authorization", b"").decode("latin-1") == f"Bearer {self.token}"
+        return deps.bearer_matches(dict(scope["headers"]).get(b"authorization", b"").decode("latin-1"), self.token)
 
     async def _buffered(self, receive: Receive) -> bytes | None:
         """The whole body (a chunked one is counted as it comes); None past the limit."""
