@@ -52,6 +52,7 @@ def create_app(settings: Settings) -> FastAPI:
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
+    app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
     _api_docs(app)
     if settings.frontend_dir.is_dir():
         app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")

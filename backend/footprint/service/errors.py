@@ -4,6 +4,7 @@ Validation errors reuse footprint.contracts.case.error_line, so a REST user read
 field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
 import json
+import logging
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -13,6 +14,8 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from footprint.contracts.case import error_line
 from footprint.core.errors import InputError
+
+log = logging.getLogger("footprint.service")
 
 
 class RequestInvalid(ValueError):
@@ -213,3 +216,37 @@ def install(app: FastAPI) -> None:
     for kind in STATUS_BY_EXCEPTION:
         app.add_exception_handler(kind, handle)
     app.add_exception_handler(StarletteHTTPException, http_error)
+
+
+class Unexpected:
+    """The last resort for an exception no handler takes: logged with its traceback, answered with a one-line 500, and
+    not raised on. Starlette's ServerErrorMiddleware raises it again after its 500, and uvicorn then closes the
+    keep-alive connection, so the client's next request failed with a reset. Only a response cut off mid-body
+    raises on: that connection cannot carry another request."""
+
+    BODY = {"detail": "internal error (the server's log has the traceback)"}  # never the exception's text: SQL
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        state = {"started": False, "complete": False}
+
+        async def tracked(message) -> None:
+            if message["type"] == "http.response.start":
+                state["started"] = True
+            elif message["type"] == "http.response.body" and not message.get("more_body", False):
+                state["complete"] = True
+            await send(message)
+
+        try:
+            await self.app(scope, receive, tracked)
+        except Exception as exc:  # noqa: BLE001 -- the one place an unexpected error is logged and answered
+            log.error("%s %s failed", scope["method"], scope["path"][:200], exc_info=exc)
+            if not state["started"]:
+                await JSONResponse(self.BODY, status_code=500)(scope, receive, send)
+            elif not state["complete"]:
+                raise
