@@ -98,3 +98,72 @@ def test_health_shows_the_scheduler_address_with_the_token_only(guarded):
         assert "scheduler" not in guarded.get("/api/health", headers=headers).json()["cluster"]
     cluster = guarded.get("/api/health", headers={"Authorization": "Bearer s3cret"}).json()["cluster"]
     assert cluster["scheduler"] == guarded.scheduler_address
+
+
+def test_the_bearer_token_is_compared_in_constant_time(guarded, monkeypatch):
+    import hmac
+
+    from footprint.service import deps
+
+    compared, original = [], hmac.compare_digest
+    monkeypatch.setattr(deps.hmac, "compare_digest", lambda a, b: compared.append((a, b)) or original(a, b))
+    assert guarded.post("/api/sites", json={}, headers={"Authorization": "Bearer wrong"}).status_code == 401
+    assert compared == [(b"Bearer wrong", b"Bearer s3cret")]
+
+
+# issue 15 item 11
+@pytest.mark.parametrize("path, body, field", [
+    ("/api/sites", {"name": "x" * 200_000, "latitude_deg": 0, "longitude_deg": 0}, "name"),
+    ("/api/sites", {"name": "KSC", "latitude_deg": 0, "longitude_deg": 0, "x" * 200_000: 1}, "x" * 77 + "..."),
+    ("/api/jobs", {"kind": "footprint", "study": FOOTPRINT | {"y" * 200_000: 1}}, "study." + "y" * 77 + "..."),
+    ("/api/trajectories", {"vehicle": {"stored": "z" * 200_000}}, "vehicle.stored"),
+    ("/api/transform", {"points": [{"latitude_deg": "w" * 1_000, "longitude_deg": 0}] * 500}, "points.0.latitude_deg"),
+])
+def test_a_422_echoes_no_huge_value(api, path, body, field):
+    r = api.post(path, json=body)
+    assert r.status_code == 422 and r.json()["field"] == field, r.text[:300]
+    assert len(r.content) < 12_000, r.text[:300]
+
+
+def test_invalid_json_names_the_body(api):
+    for path in ("/api/trajectories", "/api/sites", "/api/jobs"):
+        r = api.post(path, content=b'{"name": ', headers={"content-type": "application/json"})
+        assert_names(r, "body")
+        assert "not valid JSON" in r.json()["detail"]
+
+
+def test_head_is_answered_wherever_get_is(api):
+    for path in ("/api/health", "/api/jobs", "/api/vehicles", "/api/sites", "/openapi.json", "/docs", "/",
+                 "/js/main.js"):
+        get, head = api.get(path), api.head(path)
+        assert head.status_code == get.status_code == 200, path
+        assert head.content == b"" and head.headers["content-type"] == get.headers["content-type"], path
+    assert api.head("/api/sites/2147483647").status_code == 404
+    r = api.head("/api/trajectories")
+    assert r.status_code == 405 and r.headers["allow"] == "POST"
+
+
+def test_a_head_of_a_job_events_stream_ends_at_once(api):
+    job = api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()
+    r = api.head(job["events"])
+    assert r.status_code == 200 and r.content == b"" and r.headers["content-type"].startswith("text/event-stream")
+    api.delete(job["url"])
+
+
+@pytest.mark.parametrize("path", ["/package.json", "/package-lock.json", "/README.md", "/scripts/vendor.mjs",
+                                  "/.gitignore", "/node_modules/leaflet/package.json", "/js/../package.json",
+                                  "/vendor/../package-lock.json"])
+def test_only_the_pages_own_files_are_served(api, path):
+    assert api.get(path).status_code == 404
+
+
+def test_the_page_and_the_docs_find_every_file_they_load(api):
+    import re
+
+    page = api.get("/").text
+    assert page == api.get("/index.html").text
+    loaded = re.findall(r'(?:src|href)="((?:vendor|js)/[^"]+|styles\.css)"', page)
+    loaded += re.findall(r'"(/vendor/[^"]+)"', api.get("/docs").text + api.get("/redoc").text)
+    assert len(loaded) >= 8
+    for path in loaded + ["vendor/world/land-110m.json", "vendor/leaflet/images/marker-icon.png"]:
+        assert api.get("/" + path.lstrip("/")).status_code == 200, path

@@ -3,12 +3,15 @@ resubmitted, the built-in vehicle summaries computed; the API under /api, the do
 
 import logging
 from contextlib import asynccontextmanager
+from pathlib import PurePath
 
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
+from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
@@ -55,7 +58,7 @@ def create_app(settings: Settings) -> FastAPI:
     app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
     _api_docs(app)
     if settings.frontend_dir.is_dir():
-        app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")
+        app.mount("/", PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
     return app
 
 
@@ -75,6 +78,18 @@ def _api_docs(app: FastAPI) -> None:
         return get_redoc_html(openapi_url=app.openapi_url, title="Footprint API",
                               redoc_js_url="/vendor/redoc/redoc.standalone.js", redoc_favicon_url="data:,",
                               with_google_fonts=False)
+
+
+class PageFiles(StaticFiles):
+    """The page's own files of frontend/ and nothing else there (node_modules, package files, scripts, README): its
+    index.html and styles.css, its modules in js/, and vendor/, the built third-party files it and /docs load."""
+
+    FILES, DIRS = {".", "index.html", "styles.css"}, {"js", "vendor"}
+
+    async def get_response(self, path: str, scope: Scope):
+        if path not in self.FILES and PurePath(path).parts[0] not in self.DIRS:  # path: normalized, relative
+            raise StarletteHTTPException(status_code=404)
+        return await super().get_response(path, scope)
 
 
 class GuardMiddleware:
@@ -117,6 +132,9 @@ class GuardMiddleware:
         if refused is not None:
             await _reply(scope, receive, send, refused)
             return
+        if scope["method"] == "HEAD" and "GET" in errors.allowed(self.api, scope["path"]):
+            await _head_as_get(self.app, scope, receive, send)
+            return
         await self.app(scope, receive, send)
 
     def _authorized(self, scope: Scope) -> bool:
@@ -154,6 +172,32 @@ def _replay(body: bytes) -> Receive:
         return {"type": "http.request", "body": body, "more_body": False}
 
     return receive
+
+
+class _HeadAnswered(OSError):
+    """A HEAD's response is complete; a streamed GET body (a job's events) is stopped as a client gone."""
+
+
+async def _head_as_get(app: ASGIApp, scope: Scope, receive: Receive, send: Send) -> None:
+    """HEAD answered as the GET it mirrors (status and headers, Content-Length included) without the body: FastAPI's
+    routes answer no HEAD."""
+    complete = False
+
+    async def headers_only(message: Message) -> None:
+        nonlocal complete
+        if message["type"] != "http.response.body":
+            await send(message)
+            return
+        if complete:
+            raise _HeadAnswered
+        complete = True
+        await send({"type": "http.response.body", "body": b"", "more_body": False})
+
+    try:
+        await app(dict(scope, method="GET"), receive, headers_only)
+    except (_HeadAnswered, ClientDisconnect):
+        if not complete:
+            raise
 
 
 async def _reply(scope: Scope, receive: Receive, send: Send, exc: Exception) -> None:
