@@ -3,19 +3,16 @@ resubmitted, the built-in vehicle summaries computed; the API under /api, the do
 
 import logging
 from contextlib import asynccontextmanager
-from pathlib import PurePath
 
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
-from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
-from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
-from footprint.service import deps, errors, nul, schemas
+from footprint.service import deps, errors, nul, page, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
@@ -58,7 +55,7 @@ def create_app(settings: Settings) -> FastAPI:
     app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
     _api_docs(app)
     if settings.frontend_dir.is_dir():
-        app.mount("/", PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
+        app.mount("/", page.PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
     return app
 
 
@@ -78,18 +75,6 @@ def _api_docs(app: FastAPI) -> None:
         return get_redoc_html(openapi_url=app.openapi_url, title="Footprint API",
                               redoc_js_url="/vendor/redoc/redoc.standalone.js", redoc_favicon_url="data:,",
                               with_google_fonts=False)
-
-
-class PageFiles(StaticFiles):
-    """The page's own files of frontend/ and nothing else there (node_modules, package files, scripts, README): its
-    index.html and styles.css, its modules in js/, and vendor/, the built third-party files it and /docs load."""
-
-    FILES, DIRS = {".", "index.html", "styles.css"}, {"js", "vendor"}
-
-    async def get_response(self, path: str, scope: Scope):
-        if path not in self.FILES and PurePath(path).parts[0] not in self.DIRS:  # path: normalized, relative
-            raise StarletteHTTPException(status_code=404)
-        return await super().get_response(path, scope)
 
 
 class GuardMiddleware:
