@@ -514,17 +514,17 @@ class Case(Strict):
 def error_line(exc: ValidationError | InputError) -> str:
     """One line naming the field(s) and the allowed range."""
     if isinstance(exc, InputError):
-        return str(exc)
-    parts = []
-    for err in exc.errors():
+        return clip(str(exc), ERROR_MESSAGE_CHARS)
+    parts, errs = [], exc.errors()
+    for err in errs[:MAX_ERROR_FIELDS]:
         loc = []
         for i, x in enumerate(err["loc"]):
             after = err["loc"][i - 1] if i else None
             if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating", "study") and x in _LAW_TAGS)
                                        or (after == "study" and x in _STUDY_TAGS)):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
-            loc.append(str(x))
-        msg = err["msg"].removeprefix("Value error, ")
+            loc.append(clip(str(x), ECHO_CHARS))  # a key is the client's text too
+        msg = clip(err["msg"].removeprefix("Value error, "), ERROR_MESSAGE_CHARS)  # a validator's may quote the input
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it, not the input
             ctx = err.get("ctx", {})
             tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
@@ -542,16 +542,28 @@ def error_line(exc: ValidationError | InputError) -> str:
             parts.append(f"{'.'.join(loc)}.{msg}")
         else:
             parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
+    if len(errs) > MAX_ERROR_FIELDS:
+        parts[-1] += f" (and {len(errs) - MAX_ERROR_FIELDS:,} more fields with errors)"
     return "; ".join(parts)
 
 
 _FIELD_FIRST = re.compile(r"^[A-Za-z_][\w.]*: ")
 
 
-def _short(value, limit=80) -> str:
-    """A user's input as it lands in a one-line error: repr, cut at limit characters."""
-    text = repr(value)
+# what of a bad request an error line echoes: never the whole of a 200 kB value
+ECHO_CHARS = 80  # an input value or a key
+ERROR_MESSAGE_CHARS = 500  # one field's message
+MAX_ERROR_FIELDS = 20  # fields named in one line; the rest counted
+
+
+def clip(text: str, limit: int) -> str:
+    """Text cut at limit characters ("..." marks the cut)."""
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _short(value, limit=ECHO_CHARS) -> str:
+    """A user's input as it lands in a one-line error: repr, cut at limit characters."""
+    return clip(repr(value), limit)
 
 
 _LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",

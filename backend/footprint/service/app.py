@@ -7,14 +7,14 @@ from contextlib import asynccontextmanager
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
-from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import MutableHeaders
+from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
 from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
-from footprint.service import errors, schemas
+from footprint.service import deps, errors, nul, page, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
@@ -54,9 +54,10 @@ def create_app(settings: Settings) -> FastAPI:
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
+    app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
     _api_docs(app, settings.tile_url)
     if settings.frontend_dir.is_dir():
-        app.mount("/", StaticFiles(directory=settings.frontend_dir, html=True), name="frontend")
+        app.mount("/", page.PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
     # outside Starlette's own outermost layer, so that its 500s carry the headers too
     build = app.build_middleware_stack
     app.build_middleware_stack = lambda: SecurityHeadersMiddleware(build(), content_policy=page_policy(settings.tile_url))
@@ -110,7 +111,8 @@ class SecurityHeadersMiddleware:
 
 class GuardMiddleware:
     """Before any route runs: a path under /api that no route has (404) or a method its routes do not answer (405,
-    never the page's static files), the bearer token on writes (401; reads stay open) and the body limit (413)."""
+    never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
+    character in any text (service.nul)."""
 
     def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int):
         self.app, self.api, self.token, self.max_body_bytes = app, api, token, max_body_bytes
@@ -135,16 +137,25 @@ class GuardMiddleware:
         if declared is not None and declared.isdigit() and int(declared) > self.max_body_bytes:
             await _reply(scope, receive, send, _too_large(int(declared), self.max_body_bytes))
             return
+        body = None
         if scope["method"] in WRITE_METHODS:
             body = await self._buffered(receive)
             if body is None:
                 await _reply(scope, receive, send, _too_large(None, self.max_body_bytes))
                 return
             receive = _replay(body)
+        refused = nul.refusal(scope["path"], scope["query_string"], body,
+                              dict(scope["headers"]).get(b"content-type", b"").decode("latin-1"))
+        if refused is not None:
+            await _reply(scope, receive, send, refused)
+            return
+        if scope["method"] == "HEAD" and "GET" in errors.allowed(self.api, scope["path"]):
+            await _head_as_get(self.app, scope, receive, send)
+            return
         await self.app(scope, receive, send)
 
     def _authorized(self, scope: Scope) -> bool:
-        return dict(scope["headers"]).get(b"authorization", b"").decode("latin-1") == f"Bearer {self.token}"
+        return deps.bearer_matches(dict(scope["headers"]).get(b"authorization", b"").decode("latin-1"), self.token)
 
     async def _buffered(self, receive: Receive) -> bytes | None:
         """The whole body (a chunked one is counted as it comes); None past the limit."""
@@ -178,6 +189,32 @@ def _replay(body: bytes) -> Receive:
         return {"type": "http.request", "body": body, "more_body": False}
 
     return receive
+
+
+class _HeadAnswered(OSError):
+    """A HEAD's response is complete; a streamed GET body (a job's events) is stopped as a client gone."""
+
+
+async def _head_as_get(app: ASGIApp, scope: Scope, receive: Receive, send: Send) -> None:
+    """HEAD answered as the GET it mirrors (status and headers, Content-Length included) without the body: FastAPI's
+    routes answer no HEAD."""
+    complete = False
+
+    async def headers_only(message: Message) -> None:
+        nonlocal complete
+        if message["type"] != "http.response.body":
+            await send(message)
+            return
+        if complete:
+            raise _HeadAnswered
+        complete = True
+        await send({"type": "http.response.body", "body": b"", "more_body": False})
+
+    try:
+        await app(dict(scope, method="GET"), receive, headers_only)
+    except (_HeadAnswered, ClientDisconnect):
+        if not complete:
+            raise
 
 
 async def _reply(scope: Scope, receive: Receive, send: Send, exc: Exception) -> None:

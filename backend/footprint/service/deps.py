@@ -1,5 +1,7 @@
 """What the routers take from the running app: the session factory, the job engine and the settings."""
 
+import hmac
+
 from sqlalchemy.orm import Session, sessionmaker
 from starlette.requests import Request
 
@@ -9,6 +11,16 @@ from footprint.service.jobs.engine import JobEngine
 def sessions(request: Request) -> sessionmaker[Session]:
     """GET requests only read: their sessions begin deferred (db.engine.make_sessions)."""
     return request.app.state.read_sessions if request.method in ("GET", "HEAD") else request.app.state.sessions
+
+
+def bearer_matches(authorization: str, token: str) -> bool:
+    """Whether an Authorization header carries the token (compared in constant time: no timing oracle)."""
+    return bool(token) and hmac.compare_digest(authorization.encode("latin-1"), f"Bearer {token}".encode())
+
+
+def has_token(request: Request) -> bool:
+    """The caller sent the service's bearer token (never, when none is set)."""
+    return bearer_matches(request.headers.get("authorization", ""), request.app.state.settings.api_token)
 
 
 def engine(request: Request) -> JobEngine:

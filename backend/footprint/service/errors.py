@@ -4,6 +4,7 @@ Validation errors reuse footprint.contracts.case.error_line, so a REST user read
 field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
 import json
+import logging
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -11,8 +12,10 @@ from fastapi.responses import JSONResponse
 from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from footprint.contracts.case import error_line
+from footprint.contracts.case import ECHO_CHARS, ERROR_MESSAGE_CHARS, MAX_ERROR_FIELDS, clip, error_line
 from footprint.core.errors import InputError
+
+log = logging.getLogger("footprint.service")
 
 
 class RequestInvalid(ValueError):
@@ -101,20 +104,22 @@ def error_body(exc: Exception) -> dict:
         return {"detail": inv.detail, "field": inv.field}
     if isinstance(exc, RequestValidationError):
         return _request_validation_body(exc)
-    return {"detail": str(exc)}
+    return {"detail": clip(str(exc), ERROR_MESSAGE_CHARS)}
 
 
 def _request_validation_body(exc: RequestValidationError) -> dict:
     """FastAPI's own checks (path and query parameters, JSON syntax) in the same one-line form."""
-    parts, field = [], None
-    for err in exc.errors():
-        loc = [str(x) for x in err.get("loc", ()) if x not in ("body", "query", "path")]
+    parts, field, errs = [], None, exc.errors()
+    for err in errs[:MAX_ERROR_FIELDS]:
+        loc = [clip(str(x), ECHO_CHARS) for x in err.get("loc", ()) if x not in ("body", "query", "path")]
         name = ".".join(loc) or "body"
+        msg = clip(err.get("msg", "invalid").removeprefix("Value error, "), ERROR_MESSAGE_CHARS)
+        if err.get("type") == "json_invalid":  # its loc is the offset in the body ("field 0"): name the body
+            name, msg = "body", f"not valid JSON ({err.get('ctx', {}).get('error', 'syntax error')})"
         field = field or name
-        msg = err.get("msg", "invalid").removeprefix("Value error, ")
-        if err.get("type") == "json_invalid":
-            msg = f"not valid JSON ({err.get('ctx', {}).get('error', 'syntax error')})"
         parts.append(f"{name}: {msg}")
+    if len(errs) > MAX_ERROR_FIELDS:
+        parts[-1] += f" (and {len(errs) - MAX_ERROR_FIELDS:,} more fields with errors)"
     return {"detail": "; ".join(parts), "field": field}
 
 
@@ -189,14 +194,15 @@ HTTP_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS", "TRA
 
 
 def allowed(app: FastAPI, path: str) -> list[str]:
-    """Every method some route of the API answers at this path (none: no such path); the page's static files (a
-    mount at "/") are not the API's."""
+    """Every method some route of the API answers at this path (none: no such path), HEAD wherever GET is; the page's
+    static files (a mount at "/") are not the API's."""
     from starlette.routing import Match, Mount
 
     routes = [r for r in app.routes if not isinstance(r, Mount)]
-    return [m for m in HTTP_METHODS
-            if any(r.matches({"type": "http", "path": path, "method": m, "root_path": ""})[0] == Match.FULL
-                   for r in routes)]
+    found = {m for m in HTTP_METHODS
+             if any(r.matches({"type": "http", "path": path, "method": m, "root_path": ""})[0] == Match.FULL
+                    for r in routes)}
+    return [m for m in HTTP_METHODS if m in found or (m == "HEAD" and "GET" in found)]  # GuardMiddleware answers HEAD
 
 
 def install(app: FastAPI) -> None:
@@ -213,3 +219,37 @@ def install(app: FastAPI) -> None:
     for kind in STATUS_BY_EXCEPTION:
         app.add_exception_handler(kind, handle)
     app.add_exception_handler(StarletteHTTPException, http_error)
+
+
+class Unexpected:
+    """The last resort for an exception no handler takes: logged with its traceback, answered with a one-line 500, and
+    not raised on. Starlette's ServerErrorMiddleware raises it again after its 500, and uvicorn then closes the
+    keep-alive connection, so the client's next request failed with a reset. Only a response cut off mid-body
+    raises on: that connection cannot carry another request."""
+
+    BODY = {"detail": "internal error (the server's log has the traceback)"}  # never the exception's text: SQL
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        state = {"started": False, "complete": False}
+
+        async def tracked(message) -> None:
+            if message["type"] == "http.response.start":
+                state["started"] = True
+            elif message["type"] == "http.response.body" and not message.get("more_body", False):
+                state["complete"] = True
+            await send(message)
+
+        try:
+            await self.app(scope, receive, tracked)
+        except Exception as exc:  # noqa: BLE001 -- the one place an unexpected error is logged and answered
+            log.error("%s %s failed", scope["method"], scope["path"][:200], exc_info=exc)
+            if not state["started"]:
+                await JSONResponse(self.BODY, status_code=500)(scope, receive, send)
+            elif not state["complete"]:
+                raise

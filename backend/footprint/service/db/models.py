@@ -14,6 +14,7 @@ NAMING = {"ix": "ix_%(column_0_label)s", "uq": "uq_%(table_name)s_%(column_0_nam
 
 JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 PENDING = ("queued", "running")
+MAX_INTEGER = 2_147_483_647  # an Integer column's largest value (Postgres int4): the bound of ids and list offsets
 
 
 def utc_now() -> datetime:

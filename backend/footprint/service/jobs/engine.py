@@ -9,6 +9,7 @@ on one database may both compute a job, but only one stores it).
 """
 
 import logging
+import re
 import threading
 import time
 import uuid
@@ -25,6 +26,7 @@ from footprint.service.settings import Settings
 
 log = logging.getLogger("footprint.service.jobs")
 MAX_ERROR_CHARS = 500  # a failed job's error line
+CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://\S+")  # a Dask scheduler's, worker's or nanny's
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
 STOP_GRACE_S = 0.5  # a cancelled task that is still running after this has its worker restarted
 
@@ -34,8 +36,13 @@ class JobTimeLimit(RuntimeError):
 
 
 def one_line(exc: BaseException) -> str:
-    """'Type: message' on one line, shortened to MAX_ERROR_CHARS."""
-    text = " ".join(f"{type(exc).__name__}: {exc}".split())
+    """'Type: message' on one line, shortened to MAX_ERROR_CHARS. Anyone may read a job's error and /api/health: a
+    database error keeps its driver's first line (never the SQL, its parameters or the link SQLAlchemy appends)
+    and a cluster address becomes "<address>"."""
+    from sqlalchemy.exc import StatementError
+
+    message = str(exc.orig).partition("\n")[0] if isinstance(exc, StatementError) and exc.orig is not None else str(exc)
+    text = " ".join(f"{type(exc).__name__}: {CLUSTER_ADDRESS.sub('<address>', message)}".split())
     return text if len(text) <= MAX_ERROR_CHARS else text[: MAX_ERROR_CHARS - 3] + "..."
 
 

@@ -12,6 +12,7 @@ from footprint.contracts import parse
 from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
+from footprint.service.db.models import MAX_INTEGER
 from footprint.core.errors import InputError
 from footprint.service.errors import NotFound, Unavailable
 from footprint.service.routers.geometry import transform
@@ -51,7 +52,7 @@ def _full(request: Request, footprint_id: str) -> tuple[dict, dict]:
 
 @router.get("/footprints", response_model=FootprintList)
 def list_footprints(request: Request, job_id: str | None = None, limit: int = Query(50, ge=1, le=500),
-                    offset: int = Query(0, ge=0)) -> dict:
+                    offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> dict:
     """Stored footprints, newest first."""
     with deps.sessions(request).begin() as session:
         rows, total = q.list_footprints(session, job_id=job_id, limit=limit, offset=offset)

@@ -13,13 +13,16 @@ router = APIRouter(tags=["health"])
 
 @router.get("/health", response_model=Health)
 def health(request: Request) -> dict:
-    """The service's state: database reachable, cluster up, version."""
+    """The service's state: database reachable, cluster up, version (the scheduler's address only to a caller with the
+    bearer token, so never when FOOTPRINT_API_TOKEN is unset)."""
     try:
         with deps.sessions(request).begin() as session:
             database = {"ok": True, "dialect": q.dialect(session)}
     except Exception as exc:  # noqa: BLE001 -- health reports, never raises
         database = {"ok": False, "dialect": request.app.state.dialect, "error": one_line(exc)}
     cluster = deps.engine(request).status()
+    if not deps.has_token(request):  # the internal address is the operator's, not every caller's
+        cluster.pop("scheduler", None)
     status = "ok" if database["ok"] and cluster["ok"] else "degraded"
     return {"status": status, "version": footprint.__version__, "database": database, "cluster": cluster}
 

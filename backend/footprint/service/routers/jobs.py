@@ -9,7 +9,7 @@ from starlette.concurrency import run_in_threadpool
 
 from footprint.service import deps
 from footprint.service.db import queries as q
-from footprint.service.db.models import JOB_STATUSES, PENDING
+from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import NotFound
 from footprint.contracts import JOB_KINDS
 from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead
@@ -51,7 +51,7 @@ def create_job(body: JobCreate, request: Request, response: Response) -> dict:
 @router.get("/jobs", response_model=JobList)
 def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
               kind: str | None = Query(None, pattern=f"^({'|'.join(JOB_KINDS)})$"),
-              limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0)) -> dict:
+              limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> dict:
     """Jobs newest first, filtered by status and kind."""
     with deps.sessions(request).begin() as session:
         jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)

@@ -3,9 +3,9 @@ when the request gives none."""
 
 import csv
 import io
-from typing import Any
+from typing import Annotated, Any
 
-from fastapi import APIRouter, Body, Query, Request, Response
+from fastapi import APIRouter, Body, Path, Query, Request, Response
 from pydantic import ValidationError
 
 from footprint.contracts.case import error_line
@@ -13,6 +13,7 @@ from footprint import contracts
 from footprint.contracts.reach import Site
 from footprint.service import deps
 from footprint.service.db import queries as q
+from footprint.service.db.models import MAX_INTEGER
 from footprint.service.errors import NotFound, RequestInvalid
 from footprint.service.jobs.tasks import plain
 from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
@@ -20,6 +21,7 @@ from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 router = APIRouter(tags=["sites"])
 CSV_COLUMNS = ("name", "latitude_deg", "longitude_deg")
 MAX_CSV_SITES = 10_000
+SiteId = Annotated[int, Path(le=MAX_INTEGER)]  # the route's :int takes any digits; the column holds int4
 
 
 def _read(row) -> dict:
@@ -81,7 +83,7 @@ def _parse_csv(body: bytes) -> list[dict]:
 
 
 @router.get("/sites/{site_id:int}", response_model=SiteRead)
-def get_site(site_id: int, request: Request) -> dict:
+def get_site(site_id: SiteId, request: Request) -> dict:
     """One landing site."""
     with deps.sessions(request).begin() as session:
         row = q.get_site(session, site_id=site_id)
@@ -91,7 +93,7 @@ def get_site(site_id: int, request: Request) -> dict:
 
 
 @router.put("/sites/{site_id:int}", response_model=SiteRead)
-def update_site(site_id: int, site: Site, request: Request) -> dict:
+def update_site(site_id: SiteId, site: Site, request: Request) -> dict:
     """Replace a landing site's name and place."""
     with deps.sessions(request).begin() as session:
         row = q.update_site(session, site_id=site_id, site=site.model_dump())
@@ -101,7 +103,7 @@ def update_site(site_id: int, site: Site, request: Request) -> dict:
 
 
 @router.delete("/sites/{site_id:int}", status_code=204)
-def delete_site(site_id: int, request: Request) -> Response:
+def delete_site(site_id: SiteId, request: Request) -> Response:
     """Delete a landing site."""
     with deps.sessions(request).begin() as session:
         if not q.delete_site(session, site_id=site_id):
