@@ -50,7 +50,7 @@ FootprintTransform = create_model("FootprintTransform", __base__=_Strict, **mode
 
 
 class FootprintRename(_Strict):
-    name: str = Field(min_length=1, max_length=200, pattern=r"^[^\x00-\x1f]*\S[^\x00-\x1f]*$")  # printable, not blank
+    name: str = Field(min_length=1, max_length=200, pattern=r"^[^\x00-\x1f]*[^\s\x00-\x1f][^\x00-\x1f]*$")  # printable, not blank
 
 
 class JobCreated(BaseModel):
