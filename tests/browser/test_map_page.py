@@ -377,17 +377,22 @@ def test_screenshots_of_both_projections(open_page, service):
     page.screenshot(path=str(FIGURES / "map_orthographic.png"))
 
 
-def test_folium_map_file_works_offline(browser, service, tmp_path):
-    """`footprint map` of the seeded footprint, opened from disk: no request but the file itself."""
+def map_file(footprint: dict, folder) -> Path:
+    """`footprint map` of a footprint's JSON: the HTML file it writes."""
     import subprocess
     import sys
 
-    src = tmp_path / "footprint.json"
-    src.write_text(json.dumps(service.footprint))
-    out = tmp_path / "map.html"
+    src, out = folder / "footprint.json", folder / "map.html"
+    src.write_text(json.dumps(footprint))
     res = subprocess.run([sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
+    return out
+
+
+def test_folium_map_file_works_offline(browser, service, tmp_path):
+    """`footprint map` of the seeded footprint, opened from disk: no request but the file itself."""
+    out = map_file(service.footprint, tmp_path)
     context = browser.new_context(viewport={"width": 1000, "height": 600})
     try:
         page = context.new_page()
@@ -700,15 +705,7 @@ def test_a_hostile_name_is_text_in_the_served_map(browser, service, hostile_foot
 
 def test_a_hostile_name_is_text_in_the_map_file(browser, hostile_footprint, tmp_path):
     """`footprint map` opened from disk: the same, under the policy of its <meta> tag (a file has no headers)."""
-    import subprocess
-    import sys
-
-    src = tmp_path / "footprint.json"
-    src.write_text(json.dumps(hostile_footprint))
-    out = tmp_path / "map.html"
-    res = subprocess.run([sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
-                         capture_output=True, text=True, timeout=120)
-    assert res.returncode == 0, res.stderr
+    out = map_file(hostile_footprint, tmp_path)
     context = browser.new_context(viewport={"width": 1000, "height": 600})
     try:
         run, dialogs = PageRun(context.new_page()), []
