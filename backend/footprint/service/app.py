@@ -50,7 +50,8 @@ def create_app(settings: Settings) -> FastAPI:
     errors.document(app, schemas.CONTRACT_BODIES)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
         app.include_router(module.router, prefix="/api")
-    app.add_middleware(GuardMiddleware, api=app, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES)
+    app.add_middleware(GuardMiddleware, api=app, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES,
+                       origins=settings.cors_origin_list)
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
@@ -114,8 +115,9 @@ class GuardMiddleware:
     never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
     character in any text (service.nul)."""
 
-    def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int):
+    def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int, origins=()):
         self.app, self.api, self.token, self.max_body_bytes = app, api, token, max_body_bytes
+        self.origins = set(origins)  # FOOTPRINT_CORS_ORIGINS: other origins whose pages may write
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -129,6 +131,11 @@ class GuardMiddleware:
             if scope["method"] not in methods:
                 await _reply(scope, receive, send, errors.MethodNotAllowed(methods))
                 return
+        if scope["method"] in WRITE_METHODS and not self._same_site(scope):
+            await _reply(scope, receive, send, errors.CrossSiteWrite(
+                "cross-site write refused: the request's Origin is not this service's (FOOTPRINT_CORS_ORIGINS lists "
+                "the others allowed)"))
+            return
         if self.token and scope["method"] in WRITE_METHODS and not self._authorized(scope):
             await _reply(scope, receive, send, errors.Unauthorized(
                 "missing or wrong bearer token: writes need the header 'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"))
@@ -153,6 +160,16 @@ class GuardMiddleware:
             await _head_as_get(self.app, scope, receive, send)
             return
         await self.app(scope, receive, send)
+
+    def _same_site(self, scope: Scope) -> bool:
+        """No Origin (a tool, not a browser page), this service's own, or an allowed one: a browser sends Origin
+        with every cross-site POST, and a form or a text/plain fetch needs no preflight that CORS could refuse."""
+        headers = dict(scope["headers"])
+        origin = headers.get(b"origin", b"").decode("latin-1")
+        if not origin or origin in self.origins:
+            return True
+        host = headers.get(b"host", b"").decode("latin-1")
+        return bool(host) and origin.split("://", 1)[-1] == host
 
     def _authorized(self, scope: Scope) -> bool:
         return deps.bearer_matches(dict(scope["headers"]).get(b"authorization", b"").decode("latin-1"), self.token)

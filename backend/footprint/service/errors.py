@@ -38,6 +38,14 @@ class Unauthorized(PermissionError):
     """A write without the bearer token (401)."""
 
 
+class CrossSiteWrite(PermissionError):
+    """A write from a page of another origin (403): a form or a simple request needs no CORS preflight."""
+
+
+class UnsupportedMediaType(ValueError):
+    """A body of a type the route does not read (415)."""
+
+
 class BodyTooLarge(Exception):
     """A request body over the limit (413)."""
 
@@ -64,7 +72,8 @@ class ErrorBody(BaseModel):
 ERRORS = {422: "a field out of range or inconsistent, named in `field`", 400: "a body that cannot be read",
           404: "no such id",
           401: "a write without the bearer token (when FOOTPRINT_API_TOKEN is set)",
-          413: "a body over the limit", 409: "a clash with stored state", 503: "a part the service needs is missing"}
+          413: "a body over the limit", 409: "a clash with stored state", 503: "a part the service needs is missing",
+          403: "a write from a page of another origin", 415: "a body of a type the route does not read"}
 WRITES = {"post", "put", "patch", "delete"}
 
 
@@ -79,6 +88,8 @@ STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
     BodyTooLarge: 413,
     Unavailable: 503,
     MethodNotAllowed: 405,
+    CrossSiteWrite: 403,
+    UnsupportedMediaType: 415,
 }
 
 
@@ -157,9 +168,9 @@ def document(app: FastAPI, bodies: dict) -> None:
         for path, operations in spec["paths"].items():
             for method, op in operations.items():
                 responses = op.setdefault("responses", {})
-                codes = {"422"} | ({"404"} if "{" in path else set()) | ({"401", "413"} if method in WRITES else set())
+                codes = {"422"} | ({"404"} if "{" in path else set()) | ({"401", "403", "413"} if method in WRITES else set())
                 codes |= {"400"} if "requestBody" in op else set()
-                codes |= {c for c in ("409", "503") if c in responses}
+                codes |= {c for c in ("409", "415", "503") if c in responses}
                 for code in codes:
                     responses[code] = {"description": ERRORS[int(code)],
                                        "content": {"application/json": {"schema": ref}}}

@@ -14,7 +14,7 @@ from footprint.contracts.reach import Site
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
-from footprint.service.errors import NotFound, RequestInvalid
+from footprint.service.errors import NotFound, RequestInvalid, UnsupportedMediaType
 from footprint.service.jobs.tasks import plain
 from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 
@@ -48,10 +48,14 @@ def create_site(site: Site, request: Request) -> dict:
         return _read(q.create_sites(session, sites=[site.model_dump()])[0])
 
 
-@router.post("/sites/csv", response_model=SitesCreated, status_code=201,
+@router.post("/sites/csv", response_model=SitesCreated, status_code=201, responses={415: {}},
              openapi_extra={"requestBody": {"content": {"text/csv": {"schema": {"type": "string"}}}}})
 async def upload_sites(request: Request) -> dict:
-    """Store the sites of a CSV body with the header name,latitude_deg,longitude_deg (all or none)."""
+    """Store the sites of a text/csv body with the header name,latitude_deg,longitude_deg (all or none). Other
+    types are refused (415): a text/plain POST is a "simple" request another site's page may send."""
+    kind = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    if kind != "text/csv":
+        raise UnsupportedMediaType(f"body: the sites are a text/csv body (got {kind[:80] or 'none'!r})")
     sites = _parse_csv(await request.body())
     with deps.sessions(request).begin() as session:
         q.create_sites(session, sites=sites)
