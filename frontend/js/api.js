@@ -14,15 +14,34 @@ function detailText(detail, fallback) {
   return fallback;
 }
 
-/** fetch a JSON (or text) resource; a non-2xx answer raises ApiError with the body's one-line detail. */
-export async function api(path, { method = "GET", body, contentType, signal } = {}) {
+// FOOTPRINT_API_TOKEN, asked for once when the service first answers 401 and kept for this browser session
+const TOKEN_KEY = "footprint-api-token";
+
+function request(path, { method, body, contentType, signal }) {
   const init = { method, headers: {}, signal };
   if (body !== undefined) {
     const text = typeof body === "string";
     init.body = text ? body : JSON.stringify(body);
     init.headers["Content-Type"] = contentType || (text ? "text/plain" : "application/json");
   }
-  const res = await fetch(path, init);
+  const token = sessionStorage.getItem(TOKEN_KEY);
+  if (token) init.headers.Authorization = `Bearer ${token}`;
+  return fetch(path, init);
+}
+
+/** fetch a JSON (or text) resource; a non-2xx answer raises ApiError with the body's one-line detail. A write the
+ * service refuses without its token (401) asks for the token once, keeps it for the session and is sent again. */
+export async function api(path, { method = "GET", body, contentType, signal } = {}) {
+  const options = { method, body, contentType, signal };
+  let res = await request(path, options);
+  if (res.status === 401) {
+    sessionStorage.removeItem(TOKEN_KEY);
+    const given = window.prompt("This service asks for its API token to store changes (FOOTPRINT_API_TOKEN):");
+    if (given && given.trim()) {
+      sessionStorage.setItem(TOKEN_KEY, given.trim());
+      res = await request(path, options);
+    }
+  }
   if (!res.ok) {
     let data = {};
     try { data = await res.json(); } catch { /* a body that is not JSON: the status text says enough */ }

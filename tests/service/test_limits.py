@@ -115,6 +115,19 @@ def test_writes_need_the_bearer_token_and_reads_do_not(guarded):
     assert guarded.get(f"/api/sites/{ok.json()['id']}").json()["name"] == "KSC"
 
 
+def test_computations_that_store_nothing_need_no_token(guarded):
+    """Issue 15 item 4: every POST counted as a write, so with a token set the page could not even fly a trajectory
+    or move a footprint. A computation that stores nothing is open like a read; a reach that keeps its verdicts
+    with the stored sites is a write."""
+    assert guarded.post("/api/trajectories", json=CASE).status_code == 200
+    assert guarded.post("/api/reach", json=REACH).status_code == 200
+    assert guarded.post("/api/reach?store_verdicts=true", json=REACH | {"sites": []}).status_code == 401
+    assert guarded.post("/api/transform", json={"points": [{"latitude_deg": 0, "longitude_deg": 0}],
+                                                "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+                                                "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90}}
+                        ).status_code == 200
+
+
 def test_cors_allows_the_configured_origins_only(guarded, api):
     preflight = {"Access-Control-Request-Method": "POST", "Access-Control-Request-Headers": "content-type"}
     allowed = guarded.options("/api/jobs", headers={"Origin": "http://localhost:5173", **preflight})

@@ -2,6 +2,7 @@
 resubmitted, the built-in vehicle summaries computed; the API under /api, the docs at /docs, the map page (frontend/) at /."""
 
 import logging
+import re
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
@@ -21,6 +22,8 @@ from footprint.service.routers import footprints, geometry, health, jobs, sites,
 from footprint.service.settings import MAX_BODY_BYTES, Settings
 
 WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
+# POSTs that compute and store nothing: open like the reads when a token is set (a reach with store_verdicts writes)
+COMPUTATIONS = re.compile(r"^/api/(trajectories|transform|reach|footprints/[^/]+/transform)$")
 log = logging.getLogger("footprint.service")
 
 
@@ -110,6 +113,15 @@ class SecurityHeadersMiddleware:
         await self.app(scope, receive, send_with_headers)
 
 
+def _stores(scope: Scope) -> bool:
+    """The request may change stored state: the bearer token guards it."""
+    if scope["method"] not in WRITE_METHODS:
+        return False
+    if scope["method"] == "POST" and COMPUTATIONS.match(scope["path"]):
+        return scope["path"] == "/api/reach" and b"store_verdicts=true" in scope["query_string"].lower()
+    return True
+
+
 class GuardMiddleware:
     """Before any route runs: a path under /api that no route has (404) or a method its routes do not answer (405,
     never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
@@ -136,7 +148,7 @@ class GuardMiddleware:
                 "cross-site write refused: the request's Origin is not this service's (FOOTPRINT_CORS_ORIGINS lists "
                 "the others allowed)"))
             return
-        if self.token and scope["method"] in WRITE_METHODS and not self._authorized(scope):
+        if self.token and _stores(scope) and not self._authorized(scope):
             await _reply(scope, receive, send, errors.Unauthorized(
                 "missing or wrong bearer token: writes need the header 'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"))
             return
