@@ -9,7 +9,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
 from tests.authorities.report import REPORT, betts, example, table2_entry, table2_stop  # noqa: E402
 
-__all__ = ["REPORT", "betts", "example", "table2_entry", "table2_stop", "timings_s", "median_ms"]
+__all__ = ["REPORT", "betts", "example", "table2_entry", "table2_stop", "timings_s", "median_ms", "save_result"]
+RESULTS = Path(__file__).resolve().parent / "results"
 
 
 def timings_s(fn, repeat):
@@ -24,3 +25,13 @@ def timings_s(fn, repeat):
 
 def median_ms(fn, repeat):
     return 1e3 * timings_s(fn, repeat)[0]
+
+
+def save_result(name: str, data: dict) -> Path:
+    """bench/results/<name>.json, the figures the README quotes."""
+    import json
+
+    RESULTS.mkdir(exist_ok=True)
+    path = RESULTS / f"{name}.json"
+    path.write_text(json.dumps(data, indent=2, default=float) + "\n")
+    return path

@@ -19,7 +19,7 @@ from footprint.core import collocation as col
 from footprint.core import optimize as O
 from footprint.contracts.optimization import collocation_problem
 from footprint.contracts.optimization import run as run_optimization
-from _timing import betts  # noqa: E402
+from _timing import betts, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"
@@ -82,7 +82,7 @@ def lod189():
 
 def main():
     out = {"betts": betts(), "lod189_max_crossrange": lod189()}
-    (HERE / "results" / "collocation.json").write_text(json.dumps(out, indent=2, default=float) + "\n")
+    save_result("collocation", out)
     b, l = out["betts"], out["lod189_max_crossrange"]
     print(f"Betts free: collocation {b['collocation_cold']['final_latitude_deg']:.4f} deg "
           f"({100 * b['collocation_cold']['share_of_published']:.2f} %) cold {b['collocation_cold']['wall_s']:.2f} s, "

@@ -27,6 +27,7 @@ from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import crossrange_at_nmi
 from footprint.pictures.figures import footprints_figure, save
 from footprint.parallel import client_map, dask_client, worker_count
+from _timing import save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"
@@ -149,8 +150,7 @@ def main():
            "creep + pattern, bank and α tables (Fig. 29), feasible points, mirrored")
     out = {"unconstrained": report("unconstrained", *free), "at_2550_R": report("at 2,550 degR", *hot),
            "at_2600_R": limit_2600()}
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "collocation_footprint.json").write_text(json.dumps(out, indent=1) + "\n")
+    save_result("collocation_footprint", out)
 
 
 if __name__ == "__main__":

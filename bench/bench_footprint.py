@@ -15,7 +15,7 @@ from pathlib import Path
 from bench_trajectory import scipy_flight
 from footprint.contracts import parse
 from footprint.core.footprints import single_parameter, with_bank
-from _timing import median_ms  # noqa: E402
+from _timing import median_ms, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 CASE = json.loads((HERE.parent / "examples" / "table2_lod22.json").read_text())
@@ -47,8 +47,7 @@ def main():
         "max_crossrange_nmi": round(half.max_crossrange_nmi, 1),
         "area_nmi2_whole": round(whole.area_nmi2),
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "footprint.json").write_text(json.dumps(result, indent=2) + "\n")
+    save_result("footprint", result)
     print(json.dumps(result, indent=2))
 
 

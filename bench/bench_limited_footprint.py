@@ -11,14 +11,11 @@ down-range within 5 % of the optimized ones, at >= 10x less computation.
     python3 bench/bench_limited_footprint.py   # prints the figures, writes bench/results/limited_footprint.json
 """
 
-import json
-from pathlib import Path
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client
-from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
+from _timing import REPORT, table2_entry, table2_stop, save_result  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
 CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop(),
         "heating": {"model": "reference"}}
 LIMIT_R = REPORT["sec3.limit_R"].value
@@ -59,8 +56,7 @@ def main():
           f"{out['seconds_ratio']}x seconds")
     for k in ours:
         print(f"  {k:18} simple {ours[k]:8,.0f}  optimized {best[k]:8,.0f}  ({out['difference_percent'][k]:+.1f} %)")
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "limited_footprint.json").write_text(json.dumps(out, indent=1, default=float) + "\n")
+    save_result("limited_footprint", out)
 
 
 if __name__ == "__main__":

@@ -8,16 +8,13 @@ process). Target: <= 10 s on 2 workers. The results of both runs must be identic
     python3 bench/bench_optimal_footprint.py      # prints the figures, writes bench/results/optimal_footprint.json
 """
 
-import json
-from pathlib import Path
 
 import numpy as np
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client, worker_count
-from _timing import table2_entry, table2_stop  # noqa: E402
+from _timing import table2_entry, table2_stop, save_result  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
 CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
 DOWNRANGES_NMI = tuple(float(d) for d in range(2_000, 12_001, 1_111))[:10]  # 10 points, 2,000-12,000 nmi
 MAX_EVALUATIONS = 1_500
@@ -49,8 +46,7 @@ def main():
     for p in out["footprint"]:
         print(f"  {p['target_downrange_nmi']:8,.0f} -> {p['downrange_nmi']:8,.1f} / {p['crossrange_nmi']:7,.1f} nmi"
               f"  feasible {p['feasible']}  {p['trajectories']} trajectories")
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "optimal_footprint.json").write_text(json.dumps(out, indent=1) + "\n")
+    save_result("optimal_footprint", out)
 
 
 if __name__ == "__main__":

@@ -11,12 +11,10 @@ constrained point (4,000 nmi) both ways.
 
 import json
 import statistics
-from pathlib import Path
 from footprint.contracts import parse
 from footprint.core import optimize as O
-from _timing import REPORT, table2_entry, table2_stop  # noqa: E402
+from _timing import REPORT, table2_entry, table2_stop, save_result  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
 CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
 REPEAT = 5
 
@@ -59,8 +57,7 @@ def main():
     out["report"] = {"trajectories_per_optimum": per_optimum, "cyber175_s_per_trajectory": int(s_each),
                      "cyber175_s_per_optimum": int(per_optimum * s_each),
                      "max_crossrange_lod189_nmi": int(REPORT["sec3.max_crossrange_nmi"].value)}
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "optimize.json").write_text(json.dumps(out, indent=2) + "\n")
+    save_result("optimize", out)
     print(json.dumps(out, indent=2))
 
 

@@ -31,7 +31,7 @@ from footprint.api import footprint  # noqa: E402
 from footprint.contracts import parse  # noqa: E402
 from footprint.core.orbits import frames  # noqa: E402
 from footprint.core.reach import margins_reference, reach  # noqa: E402
-from _timing import timings_s  # noqa: E402
+from _timing import timings_s, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 REQUEST = json.loads((HERE.parent / "examples" / "reach_20_sites.json").read_text())
@@ -87,8 +87,7 @@ def main():
         "python_loop_same_inside": same_inside,
         "cores": 1,
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "reach.json").write_text(json.dumps(out, indent=2) + "\n")
+    save_result("reach", out)
     print(json.dumps(out, indent=2))
 
 

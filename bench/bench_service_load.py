@@ -42,6 +42,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import httpx
+from _timing import save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -341,8 +342,7 @@ def main():
         "machine": platform.machine(),
         **figures,
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "service_load.json").write_text(json.dumps(result, indent=2) + "\n")
+    save_result("service_load", result)
     print(json.dumps(result, indent=2))
 
 

@@ -19,6 +19,7 @@ from pathlib import Path
 from distributed import Client, LocalCluster
 from footprint.contracts import parse
 from footprint.contracts.sweep import run as run_sweep
+from _timing import save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 PRESET = HERE.parent / "examples" / "sweep_dataset1.json"
@@ -74,8 +75,7 @@ def main():
         "same_numbers_both_runs": same,
         "note": "the machine may be shared: load_average_1min_before is the 1-minute load when each run began",
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "sweep.json").write_text(json.dumps(result, indent=2) + "\n")
+    save_result("sweep", result)
     print(f"1 worker: {one['trajectories_per_s']} trajectories/s ({one['sweep_s']} s); 2 workers: "
           f"{two['trajectories_per_s']} trajectories/s ({two['sweep_s']} s); speed-up {result['speedup_2_over_1']}; "
           f"same numbers: {same}")

@@ -26,7 +26,7 @@ from scipy.integrate import solve_ivp
 from footprint.contracts import parse
 from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
 from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, _set_left_pole
-from _timing import median_ms  # noqa: E402
+from _timing import median_ms, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "examples" / "table2_lod22.json"
@@ -110,8 +110,7 @@ def main():
                           "scipy_plain": round(float(t_plain), 3)},
         "first_cli_fly_new_process_s": round(cli_s, 2),
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "trajectory.json").write_text(json.dumps(result, indent=2) + "\n")
+    save_result("trajectory", result)
     print(json.dumps(result, indent=2))
 
 

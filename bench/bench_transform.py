@@ -25,15 +25,13 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMB
 
 import json  # noqa: E402
 import math  # noqa: E402
-from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S  # noqa: E402
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges, move, rotation_shift  # noqa: E402
-from _timing import median_ms  # noqa: E402
+from _timing import median_ms, save_result  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
 N_POINTS = 100_000
 LOOP_SUBSET = 2_000
 BISECTIONS = 56
@@ -185,8 +183,7 @@ def main():
         "max_difference_report_loop_deg": float(np.max(arc_deg(a[0][sub], a[1][sub], c[:, 0], c[:, 1]))),
         "numpy": np.__version__,
     }
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "transform.json").write_text(json.dumps(result, indent=2) + "\n")
+    save_result("transform", result)
     print(json.dumps(result, indent=2))
 
 

@@ -8,13 +8,10 @@ definition and its (L/D)max searched again, each request.
     python3 bench/bench_vehicles.py      # prints the figures, writes bench/results/vehicles.json
 """
 
-import json
 import tempfile
-from pathlib import Path
 
-from _timing import median_ms
+from _timing import median_ms, save_result
 
-HERE = Path(__file__).resolve().parent
 VEHICLES = 1_000
 TARGET_MS = 100.0
 
@@ -50,8 +47,7 @@ def main():
             rebuilt_ms = median_ms(rebuilt, 3)
     out = {"vehicles": VEHICLES, "list_ms": round(stored_ms, 1), "baseline_rebuilt_ms": round(rebuilt_ms, 1),
            "speedup": round(rebuilt_ms / stored_ms, 1), "target_ms": TARGET_MS, "within_target": stored_ms <= TARGET_MS}
-    (HERE / "results").mkdir(exist_ok=True)
-    (HERE / "results" / "vehicles.json").write_text(json.dumps(out, indent=2) + "\n")
+    save_result("vehicles", out)
     print(f"GET /api/vehicles with {VEHICLES} custom vehicles: {stored_ms:.1f} ms (target <= {TARGET_MS:g} ms: "
           f"{'met' if out['within_target'] else 'NOT met'}); rebuilding them as before: {rebuilt_ms:.0f} ms "
           f"({out['speedup']}x)")

@@ -47,7 +47,7 @@ def inline_script_hashes(html: str) -> list[str]:
 
 def tile_source(tile_url: str) -> str | None:
     """The img-src source of a Leaflet tile URL template (FOOTPRINT_TILE_URL): its origin, a subdomain
-    placeholder such as {s} as the wildcard CSP allows only as the leftmost label; None without a URL."""
+    template field such as {s} as the wildcard CSP allows only as the leftmost label; None without a URL."""
     if not tile_url:
         return None
     parts = urlsplit(tile_url)
@@ -57,7 +57,7 @@ def tile_source(tile_url: str) -> str | None:
     if any(templated):
         if templated[0] and not any(templated[1:]):
             host = ".".join(["*"] + labels[1:])
-        else:  # a placeholder past the first label cannot be written as a CSP host
+        else:  # a template field past the first label cannot be written as a CSP host
             return f"{parts.scheme}:"
     return f"{parts.scheme}://{host}"
 
