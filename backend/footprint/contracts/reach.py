@@ -148,7 +148,11 @@ class ReachRequest(Strict):
         if placements > MAX_PLACEMENTS:
             raise ValueError(f"revolutions and u_step_deg: {placements:,} deorbit points is outside the allowed "
                              f"range 1 to {MAX_PLACEMENTS:,}; use fewer revolutions or a larger u_step_deg")
-        points = len(self.footprint.points) * (2 if self.footprint.mirror else 1) if self.footprint.points else 30
+        fp = self.footprint
+        if fp.points:
+            points = len(fp.points) * (2 if fp.mirror else 1)
+        else:  # a study's boundary: its settings on each side flown, and the two points closing it on the axis
+            points = fp.study.settings()[1] * (2 if fp.study.mirror else 1) + 2
         limit, where = door_limit(info, MAX_WORK, MAX_WORK, MAX_WORK_SYNC)
         if placements * len(self.sites) * points > limit:
             work = placements * len(self.sites) * points
