@@ -1,25 +1,29 @@
-"""The web service under load, on loopback: 200 concurrent reads and 20 concurrent footprint jobs.
+"""The web service under load, on loopback: 100 and 200 concurrent readers while 20 footprint jobs run.
 
 Starts the real service as a subprocess (`footprint serve --port FREE --database-url sqlite:///TMP
---workers 2`: uvicorn, SQLite, an in-process Dask LocalCluster of 2 worker processes), waits for
+--workers 2 [--api-processes N]`: uvicorn, SQLite, a Dask LocalCluster of 2 worker processes), waits for
 /api/health, seeds one footprint job, then with httpx.AsyncClient over 127.0.0.1:
 
 1. reads alone: each endpoint once (its first answer fills the service's caches: reported apart as
    first_read_ms), then ROUNDS bursts of 200 concurrent GETs, a quarter each of /api/footprints,
    /api/footprints/{id}, /api/vehicles and /api/health;
-2. jobs: 20 footprint jobs submitted at once (small single-parameter studies of the Table 2 case,
-   each a different bank set), and while they run another burst of 200 concurrent reads;
-   every job must reach `succeeded` and own exactly one stored footprint with its points.
+2. for each of READERS (100, 200) concurrent readers: 20 footprint jobs submitted at once (small
+   single-parameter studies of the Table 2 case, each a different bank set) and, until the last of them
+   ends, that many readers each sending the same mix one GET after another (a closed loop: a reader
+   waits for its answer before it asks again); every job must reach `succeeded` and own exactly one
+   stored footprint with its points. A read that is not a 200 or fails in transport is counted as an
+   error (by kind), not raised.
 
-Every response must be 2xx (no error) and no job may be lost. Reported: p50/p99/max latency of the
-reads (alone, and while the jobs run), the job throughput (jobs and trajectories per second from the
-first submission to the last success), and each endpoint's reads one at a time (the service time
-without queueing). Baseline, in this process after the server has stopped: the same reads (bursts and
+No job may be lost. Reported: p50/p99/max latency of the reads (alone, and while the jobs run) with the
+error counts, the job throughput (jobs and trajectories per second from the first submission to the last
+success), and each endpoint's reads one at a time (the service time without queueing). Baseline, in this process after the server has stopped: the same reads (bursts and
 one at a time) sent to the same app (create_app on a copy of the same database) through
 httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and no uvicorn; the ratios
-(loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops with an error past TOTAL_BUDGET_S (2 min).
+(loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops with an error past TOTAL_BUDGET_S (4 min).
 
-    python3 bench/bench_service_load.py     # prints the figures, writes bench/results/service_load.json
+    python3 bench/bench_service_load.py [--api-processes N] [--code DIR] [--label NAME]
+        # prints the figures, writes bench/results/service_load[-NAME].json; --code: serve another checkout's
+        # backend/ (the "before" of a change, measured by this same script)
 
 tests/service/test_load.py runs the same code, smaller (50 reads, 5 jobs).
 """
@@ -38,7 +42,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from contextlib import contextmanager
+from contextlib import asynccontextmanager, contextmanager
 from pathlib import Path
 
 import httpx
@@ -47,10 +51,11 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 CASE = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
 CONCURRENT_READS = 200
+READERS = (100, 200)  # closed-loop readers while the jobs run
 ROUNDS = 3
 SEQUENTIAL_REPEAT = 10  # one-at-a-time reads of each endpoint (the service time without queueing)
 JOBS = 20
-TOTAL_BUDGET_S = 120.0
+TOTAL_BUDGET_S = 240.0
 START_BUDGET_S = 60.0
 JOBS_BUDGET_S = 60.0
 
@@ -68,14 +73,19 @@ def _free_port() -> int:
 
 
 @contextmanager
-def running_service(workdir: Path, *, workers: int = 2):
-    """`footprint serve` on a free loopback port with a fresh SQLite file; yields (base_url, db_path, log_path)."""
+def running_service(workdir: Path, *, workers: int = 2, api_processes: int = 1, code: Path | None = None):
+    """`footprint serve` on a free loopback port with a fresh SQLite file (the package from `code`, a backend/
+    folder, when given); yields (base_url, db_path, log_path, process)."""
     port = _free_port()
     db = workdir / "load.db"
     log = workdir / "serve.log"
-    cmd = ["footprint", "serve", "--host", "127.0.0.1", "--port", str(port), "--database-url", f"sqlite:///{db}",
-           "--workers", str(workers)]
+    cmd = [sys.executable, "-m", "footprint.cli", "serve", "--host", "127.0.0.1", "--port", str(port),
+           "--database-url", f"sqlite:///{db}", "--workers", str(workers)]
+    if api_processes > 1:
+        cmd += ["--api-processes", str(api_processes)]
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
+    if code is not None:
+        env["PYTHONPATH"] = os.pathsep.join([str(code)] + [p for p in [env.get("PYTHONPATH")] if p])
     with open(log, "w") as out:
         proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, cwd=workdir, env=env,
                                 start_new_session=True)
@@ -173,25 +183,105 @@ def read_paths(footprint_id: str, n: int) -> list[str]:
     return [mix[i % len(mix)] for i in range(n)]
 
 
-async def read_burst(client: httpx.AsyncClient, paths: list[str]) -> list[float]:
+def httpx_get(client: httpx.AsyncClient):
+    """GET through httpx: the status code, or the transport error's kind."""
+    async def get(path: str) -> int | str:
+        try:
+            return (await client.get(path)).status_code
+        except httpx.TransportError as exc:
+            return type(exc).__name__
+
+    return get
+
+
+@asynccontextmanager
+async def aiohttp_get(base_url: str, concurrency: int):
+    """GET through aiohttp (the readers' client: httpx's own work per request capped it near 150 requests/s at 200
+    connections on this machine, with the server mostly idle); the status code, or the transport error's kind."""
+    import aiohttp
+
+    connector = aiohttp.TCPConnector(limit=concurrency, keepalive_timeout=4.0)  # before uvicorn's 5 s (http_client)
+    async with aiohttp.ClientSession(base_url, connector=connector, timeout=aiohttp.ClientTimeout(total=30)) as session:
+        async def get(path: str) -> int | str:
+            try:
+                async with session.get(path) as r:
+                    await r.read()
+                    return r.status
+            except (aiohttp.ClientError, asyncio.TimeoutError) as exc:
+                return type(exc).__name__
+
+        yield get
+
+
+async def read_burst(get, paths: list[str]) -> list[float]:
     """All GETs at once; their latencies in seconds. Any non-200 answer or transport error raises."""
 
     async def one(path):
         t0 = time.perf_counter()
-        r = await client.get(path)
+        status = await get(path)
         dt = time.perf_counter() - t0
-        _check(r, 200, f"GET {path}")
+        if status != 200:
+            raise AssertionError(f"GET {path}: {status}")
         return dt
 
     return list(await asyncio.gather(*(one(p) for p in paths)))
 
 
-async def sequential_reads(client: httpx.AsyncClient, paths: list[str], repeat: int) -> list[float]:
+async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event) -> tuple[list[float], dict[str, int]]:
+    """`readers` closed-loop readers, each sending the mix one GET after another until `done`; (latencies of
+    the 200s in seconds, {error kind: count})."""
+    latencies: list[float] = []
+    errors: dict[str, int] = {}
+
+    async def reader(i):
+        k = i
+        while not done.is_set():
+            path = paths[k % len(paths)]
+            k += 1
+            t0 = time.perf_counter()
+            status = await get(path)
+            if status == 200:
+                latencies.append(time.perf_counter() - t0)
+            else:
+                kind = f"HTTP {status}" if isinstance(status, int) else status
+                errors[kind] = errors.get(kind, 0) + 1
+
+    await asyncio.gather(*(reader(i) for i in range(readers)))
+    return latencies, errors
+
+
+async def readers_during_jobs(client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int,
+                              label: str) -> dict:
+    """`jobs` footprint jobs submitted at once (through `client`) and `readers` readers (through `get`) until the
+    last job ends; every job must succeed and be stored once."""
+    done = asyncio.Event()
+    reading = asyncio.create_task(readers_until(get, paths, readers, done))
+    t0 = time.perf_counter()
+    try:
+        ids, submit_s = await submit_jobs(client, [small_study(i) for i in range(jobs)], label)
+        final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
+    finally:
+        done.set()
+        latencies, errors = await reading
+    wall = time.perf_counter() - t0
+    fps = await check_jobs(client, final)
+    trajectories = sum(fp["trajectories"] for fp in fps.values())
+    return {"readers": readers, "errors": sum(errors.values()), "error_kinds": errors,
+            **percentiles_ms(latencies), "reads_per_s": round(len(latencies) / wall, 1),
+            "jobs": {"submitted": jobs, "succeeded": len(final), "lost": jobs - len(fps),
+                     "footprints_stored": len(fps), "trajectories": trajectories,
+                     "submit_p50_ms": round(1e3 * statistics.median(submit_s), 1),
+                     "submit_max_ms": round(1e3 * max(submit_s), 1),
+                     "first_submission_to_last_success_s": round(wall, 2),
+                     "jobs_per_s": round(jobs / wall, 2), "trajectories_per_s": round(trajectories / wall, 1)}}
+
+
+async def sequential_reads(get, paths: list[str], repeat: int) -> list[float]:
     """Each distinct path `repeat` times, one request at a time: the service time without queueing."""
     out = []
     for _ in range(repeat):
         for path in dict.fromkeys(paths):
-            out += await read_burst(client, [path])
+            out += await read_burst(get, [path])
     return out
 
 
@@ -218,9 +308,11 @@ async def seed(client: httpx.AsyncClient) -> tuple[str, str]:
     return ids[0], fps[ids[0]]["id"]
 
 
-async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, sequential: int) -> dict:
-    """The measured run against a started service; raises on any error or lost job."""
-    async with http_client(base_url, concurrency=max(reads, jobs)) as client:
+async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, sequential: int,
+               readers: tuple[int, ...] = READERS) -> dict:
+    """The measured run against a started service; raises on a lost job (read errors are counted)."""
+    async with http_client(base_url, concurrency=jobs + 2) as client, \
+            aiohttp_get(base_url, max((reads, *readers))) as get:
         start_s, health = await wait_healthy(client, proc, START_BUDGET_S)
         t_seed = time.perf_counter()
         _, footprint_id = await seed(client)
@@ -230,30 +322,21 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
         # vehicles' (L/D)max is computed on first use); reported apart, not in the percentiles
         first = {}
         for path in dict.fromkeys(paths):
-            first[path.replace(footprint_id, "{id}")] = round(1e3 * (await read_burst(client, [path]))[0], 1)
+            first[path.replace(footprint_id, "{id}")] = round(1e3 * (await read_burst(get, [path]))[0], 1)
         load_before = os.getloadavg()[0]
-        one_at_a_time = await sequential_reads(client, paths, sequential)
-        await read_burst(client, paths)  # open the connections (not measured)
+        one_at_a_time = await sequential_reads(get, paths, sequential)
+        await read_burst(get, paths)  # open the connections (not measured)
         t_reads = time.perf_counter()
         alone = []
         for _ in range(rounds):
-            alone += await read_burst(client, paths)
+            alone += await read_burst(get, paths)
         reads_s = time.perf_counter() - t_reads
         by_path = {}
         for lat, path in zip(alone, paths * rounds):
             by_path.setdefault(path.replace(footprint_id, "{id}"), []).append(lat)
-
-        t0 = time.perf_counter()
-        studies = [small_study(i) for i in range(jobs)]
-        submitting = asyncio.create_task(submit_jobs(client, studies, "load"))
-        during = await read_burst(client, paths)
-        ids, submit_s = await submitting
-        final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
-        jobs_wall = time.perf_counter() - t0
-        fps = await check_jobs(client, final)
+        during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}") for n in readers}
         total = _check(await client.get("/api/jobs", params={"limit": 1}), 200, "GET /api/jobs")["total"]
-        assert total == jobs + 1, f"{total} jobs stored, expected {jobs + 1}"
-    trajectories = sum(fp["trajectories"] for fp in fps.values())
+        assert total == jobs * len(readers) + 1, f"{total} jobs stored, expected {jobs * len(readers) + 1}"
     return {
         "service_start_to_healthy_s": round(start_s, 2),
         "seed_job_s": round(seed_s, 2),
@@ -266,14 +349,7 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
                   "errors": 0, **percentiles_ms(alone),
                   "by_path": {k: percentiles_ms(v) for k, v in by_path.items()}},
         "reads_one_at_a_time": percentiles_ms(one_at_a_time),
-        "reads_while_jobs_run": {"concurrent": reads, "errors": 0, **percentiles_ms(during)},
-        "jobs": {"submitted": jobs, "succeeded": len(final), "lost": jobs - len(fps),
-                 "footprints_stored": len(fps), "trajectories": trajectories,
-                 "submit_p50_ms": round(1e3 * statistics.median(submit_s), 1),
-                 "submit_max_ms": round(1e3 * max(submit_s), 1),
-                 "first_submission_to_last_success_s": round(jobs_wall, 2),
-                 "jobs_per_s": round(jobs / jobs_wall, 2),
-                 "trajectories_per_s": round(trajectories / jobs_wall, 1)},
+        "readers_while_jobs_run": during,
     }
 
 
@@ -287,25 +363,28 @@ async def in_process_reads(db_copy: Path, *, reads: int, rounds: int, sequential
         async with http_client(transport=httpx.ASGITransport(app=app), concurrency=reads) as client:
             items = _check(await client.get("/api/footprints", params={"limit": 1}), 200, "GET /api/footprints")
             paths = read_paths(items["items"][0]["id"], reads)
+            get = httpx_get(client)
             for path in dict.fromkeys(paths):
-                await read_burst(client, [path])
-            one_at_a_time = await sequential_reads(client, paths, sequential)
-            await read_burst(client, paths)
+                await read_burst(get, [path])
+            one_at_a_time = await sequential_reads(get, paths, sequential)
+            await read_burst(get, paths)
             lat = []
             for _ in range(rounds):
-                lat += await read_burst(client, paths)
+                lat += await read_burst(get, paths)
     return {"concurrent": percentiles_ms(lat), "one_at_a_time": percentiles_ms(one_at_a_time)}
 
 
 def run(*, reads: int = CONCURRENT_READS, rounds: int = ROUNDS, jobs: int = JOBS, workers: int = 2,
-        sequential: int = SEQUENTIAL_REPEAT, baseline: bool = True, budget_s: float = TOTAL_BUDGET_S) -> dict:
+        sequential: int = SEQUENTIAL_REPEAT, baseline: bool = True, budget_s: float = TOTAL_BUDGET_S,
+        readers: tuple[int, ...] = READERS, api_processes: int = 1, code: Path | None = None) -> dict:
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="footprint-load-") as tmp:
         workdir = Path(tmp)
-        with running_service(workdir, workers=workers) as (base_url, db, log, proc):
+        with running_service(workdir, workers=workers, api_processes=api_processes, code=code) as \
+                (base_url, db, log, proc):
             try:
                 figures = asyncio.run(asyncio.wait_for(load(base_url, proc, reads=reads, rounds=rounds, jobs=jobs,
-                                                            sequential=sequential),
+                                                            sequential=sequential, readers=readers),
                                                        budget_s))
             except BaseException:
                 sys.stderr.write(f"--- footprint serve log ---\n{log.read_text()[-4000:]}\n")
@@ -333,9 +412,18 @@ def run(*, reads: int = CONCURRENT_READS, rounds: int = ROUNDS, jobs: int = JOBS
 
 
 def main():
-    figures = run()
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.partition("\n")[0])
+    parser.add_argument("--api-processes", type=int, default=1, help="footprint serve --api-processes")
+    parser.add_argument("--code", type=Path, help="a backend/ folder to serve instead of this checkout's")
+    parser.add_argument("--label", default="", help="results file suffix: service_load-LABEL.json")
+    args = parser.parse_args()
+    figures = run(api_processes=args.api_processes, code=args.code, baseline=args.code is None)
     result = {
-        "what": "footprint serve (uvicorn, SQLite, LocalCluster of 2 workers) on 127.0.0.1, httpx.AsyncClient",
+        "what": f"footprint serve (uvicorn in {args.api_processes} process(es), SQLite, LocalCluster of 2 workers) on "
+                "127.0.0.1, httpx.AsyncClient",
+        "code": str(args.code or "this checkout"),
         "baseline": "the same reads through httpx.ASGITransport into create_app() in-process (no socket, no uvicorn)",
         "cores": os.cpu_count(),
         "machine": platform.machine(),
@@ -343,7 +431,7 @@ def main():
     }
     from _timing import save_result  # run as a script: bench/ is on the path (the tests import this module)
 
-    save_result("service_load", result)
+    save_result("service_load" + (f"-{args.label}" if args.label else ""), result)
     print(json.dumps(result, indent=2))
 
 

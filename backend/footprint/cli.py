@@ -278,22 +278,25 @@ def serve(host: Optional[str] = typer.Option(None, "--host", help="address to li
           database_url: Optional[str] = typer.Option(None, "--database-url", metavar="URL",
                                                      help="[FOOTPRINT_DATABASE_URL or sqlite:///footprint.db]"),
           workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
-                                                help="local Dask worker processes [FOOTPRINT_DASK_WORKERS or the cores]")):
+                                                help="local Dask worker processes [FOOTPRINT_DASK_WORKERS or the cores]"),
+          api_processes: Optional[int] = typer.Option(
+              None, "--api-processes", metavar="N",
+              help="processes answering HTTP over the one database; past 1 this one runs the jobs "
+                   "[FOOTPRINT_API_PROCESSES or 1]")):
     """Run the web service and the map page (SQLite in the working directory and a local Dask cluster unless
     FOOTPRINT_* settings say otherwise); the API is under /api, its docs at /docs."""
-    import uvicorn
-
-    from footprint.service.app import create_app
+    from footprint.service.processes import serve as run_service
     from footprint.service.settings import load_settings
 
     try:
-        settings = load_settings(host=host, port=port, database_url=database_url, dask_workers=workers)
+        settings = load_settings(host=host, port=port, database_url=database_url, dask_workers=workers,
+                                 api_processes=api_processes)
     except ValidationError as exc:
         _fail(error_line(exc))
     base = f"http://{settings.host}:{settings.port}"
     typer.echo(f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
                f"{base}/redoc (database {settings.database_url.split('://')[0]})", err=True)
-    uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level="info")
+    run_service(settings)
 
 
 @app.command()

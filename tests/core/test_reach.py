@@ -214,3 +214,22 @@ def test_chunks_do_not_change_the_answer():
 def test_an_unknown_earth_rotation_is_refused():
     with pytest.raises(ValueError, match="earth_rotation"):
         reach(*cols(SMALL), [0.0], [0.0], CircularOrbit(28.5, 600_000.0), [1], earth_rotation="exact")
+
+
+def test_progress_rises_over_the_placements_and_a_true_answer_stops():
+    """A reach job reported nothing until it ended, and a cancel could not stop it but by restarting its worker."""
+    from footprint.core.errors import Stopped
+
+    orbit = CircularOrbit(28.5, 100 * FT_PER_NMI)
+    d, c, t = cols(LOD189)
+    reports = []
+    full = reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0, chunk_elements=len(d) * 40,
+                 on_progress=lambda f, note: reports.append((f, note)) and False)
+    placements = 3 * 180
+    assert [f for f, _ in reports] == [a / placements for a in range(0, placements, 40)]
+    assert reports[1][1] == "placement 40 of 540"
+    assert_same_windows(full.windows, reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0).windows)
+    asked = []
+    with pytest.raises(Stopped, match="stopped at placement 80 of 540"):
+        reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0, chunk_elements=len(d) * 40,
+              on_progress=lambda f, note: asked.append(f) or len(asked) == 3)

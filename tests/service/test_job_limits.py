@@ -8,6 +8,8 @@ import time
 
 import pytest
 
+from footprint.service.jobs import tasks
+from footprint.service.jobs.engine import STOP_GRACE_S
 from tests.service.conftest import running_service, wait_for_job
 from tests.service.sample_requests import CASE, FOOTPRINT, OPTIMIZE
 
@@ -58,3 +60,51 @@ def test_a_job_past_its_time_limit_fails_with_one_line(scheduler_address, tmp_pa
     assert job["status"] == "failed"
     assert job["error"] == ("JobTimeLimit: the job ran past its time limit of 3 s (FOOTPRINT_JOB_TIME_LIMIT_S) and "
                             "was stopped")
+
+
+def test_a_cancelled_optimization_stops_itself_and_keeps_its_worker(service, scheduler_address):
+    """The cancel reaches the running task (its progress reports answer "stop"): the optimizer ends within a second
+    and its worker is free without a restart (the restart stays the last resort, for loops that report nothing)."""
+    import os
+
+    from distributed import Client
+
+    with Client(scheduler_address, timeout="10s") as cluster:
+        pids = cluster.run(os.getpid)
+        job_id = service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
+        deadline = time.monotonic() + 30.0
+        while not (service.get(f"/api/jobs/{job_id}").json()["progress_note"] or "").startswith("trajectory "):
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
+        t0 = time.monotonic()
+        assert service.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
+        running = lambda: cluster.run(tasks.running_keys)  # noqa: E731 -- the scheduler forgets it at the cancel
+        while any(running().values()):
+            assert time.monotonic() - t0 < 2.0, running()  # s: the issue's bound for a cancel
+            time.sleep(0.05)
+        time.sleep(max(0.0, t0 + STOP_GRACE_S + 2.0 - time.monotonic()))  # past the grace, a restart would show
+        assert cluster.run(os.getpid) == pids  # the same worker processes: none was restarted
+
+
+def test_a_task_that_reports_nothing_is_stopped_by_restarting_its_worker(service, scheduler_address):
+    """The last resort: the scheduler forgets a cancelled task while its worker's thread runs on (and the next task
+    waits behind it), so the engine asks the workers what they run and restarts the one still running it."""
+    import os
+
+    from distributed import Client
+
+    engine = service.app.state.jobs
+    with Client(scheduler_address, timeout="10s") as cluster:
+        pids = cluster.run(os.getpid)
+        stuck = engine.client.submit(time.sleep, 60, pure=False)
+        deadline = time.monotonic() + 10.0
+        while not any(cluster.run(lambda dask_worker: len(dask_worker.state.executing)).values()):
+            assert time.monotonic() < deadline
+            time.sleep(0.05)
+        t0 = time.monotonic()
+        engine.stop([stuck])
+        assert time.monotonic() - t0 < 10.0  # s: the 1 s grace, then the nanny's restart (5 s here)
+        free = engine.client.submit(os.getpid, pure=False)
+        assert free.result(timeout=30) in (after := cluster.run(os.getpid)).values()
+        assert time.monotonic() - t0 < 15.0  # s: the restarted worker took the next task, not the 60 s sleep's end
+        assert len(set(after.values()) - set(pids.values())) == 1  # one worker restarted, the other kept

@@ -13,7 +13,7 @@ from footprint.service.settings import MIGRATIONS_DIR
 
 from .conftest import DATABASES, database_url
 
-TABLES = {"vehicles", "jobs", "job_results", "footprints", "footprint_points", "trajectories", "sites"}
+TABLES = {"vehicles", "jobs", "job_results", "footprints", "footprint_points", "trajectories", "sites", "revisions"}
 
 
 @pytest.fixture(params=DATABASES)

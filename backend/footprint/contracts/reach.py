@@ -192,8 +192,9 @@ def footprint_polygon(req: ReachRequest):
     return arr[:, 0], arr[:, 1], arr[:, 2], info
 
 
-def run(request: dict | ReachRequest) -> dict:
-    """The reach analysis: windows and a per-site summary, as a JSON-ready dict."""
+def run(request: dict | ReachRequest, on_progress=None) -> dict:
+    """The reach analysis: windows and a per-site summary, as a JSON-ready dict; on_progress(fraction, note) over
+    the placements (True stops)."""
     req = parse("reach", request)
     orbit = req.orbit.to_orbit()
     revs, span_end_s = req.revolutions.span(orbit)
@@ -208,7 +209,7 @@ def run(request: dict | ReachRequest) -> dict:
     t0 = time.perf_counter()
     result = reach(down, cross, flight_time, [s.latitude_deg for s in req.sites], [s.longitude_deg for s in req.sites],
                    orbit, revs, u_step_deg=req.u_step_deg, earth_rotation=req.earth_rotation,
-                   entry_offset_nmi=req.entry_offset_nmi, time_span_s=span_end_s)
+                   entry_offset_nmi=req.entry_offset_nmi, time_span_s=span_end_s, on_progress=on_progress)
     seconds = time.perf_counter() - t0
     names = [s.name for s in req.sites]
     windows = [w.to_dict() | {"site": names[w.site], "u_width_deg": w.u_end_deg - w.u_start_deg,

@@ -16,3 +16,7 @@ class InputError(ValueError):
 
 class NoOptimum(RuntimeError):
     """A collocation ended without an optimum (IPOPT's status and the largest violation): the job's one line."""
+
+
+class Stopped(RuntimeError):
+    """A long computation stopped because its on_progress asked it to (a cancelled job)."""

@@ -30,6 +30,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from footprint.core.errors import Stopped
 from footprint.core.orbits import CircularOrbit, frames, time_s
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, great_circle_frame, unit_vectors
 
@@ -166,7 +167,7 @@ def placement_margins(reference: Reference, down_nmi, cross_nmi, flight_time_s, 
 # ---------------------------------------------------------------------------------------- the analysis
 def reach(footprint_down_nmi, footprint_cross_nmi, flight_time_s, sites_lat, sites_lon, orbit: CircularOrbit,
           revolutions, u_step_deg=1.0, earth_rotation="approximate", entry_offset_nmi=0.0, time_span_s=None,
-          radius_nmi=MEAN_RADIUS_NMI, chunk_elements=CHUNK_ELEMENTS) -> Reach:
+          radius_nmi=MEAN_RADIUS_NMI, chunk_elements=CHUNK_ELEMENTS, on_progress=None) -> Reach:
     """Place the footprint at every deorbit point (revolution, u on a grid of u_step_deg from the node) and
     decide which sites it covers.
 
@@ -174,7 +175,8 @@ def reach(footprint_down_nmi, footprint_cross_nmi, flight_time_s, sites_lat, sit
     time in s); sites_lat, sites_lon: (S,) deg; revolutions: the revolution numbers (1 starts at the
     epoch); earth_rotation: "none" or "approximate" (Section IV.3, with the orbit's rotation rate);
     entry_offset_nmi: the arc of the orbit from deorbit to entry; time_span_s: placements whose deorbit
-    time lies past it are left out (NaN margins, never inside)."""
+    time lies past it are left out (NaN margins, never inside). on_progress(fraction, note) before each chunk of
+    placements (True stops: errors.Stopped)."""
     if earth_rotation not in EARTH_ROTATION:
         raise ValueError(f"earth_rotation must be one of {EARTH_ROTATION}, not {earth_rotation!r}")
     revs = np.asarray(revolutions, int).ravel()
@@ -190,6 +192,8 @@ def reach(footprint_down_nmi, footprint_cross_nmi, flight_time_s, sites_lat, sit
     margin = np.empty((g_total, s_total))
     inside = np.empty((g_total, s_total), bool)
     for a in range(0, g_total, step):
+        if on_progress is not None and on_progress(a / g_total, f"placement {a:,} of {g_total:,}"):
+            raise Stopped(f"stopped at placement {a:,} of {g_total:,}")
         b = min(g_total, a + step)
         margin[a:b], inside[a:b] = margins(p0[a:b], d0[a:b], n[a:b], down, footprint_cross_nmi, flight_time_s,
                                            sites, shift, radius_nmi)

@@ -15,9 +15,9 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
 from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
-from footprint.service import deps, errors, nul, page, schemas
+from footprint.service import deps, errors, nul, page, read_cache, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
-from footprint.service.jobs.engine import JobEngine
+from footprint.service.jobs.engine import JobEngine, RemoteJobs
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
 from footprint.service.settings import MAX_BODY_BYTES, Settings
 
@@ -27,8 +27,9 @@ COMPUTATIONS = re.compile(r"^/api/(trajectories|transform|reach|footprints/[^/]+
 log = logging.getLogger("footprint.service")
 
 
-def create_app(settings: Settings) -> FastAPI:
-    """The service for these settings (nothing starts until the app's lifespan begins)."""
+def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
+    """The service for these settings (nothing starts until the app's lifespan begins); without `runs_jobs`, an API
+    process whose jobs an engine in another process runs (service.processes)."""
     db = make_engine(settings.database_url)
 
     @asynccontextmanager
@@ -48,7 +49,9 @@ def create_app(settings: Settings) -> FastAPI:
     app.state.settings, app.state.dialect = settings, db.dialect.name
     app.state.sessions = make_sessions(db)
     app.state.read_sessions = make_sessions(db, reads_only=True)
-    app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings)
+    app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings) if runs_jobs else \
+        RemoteJobs(settings=settings)
+    app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
     errors.document(app, schemas.CONTRACT_BODIES)
     for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):

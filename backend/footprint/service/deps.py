@@ -1,16 +1,30 @@
 """What the routers take from the running app: the session factory, the job engine and the settings."""
 
 import hmac
+from collections.abc import Callable
 
 from sqlalchemy.orm import Session, sessionmaker
 from starlette.requests import Request
+from starlette.responses import Response
 
+from footprint.service import read_cache
+from footprint.service.db import queries as q
 from footprint.service.jobs.engine import JobEngine
 
 
 def sessions(request: Request) -> sessionmaker[Session]:
     """GET requests only read: their sessions begin deferred (db.engine.make_sessions)."""
     return request.app.state.read_sessions if request.method in ("GET", "HEAD") else request.app.state.sessions
+
+
+def cached(request: Request, key: tuple, shows: str, build: Callable[[Session], read_cache.Serialized]) -> Response:
+    """A GET answered from this process's read cache while the stored `shows` (db.models.REVISIONS) are unchanged;
+    `build` serializes it from the database otherwise (in the transaction that read the revision, after it: a
+    response is never older than the revision it is kept for)."""
+    with sessions(request).begin() as session:
+        revision = q.revision(session, name=shows)
+        value = request.app.state.read_cache.get((shows, *key), revision, lambda: build(session))
+    return read_cache.response(request, value)
 
 
 def bearer_matches(authorization: str, token: str) -> bool:

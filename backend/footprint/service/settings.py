@@ -28,6 +28,8 @@ class Settings(BaseSettings):
     frontend_dir: Path = FRONTEND_DIR
     migrations_dir: Path = MIGRATIONS_DIR
     job_threads: int = Field(default=16, ge=1, le=256)  # jobs watched at once by the service process
+    # uvicorn processes answering HTTP over the one database; past 1, the process that starts them runs the jobs
+    api_processes: int = Field(default=1, ge=1, le=64)
     # a job's wall time from its first task's start; past it the job fails and its workers are restarted
     job_time_limit_s: float = Field(default=3_600.0, ge=1.0, le=7 * 86_400.0)
 
@@ -41,6 +43,11 @@ class Settings(BaseSettings):
     @property
     def cors_origin_list(self) -> list[str]:
         return [o.strip() for o in self.cors_origins.split(",") if o.strip()]
+
+
+def environment(settings: Settings) -> dict[str, str]:
+    """The settings as FOOTPRINT_* variables: what a process started by this one reads to get the same."""
+    return {f"FOOTPRINT_{name.upper()}": str(value) for name, value in settings.model_dump().items()}
 
 
 def load_settings(**overrides) -> Settings:

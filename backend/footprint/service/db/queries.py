@@ -8,8 +8,8 @@ from sqlalchemy import delete, func, select, text, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from footprint.service.db.models import PENDING, Footprint, FootprintPoint, Job, JobResult, Site, Trajectory, \
-    Vehicle, utc_now
+from footprint.service.db.models import PENDING, REVISIONS, Footprint, FootprintPoint, Job, JobResult, Revision, \
+    Site, Trajectory, Vehicle, utc_now
 
 POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
                 "side", "parameter", "stop_reason", "mirrored")
@@ -22,6 +22,17 @@ def dialect(session: Session) -> str:
     """Run a trivial query; the database's dialect name ("sqlite", "postgresql")."""
     session.execute(text("SELECT 1"))
     return session.get_bind().dialect.name
+
+
+def revision(session: Session, *, name: str) -> int:
+    """How many writes the stored `name`s (models.REVISIONS) have had."""
+    return session.scalar(select(Revision.value).where(Revision.name == name)) or 0
+
+
+def _changed(session: Session, name: str) -> None:
+    """Count a write of `name`s, in the writer's transaction (a cached read of them is stale from its commit)."""
+    assert name in REVISIONS, name
+    session.execute(update(Revision).where(Revision.name == name).values(value=Revision.value + 1))
 
 
 # --------------------------------------------------------------------------------------------- jobs
@@ -110,6 +121,8 @@ def finish_job(session: Session, *, job_id: str, result: dict, footprints: list[
                 name = unique_name(session, record["name"], taken)
                 taken.add(name)
                 session.add(_footprint_row(job_id, seq, record | {"name": name}))
+            if footprints:
+                _changed(session, "footprints")
             job.status, job.progress, job.finished_at, job.error = "succeeded", 1.0, utc_now(), None
             job.progress_note = None
         return True
@@ -136,6 +149,7 @@ def rename_footprint(session: Session, *, footprint_id: str, name: str) -> Footp
     fp = session.get(Footprint, footprint_id)
     if fp is not None:
         fp.name = unique_name(session, name, exclude_id=footprint_id)
+        _changed(session, "footprints")
     return fp
 
 
@@ -191,6 +205,7 @@ def delete_footprint(session: Session, *, footprint_id: str) -> bool:
     if fp is None:
         return False
     session.delete(fp)
+    _changed(session, "footprints")
     return True
 
 
@@ -219,12 +234,16 @@ def create_vehicle(session: Session, *, vehicle_id: str, description: str, defin
                   created_at=utc_now())
     session.add(row)
     session.flush()
+    _changed(session, "vehicles")
     return row
 
 
 def delete_vehicle(session: Session, *, vehicle_id: str) -> bool:
     """Delete a stored custom vehicle; False for an unknown id."""
-    return session.execute(delete(Vehicle).where(Vehicle.id == vehicle_id)).rowcount > 0
+    deleted = session.execute(delete(Vehicle).where(Vehicle.id == vehicle_id)).rowcount > 0
+    if deleted:
+        _changed(session, "vehicles")
+    return deleted
 
 
 # -------------------------------------------------------------------------------------------- sites

@@ -6,6 +6,10 @@ in the service process watches the jobs: it submits a job's tasks, records progr
 writes the results with the status `succeeded` in one transaction. A restart submits queued and running jobs
 again; the unique keys on the results make a second write of the same job impossible (so two service processes
 on one database may both compute a job, but only one stores it).
+
+With several API processes (`footprint serve --api-processes N`) one engine runs beside them and polls the database
+for the jobs they queue (JobEngine(polls=True)); each API process keeps only a RemoteJobs: the cluster's status.
+A cancel is a job's row: every watcher looks at it each CANCEL_POLL_S, so a cancel through any process stops it.
 """
 
 import logging
@@ -28,7 +32,11 @@ log = logging.getLogger("footprint.service.jobs")
 MAX_ERROR_CHARS = 500  # a failed job's error line
 CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://\S+")  # a Dask scheduler's, worker's or nanny's
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
-STOP_GRACE_S = 0.5  # a cancelled task that is still running after this has its worker restarted
+STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: tasks.progress_reporter) has its
+# worker restarted
+STATUS_S = 1.0  # the cluster's status is asked of the scheduler at most this often (/api/health under load)
+CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
+QUEUE_POLL_S = 0.2  # a polling engine looks for the jobs other processes queued this often
 
 
 class JobTimeLimit(RuntimeError):
@@ -46,21 +54,78 @@ def one_line(exc: BaseException) -> str:
     return text if len(text) <= MAX_ERROR_CHARS else text[: MAX_ERROR_CHARS - 3] + "..."
 
 
-class JobEngine:
-    """Runs jobs on Dask and keeps their rows up to date."""
+class ClusterLink:
+    """A Dask client of the service's cluster (footprint.parallel.start_client, the path `footprint sweep` takes:
+    the configured scheduler, or a new LocalCluster) and the cluster's status for /api/health."""
 
-    def __init__(self, *, sessions: sessionmaker[Session], settings: Settings):
-        self._sessions, self._settings = sessions, settings
+    def __init__(self, *, settings: Settings):
+        self._settings = settings
         self._stack = ExitStack()
+        self._lock = threading.Lock()
+        self._closing = threading.Event()
+        self._status: tuple[float, dict] = (-STATUS_S, {})  # (when the scheduler was asked, what it said)
+        self.client = None
+
+    def _connect(self):
+        """Not the default client: the service's threads pass it."""
+        from footprint.parallel import start_client
+
+        s = self._settings
+        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False)
+        self._stack.callback(close)
+        return client
+
+    def status(self) -> dict:
+        """The cluster's health: ok, scheduler address, workers (as the scheduler said at most STATUS_S ago)."""
+        with self._lock:
+            asked, last = self._status
+            if time.monotonic() - asked < STATUS_S:
+                return dict(last)
+        try:
+            info = self.client.scheduler_info(n_workers=-1)
+            now = {"ok": self.client.status == "running", "scheduler": info.get("address", ""),
+                   "workers": len(info.get("workers", {}))}
+        except Exception as exc:  # noqa: BLE001 -- health reports, never raises
+            now = {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
+                   "error": one_line(exc)}
+        with self._lock:
+            self._status = (time.monotonic(), now)
+        return dict(now)
+
+
+class RemoteJobs(ClusterLink):
+    """An API process's jobs when an engine in another process runs them (`footprint serve --api-processes N`): a
+    job submitted is its queued row and a cancel its row marked, which that engine polls for; this process flies
+    the synchronous trajectories itself."""
+
+    def start(self) -> None:
+        self.client = self._connect()
+        threading.Thread(target=tasks.warm_numba, name="footprint-warm", daemon=True).start()
+
+    def submit(self, *, job_id: str, request=None) -> None:
+        """Nothing to do: the engine finds the queued row within QUEUE_POLL_S."""
+
+    def cancel(self, *, job_id: str) -> None:
+        """Nothing to do: the engine's watcher sees the cancelled row within CANCEL_POLL_S."""
+
+    def close(self) -> None:
+        self._closing.set()
+        self._stack.close()
+
+
+class JobEngine(ClusterLink):
+    """Runs jobs on Dask and keeps their rows up to date; `polls`: also the jobs other processes queue."""
+
+    def __init__(self, *, sessions: sessionmaker[Session], settings: Settings, polls: bool = False):
+        super().__init__(settings=settings)
+        self._sessions, self._polls = sessions, polls
         self._pool = ThreadPoolExecutor(settings.job_threads, thread_name_prefix="footprint-job")
+        self._watched: set[str] = set()  # jobs submitted to the pool and not yet ended here
         self._futures: dict[str, list] = {}
         self._reports: dict[str, tuple[float, str]] = {}  # task key -> its last (progress, note) event
         self._started: dict[str, float] = {}  # task key -> when a worker started it (monotonic), from its first event
         self._wakes: dict[str, threading.Event] = {}  # task key -> its job's watcher, woken by each report
         self._cancels: set[str] = set()  # jobs cancelled through this process, not yet stopped
-        self._lock = threading.Lock()
-        self._closing = threading.Event()
-        self.client = None
         self.warm_seconds: float | None = None
 
     # ------------------------------------------------------------------------------------ lifetime
@@ -75,16 +140,20 @@ class JobEngine:
             self.submit(job_id=job_id)
         if pending:
             log.info("resubmitted %d pending jobs", len(pending))
+        if self._polls:
+            threading.Thread(target=self._poll_queue, name="footprint-queue", daemon=True).start()
 
-    def _connect(self):
-        """A client of the configured scheduler, or of a new LocalCluster (footprint.parallel.start_client, the path
-        `footprint sweep` takes). Not the default client: the service's threads pass it."""
-        from footprint.parallel import start_client
-
-        s = self._settings
-        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False)
-        self._stack.callback(close)
-        return client
+    def _poll_queue(self) -> None:
+        """Watch the jobs the API processes queue in the database."""
+        while not self._closing.wait(QUEUE_POLL_S):
+            try:
+                with self._sessions.begin() as session:
+                    pending = q.pending_job_ids(session)
+            except Exception as exc:  # noqa: BLE001 -- a database that is away for a moment: look again later
+                log.warning("could not read the job queue: %s", one_line(exc))
+                continue
+            for job_id in pending:
+                self.submit(job_id=job_id)
 
     def _warm(self) -> None:
         t0 = time.perf_counter()
@@ -106,20 +175,14 @@ class JobEngine:
         self._pool.shutdown(wait=True, cancel_futures=True)
         self._stack.close()
 
-    def status(self) -> dict:
-        """The cluster's health: ok, scheduler address, workers."""
-        try:
-            info = self.client.scheduler_info(n_workers=-1)
-            return {"ok": self.client.status == "running", "scheduler": info.get("address", ""),
-                    "workers": len(info.get("workers", {}))}
-        except Exception as exc:  # noqa: BLE001 -- health reports, never raises
-            return {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
-                    "error": one_line(exc)}
-
     # ---------------------------------------------------------------------------------------- jobs
     def submit(self, *, job_id: str, request=None) -> None:
         """Watch a queued job (its tasks go to Dask at once); `request`: its study as the router parsed it (a job
-        submitted again after a restart is parsed from its row)."""
+        submitted again after a restart is parsed from its row); a job watched here already is left alone."""
+        with self._lock:
+            if job_id in self._watched:
+                return
+            self._watched.add(job_id)
         self._pool.submit(self._run, job_id, request)
 
     def cancel(self, *, job_id: str) -> None:
@@ -136,13 +199,20 @@ class JobEngine:
                 self._cancels.discard(job_id)
 
     def stop(self, futures: list) -> None:
-        """Cancel the futures, and restart the workers still running one (Dask cannot interrupt a running task: a
-        worker process that keeps computing a cancelled job would hold its core for hours)."""
-        keys = {f.key for f in futures}
+        """Cancel the futures (a running task stops at its next progress report: tasks.progress_reporter), and
+        restart the workers still running one after STOP_GRACE_S: Dask cannot interrupt a running task, and a worker
+        that kept computing a cancelled job would hold its core for hours. The workers are asked: the scheduler
+        forgets a task at its cancel while the worker's thread runs on, and the next task waits behind it."""
+        keys = {str(f.key) for f in futures}
         self.client.cancel(futures)
         deadline = time.monotonic() + STOP_GRACE_S
         while True:
-            busy = [w for w, ks in self.client.processing().items() if keys & set(ks)]
+            try:
+                running = self.client.run(tasks.running_keys)
+            except Exception as exc:  # noqa: BLE001 -- a worker lost meanwhile: its tasks are gone with it
+                log.info("could not ask the workers what they run: %s", one_line(exc))
+                return
+            busy = [w for w, ks in running.items() if keys & set(ks)]
             if not busy or time.monotonic() >= deadline:
                 break
             time.sleep(0.1)
@@ -176,6 +246,7 @@ class JobEngine:
         finally:
             with self._lock:
                 self._futures.pop(job_id, None)
+                self._watched.discard(job_id)
 
     def _compute(self, job_id: str, calls: list) -> list | None:
         """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile."""
@@ -192,7 +263,7 @@ class JobEngine:
             self._wakes.update((f.key, changed) for f in futures)
         for fut in futures:
             fut.add_done_callback(lambda _: changed.set())
-        running = False
+        running, looked = False, time.monotonic()
         try:
             while pending:
                 changed.wait(PROGRESS_WRITE_S)
@@ -200,6 +271,8 @@ class JobEngine:
                 with self._lock:
                     cancelled = job_id in self._cancels
                     starts = [self._started[f.key] for f in futures if f.key in self._started]
+                if not cancelled and time.monotonic() - looked >= CANCEL_POLL_S:  # through another process
+                    cancelled, looked = self._cancelled(job_id), time.monotonic()
                 if cancelled:
                     self.stop(futures)
                     return None

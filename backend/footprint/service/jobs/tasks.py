@@ -45,9 +45,10 @@ def decimated(n: int, max_points: int) -> np.ndarray:
 
 def progress_reporter():
     """on_progress(fraction, note) for the core's long loops, sent as a Dask event of this task (its key), at
-    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns False: a report never stops the work. Its
-    creation sends the task's first event, which tells the engine a worker has started it (the job is "running",
-    its time limit counts)."""
+    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns True once the task is cancelled (the engine's
+    cancel and time limit cancel its future: the worker marks the running task), which stops the loop at its next
+    report: the worker is free at once, not restarted (the engine's last resort). Its creation sends the task's
+    first event, which tells the engine a worker has started it (the job is "running", its time limit counts)."""
     from distributed import get_worker
 
     try:
@@ -62,8 +63,14 @@ def progress_reporter():
         if now - last[0] >= PROGRESS_EVERY_S:
             last[0] = now
             worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": float(fraction), "note": note})
-        return False
+        task = worker.state.tasks.get(key)  # read in this thread, written by the worker's event loop: a plain lookup
+        return task is None or task.state in ("cancelled", "released", "forgotten")
     return on_progress
+
+
+def running_keys(dask_worker) -> list[str]:
+    """The keys this worker's threads run now, cancelled ones included (client.run(running_keys): JobEngine.stop)."""
+    return [str(task.key) for task in dask_worker.state.executing]
 
 
 def warm_numba() -> float:
@@ -144,8 +151,7 @@ def optimize_task(study_dict: dict) -> dict:
 
 def reach_task(request: dict) -> dict:
     """A reach job: footprint.contracts.reach's windows and per-site summary."""
-    progress_reporter()  # started
-    return plain(contracts.module("reach").run(contracts.parse("reach", request)))
+    return plain(contracts.module("reach").run(contracts.parse("reach", request), on_progress=progress_reporter()))
 
 
 TASKS = {"optimize": optimize_task, "reach": reach_task}  # the single-task kinds (footprint and sweep: engine._calls)

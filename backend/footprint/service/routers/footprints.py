@@ -10,7 +10,7 @@ from fastapi.responses import HTMLResponse
 
 from footprint.contracts import parse
 from footprint.pictures import geojson
-from footprint.service import deps
+from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
 from footprint.core.errors import InputError
@@ -37,40 +37,53 @@ def _point(p) -> dict:
 def _full(request: Request, footprint_id: str) -> tuple[dict, dict]:
     """(the footprint's JSON view, its study)."""
     with deps.sessions(request).begin() as session:
-        fp = q.get_footprint(session, footprint_id=footprint_id)
-        if fp is None:
-            raise NotFound(f"no footprint {footprint_id!r}")
-        track = q.ground_track(session, footprint_id=footprint_id)
-        item = _summary(fp) | {
-            "points": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=False)],
-            "interior": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=True)],
-            "ground_track": [] if track is None else
-            [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
-             for a, o, t in zip(track.latitude_deg, track.longitude_deg, track.time_s)]}
-        return item, fp.study
+        return _stored(session, footprint_id)
 
 
-@router.get("/footprints", response_model=FootprintList)
+def _stored(session, footprint_id: str) -> tuple[dict, dict]:
+    fp = q.get_footprint(session, footprint_id=footprint_id)
+    if fp is None:
+        raise NotFound(f"no footprint {footprint_id!r}")
+    track = q.ground_track(session, footprint_id=footprint_id)
+    item = _summary(fp) | {
+        "points": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=False)],
+        "interior": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=True)],
+        "ground_track": [] if track is None else
+        [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
+         for a, o, t in zip(track.latitude_deg, track.longitude_deg, track.time_s)]}
+    return item, fp.study
+
+
+@router.get("/footprints", response_model=FootprintList, responses=read_cache.NOT_MODIFIED)
 def list_footprints(request: Request, job_id: str | None = None, limit: int = Query(50, ge=1, le=500),
-                    offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> dict:
-    """Stored footprints, newest first."""
-    with deps.sessions(request).begin() as session:
+                    offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> Response:
+    """Stored footprints, newest first (with an ETag: If-None-Match answers 304 while none changed)."""
+    def build(session):
         rows, total = q.list_footprints(session, job_id=job_id, limit=limit, offset=offset)
-        return {"items": [_summary(r) for r in rows], "total": total}
+        return read_cache.as_json(FootprintList, {"items": [_summary(r) for r in rows], "total": total})
+
+    return deps.cached(request, ("list", job_id, limit, offset), "footprints", build)
 
 
 @router.get("/footprints/{footprint_id}", response_model=FootprintRead,
-            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}})
+            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}, **read_cache.NOT_MODIFIED})
 def get_footprint(footprint_id: str, request: Request,
-                  format: Literal["json", "geojson", "csv"] = Query("json")):
-    """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV."""
-    item, _ = _full(request, footprint_id)
-    if format == "geojson":
-        return Response(json.dumps(geojson.feature_collection(item)), media_type="application/geo+json")
-    if format == "csv":
-        return Response(_csv(item["points"]), media_type="text/csv",
-                        headers={"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
-    return item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()}
+                  format: Literal["json", "geojson", "csv"] = Query("json")) -> Response:
+    """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV (with an ETag:
+    If-None-Match answers 304 while it is unchanged)."""
+    def build(session):
+        item, _ = _stored(session, footprint_id)
+        if format == "geojson":
+            return read_cache.serialized(json.dumps(geojson.feature_collection(item)).encode(),
+                                         "application/geo+json")
+        if format == "csv":
+            return read_cache.serialized(
+                _csv(item["points"]).encode(), "text/csv",
+                {"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
+        return read_cache.as_json(FootprintRead,
+                                  item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()})
+
+    return deps.cached(request, ("item", footprint_id, format), "footprints", build)
 
 
 def _csv(points: list[dict]) -> str:

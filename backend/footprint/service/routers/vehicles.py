@@ -9,7 +9,7 @@ from footprint.contracts.case import VehicleCase
 from footprint.core.aero import SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_cl_max_deg, builtin_vehicle, \
     builtin_vehicle_ids, coefficients, ld_max, vehicle_summaries
 from footprint.core.errors import InputError
-from footprint.service import deps
+from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.errors import Conflict, NotFound, invalid
 from footprint.service.schemas import VehicleCreate, VehicleDetail, VehicleItem
@@ -95,12 +95,15 @@ def _aero(vehicle) -> dict:
     return {"altitude_ft": SUMMARY_ALTITUDE_FT, "mach": list(AERO_MACH), **rows}
 
 
-@router.get("/vehicles", response_model=list[VehicleItem])
-def list_vehicles(request: Request) -> list[dict]:
-    """Built-in vehicles, then the stored custom ones."""
-    with deps.sessions(request).begin() as session:
-        rows = q.list_vehicles(session)
-    return list(_builtins().values()) + [_custom_item(r) for r in rows]
+@router.get("/vehicles", response_model=list[VehicleItem],
+            responses=read_cache.NOT_MODIFIED)
+def list_vehicles(request: Request) -> Response:
+    """Built-in vehicles, then the stored custom ones (with an ETag: If-None-Match answers 304 while none changed)."""
+    def build(session):
+        items = list(_builtins().values()) + [_custom_item(r) for r in q.list_vehicles(session)]
+        return read_cache.as_json(list[VehicleItem], items)
+
+    return deps.cached(request, ("list",), "vehicles", build)
 
 
 @router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)

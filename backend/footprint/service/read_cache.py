@@ -1,0 +1,103 @@
+"""GET responses serialized once: each kept with the revision of the stored things it shows (db.models.Revision)
+and a strong ETag of its bytes, answered again from memory while the revision holds (304 to an If-None-Match that
+names it). A write bumps the revision in its own transaction, so every API process over the database sees a
+cached response go stale at the write's commit."""
+
+import functools
+import hashlib
+import threading
+from collections import OrderedDict
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from pydantic import TypeAdapter
+from starlette.requests import Request
+from starlette.responses import Response
+
+MAX_BYTES = 64 * 1024 * 1024  # the cached bodies of one process, least recently used dropped first
+REVALIDATE = "no-cache"  # a browser keeps the body but asks again (If-None-Match) before each use
+NOT_MODIFIED = {304: {"description": "Not Modified: the If-None-Match names the current ETag"}}  # a route's responses
+
+
+@dataclass(frozen=True)
+class Serialized:
+    body: bytes
+    media_type: str
+    etag: str
+    headers: tuple[tuple[str, str], ...] = ()
+
+
+def serialized(body: bytes, media_type: str, headers: dict[str, str] | None = None) -> Serialized:
+    """A response body with its strong ETag (a hash of the bytes: the same content keeps its tag across
+    revisions and processes)."""
+    return Serialized(body, media_type, f'"{hashlib.blake2b(body, digest_size=16).hexdigest()}"',
+                      tuple((headers or {}).items()))
+
+
+@functools.cache
+def _adapter(schema) -> TypeAdapter:
+    return TypeAdapter(schema)
+
+
+def as_json(schema, value) -> Serialized:
+    """`value` validated and serialized by its response schema, as FastAPI's response_model does (by alias)."""
+    adapter = _adapter(schema)
+    return serialized(adapter.dump_json(adapter.validate_python(value), by_alias=True), "application/json")
+
+
+class ReadCache:
+    """Serialized responses by request key, each valid for one revision."""
+
+    def __init__(self, max_bytes: int = MAX_BYTES):
+        self._max_bytes, self._bytes = max_bytes, 0
+        self._entries: OrderedDict[tuple, tuple[int, Serialized]] = OrderedDict()
+        self._lock = threading.Lock()
+        self._building: dict[tuple, threading.Lock] = {}  # one build per key at a time: the others wait for it
+
+    def get(self, key: tuple, revision: int, build: Callable[[], Serialized]) -> Serialized:
+        """The cached response for `key` at `revision`, built (once, whatever the number of callers) if missing."""
+        hit = self._hit(key, revision)
+        if hit is not None:
+            return hit
+        with self._lock:
+            building = self._building.setdefault(key, threading.Lock())
+        with building:
+            hit = self._hit(key, revision)
+            if hit is not None:
+                return hit
+            value = build()
+            self._put(key, revision, value)
+        with self._lock:
+            self._building.pop(key, None)
+        return value
+
+    def _hit(self, key: tuple, revision: int) -> Serialized | None:
+        with self._lock:
+            entry = self._entries.get(key)
+            if entry is None or entry[0] != revision:
+                return None
+            self._entries.move_to_end(key)
+            return entry[1]
+
+    def _put(self, key: tuple, revision: int, value: Serialized) -> None:
+        with self._lock:
+            old = self._entries.pop(key, None)
+            if old is not None:
+                self._bytes -= len(old[1].body)
+            if len(value.body) > self._max_bytes:
+                return
+            self._entries[key] = (revision, value)
+            self._bytes += len(value.body)
+            while self._bytes > self._max_bytes:
+                _, (_, dropped) = self._entries.popitem(last=False)
+                self._bytes -= len(dropped.body)
+
+
+def response(request: Request, value: Serialized) -> Response:
+    """200 with the body, or 304 when the request's If-None-Match names its ETag or is "*" (RFC 9110 13.1.2: the
+    weak comparison, so a W/ tag matches too)."""
+    headers = {"ETag": value.etag, "Cache-Control": REVALIDATE}
+    tags = {t.strip().removeprefix("W/") for t in request.headers.get("if-none-match", "").split(",")}
+    if value.etag in tags or "*" in tags:
+        return Response(status_code=304, headers=headers)
+    return Response(value.body, media_type=value.media_type, headers=headers | dict(value.headers))
