@@ -9,7 +9,7 @@ import typer
 from pydantic import ValidationError
 
 from footprint import contracts
-from footprint.contracts.case import error_line
+from footprint.contracts.case import error_line, printable
 from footprint.core.errors import InputError, NoOptimum
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
@@ -17,7 +17,7 @@ app = typer.Typer(add_completion=False, no_args_is_help=True,
 
 
 def _fail(message: str) -> None:
-    typer.echo(f"error: {message}", err=True)
+    typer.echo(f"error: {printable(message)}", err=True)  # one line, whatever the file's name or keys hold
     raise typer.Exit(2)
 
 
@@ -34,6 +34,8 @@ def _read_json(path: Path) -> dict:
         _fail(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})")
     except RecursionError:
         _fail(f"{path}: not a request: nested deeper than Python's JSON reader goes (about 1,000 levels)")
+    except ValueError:  # an integer past Python's limit on digits read from text (not a JSONDecodeError)
+        _fail(f"{path}: not a request: a number with more than {sys.get_int_max_str_digits():,} digits")
     if not isinstance(data, dict):
         _fail(f"{path}: expected a JSON object")
     return data
@@ -266,9 +268,8 @@ def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
     data = _read_json(footprint_file)
     try:
         write_footprint_map(data, out, title)
-    except (KeyError, TypeError) as exc:
-        _fail(f"{footprint_file}: not a footprint (missing or bad {exc}); expected 'points' with latitude_deg and "
-              "longitude_deg, and 'entry'")
+    except (ValidationError, InputError) as exc:  # not a footprint (or Leaflet not installed)
+        _fail(error_line(exc))
     typer.echo(f"wrote {out}")
 
 
@@ -319,7 +320,7 @@ def main():
     try:
         app()
     except InputError as exc:  # a user's mistake found deeper in the core
-        typer.echo(f"error: {exc}", err=True)
+        typer.echo(f"error: {error_line(exc)}", err=True)
         sys.exit(2)
 
 

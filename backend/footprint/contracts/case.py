@@ -514,7 +514,7 @@ class Case(Strict):
 def error_line(exc: ValidationError | InputError) -> str:
     """One line naming the field(s) and the allowed range."""
     if isinstance(exc, InputError):
-        return clip(str(exc), ERROR_MESSAGE_CHARS)
+        return clip(printable(str(exc)), ERROR_MESSAGE_CHARS)
     parts, errs = [], exc.errors()
     for err in errs[:MAX_ERROR_FIELDS]:
         loc = []
@@ -523,8 +523,8 @@ def error_line(exc: ValidationError | InputError) -> str:
             if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating", "study") and x in _LAW_TAGS)
                                        or (after == "study" and x in _STUDY_TAGS)):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
-            loc.append(clip(str(x), ECHO_CHARS))  # a key is the client's text too
-        msg = clip(err["msg"].removeprefix("Value error, "), ERROR_MESSAGE_CHARS)  # a validator's may quote the input
+            loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
+        msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it, not the input
             ctx = err.get("ctx", {})
             tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
@@ -554,6 +554,12 @@ _FIELD_FIRST = re.compile(r"^[A-Za-z_][\w.]*: ")
 ECHO_CHARS = 80  # an input value or a key
 ERROR_MESSAGE_CHARS = 500  # one field's message
 MAX_ERROR_FIELDS = 20  # fields named in one line; the rest counted
+
+
+def printable(text: str) -> str:
+    """Text that stays on its line: a line break, NUL, ESC or other character that does not print (a lone surrogate
+    too) written as Python writes it in a string literal ("a\\nb"); a client's key or value may hold any of them."""
+    return text if text.isprintable() else "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in text)
 
 
 def clip(text: str, limit: int) -> str:

@@ -406,7 +406,11 @@ def _show(value, limit=80):
 
 
 def _number(value, where):
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+    try:
+        finite = not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
+    except OverflowError:  # an integer past a float's range (JSON numbers may have any number of digits)
+        finite = False
+    if not finite:
         raise InputError(where, f"{_show(value)} is not a finite number")
     return float(value)
 
@@ -441,7 +445,7 @@ def _table(tab, where):
     shape = (mach.size, alpha.size, alt.size)
     try:
         values = np.array(tab.get("values"), dtype=np.float64)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an integer past a float's range
         values = None
     if values is None or values.shape != shape:
         got = "not a regular nested list of numbers" if values is None else f"shape {values.shape}"

@@ -27,7 +27,9 @@ from html import escape
 from pathlib import Path
 
 import numpy as np
+from pydantic import BaseModel, Field, TypeAdapter
 
+from footprint.contracts.case import bounded
 from footprint.csp import inline_script_hashes, js_string, standalone_policy, with_policy_meta
 from footprint.core.errors import InputError
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
@@ -48,6 +50,51 @@ LABEL_JS = ("function footprintLabel(i) {\n"
             "  div.textContent = footprintLabel.all[i];\n"
             "  return div;\n"
             "}" % js_string(LABELS_ID))
+
+
+# ------------------------------------------------------------------------- the footprint file, checked
+# What the map reads of a footprint (others' fields are ignored: a footprint file carries many more), each number
+# finite and in range, so that a hand-edited file gets one line naming the field (pydantic's ValidationError).
+MAX_RANGE_NMI = 250_000.0  # a flown down-range (contracts.transform's bound)
+
+
+class _MapPlace(BaseModel):
+    latitude_deg: bounded(-90, 90, "deg")
+    longitude_deg: bounded(-1080, 1080, "deg")  # an unwrapped ring's may pass +-180 (and the copies +-360)
+
+
+class _MapEntry(_MapPlace):
+    heading_deg: bounded(-360, 360, "deg")
+
+
+class _MapPoint(_MapPlace):
+    downrange_nmi: bounded(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi") | None = None
+    crossrange_nmi: bounded(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi") | None = None
+    flight_time_s: bounded(0, 1e7, "s") | None = None
+    parameter: dict[str, float | str | None] | None = None  # the control setting, shown on hover
+    mirrored: bool = False
+
+
+class _MapFootprint(BaseModel):
+    name: str | None = Field(default=None, max_length=1_000)
+    vehicle: str | None = Field(default=None, max_length=1_000)
+    method: str | None = Field(default=None, max_length=1_000)
+    entry: _MapEntry
+    points: list[_MapPoint]
+    ground_track: list[_MapPlace] | None = None
+
+
+_MAP_FOOTPRINT = TypeAdapter(_MapFootprint)
+
+
+def map_footprint(footprint) -> dict:
+    """The fields of a footprint the map draws, checked (InputError for a file that is not a footprint at all,
+    pydantic's ValidationError naming a bad field)."""
+    points = footprint.get("points") if isinstance(footprint, dict) else None
+    if not isinstance(points, list) or len(points) < 3 or not footprint.get("entry"):
+        raise InputError("points", "a footprint needs 'entry' and at least 3 boundary 'points' "
+                                   "(as `footprint footprint` prints it or GET /api/footprints/{id} returns it)")
+    return _MAP_FOOTPRINT.validate_python(footprint).model_dump(exclude_none=True)
 
 
 def vendor_dir() -> Path:
@@ -193,11 +240,8 @@ def footprint_map(footprint: dict, title: str | None = None):
     """The folium Map of one footprint (see the module docstring for the input)."""
     import folium
 
-    points = footprint.get("points") or []
-    entry = footprint.get("entry")
-    if len(points) < 3 or not entry:
-        raise InputError("points", "a footprint needs 'entry' and at least 3 boundary 'points' "
-                                   "(as `footprint footprint` prints it or GET /api/footprints/{id} returns it)")
+    footprint = map_footprint(footprint)
+    points, entry = footprint["points"], footprint["entry"]
     name = title or footprint.get("name") or f"{footprint.get('vehicle', '')} {footprint.get('method', '')}".strip().replace("_", " ")
     lat = np.array([p["latitude_deg"] for p in points], float)
     lon = unwrap_ring(lat, np.array([p["longitude_deg"] for p in points], float), entry)
