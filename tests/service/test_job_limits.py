@@ -108,3 +108,14 @@ def test_a_task_that_reports_nothing_is_stopped_by_restarting_its_worker(service
         assert free.result(timeout=30) in (after := cluster.run(os.getpid)).values()
         assert time.monotonic() - t0 < 15.0  # s: the restarted worker took the next task, not the 60 s sleep's end
         assert len(set(after.values()) - set(pids.values())) == 1  # one worker restarted, the other kept
+
+
+def test_a_job_error_hides_cluster_addresses_but_keeps_the_sentence():
+    from footprint.service.jobs.engine import one_line
+
+    exc = RuntimeError("Attempted to run task 'x' on 4 different workers, but all those workers died while running it. "
+                       "The last worker that attempt to run the task was tcp://127.0.0.1:41234. Inspecting worker "
+                       "logs is often a good next step ('tls://10.0.0.2:8786').")
+    assert one_line(exc) == ("RuntimeError: Attempted to run task 'x' on 4 different workers, but all those workers "
+                             "died while running it. The last worker that attempt to run the task was <address>. "
+                             "Inspecting worker logs is often a good next step ('<address>').")

@@ -39,6 +39,18 @@ def test_the_environment_and_overrides_are_read_and_checked(clean_env):
         load_settings(dask_workers=0, dask_scheduler="")
 
 
+def test_the_settings_pass_to_another_process_through_the_environment(clean_env):
+    """`serve --api-processes N` hands its settings (the CLI's overrides included) to uvicorn's processes this way."""
+    from footprint.service.settings import Settings, environment
+
+    given = load_settings(database_url="postgresql+psycopg://db/x", port=9001, api_token="t", api_processes=3,
+                          cors_origins="https://a.example", job_time_limit_s=12.5, dask_workers=5)
+    for name, value in environment(given).items():
+        clean_env.setenv(name, value)
+    assert load_settings() == given and set(environment(given)) == {f"FOOTPRINT_{n.upper()}"
+                                                                    for n in Settings.model_fields}
+
+
 def test_the_page_is_served_at_the_root(scheduler_address, tmp_path):
     page = tmp_path / "page"
     page.mkdir()

@@ -30,7 +30,8 @@ from footprint.service.settings import Settings
 
 log = logging.getLogger("footprint.service.jobs")
 MAX_ERROR_CHARS = 500  # a failed job's error line
-CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://\S+")  # a Dask scheduler's, worker's or nanny's
+# a Dask scheduler's, worker's or nanny's address (not the full stop or the quote that may end it)
+CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://[^\s'\"]*[^\s'\".,;:)]")
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
 STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: tasks.progress_reporter) has its
 # worker restarted
