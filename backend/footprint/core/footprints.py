@@ -102,22 +102,33 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
                      mirror=True, contours_fps=()):
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
-    family = [({"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
-               lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
-                                               right=right),
-               b == 0)
-              for b in bank0_deg]
-    return footprint_of_family("single_parameter", spec, family + _min_range(min_range), mirror, contours_fps)
+    family = single_parameter_family(bank0_deg, limit_deg, min_range)
+    return footprint_of_family("single_parameter", spec, family, mirror, contours_fps)
+
+
+def single_parameter_family(bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift") -> list:
+    """single_parameter's control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
+    return [({"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
+             lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
+                                             right=right),
+             b == 0)
+            for b in bank0_deg] + _min_range(min_range)
 
 
 def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
                   min_range="zero_lift", mirror=True, contours_fps=()):
     """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
+    family = constant_bank_family(bank_deg, staged, turn_deg, min_range)
+    return footprint_of_family("staged" if staged else "constant", spec, family, mirror, contours_fps)
+
+
+def constant_bank_family(bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
+                         min_range="zero_lift") -> list:
+    """constant_bank's (and staged's) control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
     law = "staged" if staged else "constant"
-    family = [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
-               lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right), b == 0)
-              for b in bank_deg]
-    return footprint_of_family(law, spec, family + _min_range(min_range), mirror, contours_fps)
+    return [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
+             lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right), b == 0)
+            for b in bank_deg] + _min_range(min_range)
 
 
 def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
