@@ -9,7 +9,7 @@ import numpy as np
 from footprint.core import constants as c
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
-from footprint.core.atmosphere import MODEL_IDS, isothermal_temperature_R
+from footprint.core.atmosphere import DENSITY_NODE_COUNT, MODEL_IDS, density_factor_table, isothermal_temperature_R
 from footprint.core.dynamics import (
     M_BANK_ACTIVE,
     M_PULLED_OUT,
@@ -21,6 +21,10 @@ from footprint.core.dynamics import (
     M_TURN_DONE_DEG,
     P_ATM,
     P_ATM_T,
+    P_CD_MULTIPLIER,
+    P_CL_MULTIPLIER,
+    P_DENSITY_DELTA,
+    P_DENSITY_DISPERSED,
     P_G0,
     P_H,
     P_J,
@@ -46,6 +50,7 @@ from footprint.core.dynamics import (
     steering_angles,
 )
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
+from footprint.core.errors import InputError
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, horizon_basis, \
     velocity_from_angles
 from footprint.core.heating import CorrelationHeating, ReferenceHeating, trajectory_heating
@@ -96,6 +101,32 @@ class Stop:
 
 
 @dataclass(frozen=True)
+class Dispersion:
+    """A perturbed vehicle and atmosphere (one Monte Carlo sample); the defaults fly the tables and the atmosphere
+    model as given, to the bit. Wing loading is the vehicle's own (Vehicle.wing_loading_psf)."""
+
+    cl_multiplier: float = 1.0  # times the aero table's CL (dynamics.flown_coefficients)
+    cd_multiplier: float = 1.0  # times the aero table's CD
+    # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), linear
+    # between them; None: the model's density. It acts on the motion and on the heating alike (both use density).
+    density_delta: tuple | np.ndarray | None = None
+
+    def __post_init__(self):
+        for name in ("cl_multiplier", "cd_multiplier"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"dispersion.{name}", f"{value!r} must be a finite number > 0")
+        if self.density_delta is not None:
+            delta = np.asarray(self.density_delta, dtype=float)
+            if delta.shape != (DENSITY_NODE_COUNT,):
+                raise InputError("dispersion.density_delta", f"{delta.shape} values; need {DENSITY_NODE_COUNT}, "
+                                 "one per node of atmosphere.DENSITY_NODES_FT")
+            if not np.all(np.isfinite(delta) & (delta > -1.0)):
+                raise InputError("dispersion.density_delta", f"min {np.min(delta)!r}: every delta must be finite "
+                                 "and > -1 (a positive density)")
+
+
+@dataclass(frozen=True)
 class FlightSpec:
     vehicle: Vehicle
     planet: Planet
@@ -106,6 +137,7 @@ class FlightSpec:
     max_step_s: float = 50.0
     max_steps: int = 200_000
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
+    dispersion: Dispersion = field(default_factory=Dispersion)
 
 
 @dataclass
@@ -141,6 +173,11 @@ def pack_parameters(spec: FlightSpec) -> np.ndarray:
     p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
     p[P_SKIP_ALT] = st.skip_altitude_ft
     p[P_RTOL], p[P_MAX_STEP] = spec.rtol, spec.max_step_s
+    d = spec.dispersion
+    p[P_CL_MULTIPLIER], p[P_CD_MULTIPLIER] = d.cl_multiplier, d.cd_multiplier
+    if d.density_delta is not None:
+        p[P_DENSITY_DISPERSED] = 1.0
+        p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT] = d.density_delta
     return p
 
 
@@ -228,8 +265,12 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
     }
     max_heat_rate = max_temperature = heat_load = None
     if spec.heating is not None:  # Section III: evaluated on the histories, no effect on the motion
+        factor = None  # a dispersed density heats as it decelerates: the same factor
+        if p[P_DENSITY_DISPERSED] != 0.0:
+            factor = density_factor_table(p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT], rows[:, R_ALT])
         heat_rate, temperature = trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
-                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T])
+                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T],
+                                                    density_factor=factor)
         history["heat_rate_btu_ft2_s"], history["temperature_R"] = heat_rate, temperature
         max_heat_rate = float(np.max(heat_rate))
         heat_load = float(np.trapezoid(heat_rate, rows[:, R_T]))  # integrated heat load, trapezoidal rule
