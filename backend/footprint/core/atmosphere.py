@@ -257,7 +257,7 @@ def atmosphere(model, altitude_ft, rho0_slug_ft3, scale_height_ft, temperature_R
     return nan, nan, nan, nan
 
 
-@njit
+@njit(allocates=False)
 def density_factor(delta, start, altitude_ft):
     """1 + delta(h): delta = delta[start:start + DENSITY_NODE_COUNT] at DENSITY_NODES_FT, linear between the nodes,
     held below the first and above the last (and at a NaN altitude, the first)."""

@@ -106,7 +106,7 @@ def energy_height_ft(altitude_ft, speed_fps, g0_ft_s2):
     return altitude_ft + 0.5 * speed_fps * speed_fps / g0_ft_s2
 
 
-@njit
+@njit(allocates=False)
 def holds_with_alpha(ctrl, mode):
     """True while alpha, not (L/D)max, flies the commanded path: level flight or gamma hold after pull-out
     (Section II.7), and the constant-altitude law after its turn (App. C data set 2: the straight flight
@@ -119,7 +119,7 @@ def holds_with_alpha(ctrl, mode):
     return int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE and mode[M_BANK_DONE] != 0.0
 
 
-@njit
+@njit(allocates=False)
 def steering_angles(x, y, z, vx, vy, vz, p):
     """(zeta, heading) in degrees: remaining heading change and azimuth of the horizontal velocity."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x, y, z)
@@ -136,7 +136,7 @@ def steering_angles(x, y, z, vx, vy, vz, p):
     return zeta, heading
 
 
-@njit
+@njit(allocates=False)
 def flown_coefficients(aero, p, mach, alpha_deg, altitude_ft):
     """(CL, CD) of the vehicle flown: the aero table's times the dispersion multipliers (exactly 1.0 undispersed).
     Multiplying the whole curves leaves the alphas of (L/D)max, CL max and zero lift those of the tables."""
@@ -144,7 +144,7 @@ def flown_coefficients(aero, p, mach, alpha_deg, altitude_ft):
     return cl * p[P_CL_MULTIPLIER], cd * p[P_CD_MULTIPLIER]
 
 
-@njit
+@njit(allocates=False)
 def evaluate(t, s, p, aero, ctrl, mode):
     """Accelerations and every derived quantity at one state, in the slots EV_* above."""
     x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
@@ -247,7 +247,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
     return (ax, ay, az, alpha, bank, mach, q, cl, cd, alt, v, sin_gamma, steer, need_ratio, rho)
 
 
-@njit
+@njit(allocates=False)
 def rhs(t, s, p, aero, ctrl, mode, out):
     """ds/dt into `out`: eqs. (1)-(3)."""
     res = evaluate(t, s, p, aero, ctrl, mode)
