@@ -224,7 +224,6 @@ def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
     return mode
 
 
-
 class _Flight(NamedTuple):
     """What the integrator returns for one spec, with the parameters it flew."""
 
@@ -352,6 +351,8 @@ def _track_rows(rows, i_pullout, p0, d0, pole):
         if abs(x * pole[0] + y * pole[1] + z * pole[2]) > near_axis * r:
             return np.arange(n)
         theta[i] = math.atan2(x * d0[0] + y * d0[1] + z * d0[2], x * p0[0] + y * p0[1] + z * p0[2])
+        if not math.isfinite(theta[i]):
+            return np.arange(n)
         if i > 0:
             step = abs(theta[i] - theta[i - 1])
             largest_step = max(largest_step, min(step, 2.0 * math.pi - step))
