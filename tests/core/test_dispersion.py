@@ -57,6 +57,18 @@ def test_the_multipliers_scale_the_recorded_coefficients():
     assert t["cd"][0] == pytest.approx(0.9 * nominal["cd"][0], rel=1e-15)
 
 
+def test_level_flight_holds_its_altitude_with_a_dispersed_lift_curve():
+    """The hold asks the dispersed vehicle for the lift it needs (alpha_for_cl_deg on CL / multiplier), so the flight
+    stays level below (L/D)max whatever the multiplier (as test_control_laws' nominal level flight)."""
+    for multiplier in (0.9, 1.1):
+        t = simulate(dispersed(table2(alpha={"law": "level_flight"}, bank={"law": "zero"}), cl_multiplier=multiplier))
+        s, h = t.summary, t.history
+        level = (h["time_s"] > s["pullout_time_s"] + 1e-9) & (h["alpha_deg"] < 11.999)
+        assert level.sum() > 20
+        assert np.max(np.abs(h["gamma_deg"][level])) < 0.05  # deg
+        assert np.ptp(h["altitude_ft"][level]) < 300.0  # ft
+
+
 @pytest.mark.parametrize("delta", [-0.2, 0.15])
 def test_a_constant_density_profile_is_the_exponential_atmosphere_with_rho0_scaled(delta):
     """Two formulations of the same air: rho0 exp(-h/H) times (1 + delta) in the right-hand side, and an
