@@ -115,7 +115,8 @@ class Dispersion:
     cd_multiplier: float = 1.0  # times the aero table's CD
     # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), linear
     # between them; None: the model's density. It acts on the motion and on the heating alike (both use density).
-    density_delta: tuple | np.ndarray | None = None
+    # Given as any sequence of numbers, kept as a tuple of floats (a Dispersion compares and hashes by value).
+    density_delta: tuple | None = None
 
     def __post_init__(self):
         for name in ("cl_multiplier", "cd_multiplier"):
@@ -130,6 +131,7 @@ class Dispersion:
             if not np.all(np.isfinite(delta) & (delta > -1.0)):
                 raise InputError("dispersion.density_delta", f"min {np.min(delta)!r}: every delta must be finite "
                                  "and > -1 (a positive density)")
+            object.__setattr__(self, "density_delta", tuple(delta.tolist()))
 
 
 @dataclass(frozen=True)
