@@ -21,6 +21,7 @@ from footprint.contracts import parse
 from footprint.core import collocation as col
 from footprint.core.heating import CorrelationHeating
 from footprint.core.optimize import Constraint
+from footprint.core.trajectory import Dispersion
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
@@ -141,6 +142,14 @@ def test_a_heat_rate_below_the_entry_floor_is_not_an_optimum():
 def test_a_quantity_the_nlp_does_not_know_is_one_line():
     with pytest.raises(col.CollocationError, match="pullout_altitude_ft: not a quantity"):
         col.Transcription(betts_problem(objective=(("pullout_altitude_ft", 1.0),)))
+
+
+def test_a_dispersed_vehicle_is_refused_in_one_line():
+    """The NLP's model (core.model_casadi) has no dispersions: a dispersed spec is flown by trajectory.simulate."""
+    pr = betts_problem()
+    dispersed = replace(pr, base=replace(pr.base, dispersion=Dispersion(cd_multiplier=1.05)))
+    with pytest.raises(col.CollocationError, match="dispersion: the collocation's model"):
+        col.Transcription(dispersed)
 
 
 @pytest.mark.slow

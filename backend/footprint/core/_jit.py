@@ -20,6 +20,10 @@ NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # reassociates depends on what it inlined, so a function compiled afresh and its cached copy rounded
 # differently, and an optimization run on a cold cache took another path than the same run on a warm one.
 FASTMATH = {"contract", "arcp", "nsz"}
+# njit(allocates=False): a kernel that creates no array (it reads and writes the arrays it is given and returns
+# numbers) is compiled without numba's reference-counting runtime (NRT). With it, every array argument costs an
+# atomic increment and decrement at each call: in the integrator's right-hand side (dynamics.evaluate and what it
+# calls) 40 % of the time of a trajectory (bench/bench_sample.py). The arithmetic is the same.
 
 def python_function(f):
     """The plain Python function behind a compiled one (for callers that pass symbolic values)."""
@@ -28,7 +32,7 @@ def python_function(f):
 
 if NO_JIT:
 
-    def njit(*args, **kwargs):
+    def njit(*args, allocates=True, **kwargs):
         if len(args) == 1 and callable(args[0]) and not kwargs:
             return args[0]
         return lambda f: f
@@ -48,8 +52,10 @@ else:
     if not os.environ.get("NUMBA_CACHE_DIR"):
         numba.config.CACHE_DIR = _cache_dir()
 
-    def njit(*args, **kwargs):
+    def njit(*args, allocates=True, **kwargs):
         options = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": FASTMATH}
+        if not allocates:
+            options["_nrt"] = False
         options.update(kwargs)
         if len(args) == 1 and callable(args[0]):
             return numba.njit(**options)(args[0])

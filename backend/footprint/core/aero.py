@@ -76,7 +76,7 @@ _MAX_SWEEP_POINTS = 10_000_000
 # ------------------------------------------------------------------------------------------------
 
 
-@njit
+@njit(allocates=False)
 def _locate(blob, start, n, x):
     """Interval of x on the axis blob[start:start+n]: (index i, weight of node i+1), held at the edges."""
     if n == 1:
@@ -97,7 +97,7 @@ def _locate(blob, start, n, x):
     return lo, (x - x0) / (blob[start + lo + 1] - x0)
 
 
-@njit
+@njit(allocates=False)
 def lookup(blob, offset, mach, alpha_deg, altitude_ft):
     """Multilinear interpolation of the table at `offset`; one-node axes skipped, values held at the edges."""
     o = int(offset)
@@ -129,7 +129,7 @@ def lookup(blob, offset, mach, alpha_deg, altitude_ft):
     return total
 
 
-@njit
+@njit(allocates=False)
 def _horner(blob, offset, x):
     o = int(offset)
     n = int(blob[o])
@@ -139,7 +139,7 @@ def _horner(blob, offset, x):
     return total
 
 
-@njit
+@njit(allocates=False)
 def coefficients(blob, mach, alpha_deg, altitude_ft):
     """(CL, CD) at Mach, alpha (deg), altitude (ft).
 
@@ -162,25 +162,25 @@ def coefficients(blob, mach, alpha_deg, altitude_ft):
     return c1 * ca - c2 * sa, c1 * sa + c2 * ca
 
 
-@njit
+@njit(allocates=False)
 def alpha_max_ld_deg(blob, mach, altitude_ft):
     """Alpha (deg) of (L/D)max at Mach, altitude: bilinear lookup of the precomputed grid."""
     return lookup(blob, blob[5], mach, 0.0, altitude_ft)
 
 
-@njit
+@njit(allocates=False)
 def alpha_cl_max_deg(blob, mach, altitude_ft):
     """Alpha (deg) of CL max over the valid alpha range at Mach, altitude (precomputed grid)."""
     return lookup(blob, blob[6], mach, 0.0, altitude_ft)
 
 
-@njit
+@njit(allocates=False)
 def alpha_zero_lift_deg(blob, mach, altitude_ft):
     """Alpha (deg) of zero lift at Mach, altitude (precomputed grid; alpha_min if CL >= 0 there)."""
     return lookup(blob, blob[7], mach, 0.0, altitude_ft)
 
 
-@njit
+@njit(allocates=False)
 def alpha_for_cl_deg(blob, cl, mach, altitude_ft, alpha_lo_deg, alpha_hi_deg):
     """Alpha in [lo, hi] where CL(alpha) = cl, by bisection (CL assumed increasing on [lo, hi]).
 

@@ -15,6 +15,10 @@ Sources
   scripts/make_us1976_table.py (ussa1976 package, corrected; see that script).
 * Exponential: rho = rho0 exp(-h/H), isothermal at a given T; p = rho R T with the 1959 ARDC R.
 
+Density dispersion (Monte Carlo samples): the density of any model times 1 + delta(h), delta piecewise linear
+between fixed nodes every 10,000 ft from 0 to 400,000 ft and held beyond them (`density_factor`). Temperature,
+pressure and the speed of sound are left as the model gives them. core/dispersion.py draws the nodes.
+
 Layer base temperatures and pressures are computed once at import (numpy) into module-level arrays
 that the kernels read. Numba freezes module-level arrays into the compiled (and disk-cached) code:
 after regenerating us1976_upper.csv, clear this module's numba cache (__pycache__/atmosphere.*.nbi/.nbc).
@@ -75,6 +79,11 @@ EXPONENTIAL_RHO0_DEFAULT_SLUG_FT3 = ARDC_RHO0_SLUG_FT3
 # A round value, not from the report: the 1959 ARDC density falls by e^-10.96 from 0 to 80 km, a mean
 # density scale height of 23,940 ft over the pull-out and glide region.
 EXPONENTIAL_SCALE_HEIGHT_DEFAULT_FT = 23_500.0
+
+# --- Density dispersion nodes: delta(h) at 0, 10,000, ..., 400,000 ft (above the report's 364,800 ft entry) ------
+DENSITY_NODE_SPACING_FT = 10_000.0
+DENSITY_NODE_COUNT = 41
+DENSITY_NODES_FT = DENSITY_NODE_SPACING_FT * np.arange(DENSITY_NODE_COUNT)
 
 
 def isothermal_temperature_R(scale_height_ft: float) -> float:
@@ -246,6 +255,39 @@ def atmosphere(model, altitude_ft, rho0_slug_ft3, scale_height_ft, temperature_R
         return rho, p, temperature_R, a
     nan = math.nan
     return nan, nan, nan, nan
+
+
+@njit(allocates=False)
+def density_factor(delta, start, altitude_ft):
+    """1 + delta(h): delta = delta[start:start + DENSITY_NODE_COUNT] at DENSITY_NODES_FT, linear between the nodes,
+    held below the first and above the last (and at a NaN altitude, the first)."""
+    x = altitude_ft / DENSITY_NODE_SPACING_FT
+    if not x > 0.0:
+        return 1.0 + delta[start]
+    last = DENSITY_NODE_COUNT - 1
+    if x >= last:
+        return 1.0 + delta[start + last]
+    i = int(x)
+    w = x - i
+    return 1.0 + (delta[start + i] + w * (delta[start + i + 1] - delta[start + i]))
+
+
+@njit
+def _density_factor_fill(delta, altitudes_ft, out):
+    for k in range(altitudes_ft.shape[0]):
+        out[k] = density_factor(delta, 0, altitudes_ft[k])
+
+
+def density_factor_table(delta, altitudes_ft) -> np.ndarray:
+    """density_factor at many altitudes (ft): an array shaped like `altitudes_ft`; `delta` at DENSITY_NODES_FT."""
+    delta = np.ascontiguousarray(delta, dtype=np.float64)
+    if delta.shape != (DENSITY_NODE_COUNT,):
+        raise ValueError(f"delta: {delta.shape} values, need {DENSITY_NODE_COUNT} (one per node of DENSITY_NODES_FT)")
+    altitudes = np.asarray(altitudes_ft, dtype=np.float64)
+    flat = np.ascontiguousarray(altitudes.ravel())
+    out = np.empty_like(flat)
+    _density_factor_fill(delta, flat, out)
+    return out.reshape(altitudes.shape)
 
 
 @njit

@@ -38,7 +38,7 @@ from footprint.core.frames import ecef_from_geodetic, flight_angles
 from footprint.core.model_casadi import FlightModel, geodetic
 from footprint.core.optimize import Constraint
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
-from footprint.core.trajectory import FlightSpec, Trajectory, initial_state, pack_parameters, simulate
+from footprint.core.trajectory import Dispersion, FlightSpec, Trajectory, initial_state, pack_parameters, simulate
 
 TERMINAL = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
             "final_gamma_deg", "final_heading_deg", "flight_time_s", "final_energy_ft", "heat_load_btu_ft2")
@@ -629,6 +629,9 @@ def _band(con: Constraint):
 
 
 def _check(pr: Problem):
+    if pr.base.dispersion != Dispersion():
+        raise CollocationError("dispersion: the collocation's model (core.model_casadi) flies the nominal vehicle and "
+                               "atmosphere; fly a dispersed spec with trajectory.simulate")
     if pr.base.stop.altitude_ft is None:
         raise CollocationError("stop.altitude_ft: the collocation ends at a stop altitude; give one")
     names = [q for q, _ in pr.objective] + [con.quantity for con in pr.constraints]

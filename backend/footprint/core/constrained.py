@@ -41,7 +41,7 @@ from footprint.core.optimize import (
     nominal_bank_deg,
     with_bank_table,
 )
-from footprint.core.trajectory import FlightSpec, simulate
+from footprint.core.trajectory import FlightSpec, simulate_summary
 
 # Section III: the alpha table's abscissa, earth-relative velocity (ft/s), ascending as table_interp needs;
 # 26,000 ft/s lies above the Table 2 entry speed (24,480 ft/s), so the first segment shapes the plunge.
@@ -182,7 +182,7 @@ class _Flight:
     payoff: str
 
     def __call__(self, params):
-        s = simulate(replace(self.controls(self.base, params), max_steps=SEARCH_MAX_STEPS)).summary
+        s = simulate_summary(replace(self.controls(self.base, params), max_steps=SEARCH_MAX_STEPS))
         return s if s["stop_reason"] in accepted_stops(self.base) else dict(s, **{self.payoff: None})
 
 
@@ -340,7 +340,7 @@ def coolest_floor(spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bou
                   bank0_deg=0.0) -> LimitedPoint:
     """The smallest alpha floor (deg) whose flight ends at the stop altitude with max RET <= limit + tolerance."""
     def fly(floor_deg):
-        return simulate(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS)).summary
+        return simulate_summary(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS))
 
     def ok(s):
         return s["stop_reason"] in accepted_stops(spec) and s["max_temperature_R"] <= limit_R + tolerance_R

@@ -207,7 +207,7 @@ def replace_alpha_table(ctrl, alpha_deg, nodes, law=ALPHA_TABLE_VELOCITY):
     return replace_controls(ctrl, alpha_law=alpha_law, alpha_table=(x, a), alpha_table_abscissa=abscissa)
 
 
-@njit
+@njit(allocates=False)
 def table_interp(ctrl, offset, x):
     """Linear interpolation in a (n, x[n], y[n]) table of ctrl, held at the ends."""
     o = int(offset)
@@ -232,7 +232,7 @@ def wrap_deg(a):
     return a - 360.0 * math.ceil((a - 180.0) / 360.0)
 
 
-@njit
+@njit(allocates=False)
 def steering_angle_deg(ctrl, zeta_deg, heading_deg):
     """The angle the heading laws steer on, in the law's own (left-hand) sense (the heading for a bank table
     against time, velocity or energy: the staged and constant-altitude turns still measure their turn on it)."""
@@ -242,7 +242,7 @@ def steering_angle_deg(ctrl, zeta_deg, heading_deg):
     return wrap_deg(a)
 
 
-@njit
+@njit(allocates=False)
 def bank_abscissa(ctrl, steer_deg, time_s, velocity_fps, energy_ft):
     """The value the bank table is read at: the steering angle, or time, velocity or energy (not mirrored)."""
     var = ctrl[C_BANK_VAR]
@@ -255,7 +255,7 @@ def bank_abscissa(ctrl, steer_deg, time_s, velocity_fps, energy_ft):
     return steer_deg
 
 
-@njit
+@njit(allocates=False)
 def bank_from_law(ctrl, mode_active, mode_done, angle_deg, table_x=math.nan):
     """Bank angle (deg) of the laws that depend on the steering angle only (and of the bank table, read at
     table_x when it is tabulated against time, velocity or energy).

@@ -13,7 +13,7 @@ import math
 
 from footprint.core import aero as _aero
 from footprint.core._jit import njit
-from footprint.core.atmosphere import atmosphere
+from footprint.core.atmosphere import DENSITY_NODE_COUNT, atmosphere, density_factor
 from footprint.core.controls import (
     ALPHA_CL_MAX,
     ALPHA_CONSTANT,
@@ -65,7 +65,12 @@ P_STOP_TIME = 19  # s
 P_SKIP_ALT = 20  # ft, skip-out guard
 P_RTOL = 21
 P_MAX_STEP = 22  # s
-P_SIZE = 23
+# dispersions of one Monte Carlo sample (trajectory.Dispersion); 1.0, 1.0, 0.0 fly the tables and the model as given
+P_CL_MULTIPLIER = 23  # times the aero table's CL
+P_CD_MULTIPLIER = 24  # times the aero table's CD
+P_DENSITY_DISPERSED = 25  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
+P_DENSITY_DELTA = 26  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
+P_SIZE = P_DENSITY_DELTA + DENSITY_NODE_COUNT
 
 # --- mode layout ---
 M_BANK_ACTIVE = 0
@@ -101,7 +106,7 @@ def energy_height_ft(altitude_ft, speed_fps, g0_ft_s2):
     return altitude_ft + 0.5 * speed_fps * speed_fps / g0_ft_s2
 
 
-@njit
+@njit(allocates=False)
 def holds_with_alpha(ctrl, mode):
     """True while alpha, not (L/D)max, flies the commanded path: level flight or gamma hold after pull-out
     (Section II.7), and the constant-altitude law after its turn (App. C data set 2: the straight flight
@@ -114,7 +119,7 @@ def holds_with_alpha(ctrl, mode):
     return int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE and mode[M_BANK_DONE] != 0.0
 
 
-@njit
+@njit(allocates=False)
 def steering_angles(x, y, z, vx, vy, vz, p):
     """(zeta, heading) in degrees: remaining heading change and azimuth of the horizontal velocity."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x, y, z)
@@ -131,13 +136,23 @@ def steering_angles(x, y, z, vx, vy, vz, p):
     return zeta, heading
 
 
-@njit
+@njit(allocates=False)
+def flown_coefficients(aero, p, mach, alpha_deg, altitude_ft):
+    """(CL, CD) of the vehicle flown: the aero table's times the dispersion multipliers (exactly 1.0 undispersed).
+    Multiplying the whole curves leaves the alphas of (L/D)max, CL max and zero lift those of the tables."""
+    cl, cd = _aero.coefficients(aero, mach, alpha_deg, altitude_ft)
+    return cl * p[P_CL_MULTIPLIER], cd * p[P_CD_MULTIPLIER]
+
+
+@njit(allocates=False)
 def evaluate(t, s, p, aero, ctrl, mode):
     """Accelerations and every derived quantity at one state, in the slots EV_* above."""
     x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
     omega = p[P_OMEGA]
     alt = altitude_ft(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     rho, _, _, sound = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    if p[P_DENSITY_DISPERSED] != 0.0:
+        rho *= density_factor(p, P_DENSITY_DELTA, alt)
     r = math.sqrt(x * x + y * y + z * z)
     v = math.sqrt(vx * vx + vy * vy + vz * vz)
     mach = v / sound
@@ -202,7 +217,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
         alpha = _aero.alpha_max_ld_deg(aero, mach, alt)
     # --- bank ---
     if bank_law == BANK_CONSTANT_ALTITUDE:
-        cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
+        cl_star, _ = flown_coefficients(aero, p, mach, alpha, alt)
         available = cl_star * lift_per_cl
         need_ratio = vert_needed / available if available > 0.0 else 2.0
         bank = 0.0
@@ -213,13 +228,13 @@ def evaluate(t, s, p, aero, ctrl, mode):
         bank = bank_from_law(ctrl, mode[M_BANK_ACTIVE], mode[M_BANK_DONE], steer, table_x)
     if holds_with_alpha(ctrl, mode):
         # Section II.7: reduce lift so that lift plus centrifugal force balance weight, until (L/D)max
-        cl_star, _ = _aero.coefficients(aero, mach, alpha, alt)
+        cl_star, _ = flown_coefficients(aero, p, mach, alpha, alt)
         cos_bank = math.cos(math.radians(bank))
         cl_needed = vert_needed / (lift_per_cl * cos_bank) if lift_per_cl * cos_bank > 0.0 else cl_star
         need_ratio = cl_needed / cl_star if cl_star > 0.0 else 2.0
         if mode[M_LATCHED] == 0.0 and cl_needed < cl_star:
-            alpha = _aero.alpha_for_cl_deg(aero, cl_needed, mach, alt, aero[1], alpha)
-    cl, cd = _aero.coefficients(aero, mach, alpha, alt)
+            alpha = _aero.alpha_for_cl_deg(aero, cl_needed / p[P_CL_MULTIPLIER], mach, alt, aero[1], alpha)
+    cl, cd = flown_coefficients(aero, p, mach, alpha, alt)
     if bank_law == BANK_ZERO_LIFT:
         cl = 0.0
     # --- forces: App. A eqs. (A5)-(A9), lift along cos(bank) up + sin(bank) left, drag along -v ---
@@ -232,7 +247,7 @@ def evaluate(t, s, p, aero, ctrl, mode):
     return (ax, ay, az, alpha, bank, mach, q, cl, cd, alt, v, sin_gamma, steer, need_ratio, rho)
 
 
-@njit
+@njit(allocates=False)
 def rhs(t, s, p, aero, ctrl, mode, out):
     """ds/dt into `out`: eqs. (1)-(3)."""
     res = evaluate(t, s, p, aero, ctrl, mode)

@@ -204,11 +204,15 @@ class CorrelationHeating:
         return q, t
 
 
-def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None):
-    """(heat_rate_btu_ft2_s, temperature_R) along a flown history; atmosphere_args = (model id, rho0, H, T)."""
+def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None,
+                       density_factor=None):
+    """(heat_rate_btu_ft2_s, temperature_R) along a flown history; atmosphere_args = (model id, rho0, H, T).
+    density_factor: the dispersed density over the model's along the history (atmosphere.density_factor_table);
+    None: the model's density."""
     model_id, rho0, scale_h, temp = atmosphere_args
     atm = atmosphere_table(int(model_id), altitude_ft, rho0, scale_h, temp)
-    return model.evaluate(atm["density_slug_ft3"], velocity_fps, alpha_deg, atm["temperature_R"], time_s)
+    density = atm["density_slug_ft3"] if density_factor is None else atm["density_slug_ft3"] * density_factor
+    return model.evaluate(density, velocity_fps, alpha_deg, atm["temperature_R"], time_s)
 
 
 def calibrate_reference_radius_ft(altitude_ft, velocity_fps, alpha_deg, atmosphere_args,

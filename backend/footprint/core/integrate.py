@@ -101,7 +101,7 @@ D1, D3, D4 = -12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0, -106
 D5, D6, D7 = 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0
 
 
-@njit
+@njit(allocates=False)
 def _derivative(t, s, p, aero, ctrl, mode, out):
     res = evaluate(t, s, p, aero, ctrl, mode)
     out[0], out[1], out[2] = s[3], s[4], s[5]
@@ -109,7 +109,7 @@ def _derivative(t, s, p, aero, ctrl, mode, out):
     return res
 
 
-@njit
+@njit(allocates=False)
 def _event_values(t, s, res, p, ctrl, mode, g):
     """Event functions; NaN where an event cannot happen in the present mode."""
     for i in range(N_EVENTS):
@@ -137,7 +137,7 @@ def _event_values(t, s, res, p, ctrl, mode, g):
     g[E_SKIP_OUT] = alt - p[P_SKIP_ALT]
 
 
-@njit
+@njit(allocates=False)
 def _apply_event(event, t, res, ctrl, mode):
     """Change the mode for a located event; return the stop code (STOP_NONE to go on)."""
     if event == E_PULLOUT:
@@ -167,7 +167,7 @@ def _apply_event(event, t, res, ctrl, mode):
     return STOP_NONE
 
 
-@njit
+@njit(allocates=False)
 def _dense(theta, y0, r2, r3, r4, r5, out):
     """DOPRI5 continuous extension at theta in [0, 1] of the last step."""
     t1 = 1.0 - theta

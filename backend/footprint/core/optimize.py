@@ -34,7 +34,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from footprint.core.controls import replace_bank_table
-from footprint.core.trajectory import FlightSpec, simulate
+from footprint.core.trajectory import FlightSpec, simulate_summary
 
 # Section II.5 / Fig. 2: the eight table points, heading (remaining heading change) -15 to 90 deg by 15
 BANK_TABLE_HEADINGS_DEG = tuple(range(-15, 91, 15))
@@ -110,7 +110,7 @@ class Problem:
     def summary(self, params) -> dict:
         if self.evaluate is not None:
             return self.evaluate(params)
-        return simulate(self.controls(self.base, params)).summary
+        return simulate_summary(self.controls(self.base, params))
 
 
 def penalty(constraints, summary) -> float:

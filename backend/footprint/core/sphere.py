@@ -115,14 +115,14 @@ def latlon_from_ranges(downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_
 
 
 def downrange_crossrange_nmi(latitude_deg, longitude_deg, latitude0_deg, longitude0_deg, heading0_deg,
-                             radius_nmi=MEAN_RADIUS_NMI, unwrap=False):
+                             radius_nmi=MEAN_RADIUS_NMI, unwrap=False, frame=None):
     """Down-range and cross-range (nmi) of points about the great circle through the initial point
     (eqs. 8-11 in closed form, see the module docstring).
 
     `unwrap=True` treats the points as a path from the initial point and lets the down-range grow past
-    half a circumference.
+    half a circumference. `frame`: great_circle_frame of the initial point and heading, when the caller has it.
     """
-    p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
+    p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg) if frame is None else frame
     pts = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
     along_p0, along_d0 = pts @ p0, pts @ d0
     cross = np.arctan2(pts @ n, np.hypot(along_p0, along_d0))  # not asin: exact near the poles too

@@ -1,15 +1,21 @@
-"""fly(): one entry trajectory from plain, already validated inputs, and its Trajectory record."""
+"""fly(): one entry trajectory from plain, already validated inputs, and its Trajectory record.
+
+`simulate(spec)` gives the time histories and the summary; `simulate_summary(spec)` the same summary, equal to the
+bit, without the histories (a Monte Carlo sample needs only its landing point and maxima): it converts to latitude,
+longitude and down-range only the few rows the summary reads (`_track_rows`), not every row.
+"""
 
 import csv
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from footprint.core import constants as c
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
-from footprint.core.atmosphere import MODEL_IDS, isothermal_temperature_R
+from footprint.core.atmosphere import DENSITY_NODE_COUNT, MODEL_IDS, density_factor_table, isothermal_temperature_R
 from footprint.core.dynamics import (
     M_BANK_ACTIVE,
     M_PULLED_OUT,
@@ -21,6 +27,10 @@ from footprint.core.dynamics import (
     M_TURN_DONE_DEG,
     P_ATM,
     P_ATM_T,
+    P_CD_MULTIPLIER,
+    P_CL_MULTIPLIER,
+    P_DENSITY_DELTA,
+    P_DENSITY_DISPERSED,
     P_G0,
     P_H,
     P_J,
@@ -46,13 +56,14 @@ from footprint.core.dynamics import (
     steering_angles,
 )
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
+from footprint.core.errors import InputError
 from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, horizon_basis, \
     velocity_from_angles
 from footprint.core.heating import CorrelationHeating, ReferenceHeating, trajectory_heating
 from footprint.core.integrate import (
-    R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, STOP_REASONS, integrate,
+    R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, R_X, R_Y, R_Z, STOP_REASONS, integrate,
 )
-from footprint.core.sphere import downrange_crossrange_nmi
+from footprint.core.sphere import downrange_crossrange_nmi, great_circle_frame
 
 
 @dataclass(frozen=True)
@@ -96,6 +107,34 @@ class Stop:
 
 
 @dataclass(frozen=True)
+class Dispersion:
+    """A perturbed vehicle and atmosphere (one Monte Carlo sample); the defaults fly the tables and the atmosphere
+    model as given, to the bit. Wing loading is the vehicle's own (Vehicle.wing_loading_psf)."""
+
+    cl_multiplier: float = 1.0  # times the aero table's CL (dynamics.flown_coefficients)
+    cd_multiplier: float = 1.0  # times the aero table's CD
+    # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), linear
+    # between them; None: the model's density. It acts on the motion and on the heating alike (both use density).
+    # Given as any sequence of numbers, kept as a tuple of floats (a Dispersion compares and hashes by value).
+    density_delta: tuple | None = None
+
+    def __post_init__(self):
+        for name in ("cl_multiplier", "cd_multiplier"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"dispersion.{name}", f"{value!r} must be a finite number > 0")
+        if self.density_delta is not None:
+            delta = np.asarray(self.density_delta, dtype=float)
+            if delta.shape != (DENSITY_NODE_COUNT,):
+                raise InputError("dispersion.density_delta", f"{delta.shape} values; need {DENSITY_NODE_COUNT}, "
+                                 "one per node of atmosphere.DENSITY_NODES_FT")
+            if not np.all(np.isfinite(delta) & (delta > -1.0)):
+                raise InputError("dispersion.density_delta", f"min {np.min(delta)!r}: every delta must be finite "
+                                 "and > -1 (a positive density)")
+            object.__setattr__(self, "density_delta", tuple(delta.tolist()))
+
+
+@dataclass(frozen=True)
 class FlightSpec:
     vehicle: Vehicle
     planet: Planet
@@ -106,6 +145,7 @@ class FlightSpec:
     max_step_s: float = 50.0
     max_steps: int = 200_000
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
+    dispersion: Dispersion = field(default_factory=Dispersion)
 
 
 @dataclass
@@ -141,6 +181,11 @@ def pack_parameters(spec: FlightSpec) -> np.ndarray:
     p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
     p[P_SKIP_ALT] = st.skip_altitude_ft
     p[P_RTOL], p[P_MAX_STEP] = spec.rtol, spec.max_step_s
+    d = spec.dispersion
+    p[P_CL_MULTIPLIER], p[P_CD_MULTIPLIER] = d.cl_multiplier, d.cd_multiplier
+    if d.density_delta is not None:
+        p[P_DENSITY_DISPERSED] = 1.0
+        p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT] = d.density_delta
     return p
 
 
@@ -181,14 +226,78 @@ def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
     return mode
 
 
-def simulate(spec: FlightSpec) -> Trajectory:
-    """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3) and summarize it."""
+class _Flight(NamedTuple):
+    """What the integrator returns for one spec, with the parameters it flew."""
+
+    p: np.ndarray
+    rows: np.ndarray  # integrate.R_* columns, one row per step and event
+    stop_code: int
+    n_rhs: int
+    mode: np.ndarray  # the mode at the stop (pull-out time and altitude, turn done)
+
+
+def _fly(spec: FlightSpec) -> _Flight:
     p = pack_parameters(spec)
     s0 = initial_state(spec, p)
     _set_left_pole(p, s0, spec.entry.heading_deg)
     mode = initial_mode(spec, p, s0)
     rows, stop_code, n_rhs = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
-    return _trajectory(spec, p, rows, int(stop_code), int(n_rhs), mode)
+    return _Flight(p, rows, int(stop_code), int(n_rhs), mode)
+
+
+def simulate(spec: FlightSpec) -> Trajectory:
+    """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3): its time histories and summary."""
+    f = _fly(spec)
+    track = _track(spec, f.p, f.rows)
+    rows = f.rows
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ld = np.where(rows[:, R_CD] > 0, rows[:, R_CL] / rows[:, R_CD], np.nan)
+    history = {
+        "time_s": rows[:, R_T],
+        "altitude_ft": rows[:, R_ALT],
+        "velocity_fps": rows[:, R_V],
+        "gamma_deg": track.gamma_deg,
+        "heading_deg": track.heading_deg,
+        "latitude_deg": track.latitude_deg,
+        "longitude_deg": track.longitude_deg,
+        "alpha_deg": rows[:, R_ALPHA],
+        "bank_deg": rows[:, R_BANK],
+        "mach": rows[:, R_MACH],
+        "dynamic_pressure_psf": rows[:, R_Q],
+        "cl": rows[:, R_CL],
+        "cd": rows[:, R_CD],
+        "lift_to_drag": ld,
+        "downrange_nmi": track.downrange_nmi,
+        "crossrange_nmi": track.crossrange_nmi,
+    }
+    heating = _heating(spec, f.p, rows)
+    if heating is not None:
+        history["heat_rate_btu_ft2_s"], history["temperature_R"] = heating
+    return Trajectory(summary=_summary(spec, f, track, _pullout_row(f), heating), history=history)
+
+
+def simulate_summary(spec: FlightSpec) -> dict:
+    """simulate(spec).summary, equal to the bit, without the histories: the landing point, the pull-out and the
+    maxima (heating from the altitude, velocity, alpha and time columns), for Monte Carlo samples and searches."""
+    f = _fly(spec)
+    i_pullout = _pullout_row(f)
+    e = spec.entry
+    frame = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
+    kept = _track_rows(f.rows, i_pullout, *frame)
+    track = _track(spec, f.p, f.rows[kept], frame)
+    return _summary(spec, f, track, int(np.searchsorted(kept, i_pullout)), _heating(spec, f.p, f.rows))
+
+
+class _Track(NamedTuple):
+    """Where a flight went, at some of its rows (every row for the histories): geodetic latitude, longitude,
+    heading, flight-path angle, and down- and cross-range about the initial great circle (eqs. 8-11)."""
+
+    latitude_deg: np.ndarray
+    longitude_deg: np.ndarray
+    heading_deg: np.ndarray
+    gamma_deg: np.ndarray
+    downrange_nmi: np.ndarray  # unwrapped along the rows given: past half a circumference if they see every turn
+    crossrange_nmi: np.ndarray
 
 
 @njit
@@ -201,54 +310,109 @@ def _geodetic_history(rows, re_ft, rp_ft, oblate):
     return lat, lon, heading
 
 
-def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
+def _track(spec, p, rows, frame=None) -> _Track:
+    """The track at `rows` (recorded rows, in order; frame: the initial great circle's, if at hand). Each value
+    depends on its own row only, but the down-range's unwrapping on the rows before it: `_track_rows` says which
+    rows keep it equal to the full history's."""
     lat, lon, heading = _geodetic_history(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     lat, lon = np.degrees(lat), np.degrees(lon)
     e = spec.entry
-    down, cross = downrange_crossrange_nmi(lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ld = np.where(rows[:, R_CD] > 0, rows[:, R_CL] / rows[:, R_CD], np.nan)
-    history = {
-        "time_s": rows[:, R_T],
-        "altitude_ft": rows[:, R_ALT],
-        "velocity_fps": rows[:, R_V],
-        "gamma_deg": np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1))),
-        "heading_deg": np.degrees(heading),
-        "latitude_deg": lat,
-        "longitude_deg": lon,
-        "alpha_deg": rows[:, R_ALPHA],
-        "bank_deg": rows[:, R_BANK],
-        "mach": rows[:, R_MACH],
-        "dynamic_pressure_psf": rows[:, R_Q],
-        "cl": rows[:, R_CL],
-        "cd": rows[:, R_CD],
-        "lift_to_drag": ld,
-        "downrange_nmi": down,
-        "crossrange_nmi": cross,
-    }
+    down, cross = downrange_crossrange_nmi(lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True,
+                                           frame=frame)
+    gamma = np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1)))
+    return _Track(lat, lon, np.degrees(heading), gamma, down, cross)
+
+
+# _track_rows: bounds on the along-track angle of the geocentric direction against the down-range's (geodetic
+# latitude taken as spherical). The two directions differ by at most 0.0034 rad (0.19 deg, at 45 deg latitude), so
+# within TRACK_NEAR_AXIS_RAD of the initial great circle (cos 1.3 = 0.27) the angles differ by at most 0.0126 rad.
+TRACK_NEAR_AXIS_RAD = 1.3  # rad (4,470 nmi of cross-range); farther off the initial great circle every row is kept
+TRACK_CUT_MARGIN_RAD = 0.05  # rad; > 3 x 0.0126 rad: keeps both rows of every step across the +-pi cut
+TRACK_MAX_STEP_RAD = math.pi / 4  # rad; a larger step between rows (none seen): every row is kept
+QUADRANT_RAD = math.pi / 2
+
+
+@njit
+def _track_rows(rows, i_pullout, p0, d0, pole):
+    """Indices of the rows the summary's track needs: the entry, pull-out and final rows, and enough rows between
+    them that numpy.unwrap over their down-range angles adds the same corrections, at the same pairs of rows, as
+    over every row, so that the final down-range is the full history's to the bit.
+
+    numpy.unwrap corrects where neighbours differ by pi or more: only across the +-pi cut (behind the initial point)
+    when steps are small. So both rows of every step across the cut are kept (every row whose geocentric
+    along-track angle lies within the largest step plus TRACK_CUT_MARGIN_RAD of it), and both rows of every change
+    of quadrant, so that rows kept next to each other never differ by pi or more. Far from the initial great
+    circle (near its poles) the angle is ill-conditioned and every row is kept."""
+    n = rows.shape[0]
+    theta = np.empty(n)
+    largest_step = 0.0
+    near_axis = math.sin(TRACK_NEAR_AXIS_RAD)
+    for i in range(n):
+        x, y, z = rows[i, R_X], rows[i, R_Y], rows[i, R_Z]
+        r = math.sqrt(x * x + y * y + z * z)
+        if abs(x * pole[0] + y * pole[1] + z * pole[2]) > near_axis * r:
+            return np.arange(n)
+        theta[i] = math.atan2(x * d0[0] + y * d0[1] + z * d0[2], x * p0[0] + y * p0[1] + z * p0[2])
+        if not math.isfinite(theta[i]):
+            return np.arange(n)
+        if i > 0:
+            step = abs(theta[i] - theta[i - 1])
+            largest_step = max(largest_step, min(step, 2.0 * math.pi - step))
+    if largest_step > TRACK_MAX_STEP_RAD:
+        return np.arange(n)
+    near_cut = math.pi - largest_step - TRACK_CUT_MARGIN_RAD
+    keep = np.zeros(n, dtype=np.bool_)
+    keep[0] = keep[i_pullout] = keep[n - 1] = True
+    for i in range(n):
+        if abs(theta[i]) > near_cut:
+            keep[i] = True
+        if i > 0 and math.floor(theta[i] / QUADRANT_RAD) != math.floor(theta[i - 1] / QUADRANT_RAD):
+            keep[i - 1] = keep[i] = True
+    return np.flatnonzero(keep)
+
+
+def _pullout_row(f: _Flight) -> int:
+    """The row of the pull-out event (0 when the flight never pulled out)."""
+    return int(np.searchsorted(f.rows[:, R_T], f.mode[M_PULLOUT_T])) if f.mode[M_PULLED_OUT] != 0.0 else 0
+
+
+def _heating(spec, p, rows):
+    """(heat_rate, temperature) along every row, or None without a heating model (Section III: evaluated on the
+    histories, no effect on the motion). A dispersed density heats as it decelerates: the same factor."""
+    if spec.heating is None:
+        return None
+    factor = None
+    if p[P_DENSITY_DISPERSED] != 0.0:
+        factor = density_factor_table(p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT], rows[:, R_ALT])
+    return trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
+                              (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T], density_factor=factor)
+
+
+def _summary(spec, f: _Flight, track: _Track, at_pullout: int, heating) -> dict:
+    """The summary of a flight from its rows and its track (whose last entry is the final row and entry
+    `at_pullout` the pull-out row)."""
+    rows, mode = f.rows, f.mode
     max_heat_rate = max_temperature = heat_load = None
-    if spec.heating is not None:  # Section III: evaluated on the histories, no effect on the motion
-        heat_rate, temperature = trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
-                                                    (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T])
-        history["heat_rate_btu_ft2_s"], history["temperature_R"] = heat_rate, temperature
+    if heating is not None:
+        heat_rate, temperature = heating
         max_heat_rate = float(np.max(heat_rate))
         heat_load = float(np.trapezoid(heat_rate, rows[:, R_T]))  # integrated heat load, trapezoidal rule
         max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
-    i_po = int(np.searchsorted(rows[:, R_T], mode[M_PULLOUT_T])) if pulled_out else 0  # an event row
-    summary = {
-        "downrange_nmi": float(down[-1]),
-        "crossrange_nmi": float(cross[-1]),
+    i_po = _pullout_row(f)  # an event row
+    return {
+        "downrange_nmi": float(track.downrange_nmi[-1]),
+        "crossrange_nmi": float(track.crossrange_nmi[-1]),
         "flight_time_s": float(rows[-1, R_T]),
         "final_altitude_ft": float(rows[-1, R_ALT]),
         "final_velocity_fps": float(rows[-1, R_V]),
-        "final_gamma_deg": float(history["gamma_deg"][-1]),
-        "final_latitude_deg": float(lat[-1]),
-        "final_longitude_deg": float(lon[-1]),
-        "final_heading_deg": float(history["heading_deg"][-1]),
+        "final_gamma_deg": float(track.gamma_deg[-1]),
+        "final_latitude_deg": float(track.latitude_deg[-1]),
+        "final_longitude_deg": float(track.longitude_deg[-1]),
+        "final_heading_deg": float(track.heading_deg[-1]),
         "pullout_altitude_ft": float(mode[M_PULLOUT_ALT]) if pulled_out else None,
         "pullout_time_s": float(mode[M_PULLOUT_T]) if pulled_out else None,
-        "pullout_downrange_nmi": float(down[i_po]) if pulled_out else None,
+        "pullout_downrange_nmi": float(track.downrange_nmi[at_pullout]) if pulled_out else None,
         "pullout_velocity_fps": float(rows[i_po, R_V]) if pulled_out else None,
         "turn_deg": float(mode[M_TURN_DONE_DEG]) if mode[M_BANK_DONE] != 0.0 else None,  # staged, constant altitude
         "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
@@ -259,9 +423,8 @@ def _trajectory(spec, p, rows, stop_code, n_rhs, mode) -> Trajectory:
         "heat_load_btu_ft2": heat_load,
         "max_heat_rate_btu_ft2_s": max_heat_rate,
         "max_temperature_R": max_temperature,
-        "stop_reason": STOP_REASONS[stop_code],
+        "stop_reason": STOP_REASONS[f.stop_code],
         "vehicle": spec.vehicle.id,
         "steps": int(rows.shape[0] - 1),
-        "rhs_evaluations": n_rhs,
+        "rhs_evaluations": f.n_rhs,
     }
-    return Trajectory(summary=summary, history=history)
