@@ -10,8 +10,8 @@ import importlib
 from types import ModuleType
 
 MODULES = {"case": "case", "footprint": "footprint", "optimize": "optimization", "sweep": "sweep",
-           "transform": "transform", "reach": "reach"}  # kind -> footprint.contracts.<module>
-JOB_KINDS = ("footprint", "optimize", "sweep", "reach")  # the kinds the service runs as jobs, on Dask
+           "transform": "transform", "reach": "reach", "dispersion": "dispersion"}  # kind -> footprint.contracts.<module>
+JOB_KINDS = ("footprint", "optimize", "sweep", "reach", "dispersion")  # the kinds the service runs as jobs, on Dask
 
 
 def module(kind: str) -> ModuleType:

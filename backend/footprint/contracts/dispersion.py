@@ -1,0 +1,267 @@
+"""The dispersion study contract: a footprint study flown again in N Monte Carlo samples of its entry state, air
+and aerodynamics (footprint.core.dispersion draws them, footprint.core.monte_carlo flies and reads them).
+
+    {"footprint": FOOTPRINT STUDY (method single_parameter, constant_bank or staged),
+     "samples": 2000, "design": "sobol" | "lhs" | "random", "seed": 1,
+     "entry": {"altitude_ft": {"normal": {"std": 1000}}, "gamma_deg": {"uniform": {"half_width": 0.05}}, ...},
+     "vehicle": {"cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}}, "wing_loading_psf": ...},
+     "density": {"std": 0.05, "correlation_length_ft": 30000},
+     "confidence": [0.99], "sites": [{"name", "latitude_deg", "longitude_deg"}, ...]}
+
+Every distribution is about its input's nominal value (the footprint study's case; a multiplier's is 1), in the
+input's own unit: normal {std, bias}, uniform {half_width, bias} (nominal + bias +- half_width), truncated normal
+{std, sigmas, bias} (cut at +- sigmas std). The density factor 1 + delta(h) is a first-order Gauss-Markov process in
+altitude (core.dispersion.GaussMarkovDensity): a correlated profile, not one factor for the whole atmosphere, since
+the density errors of an atmosphere model change sign between layers; `std` one value or one per 10,000 ft node.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from typing import Annotated, Literal
+
+from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_validator
+
+from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
+from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.reach import Site
+from footprint.core import dispersion as disp
+from footprint.core import monte_carlo as mc
+from footprint.core.atmosphere import DENSITY_NODE_COUNT
+from footprint.core.errors import InputError
+
+MAX_SAMPLES = 1_000_000  # from the CLI or Python
+MAX_SAMPLES_HTTP = 100_000
+MAX_FLIGHTS = 20_000_000  # samples x the flights of one sample (~4 h on one core)
+MAX_FLIGHTS_HTTP = 2_000_000  # ~12 min on the two workers of a small server
+CHUNK_FLIGHTS = 2_000  # a task flies about this many trajectories (~1.5 s): progress and balance
+CLOUD_SAMPLES_STORED = 1_000  # the landing points a job's stored result keeps of each flight (the map's clouds)
+LAWS = ("single_parameter", "constant_bank", "staged")  # footprint_methods.FAMILIES: fixed control laws
+
+
+def _positive(v: float) -> float:
+    if not v > 0.0:
+        raise ValueError(f"{v:g} must be > 0 (a spread)")
+    return v
+
+
+Spread = Annotated[float, AfterValidator(_positive)]
+
+
+class NormalSpread(Strict):
+    std: Spread
+    bias: float = 0.0
+
+
+class UniformSpread(Strict):
+    half_width: Spread
+    bias: float = 0.0
+
+
+class TruncatedNormalSpread(Strict):
+    std: Spread
+    sigmas: bounded(0.1, 10) = 3.0
+    bias: float = 0.0
+
+
+class Distribution(Strict):
+    """One of normal, uniform, truncated_normal, about the nominal value, in the input's unit."""
+
+    normal: NormalSpread | None = None
+    uniform: UniformSpread | None = None
+    truncated_normal: TruncatedNormalSpread | None = None
+
+    @model_validator(mode="after")
+    def _one(self):
+        given = [k for k in ("normal", "uniform", "truncated_normal") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(f"give exactly one of normal, uniform, truncated_normal (got {', '.join(given) or 'none'})")
+        return self
+
+    def about(self, nominal: float) -> disp.Distribution:
+        """The core's distribution of the input's value."""
+        if self.normal is not None:
+            return disp.Normal(nominal + self.normal.bias, self.normal.std)
+        if self.uniform is not None:
+            mid = nominal + self.uniform.bias
+            return disp.Uniform(mid - self.uniform.half_width, mid + self.uniform.half_width)
+        t = self.truncated_normal
+        mid = nominal + t.bias
+        return disp.TruncatedNormal(mid, t.std, mid - t.sigmas * t.std, mid + t.sigmas * t.std)
+
+
+class EntryDispersion(Strict):
+    altitude_ft: Distribution | None = None
+    velocity_fps: Distribution | None = None
+    gamma_deg: Distribution | None = None
+    heading_deg: Distribution | None = None
+    latitude_deg: Distribution | None = None
+    longitude_deg: Distribution | None = None
+
+
+class VehicleDispersion(Strict):
+    cl_multiplier: Distribution | None = None  # nominal 1: the aero table's C_L
+    cd_multiplier: Distribution | None = None
+    wing_loading_psf: Distribution | None = None
+
+
+class DensityDispersion(Strict):
+    std: bounded(0, disp.DENSITY_STD_MAX) | list[bounded(0, disp.DENSITY_STD_MAX)]  # a fraction of the density
+    correlation_length_ft: bounded(1_000, 1_000_000, "ft") = disp.CORRELATION_LENGTH_DEFAULT_FT
+
+    @model_validator(mode="after")
+    def _nodes(self):
+        if isinstance(self.std, list) and len(self.std) != DENSITY_NODE_COUNT:
+            raise ValueError(f"std: {len(self.std)} values; give one, or {DENSITY_NODE_COUNT} (0 to 400,000 ft every "
+                             "10,000 ft)")
+        return self
+
+
+class DispersionStudy(Strict):
+    footprint: FootprintStudy
+    samples: int = Field(default=1_000, ge=1, le=MAX_SAMPLES)
+    design: Literal["sobol", "lhs", "random"] = "sobol"
+    seed: int = Field(default=1, ge=0, le=2**63 - 1)
+    entry: EntryDispersion = EntryDispersion()
+    vehicle: VehicleDispersion = VehicleDispersion()
+    density: DensityDispersion | None = None
+    confidence: list[bounded(0.01, 0.999)] = Field(default=[0.99], min_length=1, max_length=5)
+    sites: list[Site] = Field(default=[], max_length=1_000)
+    chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies (default ~2,000 flights)
+
+    @model_validator(mode="after")
+    def _checks(self, info: ValidationInfo):
+        if synchronous(info):
+            raise ValueError("a dispersion is run as a job; submit it with POST /api/jobs")
+        fp = self.footprint
+        if fp.method not in LAWS:
+            raise ValueError(f"footprint.method: a dispersion flies fixed control laws ({', '.join(LAWS)}); "
+                             f"{fp.method!r} chooses each point's controls for the world it flies in")
+        if fp.contours_fps:
+            raise ValueError("footprint.contours_fps: not available in a dispersion")
+        samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
+        if self.samples > samples:
+            raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")
+        flights, where = door_limit(info, MAX_FLIGHTS, MAX_FLIGHTS_HTTP)
+        if self.samples * self.flights_per_sample() > flights:
+            raise ValueError(f"samples: {self.samples:,} samples x {self.flights_per_sample()} flights = "
+                             f"{self.samples * self.flights_per_sample():,} trajectories is outside the allowed range "
+                             f"1 to {flights:,.0f}{where}")
+        return self
+
+    def flights_per_sample(self) -> int:
+        from footprint.core.footprint_methods import control_family
+
+        return len(mc.flights(*control_family(self.footprint.method, **self.footprint.to_params())))
+
+    def distributions(self, spec) -> dict[str, disp.Distribution]:
+        """The core's distributions of the dispersed inputs, about the nominal spec's values."""
+        nominal = {"altitude_ft": spec.entry.altitude_ft, "velocity_fps": spec.entry.velocity_fps,
+                   "gamma_deg": spec.entry.gamma_deg, "heading_deg": spec.entry.heading_deg,
+                   "latitude_deg": spec.entry.latitude_deg, "longitude_deg": spec.entry.longitude_deg,
+                   "cl_multiplier": 1.0, "cd_multiplier": 1.0, "wing_loading_psf": spec.vehicle.wing_loading_psf}
+        given = self.entry.model_dump(exclude_none=True) | self.vehicle.model_dump(exclude_none=True)
+        groups = {**{k: self.entry for k in disp.ENTRY_INPUTS}, **{k: self.vehicle for k in disp.VEHICLE_INPUTS}}
+        return {name: getattr(groups[name], name).about(nominal[name]) for name in given}
+
+    def chunks(self) -> list[tuple[int, int]]:
+        """[first, end) sample ranges, one task each."""
+        size = self.chunk_samples or max(1, CHUNK_FLIGHTS // self.flights_per_sample())
+        return [(a, min(self.samples, a + size)) for a in range(0, self.samples, size)]
+
+
+REQUEST = DispersionStudy  # the kind's request type (the OpenAPI document declares it)
+ADAPTER = TypeAdapter(REQUEST)
+GROUP = {name: "entry" for name in disp.ENTRY_INPUTS} | {name: "vehicle" for name in disp.VEHICLE_INPUTS}
+
+
+def parse_request(data, ctx: dict | None = None) -> DispersionStudy:
+    return validated(ADAPTER, data, DispersionStudy, ctx)
+
+
+# --------------------------------------------------------------------------------------------- running
+class Plan:
+    """What every task of a study needs: the nominal spec, the family's flights and the samples (drawn once)."""
+
+    def __init__(self, study: DispersionStudy):
+        from footprint.core.footprint_methods import control_family
+
+        self.study = study
+        self.spec = study.footprint.case.to_spec()
+        family, self.mirror = control_family(study.footprint.method, **study.footprint.to_params())
+        self.flights = mc.flights(family, self.mirror)
+        density = None if study.density is None else disp.GaussMarkovDensity(
+            tuple(study.density.std) if isinstance(study.density.std, list) else study.density.std,
+            study.density.correlation_length_ft)
+        try:
+            self.samples = disp.draw(study.distributions(self.spec), study.samples, study.seed, study.design, density)
+        except InputError as exc:  # the core names its own inputs: say the study's field
+            name = exc.field.removeprefix("distributions.")
+            raise InputError(f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field,
+                             exc.message) from None
+
+    def fly(self, first: int, end: int) -> mc.Landings:
+        return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first)
+
+    def nominal(self) -> mc.Landings:
+        return mc.fly_samples(self.spec, self.flights, disp.draw({}, 1, 0))
+
+    def statistics(self, parts: list[mc.Landings]) -> mc.DispersedFootprint:
+        s = self.study
+        return mc.statistics(self.spec, self.flights, self.mirror, mc.Landings.join(parts), self.nominal(),
+                             levels=tuple(s.confidence),
+                             sites=[(site.name, site.latitude_deg, site.longitude_deg) for site in s.sites])
+
+
+def fly_chunk(study: dict | DispersionStudy, first: int, end: int) -> mc.Landings:
+    """One task: samples first..end-1 of the study (drawn again in the worker: the same bits wherever it runs)."""
+    return _plan(study).fly(first, end)
+
+
+_PLANS: dict[str, Plan] = {}  # a worker's plans by study (a study's chunks share one draw per process)
+
+
+def _plan(study: dict | DispersionStudy) -> Plan:
+    model = parse_request(study)
+    key = model.model_dump_json()
+    if key not in _PLANS:
+        _PLANS.clear()  # one study at a time is enough; keeps a worker's memory to one run's samples
+        _PLANS[key] = Plan(model)
+    return _PLANS[key]
+
+
+def run(study, progress: Callable[[int, int], None] | None = None, *, client=None, workers: int | None = None,
+        scheduler: str | None = None) -> tuple[mc.DispersedFootprint, dict]:
+    """The dispersed footprint and how it ran ({"tasks", "workers", "seconds"}): in this process, or on Dask (a
+    `client`, a LocalCluster of `workers` processes or the scheduler at `scheduler`, one task per chunk of samples,
+    taken as they complete). progress(done, total) in chunks."""
+    study = parse_request(study)
+    plan = _plan(study)
+    chunks = study.chunks()
+    t0 = time.perf_counter()
+    if client is None and workers is None and scheduler is None:
+        parts = []
+        for done, (first, end) in enumerate(chunks, 1):
+            parts.append(plan.fly(first, end))
+            if progress:
+                progress(done, len(chunks))
+        return plan.statistics(parts), {"tasks": len(chunks), "workers": 0, "seconds": time.perf_counter() - t0}
+    from distributed import as_completed
+
+    from footprint.parallel import dask_client, worker_count
+
+    data = study.model_dump(mode="json", by_alias=True, exclude_unset=True)
+    with dask_client(client, workers=workers, scheduler=scheduler) as c:
+        n_workers = worker_count(c)
+        t0 = time.perf_counter()
+        futures = [c.submit(fly_chunk, data, first, end, pure=False) for first, end in chunks]
+        parts = []
+        for done, fut in enumerate(as_completed(futures), 1):
+            parts.append(fut.result())
+            fut.release()
+            if progress:
+                progress(done, len(chunks))
+        seconds = time.perf_counter() - t0
+    return plan.statistics(parts), {"tasks": len(chunks), "workers": n_workers, "seconds": seconds}

@@ -1,0 +1,347 @@
+"""Dispersed footprints: a footprint's family of control settings (footprint_methods.control_family) flown again in
+every Monte Carlo sample of core.dispersion, and what a planner reads from where the flights land.
+
+A sample is one possible world (entry state, air, aerodynamics); in it the vehicle can fly any of the family's
+settings, so the sample's footprint is the polygon through its landing points, drawn as the report draws a
+footprint (footprints._assemble: the maximum down-range point, the left half, the minimum-range point where it
+lies outside the others, the right half back; a half footprint closed along the axis). From the samples:
+
+- each setting's cloud of landing points, its mean and covariance in down-range and cross-range about the nominal
+  entry, and its 1-sigma and 3-sigma ellipses (39 % and 98.9 % of a two-dimensional normal);
+- the footprint reached with probability >= p: the fraction of the samples' footprints covering each node of a
+  grid (exact, by scanlines), contoured at p (contourpy, linear between nodes);
+- each site's probability of being reached, with its Clopper-Pearson interval (Clopper & Pearson, Biometrika 26,
+  1934: exact, so 0 of n and n of n keep a finite width);
+- the spread of the maximum temperature and of the heat load when the case has a heating model;
+- every flight that did not end at the study's stop, counted by its stop reason, never dropped silently.
+
+Ranges are about the nominal entry's great circle on the sphere of radius R' (sphere.downrange_crossrange_nmi), a
+landing's down-range on the branch nearest its own flight's (so past half a circumference too). Pure numerics.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+from footprint.core._jit import njit
+from footprint.core.dispersion import Samples, sample_spec
+from footprint.core.integrate import STOP_REASONS
+from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges
+from footprint.core.trajectory import FlightSpec, simulate_summary
+
+# what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
+KEPT = ("final_latitude_deg", "final_longitude_deg", "downrange_nmi", "crossrange_nmi", "flight_time_s",
+        "max_temperature_R", "heat_load_btu_ft2", "max_load_factor", "max_dynamic_pressure_psf")
+LAT, LON, OWN_DOWN, OWN_CROSS, TIME, TEMPERATURE, HEAT_LOAD = range(7)
+OUTCOME_NAMES = {"altitude": "landed at the stop altitude", "velocity": "reached the stop velocity",
+                 "time": "ran out of time", "skip_out": "skipped out", "max_steps": "too many steps",
+                 "step_underflow": "step underflow", "none": "did not end"}
+SIGMAS = (1.0, 3.0)  # the ellipses drawn
+ELLIPSE_POINTS = 73  # closed: the first point repeated
+GRID_NODES = (481, 241)  # the coverage grid (down-range, cross-range) over the samples' footprints
+CONFIDENCE_INTERVAL = 0.95  # of a site's probability
+
+
+@dataclass(frozen=True)
+class Flight:
+    """One control setting on one side: make(spec, right) is the spec it flies (a family member's)."""
+
+    parameter: dict
+    side: str  # "axis", "left", "right"
+    make: object
+    right: bool
+
+    @property
+    def min_range(self) -> bool:
+        return self.parameter.get("min_range") is not None
+
+
+def flights(family: list, mirror: bool) -> list[Flight]:
+    """The flights of a family [(parameter, make, on_axis)]: the axis settings once, the others on the left and,
+    with mirror, on the right (flown: a dispersed entry leaves no plane of symmetry)."""
+    out = []
+    for parameter, make, on_axis in family:
+        if on_axis:
+            out.append(Flight(parameter, "axis", make, False))
+            continue
+        out.append(Flight(parameter, "left", make, False))
+        if mirror:
+            out.append(Flight(parameter, "right", make, True))
+    return out
+
+
+@dataclass
+class Landings:
+    """Where the flights of n samples ended: values (n, flights, KEPT) and their stop reasons (n, flights), indices
+    into integrate.STOP_REASONS. `first`: the index of the first sample in the run."""
+
+    first: int
+    values: np.ndarray
+    stops: np.ndarray
+
+    @staticmethod
+    def join(parts: list[Landings]) -> Landings:
+        parts = sorted(parts, key=lambda p: p.first)
+        return Landings(parts[0].first, np.concatenate([p.values for p in parts]),
+                        np.concatenate([p.stops for p in parts]))
+
+
+def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0) -> Landings:
+    """Every flight of every sample (the summary path: trajectory.simulate_summary); a chunk of a run."""
+    values = np.full((len(samples), len(family), len(KEPT)), np.nan)
+    stops = np.zeros((len(samples), len(family)), np.int8)
+    for i in range(len(samples)):
+        spec = sample_spec(base, samples, i)
+        for j, f in enumerate(family):
+            summary = simulate_summary(f.make(spec, f.right))
+            stops[i, j] = STOP_REASONS.index(summary["stop_reason"])
+            values[i, j] = [np.nan if summary[k] is None else summary[k] for k in KEPT]
+    return Landings(first, values, stops)
+
+
+# ------------------------------------------------------------------------------------------- geometry
+def nominal_ranges(base: FlightSpec, landings: Landings, radius_nmi=MEAN_RADIUS_NMI) -> tuple[np.ndarray, np.ndarray]:
+    """(down-range, cross-range) nmi of every landing about the nominal entry, each down-range on the branch
+    nearest its own flight's (which grows past half a circumference)."""
+    e = base.entry
+    v = landings.values
+    down, cross = downrange_crossrange_nmi(v[..., LAT], v[..., LON], e.latitude_deg, e.longitude_deg, e.heading_deg,
+                                           radius_nmi)
+    turn = 2.0 * math.pi * radius_nmi
+    return down + turn * np.round((v[..., OWN_DOWN] - down) / turn), cross
+
+
+def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.ndarray, landed: np.ndarray):
+    """Each sample's footprint polygon (x: down-range, y: cross-range, padded with NaN; counts): the landed
+    flights in the report's boundary order, a minimum-range point only where it lies outside the others."""
+    front = [j for j, f in enumerate(family) if f.side == "axis" and not f.min_range][:1]
+    back = [j for j, f in enumerate(family) if f.min_range]
+    left = [j for j, f in enumerate(family) if f.side == "left"]
+    right = [j for j, f in enumerate(family) if f.side == "right"][::-1]
+    n = down.shape[0]
+    size = len(family) + 2
+    px, py = np.full((n, size), np.nan), np.full((n, size), np.nan)
+    counts = np.zeros(n, np.int64)
+    for i in range(n):
+        ring = [j for j in front + left if landed[i, j]]
+        tail = [j for j in right if landed[i, j]]
+        x, y = list(down[i, ring + tail]), list(cross[i, ring + tail])
+        base_x, base_y = np.array(x + [np.nan]), np.array(y + [np.nan])
+        outside = [j for j in back if landed[i, j] and not _inside_one(base_x, base_y, len(x), down[i, j], cross[i, j])]
+        x = list(down[i, ring + outside]) + list(down[i, tail])
+        y = list(cross[i, ring + outside]) + list(cross[i, tail])
+        if not mirror and x:  # a half footprint: closed along the axis (sphere.close_half_along_axis)
+            x, y = [x[0]] + x + [x[-1]], [0.0] + y + [0.0]
+        if len(x) >= 3:
+            px[i, :len(x)], py[i, :len(y)], counts[i] = x, y, len(x)
+    return px, py, counts
+
+
+@njit
+def _inside_one(px, py, m, x, y):
+    """Even-odd rule, polygon px[:m], py[:m] (footprints._inside)."""
+    inside = False
+    for e in range(m):
+        x0, y0, x1, y1 = px[e], py[e], px[(e + 1) % m], py[(e + 1) % m]
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+@njit
+def _inside_all(px, py, counts, x, y):
+    """Which samples' polygons hold the point (x, y)."""
+    out = np.zeros(px.shape[0], np.bool_)
+    for s in range(px.shape[0]):
+        if counts[s] >= 3:
+            out[s] = _inside_one(px[s], py[s], counts[s], x, y)
+    return out
+
+
+@njit
+def _coverage(px, py, counts, x0, dx, nx, y0, dy, ny):
+    """How many samples' polygons hold each grid node (ny, nx): each polygon's scanline intervals added to a
+    difference array, then summed along the rows (exact for the nodes, the even-odd rule)."""
+    diff = np.zeros((ny, nx + 1), np.int64)
+    xs = np.empty(px.shape[1])
+    for s in range(px.shape[0]):
+        m = counts[s]
+        if m < 3:
+            continue
+        for j in range(ny):
+            y = y0 + j * dy
+            k = 0
+            for e in range(m):
+                ya, yb = py[s, e], py[s, (e + 1) % m]
+                if (ya > y) != (yb > y):
+                    xa, xb = px[s, e], px[s, (e + 1) % m]
+                    xs[k] = xa + (y - ya) * (xb - xa) / (yb - ya)
+                    k += 1
+            crossings = np.sort(xs[:k])
+            for q in range(0, k - 1, 2):
+                i0 = min(max(int(math.ceil((crossings[q] - x0) / dx)), 0), nx)
+                i1 = min(max(int(math.ceil((crossings[q + 1] - x0) / dx)), 0), nx)
+                if i1 > i0:
+                    diff[j, i0] += 1
+                    diff[j, i1] -= 1
+    out = np.empty((ny, nx), np.int64)
+    for j in range(ny):
+        total = 0
+        for i in range(nx):
+            total += diff[j, i]
+            out[j, i] = total
+    return out
+
+
+def ellipse(mean: np.ndarray, covariance: np.ndarray, sigmas: float, points: int = ELLIPSE_POINTS):
+    """The sigmas-sigma ellipse (down-range, cross-range) of a 2-D normal: mean + sigmas L (cos t, sin t), L L^T the
+    covariance (its eigenvectors scaled by the square roots of its eigenvalues)."""
+    values, vectors = np.linalg.eigh(covariance)
+    t = np.linspace(0.0, 2.0 * math.pi, points)
+    circle = np.stack([np.cos(t), np.sin(t)])
+    xy = mean[:, None] + sigmas * (vectors * np.sqrt(np.maximum(values, 0.0))) @ circle
+    return xy[0], xy[1]
+
+
+def clopper_pearson(k: int, n: int, level: float = CONFIDENCE_INTERVAL) -> tuple[float, float]:
+    """The exact binomial confidence interval of k successes in n trials (Clopper & Pearson 1934)."""
+    a = 1.0 - level
+    low = 0.0 if k == 0 else float(stats.beta.ppf(a / 2.0, k, n - k + 1))
+    high = 1.0 if k == n else float(stats.beta.ppf(1.0 - a / 2.0, k + 1, n - k))
+    return low, high
+
+
+# ------------------------------------------------------------------------------------------- the result
+@dataclass
+class DispersedFootprint:
+    """The statistics of a Monte Carlo run over one family (module docstring); ranges in nmi about the nominal
+    entry, positions in degrees."""
+
+    samples: int
+    flights: list[dict]  # per flight: parameter, side, landed, outcomes, mean, covariance, ellipses, heating
+    nominal: list[dict]  # the undispersed flights: parameter, side, down/cross-range, latitude/longitude
+    confidence: list[dict]  # per level p: the rings of the region covered by >= p of the samples' footprints
+    sites: list[dict]  # per site: probability, its interval, samples reaching it, inside the nominal footprint
+    outcomes: dict  # every flight's end over the run, by what happened
+    clouds: dict  # down-range and cross-range (samples, flights), NaN where a flight did not land
+    entry: dict
+
+    def to_dict(self, cloud_points: int | None = None) -> dict:
+        """JSON-ready; each cloud thinned to its first `cloud_points` samples (None: all)."""
+        keep = slice(None) if cloud_points is None else slice(0, cloud_points)
+        return {"samples": self.samples, "entry": self.entry, "outcomes": self.outcomes, "nominal": self.nominal,
+                "flights": self.flights, "confidence": self.confidence, "sites": self.sites,
+                "clouds": {k: [[None if not math.isfinite(x) else float(x) for x in row]
+                               for row in np.asarray(v)[keep].T] for k, v in self.clouds.items()}}
+
+
+def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: Landings, nominal: Landings,
+               levels=(0.99,), sites=(), grid_nodes=GRID_NODES) -> DispersedFootprint:
+    """What the run says (module docstring). sites: (name, latitude_deg, longitude_deg) each."""
+    e = base.entry
+    n = landings.values.shape[0]
+    stop = int(nominal.stops[0, 0])  # the study's own ending: what its undispersed flight does
+    landed = (landings.stops == stop) & np.isfinite(landings.values[..., LAT])
+    down, cross = nominal_ranges(base, landings)
+    down, cross = np.where(landed, down, np.nan), np.where(landed, cross, np.nan)
+    lat, lon = np.where(landed, landings.values[..., LAT], np.nan), np.where(landed, landings.values[..., LON], np.nan)
+    nom_down, nom_cross = nominal_ranges(base, nominal)
+    px, py, counts = polygons(family, mirror, down, cross, landed)
+    flight_stats = [_flight(base, f, down[:, j], cross[:, j], landings.stops[:, j], landed[:, j],
+                            landings.values[:, j]) for j, f in enumerate(family)]
+    nom = [{"parameter": f.parameter, "side": f.side, "downrange_nmi": float(nom_down[0, j]),
+            "crossrange_nmi": float(nom_cross[0, j]), "latitude_deg": float(nominal.values[0, j, LAT]),
+            "longitude_deg": float(nominal.values[0, j, LON]),
+            "stop_reason": STOP_REASONS[int(nominal.stops[0, j])]} for j, f in enumerate(family)]
+    npx, npy, ncounts = polygons(family, mirror, nom_down, nom_cross, nominal.stops == stop)
+    reasons = {}
+    for code, count in zip(*np.unique(landings.stops, return_counts=True)):
+        label = "landed" if code == stop else OUTCOME_NAMES[STOP_REASONS[code]]
+        reasons[label] = reasons.get(label, 0) + int(count)
+    return DispersedFootprint(
+        samples=n, flights=flight_stats, nominal=nom,
+        confidence=[_confidence(base, px, py, counts, p, n, grid_nodes) for p in levels],
+        sites=[_site(base, px, py, counts, npx, npy, ncounts, name, la, lo) for name, la, lo in sites],
+        outcomes={"flights": int(landings.stops.size), **reasons},
+        clouds={"downrange_nmi": down, "crossrange_nmi": cross, "latitude_deg": lat, "longitude_deg": lon},
+        entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg})
+
+
+def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
+    k = int(landed.sum())
+    out = {"parameter": f.parameter, "side": f.side, "landed": k,
+           "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(m) for c, m in zip(*np.unique(stops[~landed],
+                                                                                          return_counts=True))}}
+    if k >= 2:
+        xy = np.stack([down[landed], cross[landed]])
+        mean, cov = xy.mean(axis=1), np.cov(xy)
+        e = base.entry
+        ellipses = {}
+        for s in SIGMAS:
+            ex, ey = ellipse(mean, cov, s)
+            elat, elon = latlon_from_ranges(ex, ey, e.latitude_deg, e.longitude_deg, e.heading_deg)
+            ellipses[f"{s:g}"] = {"downrange_nmi": ex.tolist(), "crossrange_nmi": ey.tolist(),
+                                   "latitude_deg": elat.tolist(), "longitude_deg": elon.tolist()}
+        out |= {"mean_downrange_nmi": float(mean[0]), "mean_crossrange_nmi": float(mean[1]),
+                "covariance_nmi2": cov.tolist(), "ellipses": ellipses}
+    for key, col in (("max_temperature_R", TEMPERATURE), ("heat_load_btu_ft2", HEAT_LOAD)):
+        x = values[landed, col]
+        x = x[np.isfinite(x)]
+        if x.size:
+            out[key] = {"mean": float(x.mean()), "std": float(x.std(ddof=1)) if x.size > 1 else 0.0,
+                        "min": float(x.min()), "p50": float(np.percentile(x, 50)),
+                        "p99": float(np.percentile(x, 99)), "max": float(x.max())}
+    return out
+
+
+def _grid(px, py, counts, grid_nodes):
+    """Node coordinates over the polygons' extent, one empty cell beyond it on every side."""
+    ok = counts >= 3
+    x_lo, x_hi = np.nanmin(px[ok]), np.nanmax(px[ok])
+    y_lo, y_hi = np.nanmin(py[ok]), np.nanmax(py[ok])
+    nx, ny = grid_nodes
+    dx, dy = (x_hi - x_lo) / (nx - 3), (y_hi - y_lo) / (ny - 3)
+    return x_lo - dx, dx, nx, y_lo - dy, dy, ny
+
+
+def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
+    """The region held by at least `level` of the n samples' footprints, as rings (down/cross-range and lat/lon)."""
+    from contourpy import contour_generator
+
+    out = {"level": float(level), "rings": []}
+    if not np.any(counts >= 3):
+        return out
+    x0, dx, nx, y0, dy, ny = _grid(px, py, counts, grid_nodes)
+    held = _coverage(px, py, counts, x0, dx, nx, y0, dy, ny) / n
+    x, y = x0 + dx * np.arange(nx), y0 + dy * np.arange(ny)
+    e = base.entry
+    for line in contour_generator(x=x, y=y, z=held, line_type="Separate").lines(level):
+        if len(line) < 4:
+            continue
+        lat, lon = latlon_from_ranges(line[:, 0], line[:, 1], e.latitude_deg, e.longitude_deg, e.heading_deg)
+        area = 0.5 * abs(np.dot(line[:-1, 0], line[1:, 1]) - np.dot(line[1:, 0], line[:-1, 1]))
+        out["rings"].append({"downrange_nmi": line[:, 0].tolist(), "crossrange_nmi": line[:, 1].tolist(),
+                             "latitude_deg": lat.tolist(), "longitude_deg": lon.tolist(), "area_nmi2": float(area)})
+    out["rings"].sort(key=lambda r: -r["area_nmi2"])
+    return out
+
+
+def _site(base, px, py, counts, npx, npy, ncounts, name, latitude_deg, longitude_deg) -> dict:
+    """A site's probability: the fraction of samples whose footprint holds it (any branch of its down-range)."""
+    e = base.entry
+    d, c = downrange_crossrange_nmi(latitude_deg, longitude_deg, e.latitude_deg, e.longitude_deg, e.heading_deg)
+    turn = 2.0 * math.pi * MEAN_RADIUS_NMI
+    reached = np.zeros(px.shape[0], bool)
+    nominal = False
+    for k in (-1, 0, 1, 2):  # a footprint reaches at most about one and a half times round
+        reached |= _inside_all(px, py, counts, float(d) + k * turn, float(c))
+        nominal |= bool(_inside_all(npx, npy, ncounts, float(d) + k * turn, float(c))[0])
+    k, n = int(reached.sum()), px.shape[0]
+    low, high = clopper_pearson(k, n)
+    return {"name": name, "latitude_deg": latitude_deg, "longitude_deg": longitude_deg, "probability": k / n,
+            "interval": [low, high], "interval_level": CONFIDENCE_INTERVAL, "samples_reaching": k,
+            "inside_nominal": nominal}
