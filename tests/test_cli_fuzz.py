@@ -26,7 +26,7 @@ from tests.test_foliummap import FOOTPRINT as MAP_FOOTPRINT  # as `footprint foo
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 BY_PREFIX = {"fly": "table2_", "footprint": "footprint_", "optimize": "optimize_", "sweep": "sweep_",
-             "transform": "transform_", "reach": "reach_"}  # a command's examples, by the files' names
+             "transform": "transform_", "reach": "reach_", "disperse": "disperse_"}  # a command's examples
 ALL_EXAMPLES = {p.name: json.loads(p.read_text()) for p in sorted(EXAMPLES.glob("*.json"))}
 TABLE2 = ALL_EXAMPLES["table2_lod22.json"]
 
@@ -202,7 +202,7 @@ def quick_commands():
     transform = contracts.module("transform")
     move = transform.run
     with pytest.MonkeyPatch.context() as mp:
-        for kind in ("case", "footprint", "optimize", "sweep", "reach"):
+        for kind in ("case", "footprint", "optimize", "sweep", "reach", "dispersion"):
             mp.setattr(contracts.module(kind), "run", _parsed)
         mp.setattr(transform, "run", lambda request: _parsed() if request.earth_rotation == "exact" else move(request))
         mp.setattr(parallel, "dask_client", _parsed)  # a valid sweep would start a LocalCluster first

@@ -177,6 +177,75 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
         raise typer.Exit(1)
 
 
+@app.command()
+def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
+                                               help="dispersion study: a footprint study, distributions, samples, sites"),
+             workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
+                                                   help="local worker processes [the cores]; 0: fly in this process"),
+             scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
+                                                     help="a running Dask scheduler instead of a local cluster"),
+             figure: Optional[Path] = typer.Option(None, "--figure", metavar="FILE.png",
+                                                   help="draw the nominal and confidence footprints, clouds, ellipses"),
+             clouds: int = typer.Option(1_000, "--clouds", metavar="N", min=0,
+                                        help="landing points of each setting kept in the JSON"),
+             as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
+    """Fly a footprint study in N Monte Carlo samples of its entry, air and aerodynamics (one Dask task per chunk
+    of samples): each setting's landing cloud, mean, covariance and 1/3-sigma ellipses, the footprint reached with
+    probability p, each site's probability with its 95 % interval, and every flight that did not land, counted."""
+    from contextlib import ExitStack
+
+    from tqdm import tqdm
+
+    from footprint.parallel import default_workers
+
+    _writable(figure, "--figure")
+    study = _request("dispersion", study_file)
+    if workers is not None and not 0 <= workers <= 256:
+        _fail(f"--workers: {workers} is outside the allowed range 0 to 256")
+    if scheduler is not None and (workers is not None or "://" not in scheduler):
+        _fail("--scheduler: give an address like tcp://host:8786 (and no --workers: the scheduler has its own)")
+    dask = {"scheduler": scheduler} if scheduler else {} if workers == 0 else {"workers": workers or default_workers()}
+    with ExitStack() as stack:
+        bar = stack.enter_context(tqdm(total=len(study.chunks()), unit="chunk", file=sys.stderr, mininterval=0.5))
+        try:
+            stats, info = contracts.module("dispersion").run(study, lambda done, total: bar.update(done - bar.n), **dask)
+        except OSError as exc:  # no scheduler there
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+    if figure is not None:
+        from footprint.pictures.figures import dispersion_figure, save
+
+        save(dispersion_figure(stats), figure)
+    out = stats.to_dict(cloud_points=clouds) | {"design": study.design, "seed": study.seed, "run": info}
+    _answer(out, as_json, _dispersion_lines)
+
+
+def _dispersion_lines(r: dict) -> list[str]:
+    o, run = r["outcomes"], r["run"]
+    ended = ", ".join(f"{v:,} {k}" for k, v in o.items() if k not in ("flights", "landed"))
+    out = [f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}): {o['flights']:,} trajectories in "
+           f"{run['seconds']:.1f} s on {run['workers'] or 'this'} {'process' if not run['workers'] else 'worker(s)'}; "
+           f"{o.get('landed', 0):,} landed" + (f", {ended}" if ended else "")]
+    out.append(f"  {'setting':<28} {'landed':>7} {'mean D nmi':>10} {'mean X nmi':>10} {'sd D':>7} {'sd X':>7}")
+    for f in r["flights"]:
+        name = f"{f['side']} " + ", ".join(f"{k} {v:g}" if isinstance(v, (int, float)) else str(v)
+                                           for k, v in f["parameter"].items() if k != "bank_gain")
+        if "covariance_nmi2" in f:
+            (a, _), (_, d) = f["covariance_nmi2"]
+            out.append(f"  {name:<28} {f['landed']:>7,} {f['mean_downrange_nmi']:>10,.0f} "
+                       f"{f['mean_crossrange_nmi']:>10,.0f} {a ** 0.5:>7.1f} {d ** 0.5:>7.1f}")
+        else:
+            out.append(f"  {name:<28} {f['landed']:>7,}")
+    for c in r["confidence"]:
+        area = sum(ring["area_nmi2"] for ring in c["rings"])
+        out.append(f"  footprint reached with probability >= {c['level']:g}: {area:,.0f} nmi2 in {len(c['rings'])} "
+                   "ring(s)")
+    for s in r["sites"]:
+        lo, hi = s["interval"]
+        out.append(f"  {s['name']}: probability {s['probability']:.3f} ({s['interval_level']:.0%} interval "
+                   f"{lo:.3f}-{hi:.3f}); {'inside' if s['inside_nominal'] else 'outside'} the nominal footprint")
+    return out
+
+
 def _print_sweep_summary(result):
     def num(v, fmt):
         return format(v, fmt) if v is not None else "-".rjust(int(fmt.split(".")[0]))

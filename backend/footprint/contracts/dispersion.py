@@ -120,6 +120,7 @@ class DensityDispersion(Strict):
 
 
 class DispersionStudy(Strict):
+    description: str | None = Field(default=None, max_length=4_000)
     footprint: FootprintStudy
     samples: int = Field(default=1_000, ge=1, le=MAX_SAMPLES)
     design: Literal["sobol", "lhs", "random"] = "sobol"
@@ -202,8 +203,8 @@ class Plan:
             raise InputError(f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field,
                              exc.message) from None
 
-    def fly(self, first: int, end: int) -> mc.Landings:
-        return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first)
+    def fly(self, first: int, end: int, on_progress=None) -> mc.Landings:
+        return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first, on_progress)
 
     def nominal(self) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, disp.draw({}, 1, 0))
@@ -215,9 +216,19 @@ class Plan:
                              sites=[(site.name, site.latitude_deg, site.longitude_deg) for site in s.sites])
 
 
-def fly_chunk(study: dict | DispersionStudy, first: int, end: int) -> mc.Landings:
+def fly_chunk(study: dict | DispersionStudy, first: int, end: int, on_progress=None) -> mc.Landings:
     """One task: samples first..end-1 of the study (drawn again in the worker: the same bits wherever it runs)."""
-    return _plan(study).fly(first, end)
+    return _plan(study).fly(first, end, on_progress)
+
+
+def result(study: dict | DispersionStudy, parts: list[mc.Landings], cloud_samples: int | None = CLOUD_SAMPLES_STORED,
+           info: dict | None = None) -> dict:
+    """The JSON-ready result of a run's chunks: the statistics, each cloud thinned to its first `cloud_samples`
+    samples, the study's samples and trajectories, and how it ran."""
+    plan = _plan(study)
+    out = plan.statistics(parts).to_dict(cloud_points=cloud_samples)
+    return out | {"design": plan.study.design, "seed": plan.study.seed,
+                  "trajectories": plan.study.samples * len(plan.flights), "run": info or {}}
 
 
 _PLANS: dict[str, Plan] = {}  # a worker's plans by study (a study's chunks share one draw per process)

@@ -29,6 +29,7 @@ from scipy import stats
 
 from footprint.core._jit import njit
 from footprint.core.dispersion import Samples, sample_spec
+from footprint.core.errors import Stopped
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, simulate_summary
@@ -90,11 +91,15 @@ class Landings:
                         np.concatenate([p.stops for p in parts]))
 
 
-def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0) -> Landings:
-    """Every flight of every sample (the summary path: trajectory.simulate_summary); a chunk of a run."""
+def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0,
+                on_progress=None) -> Landings:
+    """Every flight of every sample (the summary path: trajectory.simulate_summary); a chunk of a run.
+    on_progress(fraction, note) before each sample (True stops: errors.Stopped)."""
     values = np.full((len(samples), len(family), len(KEPT)), np.nan)
     stops = np.zeros((len(samples), len(family)), np.int8)
     for i in range(len(samples)):
+        if on_progress is not None and on_progress(i / len(samples), f"sample {first + i + 1:,}"):
+            raise Stopped(f"stopped at sample {first + i + 1:,}")
         spec = sample_spec(base, samples, i)
         for j, f in enumerate(family):
             summary = simulate_summary(f.make(spec, f.right))
@@ -224,6 +229,7 @@ class DispersedFootprint:
     samples: int
     flights: list[dict]  # per flight: parameter, side, landed, outcomes, mean, covariance, ellipses, heating
     nominal: list[dict]  # the undispersed flights: parameter, side, down/cross-range, latitude/longitude
+    nominal_boundary: dict  # the undispersed footprint's polygon: down/cross-range and latitude/longitude lists
     confidence: list[dict]  # per level p: the rings of the region covered by >= p of the samples' footprints
     sites: list[dict]  # per site: probability, its interval, samples reaching it, inside the nominal footprint
     outcomes: dict  # every flight's end over the run, by what happened
@@ -234,7 +240,7 @@ class DispersedFootprint:
         """JSON-ready; each cloud thinned to its first `cloud_points` samples (None: all)."""
         keep = slice(None) if cloud_points is None else slice(0, cloud_points)
         return {"samples": self.samples, "entry": self.entry, "outcomes": self.outcomes, "nominal": self.nominal,
-                "flights": self.flights, "confidence": self.confidence, "sites": self.sites,
+                "nominal_boundary": self.nominal_boundary, "flights": self.flights, "confidence": self.confidence, "sites": self.sites,
                 "clouds": {k: [[None if not math.isfinite(x) else float(x) for x in row]
                                for row in np.asarray(v)[keep].T] for k, v in self.clouds.items()}}
 
@@ -262,8 +268,13 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
     for code, count in zip(*np.unique(landings.stops, return_counts=True)):
         label = "landed" if code == stop else OUTCOME_NAMES[STOP_REASONS[code]]
         reasons[label] = reasons.get(label, 0) + int(count)
+    m = int(ncounts[0])
+    bx, by = npx[0, :m], npy[0, :m]
+    blat, blon = latlon_from_ranges(bx, by, e.latitude_deg, e.longitude_deg, e.heading_deg)
+    boundary = {"downrange_nmi": bx.tolist(), "crossrange_nmi": by.tolist(), "latitude_deg": blat.tolist(),
+                "longitude_deg": blon.tolist()}
     return DispersedFootprint(
-        samples=n, flights=flight_stats, nominal=nom,
+        samples=n, flights=flight_stats, nominal=nom, nominal_boundary=boundary,
         confidence=[_confidence(base, px, py, counts, p, n, grid_nodes) for p in levels],
         sites=[_site(base, px, py, counts, npx, npy, ncounts, name, la, lo) for name, la, lo in sites],
         outcomes={"flights": int(landings.stops.size), **reasons},
@@ -331,17 +342,22 @@ def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
 
 
 def _site(base, px, py, counts, npx, npy, ncounts, name, latitude_deg, longitude_deg) -> dict:
-    """A site's probability: the fraction of samples whose footprint holds it (any branch of its down-range)."""
+    """A site's probability: the fraction of samples whose footprint holds it on any branch of its down-range (a
+    footprint reaches past half a circumference); its ranges on the branch most samples reach it by."""
     e = base.entry
     d, c = downrange_crossrange_nmi(latitude_deg, longitude_deg, e.latitude_deg, e.longitude_deg, e.heading_deg)
     turn = 2.0 * math.pi * MEAN_RADIUS_NMI
     reached = np.zeros(px.shape[0], bool)
-    nominal = False
-    for k in (-1, 0, 1, 2):  # a footprint reaches at most about one and a half times round
-        reached |= _inside_all(px, py, counts, float(d) + k * turn, float(c))
+    nominal, best = False, (0, float(d))
+    for k in (0, 1, -1, 2):  # at most about one and a half times round
+        on_branch = _inside_all(px, py, counts, float(d) + k * turn, float(c))
         nominal |= bool(_inside_all(npx, npy, ncounts, float(d) + k * turn, float(c))[0])
+        if on_branch.sum() > best[0]:
+            best = (int(on_branch.sum()), float(d) + k * turn)
+        reached |= on_branch
     k, n = int(reached.sum()), px.shape[0]
     low, high = clopper_pearson(k, n)
-    return {"name": name, "latitude_deg": latitude_deg, "longitude_deg": longitude_deg, "probability": k / n,
+    return {"name": name, "latitude_deg": latitude_deg, "longitude_deg": longitude_deg,
+            "downrange_nmi": best[1], "crossrange_nmi": float(c), "probability": k / n,
             "interval": [low, high], "interval_level": CONFIDENCE_INTERVAL, "samples_reaching": k,
             "inside_nominal": nominal}

@@ -64,6 +64,35 @@ def footprints_figure(footprints: dict[str, Footprint], title=None, ax=None) -> 
     return fig
 
 
+def dispersion_figure(result, title=None, ax=None) -> Figure:
+    """A dispersed footprint (core.monte_carlo.DispersedFootprint): the nominal boundary, each setting's landing
+    cloud and its 3-sigma ellipse, the footprints reached with probability >= p, the sites with their probability."""
+    fig, ax = _axes(ax, figsize=(9.0, 6.5))
+    ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)
+    b = result.nominal_boundary
+    ax.plot(b["downrange_nmi"] + b["downrange_nmi"][:1], b["crossrange_nmi"] + b["crossrange_nmi"][:1], "k-",
+            lw=1.4, label="nominal footprint", gid="nominal")
+    down, cross = result.clouds["downrange_nmi"], result.clouds["crossrange_nmi"]
+    ax.plot(down.ravel(), cross.ravel(), ".", color="0.55", ms=1.0, alpha=0.5, ls="none", gid="clouds",
+            label=f"landings of {result.samples:,} samples", rasterized=True)
+    for i, f in enumerate(result.flights):
+        if "3" in f.get("ellipses", {}):
+            e = f["ellipses"]["3"]
+            ax.plot(e["downrange_nmi"], e["crossrange_nmi"], "-", color="tab:blue", lw=0.9, gid="ellipse",
+                    label=r"3$\sigma$ ellipses" if i == 0 else None)
+    for c, ls in zip(result.confidence, cycle(["--", "-.", ":"])):
+        for j, ring in enumerate(c["rings"]):
+            ax.plot(ring["downrange_nmi"], ring["crossrange_nmi"], ls=ls, color="tab:red", lw=1.4, gid="confidence",
+                    label=f"reached with probability $\\geq$ {c['level']:g}" if j == 0 else None)
+    for s in result.sites:
+        ax.plot(s["downrange_nmi"], s["crossrange_nmi"], "k^", ms=5, gid="site")
+        ax.annotate(f"{s['name']} {s['probability']:.2f}", (s["downrange_nmi"], s["crossrange_nmi"]),
+                    textcoords="offset points", xytext=(4, 4), fontsize="x-small")
+    ax.legend(fontsize="small", loc="best")
+    _range_axes(ax, title)
+    return fig
+
+
 def two_parameter_figure(fp: Footprint, title=None) -> Figure:
     """Fig. 7: one curve per K set (sigma_f varied along it), the faired outer boundary heavier."""
     fig, ax = _axes(None)

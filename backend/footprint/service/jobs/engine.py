@@ -342,6 +342,8 @@ def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:
     if kind == "sweep":
         return [(tasks.sweep_footprint_task, job, f"{request.name} {job['key'][0]} {job['key'][1]:g} fps "
                                                   f"{job['key'][2]:g} deg") for job in request.jobs()]
+    if kind == "dispersion":
+        return [(tasks.dispersion_task, study, first, end) for first, end in request.chunks()]
     return [(tasks.TASKS[kind], study)]
 
 
@@ -356,4 +358,8 @@ def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:
         return {"sweep": {"name": study["name"], "footprints": len(flown), "errors": errors}}, flown
     if kind == "optimize":
         return {"optimization": outputs[0]}, []
+    if kind == "dispersion":
+        from footprint.contracts.dispersion import result
+
+        return {"dispersion": tasks.plain(result(study, outputs, info={"tasks": len(outputs)}))}, []
     return {"reach": outputs[0]}, []

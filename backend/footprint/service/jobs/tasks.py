@@ -154,4 +154,12 @@ def reach_task(request: dict) -> dict:
     return plain(contracts.module("reach").run(contracts.parse("reach", request), on_progress=progress_reporter()))
 
 
-TASKS = {"optimize": optimize_task, "reach": reach_task}  # the single-task kinds (footprint and sweep: engine._calls)
+def dispersion_task(study: dict, first: int, end: int):
+    """A chunk of a dispersion job: samples first..end-1 flown (footprint.contracts.dispersion.fly_chunk), their
+    landings (plain arrays, not JSON: the engine joins the chunks)."""
+    from footprint.contracts.dispersion import fly_chunk
+
+    return fly_chunk(study, first, end, on_progress=progress_reporter())
+
+
+TASKS = {"optimize": optimize_task, "reach": reach_task}  # the single-task kinds (footprint, sweep, dispersion: engine._calls)
