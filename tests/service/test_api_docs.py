@@ -64,7 +64,7 @@ def test_the_openapi_document_validates_and_types_every_job_and_study_kind(api):
     validate(spec)
     jobs = spec["paths"]["/api/jobs"]["post"]["requestBody"]["content"]["application/json"]["schema"]
     assert jobs["discriminator"]["propertyName"] == "kind"
-    assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach"}
+    assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach", "dispersion"}
     study = spec["components"]["schemas"]["FootprintJob"]["properties"]["study"]
     assert study["discriminator"]["propertyName"] == "method"
     assert set(study["discriminator"]["mapping"]) == {"single_parameter", "constant_bank", "staged", "two_parameter",
