@@ -7,6 +7,7 @@ in thousands of feet, velocities in ft/s, angles in degrees, as in the report's 
 
 from itertools import cycle
 from pathlib import Path
+from textwrap import fill
 
 import matplotlib
 import numpy as np
@@ -23,6 +24,7 @@ DOWNRANGE_LABEL = "Down-range (n.mi.)"
 CROSSRANGE_LABEL = "Cross-range (n.mi.)"
 PNG_DPI = 150
 LABEL_OFFSET_PT = 7.0  # how far a point's label sits from its marker
+SITE_MARGIN = 0.05  # a dispersion figure draws the sites within this fraction of the landings' extent
 # line style and marker pairs that stay distinct when printed in black and white
 LINE_STYLES = [("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (8, 3)), "v"),
                ((0, (5, 2, 1, 2, 1, 2)), "x"), ((0, (1, 1)), "P"), ((0, (10, 2, 2, 2)), "*")]
@@ -66,12 +68,14 @@ def footprints_figure(footprints: dict[str, Footprint], title=None, ax=None) -> 
 
 def dispersion_figure(result, title=None, ax=None) -> Figure:
     """A dispersed footprint (core.monte_carlo.DispersedFootprint): the nominal boundary, each setting's landing
-    cloud and its 3-sigma ellipse, the footprints reached with probability >= p, the sites with their probability."""
+    cloud and its 3-sigma ellipse, the footprints reached with probability >= p, the sites with their probability.
+    Sites beyond the landings (SITE_MARGIN of their extent) are named in a caption, not drawn: they would stretch
+    the axes."""
     fig, ax = _axes(ax, figsize=(9.0, 6.5))
     ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)
     b = result.nominal_boundary
     ax.plot(b["downrange_nmi"] + b["downrange_nmi"][:1], b["crossrange_nmi"] + b["crossrange_nmi"][:1], "k-",
-            lw=1.4, label="nominal footprint", gid="nominal")
+            lw=1.2, label="nominal footprint", gid="nominal")
     down, cross = result.clouds["downrange_nmi"], result.clouds["crossrange_nmi"]
     ax.plot(down.ravel(), cross.ravel(), ".", color="0.55", ms=1.0, alpha=0.5, ls="none", gid="clouds",
             label=f"landings of {result.samples:,} samples", rasterized=True)
@@ -80,17 +84,41 @@ def dispersion_figure(result, title=None, ax=None) -> Figure:
             e = f["ellipses"]["3"]
             ax.plot(e["downrange_nmi"], e["crossrange_nmi"], "-", color="tab:blue", lw=0.9, gid="ellipse",
                     label=r"3$\sigma$ ellipses" if i == 0 else None)
-    for c, ls in zip(result.confidence, cycle(["--", "-.", ":"])):
-        for j, ring in enumerate(c["rings"]):
-            ax.plot(ring["downrange_nmi"], ring["crossrange_nmi"], ls=ls, color="tab:red", lw=1.4, gid="confidence",
-                    label=f"reached with probability $\\geq$ {c['level']:g}" if j == 0 else None)
+    for c, ls, color in zip(result.confidence, cycle(["--", "-.", ":"]), cycle(["tab:orange", "tab:red", "purple"])):
+        for j, ring in enumerate(c["rings"]):  # above the nominal boundary, which the p = 0.5 ring lies near
+            ax.plot(ring["downrange_nmi"], ring["crossrange_nmi"], ls=ls, color=color, lw=1.5, gid="confidence",
+                    zorder=3, label=f"reached with probability $\\geq$ {c['level']:g}" if j == 0 else None)
+    x = np.concatenate([np.ravel(down), b["downrange_nmi"]])
+    y = np.concatenate([np.ravel(cross), b["crossrange_nmi"]])
+    x_lo, x_hi, y_lo, y_hi = np.nanmin(x), np.nanmax(x), np.nanmin(y), np.nanmax(y)
+    mx, my = SITE_MARGIN * (x_hi - x_lo), SITE_MARGIN * (y_hi - y_lo)
+    x_mid, y_mid = 0.5 * (x_lo + x_hi), 0.5 * (y_lo + y_hi)
+    beyond = []
     for s in result.sites:
-        ax.plot(s["downrange_nmi"], s["crossrange_nmi"], "k^", ms=5, gid="site")
-        ax.annotate(f"{s['name']} {s['probability']:.2f}", (s["downrange_nmi"], s["crossrange_nmi"]),
-                    textcoords="offset points", xytext=(4, 4), fontsize="x-small")
+        d, c = s["downrange_nmi"], s["crossrange_nmi"]
+        name = f"{s['name'].split(',')[0]} {_probability(s['probability'])}"
+        if not (x_lo - mx <= d <= x_hi + mx and y_lo - my <= c <= y_hi + my):
+            beyond.append(name)
+            continue
+        ax.plot(d, c, "k^", ms=5, gid="site", zorder=4)
+        ux, uy = (d - x_mid) / (x_hi - x_lo), (c - y_mid) / (y_hi - y_lo)  # outward from the middle
+        n = max((ux * ux + uy * uy) ** 0.5, 1e-9)
+        ox, oy = LABEL_OFFSET_PT * ux / n, LABEL_OFFSET_PT * uy / n
+        ax.annotate(name, (d, c), textcoords="offset points", xytext=(ox, oy), fontsize="x-small", zorder=4,
+                    ha="left" if ox > 2 else "right" if ox < -2 else "center",
+                    va="bottom" if oy > 2 else "top" if oy < -2 else "center", gid="site_label")
     ax.legend(fontsize="small", loc="best")
     _range_axes(ax, title)
+    if beyond:
+        ax.annotate(fill("Beyond the landings, not drawn: " + ", ".join(beyond), 130), (0.5, 0.0),
+                    xycoords="axes fraction", xytext=(0, -30), textcoords="offset points", ha="center", va="top",
+                    fontsize="x-small", gid="caption")
     return fig
+
+
+def _probability(p: float) -> str:
+    """Two decimals, three below 0.01 (so a rare reach does not read as 0.00); 0 and 1 exactly."""
+    return "0" if p == 0.0 else "1" if p == 1.0 else f"{p:.3f}" if p < 0.01 else f"{p:.2f}"
 
 
 def two_parameter_figure(fp: Footprint, title=None) -> Figure:
