@@ -82,7 +82,8 @@ class RSS:
         for pid in sorted({pid for _, ws in self.ticks for pid in ws}):
             seen = [ws[pid] for _, ws in self.ticks if pid in ws]
             at = [ws[pid] for _, _, ws in self.chunks if pid in ws]
-            out["workers"].append({"first_seen_mib": round(seen[0] / MIB, 1), "peak_mib": round(max(seen + at) / MIB, 1),
+            out["workers"].append({"first_seen_mib": round(seen[0] / MIB, 1),
+                                   "peak_mib": round(max(seen + at) / MIB, 1),
                                    "after_first_chunk_mib": round(at[0] / MIB, 1),
                                    "at_last_chunk_mib": round(at[-1] / MIB, 1),
                                    "growth_first_to_last_chunk_mib": round((at[-1] - at[0]) / MIB, 1)})
