@@ -11,6 +11,15 @@ export function wrapLongitude(lonDeg) {
   return x === -180.0 ? 180.0 : x;
 }
 
+const SAME_PLACE_DEG = 1e-6; // a site stored and the same site in a study (both as the planner typed them)
+
+/** Whether two sites ({name, latitude_deg, longitude_deg}) are the same: one name at one place (longitudes that
+ * differ by 360 deg name one place). */
+export function sameSite(a, b) {
+  return a.name === b.name && Math.abs(a.latitude_deg - b.latitude_deg) < SAME_PLACE_DEG
+    && Math.abs(wrapLongitude(a.longitude_deg - b.longitude_deg)) < SAME_PLACE_DEG;
+}
+
 /** Longitudes made continuous: the first within 180 deg of referenceDeg, each next within 180 deg of the one
  * before, so that a ring or a track that crosses +-180 never jumps by 360 deg. */
 export function unwrapLongitudes(lonsDeg, referenceDeg) {
@@ -130,6 +139,48 @@ export function planarOutline(shown) {
   if (!o?.longitude_deg?.length) return ring.map((p, i) => [ringLons[i], p.latitude_deg]);
   const shift = 360 * Math.round((ringLons[0] - o.longitude_deg[0]) / 360);
   return o.longitude_deg.map((lon, i) => [lon + shift, o.latitude_deg[i]]);
+}
+
+/** The points of a shape given as lists ({latitude_deg: [...], longitude_deg: [...], downrange_nmi: [...],
+ * crossrange_nmi: [...]}, as a dispersion's rings and ellipses come), as planarOutline and unwrapRing take them; a
+ * point without a latitude (a flight that did not land) is left out. */
+export function listPoints(lists) {
+  const out = [];
+  (lists?.latitude_deg ?? []).forEach((lat, i) => {
+    if (lat == null || lists.longitude_deg[i] == null) return;
+    out.push({ latitude_deg: lat, longitude_deg: lists.longitude_deg[i], downrange_nmi: lists.downrange_nmi?.[i] ?? null,
+               crossrange_nmi: lists.crossrange_nmi?.[i] ?? null });
+  });
+  return out;
+}
+
+/** Of `anchors` (points whose longitudes are already placed on a copy of the map), the one nearest on the sphere to
+ * any of `points`: as the reference of planarOutline it puts a shape on the same copy as the anchors, however far
+ * from the entry it lies (a dispersion's ellipse at the far end of a footprint that runs past 180 deg). */
+export function nearestAnchor(points, anchors) {
+  let best = anchors[0], bestDot = -2;
+  const step = Math.max(1, Math.floor(points.length / 200)); // a few hundred vertices decide as well as all
+  for (const a of anchors) {
+    const u = unit(a.latitude_deg, a.longitude_deg);
+    for (let i = 0; i < points.length; i += step) {
+      const c = dot(unit(points[i].latitude_deg, points[i].longitude_deg), u);
+      if (c > bestDot) { bestDot = c; best = a; }
+    }
+  }
+  return best;
+}
+
+/** Each of `points` given the longitude of its copy next to the nearest vertex of a placed ring (its points and
+ * their longitudes as unwrapRing placed them): the flights of a footprint put where its drawn boundary is. */
+export function placeOnRing(points, ring, ringLons) {
+  const units = ring.map((p) => unit(p.latitude_deg, p.longitude_deg));
+  return points.map((p) => {
+    const u = unit(p.latitude_deg, p.longitude_deg);
+    let nearest = -1, best = -2;
+    units.forEach((v, i) => { const c = dot(u, v); if (c > best) { best = c; nearest = i; } });
+    if (nearest < 0) return p.longitude_deg;
+    return ringLons[nearest] + wrapLongitude(p.longitude_deg - ring[nearest].longitude_deg);
+  });
 }
 
 /** The footprint's edge in a planarOutline: the outline closed, without its edges along a pole. */

@@ -2,8 +2,9 @@
 // hemisphere clipped at 90 deg from the centre. Drag (or the arrow keys) to turn it; + and - to zoom.
 /* global d3 */
 import { loadWorld } from "./basemap.js";
-import { openRing, sphericalRing } from "./geometry.js";
+import { listPoints, openRing, sphericalRing } from "./geometry.js";
 import { escapeHtml, fmt } from "./format.js";
+import { levelWords, percent } from "./dispersion.js";
 
 const KEY_STEP_DEG = 10;
 const DRAG_DEG_PER_PX = 0.25;
@@ -15,6 +16,19 @@ export function footprintFeatures(fp) {
     track: { type: "LineString", coordinates: groundTrack.map((p) => [p.longitude_deg, p.latitude_deg]) },
     entry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] },
     points: openRing(points).map((p) => ({ type: "Point", coordinates: [p.longitude_deg, p.latitude_deg], p })),
+  };
+}
+
+/** A dispersion's shapes on the sphere (d3-geo cuts nothing: a ring round a pole is one polygon): its confidence
+ * footprints (widest first), nominal boundary and 3-sigma ellipses as closed rings; its landing points are left to
+ * the map (thousands of them would slow the globe's turning). */
+export function dispersionFeatures(d) {
+  const closed = (lists) => { const r = openRing(listPoints(lists)).map((p) => [p.longitude_deg, p.latitude_deg]); return r.length > 2 ? r.concat([r[0]]) : null; };
+  return {
+    confidence: [...d.confidence].sort((a, b) => a.level - b.level).map((c) => ({ level: c.level,
+      rings: c.rings.map((r) => ({ type: "Polygon", coordinates: [sphericalRing(listPoints(r), d3.geoArea)] })) })),
+    nominal: closed(d.nominal_boundary) && { type: "LineString", coordinates: closed(d.nominal_boundary) },
+    ellipses: d.flights.map((f) => closed(f.ellipses?.["3"])).filter(Boolean).map((c) => ({ type: "LineString", coordinates: c })),
   };
 }
 
@@ -31,6 +45,7 @@ export class GlobeView {
     this.zoom = 1;
     this.footprints = [];
     this.sites = [];
+    this.dispersion = null; // {name, features, sites, layers}
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -38,6 +53,11 @@ export class GlobeView {
   }
 
   setData(footprints, sites) { this.footprints = footprints; this.sites = sites; this.render(); }
+
+  setDispersion(name, d, layers) {
+    this.dispersion = { name, features: dispersionFeatures(d), sites: d.sites, layers };
+    this.render();
+  }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
 
@@ -69,6 +89,7 @@ export class GlobeView {
       const e = path.pointRadius(6)(f.entry);
       if (e) parts.push(`<path class="globe-entry fp-${fp.id}" style="fill:${fp.color}" d="${e}"><title>${escapeHtml(fp.name)}: entry</title></path>`);
     }
+    if (this.dispersion) parts.push(...this._dispersionParts(path, projection));
     for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
       if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
       const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
@@ -83,6 +104,27 @@ export class GlobeView {
       + `<text class="globe-legend" x="32" y="${23 + 18 * i}">${escapeHtml(fp.name)}</text>`));
     this.svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
     this.svg.innerHTML = parts.join("");
+  }
+
+  _dispersionParts(path, projection) {
+    const { features: f, sites, layers } = this.dispersion, parts = [];
+    if (layers.confidence) {
+      f.confidence.forEach((c, rank) => c.rings.forEach((r) => parts.push(
+        `<path class="globe-dispersion-confidence" style="fill-opacity:${(0.1 + 0.14 * rank).toFixed(2)}" d="${path(r) || ""}">`
+        + `<title>confidence footprint ${levelWords(c.level)}</title></path>`)));
+    }
+    if (layers.nominal && f.nominal) parts.push(`<path class="globe-dispersion-nominal" d="${path(f.nominal) || ""}"/>`);
+    if (layers.ellipses) for (const e of f.ellipses) parts.push(`<path class="globe-dispersion-ellipse" d="${path(e) || ""}"/>`);
+    if (layers.sites) {
+      for (const s of sites) {
+        if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
+        const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
+        parts.push(`<circle class="globe-dispersion-site" cx="${x}" cy="${y}" r="6" style="fill-opacity:${(0.15 + 0.85 * s.probability).toFixed(2)}">`
+          + `<title>${escapeHtml(s.name)}: P ${percent(s.probability)}</title></circle>`
+          + `<text class="globe-site-label globe-dispersion-p" x="${x - 9}" y="${y + 4}" text-anchor="end">${percent(s.probability)}</text>`);
+      }
+    }
+    return parts;
   }
 
   _bindDrag() {

@@ -1,5 +1,6 @@
-// The job form: a footprint study or an optimization study built from the inputs, POST /api/jobs, progress
-// from the job's event stream, and the new footprint handed to the page when the job succeeds.
+// The job form: a footprint study, an optimization study or a dispersion study built from the inputs (or a
+// dispersion study file), POST /api/jobs, progress from the job's event stream, and the new footprint, optimum or
+// dispersion handed to the page when the job succeeds.
 import { api } from "./api.js";
 import { clearFieldErrors, showFieldError } from "./fielderrors.js";
 import { el, fmt } from "./format.js";
@@ -61,12 +62,59 @@ export function buildOptimizationStudy() {
   return study;
 }
 
+// the dispersion's spreads: [input id, group, input, distribution] (contracts/dispersion.py), a blank one left out
+const SPREADS = [["d-altitude", "entry", "altitude_ft", "normal"], ["d-velocity", "entry", "velocity_fps", "normal"],
+                 ["d-gamma", "entry", "gamma_deg", "normal"], ["d-heading", "entry", "heading_deg", "normal"],
+                 ["d-latitude", "entry", "latitude_deg", "normal"], ["d-longitude", "entry", "longitude_deg", "normal"],
+                 ["d-cl", "vehicle", "cl_multiplier", "truncated_normal"],
+                 ["d-cd", "vehicle", "cd_multiplier", "truncated_normal"],
+                 ["d-wing", "vehicle", "wing_loading_psf", "normal"]];
+const TRUNCATED_SIGMAS = 3; // a multiplier's spread is cut at 3 sigma, as examples/disperse_lod189.json
+export const DISPERSION_METHODS = ["single_parameter", "constant_bank", "staged"]; // fixed control laws (contracts.dispersion.LAWS)
+
+/** The dispersion study of the form: its footprint study, samples and spreads, and the given landing sites. */
+export function buildDispersionStudy(sites = []) {
+  const study = { footprint: buildFootprintStudy(), samples: number("d-samples"), design: $("d-design").value,
+                  seed: number("d-seed"), entry: {}, vehicle: {}, confidence: parseList($("d-confidence").value),
+                  sites: sites.map((s) => ({ name: s.name, latitude_deg: s.latitude_deg, longitude_deg: s.longitude_deg })) };
+  for (const [id, group, input, law] of SPREADS) {
+    const std = number(id);
+    if (std != null) study[group][input] = { [law]: law === "truncated_normal" ? { std, sigmas: TRUNCATED_SIGMAS } : { std } };
+  }
+  if (number("d-density") != null) study.density = { std: number("d-density"), correlation_length_ft: number("d-correlation") };
+  return study;
+}
+
+/** A 422 about a dispersion's footprint study ("study.footprint.case.entry.velocity_fps", the service may add the
+ * method's union tag: "study.footprint.single_parameter.case...") named as the form's footprint inputs name it
+ * ("study.case.entry.velocity_fps"), so that it shows next to that input, worded by its label. */
+function asFootprintField(err) {
+  const m = /^study\.footprint\.(?:(\w+)\.)?/.exec(err.field ?? "");
+  if (!m) return err;
+  const tag = [...$("job-method").options].some((o) => o.value === m[1]) ? m[0] : "study.footprint.";
+  const path = tag.slice("study.".length);
+  err.field = `study.${err.field.slice(tag.length)}`;
+  if (err.message.startsWith(tag)) err.message = `study.${err.message.slice(tag.length)}`;
+  else if (err.message.startsWith(path)) err.message = err.message.slice(path.length);
+  return err;
+}
+
+/** One line of what a dispersion did: samples, flights and every outcome counted, so that none is dropped unseen. */
+export function outcomeWords(d) {
+  const { flights, landed, ...others } = d.outcomes;
+  const rest = Object.entries(others).map(([what, n]) => `${fmt(n)} ${what}`);
+  return `${fmt(d.samples)} samples, ${fmt(flights)} flights: ${fmt(landed ?? 0)} landed${rest.length ? ", " + rest.join(", ") : ""}`;
+}
+
 function showOptimizerFields() {
   const method = $("o-method").value;
   document.querySelectorAll("#optimize-fields [data-optimizer]").forEach((el) => { el.hidden = el.dataset.optimizer !== method; });
 }
 
 function showMethodFields() {
+  const dispersing = $("disperse-toggle").checked;
+  for (const option of $("job-method").options) option.disabled = dispersing && !DISPERSION_METHODS.includes(option.value);
+  if (dispersing && !DISPERSION_METHODS.includes($("job-method").value)) $("job-method").value = DISPERSION_METHODS[0];
   const method = $("job-method").value;
   document.querySelectorAll("#method-fields [data-method]").forEach((el) => {
     el.hidden = !el.dataset.method.split(" ").includes(method);
@@ -74,20 +122,34 @@ function showMethodFields() {
 }
 
 export class JobsPanel {
-  constructor({ onSucceeded, onOptimum }) {
+  constructor({ onSucceeded, onOptimum, onDispersion, sites }) {
     this.onSucceeded = onSucceeded;
     this.onOptimum = onOptimum;
+    this.onDispersion = onDispersion;
+    this.sites = sites ?? (() => []); // the landing sites a dispersion study takes along
     this.form = $("job-form");
     $("job-method").addEventListener("change", showMethodFields);
     $("o-method").addEventListener("change", showOptimizerFields);
-    $("optimize-toggle").addEventListener("change", (e) => {
-      $("optimize-fields").hidden = !e.target.checked;
-      $("method-fields").hidden = e.target.checked;
-      $("job-submit").textContent = e.target.checked ? "Run optimization" : "Run job";
-    });
+    // optimize and disperse are two kinds of job: one at a time
+    $("optimize-toggle").addEventListener("change", (e) => { if (e.target.checked) $("disperse-toggle").checked = false; this.showKind(); });
+    $("disperse-toggle").addEventListener("change", (e) => { if (e.target.checked) $("optimize-toggle").checked = false; this.showKind(); });
+    $("d-file").addEventListener("change", (e) => this.submitFile(e.target.files[0]));
     this.form.addEventListener("submit", (e) => { e.preventDefault(); this.submit(); });
-    showMethodFields();
+    this.showKind();
     showOptimizerFields();
+  }
+
+  kind() {
+    return $("optimize-toggle").checked ? "optimize" : $("disperse-toggle").checked ? "dispersion" : "footprint";
+  }
+
+  showKind() {
+    const kind = this.kind();
+    $("optimize-fields").hidden = kind !== "optimize";
+    $("method-fields").hidden = kind === "optimize";
+    $("dispersion-fields").hidden = kind !== "dispersion";
+    $("job-submit").textContent = { footprint: "Run job", optimize: "Run optimization", dispersion: "Run dispersion" }[kind];
+    showMethodFields();
   }
 
   async loadVehicles() {
@@ -101,18 +163,40 @@ export class JobsPanel {
   async submit() {
     clearFieldErrors(this.form);
     $("job-form-error").hidden = true;
-    const optimize = $("optimize-toggle").checked;
-    const body = { kind: optimize ? "optimize" : "footprint", study: optimize ? buildOptimizationStudy() : buildFootprintStudy() };
+    const kind = this.kind();
+    const study = { optimize: buildOptimizationStudy, footprint: buildFootprintStudy,
+                    dispersion: () => buildDispersionStudy(this.sites()) }[kind]();
+    await this.post({ kind, study });
+  }
+
+  /** POST the job (named by the form's name field) and follow it; a refusal shown next to its field. */
+  async post(body) {
     if ($("job-name").value.trim()) body.name = $("job-name").value.trim();
     $("job-submit").disabled = true;
     try {
       const job = await api("/api/jobs", { method: "POST", body });
       this.follow(job.id, body.name || `${body.kind} ${job.id.slice(0, 8)}`);
     } catch (err) {
-      showFieldError(this.form, err, $("job-form-error"));
+      showFieldError(this.form, body.kind === "dispersion" ? asFootprintField(err) : err, $("job-form-error"));
     } finally {
       $("job-submit").disabled = false;
     }
+  }
+
+  /** A dispersion study file run as it is (its own footprint study, spreads and sites). */
+  async submitFile(file) {
+    if (!file) return;
+    clearFieldErrors(this.form);
+    $("job-form-error").hidden = true;
+    let study;
+    try { study = JSON.parse(await file.text()); } catch (err) {
+      $("job-form-error").textContent = `${file.name} is not JSON: ${err.message}`;
+      $("job-form-error").hidden = false;
+      $("d-file").value = "";
+      return;
+    }
+    $("d-file").value = "";
+    await this.post({ kind: "dispersion", study });
   }
 
   /** A row with a progress bar, fed by GET /api/jobs/{id}/events (polling if the stream breaks). */
@@ -147,6 +231,11 @@ export class JobsPanel {
             + `${fmt(o.summary.crossrange_nmi)} nmi at down-range ${fmt(o.summary.downrange_nmi)} nmi, `
             + `${cost}${o.feasible ? "" : ", constraints not met"}</div>`);
           this.onOptimum?.(label, o);
+        }
+        const d = job.result?.dispersion;
+        if (d) {
+          li.append(el("div", { class: "succeeded" }, outcomeWords(d)));
+          this.onDispersion?.(label, d, job);
         }
         await this.onSucceeded(job);
       } else if (job.error) {

@@ -1,6 +1,8 @@
 // The map page: stored footprints on the cylindrical map and the globe, moved live around orbits through the
-// transform endpoint, new jobs, landing sites and reach, exports and the range plot.
+// transform endpoint, new jobs, dispersions, landing sites and reach, exports and the range plot.
 import { api } from "./api.js";
+import { DispersionPanel, placeDispersion } from "./dispersion.js";
+import { drawDispersionPlot } from "./dispersionplot.js";
 import { exportCSV, exportGeoJSON, exportPNG } from "./exporting.js";
 import { el, fmt } from "./format.js";
 import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
@@ -18,7 +20,7 @@ const DEBOUNCE_MS = 150; // the polygon follows a dragged control without a requ
 const SAME_DEG = 1e-9;
 
 const state = { footprints: new Map(), selectedId: null, view: "map", colorIndex: 0, optimum: null, reach: null,
-                plot: "range" };
+                dispersion: null, plot: "range" };
 const OPTIMUM_COLOR = "#111827";
 
 function toast(message, isError = false) {
@@ -34,7 +36,10 @@ const mapView = new MapView($("map"), { onClick: (latlng) => sites.onMapClick(la
 const globe = new GlobeView($("globe"));
 const sites = new SitesPanel({ onChange: () => redrawSites(), onReach: (result) => showReach(result),
                                selectedFootprint: () => selected(), toast });
-const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOptimum: (name, result) => showOptimum(name, result) });
+const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOptimum: (name, result) => showOptimum(name, result),
+                             onDispersion: (name, d) => showDispersion(name, d), sites: () => sites.sites });
+const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.setDispersionLayer(kind, on); drawGlobeDispersion(); },
+                                              onShowJob: (id) => showDispersionJob(id).catch(fail) });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
 const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
@@ -101,6 +106,7 @@ function redraw(fp) {
 
 function redrawSites() {
   mapView.setSites(sites.shown());
+  if (state.dispersion) drawDispersion(); // a site of the study is named on the map unless it is a stored one
   globe.setData(visible(), sites.shown());
 }
 
@@ -183,7 +189,7 @@ async function showJobFootprints(job) {
 
 // ------------------------------------------------------------------------------------------ plot, optimum
 const PLOTS = { range: () => drawRangePlot($("plot"), selected()), optimum: () => drawHistories($("plot"), state.optimum),
-                reach: () => drawTimeline($("plot"), state.reach) };
+                reach: () => drawTimeline($("plot"), state.reach), dispersion: () => drawDispersionPlot($("plot"), state.dispersion) };
 const drawPlot = () => PLOTS[state.plot]();
 
 function setPlot(which) {
@@ -211,7 +217,36 @@ function showOptimum(name, result) {
   $("plot-optimum").disabled = false;
   setPlot("optimum");
 }
+/** A dispersion job's result on the map, in the panels and in the plot. */
+function showDispersion(name, dispersion) {
+  state.dispersion = { name, dispersion, placed: placeDispersion(dispersion) };
+  dispersionPanel.show(name, dispersion, state.dispersion.placed);
+  sites.setDispersion(name, dispersion.sites); // redraws the sites, and with them draws the dispersion
+  mapView.fitDispersion();
+  $("plot-dispersion").disabled = false;
+  setPlot("dispersion");
+  dispersionPanel.loadJobs().catch(fail);
+}
+
+function drawDispersion() {
+  const { name, dispersion, placed } = state.dispersion;
+  mapView.drawDispersion(placed, { name, samples: dispersion.samples, layers: dispersionPanel.layers() });
+  mapView.setLegend(visible());
+  drawGlobeDispersion();
+}
+
+function drawGlobeDispersion() {
+  if (state.dispersion) globe.setDispersion(state.dispersion.name, state.dispersion.dispersion, dispersionPanel.layers());
+}
+
+async function showDispersionJob(id) {
+  const job = await api(`/api/jobs/${id}`);
+  if (!job.result?.dispersion) throw new Error(`job ${id} has no dispersion result`);
+  showDispersion(job.name || `dispersion ${id.slice(0, 8)}`, job.result.dispersion);
+}
+
 $("plot-range").addEventListener("click", () => setPlot("range"));
+$("plot-dispersion").addEventListener("click", () => setPlot("dispersion"));
 $("plot-optimum").addEventListener("click", () => setPlot("optimum"));
 $("plot-reach").addEventListener("click", () => setPlot("reach"));
 
@@ -311,13 +346,20 @@ function setView(view) {
   $("map").hidden = view !== "map";
   $("globe").hidden = view !== "globe";
   if (view === "map") mapView.invalidate();
-  else { if (selected()) centerGlobe(selected()); globe.render(); }
+  else {
+    if (state.plot === "dispersion" && state.dispersion) centerGlobeOn(state.dispersion.dispersion.nominal);
+    else if (selected()) centerGlobe(selected());
+    globe.render();
+  }
 }
 
-function centerGlobe(fp) {
+const centerGlobe = (fp) => centerGlobeOn(fp.shown.points);
+
+function centerGlobeOn(points) {
   // the middle of the footprint's points (mean of unit vectors), so the whole footprint faces the viewer
   let x = 0, y = 0, z = 0;
-  for (const p of fp.shown.points) {
+  for (const p of points) {
+    if (p.latitude_deg == null) continue;
     const la = p.latitude_deg * Math.PI / 180, lo = p.longitude_deg * Math.PI / 180;
     x += Math.cos(la) * Math.cos(lo); y += Math.cos(la) * Math.sin(lo); z += Math.sin(la);
   }
@@ -340,7 +382,7 @@ async function start() {
   const config = api("/api/config").then((c) => { if (c.tile_url) mapView.addTileLayer(c.tile_url); })
     .catch((err) => console.warn(`no tile layer: ${err.message || err}`));
   await Promise.all([mapView.ready, globe.ready, config]);
-  const [items] = await Promise.all([loadFootprints(), jobs.loadVehicles(), sites.load()]);
+  const [items] = await Promise.all([loadFootprints(), jobs.loadVehicles(), sites.load(), dispersionPanel.loadJobs()]);
   const first = items.slice(0, 6); // the newest few drawn at once; the rest one tick away in the list
   for (const item of first) await setVisible(state.footprints.get(item.id), true);
   if (first.length) await select(first[0].id);
@@ -350,4 +392,5 @@ async function start() {
   console.info(`map page ready in ${Math.round(performance.now())} ms`);
 }
 
-window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, setVisible, ready: start().catch(fail) };
+window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, setVisible, showDispersionJob,
+                        ready: start().catch(fail) };

@@ -2,11 +2,68 @@
 // Figs. 31-32), with Natural Earth land, coastlines and borders drawn from the shipped data.
 /* global L */
 import { loadWorld, planarFeatures } from "./basemap.js";
-import { boundaryLine, copyOffsets, describeParameter, openRing, planarOutline, unwrapLongitudes, unwrapRing } from "./geometry.js";
-import { escapeHtml, fmt } from "./format.js";
+import { boundaryLine, copyOffsets, describeParameter, openRing, planarOutline, sameSite, unwrapLongitudes,
+         unwrapRing } from "./geometry.js";
+import { el, escapeHtml, fmt } from "./format.js";
+import { LAYERS, flightWords, intervalWords, levelWords, percent, sigmaNmi } from "./dispersion.js";
 
 const GRATICULE_DEG = 30;
 const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world either way
+const DISPERSION = { nominal: "#14304f", confidence: "#6a3d9a", ellipse: "#d95f02", cloud: "#1d2733" };
+const CLOUD_DOT_PX = 2;
+const SITE_NAMES_ZOOM = 3; // below it a dispersion's sites (that are not stored sites) show their probability only
+
+/** A dispersion's landing points as small squares on a canvas renderer: one layer for all of them (22 flights x
+ * 1,000 samples, on each copy of the map), projected once per zoom and drawn where the renderer redraws. */
+const CloudPoints = L.Path.extend({
+  options: { interactive: false, stroke: false, fill: true, fillColor: DISPERSION.cloud, fillOpacity: 0.5, size: CLOUD_DOT_PX },
+
+  initialize(latitudes, longitudes, offsets, options) {
+    L.setOptions(this, options);
+    this._lats = latitudes;
+    this._lons = longitudes;
+    this._offsets = offsets;
+  },
+
+  count() { return this._lats.length * this._offsets.length; },
+
+  _project() {
+    const map = this._map, n = this._lats.length, xy = new Float32Array(2 * n * this._offsets.length);
+    let m = 0, x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (const offset of this._offsets) {
+      for (let i = 0; i < n; i++) {
+        const p = map.latLngToLayerPoint([this._lats[i], this._lons[i] + offset]);
+        xy[m++] = p.x; xy[m++] = p.y;
+        if (p.x < x0) x0 = p.x; if (p.x > x1) x1 = p.x; if (p.y < y0) y0 = p.y; if (p.y > y1) y1 = p.y;
+      }
+    }
+    this._xy = xy;
+    this._pxBounds = m ? L.bounds([x0, y0], [x1, y1]) : null;
+  },
+
+  _update() { if (this._map) this._updatePath(); },
+
+  _updatePath() {
+    const r = this._renderer;
+    if (!r._drawing || !this._xy) return; // the canvas renderer calls this again while it draws
+    const ctx = r._ctx, b = r._bounds, size = this.options.size, half = size / 2, xy = this._xy;
+    ctx.globalAlpha = this.options.fillOpacity;
+    ctx.fillStyle = this.options.fillColor;
+    for (let m = 0; m < xy.length; m += 2) {
+      const x = xy[m], y = xy[m + 1];
+      if (x >= b.min.x && x <= b.max.x && y >= b.min.y && y <= b.max.y) ctx.fillRect(x - half, y - half, size, size);
+    }
+  },
+
+  _empty() { return !this._xy?.length; },
+  _containsPoint() { return false; },
+});
+
+/** A colour between light grey (probability 0) and green (1). */
+function probabilityColor(p) {
+  const a = [217, 217, 217], b = [27, 120, 55];
+  return `rgb(${a.map((v, i) => Math.round(v + (b[i] - v) * Math.max(0, Math.min(1, p)))).join(",")})`;
+}
 
 export function pointTooltip(fp, p) {
   const rows = [
@@ -51,6 +108,9 @@ export class MapView {
     this.map.createPane("basemap").style.zIndex = 250;
     this.basemapRenderer = L.canvas({ pane: "basemap", padding: 0.5 });
     this.svgRenderer = L.svg({ padding: 0.5 });
+    this.map.createPane("clouds").style.zIndex = 390; // a dispersion's landing points, under the vector layers
+    this.cloudRenderer = L.canvas({ pane: "clouds", padding: 0.5 });
+    this.dispersion = null; // {groups, placed, name}
     this.footprintLayers = new Map();
     this.landLayers = [];
     this.tileLayer = null; // the optional online tile layer (FOOTPRINT_TILE_URL, via GET /api/config)
@@ -63,6 +123,9 @@ export class MapView {
     this.map.on("click", (e) => onClick?.(e.latlng));
     this.gridLabels = L.layerGroup().addTo(this.map);
     this.map.on("moveend zoomend", () => this._labelGraticule());
+    const zoomClass = () => element.classList.toggle("zoomed-out", this.map.getZoom() < SITE_NAMES_ZOOM);
+    this.map.on("zoomend", zoomClass);
+    zoomClass();
     this._addScale();
     this.ready = this._drawBasemap().then(() => this._labelGraticule());
   }
@@ -241,6 +304,91 @@ export class MapView {
     if (main) this.map.fitBounds(main.getBounds().pad(0.3), { maxZoom: 4 });
   }
 
+  /** A dispersion job's result, placed (dispersion.placeDispersion): the nominal boundary (dashed), each confidence
+   * footprint (filled, darker at a higher level, labelled), the 3-sigma ellipses, the landing points and the sites
+   * with their probability, each kind one layer group that the panel turns on and off. */
+  drawDispersion(placed, { name, samples, layers }) {
+    this.removeDispersion();
+    const groups = Object.fromEntries(LAYERS.map((k) => [k, L.layerGroup()]));
+    const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true };
+    const levels = placed.confidence.length;
+    for (const offset of placed.offsets) {
+      const copy = `disp-copy-${offset}`;
+      const latlngs = (pairs) => pairs.map(([lon, lat]) => [lat, lon + offset]);
+      placed.confidence.forEach((c, rank) => c.rings.forEach((r, i) => {
+        if (r.area) L.polygon(latlngs(r.area), { ...svg, stroke: false, fillColor: DISPERSION.confidence, fillOpacity: 0.1 + 0.14 * rank,
+                                     className: `dispersion-confidence-area ${copy}`, interactive: false }).addTo(groups.confidence);
+        L.polyline(latlngs(r.line), { ...svg, color: DISPERSION.confidence, weight: 1.6, opacity: 0.9,
+                                      className: `dispersion-confidence level-${Math.round(c.level * 1000)} ${copy}`,
+                                      interactive: false }).addTo(groups.confidence);
+        if (i > 0) return; // the level's label on its largest piece, at its northernmost point
+        const [lon, lat] = r.line.reduce((a, b) => (b[1] > a[1] ? b : a));
+        const below = levels > 1 && rank > 0; // the widest level's label above its edge, the others inside theirs
+        L.marker([lat, lon + offset], { interactive: false, keyboard: false,
+          icon: L.divIcon({ className: `confidence-label ${below ? "below" : "above"}`, iconSize: null,
+                            html: el("span", {}, levelWords(c.level)) }) }).addTo(groups.confidence);
+      }));
+      if (placed.nominal) {
+        L.polyline(latlngs(placed.nominal.line), { ...svg, color: DISPERSION.nominal, weight: 2, dashArray: "8 5",
+                                                   className: `dispersion-nominal ${copy}`, interactive: false }).addTo(groups.nominal);
+      }
+      for (const e of placed.ellipses) {
+        const [sd, sc] = sigmaNmi(e.flight);
+        const tip = el("div", {}, el("strong", {}, name), el("br"), `3σ ellipse · ${flightWords(e.flight)}`, el("br"),
+          `${fmt(e.flight.landed)} of ${fmt(samples)} landed · mean ${fmt(e.flight.mean_downrange_nmi)} nmi down-range, `
+          + `${fmt(e.flight.mean_crossrange_nmi)} nmi cross-range · σ ${fmt(sd)} × ${fmt(sc)} nmi`);
+        L.polyline(latlngs(e.line), { ...svg, color: DISPERSION.ellipse, weight: 1.6, className: `dispersion-ellipse ${copy}` })
+          .bindTooltip(tip, { sticky: true }).addTo(groups.ellipses);
+      }
+    }
+    const c = placed.clouds;
+    groups.clouds.addLayer(new CloudPoints(c.latitude_deg, c.longitude_deg, placed.offsets, { renderer: this.cloudRenderer }));
+    const stored = this.storedSites ?? [];
+    for (const s of placed.sites) {
+      const named = !stored.some((t) => sameSite(t, s));
+      const tip = el("div", {}, el("strong", {}, s.name), el("br"),
+        `P ${percent(s.probability)} (${levelWords(s.interval_level)} interval ${intervalWords(s.interval)}) · ${fmt(s.samples_reaching)} samples reach it`,
+        el("br"), `${s.inside_nominal ? "inside" : "outside"} the nominal footprint · ${fmt(s.downrange_nmi)} nmi down-range, `
+        + `${fmt(s.crossrange_nmi)} nmi cross-range`);
+      for (const offset of WORLD_COPIES_DEG) {
+        // the stored site's own label says its name on the right; a site of the study only is named here, once
+        // the map is zoomed in far enough for names not to cover one another (its popup names it at any zoom)
+        L.circleMarker([s.latitude_deg, s.longitude_deg + offset],
+                       { renderer: this.svgRenderer, radius: named ? 7 : 11, // a ring round a stored site's diamond
+                         color: "#1d2733", weight: 1.5, fillColor: probabilityColor(s.probability),
+                         fillOpacity: 1, className: "dispersion-site" })
+          .bindTooltip(el("span", {}, named ? el("span", { class: "dispersion-site-name" }, `${s.name} · `) : null,
+                          percent(s.probability)),
+                       { permanent: true, direction: "left", offset: [-8, 0], className: "site-label dispersion-p" })
+          .bindPopup(tip)
+          .addTo(groups.sites);
+      }
+    }
+    this.dispersion = { groups, placed, name };
+    for (const [kind, on] of Object.entries(layers)) this.setDispersionLayer(kind, on);
+  }
+
+  setDispersionLayer(kind, on) {
+    const g = this.dispersion?.groups[kind];
+    if (!g) return;
+    if (on) g.addTo(this.map); else g.remove();
+  }
+
+  removeDispersion() {
+    for (const g of Object.values(this.dispersion?.groups ?? {})) g.remove();
+    this.dispersion = null;
+  }
+
+  /** The view on the dispersion's main copy, all of it. */
+  fitDispersion() {
+    const b = this.dispersion?.placed.bounds;
+    if (!b || !Number.isFinite(b.west)) return;
+    // the legend (bottom right) is tall with a dispersion in it: a wide footprint goes above it
+    const legend = this.legendDiv.hidden ? 0 : this.legendDiv.offsetHeight;
+    this.map.fitBounds([[b.south, b.west], [b.north, b.east]], { maxZoom: 4, paddingTopLeft: [50, 30],
+                                                                 paddingBottomRight: [40, Math.max(70, legend + 30)], animate: false });
+  }
+
   removeFootprint(id) {
     this.footprintLayers.get(id)?.remove();
     this.footprintLayers.delete(id);
@@ -256,10 +404,22 @@ export class MapView {
         + optimum + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>' + reach
       : "";
     this.legendDiv.hidden = !(footprints.length || optimum);
+    if (this.dispersion) {
+      const key = (cls, style, text) => el("div", {}, el("span", { class: cls, style }), text);
+      const levels = this.dispersion.placed.confidence.map((c) => levelWords(c.level)).join(", ");
+      this.legendDiv.append(el("div", { class: "legend-dispersion" }, el("strong", {}, this.dispersion.name),
+        key("dash", { borderTopColor: DISPERSION.nominal }, "nominal footprint"),
+        key("swatch", { background: DISPERSION.confidence }, `confidence footprints ${levels}`),
+        key("line", { background: DISPERSION.ellipse }, "3σ ellipse of each flight"),
+        key("dot", { background: DISPERSION.cloud }, "landing points"),
+        key("dot site", { background: probabilityColor(1) }, "site: P of reaching it (grey 0, green 1)")));
+      this.legendDiv.hidden = false;
+    }
   }
 
   /** Landing sites as diamonds; green when the last reach analysis reached them, red when it did not. */
   setSites(sites) {
+    this.storedSites = sites;
     this.sitesLayer.clearLayers();
     for (const s of sites) {
       const state = s.reachable == null ? "unknown" : s.reachable ? "reached" : "missed";

@@ -2,7 +2,8 @@
 import { api } from "./api.js";
 import { clearFieldErrors, showFieldError } from "./fielderrors.js";
 import { el, escapeHtml, fmt } from "./format.js";
-import { openRing, wrapLongitude } from "./geometry.js";
+import { intervalWords, percent } from "./dispersion.js";
+import { openRing, sameSite, wrapLongitude } from "./geometry.js";
 
 const $ = (id) => document.getElementById(id);
 const num = (id) => { const v = $(id).value.trim(); return v === "" ? null : +v; };
@@ -16,10 +17,19 @@ function verdict(s) {
     + `(node ${fmt(v.orbit.node_longitude_deg, 1)}°, i ${fmt(v.orbit.inclination_deg, 1)}°)`);
 }
 
+/** A site's probability in the dispersion shown: "P 97.7 % (93.3–99.5 %) in lod-1.89 dispersed". */
+function dispersionVerdict(s, dispersion) {
+  const hit = dispersion?.sites.find((t) => sameSite(t, s));
+  if (!hit) return null;
+  return el("span", { class: "dispersion-p" }, `P ${percent(hit.probability)} (${intervalWords(hit.interval)}) in `,
+            el("em", {}, dispersion.name));
+}
+
 export class SitesPanel {
   constructor({ onChange, onReach, selectedFootprint, toast }) {
     this.sites = [];
     this.reach = null; // the last reach result, by site name
+    this.dispersion = null; // {name, sites} of the dispersion shown
     this.onChange = onChange;
     this.onReach = onReach;
     this.selectedFootprint = selectedFootprint;
@@ -54,9 +64,15 @@ export class SitesPanel {
   render() {
     $("site-list").replaceChildren(...this.shown().map((s) => el("li", {},
       el("span", {}, `${s.name} `, el("span", { class: "muted" }, `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°`),
-         verdict(s)),
+         verdict(s), dispersionVerdict(s, this.dispersion)),
       el("button", { type: "button", "data-delete": String(s.id), "aria-label": `Delete ${s.name}` }, "×"))));
     this.onChange();
+  }
+
+  /** The probabilities of the dispersion shown, beside the stored sites it has. */
+  setDispersion(name, sites) {
+    this.dispersion = { name, sites };
+    this.render();
   }
 
   async onMapClick(latlng) {
