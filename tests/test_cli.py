@@ -264,3 +264,25 @@ def test_a_temperature_limit_no_setting_can_meet_is_one_line_and_exit_2(tmp_path
     lines = r.stderr.strip().splitlines()
     assert r.returncode == 2 and len(lines) == 1, r.stderr
     assert lines[0].startswith("error: limit_R: 2550 degR cannot be met"), lines[0]
+
+
+def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(tmp_path):
+    """Issue 16: `footprint disperse` answers what the Python door and the job kind answer, trajectories included."""
+    from footprint import disperse
+
+    study = {"footprint": json.loads((EXAMPLES / "footprint_lod189.json").read_text()) | {"bank0_deg": [0, 60]},
+             "samples": 24, "seed": 3, "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
+             "sites": [{"name": "Ascension", "latitude_deg": -7.95, "longitude_deg": -14.36}]}
+    path = write_case(tmp_path, study)
+    piped = run("disperse", path, "--workers", 0)
+    assert piped.returncode == 0, piped.stderr
+    got = json.loads(piped.stdout)
+    here, _ = disperse(study)
+    flights = len(here.flights)  # the family: each setting and its mirror, counted by the core
+    assert got["trajectories"] == 24 * flights == got["outcomes"]["flights"]
+    assert [f["mean_downrange_nmi"] for f in got["flights"]] == [f["mean_downrange_nmi"] for f in here.flights]
+    assert got["sites"][0]["probability"] == here.sites[0]["probability"]
+    assert (got["design"], got["seed"], got["run"]["workers"]) == ("sobol", 3, 0)
+    code, text = run_on_terminal("disperse", path, "--workers", 0)
+    assert code == 0 and "\n  Ascension: probability 0.000 (95% interval 0.000-0.142); outside" in text, text
+    assert f"24 samples (sobol, seed 3): {24 * flights:,} trajectories in " in text and " s in this process; " in text

@@ -215,15 +215,14 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
         from footprint.pictures.figures import dispersion_figure, save
 
         save(dispersion_figure(stats), figure)
-    out = stats.to_dict(cloud_points=clouds) | {"design": study.design, "seed": study.seed, "run": info}
-    _answer(out, as_json, _dispersion_lines)
+    _answer(contracts.module("dispersion").to_dict(study, stats, clouds, info), as_json, _dispersion_lines)
 
 
 def _dispersion_lines(r: dict) -> list[str]:
     o, run = r["outcomes"], r["run"]
     ended = ", ".join(f"{v:,} {k}" for k, v in o.items() if k not in ("flights", "landed"))
     out = [f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}): {o['flights']:,} trajectories in "
-           f"{run['seconds']:.1f} s on {run['workers'] or 'this'} {'process' if not run['workers'] else 'worker(s)'}; "
+           f"{run['seconds']:.1f} s " + (f"on {run['workers']} worker(s); " if run["workers"] else "in this process; ") +
            f"{o.get('landed', 0):,} landed" + (f", {ended}" if ended else "")]
     out.append(f"  {'setting':<28} {'landed':>7} {'mean D nmi':>10} {'mean X nmi':>10} {'sd D':>7} {'sd X':>7}")
     for f in r["flights"]:

@@ -5,7 +5,10 @@ footprints, the 3-sigma ellipses, the landing points and the sites' probabilitie
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+from footprint.core.outline import outline
+from footprint.core.sphere import Reference, downrange_crossrange_nmi
 
 from .conftest import JOB_TIMEOUT_S
 
@@ -190,7 +193,7 @@ def test_an_earlier_dispersion_is_shown_again_after_a_reload(open_page, service,
     assert not run.errors and run.violations() == []
 
 
-PLACEMENT_JS = """async () => {
+PLACEMENT_JS = """async (capOutline) => {
   const { placeDispersion } = await import("/js/dispersion.js");
   const lists = (pts) => ({ latitude_deg: pts.map((p) => p[1]), longitude_deg: pts.map((p) => p[0]) });
   const wrap = (lon) => ((lon + 540) % 360) - 180;
@@ -206,26 +209,33 @@ PLACEMENT_JS = """async () => {
               nominal: [{ parameter: { bank0_deg: 0 }, side: "axis", latitude_deg: 0, longitude_deg: wrap(250) }],
               nominal_boundary: lists(boundary),
               flights: [{ parameter: { bank0_deg: 0 }, side: "axis", landed: 1, outcomes: {}, ellipses: { 3: lists(ellipse) } }],
-              confidence: [{ level: 0.9, rings: [{ ...lists(boundary), area_nmi2: 1 }, { ...lists(cap), area_nmi2: 1 }] }],
+              confidence: [{ level: 0.9, rings: [{ ...lists(boundary), area_nmi2: 1 }, { ...lists(cap), area_nmi2: 1 },
+                                                { ...lists(cap), area_nmi2: 1, outline: capOutline }] }],
               sites: [], clouds: { latitude_deg: [[1, -1]], longitude_deg: [[wrap(251), wrap(249)]] } };
   const p = placeDispersion(d), lons = (shape) => shape.line.map(([lon]) => lon);
   return { nominal: [Math.min(...lons(p.nominal)), Math.max(...lons(p.nominal))],
            ellipse: [Math.min(...lons(p.ellipses[0])), Math.max(...lons(p.ellipses[0]))],
            clouds: Array.from(p.clouds.longitude_deg), ring: p.confidence[0].rings[0].area !== null,
-           cap: { area: p.confidence[0].rings[1].area, holdsPole: p.confidence[0].rings[1].holdsPole }, holdsPole: p.holdsPole };
+           cap: { area: p.confidence[0].rings[1].area, holdsPole: p.confidence[0].rings[1].holdsPole }, holdsPole: p.holdsPole,
+           outlined: p.confidence[0].rings[2].area };
 }"""
 
 
-def test_every_shape_lies_on_the_boundary_copy_and_a_ring_round_a_pole_is_not_filled(open_page):
+def test_every_shape_lies_on_the_boundary_copy_and_a_ring_round_a_pole_is_filled_only_by_its_outline(open_page):
     """dispersion.placeDispersion on a made-up result: the far end of a footprint past 180 E keeps its ellipse and
     landing points beside it (250 E, not 110 W); a ring round the pole with no outline from the service (core.outline)
-    is drawn as its edge, never filled across the map."""
+    is drawn as its edge, never filled across the map; with one, it is filled to the pole."""
     run = open_page()
-    placed = run.page.evaluate(PLACEMENT_JS)
+    cap_lons = np.arange(0.0, 360.0, 10.0)  # the made-up ring round the pole at 70 N, outlined as the service does
+    down, cross = downrange_crossrange_nmi(np.full_like(cap_lons, 70.0), cap_lons, 0.0, 0.0, 0.0)  # flown north
+    placed = run.page.evaluate(PLACEMENT_JS, outline(down, cross, Reference(0.0, 0.0, 0.0)).to_dict())
     assert placed["nominal"] == pytest.approx([10, 250])
     assert placed["ellipse"] == pytest.approx([242, 258])
     assert placed["clouds"] == pytest.approx([251, 249])
     assert placed["ring"] and placed["cap"] == {"area": None, "holdsPole": True} and placed["holdsPole"]
+    lons, lats = np.array(placed["outlined"]).T  # with its outline the same ring is filled up to the pole
+    assert lats.max() == 90.0 and lats.min() == pytest.approx(70.0, abs=0.01)
+    assert lons.max() - lons.min() == pytest.approx(360.0, abs=0.1)
     assert not run.errors
 
 

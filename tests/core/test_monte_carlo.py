@@ -165,6 +165,8 @@ def test_flights_that_end_otherwise_are_counted_not_dropped():
     ({"density": {"std": 0.5}}, "density.std", "0 to 0.2"),
     ({"footprint": {"case": FOOTPRINT["case"], "method": "two_parameter", "bank_gain": [0.5], "sigma_f_deg": [0]}},
      "footprint.method", "fixed control laws"),
+    ({"footprint": FOOTPRINT | {"case": FOOTPRINT["case"] | {"stop": {"altitude_ft": -5}}}},
+     "footprint.case.stop.altitude_ft", "outside the allowed range"),  # not footprint.single_parameter.case...
 ])
 def test_bad_dispersions_get_one_line_naming_the_field(fields, field, words):
     with pytest.raises(ValidationError) as info:
@@ -177,3 +179,21 @@ def test_bad_dispersions_get_one_line_naming_the_field(fields, field, words):
 def test_a_dispersion_that_draws_an_impossible_value_names_its_field():
     with pytest.raises(InputError, match=r"^entry\.altitude_ft: .* must be > 0"):
         run(study(samples=16, entry={"altitude_ft": {"uniform": {"half_width": 1_000_000}}}))
+
+
+def test_a_footprint_round_a_pole_is_outlined_closed_along_it():
+    """The map fills a ring from its outline (core.outline), which closes a ring holding a pole along the pole: an
+    entry at 60 N heading north reaches 14,000 nmi, round the north pole and back; the Table 2 footprint about the
+    equator holds no pole."""
+    polar = copy.deepcopy(SMALL)
+    polar["case"]["entry"] |= {"latitude_deg": 60.0, "heading_deg": 0.0}
+    result = run(study(polar, samples=8, seed=2, entry={"gamma_deg": {"normal": {"std": 0.02}}},
+                       confidence=[0.5]))[0].to_dict()
+    ring = max(result["confidence"][0]["rings"], key=lambda r: r["area_nmi2"])
+    for shape in (result["nominal_boundary"], ring):
+        o = shape["outline"]
+        assert o["pole"] == "north" and max(o["latitude_deg"]) == 90.0, o["pole"]
+        assert max(o["longitude_deg"]) - min(o["longitude_deg"]) == pytest.approx(360.0, abs=0.1)  # once round
+    equatorial = run(study(samples=4, seed=2, confidence=[0.5]))[0].to_dict()
+    assert equatorial["nominal_boundary"]["outline"]["pole"] is None
+    assert all(r["outline"]["pole"] is None for r in equatorial["confidence"][0]["rings"])

@@ -45,6 +45,7 @@ def test_a_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
     ({"entry": {"gamma_deg": {"normal": {"std": -1}}}}, "study.entry.gamma_deg.normal.std"),
     ({"samples": 200_000}, "study.samples"),
     ({"density": {"std": [0.1, 0.1]}}, "study.density"),
+    ({"footprint": STUDY["footprint"] | {"bank0_deg": [200]}}, "study.footprint.bank0_deg.0"),
 ])
 def test_bad_dispersions_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "dispersion", "study": STUDY | change})

@@ -520,8 +520,9 @@ def error_line(exc: ValidationError | InputError) -> str:
         loc = []
         for i, x in enumerate(err["loc"]):
             after = err["loc"][i - 1] if i else None
-            if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating", "study") and x in _LAW_TAGS)
-                                       or (after == "study" and x in _STUDY_TAGS)):
+            study = after in ("study", "footprint")  # a job's study, a dispersion's footprint study
+            if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating") or study) and x in _LAW_TAGS
+                                       or (study and x in _STUDY_TAGS)):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
             loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
         msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input

@@ -226,9 +226,16 @@ def result(study: dict | DispersionStudy, parts: list[mc.Landings], cloud_sample
     """The JSON-ready result of a run's chunks: the statistics, each cloud thinned to its first `cloud_samples`
     samples, the study's samples and trajectories, and how it ran."""
     plan = _plan(study)
-    out = plan.statistics(parts).to_dict(cloud_points=cloud_samples)
-    return out | {"design": plan.study.design, "seed": plan.study.seed,
-                  "trajectories": plan.study.samples * len(plan.flights), "run": info or {}}
+    return to_dict(plan.study, plan.statistics(parts), cloud_samples, info)
+
+
+def to_dict(study: DispersionStudy, stats: mc.DispersedFootprint, cloud_samples: int | None = CLOUD_SAMPLES_STORED,
+            info: dict | None = None) -> dict:
+    """A dispersion's JSON (the job's result, the CLI's --json): the statistics, each cloud thinned to its first
+    `cloud_samples` samples, the study's design, seed and trajectories, and how it ran."""
+    return stats.to_dict(cloud_points=cloud_samples) | {
+        "design": study.design, "seed": study.seed, "trajectories": study.samples * study.flights_per_sample(),
+        "run": info or {}}
 
 
 _PLANS: dict[str, Plan] = {}  # a worker's plans by study (a study's chunks share one draw per process)
@@ -258,7 +265,8 @@ def run(study, progress: Callable[[int, int], None] | None = None, *, client=Non
             parts.append(plan.fly(first, end))
             if progress:
                 progress(done, len(chunks))
-        return plan.statistics(parts), {"tasks": len(chunks), "workers": 0, "seconds": time.perf_counter() - t0}
+        seconds = time.perf_counter() - t0  # the flights, as on Dask: the statistics are the caller's wait
+        return plan.statistics(parts), {"tasks": len(chunks), "workers": 0, "seconds": seconds}
     from distributed import as_completed
 
     from footprint.parallel import dask_client, worker_count

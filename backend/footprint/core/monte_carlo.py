@@ -31,7 +31,8 @@ from footprint.core._jit import njit
 from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
 from footprint.core.integrate import STOP_REASONS
-from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges
+from footprint.core.outline import outline
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, simulate_summary
 
 # what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
@@ -272,7 +273,7 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
     bx, by = npx[0, :m], npy[0, :m]
     blat, blon = latlon_from_ranges(bx, by, e.latitude_deg, e.longitude_deg, e.heading_deg)
     boundary = {"downrange_nmi": bx.tolist(), "crossrange_nmi": by.tolist(), "latitude_deg": blat.tolist(),
-                "longitude_deg": blon.tolist()}
+                "longitude_deg": blon.tolist(), "outline": _outline(base, bx, by)}
     return DispersedFootprint(
         samples=n, flights=flight_stats, nominal=nom, nominal_boundary=boundary,
         confidence=[_confidence(base, px, py, counts, p, n, grid_nodes) for p in levels],
@@ -336,9 +337,16 @@ def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
         lat, lon = latlon_from_ranges(line[:, 0], line[:, 1], e.latitude_deg, e.longitude_deg, e.heading_deg)
         area = 0.5 * abs(np.dot(line[:-1, 0], line[1:, 1]) - np.dot(line[1:, 0], line[:-1, 1]))
         out["rings"].append({"downrange_nmi": line[:, 0].tolist(), "crossrange_nmi": line[:, 1].tolist(),
-                             "latitude_deg": lat.tolist(), "longitude_deg": lon.tolist(), "area_nmi2": float(area)})
+                             "latitude_deg": lat.tolist(), "longitude_deg": lon.tolist(), "area_nmi2": float(area),
+                             "outline": _outline(base, line[:-1, 0], line[:-1, 1])})
     out["rings"].sort(key=lambda r: -r["area_nmi2"])
     return out
+
+
+def _outline(base, down, cross) -> dict:
+    """The ring as the map draws a footprint (core.outline: edges sampled on the sphere, closed round a pole)."""
+    e = base.entry
+    return outline(down, cross, Reference(e.latitude_deg, e.longitude_deg, e.heading_deg)).to_dict()
 
 
 def _site(base, px, py, counts, npx, npy, ncounts, name, latitude_deg, longitude_deg) -> dict:
