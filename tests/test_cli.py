@@ -165,6 +165,8 @@ def test_a_temperature_limited_footprint_needs_a_heating_model(tmp_path):
     (("footprint", EXAMPLES / "footprint_lod189.json", "--plot", "{missing}/f.png"), "--plot"),
     (("optimize", EXAMPLES / "optimize_betts_collocation.json", "--plot", "{missing}/o.png"), "--plot"),
     (("map", EXAMPLES / "footprint_lod189.json", "--out", "{missing}/m.html"), "--out"),
+    (("disperse", EXAMPLES / "disperse_lod189.json", "--geojson", "{missing}/d.geojson"), "--geojson"),
+    (("disperse", EXAMPLES / "disperse_lod189.json", "--csv", "{missing}/d.csv"), "--csv"),
 ])
 def test_an_output_into_a_missing_folder_is_one_line_and_nothing_is_made(tmp_path, args, option):
     """Issue 13 item 10: --history printed a traceback and --plot made the folders a typo named."""
@@ -274,9 +276,13 @@ def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(t
              "samples": 24, "seed": 3, "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
              "sites": [{"name": "Ascension", "latitude_deg": -7.95, "longitude_deg": -14.36}]}
     path = write_case(tmp_path, study)
-    piped = run("disperse", path, "--workers", 0)
+    piped = run("disperse", path, "--workers", 0, "--geojson", tmp_path / "d.geojson", "--csv", tmp_path / "d.csv")
     assert piped.returncode == 0, piped.stderr
     got = json.loads(piped.stdout)
+    kinds = [f["properties"]["kind"] for f in json.loads((tmp_path / "d.geojson").read_text())["features"]]
+    assert kinds.count("ellipse") == 2 * len(got["flights"]) and kinds.count("site") == 1
+    assert (tmp_path / "d.csv").read_text().splitlines()[1].startswith(
+        f"Ascension,-7.95,-14.36,{got['sites'][0]['probability']},")
     here, _ = disperse(study)
     flights = len(here.flights)  # the family: each setting and its mirror, counted by the core
     assert got["trajectories"] == 24 * flights == got["outcomes"]["flights"]

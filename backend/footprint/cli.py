@@ -186,6 +186,10 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
                                                      help="a running Dask scheduler instead of a local cluster"),
              figure: Optional[Path] = typer.Option(None, "--figure", metavar="FILE.png",
                                                    help="draw the nominal and confidence footprints, clouds, ellipses"),
+             geojson_out: Optional[Path] = typer.Option(None, "--geojson", metavar="FILE.geojson",
+                                                        help="the nominal and confidence footprints, ellipses, sites"),
+             csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="FILE.csv",
+                                                    help="each site's probability and its 95 % interval"),
              clouds: int = typer.Option(1_000, "--clouds", metavar="N", min=0,
                                         help="landing points of each setting kept in the JSON"),
              as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
@@ -198,7 +202,8 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
 
     from footprint.parallel import default_workers
 
-    _writable(figure, "--figure")
+    for path, option in ((figure, "--figure"), (geojson_out, "--geojson"), (csv_out, "--csv")):
+        _writable(path, option)
     study = _request("dispersion", study_file)
     if workers is not None and not 0 <= workers <= 256:
         _fail(f"--workers: {workers} is outside the allowed range 0 to 256")
@@ -215,7 +220,15 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
         from footprint.pictures.figures import dispersion_figure, save
 
         save(dispersion_figure(stats), figure)
-    _answer(contracts.module("dispersion").to_dict(study, stats, clouds, info), as_json, _dispersion_lines)
+    dispersion = contracts.module("dispersion")
+    result = dispersion.to_dict(study, stats, clouds, info)
+    if geojson_out is not None:
+        from footprint.pictures.geojson import dispersion_collection
+
+        geojson_out.write_text(json.dumps(dispersion_collection(result)))
+    if csv_out is not None:
+        csv_out.write_text(dispersion.sites_csv(result))
+    _answer(result, as_json, _dispersion_lines)
 
 
 def _dispersion_lines(r: dict) -> list[str]:

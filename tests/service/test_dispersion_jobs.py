@@ -50,3 +50,71 @@ def test_a_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
 def test_bad_dispersions_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "dispersion", "study": STUDY | change})
     assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
+
+
+SITES = [{"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411},  # deep inside
+         {"name": "Kennedy SLF, \"=cmd\"", "latitude_deg": 28.615, "longitude_deg": -80.695},  # behind the entry
+         {"name": "Honolulu", "latitude_deg": 21.319, "longitude_deg": -157.922},  # past 180 E, near the far end
+         {"name": "Kwajalein", "latitude_deg": 8.72, "longitude_deg": 167.732}]
+
+
+def _holds(geometry, lon, lat) -> bool:
+    """Even-odd in longitude and latitude (RFC 7946 pieces each lie within -180..180, so plain in degrees)."""
+    from matplotlib.path import Path
+
+    polygons = geometry["coordinates"] if geometry["type"] == "MultiPolygon" else [geometry["coordinates"]]
+    return any(Path(np.asarray(p[0])).contains_point((lon, lat)) for p in polygons)
+
+
+def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
+    """GET /api/jobs/{id}/dispersion: the footprints cut at the antimeridian, every site where the chart's own test
+    (inside_nominal, in down-range and cross-range) puts it; the CSV's rows are the result's sites."""
+    import csv
+    import io
+
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "dispersion",
+                                                        "study": STUDY | {"sites": SITES}}).json()["id"])
+    assert job["status"] == "succeeded", job
+    result = job["result"]["dispersion"]
+    r = api.get(f"/api/jobs/{job['id']}/dispersion")
+    assert r.status_code == 200 and r.headers["content-type"] == "application/geo+json"
+    features = r.json()["features"]
+    by_kind = {}
+    for f in features:
+        by_kind.setdefault(f["properties"]["kind"], []).append(f)
+        coords = np.array([xy for ring in (f["geometry"]["coordinates"] if f["geometry"]["type"] == "MultiPolygon"
+                                           else [f["geometry"]["coordinates"]]) for xy in np.reshape(ring, (-1, 2))]
+                          if f["geometry"]["type"] != "Point" else [f["geometry"]["coordinates"]])
+        assert (np.abs(coords[:, 0]) <= 180).all() and (np.abs(coords[:, 1]) <= 90).all()
+    nominal = by_kind["nominal_footprint"][0]["geometry"]
+    assert nominal["type"] == "MultiPolygon"  # the L/D 1.89 footprint runs past 180 E
+    assert len(by_kind["ellipse"]) == 2 * len(result["flights"])
+    assert len(by_kind["confidence_footprint"]) == sum(len(c["rings"]) for c in result["confidence"])
+    for site, feature in zip(result["sites"], by_kind["site"], strict=True):
+        lon, lat = feature["geometry"]["coordinates"]
+        assert (lat, lon) == pytest.approx((site["latitude_deg"], site["longitude_deg"]))
+        assert _holds(nominal, lon, lat) == site["inside_nominal"], site["name"]
+        assert feature["properties"]["probability"] == site["probability"]
+    deep = by_kind["site"][0]
+    assert deep["properties"]["probability"] == 1.0
+    assert all(_holds(f["geometry"], *deep["geometry"]["coordinates"]) for f in by_kind["confidence_footprint"])
+    behind = by_kind["site"][1]["geometry"]["coordinates"]
+    assert not any(_holds(f["geometry"], *behind) for f in by_kind["confidence_footprint"] + by_kind["ellipse"])
+
+    r = api.get(f"/api/jobs/{job['id']}/dispersion", params={"format": "csv"})
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
+    assert "attachment" in r.headers["content-disposition"]
+    rows = list(csv.DictReader(io.StringIO(r.text)))
+    assert [row["name"] for row in rows] == [s["name"] for s in SITES]
+    assert [float(row["probability"]) for row in rows] == [s["probability"] for s in result["sites"]]
+    assert all(int(row["samples"]) == 40 for row in rows)
+
+
+def test_only_a_succeeded_dispersion_job_has_a_dispersion(api):
+    assert api.get("/api/jobs/nope/dispersion").status_code == 404
+    job = api.post("/api/jobs", json={"kind": "footprint", "study": example("footprint_lod189")
+                                      | {"bank0_deg": [0]}}).json()
+    r = api.get(f"/api/jobs/{job['id']}/dispersion")
+    assert r.status_code == 404 and "is a footprint job" in r.json()["detail"], r.json()
+    assert api.get(f"/api/jobs/{job['id']}/dispersion", params={"format": "kml"}).status_code == 422
+    wait_for_job(api, job["id"])

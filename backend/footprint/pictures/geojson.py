@@ -103,3 +103,39 @@ def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
     features += [{"type": "Feature", "geometry": _point(p),
                   "properties": {"kind": "point", "index": i, **p}} for i, p in enumerate(pts)]
     return {"type": "FeatureCollection", "features": features}
+
+
+def _ring(shape: dict, entry: dict) -> Outline:
+    """A dispersion's ring as its outline: the service's own where the result has one, else made from its ranges
+    (an ellipse: closed, its first point repeated last)."""
+    if "outline" in shape:
+        o = shape["outline"]
+        return Outline(np.asarray(o["latitude_deg"], float), np.asarray(o["longitude_deg"], float), o["pole"])
+    down, cross = shape["downrange_nmi"], shape["crossrange_nmi"]
+    if down[0] == down[-1] and cross[0] == cross[-1]:
+        down, cross = down[:-1], cross[:-1]
+    return outline(down, cross, Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"]))
+
+
+def dispersion_collection(result: dict) -> dict:
+    """A dispersion's result (contracts.dispersion.to_dict) as GeoJSON features: the nominal footprint, each
+    confidence footprint (one feature per piece), each flight's 1 and 3 sigma ellipses, the entry and each site
+    with its probability. The landing clouds stay in the JSON (up to 10^5 points a flight)."""
+    entry, samples = result["entry"], result["samples"]
+    features = [{"type": "Feature", "geometry": polygon(_ring(result["nominal_boundary"], entry)),
+                 "properties": {"kind": "nominal_footprint", "samples": samples}},
+                {"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}}]
+    for c in result["confidence"]:
+        features += [{"type": "Feature", "geometry": polygon(_ring(ring, entry)),
+                      "properties": {"kind": "confidence_footprint", "level": c["level"], "piece": i,
+                                     "area_nmi2": ring["area_nmi2"], "samples": samples}}
+                     for i, ring in enumerate(c["rings"])]
+    for f in result["flights"]:
+        about = {k: f[k] for k in ("parameter", "side", "landed", "mean_downrange_nmi", "mean_crossrange_nmi")
+                 if k in f}
+        features += [{"type": "Feature", "geometry": polygon(_ring(shape, entry)),
+                      "properties": {"kind": "ellipse", "sigma": float(sigma), **about}}
+                     for sigma, shape in f.get("ellipses", {}).items()]
+    features += [{"type": "Feature", "geometry": _point(s),
+                  "properties": {"kind": "site", "samples": samples, **s}} for s in result["sites"]]
+    return {"type": "FeatureCollection", "features": features}
