@@ -234,8 +234,9 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
 def _dispersion_lines(r: dict) -> list[str]:
     o, run = r["outcomes"], r["run"]
     ended = ", ".join(f"{v:,} {k}" for k, v in o.items() if k not in ("flights", "landed"))
+    where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"
     out = [f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}): {o['flights']:,} trajectories in "
-           f"{run['seconds']:.1f} s " + (f"on {run['workers']} worker(s); " if run["workers"] else "in this process; ") +
+           f"{run['seconds']:.1f} s {where}; "
            f"{o.get('landed', 0):,} landed" + (f", {ended}" if ended else "")]
     out.append(f"  {'setting':<28} {'landed':>7} {'mean D nmi':>10} {'mean X nmi':>10} {'sd D':>7} {'sd X':>7}")
     for f in r["flights"]:
