@@ -14,6 +14,11 @@ from footprint.service.jobs.engine import JobEngine
 from footprint.service.settings import Settings, environment, load_settings
 
 
+# uvicorn kills an API process that does not answer its supervisor's ping within this (default 5 s): on a loaded
+# machine a new process still importing the app took longer, and was killed and started again at every ping
+HEALTHCHECK_TIMEOUT_S = 30
+
+
 def serve(settings: Settings) -> None:
     """One process answering HTTP and running the jobs; or, with FOOTPRINT_API_PROCESSES past 1, that many API
     processes answering HTTP (reads side by side, past one process's GIL) and this one running the cluster and the
@@ -28,7 +33,8 @@ def serve(settings: Settings) -> None:
     try:
         os.environ.update(environment(settings.model_copy(update={"dask_scheduler": jobs.client.scheduler.address})))
         config = _Config("footprint.service.processes:api_process", factory=True, workers=settings.api_processes,
-                         host=settings.host, port=settings.port, log_level="info")
+                         host=settings.host, port=settings.port, log_level="info",
+                         timeout_worker_healthcheck=HEALTHCHECK_TIMEOUT_S)
         Multiprocess(config, sockets=[config.bind_socket()]).run()  # what uvicorn.run(workers=N) does
     finally:
         jobs.close()
