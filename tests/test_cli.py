@@ -273,7 +273,7 @@ def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(t
     from footprint import disperse
 
     study = {"footprint": json.loads((EXAMPLES / "footprint_lod189.json").read_text()) | {"bank0_deg": [0, 60]},
-             "samples": 24, "seed": 3, "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
+             "samples": 24, "seed": 3, "entry": {"gamma_deg": {"normal": {"std": 0.05}}}, "histories": [7],
              "sites": [{"name": "Ascension", "latitude_deg": -7.95, "longitude_deg": -14.36}]}
     path = write_case(tmp_path, study)
     piped = run("disperse", path, "--workers", 0, "--geojson", tmp_path / "d.geojson", "--csv", tmp_path / "d.csv")
@@ -292,3 +292,5 @@ def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(t
     code, text = run_on_terminal("disperse", path, "--workers", 0)
     assert code == 0 and "\n  Ascension: probability 0.000 (95% interval 0.000-0.142); outside" in text, text
     assert f"24 samples (sobol, seed 3): {24 * flights:,} trajectories in " in text and " s in this process; " in text
+    assert "\n  the flights of sample(s) 7 with their histories: in the JSON\n" in text
+    assert [h["sample"] for h in got["histories"]] == [7] * flights

@@ -248,10 +248,16 @@ def _dispersion_lines(r: dict) -> list[str]:
                        f"{f['mean_crossrange_nmi']:>10,.0f} {a ** 0.5:>7.1f} {d ** 0.5:>7.1f}")
         else:
             out.append(f"  {name:<28} {f['landed']:>7,}")
+        for what, samples in f["outcome_samples"].items():
+            listed = ", ".join(map(str, samples)) + (", ..." if f["outcomes"][what] > len(samples) else "")
+            out.append(f"    {f['outcomes'][what]:,} {what}: samples {listed}")
     for c in r["confidence"]:
         area = sum(ring["area_nmi2"] for ring in c["rings"])
         out.append(f"  footprint reached with probability >= {c['level']:g}: {area:,.0f} nmi2 in {len(c['rings'])} "
                    "ring(s)")
+    if r["histories"]:
+        asked = sorted({h["sample"] for h in r["histories"]})
+        out.append(f"  the flights of sample(s) {', '.join(map(str, asked))} with their histories: in the JSON")
     for s in r["sites"]:
         lo, hi = s["interval"]
         out.append(f"  {s['name']}: probability {s['probability']:.3f} ({s['interval_level']:.0%} interval "

@@ -197,3 +197,40 @@ def test_a_footprint_round_a_pole_is_outlined_closed_along_it():
     equatorial = run(study(samples=4, seed=2, confidence=[0.5]))[0].to_dict()
     assert equatorial["nominal_boundary"]["outline"]["pole"] is None
     assert all(r["outline"]["pole"] is None for r in equatorial["confidence"][0]["rings"])
+
+
+def test_a_sample_asked_for_is_flown_again_with_histories_that_end_where_its_summary_landed():
+    """Two routes to a sample's flights: the summary path of the run (no histories) and trajectory.simulate with
+    histories (contracts.dispersion's `histories`); the same landing to the bit. A flight that ran out of time names
+    its samples, and its history ends at the study's time limit above the stop altitude."""
+    nominal = Plan(parse_request(study())).nominal()
+    timed = copy.deepcopy(SMALL)
+    limit_s = float(nominal.values[0, 0, mc.TIME]) + 1.0
+    timed["case"]["stop"] = {"altitude_ft": 50_000, "time_s": limit_s}
+    s = study(timed, samples=32, seed=1, entry={"velocity_fps": {"normal": {"std": 30}}})
+    first, _ = run(copy.deepcopy(s))
+    late = first.flights[0]["outcome_samples"]["ran out of time"]
+    assert len(late) == first.flights[0]["outcomes"]["ran out of time"]
+    assert np.isnan(first.clouds["latitude_deg"][late, 0]).all()  # not landed: no point in the cloud
+    asked = [late[0], next(i for i in range(32) if i not in late)]
+    stats, info = run(s | {"histories": asked})
+    kept = contracts.module("dispersion").to_dict(parse_request(s | {"histories": asked}), stats, None, info)
+    histories = kept["histories"]
+    assert [(h["sample"], h["side"]) for h in histories] == [(i, f["side"]) for i in asked for f in stats.flights]
+    for h in histories:
+        j = next(j for j, f in enumerate(stats.flights) if (f["side"], f["parameter"]) == (h["side"], h["parameter"]))
+        summary = h["summary"]
+        if h["sample"] == asked[0] and j == 0:
+            assert summary["stop_reason"] == "time" and h["time_s"][-1] == pytest.approx(limit_s)
+            assert h["altitude_ft"][-1] > 50_000
+            continue
+        assert summary["final_latitude_deg"] == stats.clouds["latitude_deg"][h["sample"], j]  # to the bit
+        assert summary["final_longitude_deg"] == stats.clouds["longitude_deg"][h["sample"], j]
+        assert h["latitude_deg"][-1] == summary["final_latitude_deg"] and len(h["time_s"]) <= 200
+        assert h["altitude_ft"][-1] == pytest.approx(50_000, abs=1.0)
+
+
+def test_histories_of_a_sample_that_is_not_there_are_refused():
+    with pytest.raises(ValidationError) as info:
+        parse_request(study(samples=10, histories=[3, 10]))
+    assert error_line(info.value).startswith("histories.1: sample 10 is outside the allowed range 0 to 9")

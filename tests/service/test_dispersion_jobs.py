@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from footprint.contracts.dispersion import run
-from footprint.service.jobs.tasks import plain
+from footprint.contracts.records import plain
 from tests.authorities.report import example
 from tests.service.conftest import wait_for_job
 
@@ -28,10 +28,15 @@ def test_the_same_seed_and_samples_give_the_same_bits_in_this_process_and_on_two
 
 
 def test_a_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
-    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "dispersion", "study": STUDY}).json()["id"])
+    asked = STUDY | {"histories": [33]}  # a sample of the last chunk, flown again with histories by the engine
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "dispersion", "study": asked}).json()["id"])
     assert job["status"] == "succeeded", job
     got = job["result"]["dispersion"]
     assert got["samples"] == 40 and got["outcomes"] == {"flights": 240, "landed": 240}
+    assert [h["sample"] for h in got["histories"]] == [33] * 6
+    for j, h in enumerate(got["histories"]):  # the histories end where the worker's summary path landed
+        assert h["latitude_deg"][-1] == got["clouds"]["latitude_deg"][j][33]
+        assert h["longitude_deg"][-1] == got["clouds"]["longitude_deg"][j][33]
     assert got["trajectories"] == 240 and got["run"] == {"tasks": 4}
     here, _ = run(copy.deepcopy(STUDY))
     assert got["sites"] == plain(here.sites)

@@ -6,7 +6,8 @@ and aerodynamics (footprint.core.dispersion draws them, footprint.core.monte_car
      "entry": {"altitude_ft": {"normal": {"std": 1000}}, "gamma_deg": {"uniform": {"half_width": 0.05}}, ...},
      "vehicle": {"cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}}, "wing_loading_psf": ...},
      "density": {"std": 0.05, "correlation_length_ft": 30000},
-     "confidence": [0.99], "sites": [{"name", "latitude_deg", "longitude_deg"}, ...]}
+     "confidence": [0.99], "sites": [{"name", "latitude_deg", "longitude_deg"}, ...],
+     "histories": [17, 230]}  (samples whose flights are flown again with their histories: a skip-out's, say)
 
 Every distribution is about its input's nominal value (the footprint study's case; a multiplier's is 1), in the
 input's own unit: normal {std, bias}, uniform {half_width, bias} (nominal + bias +- half_width), truncated normal
@@ -28,6 +29,7 @@ from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_v
 
 from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
 from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.records import FLIGHT_KEYS, flown, plain
 from footprint.contracts.reach import Site
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
@@ -39,6 +41,8 @@ MAX_SAMPLES_HTTP = 100_000
 MAX_FLIGHTS = 20_000_000  # samples x the flights of one sample (~4 h on one core)
 MAX_FLIGHTS_HTTP = 2_000_000  # ~12 min on the two workers of a small server
 CHUNK_FLIGHTS = 1_000  # a task flies about this many trajectories (~1 s): progress, balance (10-15 % faster than 2,000)
+MAX_HISTORY_SAMPLES = 8  # samples whose flights are kept with their histories (each flight ~4,000 values)
+HISTORY_POINTS = 200  # a kept flight's histories, decimated
 CLOUD_SAMPLES_STORED = 1_000  # the landing points a job's stored result keeps of each flight (the map's clouds)
 LAWS = ("single_parameter", "constant_bank", "staged")  # footprint_methods.FAMILIES: fixed control laws
 
@@ -132,7 +136,8 @@ class DispersionStudy(Strict):
     density: DensityDispersion | None = None
     confidence: list[bounded(0.01, 0.999)] = Field(default=[0.99], min_length=1, max_length=5)
     sites: list[Site] = Field(default=[], max_length=1_000)
-    chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies (default ~2,000 flights)
+    chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies (default ~1,000 flights)
+    histories: list[int] = Field(default=[], max_length=MAX_HISTORY_SAMPLES)  # samples flown again in full
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo):
@@ -147,6 +152,10 @@ class DispersionStudy(Strict):
         samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
         if self.samples > samples:
             raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")
+        for i, index in enumerate(self.histories):
+            if not 0 <= index < self.samples:
+                raise ValueError(f"histories.{i}: sample {index} is outside the allowed range 0 to "
+                                 f"{self.samples - 1:,} (the samples, counted from 0)")
         flights, where = door_limit(info, MAX_FLIGHTS, MAX_FLIGHTS_HTTP)
         if self.samples * self.flights_per_sample() > flights:
             raise ValueError(f"samples: {self.samples:,} samples x {self.flights_per_sample()} flights = "
@@ -211,6 +220,15 @@ class Plan:
     def nominal(self) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, disp.draw({}, 1, 0))
 
+    def histories(self) -> list[dict]:
+        """The flights of the samples the study names, flown again with their histories (decimated)."""
+        out = []
+        for index in self.study.histories:
+            for f, traj in zip(self.flights, mc.sample_trajectories(self.spec, self.flights, self.samples, index)):
+                out.append({"sample": index, "parameter": f.parameter, "side": f.side,
+                            **flown(traj, FLIGHT_KEYS, HISTORY_POINTS)})
+        return out
+
     def statistics(self, parts: list[mc.Landings]) -> mc.DispersedFootprint:
         s = self.study
         return mc.statistics(self.spec, self.flights, self.mirror, mc.Landings.join(parts), self.nominal(),
@@ -234,10 +252,11 @@ def result(study: dict | DispersionStudy, parts: list[mc.Landings], cloud_sample
 def to_dict(study: DispersionStudy, stats: mc.DispersedFootprint, cloud_samples: int | None = CLOUD_SAMPLES_STORED,
             info: dict | None = None) -> dict:
     """A dispersion's JSON (the job's result, the CLI's --json): the statistics, each cloud thinned to its first
-    `cloud_samples` samples, the study's design, seed and trajectories, and how it ran."""
-    return stats.to_dict(cloud_points=cloud_samples) | {
+    `cloud_samples` samples, the study's design, seed and trajectories, how it ran, and the flights of the samples
+    it asks histories of."""
+    return plain(stats.to_dict(cloud_points=cloud_samples) | {
         "design": study.design, "seed": study.seed, "trajectories": study.samples * study.flights_per_sample(),
-        "run": info or {}}
+        "run": info or {}, "histories": _plan(study).histories()})
 
 
 SITE_COLUMNS = ("name", "latitude_deg", "longitude_deg", "probability", "interval_low", "interval_high",

@@ -13,7 +13,8 @@ lies outside the others, the right half back; a half footprint closed along the 
 - each site's probability of being reached, with its Clopper-Pearson interval (Clopper & Pearson, Biometrika 26,
   1934: exact, so 0 of n and n of n keep a finite width);
 - the spread of the maximum temperature and of the heat load when the case has a heating model;
-- every flight that did not end at the study's stop, counted by its stop reason, never dropped silently.
+- every flight that did not end at the study's stop, counted by its stop reason (its first samples named, to fly
+  again with histories: sample_trajectories), never dropped silently.
 
 Ranges are about the nominal entry's great circle on the sphere of radius R' (sphere.downrange_crossrange_nmi), a
 landing's down-range on the branch nearest its own flight's (so past half a circumference too). Pure numerics.
@@ -33,7 +34,7 @@ from footprint.core.errors import Stopped
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.outline import outline
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
-from footprint.core.trajectory import FlightSpec, simulate_summary
+from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
 
 # what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
 KEPT = ("final_latitude_deg", "final_longitude_deg", "downrange_nmi", "crossrange_nmi", "flight_time_s",
@@ -43,6 +44,7 @@ OUTCOME_NAMES = {"altitude": "landed at the stop altitude", "velocity": "reached
                  "time": "ran out of time", "skip_out": "skipped out", "max_steps": "too many steps",
                  "step_underflow": "step underflow", "none": "did not end"}
 SIGMAS = (1.0, 3.0)  # the ellipses drawn
+OUTCOME_SAMPLES_LISTED = 20  # of each flight's samples that did not land, the first named (to fly again in full)
 ELLIPSE_POINTS = 73  # closed: the first point repeated
 GRID_NODES = (481, 241)  # the coverage grid (down-range, cross-range) over the samples' footprints
 CONFIDENCE_INTERVAL = 0.95  # of a site's probability
@@ -107,6 +109,13 @@ def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first:
             stops[i, j] = STOP_REASONS.index(summary["stop_reason"])
             values[i, j] = [np.nan if summary[k] is None else summary[k] for k in KEPT]
     return Landings(first, values, stops)
+
+
+def sample_trajectories(base: FlightSpec, family: list[Flight], samples: Samples, index: int) -> list:
+    """Every flight of sample `index` with its histories (trajectory.simulate): the summary path's landing point
+    to the bit, and how it got there (a skip-out, a flight that hit the ground early)."""
+    spec = sample_spec(base, samples, index)
+    return [simulate(f.make(spec, f.right)) for f in family]
 
 
 # ------------------------------------------------------------------------------------------- geometry
@@ -285,9 +294,11 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
 
 def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
     k = int(landed.sum())
+    ended = np.unique(stops[~landed])
     out = {"parameter": f.parameter, "side": f.side, "landed": k,
-           "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(m) for c, m in zip(*np.unique(stops[~landed],
-                                                                                          return_counts=True))}}
+           "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(np.sum(stops[~landed] == c)) for c in ended},
+           "outcome_samples": {OUTCOME_NAMES[STOP_REASONS[c]]: np.flatnonzero(~landed & (stops == c))[
+               :OUTCOME_SAMPLES_LISTED].tolist() for c in ended}}
     if k >= 2:
         xy = np.stack([down[landed], cross[landed]])
         mean, cov = xy.mean(axis=1), np.cov(xy)

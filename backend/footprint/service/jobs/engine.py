@@ -361,5 +361,5 @@ def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:
     if kind == "dispersion":
         from footprint.contracts.dispersion import result
 
-        return {"dispersion": tasks.plain(result(study, outputs, info={"tasks": len(outputs)}))}, []
+        return {"dispersion": result(study, outputs, info={"tasks": len(outputs)})}, []
     return {"reach": outputs[0]}, []

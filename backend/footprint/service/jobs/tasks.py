@@ -1,46 +1,19 @@
 """The functions Dask runs in the workers, one task per footprint, optimization or reach analysis. Each takes
 and returns plain data (validated study dicts in, JSON-ready dicts out), so any worker can run it."""
 
-import math
 import time
 from dataclasses import asdict
 
-import numpy as np
-
 from footprint import contracts
+from footprint.contracts.records import FLIGHT_KEYS, flown, plain
 
-MAX_TRACK_POINTS = 500  # a stored ground track
 PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (JobEngine subscribes)
 PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
 POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
                 "side", "parameter", "stop_reason", "mirrored")
-FLIGHT_KEYS = ("time_s", "latitude_deg", "longitude_deg", "altitude_ft", "velocity_fps", "alpha_deg", "bank_deg",
-               "downrange_nmi", "crossrange_nmi", "temperature_R")  # an optimum's stored histories (with heating)
 WARM_CASE = {"vehicle": {"builtin": "lod-2.2"},
              "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
              "stop": {"altitude_ft": 250_000}}  # a short flight that loads every compiled kernel
-
-
-def plain(value):
-    """JSON-ready: numpy scalars and arrays to Python, tuples to lists, NaN and infinities to None."""
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [plain(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, np.bool_):
-        return bool(value)
-    return value
-
-
-def decimated(n: int, max_points: int) -> np.ndarray:
-    """At most max_points indices of n samples, evenly spread, keeping the first and the last."""
-    if n <= max_points:
-        return np.arange(n)
-    return np.unique(np.linspace(0, n - 1, max_points).round().astype(int))
 
 
 def progress_reporter():
@@ -80,12 +53,6 @@ def warm_numba() -> float:
     t0 = time.perf_counter()
     fly(WARM_CASE)
     return time.perf_counter() - t0
-
-
-def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg")) -> dict:
-    """A trajectory's summary and its histories of `keys` (those it has), decimated for the map."""
-    keep = decimated(len(traj.history["time_s"]), MAX_TRACK_POINTS)
-    return {"summary": plain(traj.summary), **{k: plain(traj.history[k][keep]) for k in keys if k in traj.history}}
 
 
 def ground_track(spec) -> dict:

@@ -15,7 +15,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
 from footprint.service.errors import NotFound, RequestInvalid, UnsupportedMediaType
-from footprint.service.jobs.tasks import plain
+from footprint.contracts.records import plain
 from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 
 router = APIRouter(tags=["sites"])

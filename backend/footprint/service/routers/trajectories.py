@@ -6,7 +6,7 @@ from fastapi import APIRouter, Body, Request
 
 from footprint import contracts
 from footprint.service import deps
-from footprint.service.jobs.tasks import decimated, plain
+from footprint.contracts.records import decimated, plain
 from footprint.service.schemas import TrajectoryRead
 
 router = APIRouter(tags=["trajectories"])

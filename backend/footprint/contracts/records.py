@@ -1,0 +1,37 @@
+"""Results as JSON-ready records: plain values, and a trajectory's histories decimated for a map or a plot."""
+
+import math
+
+import numpy as np
+
+MAX_TRACK_POINTS = 500  # a stored ground track or flight
+FLIGHT_KEYS = ("time_s", "latitude_deg", "longitude_deg", "altitude_ft", "velocity_fps", "alpha_deg", "bank_deg",
+               "downrange_nmi", "crossrange_nmi", "temperature_R")  # a flight's stored histories (with heating)
+
+
+def plain(value):
+    """JSON-ready: numpy scalars and arrays to Python, tuples to lists, NaN and infinities to None."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [plain(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def decimated(n: int, max_points: int) -> np.ndarray:
+    """At most max_points indices of n samples, evenly spread, keeping the first and the last."""
+    if n <= max_points:
+        return np.arange(n)
+    return np.unique(np.linspace(0, n - 1, max_points).round().astype(int))
+
+
+def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg"), max_points: int = MAX_TRACK_POINTS) -> dict:
+    """A trajectory's summary and its histories of `keys` (those it has), decimated to max_points."""
+    keep = decimated(len(traj.history["time_s"]), max_points)
+    return {"summary": plain(traj.summary), **{k: plain(traj.history[k][keep]) for k in keys if k in traj.history}}
