@@ -199,6 +199,30 @@ def test_a_footprint_round_a_pole_is_outlined_closed_along_it():
     assert all(r["outline"]["pole"] is None for r in equatorial["confidence"][0]["rings"])
 
 
+def test_a_study_that_ends_by_velocity_or_altitude_lands_every_flight_that_ends_either_way():
+    """Stopped at 3,500 ft/s or 100,000 ft, whichever comes first: the undispersed zero-bank flights end by velocity
+    and the banked ones by altitude, so both are the study's own endings (every flight of an undispersed run
+    landed); with only a velocity stop above the default 50,000 ft floor, a flight reaching the floor first did not."""
+    either = copy.deepcopy(SMALL)
+    either["case"]["stop"] = {"altitude_ft": 100_000, "velocity_fps": 3_500}
+    result, _ = run(study(either, samples=4, seed=1))
+    assert {n["stop_reason"] for n in result.nominal} == {"velocity", "altitude"}
+    assert result.outcomes == {"flights": 24, "landed": 24}
+    assert all(f["landed"] == 4 for f in result.flights)
+    fast = ONE_SETTING | {"case": FOOTPRINT["case"] | {"stop": {"altitude_ft": 120_000, "velocity_fps": 8_000}}}
+    s = study(fast, samples=64, seed=1, entry={"gamma_deg": {"normal": {"std": 0.5}}},
+              vehicle={"cl_multiplier": {"normal": {"std": 0.1}}})
+    result, _ = run(copy.deepcopy(s))
+    assert result.nominal[0]["stop_reason"] == "velocity"
+    early = result.flights[0]["outcome_samples"]["hit the stop altitude early"]
+    assert early and result.outcomes["landed"] == 64 - len(early)
+    plan = Plan(parse_request(s))
+    for i in early:  # flown again with histories: at 120,000 ft still faster than 8,000 ft/s
+        (traj,) = mc.sample_trajectories(plan.spec, plan.flights, plan.samples, i)
+        assert traj.summary["final_altitude_ft"] == pytest.approx(120_000, abs=1.0)
+        assert traj.summary["final_velocity_fps"] > 8_000
+
+
 def test_a_sample_asked_for_is_flown_again_with_histories_that_end_where_its_summary_landed():
     """Two routes to a sample's flights: the summary path of the run (no histories) and trajectory.simulate with
     histories (contracts.dispersion's `histories`); the same landing to the bit. A flight that ran out of time names

@@ -13,8 +13,8 @@ lies outside the others, the right half back; a half footprint closed along the 
 - each site's probability of being reached, with its Clopper-Pearson interval (Clopper & Pearson, Biometrika 26,
   1934: exact, so 0 of n and n of n keep a finite width);
 - the spread of the maximum temperature and of the heat load when the case has a heating model;
-- every flight that did not end at the study's stop, counted by its stop reason (its first samples named, to fly
-  again with histories: sample_trajectories), never dropped silently.
+- every flight that did not end as the undispersed flights do, counted by its stop reason (its first samples named,
+  to fly again with histories: sample_trajectories), never dropped silently.
 
 Ranges are about the nominal entry's great circle on the sphere of radius R' (sphere.downrange_crossrange_nmi), a
 landing's down-range on the branch nearest its own flight's (so past half a circumference too). Pure numerics.
@@ -40,7 +40,7 @@ from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
 KEPT = ("final_latitude_deg", "final_longitude_deg", "downrange_nmi", "crossrange_nmi", "flight_time_s",
         "max_temperature_R", "heat_load_btu_ft2", "max_load_factor", "max_dynamic_pressure_psf")
 LAT, LON, OWN_DOWN, OWN_CROSS, TIME, TEMPERATURE, HEAT_LOAD = range(7)
-OUTCOME_NAMES = {"altitude": "landed at the stop altitude", "velocity": "reached the stop velocity",
+OUTCOME_NAMES = {"altitude": "hit the stop altitude early", "velocity": "slowed to the stop velocity early",
                  "time": "ran out of time", "skip_out": "skipped out", "max_steps": "too many steps",
                  "step_underflow": "step underflow", "none": "did not end"}
 SIGMAS = (1.0, 3.0)  # the ellipses drawn
@@ -260,8 +260,10 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
     """What the run says (module docstring). sites: (name, latitude_deg, longitude_deg) each."""
     e = base.entry
     n = landings.values.shape[0]
-    stop = int(nominal.stops[0, 0])  # the study's own ending: what its undispersed flight does
-    landed = (landings.stops == stop) & np.isfinite(landings.values[..., LAT])
+    # the study's own endings: what its undispersed flights do (a stop at a velocity or an altitude, whichever comes
+    # first, ends some settings by one and some by the other); a sample's flight ending otherwise did not land
+    endings = np.unique(nominal.stops[0])
+    landed = np.isin(landings.stops, endings) & np.isfinite(landings.values[..., LAT])
     down, cross = nominal_ranges(base, landings)
     down, cross = np.where(landed, down, np.nan), np.where(landed, cross, np.nan)
     lat, lon = np.where(landed, landings.values[..., LAT], np.nan), np.where(landed, landings.values[..., LON], np.nan)
@@ -273,10 +275,10 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
             "crossrange_nmi": float(nom_cross[0, j]), "latitude_deg": float(nominal.values[0, j, LAT]),
             "longitude_deg": float(nominal.values[0, j, LON]),
             "stop_reason": STOP_REASONS[int(nominal.stops[0, j])]} for j, f in enumerate(family)]
-    npx, npy, ncounts = polygons(family, mirror, nom_down, nom_cross, nominal.stops == stop)
+    npx, npy, ncounts = polygons(family, mirror, nom_down, nom_cross, np.isin(nominal.stops, endings))
     reasons = {}
     for code, count in zip(*np.unique(landings.stops, return_counts=True)):
-        label = "landed" if code == stop else OUTCOME_NAMES[STOP_REASONS[code]]
+        label = "landed" if code in endings else OUTCOME_NAMES[STOP_REASONS[code]]
         reasons[label] = reasons.get(label, 0) + int(count)
     m = int(ncounts[0])
     bx, by = npx[0, :m], npy[0, :m]
