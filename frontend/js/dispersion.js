@@ -9,6 +9,43 @@ import { outcomeWords } from "./jobs.js";
 const $ = (id) => document.getElementById(id);
 export const LAYERS = ["nominal", "confidence", "ellipses", "clouds", "sites"];
 const ELLIPSE_SIGMA = "3"; // the ellipses drawn: 3 sigma (the result also has 1 sigma)
+/** How the map draws a dispersion's kinds (CSS pixels), and its PNG with them. */
+export const DISPERSION_STYLE = {
+  nominal: { color: "#14304f", widthPx: 2, dashPx: [8, 5] },
+  confidence: { color: "#6a3d9a", widthPx: 1.6, opacity: 0.9, labelColor: "#4a2a6e" },
+  ellipse: { color: "#d95f02", widthPx: 1.6 },
+  cloud: { color: "#1d2733", opacity: 0.5, sizePx: 2 },
+  site: { edgeColor: "#1d2733", widthPx: 1.5, radiusPx: 7, aroundStoredPx: 11 }, // a ring round a stored site's diamond
+};
+/** A confidence footprint's fill opacity: darker at a higher level (rank 0 the widest, lowest level). */
+export const confidenceOpacity = (rank) => 0.1 + 0.14 * rank;
+
+/** A colour between light grey (probability 0) and green (1). */
+export function probabilityColor(p) {
+  const a = [217, 217, 217], b = [27, 120, 55];
+  return `rgb(${a.map((v, i) => Math.round(v + (b[i] - v) * Math.max(0, Math.min(1, p)))).join(",")})`;
+}
+
+// the layer that shows each kind of feature of GET /api/jobs/{id}/dispersion?format=geojson (the entry goes with the
+// nominal footprint it starts; the landing points are no feature there)
+const FEATURE_LAYER = { nominal_footprint: "nominal", entry: "nominal", confidence_footprint: "confidence",
+                        ellipse: "ellipses", site: "sites" };
+
+/** Whether the map shows a feature of the dispersion's GeoJSON with these layers on: of the ellipses, the 3 sigma. */
+export function featureShown(properties, layers) {
+  const { kind, sigma } = properties;
+  return Boolean(layers[FEATURE_LAYER[kind]]) && (kind !== "ellipse" || sigma === Number(ELLIPSE_SIGMA));
+}
+
+/** The service's dispersion of a job as GeoJSON or CSV of its sites (docs/api.md). */
+export const dispersionURL = (jobId, format) => `/api/jobs/${encodeURIComponent(jobId)}/dispersion?format=${format}`;
+
+/** The start of a downloaded file's name: "dispersion-" and the job's ({id, name}) name in letters, digits, ".", "_"
+ * and "-" (a file system takes them all), or its id when it has no name. */
+export function fileStem(job) {
+  const name = (job.name ?? "").replace(/[^\p{L}\p{N}_.-]+/gu, "-").replace(/^[-.]+|-+$/g, "").slice(0, 80);
+  return `dispersion-${name || job.id}`;
+}
 
 /** A probability for people: "87.2 %", "0 %", "100 %". */
 export const percent = (p) => (p == null ? "–" : p === 0 || p === 1 ? `${fmt(100 * p)} %` : `${fmt(100 * p, 1)} %`);
@@ -48,6 +85,11 @@ export function placeDispersion(d) {
   const levels = [...d.confidence].sort((a, b) => a.level - b.level); // the widest (lowest level) first
   const confidence = levels.map((c) => ({ level: c.level, rings: c.rings.map((r) => ({ ...shape(r), area_nmi2: r.area_nmi2 }))
     .filter((r) => r.line) }));
+  confidence.forEach((c, rank) => {
+    // a level's label on its largest piece, at its northernmost point: the widest level's above its edge, the others
+    // inside theirs
+    if (c.rings.length) c.label = { at: c.rings[0].line.reduce((a, b) => (b[1] > a[1] ? b : a)), below: rank > 0 };
+  });
   const ellipses = d.flights.map((f, j) => ({ flight: f, index: j, ...(shape(f.ellipses?.[ELLIPSE_SIGMA] ?? {}) ?? {}) }))
     .filter((e) => e.line);
   // the landing points: each next to its flight's nominal point (a cloud is far smaller than 180 deg)
@@ -87,9 +129,13 @@ export const sigmaNmi = (f) => [std(f.covariance_nmi2, 0), std(f.covariance_nmi2
 /** The sidebar's dispersion panel (layers, outcomes, earlier jobs, the flights' table) and the site probabilities
  * in the landing-sites panel. Every name reaches the page as text (el, textContent). */
 export class DispersionPanel {
-  constructor({ onLayer, onShowJob }) {
+  constructor({ onLayer, onShowJob, onDownload }) {
     this.onLayer = onLayer;
     this.onShowJob = onShowJob;
+    $("dispersion-downloads").addEventListener("click", (e) => {
+      const format = e.target.closest("button")?.dataset.format;
+      if (format) onDownload(format);
+    });
     $("dispersion-layers").addEventListener("change", (e) => {
       const layer = e.target.dataset.layer;
       if (layer) this.onLayer(layer, e.target.checked);
@@ -116,6 +162,7 @@ export class DispersionPanel {
       + `${d.seed != null ? `, seed ${d.seed}` : ""}`);
     $("dispersion-title").classList.remove("muted");
     $("dispersion-layers").disabled = false;
+    $("dispersion-downloads").hidden = false;
     this.renderOutcomes(d, placed);
     this.renderSites(name, d);
     this.renderFlights(name, d);

@@ -3,11 +3,16 @@
 /* global d3 */
 import { loadWorld, planarFeatures } from "./basemap.js";
 import { api } from "./api.js";
+import { DISPERSION_STYLE, confidenceOpacity, dispersionURL, featureShown, levelWords, percent,
+         probabilityColor } from "./dispersion.js";
 import { fmt } from "./format.js";
-import { boundaryLine, openRing, planarOutline, sphericalRing, toCSV, unwrapLongitudes, unwrapRing } from "./geometry.js";
-import { globeProjection } from "./globe.js";
+import { boundaryLine, openRing, planarOutline, sameSite, sphericalRing, toCSV, unwrapLongitudes,
+         unwrapRing } from "./geometry.js";
+import { GLOBE_SITE_PX, dispersionFeatures, globeProjection, siteOpacity } from "./globe.js";
+import { SITE_NAMES_ZOOM } from "./mapview.js";
 
 const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
+const TOOLTIP_GAP_PX = 18; // a site's label on the map begins this far from it (tooltip offset 8, margin 6, padding 4)
 
 export function download(filename, content, type) {
   const blob = content instanceof Blob ? content : new Blob([content], { type });
@@ -23,8 +28,9 @@ export function download(filename, content, type) {
 const ROUND = 1e6; // coordinates to 1e-6 deg, as the API writes them (RFC 7946 sec. 11.2)
 
 /** The API's GeoJSON of each shown footprint (a moved one's from its transform), named and coloured as shown,
- * and the sites: one GeoJSON, the service's, everywhere. */
-export async function geoJSONOf(footprints, sites) {
+ * the sites, and the features of the shown dispersion ({jobId, name, layers}) that its layers show: one GeoJSON,
+ * the service's, everywhere. */
+export async function geoJSONOf(footprints, sites, dispersion = null) {
   const features = [];
   for (const fp of footprints) {
     const collection = fp.shown.geojson ?? await api(`/api/footprints/${fp.id}?format=geojson`);
@@ -37,11 +43,27 @@ export async function geoJSONOf(footprints, sites) {
                     geometry: { type: "Point", coordinates: [Math.round(s.longitude_deg * ROUND) / ROUND,
                                                              Math.round(s.latitude_deg * ROUND) / ROUND] } });
   }
+  if (dispersion) features.push(...await shownDispersionFeatures(dispersion));
   return { type: "FeatureCollection", features };
 }
 
-export async function exportGeoJSON(footprints, sites) {
-  download("footprints.geojson", JSON.stringify(await geoJSONOf(footprints, sites), null, 1), "application/geo+json");
+async function shownDispersionFeatures({ jobId, name, layers }) {
+  const { features } = await api(dispersionURL(jobId, "geojson"));
+  return features.filter((f) => featureShown(f.properties, layers))
+    .map((f) => ({ ...f, properties: { ...f.properties, dispersion_job_id: jobId, dispersion_name: name } }));
+}
+
+export async function exportGeoJSON(footprints, sites, dispersion = null) {
+  download("footprints.geojson", JSON.stringify(await geoJSONOf(footprints, sites, dispersion), null, 1),
+           "application/geo+json");
+}
+
+/** The service's GeoJSON or sites CSV (format) of the shown dispersion, saved under the page's name for the job
+ * (the service's own name for the CSV holds only the job's id). */
+export async function exportDispersion({ jobId, fileStem }, format) {
+  const body = await api(dispersionURL(jobId, format));
+  if (format === "csv") download(`${fileStem}-sites.csv`, body, "text/csv");
+  else download(`${fileStem}.geojson`, JSON.stringify(body), "application/geo+json");
 }
 
 export function exportCSV(footprints) {
@@ -73,8 +95,32 @@ function footprintShapes(fp, planar) {
   };
 }
 
-/** Draw the current view to a canvas and return it (the caller turns it into a PNG). */
-export async function renderCanvas({ view, mapView, globe, footprints, sites }) {
+/** A pen on a canvas: use(projection) sets where draw() and at() put longitude and latitude. */
+function penOn(ctx) {
+  const pen = {
+    use(projection) { pen.projection = projection; pen.path = d3.geoPath(projection, ctx); },
+    draw(feature, { fill, stroke, width = 1, dash = [], alpha = 1, radius = 4 }) {
+      ctx.beginPath();
+      pen.path.pointRadius(radius)(feature);
+      ctx.globalAlpha = alpha;
+      ctx.setLineDash(dash);
+      if (fill) { ctx.fillStyle = fill; ctx.fill(); }
+      if (stroke) { ctx.strokeStyle = stroke; ctx.lineWidth = width; ctx.stroke(); }
+      ctx.globalAlpha = 1;
+      ctx.setLineDash([]);
+    },
+    /** The canvas point of a place, or null where the view hides it (the globe's far side). */
+    at(lonDeg, latDeg) {
+      const xy = pen.path.centroid({ type: "Point", coordinates: [lonDeg, latDeg] });
+      return Number.isFinite(xy[0]) ? xy : null;
+    },
+  };
+  return pen;
+}
+
+/** Draw the current view to a canvas and return it (the caller turns it into a PNG); `dispersion` is the shown one
+ * ({name, dispersion, placed, layers}) or null. */
+export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null }) {
   const globeView = view === "globe";
   const element = globeView ? globe.element : mapView.map.getContainer();
   const { width, height } = element.getBoundingClientRect();
@@ -88,63 +134,146 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites }) 
   const frame = globeView ? () => globeProjection(width, height, globe.rotate, globe.zoom)
                           : planarFrame(mapView.map.getBounds(), width);
   const offsets = globeView ? [0] : [-360, 0, 360];
-  let path = d3.geoPath(frame(0), ctx);
-  const draw = (feature, { fill, stroke, width: lw = 1, dash = [], alpha = 1, radius = 4 }) => {
-    ctx.beginPath();
-    path.pointRadius(radius)(feature);
-    ctx.globalAlpha = alpha;
-    ctx.setLineDash(dash);
-    if (fill) { ctx.fillStyle = fill; ctx.fill(); }
-    if (stroke) { ctx.strokeStyle = stroke; ctx.lineWidth = lw; ctx.stroke(); }
-    ctx.globalAlpha = 1;
-    ctx.setLineDash([]);
-  };
+  const pen = penOn(ctx);
+  const eachCopy = (copies, drawCopy) => { for (const offset of copies) { pen.use(frame(offset)); drawCopy(); } };
   ctx.fillStyle = globeView ? "#f3f5f8" : "#dce8f1";
   ctx.fillRect(0, 0, width, height);
+  pen.use(frame(0));
   if (globeView) {
-    draw({ type: "Sphere" }, { fill: "#dce8f1" });
-    draw(d3.geoGraticule().step([30, 30])(), { stroke: "#b9c6d2", width: 0.6 });
+    pen.draw({ type: "Sphere" }, { fill: "#dce8f1" });
+    pen.draw(d3.geoGraticule().step([30, 30])(), { stroke: "#b9c6d2", width: 0.6 });
   }
-  for (const offset of offsets) {
-    path = d3.geoPath(frame(offset), ctx);
-    draw(world.land, { fill: "#ece8dc", stroke: "#6f8294", width: 0.8 });
-    draw(world.borders, { stroke: "#a7a29a", width: 0.6 });
+  eachCopy(offsets, () => {
+    pen.draw(world.land, { fill: "#ece8dc", stroke: "#6f8294", width: 0.8 });
+    pen.draw(world.borders, { stroke: "#a7a29a", width: 0.6 });
     if (!globeView) {
       const lines = [];
       for (let lon = -180; lon <= 180; lon += 30) lines.push([[lon, -90], [lon, 90]]);
       for (let lat = -90; lat <= 90; lat += 30) lines.push([[-180, lat], [180, lat]]);
-      draw({ type: "MultiLineString", coordinates: lines }, { stroke: "#b9c6d2", width: 0.6 });
+      pen.draw({ type: "MultiLineString", coordinates: lines }, { stroke: "#b9c6d2", width: 0.6 });
     }
+  });
+  // as the map stacks them: the landing points (a canvas pane) under the footprints, the dispersion's shapes over
+  // them, its sites and their probability, then the stored sites on top
+  const dispersed = dispersion && !globeView ? dispersion.placed.offsets : [];
+  if (dispersion?.layers.clouds) eachCopy(dispersed, () => drawClouds(ctx, pen.projection, dispersion.placed.clouds));
+  eachCopy(offsets, () => { for (const fp of footprints) drawFootprint(pen, fp, !globeView); });
+  if (dispersion && globeView) drawGlobeDispersion(pen, ctx, dispersion);
+  eachCopy(dispersed, () => drawMapDispersion(pen, ctx, dispersion));
+  if (dispersion && !globeView) {
+    const namesShown = mapView.map.getZoom() >= SITE_NAMES_ZOOM;
+    eachCopy(offsets, () => drawMapDispersionSites(pen, ctx, dispersion, sites, namesShown));
   }
-  for (const offset of offsets) { // the footprints over every copy of the basemap
-    path = d3.geoPath(frame(offset), ctx);
-    for (const fp of footprints) {
-      const shape = footprintShapes(fp, !globeView);
-      draw(shape.polygon, { fill: fp.color, alpha: 0.22 });
-      draw(shape.boundary, { stroke: fp.color, width: 2 });
-      if (shape.track.coordinates.length > 1) draw(shape.track, { stroke: fp.color, width: 1.5, dash: [6, 5] });
-      for (const q of shape.points) draw(q, { fill: q.mirrored ? "#fff" : fp.color, stroke: fp.color, width: 1.2, radius: 3 });
-      draw(shape.entry, { fill: fp.color, stroke: "#fff", width: 2, radius: 6 });
-    }
+  eachCopy(offsets, () => {
     for (const s of sites) {
       const fill = s.reachable == null ? "#5b6b7b" : s.reachable ? "#2e7d32" : "#b3261e";
-      draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] }, { fill, stroke: "#fff", width: 1.5, radius: 5 });
-      const at = path.centroid({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] });
-      if (Number.isFinite(at[0])) label(ctx, s.name, at[0] + 8, at[1] + 4);
+      pen.draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] }, { fill, stroke: "#fff", width: 1.5, radius: 5 });
+      const at = pen.at(s.longitude_deg, s.latitude_deg);
+      if (at) label(ctx, s.name, at[0] + (globeView ? GLOBE_SITE_PX.name : TOOLTIP_GAP_PX), at[1] + 4);
     }
-  }
-  if (globeView) draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
-  drawLegend(ctx, footprints, globeView ? "Orthographic" : "Cylindrical equidistant");
+  });
+  if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
+  drawLegend(ctx, footprints, globeView ? "Orthographic" : "Cylindrical equidistant",
+             dispersion && dispersionCaption(dispersion, globeView));
   return canvas;
 }
 
-function label(ctx, text, x, y) {
-  ctx.font = "11px 'DejaVu Sans', Arial, sans-serif";
+function drawFootprint(pen, fp, planar) {
+  const shape = footprintShapes(fp, planar);
+  pen.draw(shape.polygon, { fill: fp.color, alpha: 0.22 });
+  pen.draw(shape.boundary, { stroke: fp.color, width: 2 });
+  if (shape.track.coordinates.length > 1) pen.draw(shape.track, { stroke: fp.color, width: 1.5, dash: [6, 5] });
+  for (const q of shape.points) pen.draw(q, { fill: q.mirrored ? "#fff" : fp.color, stroke: fp.color, width: 1.2, radius: 3 });
+  pen.draw(shape.entry, { fill: fp.color, stroke: "#fff", width: 2, radius: 6 });
+}
+
+const STYLE = DISPERSION_STYLE;
+const line = (coordinates) => ({ type: "LineString", coordinates });
+const confidenceLine = { stroke: STYLE.confidence.color, width: STYLE.confidence.widthPx, alpha: STYLE.confidence.opacity };
+const nominalLine = { stroke: STYLE.nominal.color, width: STYLE.nominal.widthPx, dash: STYLE.nominal.dashPx };
+const ellipseLine = { stroke: STYLE.ellipse.color, width: STYLE.ellipse.widthPx };
+
+/** A dispersion's landing points as the map's canvas layer draws them: small squares. */
+function drawClouds(ctx, projection, clouds) {
+  const size = STYLE.cloud.sizePx, half = size / 2;
+  ctx.globalAlpha = STYLE.cloud.opacity;
+  ctx.fillStyle = STYLE.cloud.color;
+  clouds.latitude_deg.forEach((lat, i) => {
+    const [x, y] = projection([clouds.longitude_deg[i], lat]);
+    ctx.fillRect(x - half, y - half, size, size);
+  });
+  ctx.globalAlpha = 1;
+}
+
+/** The shapes placeDispersion placed, as the map draws them (its layer groups in the order the page adds them):
+ * the nominal boundary, the confidence footprints, the 3-sigma ellipses, the confidence levels' labels on top. */
+function drawMapDispersion(pen, ctx, { placed, layers }) {
+  if (layers.nominal && placed.nominal) pen.draw(line(placed.nominal.line), nominalLine);
+  if (layers.confidence) {
+    placed.confidence.forEach((c, rank) => c.rings.forEach((r) => {
+      if (r.area) pen.draw({ type: "Polygon", coordinates: [r.area.concat([r.area[0]])] },
+                           { fill: STYLE.confidence.color, alpha: confidenceOpacity(rank) });
+      pen.draw(line(r.line), confidenceLine);
+    }));
+  }
+  if (layers.ellipses) for (const e of placed.ellipses) pen.draw(line(e.line), ellipseLine);
+  if (!layers.confidence) return;
+  for (const c of placed.confidence.filter((level) => level.label)) {
+    const [x, y] = pen.at(...c.label.at);
+    label(ctx, levelWords(c.level), x, y + (c.label.below ? 3 : -3), { align: "center", bold: true,
+          baseline: c.label.below ? "top" : "bottom", color: STYLE.confidence.labelColor });
+  }
+}
+
+/** The sites with their probability as the map marks them: a ring round a stored site, a smaller disc round a site of
+ * the study only (named when the map is zoomed in far enough), the probability on the left. */
+function drawMapDispersionSites(pen, ctx, { placed, layers }, storedSites, namesShown) {
+  if (!layers.sites) return;
+  for (const s of placed.sites) {
+    const named = !storedSites.some((t) => sameSite(t, s));
+    pen.draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] },
+             { fill: probabilityColor(s.probability), stroke: STYLE.site.edgeColor, width: STYLE.site.widthPx,
+               radius: named ? STYLE.site.radiusPx : STYLE.site.aroundStoredPx });
+    const at = pen.at(s.longitude_deg, s.latitude_deg);
+    const text = named && namesShown ? `${s.name} · ${percent(s.probability)}` : percent(s.probability);
+    label(ctx, text, at[0] - TOOLTIP_GAP_PX, at[1] + 4, { align: "right", bold: true });
+  }
+}
+
+/** The dispersion as the globe draws it (globe.js): its confidence footprints, nominal boundary and 3-sigma ellipses
+ * on the sphere, its sites shaded by their probability, which is written beside them. */
+function drawGlobeDispersion(pen, ctx, { dispersion, layers }) {
+  const f = dispersionFeatures(dispersion);
+  if (layers.confidence) {
+    f.confidence.forEach((c, rank) => c.rings.forEach((r) => {
+      pen.draw(r, { fill: STYLE.confidence.color, alpha: confidenceOpacity(rank) });
+      pen.draw(r, confidenceLine);
+    }));
+  }
+  if (layers.nominal && f.nominal) pen.draw(f.nominal, nominalLine);
+  if (layers.ellipses) for (const e of f.ellipses) pen.draw(e, ellipseLine);
+  if (!layers.sites) return;
+  for (const s of dispersion.sites) {
+    const at = pen.at(s.longitude_deg, s.latitude_deg);
+    if (!at) continue; // on the far side
+    const disc = { type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] };
+    pen.draw(disc, { fill: probabilityColor(1), alpha: siteOpacity(s.probability), radius: GLOBE_SITE_PX.disc });
+    pen.draw(disc, { stroke: STYLE.site.edgeColor, width: STYLE.site.widthPx, radius: GLOBE_SITE_PX.disc });
+    label(ctx, percent(s.probability), at[0] - GLOBE_SITE_PX.probability, at[1] + 4, { align: "right", bold: true });
+  }
+}
+
+function label(ctx, text, x, y, { align = "left", baseline = "alphabetic", bold = false, color = "#1d2733" } = {}) {
+  ctx.font = `${bold ? "600 " : ""}11px 'DejaVu Sans', Arial, sans-serif`;
+  ctx.textAlign = align;
+  ctx.textBaseline = baseline;
   ctx.lineWidth = 3;
   ctx.strokeStyle = "rgba(255,255,255,0.85)";
   ctx.strokeText(text, x, y);
-  ctx.fillStyle = "#1d2733";
+  ctx.fillStyle = color;
   ctx.fillText(text, x, y);
+  ctx.textAlign = "left";
+  ctx.textBaseline = "alphabetic";
 }
 
 /** What a footprint is, for the PNG's caption (three lines): name, vehicle and method; entry state; where it
@@ -158,10 +287,23 @@ export function caption(fp) {
               + `${fmt(c.stepDownrangeNmi)} nmi, earth rotation ${c.earthRotation}` : "as stored"];
 }
 
-function drawLegend(ctx, footprints, projectionName) {
+/** What a shown dispersion is and which of its kinds the PNG has (its layers on), for the caption; null when none. */
+export function dispersionCaption({ name, dispersion: d, placed, layers }, globeView) {
+  const shapes = [layers.nominal && "nominal footprint (dashed)",
+                  layers.confidence && `confidence footprints ${placed.confidence.map((c) => levelWords(c.level)).join(", ")}`,
+                  layers.ellipses && "3σ ellipse of each flight"].filter(Boolean);
+  const points = [layers.clouds && !globeView && "landing points", // the globe leaves them to the map
+                  layers.sites && "P of reaching each site"].filter(Boolean);
+  if (!shapes.length && !points.length) return null;
+  return [`${name}: dispersion, ${fmt(d.samples)} samples${d.design ? `, ${d.design} design` : ""}`,
+          shapes.join(", "), points.join(", ")].filter(Boolean);
+}
+
+function drawLegend(ctx, footprints, projectionName, dispersionLines) {
   const LINE = 15, GAP = 6;
   ctx.font = "12px 'DejaVu Sans', Arial, sans-serif";
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
+  if (dispersionLines) blocks.push([STYLE.confidence.color, dispersionLines]);
   const w = Math.max(180, ...blocks.flatMap(([, ls]) => ls.map((t) => ctx.measureText(t).width + 34)));
   const h = 26 + blocks.reduce((sum, [, ls]) => sum + ls.length * LINE + GAP, 0);
   ctx.fillStyle = "rgba(255,255,255,0.92)";

@@ -4,10 +4,15 @@
 import { loadWorld } from "./basemap.js";
 import { listPoints, openRing, sphericalRing } from "./geometry.js";
 import { escapeHtml, fmt } from "./format.js";
-import { levelWords, percent } from "./dispersion.js";
+import { confidenceOpacity, levelWords, percent } from "./dispersion.js";
 
 const KEY_STEP_DEG = 10;
 const DRAG_DEG_PER_PX = 0.25;
+/** Beside a site: its name begins `name` px right of it, a dispersion's probability ends `probability` px left; a
+ * dispersion's site is a disc of `disc` px. */
+export const GLOBE_SITE_PX = { name: 10, probability: 9, disc: 6 };
+/** A dispersion's site disc on the globe: faint at probability 0, full green at 1. */
+export const siteOpacity = (p) => 0.15 + 0.85 * p;
 
 export function footprintFeatures(fp) {
   const { points, groundTrack, reference } = fp.shown;
@@ -96,7 +101,7 @@ export class GlobeView {
       const state = s.reachable == null ? "unknown" : s.reachable ? "reached" : "missed";
       parts.push(`<path class="globe-site site-${state}" d="M${x},${y - 7}L${x + 7},${y}L${x},${y + 7}L${x - 7},${y}Z">`
         + `<title>${escapeHtml(s.name)}: ${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°</title></path>`
-        + `<text class="globe-site-label" x="${x + 10}" y="${y + 4}">${escapeHtml(s.name)}</text>`);
+        + `<text class="globe-site-label" x="${x + GLOBE_SITE_PX.name}" y="${y + 4}">${escapeHtml(s.name)}</text>`);
     }
     parts.push(`<path class="globe-limb" d="${path({ type: "Sphere" })}"/>`);
     this.footprints.forEach((fp, i) => parts.push( // the legend, as the map's
@@ -110,7 +115,7 @@ export class GlobeView {
     const { features: f, sites, layers } = this.dispersion, parts = [];
     if (layers.confidence) {
       f.confidence.forEach((c, rank) => c.rings.forEach((r) => parts.push(
-        `<path class="globe-dispersion-confidence" style="fill-opacity:${(0.1 + 0.14 * rank).toFixed(2)}" d="${path(r) || ""}">`
+        `<path class="globe-dispersion-confidence" style="fill-opacity:${confidenceOpacity(rank).toFixed(2)}" d="${path(r) || ""}">`
         + `<title>confidence footprint ${levelWords(c.level)}</title></path>`)));
     }
     if (layers.nominal && f.nominal) parts.push(`<path class="globe-dispersion-nominal" d="${path(f.nominal) || ""}"/>`);
@@ -119,9 +124,9 @@ export class GlobeView {
       for (const s of sites) {
         if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
         const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
-        parts.push(`<circle class="globe-dispersion-site" cx="${x}" cy="${y}" r="6" style="fill-opacity:${(0.15 + 0.85 * s.probability).toFixed(2)}">`
+        parts.push(`<circle class="globe-dispersion-site" cx="${x}" cy="${y}" r="${GLOBE_SITE_PX.disc}" style="fill-opacity:${siteOpacity(s.probability).toFixed(2)}">`
           + `<title>${escapeHtml(s.name)}: P ${percent(s.probability)}</title></circle>`
-          + `<text class="globe-site-label globe-dispersion-p" x="${x - 9}" y="${y + 4}" text-anchor="end">${percent(s.probability)}</text>`);
+          + `<text class="globe-site-label globe-dispersion-p" x="${x - GLOBE_SITE_PX.probability}" y="${y + 4}" text-anchor="end">${percent(s.probability)}</text>`);
       }
     }
     return parts;

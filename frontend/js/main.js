@@ -1,9 +1,9 @@
 // The map page: stored footprints on the cylindrical map and the globe, moved live around orbits through the
 // transform endpoint, new jobs, dispersions, landing sites and reach, exports and the range plot.
 import { api } from "./api.js";
-import { DispersionPanel, placeDispersion } from "./dispersion.js";
+import { DispersionPanel, fileStem, placeDispersion } from "./dispersion.js";
 import { drawDispersionPlot } from "./dispersionplot.js";
-import { exportCSV, exportGeoJSON, exportPNG } from "./exporting.js";
+import { exportCSV, exportDispersion, exportGeoJSON, exportPNG } from "./exporting.js";
 import { el, fmt } from "./format.js";
 import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
 import { GlobeView } from "./globe.js";
@@ -37,9 +37,10 @@ const globe = new GlobeView($("globe"));
 const sites = new SitesPanel({ onChange: () => redrawSites(), onReach: (result) => showReach(result),
                                selectedFootprint: () => selected(), toast });
 const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOptimum: (name, result) => showOptimum(name, result),
-                             onDispersion: (name, d) => showDispersion(name, d), sites: () => sites.sites });
+                             onDispersion: (name, d, job) => showDispersion(name, d, job), sites: () => sites.sites });
 const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.setDispersionLayer(kind, on); drawGlobeDispersion(); },
-                                              onShowJob: (id) => showDispersionJob(id).catch(fail) });
+                                              onShowJob: (id) => showDispersionJob(id).catch(fail),
+                                              onDownload: (format) => exportDispersion(state.dispersion, format).catch(fail) });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
 const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
@@ -217,9 +218,9 @@ function showOptimum(name, result) {
   $("plot-optimum").disabled = false;
   setPlot("optimum");
 }
-/** A dispersion job's result on the map, in the panels and in the plot. */
-function showDispersion(name, dispersion) {
-  state.dispersion = { name, dispersion, placed: placeDispersion(dispersion) };
+/** A dispersion job's result on the map, in the panels and in the plot (`job`: its {id, name}). */
+function showDispersion(name, dispersion, job) {
+  state.dispersion = { name, dispersion, placed: placeDispersion(dispersion), jobId: job.id, fileStem: fileStem(job) };
   dispersionPanel.show(name, dispersion, state.dispersion.placed);
   sites.setDispersion(name, dispersion.sites); // redraws the sites, and with them draws the dispersion
   mapView.fitDispersion();
@@ -242,7 +243,7 @@ function drawGlobeDispersion() {
 async function showDispersionJob(id) {
   const job = await api(`/api/jobs/${id}`);
   if (!job.result?.dispersion) throw new Error(`job ${id} has no dispersion result`);
-  showDispersion(job.name || `dispersion ${id.slice(0, 8)}`, job.result.dispersion);
+  showDispersion(job.name || `dispersion ${id.slice(0, 8)}`, job.result.dispersion, job);
 }
 
 $("plot-range").addEventListener("click", () => setPlot("range"));
@@ -368,10 +369,12 @@ function centerGlobeOn(points) {
 
 $("view-map").addEventListener("click", () => setView("map"));
 $("view-globe").addEventListener("click", () => setView("globe"));
-$("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown()).catch(fail));
+// the shown dispersion as its layers show it, for the exports
+const shownDispersion = () => state.dispersion && { ...state.dispersion, layers: dispersionPanel.layers() };
+$("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown(), shownDispersion()).catch(fail));
 $("export-csv").addEventListener("click", () => exportCSV(visible()));
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
-                                                             sites: sites.shown() }).catch(fail));
+                                                             sites: sites.shown(), dispersion: shownDispersion() }).catch(fail));
 new ResizeObserver(() => { drawPlot(); if (state.view === "globe") globe.render(); }).observe($("plot"));
 
 function fail(err) { console.error(err); toast(err.message || String(err), true); }

@@ -5,18 +5,18 @@ import { loadWorld, planarFeatures } from "./basemap.js";
 import { boundaryLine, copyOffsets, describeParameter, openRing, planarOutline, sameSite, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { el, escapeHtml, fmt } from "./format.js";
-import { LAYERS, flightWords, intervalWords, levelWords, percent, sigmaNmi } from "./dispersion.js";
+import { DISPERSION_STYLE as STYLE, LAYERS, confidenceOpacity, flightWords, intervalWords, levelWords, percent,
+         probabilityColor, sigmaNmi } from "./dispersion.js";
 
 const GRATICULE_DEG = 30;
 const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world either way
-const DISPERSION = { nominal: "#14304f", confidence: "#6a3d9a", ellipse: "#d95f02", cloud: "#1d2733" };
-const CLOUD_DOT_PX = 2;
-const SITE_NAMES_ZOOM = 3; // below it a dispersion's sites (that are not stored sites) show their probability only
+export const SITE_NAMES_ZOOM = 3; // below it a dispersion's sites (that are not stored sites) show their probability only
 
 /** A dispersion's landing points as small squares on a canvas renderer: one layer for all of them (22 flights x
  * 1,000 samples, on each copy of the map), projected once per zoom and drawn where the renderer redraws. */
 const CloudPoints = L.Path.extend({
-  options: { interactive: false, stroke: false, fill: true, fillColor: DISPERSION.cloud, fillOpacity: 0.5, size: CLOUD_DOT_PX },
+  options: { interactive: false, stroke: false, fill: true, fillColor: STYLE.cloud.color, fillOpacity: STYLE.cloud.opacity,
+             size: STYLE.cloud.sizePx },
 
   initialize(latitudes, longitudes, offsets, options) {
     L.setOptions(this, options);
@@ -58,12 +58,6 @@ const CloudPoints = L.Path.extend({
   _empty() { return !this._xy?.length; },
   _containsPoint() { return false; },
 });
-
-/** A colour between light grey (probability 0) and green (1). */
-function probabilityColor(p) {
-  const a = [217, 217, 217], b = [27, 120, 55];
-  return `rgb(${a.map((v, i) => Math.round(v + (b[i] - v) * Math.max(0, Math.min(1, p)))).join(",")})`;
-}
 
 export function pointTooltip(fp, p) {
   const rows = [
@@ -311,25 +305,26 @@ export class MapView {
     this.removeDispersion();
     const groups = Object.fromEntries(LAYERS.map((k) => [k, L.layerGroup()]));
     const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true };
-    const levels = placed.confidence.length;
     for (const offset of placed.offsets) {
       const copy = `disp-copy-${offset}`;
       const latlngs = (pairs) => pairs.map(([lon, lat]) => [lat, lon + offset]);
-      placed.confidence.forEach((c, rank) => c.rings.forEach((r, i) => {
-        if (r.area) L.polygon(latlngs(r.area), { ...svg, stroke: false, fillColor: DISPERSION.confidence, fillOpacity: 0.1 + 0.14 * rank,
+      placed.confidence.forEach((c, rank) => c.rings.forEach((r) => {
+        if (r.area) L.polygon(latlngs(r.area), { ...svg, stroke: false, fillColor: STYLE.confidence.color, fillOpacity: confidenceOpacity(rank),
                                      className: `dispersion-confidence-area ${copy}`, interactive: false }).addTo(groups.confidence);
-        L.polyline(latlngs(r.line), { ...svg, color: DISPERSION.confidence, weight: 1.6, opacity: 0.9,
+        L.polyline(latlngs(r.line), { ...svg, color: STYLE.confidence.color, weight: STYLE.confidence.widthPx,
+                                      opacity: STYLE.confidence.opacity,
                                       className: `dispersion-confidence level-${Math.round(c.level * 1000)} ${copy}`,
                                       interactive: false }).addTo(groups.confidence);
-        if (i > 0) return; // the level's label on its largest piece, at its northernmost point
-        const [lon, lat] = r.line.reduce((a, b) => (b[1] > a[1] ? b : a));
-        const below = levels > 1 && rank > 0; // the widest level's label above its edge, the others inside theirs
-        L.marker([lat, lon + offset], { interactive: false, keyboard: false,
-          icon: L.divIcon({ className: `confidence-label ${below ? "below" : "above"}`, iconSize: null,
-                            html: el("span", {}, levelWords(c.level)) }) }).addTo(groups.confidence);
       }));
+      for (const c of placed.confidence.filter((level) => level.label)) {
+        const [lon, lat] = c.label.at;
+        L.marker([lat, lon + offset], { interactive: false, keyboard: false,
+          icon: L.divIcon({ className: `confidence-label ${c.label.below ? "below" : "above"}`, iconSize: null,
+                            html: el("span", {}, levelWords(c.level)) }) }).addTo(groups.confidence);
+      }
       if (placed.nominal) {
-        L.polyline(latlngs(placed.nominal.line), { ...svg, color: DISPERSION.nominal, weight: 2, dashArray: "8 5",
+        L.polyline(latlngs(placed.nominal.line), { ...svg, color: STYLE.nominal.color, weight: STYLE.nominal.widthPx,
+                                                   dashArray: STYLE.nominal.dashPx.join(" "),
                                                    className: `dispersion-nominal ${copy}`, interactive: false }).addTo(groups.nominal);
       }
       for (const e of placed.ellipses) {
@@ -337,7 +332,7 @@ export class MapView {
         const tip = el("div", {}, el("strong", {}, name), el("br"), `3σ ellipse · ${flightWords(e.flight)}`, el("br"),
           `${fmt(e.flight.landed)} of ${fmt(samples)} landed · mean ${fmt(e.flight.mean_downrange_nmi)} nmi down-range, `
           + `${fmt(e.flight.mean_crossrange_nmi)} nmi cross-range · σ ${fmt(sd)} × ${fmt(sc)} nmi`);
-        L.polyline(latlngs(e.line), { ...svg, color: DISPERSION.ellipse, weight: 1.6, className: `dispersion-ellipse ${copy}` })
+        L.polyline(latlngs(e.line), { ...svg, color: STYLE.ellipse.color, weight: STYLE.ellipse.widthPx, className: `dispersion-ellipse ${copy}` })
           .bindTooltip(tip, { sticky: true }).addTo(groups.ellipses);
       }
     }
@@ -354,8 +349,8 @@ export class MapView {
         // the stored site's own label says its name on the right; a site of the study only is named here, once
         // the map is zoomed in far enough for names not to cover one another (its popup names it at any zoom)
         L.circleMarker([s.latitude_deg, s.longitude_deg + offset],
-                       { renderer: this.svgRenderer, radius: named ? 7 : 11, // a ring round a stored site's diamond
-                         color: "#1d2733", weight: 1.5, fillColor: probabilityColor(s.probability),
+                       { renderer: this.svgRenderer, radius: named ? STYLE.site.radiusPx : STYLE.site.aroundStoredPx,
+                         color: STYLE.site.edgeColor, weight: STYLE.site.widthPx, fillColor: probabilityColor(s.probability),
                          fillOpacity: 1, className: "dispersion-site" })
           .bindTooltip(el("span", {}, named ? el("span", { class: "dispersion-site-name" }, `${s.name} · `) : null,
                           percent(s.probability)),
@@ -408,10 +403,10 @@ export class MapView {
       const key = (cls, style, text) => el("div", {}, el("span", { class: cls, style }), text);
       const levels = this.dispersion.placed.confidence.map((c) => levelWords(c.level)).join(", ");
       this.legendDiv.append(el("div", { class: "legend-dispersion" }, el("strong", {}, this.dispersion.name),
-        key("dash", { borderTopColor: DISPERSION.nominal }, "nominal footprint"),
-        key("swatch", { background: DISPERSION.confidence }, `confidence footprints ${levels}`),
-        key("line", { background: DISPERSION.ellipse }, "3σ ellipse of each flight"),
-        key("dot", { background: DISPERSION.cloud }, "landing points"),
+        key("dash", { borderTopColor: STYLE.nominal.color }, "nominal footprint"),
+        key("swatch", { background: STYLE.confidence.color }, `confidence footprints ${levels}`),
+        key("line", { background: STYLE.ellipse.color }, "3σ ellipse of each flight"),
+        key("dot", { background: STYLE.cloud.color }, "landing points"),
         key("dot site", { background: probabilityColor(1) }, "site: P of reaching it (grey 0, green 1)")));
       this.legendDiv.hidden = false;
     }

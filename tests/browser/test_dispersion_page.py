@@ -2,13 +2,19 @@
 job form with the stored landing sites, followed to 100 %, and drawn: the nominal boundary, the confidence
 footprints, the 3-sigma ellipses, the landing points and the sites' probabilities, across the antimeridian."""
 
+import csv
+import io
+import json
 import time
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
 import pytest
 from footprint.core.outline import outline
 from footprint.core.sphere import Reference, downrange_crossrange_nmi
+
+from tests.authorities.report import table2_entry, table2_stop
 
 from .conftest import JOB_TIMEOUT_S
 
@@ -25,6 +31,24 @@ SITES = (("Diego Garcia", -7.313, 72.411), ("Andersen AFB, Guam", 13.584, 144.93
          (HOSTILE_SITE, -17.755, 177.443), ("Pago Pago", -14.331, -170.711), ("Honolulu", 21.319, -157.922),
          ("Christchurch", -43.489, 172.532), ("Kennedy SLF", 28.615, -80.695))
 
+# the study the job form builds from its defaults and the first test's inputs (Table 2's entry: 0 N 0 E heading east)
+NORMAL = {"altitude_ft": 1000, "velocity_fps": 15, "gamma_deg": 0.05, "heading_deg": 0.05, "latitude_deg": 0.02,
+          "longitude_deg": 0.02}
+DISPERSION_STUDY = {
+    "footprint": {"case": {"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": True}, "entry": table2_entry(),
+                           "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": table2_stop()},
+                  "method": "single_parameter", "mirror": True, "bank0_deg": [0, 45, 90, 135]},
+    "samples": SAMPLES, "design": "sobol", "seed": 1,
+    "entry": {k: {"normal": {"std": std}} for k, std in NORMAL.items()},
+    "vehicle": {"cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+                "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+                "wing_loading_psf": {"normal": {"std": 1}}},
+    "density": {"std": 0.05, "correlation_length_ft": 30000},
+    "confidence": list(LEVELS),
+    "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in SITES]}
+
+# the view from 30 W to 300 E (braced: fitBounds returns the map, which Playwright would serialize for tens of seconds)
+FIT_ACROSS_180_JS = "() => { window.footprintApp.mapView.map.fitBounds([[-60, -30], [60, 300]], {animate: false}); }"
 BBOX_JS = """(el) => { const b = el.getBBox(), map = window.footprintApp.mapView.map;
   const sw = map.layerPointToLatLng([b.x, b.y + b.height]), ne = map.layerPointToLatLng([b.x + b.width, b.y]);
   return {west: sw.lng, east: ne.lng, south: sw.lat, north: ne.lat}; }"""
@@ -78,9 +102,9 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     assert HOSTILE_JOB in item.locator(".job-label").inner_text()  # the job's name is text
     job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
     d = job["result"]["dispersion"]
-    assert job["study"]["sites"] == [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in SITES]
+    assert job["study"] == DISPERSION_STUDY  # the form's study, with the stored sites
     page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
-    page.evaluate("() => window.footprintApp.mapView.map.fitBounds([[-60, -30], [60, 300]], {animate: false})")
+    page.evaluate(FIT_ACROSS_180_JS)
     page.wait_for_timeout(300)
 
     # the nominal boundary and each confidence level, on the main copy, run past 180 E
@@ -190,6 +214,190 @@ def test_an_earlier_dispersion_is_shown_again_after_a_reload(open_page, service,
     page.click("#dispersion-show")
     page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
     assert page.locator("#dispersion-sites table tbody tr").count() == len(SITES)
+    assert not run.errors and run.violations() == []
+
+
+@pytest.fixture(scope="module")
+def dispersion_job(service, stored_sites):
+    """A succeeded dispersion job of DISPERSION_STUDY: the first test's (submitted from the form) when it ran, else
+    the same study submitted here."""
+    for item in service.call("/api/jobs?kind=dispersion&status=succeeded")["items"]:
+        job = service.call(f"/api/jobs/{item['id']}")
+        if job["study"] == DISPERSION_STUDY:
+            return job
+    return service.run_job({"kind": "dispersion", "name": HOSTILE_JOB, "study": DISPERSION_STUDY})
+
+
+LAYERS = ("nominal", "confidence", "ellipses", "clouds", "sites")  # the panel's toggles (dispersion.js LAYERS)
+
+
+def show_dispersion(page, job, *, footprints=True):
+    """The job shown again from the panel's list, the stored footprints left on or taken off the map."""
+    if not footprints:
+        page.evaluate("""async () => { const app = window.footprintApp;
+            for (const fp of app.state.footprints.values()) if (fp.visible) await app.setVisible(fp, false); }""")
+    page.select_option("#dispersion-jobs", job["id"])
+    page.click("#dispersion-show")
+    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
+
+
+def set_layers(page, *shown):
+    """The panel's toggles: the given layers on, the others off."""
+    for layer in LAYERS:
+        page.set_checked(f"#dispersion-layers input[data-layer={layer}]", layer in shown)
+
+
+def download(page, selector):
+    """Click what downloads a file: (its suggested name, its bytes)."""
+    with page.expect_download() as info:
+        page.click(selector)
+    return info.value.suggested_filename, Path(info.value.path()).read_bytes()
+
+
+def test_the_panel_downloads_the_shown_dispersion_as_geojson_and_a_sites_csv(open_page, dispersion_job):
+    """The Dispersion panel's two buttons save GET /api/jobs/{id}/dispersion as files named after the job: the GeoJSON
+    holds every shape of the job's result and each site with its probability, the CSV a row per site."""
+    run = open_page()
+    page, d = run.page, dispersion_job["result"]["dispersion"]
+    assert page.locator("#dispersion-downloads").is_hidden()  # nothing shown, nothing to download
+    show_dispersion(page, dispersion_job)
+    stem = "dispersion-lod-1.89-dispersed-b-east-b-script"  # HOSTILE_JOB in letters a file system takes
+    name, body = download(page, "#dispersion-geojson")
+    assert name == f"{stem}.geojson"
+    collection = json.loads(body)
+    kinds = Counter(f["properties"]["kind"] for f in collection["features"])
+    assert kinds == {"nominal_footprint": 1, "entry": 1, "site": len(SITES),
+                     "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
+                     "ellipse": sum(len(f["ellipses"]) for f in d["flights"])}, kinds
+    probabilities = {s["name"]: s["probability"] for s in d["sites"]}
+    sites = [f["properties"] for f in collection["features"] if f["properties"]["kind"] == "site"]
+    assert {p["name"]: p["probability"] for p in sites} == probabilities
+    name, body = download(page, "#dispersion-csv")
+    assert name == f"{stem}-sites.csv"
+    rows = list(csv.DictReader(io.StringIO(body.decode())))
+    assert {r["name"]: float(r["probability"]) for r in rows} == probabilities
+    assert len(rows) == len(SITES) and HOSTILE_SITE in {r["name"] for r in rows}
+    assert not run.errors and run.violations() == []
+
+
+def test_the_header_geojson_holds_the_dispersion_layers_that_are_shown(open_page, dispersion_job):
+    """The header's GeoJSON: the shown footprints and sites, and beside them the shown dispersion's features (each
+    naming its job) of the layers that are on; the ellipses as drawn, 3 sigma."""
+    run = open_page()
+    page, d = run.page, dispersion_job["result"]["dispersion"]
+    show_dispersion(page, dispersion_job)
+
+    def exported():
+        features = json.loads(download(page, "#export-geojson")[1])["features"]
+        ours = [f["properties"] for f in features if "dispersion_job_id" in f["properties"]]
+        assert {(p["dispersion_job_id"], p["dispersion_name"]) for p in ours} <= {(dispersion_job["id"], HOSTILE_JOB)}
+        assert any(f["properties"]["kind"] == "footprint" for f in features)  # the stored footprints stay
+        return Counter(p["kind"] for p in ours), ours
+
+    kinds, ours = exported()
+    assert kinds == {"nominal_footprint": 1, "entry": 1, "site": len(SITES),
+                     "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
+                     "ellipse": sum("3" in f["ellipses"] for f in d["flights"])}, kinds
+    assert {p["sigma"] for p in ours if p["kind"] == "ellipse"} == {3}
+    sites = {p["name"]: p["probability"] for p in ours if p["kind"] == "site"}
+    assert sites == {s["name"]: s["probability"] for s in d["sites"]}
+    set_layers(page, "nominal", "ellipses", "clouds")
+    assert set(exported()[0]) == {"nominal_footprint", "entry", "ellipse"}
+    set_layers(page)
+    assert exported()[0] == {}
+    assert not run.errors and run.violations() == []
+
+
+PNG_PIXEL_RATIO = 2  # exporting.js PIXEL_RATIO
+ABOVE_SITE_PX = 9  # a probe over a site: past the stored site's disc (5 px), above the labels beside it, inside
+# the dispersion's ring round it (11 px)
+CONFIDENCE_RGB = (0x6A, 0x3D, 0x9A)  # dispersion.js DISPERSION_STYLE.confidence
+ELLIPSE_RGB = (0xD9, 0x5F, 0x02)
+SITE_RGB = {1: (27, 120, 55), 0: (217, 217, 217)}  # mapview's probabilityColor at P 1 and 0
+COLOR_TOLERANCE = 8  # per channel, 0-255: the antialiasing and rounding of a canvas blend
+
+
+def over(background, rgb, alphas):
+    """A colour painted over background at each opacity in turn (the confidence levels, one over the other)."""
+    out = np.array(background, float)
+    for a in alphas:
+        out = out * (1 - a) + np.array(rgb) * a
+    return out
+
+
+def close(a, b, tolerance=COLOR_TOLERANCE):
+    return bool(np.all(np.abs(np.array(a, float) - np.array(b, float)) <= tolerance))
+
+
+def pixels_like(image, rgb, tolerance=30):
+    """How many pixels of the image are within tolerance (per channel) of a colour: a line's, antialiased."""
+    return int(np.all(np.abs(np.asarray(image, float) - rgb) <= tolerance, axis=-1).sum())
+
+
+def png_export(page):
+    from PIL import Image
+
+    return Image.open(io.BytesIO(download(page, "#export-png")[1])).convert("RGB")
+
+
+def png_probes(page, places, view):
+    """Where each (lat, lon) lands in the PNG, ABOVE_SITE_PX over it: the map's (Leaflet's) or the globe's point."""
+    js = """([places, view, above]) => { const app = window.footprintApp;
+      const xy = view === "globe" ? ((lat, lon) => app.globe.projection()([lon, lat]))
+        : ((lat, lon) => { const p = app.mapView.map.latLngToContainerPoint([lat, lon]); return [p.x, p.y]; });
+      return places.map(([lat, lon]) => { const [x, y] = xy(lat, lon); return [x, y - above]; }); }"""
+    points = page.evaluate(js, [places, view, ABOVE_SITE_PX])
+    return [(round(x * PNG_PIXEL_RATIO), round(y * PNG_PIXEL_RATIO)) for x, y in points]
+
+
+def test_the_png_export_draws_the_dispersion_as_the_map_and_the_globe_show_it(open_page, dispersion_job):
+    """The PNG of the cylindrical map has the dispersion where the map has it, past 180 E on the boundary's copy: the
+    sites' probability discs, the confidence footprints' fill under a site every sample reaches (and under one past
+    180 E), none under a site no sample reaches, the ellipses' colour; each layer toggled off leaves the PNG. The
+    globe's PNG fills the confidence footprints on the sphere too."""
+    run = open_page(1280, 800)
+    page, d = run.page, dispersion_job["result"]["dispersion"]
+    show_dispersion(page, dispersion_job, footprints=False)
+    page.evaluate(FIT_ACROSS_180_JS)
+    page.wait_for_timeout(300)
+    by_name = {s["name"]: s for s in d["sites"]}
+    certain, far = by_name["Diego Garcia"], by_name["Pago Pago"]  # every sample reaches one; the other lies past 180 E
+    never = [by_name["Kennedy SLF"], by_name["Christchurch"]]
+    assert certain["probability"] == 1 and far["probability"] > max(LEVELS)
+    assert all(s["probability"] == 0 for s in never)
+    places = [(s["latitude_deg"], s["longitude_deg"] % 360) for s in (certain, far, *never)]  # the view: 0..360 E
+    probes = png_probes(page, places, "map")
+
+    shown = png_export(page)
+    shown.save(FIGURES / "export_dispersion.png")
+    set_layers(page, "nominal", "confidence", "ellipses", "clouds")
+    unmarked = png_export(page)
+    set_layers(page)
+    bare = png_export(page)
+    box = page.locator("#map").bounding_box()
+    assert shown.size == (round(box["width"] * PNG_PIXEL_RATIO), round(box["height"] * PNG_PIXEL_RATIO))
+
+    # the sites' discs, coloured by their probability
+    for xy, s in zip(probes[:1] + probes[2:], (certain, *never)):
+        assert close(shown.getpixel(xy), SITE_RGB[s["probability"]]), (s["name"], xy, shown.getpixel(xy))
+    # without them: the two confidence levels over the basemap by the certain site and the one past 180 E, the
+    # basemap alone by the sites no sample reaches
+    alphas = [0.1, 0.1 + 0.14]  # dispersion.js confidenceOpacity(0), (1)
+    for xy in probes[:2]:
+        assert close(unmarked.getpixel(xy), over(bare.getpixel(xy), CONFIDENCE_RGB, alphas)), unmarked.getpixel(xy)
+    for xy in probes[2:]:
+        assert close(unmarked.getpixel(xy), bare.getpixel(xy)), (xy, unmarked.getpixel(xy), bare.getpixel(xy))
+    assert pixels_like(shown, ELLIPSE_RGB) > 500 and pixels_like(bare, ELLIPSE_RGB) == 0
+    # the globe, turned to the dispersion, fills its confidence footprints on the sphere
+    set_layers(page, "confidence")
+    page.evaluate("() => window.footprintApp.setView('globe')")
+    probes = png_probes(page, places[:1] + places[3:], "globe")  # Christchurch: on this side of the globe
+    filled = png_export(page)
+    set_layers(page)
+    bare = png_export(page)
+    inside, outside = probes
+    assert close(filled.getpixel(inside), over(bare.getpixel(inside), CONFIDENCE_RGB, alphas)), filled.getpixel(inside)
+    assert close(filled.getpixel(outside), bare.getpixel(outside))
     assert not run.errors and run.violations() == []
 
 
