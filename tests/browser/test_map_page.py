@@ -646,7 +646,7 @@ def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service)
     page.fill("#inclination", "90")
     page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
                            timeout=10_000)
-    page.evaluate("() => window.footprintApp.mapView.map.fitBounds([[-85, -200], [90, 200]], {animate: false})")
+    page.evaluate("() => { window.footprintApp.mapView.map.fitBounds([[-85, -200], [90, 200]], {animate: false}); }")
     page.wait_for_timeout(300)
     shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown", fp_id)
     assert shown["outline"]["pole"] == "north"
