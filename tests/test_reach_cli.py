@@ -207,3 +207,17 @@ def test_each_window_carries_the_deorbit_points_that_reach_its_site():
     first = next(w for w in result["windows"] if w["revolution"] == 1 and w["u_start_deg"] == 0.0)
     assert first["deorbit_points"]["latitude_deg"][0] == pytest.approx(0.0, abs=1e-9)
     assert first["deorbit_points"]["longitude_deg"][0] == pytest.approx(-170.0, abs=1e-9)
+
+
+def test_a_site_name_a_spreadsheet_would_run_is_written_as_text(tmp_path):
+    """Text from users is escaped for where it lands: a CSV opened in a spreadsheet runs a cell starting with = + - @
+    as a formula (OWASP CSV injection); the name keeps its text behind an apostrophe, the JSON keeps it as given."""
+    formula = '=HYPERLINK("http://example.invalid","KSC")'
+    request = json.loads(json.dumps(REQUEST))
+    request["sites"][0]["name"] = formula
+    out = tmp_path / "windows.csv"
+    r = run("reach", write(tmp_path, request), "--csv", out)
+    assert r.returncode == 0, r.stderr
+    names = {row["site"] for row in csv.DictReader(out.open())}
+    assert "'" + formula in names and formula not in names
+    assert formula in {s["name"] for s in json.loads(r.stdout)["sites"]}

@@ -197,14 +197,23 @@ function pointFields(p) {
 export const CSV_COLUMNS = ["footprint_id", "name", "index", "latitude_deg", "longitude_deg", "downrange_nmi",
                             "crossrange_nmi", "flight_time_s", "parameter", "mirrored"];
 
+// a spreadsheet runs a cell that starts so as a formula (OWASP CSV injection; contracts/records.py csv_cell)
+const FORMULA_START = /^[=+\-@\t\r]/;
+
+/** A CSV cell: empty for null; text a spreadsheet would run as a formula behind an apostrophe; quoted if needed. */
+export function csvCell(v) {
+  if (v == null) return "";
+  const text = typeof v === "string" && FORMULA_START.test(v) ? `'${v}` : String(v);
+  return /[",\n\r]/.test(text) ? `"${text.replace(/"/g, '""')}"` : text;
+}
+
 /** One CSV row per shown boundary point. */
 export function toCSV(footprints) {
-  const quote = (v) => (v == null ? "" : /[",\n]/.test(String(v)) ? `"${String(v).replace(/"/g, '""')}"` : String(v));
   const rows = [CSV_COLUMNS.join(",")];
   for (const fp of footprints) {
     openRing(fp.shown.points).forEach((p, i) => {
       const row = { footprint_id: fp.id, name: fp.name, index: i, ...pointFields(p) };
-      rows.push(CSV_COLUMNS.map((c) => quote(row[c])).join(","));
+      rows.push(CSV_COLUMNS.map((c) => csvCell(row[c])).join(","));
     });
   }
   return rows.join("\n") + "\n";

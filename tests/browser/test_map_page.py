@@ -1,6 +1,8 @@
 """The map page in Debian's chromium against the real service (issue 7, "Must show")."""
 
 import contextlib
+import csv
+import io
 import json
 import math
 import re
@@ -759,3 +761,17 @@ def test_the_page_asks_for_the_token_once_and_writes_with_it(browser, tmp_path):
             assert [e for e in run.errors if "status of 401" not in e] == [] and not run.violations()
         finally:
             context.close()
+
+
+def test_a_name_a_spreadsheet_would_run_is_exported_as_text(open_page):
+    """The page's CSV keeps a footprint's name as text where a spreadsheet would run it as a formula (=, +, -, @),
+    and leaves numbers alone (a negative cross-range stays a number)."""
+    run = open_page()
+    csv_text = run.page.evaluate("""async () => { const { toCSV } = await import('/js/geometry.js');
+        const p = (d, c) => ({ latitude_deg: d / 60, longitude_deg: 2, downrange_nmi: d, crossrange_nmi: c });
+        return toCSV([{ id: 'a', name: '=HYPERLINK("http://example.invalid")', shown: { points: [p(10, -5), p(20, 5)] } },
+                      { id: 'b', name: 'Kennedy, "SLF"', shown: { points: [p(30, 0)] } }]); }""")
+    rows = list(csv.reader(io.StringIO(csv_text)))
+    assert rows[1][:2] == ["a", "'=HYPERLINK(\"http://example.invalid\")"] and rows[1][6] == "-5"
+    assert rows[3][:2] == ["b", 'Kennedy, "SLF"']
+    assert not run.errors

@@ -60,7 +60,8 @@ def test_bad_dispersions_are_422_naming_the_field(api, change, field):
 SITES = [{"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411},  # deep inside
          {"name": "Kennedy SLF, \"=cmd\"", "latitude_deg": 28.615, "longitude_deg": -80.695},  # behind the entry
          {"name": "Honolulu", "latitude_deg": 21.319, "longitude_deg": -157.922},  # past 180 E, near the far end
-         {"name": "Kwajalein", "latitude_deg": 8.72, "longitude_deg": 167.732}]
+         {"name": "Kwajalein", "latitude_deg": 8.72, "longitude_deg": 167.732},
+         {"name": "=1+2", "latitude_deg": -80.0, "longitude_deg": 0.0}]  # a formula, to a spreadsheet
 
 
 def _holds(geometry, lon, lat) -> bool:
@@ -110,7 +111,7 @@ def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
     assert "attachment" in r.headers["content-disposition"]
     rows = list(csv.DictReader(io.StringIO(r.text)))
-    assert [row["name"] for row in rows] == [s["name"] for s in SITES]
+    assert [row["name"] for row in rows] == [s["name"] for s in SITES[:-1]] + ["'=1+2"]  # kept text
     assert [float(row["probability"]) for row in rows] == [s["probability"] for s in result["sites"]]
     assert all(int(row["samples"]) == 40 for row in rows)
 

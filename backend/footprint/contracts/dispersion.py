@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 import time
 from collections.abc import Callable
 from typing import Annotated, Literal
@@ -29,7 +28,7 @@ from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_v
 
 from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
 from footprint.contracts.footprint import FootprintStudy
-from footprint.contracts.records import FLIGHT_KEYS, flown, plain
+from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
 from footprint.contracts.reach import Site
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
@@ -269,8 +268,8 @@ def sites_csv(result: dict) -> str:
     w = csv.DictWriter(out, fieldnames=SITE_COLUMNS, extrasaction="ignore", lineterminator="\n")
     w.writeheader()
     for s in result["sites"]:
-        w.writerow(s | {"interval_low": s["interval"][0], "interval_high": s["interval"][1],
-                        "samples": result["samples"]})
+        row = s | {"interval_low": s["interval"][0], "interval_high": s["interval"][1], "samples": result["samples"]}
+        w.writerow({k: csv_cell(v) for k, v in row.items() if k in SITE_COLUMNS})
     return out.getvalue()
 
 

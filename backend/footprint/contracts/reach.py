@@ -27,6 +27,7 @@ from footprint.contracts import parse
 from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import run as fly_study
+from footprint.contracts.records import csv_cell
 from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import reach
@@ -265,4 +266,4 @@ def write_windows_csv(result: dict, path) -> None:
         w = csv.DictWriter(f, fieldnames=WINDOW_COLUMNS, extrasaction="ignore")
         w.writeheader()
         for row in result["windows"]:
-            w.writerow(row)
+            w.writerow({k: csv_cell(v) for k, v in row.items()})

@@ -1,5 +1,6 @@
 """Results as JSON-ready records: plain values, and a trajectory's histories decimated for a map or a plot."""
 
+import json
 import math
 
 import numpy as np
@@ -35,3 +36,21 @@ def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg"), max_points: in
     """A trajectory's summary and its histories of `keys` (those it has), decimated to max_points."""
     keep = decimated(len(traj.history["time_s"]), max_points)
     return {"summary": plain(traj.summary), **{k: plain(traj.history[k][keep]) for k in keys if k in traj.history}}
+
+
+# a spreadsheet runs a cell that starts so as a formula (OWASP, "CSV Injection"): user text is kept text by a quote
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def csv_cell(value):
+    """A CSV cell: None empty; a float in full (repr) precision, so a table read back gives the same numbers; a dict
+    as sorted JSON; text a spreadsheet would run as a formula behind an apostrophe."""
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, dict):
+        return json.dumps(value, sort_keys=True)
+    if isinstance(value, str) and value.startswith(FORMULA_START):
+        return "'" + value
+    return value

@@ -24,7 +24,6 @@ pull-out (all (L/D)max points when bank starts at pull-out) gets its pull-out do
 
 import csv
 import json
-import math
 import os
 import time
 import uuid
@@ -40,6 +39,7 @@ from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, boun
                                      model_fields, validated)
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy
 from footprint.contracts.footprint import run as fly_study
+from footprint.contracts.records import csv_cell
 from footprint.parallel import dask_client, worker_count
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
@@ -396,14 +396,7 @@ def _write_csv(path: Path, columns, rows) -> Path:
         w = csv.DictWriter(f, fieldnames=columns, restval="", extrasaction="raise")
         w.writeheader()
         for row in rows:
-            w.writerow({k: _cell(v) for k, v in row.items()})
+            w.writerow({k: csv_cell(v) for k, v in row.items()})
     return path
 
 
-def _cell(value):
-    """CSV text: floats in full (repr) precision, so a table read back gives the same numbers; None empty."""
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return repr(value) if math.isfinite(value) else str(value)
-    return value

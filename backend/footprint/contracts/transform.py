@@ -31,7 +31,6 @@ down-range is its flown one where the request gives it (a move keeps the ranges 
 """
 
 import csv
-import json
 from pathlib import Path
 from typing import Literal
 
@@ -41,6 +40,7 @@ from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_valid
 from footprint.contracts import parse
 from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.records import csv_cell
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.rotation import ranges_near
@@ -243,15 +243,7 @@ def write_csv(result: dict, path) -> Path:
         w = csv.writer(f)
         w.writerow(columns)
         for p in result["points"]:
-            w.writerow([_cell(p.get(c)) for c in columns])
+            w.writerow([csv_cell(p.get(c)) for c in columns])
     return path
 
 
-def _cell(v):
-    if v is None:
-        return ""
-    if isinstance(v, dict):
-        return json.dumps(v, sort_keys=True)
-    if isinstance(v, float):
-        return repr(v)
-    return v

@@ -9,6 +9,7 @@ from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
 from footprint.contracts import parse
+from footprint.contracts.records import csv_cell
 from footprint.pictures import geojson
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
@@ -91,8 +92,7 @@ def _csv(points: list[dict]) -> str:
     w = csv.writer(out)
     w.writerow(CSV_COLUMNS)
     for i, p in enumerate(points):
-        w.writerow([i] + [json.dumps(p[c], sort_keys=True) if c == "parameter" else
-                          repr(p[c]) if isinstance(p[c], float) else p[c] for c in CSV_COLUMNS[1:]])
+        w.writerow([i] + [csv_cell(p[c]) for c in CSV_COLUMNS[1:]])
     return out.getvalue()
 
 
