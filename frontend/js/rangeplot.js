@@ -27,15 +27,16 @@ export function gridAndTicks({ xt, yt, sx, sy, left, top, width, height, yTick =
   return parts;
 }
 
-export function drawRangePlot(container, fp) {
-  // a tall column (the plot beside the map on a wide screen) keeps the figure's 5:4, not a stretched one
-  const width = Math.max(container.clientWidth, 200), height = Math.max(Math.min(container.clientHeight, width * 0.8), 160);
-  if (!fp) {
-    container.innerHTML = '<p class="empty">Select a footprint to plot it in down-range and cross-range.</p>';
-    return;
-  }
-  const pts = openRing(fp.shown.points).filter((p) => p.downrange_nmi != null);
-  const xs = pts.map((p) => p.downrange_nmi), ys = pts.map((p) => p.crossrange_nmi);
+/** A plot's size in `container`: its width, and a height kept at most 5:4 (a tall column beside the map on a
+ * wide screen keeps the figure's proportions, not a stretched one). */
+export function plotSize(container) {
+  const width = Math.max(container.clientWidth, 200);
+  return { width, height: Math.max(Math.min(container.clientHeight, width * 0.8), 160) };
+}
+
+/** The report's axes (down-range across, cross-range up, nmi) over the values xs, ys, the entry (0, 0) always
+ * inside: the scales sx, sy, the bounds, the box and its first parts (grid and ticks, the zero line, the frame). */
+export function rangeAxes(xs, ys, { width, height }) {
   const xt = niceTicks(Math.min(0, ...xs), Math.max(...xs)), yt = niceTicks(Math.min(0, ...ys), Math.max(0, ...ys));
   const [x0, x1] = [Math.min(xt[0], ...xs), Math.max(xt[xt.length - 1], ...xs)];
   const [y0, y1] = [Math.min(yt[0], ...ys), Math.max(yt[yt.length - 1], ...ys)];
@@ -45,6 +46,30 @@ export function drawRangePlot(container, fp) {
   const parts = gridAndTicks({ xt, yt, sx, sy, left: MARGIN.left, top: MARGIN.top, width: pw, height: ph });
   parts.push(`<line class="axis-zero" x1="${MARGIN.left}" x2="${MARGIN.left + pw}" y1="${sy(0)}" y2="${sy(0)}"/>`);
   parts.push(`<rect class="frame" x="${MARGIN.left}" y="${MARGIN.top}" width="${pw}" height="${ph}"/>`);
+  return { sx, sy, x0, x1, y0, y1, pw, ph, parts };
+}
+
+/** Put a range plot into `container`: its parts, the entry point, the axis labels and its title (the title and
+ * the aria label are the user's text: escaped here). */
+export function showRangePlot(container, { axes, size, parts, entryColor, title, label, className = "range-plot" }) {
+  const { sx, sy, pw, ph } = axes, { width, height } = size;
+  parts.push(`<circle class="plot-entry" cx="${sx(0)}" cy="${sy(0)}" r="5" style="fill:${entryColor}"><title>entry point</title></circle>`);
+  parts.push(`<text class="axis-label" x="${MARGIN.left + pw / 2}" y="${height - 6}" text-anchor="middle">Down-range (nmi)</text>`);
+  parts.push(`<text class="axis-label" transform="translate(14,${MARGIN.top + ph / 2}) rotate(-90)" text-anchor="middle">Cross-range (nmi)</text>`);
+  parts.push(`<text class="plot-title" x="${MARGIN.left}" y="16">${escapeHtml(title)}</text>`);
+  container.innerHTML = `<svg xmlns="${SVG_NS}" class="${className}" viewBox="0 0 ${width} ${height}" width="${width}" `
+    + `height="${height}" role="img" aria-label="${escapeHtml(label)}">${parts.join("")}</svg>`;
+}
+
+export function drawRangePlot(container, fp) {
+  const size = plotSize(container);
+  if (!fp) {
+    container.innerHTML = '<p class="empty">Select a footprint to plot it in down-range and cross-range.</p>';
+    return;
+  }
+  const pts = openRing(fp.shown.points).filter((p) => p.downrange_nmi != null);
+  const axes = rangeAxes(pts.map((p) => p.downrange_nmi), pts.map((p) => p.crossrange_nmi), size);
+  const { sx, sy, parts } = axes;
   if (pts.length) {
     const d = pts.map((p, i) => `${i ? "L" : "M"}${sx(p.downrange_nmi).toFixed(1)},${sy(p.crossrange_nmi).toFixed(1)}`).join("") + "Z";
     parts.push(`<path class="boundary" d="${d}" style="stroke:${fp.color};fill:${fp.color}"/>`);
@@ -53,10 +78,6 @@ export function drawRangePlot(container, fp) {
     `<circle class="plot-point" cx="${sx(p.downrange_nmi)}" cy="${sy(p.crossrange_nmi)}" r="3.5" `
     + `style="stroke:${fp.color};fill:${p.mirrored ? "#fff" : fp.color}"><title>down-range ${fmt(p.downrange_nmi)} nmi, `
     + `cross-range ${fmt(p.crossrange_nmi)} nmi, ${fmt(p.flight_time_s)} s${p.parameter ? ", " + escapeHtml(describeParameter(p.parameter)) : ""}</title></circle>`));
-  parts.push(`<circle class="plot-entry" cx="${sx(0)}" cy="${sy(0)}" r="5" style="fill:${fp.color}"><title>entry point</title></circle>`);
-  parts.push(`<text class="axis-label" x="${MARGIN.left + pw / 2}" y="${height - 6}" text-anchor="middle">Down-range (nmi)</text>`);
-  parts.push(`<text class="axis-label" transform="translate(14,${MARGIN.top + ph / 2}) rotate(-90)" text-anchor="middle">Cross-range (nmi)</text>`);
-  parts.push(`<text class="plot-title" x="${MARGIN.left}" y="16">${escapeHtml(fp.name)}</text>`);
-  container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot" viewBox="0 0 ${width} ${height}" width="${width}" height="${height}" role="img" `
-    + `aria-label="Cross-range against down-range of ${escapeHtml(fp.name)}">${parts.join("")}</svg>`;
+  showRangePlot(container, { axes, size, parts, entryColor: fp.color, title: fp.name,
+                             label: `Cross-range against down-range of ${fp.name}` });
 }

@@ -14,7 +14,7 @@ import pytest
 from footprint.core.outline import outline
 from footprint.core.sphere import Reference, downrange_crossrange_nmi
 
-from tests.authorities.report import table2_entry, table2_stop
+from tests.authorities.report import example, table2_entry, table2_stop
 
 from .conftest import JOB_TIMEOUT_S
 
@@ -461,3 +461,39 @@ def test_a_refused_dispersion_names_its_field(open_page, field, value, words):
     note.wait_for(timeout=10_000)
     assert note.inner_text().startswith(words) and value in note.inner_text(), note.inner_text()
     assert page.locator(".field-error:visible").count() == 1 and page.locator("#job-list li").count() == 0
+
+
+POLAR_SITES = (("Svalbard", 78.25, 15.5), ("Thule", 76.53, -68.7), ("Hobart", -42.8, 147.5))
+
+
+def test_a_dispersion_over_the_pole_is_filled_to_the_pole(open_page, service):
+    """Entered at 60 N heading north, the L/D 1.89 footprint reaches round the north pole and down the far side to
+    10 N: each confidence footprint is drawn as a polar cap (its area up to 90 N across all 360 deg of longitude),
+    on the map, on the globe and in the PNG; Svalbard, past the pole from nowhere, is reached in every sample."""
+    fp = example("footprint_lod189") | {"bank0_deg": [0, 30, 60, 90, 120]}
+    fp["case"]["entry"] |= {"latitude_deg": 60.0, "longitude_deg": -30.0, "heading_deg": 0.0}
+    study = {"footprint": fp, "samples": 64, "seed": 2, "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
+             "confidence": [0.5, 0.9],
+             "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in POLAR_SITES]}
+    job = service.run_job({"kind": "dispersion", "name": "lod-1.89 north from 60 N", "study": study})
+    assert job["status"] == "succeeded", job
+    result = job["result"]["dispersion"]
+    assert {s["name"]: s["probability"] for s in result["sites"]} == {"Svalbard": 1.0, "Thule": 0.0, "Hobart": 0.0}
+    run = open_page(1280, 800)
+    page = run.page
+    page.evaluate("""async () => { const app = window.footprintApp;
+        for (const fp of app.state.footprints.values()) if (fp.visible) await app.setVisible(fp, false); }""")
+    show_dispersion(page, job)
+    page.evaluate("() => { document.getElementById('job-panel').open = false; window.footprintApp.mapView.fitDispersion(); }")
+    page.wait_for_timeout(400)
+    for level in result["confidence"]:
+        area = page.locator("path.dispersion-confidence-area.disp-copy-0").nth(result["confidence"].index(level))
+        box = area.evaluate(BBOX_JS)
+        assert box["north"] > 89.0 and box["east"] - box["west"] > 359.0, box  # a cap, not a band across the map
+    assert "goes round a pole" not in page.inner_text("#dispersion-outcomes")  # the outline closes it
+    page.screenshot(path=str(FIGURES / "map_dispersion_polar.png"))
+    page.click("#view-globe")
+    page.evaluate("() => window.footprintApp.globe.center(-30, 80)")
+    page.wait_for_timeout(400)
+    page.screenshot(path=str(FIGURES / "globe_dispersion_polar.png"))
+    assert not run.errors and run.violations() == []
