@@ -466,7 +466,7 @@ def test_a_refused_dispersion_names_its_field(open_page, field, value, words):
 POLAR_SITES = (("Svalbard", 78.25, 15.5), ("Thule", 76.53, -68.7), ("Hobart", -42.8, 147.5))
 
 
-def test_a_dispersion_over_the_pole_is_filled_to_the_pole(open_page, service):
+def test_a_dispersion_over_the_pole_is_filled_to_the_pole(open_page, service, stored_sites):  # sites: one figure
     """Entered at 60 N heading north, the L/D 1.89 footprint reaches round the north pole and down the far side to
     10 N: each confidence footprint is drawn as a polar cap (its area up to 90 N across all 360 deg of longitude),
     on the map, on the globe and in the PNG; Svalbard, past the pole from nowhere, is reached in every sample."""
@@ -484,7 +484,8 @@ def test_a_dispersion_over_the_pole_is_filled_to_the_pole(open_page, service):
     page.evaluate("""async () => { const app = window.footprintApp;
         for (const fp of app.state.footprints.values()) if (fp.visible) await app.setVisible(fp, false); }""")
     show_dispersion(page, job)
-    page.evaluate("() => { document.getElementById('job-panel').open = false; window.footprintApp.mapView.fitDispersion(); }")
+    page.evaluate("""() => { document.getElementById('job-panel').open = false; window.footprintApp.mapView.fitDispersion();
+        document.getElementById('dispersion-panel').scrollIntoView(); }""")
     page.wait_for_timeout(400)
     for level in result["confidence"]:
         area = page.locator("path.dispersion-confidence-area.disp-copy-0").nth(result["confidence"].index(level))
