@@ -170,15 +170,15 @@ class FootprintRun:
         return self.vehicle, self.entry_velocity_fps, self.entry_gamma_deg
 
 
-def fly_footprint(job: dict, study=None) -> FootprintRun:
-    """The task: fly one footprint (`study`: job["study"] parsed already). Never raises: a failure in the core comes
-    back as a run with `error` set."""
+def fly_footprint(job: dict, study=None, on_progress=None) -> FootprintRun:
+    """The task: fly one footprint (`study`: job["study"] parsed already; on_progress as the core's footprints take
+    it: a True answer stops it). Never raises: a failure in the core comes back as a run with `error` set."""
     vehicle, velocity_fps, gamma_deg = job["key"]
     run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,
                        method=job["study"]["method"], worker=f"pid {os.getpid()}")
     t0 = time.perf_counter()
     try:
-        run.footprint = fly_study(study or parse("footprint", job["study"]))
+        run.footprint = fly_study(study or parse("footprint", job["study"]), on_progress=on_progress)
         first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
         run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
         run.trajectories = run.footprint.trajectories

@@ -38,6 +38,9 @@ STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since
 STATUS_S = 1.0  # the cluster's status is asked of the scheduler at most this often (/api/health under load)
 CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
 QUEUE_POLL_S = 0.2  # a polling engine looks for the jobs other processes queued this often
+KEEP_POLL_S = 1.0  # the local cluster's size is looked at this often
+REPLACE_AFTER_S = 10.0  # a worker missing this long (a nanny's restart takes seconds) is replaced
+RESTART_TIMEOUT_S = 60.0  # a worker restart's wait for the nanny (a loaded machine starts a process slowly)
 
 
 class JobTimeLimit(RuntimeError):
@@ -66,6 +69,11 @@ class ClusterLink:
         self._closing = threading.Event()
         self._status: tuple[float, dict] = (-STATUS_S, {})  # (when the scheduler was asked, what it said)
         self.client = None
+        self.most_workers = 0  # the most workers the scheduler has had: an external cluster's size
+
+    def expected_workers(self) -> int:
+        """The cluster's size: the local cluster's FOOTPRINT_DASK_WORKERS, else the most an external one has had."""
+        return self.most_workers if self._settings.dask_scheduler else self._settings.dask_workers
 
     def _connect(self):
         """Not the default client: the service's threads pass it."""
@@ -77,15 +85,19 @@ class ClusterLink:
         return client
 
     def status(self) -> dict:
-        """The cluster's health: ok, scheduler address, workers (as the scheduler said at most STATUS_S ago)."""
+        """The cluster's health: ok (running, and no worker missing), scheduler address, workers and the size expected
+        (as the scheduler said at most STATUS_S ago)."""
         with self._lock:
             asked, last = self._status
             if time.monotonic() - asked < STATUS_S:
                 return dict(last)
         try:
             info = self.client.scheduler_info(n_workers=-1)
-            now = {"ok": self.client.status == "running", "scheduler": info.get("address", ""),
-                   "workers": len(info.get("workers", {}))}
+            workers = len(info.get("workers", {}))
+            self.most_workers = max(self.most_workers, workers)
+            expected = self.expected_workers()
+            now = {"ok": self.client.status == "running" and workers >= max(expected, 1),
+                   "scheduler": info.get("address", ""), "workers": workers, "expected_workers": expected}
         except Exception as exc:  # noqa: BLE001 -- health reports, never raises
             now = {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
                    "error": one_line(exc)}
@@ -127,6 +139,8 @@ class JobEngine(ClusterLink):
         self._started: dict[str, float] = {}  # task key -> when a worker started it (monotonic), from its first event
         self._wakes: dict[str, threading.Event] = {}  # task key -> its job's watcher, woken by each report
         self._cancels: set[str] = set()  # jobs cancelled through this process, not yet stopped
+        self._restarting = threading.Lock()  # one restart at a time: a second one of a worker that is restarting
+        # timed out, and the scheduler then removed the worker for good
         self.warm_seconds: float | None = None
 
     # ------------------------------------------------------------------------------------ lifetime
@@ -143,6 +157,28 @@ class JobEngine(ClusterLink):
             log.info("resubmitted %d pending jobs", len(pending))
         if self._polls:
             threading.Thread(target=self._poll_queue, name="footprint-queue", daemon=True).start()
+        if getattr(self.client, "cluster", None) is not None:  # our LocalCluster: kept at its size
+            threading.Thread(target=self._keep_size, name="footprint-cluster", daemon=True).start()
+
+    def _keep_size(self) -> None:
+        """Replace the local cluster's workers that are missing for REPLACE_AFTER_S: a nanny whose restart failed
+        (a loaded machine, a restart racing another) closes itself and its worker never comes back, and the queue
+        would wait for ever."""
+        missing_since: dict[str, float] = {}
+        while not self._closing.wait(KEEP_POLL_S):
+            try:
+                cluster = self.client.cluster
+                present = {w.get("name") for w in self.client.scheduler_info(n_workers=-1)["workers"].values()}
+                now = time.monotonic()
+                missing_since = {n: missing_since.get(n, now) for n in cluster.worker_spec if n not in present}
+                overdue = [n for n, t in missing_since.items() if now - t >= REPLACE_AFTER_S]
+                if overdue and not self._closing.is_set():
+                    log.warning("replacing %d missing worker(s) of the local cluster", len(overdue))
+                    cluster.sync(_replace_workers, cluster, overdue)
+                    missing_since = {n: t for n, t in missing_since.items() if n not in overdue}
+            except Exception as exc:  # noqa: BLE001 -- the next look tries again
+                if not self._closing.is_set():
+                    log.warning("could not check the cluster's workers: %s", one_line(exc))
 
     def _poll_queue(self) -> None:
         """Watch the jobs the API processes queue in the database."""
@@ -218,9 +254,23 @@ class JobEngine(ClusterLink):
                 break
             time.sleep(0.1)
         if busy:
+            self._restart(busy, keys)
+
+    def _restart(self, busy: list[str], keys: set[str]) -> None:
+        """Restart the workers still running one of `keys`, one restart at a time (asked again once it is our turn:
+        another stop may have restarted them meanwhile)."""
+        with self._restarting:
+            try:
+                running = self.client.run(tasks.running_keys, workers=busy)
+            except Exception as exc:  # noqa: BLE001 -- a worker lost meanwhile: its tasks are gone with it
+                log.info("could not ask the workers what they run: %s", one_line(exc))
+                return
+            busy = [w for w, ks in running.items() if keys & set(ks)]
+            if not busy:
+                return
             log.info("restarting %d worker(s) to stop a cancelled or timed-out job", len(busy))
             try:
-                self.client.restart_workers(busy, raise_for_error=False)
+                self.client.restart_workers(busy, timeout=RESTART_TIMEOUT_S, raise_for_error=False)
             except Exception as exc:  # noqa: BLE001 -- a worker without a nanny cannot be restarted: say so
                 log.warning("could not restart worker(s) %s: %s", busy, one_line(exc))
 
@@ -332,6 +382,19 @@ class JobEngine(ClusterLink):
         with self._sessions.begin() as session:
             job = q.get_job(session, job_id=job_id)
             return job is None or job.status not in PENDING
+
+
+async def _replace_workers(cluster, names: list[str]) -> None:
+    """Close the cluster's missing workers' nannies (if any is left) and start new ones under the same names
+    (SpecCluster._correct_state starts every worker of its spec that it does not hold)."""
+    for name in names:
+        nanny = cluster.workers.pop(name, None)
+        if nanny is not None:
+            try:
+                await nanny.close()
+            except Exception as exc:  # noqa: BLE001 -- a nanny already gone: its replacement starts all the same
+                log.info("closing a lost nanny: %s", one_line(exc))
+    await cluster._correct_state()
 
 
 def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:

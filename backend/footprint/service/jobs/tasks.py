@@ -94,9 +94,8 @@ def sweep_footprint_task(job: dict, name: str) -> dict:
     fails on comes back as {"key", "error"}."""
     from footprint.contracts.sweep import fly_footprint
 
-    progress_reporter()  # started
     study = contracts.parse("footprint", job["study"])
-    run = fly_footprint(job, study)
+    run = fly_footprint(job, study, on_progress=progress_reporter())  # a cancel stops it, no worker restarted
     if run.footprint is None:
         return {"key": list(job["key"]), "error": run.error}
     return footprint_record(run.footprint, study, job["study"], ground_track(study.case.to_spec()), name)
