@@ -62,7 +62,7 @@ def test_two_api_processes_answer_and_the_engine_runs_their_jobs(served):
     assert "died" not in log_path.read_text()  # uvicorn killed an API process that was slow to start
     with httpx.Client(base_url=base, timeout=30) as client:
         health = client.get("/api/health").json()
-        assert health["cluster"] == {"ok": True, "workers": 2}
+        assert health["cluster"] == {"ok": True, "workers": 2, "expected_workers": 2}
         ids = [client.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"] for _ in range(4)]
         for job_id in ids:
             job = _wait(client, job_id)

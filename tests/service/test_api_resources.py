@@ -20,7 +20,7 @@ def test_health_names_the_database_and_the_cluster(api):
     health = api.get("/api/health").json()
     assert health == {"status": "ok", "version": footprint.__version__,
                       "database": {"ok": True, "dialect": api.database},
-                      "cluster": {"ok": True, "workers": 2}}  # no token set: no caller sees the scheduler's address
+                      "cluster": {"ok": True, "workers": 2, "expected_workers": 2}}  # no token set: no caller sees the scheduler's address
 
 
 def test_openapi_docs_list_the_contract_paths(api):
