@@ -13,6 +13,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, TypeAdapter,
                       ValidationError, ValidationInfo, model_validator)
 
+from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
 from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
@@ -92,9 +93,9 @@ class VehicleCase(Strict):
 
     model_config = ConfigDict(extra="forbid", json_schema_extra={
         "anyOf": [{"required": ["builtin"]}, {"required": ["aero"]}, {"required": ["stored"]}]})
-    stored: str | None = Field(default=None, max_length=64)  # replaced by its definition as it is parsed
+    stored: str | None = Field(default=None, max_length=VEHICLE_ID_CHARS)  # replaced by its definition as it is parsed
     builtin: str | None = None
-    name: str | None = None
+    name: str | None = Field(default=None, max_length=VEHICLE_NAME_CHARS)  # a footprint's `vehicle`
     wing_loading_psf: bounded(1, 2000, "lb/ft^2") | None = None
     weight_lb: bounded(1, 1e7, "lb") | None = None
     reference_area_ft2: bounded(0.01, 1e5, "ft^2") | None = None

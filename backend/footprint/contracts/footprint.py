@@ -8,6 +8,7 @@ from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
+from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
 from footprint.contracts.case import Case, Strict, bounded, door_limit, synchronous, validated
 
 BankDeg = bounded(-180, 180, "deg")
@@ -39,9 +40,11 @@ class _Study(Strict):
         return self
 
     def default_name(self) -> str:
-        """The footprint's name unless one is given: vehicle, method, entry speed and flight-path angle."""
+        """The footprint's name unless one is given: vehicle, method, entry speed and flight-path angle, in a job
+        name's bound (a long vehicle name is cut)."""
         e = self.case.entry
-        return f"{self.case.vehicle.label()} {self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg"
+        return fitted(self.case.vehicle.label(), f"{self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg",
+                      JOB_NAME_CHARS)
 
 
 class SingleParameterStudy(_Study):

@@ -24,6 +24,7 @@ import numpy as np
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts import parse
+from footprint.contracts.bounds import SITE_NAME_CHARS
 from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import run as fly_study
@@ -100,7 +101,7 @@ class ReachOrbit(Strict):
 
 
 class Site(Strict):
-    name: str = Field(min_length=1, max_length=200)
+    name: str = Field(min_length=1, max_length=SITE_NAME_CHARS)
     latitude_deg: bounded(-90, 90, "deg")
     longitude_deg: bounded(-360, 360, "deg")
 

@@ -8,12 +8,13 @@ from pydantic import BaseModel, ConfigDict, Field, create_model
 
 from footprint import contracts
 from footprint.contracts import JOB_KINDS
+from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
 from footprint.contracts.case import model_fields
 from footprint.contracts.reach import Site
 
 JobKind = Literal[JOB_KINDS]
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
-VEHICLE_ID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$"
+VEHICLE_ID_PATTERN = rf"^[A-Za-z0-9][A-Za-z0-9_.-]{{0,{VEHICLE_ID_CHARS - 1}}}$"
 
 
 class _Strict(BaseModel):
@@ -26,13 +27,13 @@ class JobCreate(_Strict):
 
     kind: JobKind
     study: dict[str, Any]
-    name: str | None = Field(default=None, max_length=200)
+    name: str | None = Field(default=None, max_length=JOB_NAME_CHARS)
 
 
 def _typed_job(kind: str) -> type[BaseModel]:
     return create_model(f"{kind.capitalize()}Job", __base__=_Strict, kind=(Literal[kind], ...),
                         study=(contracts.module(kind).REQUEST, ...),
-                        name=(str | None, Field(default=None, max_length=200)))
+                        name=(str | None, Field(default=None, max_length=JOB_NAME_CHARS)))
 
 
 # POST /api/jobs as the OpenAPI document declares it: one typed study per kind, discriminated on "kind"
@@ -50,7 +51,7 @@ FootprintTransform = create_model("FootprintTransform", __base__=_Strict, **mode
 
 
 class FootprintRename(_Strict):
-    name: str = Field(min_length=1, max_length=200, pattern=r"^[^\x00-\x1f]*[^\s\x00-\x1f][^\x00-\x1f]*$")  # printable, not blank
+    name: str = Field(min_length=1, max_length=FOOTPRINT_NAME_CHARS, pattern=r"^[^\x00-\x1f]*[^\s\x00-\x1f][^\x00-\x1f]*$")  # printable, not blank
 
 
 class JobCreated(BaseModel):

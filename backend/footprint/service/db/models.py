@@ -8,6 +8,9 @@ from sqlalchemy import JSON, BigInteger, Boolean, DateTime, Float, ForeignKey, I
     UniqueConstraint
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, relationship
 
+from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, PROGRESS_NOTE_CHARS, SITE_NAME_CHARS, \
+    VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
+
 NAMING = {"ix": "ix_%(column_0_label)s", "uq": "uq_%(table_name)s_%(column_0_name)s",
           "ck": "ck_%(table_name)s_%(constraint_name)s",
           "fk": "fk_%(table_name)s_%(column_0_name)s_%(referred_table_name)s", "pk": "pk_%(table_name)s"}
@@ -42,7 +45,7 @@ class Vehicle(Base):
     """A custom vehicle: its definition is the case contract's vehicle object."""
 
     __tablename__ = "vehicles"
-    id: Mapped[str] = mapped_column(String(64), primary_key=True)
+    id: Mapped[str] = mapped_column(String(VEHICLE_ID_CHARS), primary_key=True)
     description: Mapped[str] = mapped_column(Text, default="")
     definition: Mapped[dict[str, Any]]
     # the list item's numbers (wing_loading_psf, ld_max, alpha_ld_max_deg), computed once when it is stored
@@ -54,10 +57,10 @@ class Job(Base):
     __tablename__ = "jobs"
     id: Mapped[str] = mapped_column(String(36), primary_key=True)
     kind: Mapped[str] = mapped_column(String(16))
-    name: Mapped[str | None] = mapped_column(String(200))
+    name: Mapped[str | None] = mapped_column(String(JOB_NAME_CHARS))
     status: Mapped[str] = mapped_column(String(16), index=True)
     progress: Mapped[float] = mapped_column(Float, default=0.0)
-    progress_note: Mapped[str | None] = mapped_column(String(200))  # what a running job is doing (IPOPT's iteration)
+    progress_note: Mapped[str | None] = mapped_column(String(PROGRESS_NOTE_CHARS))  # what a running job is doing (IPOPT's iteration)
     error: Mapped[str | None] = mapped_column(Text)
     study: Mapped[dict[str, Any]]
     attempts: Mapped[int] = mapped_column(Integer, default=0)  # submissions to the cluster (restarts add one)
@@ -83,8 +86,8 @@ class Footprint(Base):
     id: Mapped[str] = mapped_column(String(36), primary_key=True)
     job_id: Mapped[str] = mapped_column(ForeignKey("jobs.id", ondelete="CASCADE"), index=True)
     seq: Mapped[int] = mapped_column(Integer)  # the footprint's place in its job
-    name: Mapped[str] = mapped_column(String(300))
-    vehicle: Mapped[str] = mapped_column(String(200))
+    name: Mapped[str] = mapped_column(String(FOOTPRINT_NAME_CHARS))
+    vehicle: Mapped[str] = mapped_column(String(VEHICLE_NAME_CHARS))
     method: Mapped[str] = mapped_column(String(32))
     entry_latitude_deg: Mapped[float] = mapped_column(Float)
     entry_longitude_deg: Mapped[float] = mapped_column(Float)
@@ -138,7 +141,7 @@ class Trajectory(Base):
 class Site(Base):
     __tablename__ = "sites"
     id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
-    name: Mapped[str] = mapped_column(String(200))
+    name: Mapped[str] = mapped_column(String(SITE_NAME_CHARS))
     latitude_deg: Mapped[float] = mapped_column(Float)
     longitude_deg: Mapped[float] = mapped_column(Float)
     last_reach: Mapped[dict[str, Any] | None]  # the verdict of the last reach stored for it (POST /api/reach?store_verdicts=true)

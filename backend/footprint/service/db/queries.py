@@ -8,6 +8,7 @@ from sqlalchemy import delete, func, select, text, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
+from footprint.contracts.bounds import PROGRESS_NOTE_CHARS
 from footprint.service.db.models import PENDING, REVISIONS, Footprint, FootprintPoint, Job, JobResult, Revision, \
     Site, Trajectory, Vehicle, utc_now
 
@@ -84,7 +85,7 @@ def mark_running(session: Session, *, job_id: str) -> None:
 def set_progress(session: Session, *, job_id: str, progress: float, note: str | None = None) -> None:
     """Record the progress (0-1) of a running job, and what it is doing."""
     session.execute(update(Job).where(Job.id == job_id, Job.status == "running")
-                    .values(progress=progress, progress_note=None if note is None else note[:200]))
+                    .values(progress=progress, progress_note=None if note is None else note[:PROGRESS_NOTE_CHARS]))
 
 
 def fail_job(session: Session, *, job_id: str, error: str) -> None:

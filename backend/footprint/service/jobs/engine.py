@@ -23,6 +23,7 @@ from contextlib import ExitStack
 from sqlalchemy.orm import Session, sessionmaker
 
 from footprint import contracts
+from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
 from footprint.service.db import queries as q
 from footprint.service.db.models import PENDING
 from footprint.service.jobs import tasks
@@ -403,8 +404,9 @@ def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:
     if kind == "footprint":
         return [(tasks.footprint_task, study, name or request.default_name())]
     if kind == "sweep":
-        return [(tasks.sweep_footprint_task, job, f"{request.name} {job['key'][0]} {job['key'][1]:g} fps "
-                                                  f"{job['key'][2]:g} deg") for job in request.jobs()]
+        return [(tasks.sweep_footprint_task, job, fitted(f"{request.name} {job['key'][0]}", f"{job['key'][1]:g} fps "
+                                                         f"{job['key'][2]:g} deg", FOOTPRINT_NAME_CHARS))
+                for job in request.jobs()]
     if kind == "dispersion":
         return [(tasks.dispersion_task, study, first, end) for first, end in request.chunks()]
     return [(tasks.TASKS[kind], study)]
