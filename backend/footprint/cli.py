@@ -10,6 +10,7 @@ from pydantic import ValidationError
 
 from footprint import contracts
 from footprint.contracts.case import error_line, printable
+from footprint.contracts.records import strict_json
 from footprint.core.errors import InputError, NoOptimum
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
@@ -60,7 +61,7 @@ def _writable(path: Optional[Path], option: str) -> None:
 def _answer(result: dict, as_json: bool, lines) -> None:
     """The full JSON when asked or piped (other tools read it); a few lines for a person at a terminal."""
     if as_json or not sys.stdout.isatty():
-        typer.echo(json.dumps(result, indent=2, default=_json_default))
+        typer.echo(strict_json(result, indent=2))
     else:
         typer.echo("\n".join(lines(result)) + "\n(the full result: --json)")
 
@@ -97,10 +98,6 @@ def _optimum_lines(r: dict) -> list[str]:
     return out
 
 
-def _json_default(o):
-    return float(o) if hasattr(o, "__float__") else str(o)
-
-
 @app.command()
 def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case file (see README: the case contract)"),
         history: Optional[Path] = typer.Option(None, "--history", metavar="FILE.csv", help="write the time histories")):
@@ -109,7 +106,7 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
     traj = contracts.module("case").run(_request("case", case_file))
     if history is not None:
         traj.write_csv(history)
-    typer.echo(json.dumps(traj.summary, indent=2, default=_json_default))
+    typer.echo(strict_json(traj.summary, indent=2))
 
 
 @app.command("footprint")
@@ -129,7 +126,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
         from footprint.pictures.figures import save_footprint_plot
 
         save_footprint_plot(fp, plot)
-    typer.echo(json.dumps(fp.to_dict(), indent=2, default=_json_default))
+    typer.echo(strict_json(fp.to_dict(), indent=2))
 
 
 @app.command()
@@ -225,7 +222,7 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
     if geojson_out is not None:
         from footprint.pictures.geojson import dispersion_collection
 
-        geojson_out.write_text(json.dumps(dispersion_collection(result)))
+        geojson_out.write_text(strict_json(dispersion_collection(result)))
     if csv_out is not None:
         csv_out.write_text(dispersion.sites_csv(result))
     _answer(result, as_json, _dispersion_lines)
@@ -298,7 +295,7 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
         _fail(error_line(exc))
     if csv_out is not None:
         write_csv(result, csv_out)
-    typer.echo(json.dumps(result, indent=2, default=_json_default))
+    typer.echo(strict_json(result, indent=2))
 
 
 @app.command()
@@ -395,7 +392,7 @@ def vehicles(as_json: bool = typer.Option(False, "--json", help="print JSON inst
 
     rows = vehicle_summaries()
     if as_json:
-        typer.echo(json.dumps(rows, indent=2, default=_json_default))
+        typer.echo(strict_json(rows, indent=2))
         return
     typer.echo(f"{'id':<10} {'W/S psf':>8} {'(L/D)max':>9} {'alpha deg':>9} {'report':>7}  note")
     for r in rows:

@@ -25,6 +25,16 @@ def plain(value):
     return value
 
 
+def strict_json(value, **dumps) -> str:
+    """RFC 8259 JSON of `value` (plain(): NaN and infinities as null, as the service writes them); anything else
+    unknown as its float or its text. allow_nan=False: a non-finite number that escaped plain() is an error, never
+    the `NaN` a JSON parser refuses."""
+    def other(o):
+        return plain(float(o)) if hasattr(o, "__float__") else str(o)
+
+    return json.dumps(plain(value), allow_nan=False, default=other, **dumps)
+
+
 def decimated(n: int, max_points: int) -> np.ndarray:
     """At most max_points indices of n samples, evenly spread, keeping the first and the last."""
     if n <= max_points:

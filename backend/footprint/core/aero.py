@@ -405,6 +405,9 @@ def _show(value, limit=80):
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+MAX_FORCE_COEFFICIENT = 100.0  # |C_L|, |C_D|, |C_N|, |C_A|: physical ones are O(1) (Appendix B's stay below 3)
+
+
 def _number(value, where):
     try:
         finite = not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
@@ -452,6 +455,7 @@ def _table(tab, where):
         raise InputError(f"{where}.values", f"{got}; must be [mach][alpha][altitude] of shape {shape}")
     if not np.isfinite(values).all():
         raise InputError(f"{where}.values", "must hold finite numbers only")
+    _within_force_range(f"{where}.values", values)
     return mach, alpha, alt, values
 
 
@@ -471,7 +475,18 @@ def _tables_blob(tables, where):
     return blob
 
 
+def _within_force_range(where, values) -> None:
+    """A force coefficient's magnitude at most MAX_FORCE_COEFFICIENT: a C_D of 1e308 overflowed the forces to inf."""
+    worst = float(np.max(np.abs(values)))
+    if not worst <= MAX_FORCE_COEFFICIENT:
+        raise InputError(where, f"reaches {worst:.4g}: a force coefficient must stay within "
+                                f"-{MAX_FORCE_COEFFICIENT:g}..{MAX_FORCE_COEFFICIENT:g}")
+
+
 def _polynomial_blob(cl, cd, alpha_range, cd_where):
+    alpha = np.linspace(*alpha_range, 721)  # the polynomial's values over the range it is flown in (every 0.25 deg at most)
+    for coefficients, where in ((cl, cd_where.rsplit(".", 1)[0] + ".cl"), (cd, cd_where)):
+        _within_force_range(where, np.polyval(coefficients[::-1], alpha))
     blob, cd_positive = pack_polynomial(cl, cd, alpha_range)
     if not cd_positive:
         lo, hi = alpha_range

@@ -1,0 +1,49 @@
+"""Issue 24 item 8: the CLI's JSON is strict JSON (RFC 8259) everywhere. `footprint optimize --json` printed NaN in
+the optimum's temperature_R history for examples/optimize_fly_there.json without its stop altitude (301 of them; the service writes
+null), and a C_D of 1e308 was accepted and printed Infinity with a numpy overflow warning."""
+
+import json
+import math
+
+import pytest
+
+from footprint.contracts.records import strict_json
+from tests.test_cli import ROOT, run
+
+
+def _strict(text: str):
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_an_optimum_flown_past_its_heating_data_prints_null_not_nan(tmp_path):
+    study = json.loads((ROOT / "examples" / "optimize_fly_there.json").read_text())
+    study["case"]["stop"].pop("altitude_ft")
+    path = tmp_path / "nostop.json"
+    path.write_text(json.dumps(study))
+    proc = run("optimize", path, "--json")
+    assert proc.returncode == 0, proc.stderr
+    temperature_R = _strict(proc.stdout)["history"]["temperature_R"]
+    assert temperature_R and set(temperature_R) == {None}  # a correlation gives no temperature: null, as the service
+
+
+def test_strict_json_maps_non_finite_numbers_to_null_and_refuses_what_escapes():
+    import numpy as np
+
+    assert _strict(strict_json({"a": math.nan, "b": [np.float64(np.inf), 1.5], "c": np.float32(-np.inf)})) == \
+        {"a": None, "b": [None, 1.5], "c": None}
+
+
+@pytest.mark.parametrize("aero, field", [({"constant": {"cl": 0.5, "cd": 1e308}}, "vehicle.aero.constant.cd"),
+                                         ({"polynomial": {"cl": [0, 1e200], "cd": [0.1]}}, "vehicle.aero.polynomial.cl")])
+def test_a_coefficient_that_overflows_the_forces_is_refused_with_its_field(tmp_path, aero, field):
+    case = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
+    case["vehicle"] = {"aero": aero, "wing_loading_psf": 50}
+    path = tmp_path / "case.json"
+    path.write_text(json.dumps(case))
+    proc = run("fly", path)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    line = proc.stderr.strip()
+    assert "\n" not in line and field.removeprefix("vehicle.") in line and "100" in line, line
+    assert "Infinity" not in proc.stdout and "overflow" not in proc.stderr
