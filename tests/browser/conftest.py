@@ -10,6 +10,7 @@ import os
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.error
 import urllib.request
@@ -22,6 +23,10 @@ from tests.authorities.report import table2_entry, table2_stop
 
 ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = Path("/usr/bin/chromium")
+# the tests' screenshots: the tracked docs/figures are rewritten only when asked (FOOTPRINT_WRITE_FIGURES=1, as a
+# figure run does); a test run writes to a temporary folder and leaves the checkout as it was
+FIGURES_DIR = (ROOT / "docs" / "figures" if os.environ.get("FOOTPRINT_WRITE_FIGURES") == "1"
+               else Path(tempfile.mkdtemp(prefix="footprint-figures-")))
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 START_TIMEOUT_S = 90.0  # migrations, the Dask cluster and the first compile of the flight kernel
@@ -160,3 +165,13 @@ def open_page(browser, service):
     yield opener
     for c in contexts:
         c.close()
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Say loudly, at the end, that the browser tests did not run when chromium is missing."""
+    if CHROMIUM.exists():
+        return
+    skipped = [r for r in terminalreporter.stats.get("skipped", []) if "tests/browser/" in str(r.nodeid)]
+    if skipped:
+        terminalreporter.write_sep("!", f"{len(skipped)} browser tests SKIPPED: chromium not found at {CHROMIUM}; "
+                                        "install with `apt-get install chromium`", red=True, bold=True)

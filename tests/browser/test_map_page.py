@@ -17,12 +17,12 @@ import pytest
 
 from tests.authorities.report import REPORT, betts, table2_entry, table2_stop
 
-from .conftest import SEED_JOB, PageRun, running_service
+from .conftest import FIGURES_DIR, SEED_JOB, PageRun, running_service
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
 PIXEL_DEG = 0.25  # a Leaflet path's vertices are rounded to whole pixels: at the tests' zoom 1 px < 0.2 deg
-FIGURES = ROOT / "docs" / "figures"
+FIGURES = FIGURES_DIR  # docs/figures only with FOOTPRINT_WRITE_FIGURES=1, else a temporary folder
 
 BBOX_JS = """(selector) => {
   const el = document.querySelector(selector), b = el.getBBox(), map = window.footprintApp.mapView.map;
