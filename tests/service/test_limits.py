@@ -178,3 +178,26 @@ def test_a_synchronous_reach_is_bounded_to_seconds_and_the_same_reach_runs_as_a_
     optimal = {"case": CASE, "method": "collocation", "points_per_half": 3}
     r = api.post("/api/reach", json=REACH | {"footprint": {"study": optimal}})
     assert r.status_code == 422 and r.json()["field"] == "footprint.study.method", r.text
+
+
+@pytest.mark.parametrize("query", ["store_verdicts=1", "store_verdicts=yes", "store_verdicts=on", "store_verdicts=t",
+                                   "store_verdicts=y", "store_verdicts=%74rue", "store%5Fverdicts=true",
+                                   "store_verdicts=TRUE", "store_verdicts=false&store_verdicts=1"])
+def test_every_spelling_of_store_verdicts_needs_the_token(guarded, query):
+    """Issue 24 item 2: the guard looked for the text "store_verdicts=true", and each of these (true to the route's
+    parser) overwrote the stored sites' verdicts without the token."""
+    token = {"Authorization": "Bearer s3cret"}
+    site = guarded.post("/api/sites", json={"name": "Kourou", "latitude_deg": 5.2, "longitude_deg": -52.8},
+                        headers=token).json()
+    try:
+        before = guarded.get("/api/sites").json()
+        assert guarded.post(f"/api/reach?{query}", json=REACH | {"sites": []}).status_code == 401
+        assert guarded.get("/api/sites").json() == before
+        assert guarded.post(f"/api/reach?{query}", json=REACH | {"sites": []}, headers=token).status_code == 200
+    finally:
+        guarded.delete(f"/api/sites/{site['id']}", headers=token)
+
+
+@pytest.mark.parametrize("query", ["store_verdicts=false", "store_verdicts=0", "store_verdicts=off", ""])
+def test_a_reach_that_keeps_nothing_stays_open(guarded, query):
+    assert guarded.post(f"/api/reach?{query}", json=REACH).status_code == 200

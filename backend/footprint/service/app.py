@@ -6,6 +6,7 @@ import re
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
+from pydantic import TypeAdapter, ValidationError
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
 from starlette.concurrency import run_in_threadpool
@@ -25,6 +26,7 @@ WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
 # POSTs that compute and store nothing: open like the reads when a token is set (a reach with store_verdicts writes)
 COMPUTATIONS = re.compile(r"^/api/(trajectories|transform|reach|footprints/[^/]+/transform)$")
 log = logging.getLogger("footprint.service")
+_BOOL = TypeAdapter(bool)  # FastAPI's own parse of a bool query parameter
 
 
 def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
@@ -121,8 +123,21 @@ def _stores(scope: Scope) -> bool:
     if scope["method"] not in WRITE_METHODS:
         return False
     if scope["method"] == "POST" and COMPUTATIONS.match(scope["path"]):
-        return scope["path"] == "/api/reach" and b"store_verdicts=true" in scope["query_string"].lower()
+        return scope["path"] == "/api/reach" and _asks(scope, "store_verdicts")
     return True
+
+
+def _asks(scope: Scope, flag: str) -> bool:
+    """The query's `flag` as the route parses it (percent-decoded name and value, pydantic's bool: 1, yes, on, t, y...):
+    the raw text's "store_verdicts=true" let every other spelling of true write without the token. A value the route
+    would refuse counts as asked (it stores nothing, and needs the token all the same)."""
+    from urllib.parse import parse_qs
+
+    values = parse_qs(scope["query_string"].decode("latin-1"), keep_blank_values=True).get(flag, [])
+    try:
+        return any(_BOOL.validate_python(v) for v in values)
+    except ValidationError:
+        return True
 
 
 class GuardMiddleware:
