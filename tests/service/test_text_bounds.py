@@ -85,5 +85,5 @@ def test_a_vehicle_name_at_its_bound_flies_stores_and_maps(client):
     assert len(job["name"]) <= JOB_NAME_CHARS
     [fp] = client.get("/api/footprints", params={"job_id": job["id"]}).json()["items"]
     assert fp["vehicle"] == "V" * VEHICLE_NAME_CHARS and len(fp["name"]) <= FOOTPRINT_NAME_CHARS
-    page = client.get(f"/api/footprints/{fp['id']}/map")  # 503 only for the server's state: no npm packages
-    assert page.status_code == 200 or (page.status_code == 503 and "npm ci" in page.text), page.text
+    page = client.get(f"/api/footprints/{fp['id']}/map")  # was a 422 on SQLite with a longer name stored
+    assert page.status_code == 200, page.text

@@ -483,10 +483,12 @@ def _within_force_range(where, values) -> None:
                                 f"-{MAX_FORCE_COEFFICIENT:g}..{MAX_FORCE_COEFFICIENT:g}")
 
 
-def _polynomial_blob(cl, cd, alpha_range, cd_where):
+def _polynomial_blob(cl, cd, alpha_range, where):
+    """`where`: the definition's path; its .cl and .cd name the coefficient that is refused."""
     alpha = np.linspace(*alpha_range, 721)  # the polynomial's values over the range it is flown in (every 0.25 deg at most)
-    for coefficients, where in ((cl, cd_where.rsplit(".", 1)[0] + ".cl"), (cd, cd_where)):
-        _within_force_range(where, np.polyval(coefficients[::-1], alpha))
+    for coefficients, name in ((cl, "cl"), (cd, "cd")):
+        _within_force_range(f"{where}.{name}", np.polyval(coefficients[::-1], alpha))
+    cd_where = f"{where}.cd"
     blob, cd_positive = pack_polynomial(cl, cd, alpha_range)
     if not cd_positive:
         lo, hi = alpha_range
@@ -509,7 +511,7 @@ def _aero_blob(spec, where):
         cd = _number(body.get("cd"), f"{w}.cd")
         if cd <= 0.0:
             raise InputError(f"{w}.cd", f"{cd} must be > 0")
-        return _polynomial_blob([cl], [cd], DEFAULT_ALPHA_RANGE_DEG, f"{w}.cd")
+        return _polynomial_blob([cl], [cd], DEFAULT_ALPHA_RANGE_DEG, w)
     cl = _number_list(body.get("cl"), f"{w}.cl", max_len=MAX_POLY_TERMS)
     cd = _number_list(body.get("cd"), f"{w}.cd", max_len=MAX_POLY_TERMS)
     alpha_range = DEFAULT_ALPHA_RANGE_DEG
@@ -519,7 +521,7 @@ def _aero_blob(spec, where):
         lo, hi = alpha_range
         if not -ALPHA_LIMIT_DEG <= lo < hi <= ALPHA_LIMIT_DEG:
             raise InputError(where_range, f"{list(alpha_range)} must satisfy -90 <= lo < hi <= 90 deg")
-    return _polynomial_blob(cl, cd, alpha_range, f"{w}.cd")
+    return _polynomial_blob(cl, cd, alpha_range, w)
 
 
 def _wing_loading(d, field_):

@@ -4,11 +4,12 @@ resubmitted, the built-in vehicle summaries computed; the API under /api, the do
 import logging
 import re
 from contextlib import asynccontextmanager
+from urllib.parse import parse_qs
 
 from fastapi import FastAPI
-from pydantic import TypeAdapter, ValidationError
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import HTMLResponse
+from pydantic import TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import MutableHeaders
 from starlette.requests import ClientDisconnect
@@ -131,8 +132,6 @@ def _asks(scope: Scope, flag: str) -> bool:
     """The query's `flag` as the route parses it (percent-decoded name and value, pydantic's bool: 1, yes, on, t, y...):
     the raw text's "store_verdicts=true" let every other spelling of true write without the token. A value the route
     would refuse counts as asked (it stores nothing, and needs the token all the same)."""
-    from urllib.parse import parse_qs
-
     values = parse_qs(scope["query_string"].decode("latin-1"), keep_blank_values=True).get(flag, [])
     try:
         return any(_BOOL.validate_python(v) for v in values)
