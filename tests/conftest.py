@@ -11,6 +11,9 @@ settings.register_profile("repeatable", derandomize=True, print_blob=True)
 settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
+# Starlette's TestClient and schemathesis' ASGI calls name the host "testserver": the service serves it in tests only
+os.environ.setdefault("FOOTPRINT_ALLOWED_HOSTS", "testserver")
+
 
 def _same(a, b, rel, path):
     """Equal structure and text, floats to `rel`: NumPy's SIMD loops may round the last bit of an array's

@@ -9,6 +9,7 @@ CASE = {"vehicle": {"builtin": "lod-1.89"},
         "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3, "heading_deg": 90,
                   "latitude_deg": 10, "longitude_deg": 0},
         "stop": {"altitude_ft": 50_000}}
+UNKNOWN_ID = "0f0e0f0e-0f0e-4f0e-8f0e-0f0e0f0e0f0e"  # a well-formed id that no job or footprint has
 FOOTPRINT = {"case": CASE, "method": "single_parameter", "bank0_deg": [0, 45, 90]}  # spans 11-83 deg E
 # the Table 2 entry: reaches 14,869 nmi, past half the circumference (pi R' = 10,807 nmi)
 LONG_FOOTPRINT = {"case": {"vehicle": {"builtin": "lod-1.89"},

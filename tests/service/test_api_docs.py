@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from .conftest import wait_for_job
+from .sample_requests import UNKNOWN_ID
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
 EXAMPLES = re.findall(r"```json (POST|PUT|PATCH) (\S+)\n(.*?)\n```", DOC.read_text(), flags=re.S)
@@ -46,7 +47,7 @@ def test_the_openapi_document_declares_the_error_body_the_service_sends(api):
     assert "409" in spec["paths"]["/api/vehicles"]["post"]["responses"]
     answers = [api.post("/api/trajectories", json={"vehicle": {"builtin": "lod-1.89"},
                                                    "entry": {"altitude_ft": 364800, "velocity_fps": 50, "gamma_deg": -2}}),
-               api.get("/api/footprints/nope"), api.post("/api/jobs", json={"kind": "nope"}),
+               api.get(f"/api/footprints/{UNKNOWN_ID}"), api.post("/api/jobs", json={"kind": "nope"}),
                api.post("/api/vehicles", json={"id": "lod-1.89", "vehicle": {"aero": {"constant": {"cl": 1, "cd": 1}},
                                                                              "wing_loading_psf": 50}})]
     assert [a.status_code for a in answers] == [422, 404, 422, 409]

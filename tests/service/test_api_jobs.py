@@ -17,7 +17,8 @@ from footprint.api import fly
 from tests.authorities.report import betts
 
 from .conftest import wait_for_job
-from .sample_requests import FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, footprint_study
+from .sample_requests import (FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, UNKNOWN_ID,
+                              footprint_study)
 
 ROOT = Path(__file__).resolve().parents[2]
 POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
@@ -144,7 +145,7 @@ def test_the_offline_map_page_of_a_footprint(api, footprint_job):
 
     assert r.headers["content-security-policy"] == standalone_policy(inline_script_hashes(r.text), header=True)
     assert "frame-ancestors 'none'" in r.headers["content-security-policy"]
-    missing = api.get("/api/footprints/0f0e/map")
+    missing = api.get(f"/api/footprints/{UNKNOWN_ID}/map")
     assert missing.status_code == 404 and "script-src 'self';" in missing.headers["content-security-policy"]
 
 
@@ -295,7 +296,7 @@ def test_progress_events_end_when_the_job_does(api):
     assert events[-1][0] == "end" and events[-1][1]["status"] == "succeeded"
     progress = [data["progress"] for name, data in events if name == "progress"]
     assert progress == sorted(progress) and progress[-1] == 1.0
-    assert api.get("/api/jobs/no-such-job/events").status_code == 404
+    assert api.get(f"/api/jobs/{UNKNOWN_ID}/events").status_code == 404
 
 
 def test_cancel_a_running_job_and_keep_a_finished_ones_status(api):
@@ -307,7 +308,7 @@ def test_cancel_a_running_job_and_keep_a_finished_ones_status(api):
     assert wait_for_job(api, job_id)["status"] == "cancelled"
     done = run_job(api, "reach", REACH)
     assert api.delete(f"/api/jobs/{done['id']}").json()["status"] == "succeeded"
-    assert api.delete("/api/jobs/no-such-job").status_code == 404
+    assert api.delete(f"/api/jobs/{UNKNOWN_ID}").status_code == 404
 
 
 def _break_core():
@@ -405,7 +406,7 @@ def test_footprints_get_unique_names_and_can_be_renamed(api):
         == "Vandenberg south (2)"  # its own name is not taken by itself
     blank = api.patch(f"/api/footprints/{first['id']}", json={"name": "   "})
     assert blank.status_code == 422 and "name" in blank.json()["detail"]
-    assert api.patch("/api/footprints/nope", json={"name": "x"}).status_code == 404
+    assert api.patch(f"/api/footprints/{UNKNOWN_ID}", json={"name": "x"}).status_code == 404
 
 
 def test_a_footprint_jobs_default_name_is_set_when_it_is_created(api):

@@ -3,11 +3,12 @@ in any text (Postgres refuses it), huge values echoed back, invalid JSON, HEAD; 
 SQLite and Postgres. Job errors and /api/health carry no SQL text and no internal address."""
 
 import copy
+import re
 
 import pytest
 
 from .conftest import database_url, running_service
-from .sample_requests import FOOTPRINT, SHUTTLE
+from .sample_requests import FOOTPRINT, SHUTTLE, UNKNOWN_ID
 
 HUGE = "99999999999999999999"  # past SQLite's 64-bit integers
 PAST_INT4 = "2147483648"  # past a Postgres integer column
@@ -167,3 +168,18 @@ def test_the_page_and_the_docs_find_every_file_they_load(api):
     assert len(loaded) >= 8
     for path in loaded + ["vendor/world/land-110m.json", "vendor/leaflet/images/marker-icon.png"]:
         assert api.get("/" + path.lstrip("/")).status_code == 200, path
+
+
+def test_every_path_of_the_api_document_names_its_methods_in_allow(api):
+    """The guard's compiled path table (errors.ApiPaths) against a second source, the OpenAPI document: a method no
+    route answers gets 405 with Allow naming exactly the document's methods at that path, and HEAD wherever GET."""
+    document = api.get("/openapi.json").json()["paths"]
+    order = ["GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS", "TRACE"]
+    for template, operations in document.items():
+        integers = {p["name"] for op in operations.values() for p in op.get("parameters", [])
+                    if p["in"] == "path" and p["schema"].get("type") == "integer"}
+        path = re.sub(r"\{([^}]+)\}", lambda m: "7" if m[1] in integers else UNKNOWN_ID, template)
+        methods = {m.upper() for m in operations} | ({"HEAD"} if "get" in operations else set())
+        r = api.request("TRACE", path)
+        assert r.status_code == 405, (template, r.text)
+        assert r.headers["allow"] == ", ".join(m for m in order if m in methods), template

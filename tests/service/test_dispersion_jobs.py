@@ -11,6 +11,7 @@ from footprint.contracts.dispersion import run
 from footprint.contracts.records import plain
 from tests.authorities.report import example
 from tests.service.conftest import wait_for_job
+from tests.service.sample_requests import UNKNOWN_ID
 
 STUDY = {"footprint": example("footprint_lod189") | {"bank0_deg": [0, 60, 120]}, "samples": 40, "seed": 4,
          "chunk_samples": 10, "entry": {"gamma_deg": {"normal": {"std": 0.03}}},
@@ -117,7 +118,8 @@ def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
 
 
 def test_only_a_succeeded_dispersion_job_has_a_dispersion(api):
-    assert api.get("/api/jobs/nope/dispersion").status_code == 404
+    assert api.get(f"/api/jobs/{UNKNOWN_ID}/dispersion").status_code == 404
+    assert api.get("/api/jobs/nope/dispersion").status_code == 422  # cannot be an id
     job = api.post("/api/jobs", json={"kind": "footprint", "study": example("footprint_lod189")
                                       | {"bank0_deg": [0]}}).json()
     r = api.get(f"/api/jobs/{job['id']}/dispersion")

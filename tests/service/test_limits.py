@@ -6,7 +6,7 @@ import copy
 import pytest
 
 from .conftest import database_url, running_service
-from .sample_requests import CASE, FOOTPRINT, REACH, SWEEP
+from .sample_requests import CASE, FOOTPRINT, REACH, SWEEP, UNKNOWN_ID
 
 
 def post_job(api, kind, study, **headers):
@@ -86,8 +86,8 @@ def test_a_body_over_one_megabyte_is_refused(api):
     assert r.status_code == 413
 
 
-@pytest.mark.parametrize("path", ["/api/jobs/0f0e", "/api/footprints/0f0e", "/api/footprints/0f0e?format=geojson",
-                                  "/api/vehicles/0f0e", "/api/sites/999999"])
+@pytest.mark.parametrize("path", [f"/api/jobs/{UNKNOWN_ID}", f"/api/footprints/{UNKNOWN_ID}",
+                                  f"/api/footprints/{UNKNOWN_ID}?format=geojson", "/api/vehicles/0f0e", "/api/sites/999999"])
 def test_unknown_ids_are_404(api, path):
     r = api.get(path)
     assert r.status_code == 404 and r.json()["detail"]

@@ -123,3 +123,43 @@ def test_concurrent_misses_build_once_and_the_cache_is_bounded():
     assert len(builds) == 5
     cache.get(("k",), 2, build)
     assert len(builds) == 6
+
+
+def test_keys_count_against_the_cap_and_entries_are_capped():
+    """Issue 24 item 4: the cap counted bodies only, so 2,000 keys of 90,000 characters were 177 MB kept."""
+    small = read_cache.serialized(b"[]", "application/json")
+    cache = read_cache.ReadCache(max_bytes=100_000)
+    for i in range(20):
+        cache.get(("list", f"{i:05d}" + "x" * 9_000), 1, lambda: small)
+    entries, size = cache.size
+    assert size <= 100_000 and entries == 100_000 // 9_050  # each key's 9,000 characters count
+    capped = read_cache.ReadCache(max_entries=50)
+    for i in range(200):
+        capped.get(("list", i), 1, lambda: small)
+    assert capped.size[0] == 50
+
+
+def test_ids_that_cannot_be_ids_are_refused_and_kept_nowhere(api):
+    """2,000 GET /api/footprints?job_id=<7,000 random characters> are 422s naming job_id (404s that each left a cache
+    entry before), and well-formed unknown ids fill the cache only to its entry cap."""
+    import random
+    import string
+    import uuid
+
+    cache = api.app.state.read_cache
+    before = cache.size
+    rng = random.Random(24)
+    for _ in range(2_000):
+        bogus = "".join(rng.choices(string.ascii_letters + string.digits, k=7_000))
+        r = api.get("/api/footprints", params={"job_id": bogus})
+        assert r.status_code == 422 and r.json()["field"] == "job_id", r.text[:200]
+    assert cache.size == before
+    for path in ("/api/jobs/not-an-id", "/api/footprints/0f0e", "/api/jobs/0f0e/dispersion"):
+        assert api.get(path).status_code == 422
+    api.app.state.read_cache = read_cache.ReadCache(max_entries=50)
+    try:
+        for _ in range(200):
+            assert api.get("/api/footprints", params={"job_id": str(uuid.uuid4())}).json()["items"] == []
+        assert api.app.state.read_cache.size[0] == 50
+    finally:
+        api.app.state.read_cache = cache

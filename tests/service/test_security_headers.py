@@ -9,6 +9,7 @@ from fastapi.testclient import TestClient
 from footprint.csp import inline_script_hashes, tile_source
 
 from .conftest import running_service
+from .sample_requests import UNKNOWN_ID
 
 
 def directives(policy: str) -> dict[str, list[str]]:
@@ -36,7 +37,7 @@ def client(scheduler_address, tmp_path_factory):
 @pytest.mark.parametrize("path, status", [
     ("/api/health", 200), ("/api/footprints", 200), ("/api/vehicles", 200), ("/", 200), ("/js/main.js", 200),
     ("/styles.css", 200), ("/openapi.json", 200), ("/redoc", 200), ("/api/nope", 404),
-    ("/api/footprints/0f0e", 404), ("/no-such-file.js", 404), ("/api/footprints?limit=nope", 422)])
+    (f"/api/footprints/{UNKNOWN_ID}", 404), ("/api/footprints/0f0e", 422), ("/no-such-file.js", 404), ("/api/footprints?limit=nope", 422)])
 def test_every_get_carries_the_headers(client, path, status):
     r = client.get(path)
     assert r.status_code == status, r.text

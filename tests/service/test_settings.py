@@ -13,16 +13,27 @@ from .conftest import database_url, running_service
 @pytest.fixture
 def clean_env(monkeypatch):
     for name in ("DATABASE_URL", "DASK_SCHEDULER", "DASK_WORKERS", "API_TOKEN", "CORS_ORIGINS", "TILE_URL", "HOST",
-                 "PORT"):
+                 "PORT", "HEADER_TIMEOUT_S", "BODY_TIMEOUT_S"):
         monkeypatch.delenv(f"FOOTPRINT_{name}", raising=False)
     return monkeypatch
 
 
 def test_the_defaults_are_sqlite_in_the_working_directory_a_local_cluster_and_loopback(clean_env):
+    clean_env.delenv("FOOTPRINT_ALLOWED_HOSTS", raising=False)  # the tests' "testserver" (tests/conftest.py)
     s = load_settings()
     assert (s.database_url, s.dask_scheduler, s.api_token, s.host, s.port) == \
         ("sqlite:///footprint.db", "", "", "127.0.0.1", 8000)
     assert s.dask_workers == default_workers() and s.cors_origin_list == []
+    assert s.host_names == {"localhost", "127.0.0.1", "[::1]"}
+    assert (s.header_timeout_s, s.body_timeout_s) == (10.0, 30.0)
+
+
+@pytest.mark.parametrize("host, allowed, names", [
+    ("0.0.0.0", "", set()), ("::", "", set()),  # a wildcard bind names no host: FOOTPRINT_ALLOWED_HOSTS does
+    ("192.168.1.20", "", {"192.168.1.20"}), ("fd00::5", "", {"[fd00::5]"}),
+    ("0.0.0.0", " Footprint.Example , planner.lan", {"footprint.example", "planner.lan"}), ("0.0.0.0", "*", {"*"})])
+def test_the_served_host_names(clean_env, host, allowed, names):
+    assert load_settings(host=host, allowed_hosts=allowed).host_names == {"localhost", "127.0.0.1", "[::1]"} | names
 
 
 def test_the_environment_and_overrides_are_read_and_checked(clean_env):

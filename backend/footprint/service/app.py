@@ -13,6 +13,7 @@ from pydantic import TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import MutableHeaders
 from starlette.requests import ClientDisconnect
+from starlette.routing import Route
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
@@ -21,7 +22,7 @@ from footprint.service import deps, errors, nul, page, read_cache, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine, RemoteJobs
 from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
-from footprint.service.settings import MAX_BODY_BYTES, Settings
+from footprint.service.settings import MAX_BODY_BYTES, MAX_HEADER_BYTES, MAX_URL_BYTES, Settings
 
 WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
 # POSTs that compute and store nothing: open like the reads when a token is set (a reach with store_verdicts writes)
@@ -57,15 +58,18 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
     errors.document(app, schemas.CONTRACT_BODIES)
-    for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites):
-        app.include_router(module.router, prefix="/api")
-    app.add_middleware(GuardMiddleware, api=app, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES,
-                       origins=settings.cors_origin_list)
+    routers = [module.router for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites)]
+    for router in routers:
+        app.include_router(router, prefix="/api")
+    _api_docs(app, settings.tile_url)
+    app.state.api_paths = errors.ApiPaths([(r.path, r.methods) for r in app.routes if isinstance(r, Route)] +
+                                          [("/api" + r.path, r.methods) for router in routers for r in router.routes])
+    app.add_middleware(GuardMiddleware, paths=app.state.api_paths, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES,
+                       origins=settings.cors_origin_list, hosts=settings.host_names)
     if settings.cors_origin_list:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
                            allow_methods=["*"], allow_headers=["*"])
     app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
-    _api_docs(app, settings.tile_url)
     if settings.frontend_dir.is_dir():
         app.mount("/", page.PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
     # outside Starlette's own outermost layer, so that its 500s carry the headers too
@@ -140,20 +144,32 @@ def _asks(scope: Scope, flag: str) -> bool:
 
 
 class GuardMiddleware:
-    """Before any route runs: a path under /api that no route has (404) or a method its routes do not answer (405,
+    """Before any route runs: a Host this service does not serve (421), a path and query or headers over their caps
+    (414, 431: uvicorn's h11 holds a complete request of any size), a path under /api that no route has (404) or a method its routes do not answer (405,
     never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
     character in any text (service.nul)."""
 
-    def __init__(self, app: ASGIApp, *, api: FastAPI, token: str, max_body_bytes: int, origins=()):
-        self.app, self.api, self.token, self.max_body_bytes = app, api, token, max_body_bytes
+    def __init__(self, app: ASGIApp, *, paths: errors.ApiPaths, token: str, max_body_bytes: int,
+                 hosts: frozenset[str], origins=()):
+        self.app, self.paths, self.token, self.max_body_bytes = app, paths, token, max_body_bytes
         self.origins = set(origins)  # FOOTPRINT_CORS_ORIGINS: other origins whose pages may write
+        self.hosts = hosts  # Settings.host_names
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        oversized = _oversized(scope)
+        if oversized is not None:
+            await _reply(scope, receive, send, oversized)
+            return
+        host = dict(scope["headers"]).get(b"host", b"").decode("latin-1")
+        if "*" not in self.hosts and host_name(host) not in self.hosts:
+            await _reply(scope, receive, send, errors.MisdirectedHost(
+                f"Host: {host[:100]!r} is not served here (FOOTPRINT_ALLOWED_HOSTS lists the names besides localhost)"))
+            return
         if scope["path"].startswith("/api/"):
-            methods = errors.allowed(self.api, scope["path"])
+            methods = self.paths.allowed(scope["path"])
             if not methods:
                 await _reply(scope, receive, send, errors.NotFound(f"no such path: {scope['path'][:200]}"))
                 return
@@ -175,7 +191,10 @@ class GuardMiddleware:
             return
         body = None
         if scope["method"] in WRITE_METHODS:
-            body = await self._buffered(receive)
+            try:
+                body = await self._buffered(receive)
+            except ClientDisconnect:
+                return  # gone (or cut off by the body deadline, which answered 408): nothing to answer, nothing done
             if body is None:
                 await _reply(scope, receive, send, _too_large(None, self.max_body_bytes))
                 return
@@ -185,7 +204,7 @@ class GuardMiddleware:
         if refused is not None:
             await _reply(scope, receive, send, refused)
             return
-        if scope["method"] == "HEAD" and "GET" in errors.allowed(self.api, scope["path"]):
+        if scope["method"] == "HEAD" and "GET" in self.paths.allowed(scope["path"]):
             await _head_as_get(self.app, scope, receive, send)
             return
         await self.app(scope, receive, send)
@@ -204,12 +223,13 @@ class GuardMiddleware:
         return deps.bearer_matches(dict(scope["headers"]).get(b"authorization", b"").decode("latin-1"), self.token)
 
     async def _buffered(self, receive: Receive) -> bytes | None:
-        """The whole body (a chunked one is counted as it comes); None past the limit."""
+        """The whole body (a chunked one is counted as it comes); None past the limit. A client gone mid-body raises
+        ClientDisconnect: its part of a body is not a request."""
         chunks, size = [], 0
         while True:
             message = await receive()
             if message["type"] == "http.disconnect":
-                break
+                raise ClientDisconnect
             chunks.append(message.get("body", b""))
             size += len(chunks[-1])
             if size > self.max_body_bytes:
@@ -217,6 +237,25 @@ class GuardMiddleware:
             if not message.get("more_body", False):
                 break
         return b"".join(chunks)
+
+
+def _oversized(scope: Scope) -> Exception | None:
+    url = len(scope.get("raw_path", b"")) + len(scope["query_string"])
+    if url > MAX_URL_BYTES:
+        return errors.UrlTooLong(f"url: the path and query are limited to {MAX_URL_BYTES:,} bytes (got {url:,})")
+    headers = sum(len(name) + len(value) + 4 for name, value in scope["headers"])  # "name: value\r\n"
+    if headers > MAX_HEADER_BYTES:
+        return errors.HeadersTooLarge(f"headers: a request's headers are limited to {MAX_HEADER_BYTES:,} bytes "
+                                      f"(got {headers:,})")
+    return None
+
+
+def host_name(host: str) -> str:
+    """A Host header's name without its port, lower case: "[::1]:8000" -> "[::1]", "LocalHost:80" -> "localhost"."""
+    host = host.strip().lower()
+    if host.startswith("["):
+        return host[:host.find("]") + 1] if "]" in host else host
+    return host.rsplit(":", 1)[0] if host.count(":") == 1 else host
 
 
 def _too_large(size: int | None, limit: int) -> errors.BodyTooLarge:

@@ -14,7 +14,8 @@ from pydantic import TypeAdapter
 from starlette.requests import Request
 from starlette.responses import Response
 
-MAX_BYTES = 64 * 1024 * 1024  # the cached bodies of one process, least recently used dropped first
+MAX_BYTES = 64 * 1024 * 1024  # the cached bodies and keys of one process, least recently used dropped first
+MAX_ENTRIES = 4_096  # and at most this many responses: a key's overhead is not only its text
 REVALIDATE = "no-cache"  # a browser keeps the body but asks again (If-None-Match) before each use
 NOT_MODIFIED = {304: {"description": "Not Modified: the If-None-Match names the current ETag"}}  # a route's responses
 
@@ -48,9 +49,9 @@ def as_json(schema, value) -> Serialized:
 class ReadCache:
     """Serialized responses by request key, each valid for one revision."""
 
-    def __init__(self, max_bytes: int = MAX_BYTES):
-        self._max_bytes, self._bytes = max_bytes, 0
-        self._entries: OrderedDict[tuple, tuple[int, Serialized]] = OrderedDict()
+    def __init__(self, max_bytes: int = MAX_BYTES, max_entries: int = MAX_ENTRIES):
+        self._max_bytes, self._max_entries, self._bytes = max_bytes, max_entries, 0
+        self._entries: OrderedDict[tuple, tuple[int, Serialized, int]] = OrderedDict()  # revision, value, size
         self._lock = threading.Lock()
         self._building: dict[tuple, threading.Lock] = {}  # one build per key at a time: the others wait for it
 
@@ -80,17 +81,24 @@ class ReadCache:
             return entry[1]
 
     def _put(self, key: tuple, revision: int, value: Serialized) -> None:
+        size = len(value.body) + len(repr(key))  # a key holds the request's text: it counts (issue 24 item 4)
         with self._lock:
             old = self._entries.pop(key, None)
             if old is not None:
-                self._bytes -= len(old[1].body)
-            if len(value.body) > self._max_bytes:
+                self._bytes -= old[2]
+            if size > self._max_bytes:
                 return
-            self._entries[key] = (revision, value)
-            self._bytes += len(value.body)
-            while self._bytes > self._max_bytes:
-                _, (_, dropped) = self._entries.popitem(last=False)
-                self._bytes -= len(dropped.body)
+            self._entries[key] = (revision, value, size)
+            self._bytes += size
+            while self._bytes > self._max_bytes or len(self._entries) > self._max_entries:
+                _, (_, _, dropped) = self._entries.popitem(last=False)
+                self._bytes -= dropped
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(entries, bytes of bodies and keys) held now."""
+        with self._lock:
+            return len(self._entries), self._bytes
 
 
 def response(request: Request, value: Serialized) -> Response:

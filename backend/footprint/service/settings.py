@@ -10,6 +10,8 @@ from footprint.parallel import default_workers
 MIGRATIONS_DIR = Path(__file__).resolve().parents[3] / "migrations"  # the repository's top-level migrations/
 FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"
 MAX_BODY_BYTES = 1_000_000  # 1 MB: the largest request body (docs/api.md)
+MAX_HEADER_BYTES = 32 * 1024  # a request's header lines together (431 past it; nginx's large_client_header_buffers)
+MAX_URL_BYTES = 8 * 1024  # a request's path and query (414 past it; RFC 9112 3: 8,000 octets at least)
 
 
 class Settings(BaseSettings):
@@ -24,6 +26,9 @@ class Settings(BaseSettings):
     cors_origins: str = ""  # comma-separated origins
     tile_url: str = ""  # an optional online tile layer for the page
     host: str = "127.0.0.1"
+    # Host names besides localhost, 127.0.0.1, [::1] and the bound address that requests may name (comma-separated;
+    # "*": any): a page on a name that resolves here (DNS rebinding) is refused (docs/api.md "Hosts")
+    allowed_hosts: str = ""
     port: int = Field(default=8000, ge=1, le=65_535)
     frontend_dir: Path = FRONTEND_DIR
     migrations_dir: Path = MIGRATIONS_DIR
@@ -32,6 +37,9 @@ class Settings(BaseSettings):
     api_processes: int = Field(default=1, ge=1, le=64)
     # a job's wall time from its first task's start; past it the job fails and its workers are restarted
     job_time_limit_s: float = Field(default=3_600.0, ge=1.0, le=7 * 86_400.0)
+    # a request's line and headers, and then its body, are due within these of their start (408 and closed past them)
+    header_timeout_s: float = Field(default=10.0, gt=0.0, le=3_600.0)
+    body_timeout_s: float = Field(default=30.0, gt=0.0, le=3_600.0)
 
     @field_validator("dask_scheduler")
     @classmethod
@@ -43,6 +51,14 @@ class Settings(BaseSettings):
     @property
     def cors_origin_list(self) -> list[str]:
         return [o.strip() for o in self.cors_origins.split(",") if o.strip()]
+
+    @property
+    def host_names(self) -> frozenset[str]:
+        """The names a request's Host may carry (port aside, lower case); "*" among them: any."""
+        names = {"localhost", "127.0.0.1", "[::1]"} | {h.strip().lower() for h in self.allowed_hosts.split(",")}
+        if self.host not in ("0.0.0.0", "::", ""):  # a wildcard bind is not a name: FOOTPRINT_ALLOWED_HOSTS lists them
+            names.add(f"[{self.host}]" if ":" in self.host else self.host.lower())
+        return frozenset(names - {""})
 
 
 def environment(settings: Settings) -> dict[str, str]:

@@ -18,7 +18,7 @@ from footprint.core.errors import InputError
 from footprint.service.errors import NotFound, Unavailable
 from footprint.service.routers.geometry import transform
 from footprint.service.schemas import (FootprintList, FootprintRead, FootprintRename, FootprintSummary,
-                                       FootprintTransform, FootprintTransformRead)
+                                       FootprintTransform, FootprintTransformRead, StoredId)
 
 router = APIRouter(tags=["footprints"])
 CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
@@ -56,7 +56,7 @@ def _stored(session, footprint_id: str) -> tuple[dict, dict]:
 
 
 @router.get("/footprints", response_model=FootprintList, responses=read_cache.NOT_MODIFIED)
-def list_footprints(request: Request, job_id: str | None = None, limit: int = Query(50, ge=1, le=500),
+def list_footprints(request: Request, job_id: StoredId | None = None, limit: int = Query(50, ge=1, le=500),
                     offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> Response:
     """Stored footprints, newest first (with an ETag: If-None-Match answers 304 while none changed)."""
     def build(session):
@@ -68,7 +68,7 @@ def list_footprints(request: Request, job_id: str | None = None, limit: int = Qu
 
 @router.get("/footprints/{footprint_id}", response_model=FootprintRead,
             responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}, **read_cache.NOT_MODIFIED})
-def get_footprint(footprint_id: str, request: Request,
+def get_footprint(footprint_id: StoredId, request: Request,
                   format: Literal["json", "geojson", "csv"] = Query("json")) -> Response:
     """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV (with an ETag:
     If-None-Match answers 304 while it is unchanged)."""
@@ -97,7 +97,7 @@ def _csv(points: list[dict]) -> str:
 
 
 @router.get("/footprints/{footprint_id}/map", response_class=HTMLResponse, responses={503: {}})
-def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
+def footprint_map(footprint_id: StoredId, request: Request) -> HTMLResponse:
     """A standalone folium map of the footprint that works offline (footprint.pictures.folium_page)."""
     from footprint.pictures.folium_page import footprint_map_html, map_policy
 
@@ -111,7 +111,7 @@ def footprint_map(footprint_id: str, request: Request) -> HTMLResponse:
 
 
 @router.patch("/footprints/{footprint_id}", response_model=FootprintSummary)
-def rename_footprint(footprint_id: str, body: FootprintRename, request: Request) -> dict:
+def rename_footprint(footprint_id: StoredId, body: FootprintRename, request: Request) -> dict:
     """Rename a footprint; a name another footprint has gets a number, as a job's default names do."""
     with deps.sessions(request).begin() as session:
         fp = q.rename_footprint(session, footprint_id=footprint_id, name=body.name.strip())
@@ -121,7 +121,7 @@ def rename_footprint(footprint_id: str, body: FootprintRename, request: Request)
 
 
 @router.delete("/footprints/{footprint_id}", status_code=204)
-def delete_footprint(footprint_id: str, request: Request) -> Response:
+def delete_footprint(footprint_id: StoredId, request: Request) -> Response:
     """Delete a footprint with its points and ground track."""
     with deps.sessions(request).begin() as session:
         if not q.delete_footprint(session, footprint_id=footprint_id):
@@ -131,7 +131,7 @@ def delete_footprint(footprint_id: str, request: Request) -> Response:
 
 @router.post("/footprints/{footprint_id}/transform", response_model=FootprintTransformRead,
              response_model_exclude_unset=True)
-def transform_footprint(footprint_id: str, request: Request, body: FootprintTransform) -> dict:
+def transform_footprint(footprint_id: StoredId, request: Request, body: FootprintTransform) -> dict:
     """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV); the
     moved boundary's outline and GeoJSON geometry; with "exact", the track flown again and how far the report's
     approximate shift lies from the exact points."""

@@ -15,7 +15,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import NotFound
-from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead
+from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead, StoredId
 
 router = APIRouter(tags=["jobs"])
 EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
@@ -62,7 +62,7 @@ def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|
 
 
 @router.get("/jobs/{job_id}", response_model=JobRead)
-def get_job(job_id: str, request: Request) -> dict:
+def get_job(job_id: StoredId, request: Request) -> dict:
     """A job: status, progress, error, its study and its result links."""
     with deps.sessions(request).begin() as session:
         job = q.get_job(session, job_id=job_id)
@@ -73,7 +73,7 @@ def get_job(job_id: str, request: Request) -> dict:
 
 @router.get("/jobs/{job_id}/dispersion", response_class=Response,
             responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}})
-def get_dispersion(job_id: str, request: Request,
+def get_dispersion(job_id: StoredId, request: Request,
                    format: Literal["geojson", "csv"] = Query("geojson")) -> Response:
     """A succeeded dispersion job's result for a GIS or a spreadsheet: GeoJSON of the nominal and confidence
     footprints, the 1 and 3 sigma ellipses, the entry and the sites with their probability; or CSV of the sites."""
@@ -92,7 +92,7 @@ def get_dispersion(job_id: str, request: Request,
 
 
 @router.delete("/jobs/{job_id}", response_model=JobRead)
-def cancel_job(job_id: str, request: Request) -> dict:
+def cancel_job(job_id: StoredId, request: Request) -> dict:
     """Cancel a queued or running job (a finished job keeps its status)."""
     with deps.sessions(request).begin() as session:
         job = q.cancel_job(session, job_id=job_id)
@@ -114,7 +114,7 @@ def _state(request: Request, job_id: str) -> dict | None:
 
 @router.get("/jobs/{job_id}/events", response_class=StreamingResponse,
             responses={200: {"content": {"text/event-stream": {}}}})
-async def job_events(job_id: str, request: Request) -> StreamingResponse:
+async def job_events(job_id: StoredId, request: Request) -> StreamingResponse:
     """`event: progress` on every change of status or progress; `event: end` once the job is terminal."""
     if await run_in_threadpool(_state, request, job_id) is None:
         raise NotFound(f"no job {job_id!r}")
