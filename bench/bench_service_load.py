@@ -12,7 +12,10 @@ Starts the real service as a subprocess (`footprint serve --port FREE --database
    ends, that many readers each sending the same mix one GET after another (a closed loop: a reader
    waits for its answer before it asks again); every job must reach `succeeded` and own exactly one
    stored footprint with its points. A read that is not a 200 or fails in transport is counted as an
-   error (by kind), not raised.
+   error (by kind), not raised;
+3. with --long-jobs N, for each readers count: N dispersion jobs (one task each, so each holds a worker for
+   a minute or more), and once all of them run, that many readers for WINDOW_S (20 s); no job may end inside the
+   window; then they are cancelled, must end `cancelled`, and the cluster must be back at 2 workers.
 
 No job may be lost. Reported: p50/p99/max latency of the reads (alone, and while the jobs run) with the
 error counts, the job throughput (jobs and trajectories per second from the first submission to the last
@@ -21,9 +24,12 @@ one at a time) sent to the same app (create_app on a copy of the same database) 
 httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and no uvicorn; the ratios
 (loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops with an error past TOTAL_BUDGET_S (4 min).
 
-    python3 bench/bench_service_load.py [--api-processes N] [--code DIR] [--label NAME]
+    python3 bench/bench_service_load.py [--api-processes N] [--code DIR] [--label NAME] [--readers N ...]
+                                        [--jobs N] [--long-jobs N] [--postgres-url URL]
         # prints the figures, writes bench/results/service_load[-NAME].json; --code: serve another checkout's
-        # backend/ (the "before" of a change, measured by this same script)
+        # backend/ (the "before" of a change, measured by this same script; its migrations/ beside it);
+        # --postgres-url: a new database on that server for the run, dropped afterwards (else a SQLite file)
+        # the issue 24 figures: --readers 200 --jobs 0 --long-jobs 2 [--postgres-url ...]
 
 tests/service/test_load.py runs the same code, smaller (50 reads, 5 jobs).
 """
@@ -58,6 +64,11 @@ JOBS = 20
 TOTAL_BUDGET_S = 240.0
 START_BUDGET_S = 60.0
 JOBS_BUDGET_S = 60.0
+WINDOW_S = 20.0  # readers measured while the long jobs are running
+# examples/disperse_lod189.json in one task (~45,000 flights, a minute or two on one core): each long job runs on a
+# worker of its own, and none ends inside the window
+LONG_DISPERSION = json.loads((ROOT / "examples" / "disperse_lod189.json").read_text()) | {"samples": 2048,
+                                                                                          "chunk_samples": 2048}
 
 
 def small_study(i: int) -> dict:
@@ -73,14 +84,36 @@ def _free_port() -> int:
 
 
 @contextmanager
-def running_service(workdir: Path, *, workers: int = 2, api_processes: int = 1, code: Path | None = None):
-    """`footprint serve` on a free loopback port with a fresh SQLite file (the package from `code`, a backend/
-    folder, when given); yields (base_url, db_path, log_path, process)."""
+def fresh_database(workdir: Path, server_url: str | None):
+    """A new empty database: a SQLite file in `workdir`, or (given a Postgres URL) a new database on that server,
+    dropped afterwards; yields its SQLAlchemy URL."""
+    if server_url is None:
+        yield f"sqlite:///{workdir / 'load.db'}"
+        return
+    import sqlalchemy as sa
+
+    url = sa.engine.make_url(server_url)
+    name = f"footprint_load_{os.getpid()}_{int(time.time())}"
+    admin = sa.create_engine(url, isolation_level="AUTOCOMMIT")
+    with admin.connect() as c:
+        c.execute(sa.text(f'CREATE DATABASE "{name}"'))
+    try:
+        yield url.set(database=name).render_as_string(hide_password=False)
+    finally:
+        with admin.connect() as c:
+            c.execute(sa.text(f'DROP DATABASE IF EXISTS "{name}" WITH (FORCE)'))
+        admin.dispose()
+
+
+@contextmanager
+def running_service(workdir: Path, database_url: str, *, workers: int = 2, api_processes: int = 1,
+                    code: Path | None = None):
+    """`footprint serve` on a free loopback port over `database_url` (the package from `code`, a backend/ folder,
+    when given); yields (base_url, log_path, process)."""
     port = _free_port()
-    db = workdir / "load.db"
     log = workdir / "serve.log"
     cmd = [sys.executable, "-m", "footprint.cli", "serve", "--host", "127.0.0.1", "--port", str(port),
-           "--database-url", f"sqlite:///{db}", "--workers", str(workers)]
+           "--database-url", database_url, "--workers", str(workers)]
     if api_processes > 1:
         cmd += ["--api-processes", str(api_processes)]
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
@@ -90,7 +123,7 @@ def running_service(workdir: Path, *, workers: int = 2, api_processes: int = 1, 
         proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, cwd=workdir, env=env,
                                 start_new_session=True)
     try:
-        yield f"http://127.0.0.1:{port}", db, log, proc
+        yield f"http://127.0.0.1:{port}", log, proc
     finally:
         if proc.poll() is None:
             proc.send_signal(signal.SIGINT)
@@ -101,18 +134,18 @@ def running_service(workdir: Path, *, workers: int = 2, api_processes: int = 1, 
                 proc.wait(timeout=10)
 
 
-async def wait_healthy(client: httpx.AsyncClient, proc, budget_s: float) -> tuple[float, dict]:
-    """Seconds until /api/health answers 200 with a working database and cluster."""
+async def wait_healthy(client: httpx.AsyncClient, proc, budget_s: float, workers: int = 1) -> tuple[float, dict]:
+    """Seconds until /api/health answers 200 with a working database and a cluster of `workers` or more."""
     t0 = time.perf_counter()
     last = None
     while time.perf_counter() - t0 < budget_s:
-        if proc.poll() is not None:
+        if proc is not None and proc.poll() is not None:
             raise RuntimeError(f"footprint serve exited with {proc.returncode}")
         try:
             r = await client.get("/api/health", timeout=5)
             last = r.json()
             if r.status_code == 200 and last["database"]["ok"] and last["cluster"]["ok"] and \
-                    last["cluster"]["workers"] >= 1:
+                    last["cluster"]["workers"] >= workers:
                 return time.perf_counter() - t0, last
         except (httpx.TransportError, ValueError, KeyError):
             pass
@@ -178,6 +211,11 @@ async def check_jobs(client: httpx.AsyncClient, final: dict[str, dict]) -> dict[
     return out
 
 
+def _template(path: str, paths: list[str]) -> str:
+    """The path with the footprint's id as {id} (the mix's second path holds it)."""
+    return path.replace(paths[1].rsplit("/", 1)[1], "{id}")
+
+
 def read_paths(footprint_id: str, n: int) -> list[str]:
     mix = ["/api/footprints", f"/api/footprints/{footprint_id}", "/api/vehicles", "/api/health"]
     return [mix[i % len(mix)] for i in range(n)]
@@ -227,10 +265,11 @@ async def read_burst(get, paths: list[str]) -> list[float]:
     return list(await asyncio.gather(*(one(p) for p in paths)))
 
 
-async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event) -> tuple[list[float], dict[str, int]]:
-    """`readers` closed-loop readers, each sending the mix one GET after another until `done`; (latencies of
-    the 200s in seconds, {error kind: count})."""
-    latencies: list[float] = []
+async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event) -> tuple[dict[str, list[float]],
+                                                                                         dict[str, int]]:
+    """`readers` closed-loop readers, each sending the mix one GET after another until `done`; ({path: latencies of
+    its 200s in seconds}, {error kind: count})."""
+    latencies: dict[str, list[float]] = {p: [] for p in paths}
     errors: dict[str, int] = {}
 
     async def reader(i):
@@ -241,7 +280,7 @@ async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event
             t0 = time.perf_counter()
             status = await get(path)
             if status == 200:
-                latencies.append(time.perf_counter() - t0)
+                latencies[path].append(time.perf_counter() - t0)
             else:
                 kind = f"HTTP {status}" if isinstance(status, int) else status
                 errors[kind] = errors.get(kind, 0) + 1
@@ -262,7 +301,8 @@ async def readers_during_jobs(client: httpx.AsyncClient, get, paths: list[str], 
         final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
     finally:
         done.set()
-        latencies, errors = await reading
+        by_path, errors = await reading
+    latencies = [x for v in by_path.values() for x in v]
     wall = time.perf_counter() - t0
     fps = await check_jobs(client, final)
     trajectories = sum(fp["trajectories"] for fp in fps.values())
@@ -274,6 +314,40 @@ async def readers_during_jobs(client: httpx.AsyncClient, get, paths: list[str], 
                      "submit_max_ms": round(1e3 * max(submit_s), 1),
                      "first_submission_to_last_success_s": round(wall, 2),
                      "jobs_per_s": round(jobs / wall, 2), "trajectories_per_s": round(trajectories / wall, 1)}}
+
+
+async def readers_during_long_jobs(client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int,
+                                   window_s: float) -> dict:
+    """`jobs` dispersion jobs (minutes each on 2 workers) and, once all of them run, `readers` readers for
+    `window_s`; then the jobs are cancelled: each must end `cancelled` and the cluster keep its workers."""
+    ids = []
+    for i in range(jobs):
+        r = await client.post("/api/jobs", json={"kind": "dispersion", "study": LONG_DISPERSION | {"seed": 100 + i},
+                                                 "name": f"long-{i}"})
+        ids.append(_check(r, 202, f"POST /api/jobs long #{i}")["id"])
+    t0 = time.perf_counter()
+    while not all(d["status"] == "running" for d in [_check(await client.get(f"/api/jobs/{i}"), 200, "GET job")
+                                                     for i in ids]):
+        if time.perf_counter() - t0 > START_BUDGET_S:
+            raise TimeoutError(f"{jobs} long jobs not all running after {START_BUDGET_S} s")
+        await asyncio.sleep(0.2)
+    done = asyncio.Event()
+    reading = asyncio.create_task(readers_until(get, paths, readers, done))
+    await asyncio.sleep(window_s)
+    done.set()
+    by_path, errors = await reading
+    latencies = [x for v in by_path.values() for x in v]
+    running = [(await client.get(f"/api/jobs/{i}")).json()["status"] for i in ids]
+    if running != ["running"] * jobs:
+        raise AssertionError(f"a long job ended inside the window ({running}): the window did not run beside {jobs}")
+    for i in ids:
+        _check(await client.delete(f"/api/jobs/{i}"), 200, f"DELETE /api/jobs/{i}")
+    final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
+    assert all(d["status"] == "cancelled" for d in final.values()), [d["status"] for d in final.values()]
+    await wait_healthy(client, None, START_BUDGET_S, workers=2)  # a stopped task's worker is replaced
+    return {"readers": readers, "jobs_running": jobs, "window_s": window_s, "errors": sum(errors.values()),
+            "error_kinds": errors, **percentiles_ms(latencies), "reads_per_s": round(len(latencies) / window_s, 1),
+            "by_path": {_template(p, paths): percentiles_ms(v) for p, v in by_path.items()}}
 
 
 async def sequential_reads(get, paths: list[str], repeat: int) -> list[float]:
@@ -296,7 +370,7 @@ def http_client(base_url=None, transport=None, concurrency=CONCURRENT_READS) -> 
     # idle connections are dropped after 4 s, before uvicorn's 5 s keep-alive timeout closes them from the
     # server side: reusing a connection the server is closing at that moment is a client race, not an error
     limits = httpx.Limits(max_connections=concurrency, max_keepalive_connections=concurrency, keepalive_expiry=4.0)
-    return httpx.AsyncClient(base_url=base_url or "http://footprint.local", transport=transport, limits=limits,
+    return httpx.AsyncClient(base_url=base_url or "http://localhost", transport=transport, limits=limits,
                              timeout=httpx.Timeout(30.0))
 
 
@@ -309,7 +383,7 @@ async def seed(client: httpx.AsyncClient) -> tuple[str, str]:
 
 
 async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, sequential: int,
-               readers: tuple[int, ...] = READERS) -> dict:
+               readers: tuple[int, ...] = READERS, long_jobs: int = 0, window_s: float = WINDOW_S) -> dict:
     """The measured run against a started service; raises on a lost job (read errors are counted)."""
     async with http_client(base_url, concurrency=jobs + 2) as client, \
             aiohttp_get(base_url, max((reads, *readers))) as get:
@@ -334,9 +408,13 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
         by_path = {}
         for lat, path in zip(alone, paths * rounds):
             by_path.setdefault(path.replace(footprint_id, "{id}"), []).append(lat)
-        during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}") for n in readers}
+        during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}")
+                  for n in readers if jobs}
+        during_long = {str(n): await readers_during_long_jobs(client, get, paths, n, long_jobs, window_s)
+                       for n in readers if long_jobs}
         total = _check(await client.get("/api/jobs", params={"limit": 1}), 200, "GET /api/jobs")["total"]
-        assert total == jobs * len(readers) + 1, f"{total} jobs stored, expected {jobs * len(readers) + 1}"
+        expected = (jobs + long_jobs) * len(readers) + 1
+        assert total == expected, f"{total} jobs stored, expected {expected}"
     return {
         "service_start_to_healthy_s": round(start_s, 2),
         "seed_job_s": round(seed_s, 2),
@@ -350,15 +428,16 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
                   "by_path": {k: percentiles_ms(v) for k, v in by_path.items()}},
         "reads_one_at_a_time": percentiles_ms(one_at_a_time),
         "readers_while_jobs_run": during,
+        "readers_while_long_jobs_run": during_long,
     }
 
 
-async def in_process_reads(db_copy: Path, *, reads: int, rounds: int, sequential: int) -> dict:
+async def in_process_reads(database_url: str, *, reads: int, rounds: int, sequential: int) -> dict:
     """The same read bursts through httpx.ASGITransport into create_app() in this process."""
     from footprint.service.app import create_app
     from footprint.service.settings import Settings
 
-    app = create_app(Settings(database_url=f"sqlite:///{db_copy}", dask_workers=1))
+    app = create_app(Settings(database_url=database_url, dask_workers=1))
     async with app.router.lifespan_context(app):
         async with http_client(transport=httpx.ASGITransport(app=app), concurrency=reads) as client:
             items = _check(await client.get("/api/footprints", params={"limit": 1}), 200, "GET /api/footprints")
@@ -376,28 +455,31 @@ async def in_process_reads(db_copy: Path, *, reads: int, rounds: int, sequential
 
 def run(*, reads: int = CONCURRENT_READS, rounds: int = ROUNDS, jobs: int = JOBS, workers: int = 2,
         sequential: int = SEQUENTIAL_REPEAT, baseline: bool = True, budget_s: float = TOTAL_BUDGET_S,
-        readers: tuple[int, ...] = READERS, api_processes: int = 1, code: Path | None = None) -> dict:
+        readers: tuple[int, ...] = READERS, api_processes: int = 1, code: Path | None = None,
+        long_jobs: int = 0, window_s: float = WINDOW_S, postgres_url: str | None = None) -> dict:
     t0 = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="footprint-load-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="footprint-load-") as tmp, \
+            fresh_database(Path(tmp), postgres_url) as database_url:
         workdir = Path(tmp)
-        with running_service(workdir, workers=workers, api_processes=api_processes, code=code) as \
-                (base_url, db, log, proc):
+        with running_service(workdir, database_url, workers=workers, api_processes=api_processes, code=code) as \
+                (base_url, log, proc):
             try:
                 figures = asyncio.run(asyncio.wait_for(load(base_url, proc, reads=reads, rounds=rounds, jobs=jobs,
-                                                            sequential=sequential, readers=readers),
-                                                       budget_s))
+                                                            sequential=sequential, readers=readers,
+                                                            long_jobs=long_jobs, window_s=window_s), budget_s))
             except BaseException:
                 sys.stderr.write(f"--- footprint serve log ---\n{log.read_text()[-4000:]}\n")
                 raise
             t_stop = time.perf_counter()
         figures["service_stop_s"] = round(time.perf_counter() - t_stop, 2)
         if baseline:
-            db_copy = workdir / "in_process.db"
-            shutil.copy(db, db_copy)
+            if postgres_url is None:  # a copy: the in-process app's own engine and migrations start on it
+                shutil.copy(workdir / "load.db", workdir / "in_process.db")
+                database_url = f"sqlite:///{workdir / 'in_process.db'}"
             left = budget_s - (time.perf_counter() - t0)
             t_base = time.perf_counter()
             figures["in_process_asgi_reads"] = asyncio.run(asyncio.wait_for(
-                in_process_reads(db_copy, reads=reads, rounds=rounds, sequential=sequential), max(left, 1.0)))
+                in_process_reads(database_url, reads=reads, rounds=rounds, sequential=sequential), max(left, 1.0)))
             figures["in_process_asgi_reads"]["with_its_start_and_stop_s"] = round(time.perf_counter() - t_base, 1)
             base = figures["in_process_asgi_reads"]
             figures["loopback_over_in_process"] = {
@@ -418,11 +500,21 @@ def main():
     parser.add_argument("--api-processes", type=int, default=1, help="footprint serve --api-processes")
     parser.add_argument("--code", type=Path, help="a backend/ folder to serve instead of this checkout's")
     parser.add_argument("--label", default="", help="results file suffix: service_load-LABEL.json")
+    parser.add_argument("--postgres-url", help="a Postgres server (e.g. postgresql+psycopg://postgres@127.0.0.1:5432/"
+                                               "test): the run gets a new database on it, dropped afterwards")
+    parser.add_argument("--readers", type=int, nargs="+", default=list(READERS), help="closed-loop readers")
+    parser.add_argument("--jobs", type=int, default=JOBS, help="small footprint jobs per readers count (0: none)")
+    parser.add_argument("--long-jobs", type=int, default=0,
+                        help=f"dispersion jobs that run through a {WINDOW_S:.0f} s window of readers, then are "
+                             "cancelled (0: none)")
     args = parser.parse_args()
-    figures = run(api_processes=args.api_processes, code=args.code, baseline=args.code is None)
+    figures = run(api_processes=args.api_processes, code=args.code, baseline=args.code is None,
+                  readers=tuple(args.readers), jobs=args.jobs, long_jobs=args.long_jobs,
+                  postgres_url=args.postgres_url, budget_s=TOTAL_BUDGET_S + len(args.readers) * (WINDOW_S + 40))
+    database = "Postgres" if args.postgres_url else "SQLite"
     result = {
-        "what": f"footprint serve (uvicorn in {args.api_processes} process(es), SQLite, LocalCluster of 2 workers) on "
-                "127.0.0.1, httpx.AsyncClient",
+        "what": f"footprint serve (uvicorn in {args.api_processes} process(es), {database}, LocalCluster of 2 workers) "
+                "on 127.0.0.1, aiohttp readers",
         "code": str(args.code or "this checkout"),
         "baseline": "the same reads through httpx.ASGITransport into create_app() in-process (no socket, no uvicorn)",
         "cores": os.cpu_count(),

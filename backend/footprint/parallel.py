@@ -14,11 +14,12 @@ def default_workers() -> int:
         return os.cpu_count() or 1
 
 
-def start_client(*, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True):
+def start_client(*, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True,
+                 niceness: int = 0):
     """(client, close): a client of `scheduler` ("tcp://host:port"), or of a new LocalCluster of `workers` processes
-    (default: the cores), one thread each, no dashboard (its HTTP routes on any free port). close() shuts them from
-    any thread (their context managers bind a context variable to the thread that entered them; the service starts
-    and stops in different threads)."""
+    (default: the cores), one thread each, no dashboard (its HTTP routes on any free port), each at `niceness` (the
+    service's readers go first). close() shuts them from any thread (their context managers bind a context variable
+    to the thread that entered them; the service starts and stops in different threads)."""
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
@@ -28,6 +29,10 @@ def start_client(*, workers: int | None = None, scheduler: str | None = None, se
     cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
                            dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
     client = Client(cluster, set_as_default=set_as_default)
+    if niceness:
+        from footprint.worker_priority import Niceness
+
+        client.register_plugin(Niceness(niceness))  # every worker, and each one that replaces a worker later
 
     def close():
         client.close()

@@ -57,13 +57,13 @@ class ReadCache:
 
     def get(self, key: tuple, revision: int, build: Callable[[], Serialized]) -> Serialized:
         """The cached response for `key` at `revision`, built (once, whatever the number of callers) if missing."""
-        hit = self._hit(key, revision)
+        hit = self.hit(key, revision)
         if hit is not None:
             return hit
         with self._lock:
             building = self._building.setdefault(key, threading.Lock())
         with building:
-            hit = self._hit(key, revision)
+            hit = self.hit(key, revision)
             if hit is not None:
                 return hit
             value = build()
@@ -72,7 +72,8 @@ class ReadCache:
             self._building.pop(key, None)
         return value
 
-    def _hit(self, key: tuple, revision: int) -> Serialized | None:
+    def hit(self, key: tuple, revision: int) -> Serialized | None:
+        """The cached response for `key` at `revision`, or None."""
         with self._lock:
             entry = self._entries.get(key)
             if entry is None or entry[0] != revision:

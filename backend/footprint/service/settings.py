@@ -22,6 +22,7 @@ class Settings(BaseSettings):
     database_url: str = "sqlite:///footprint.db"
     dask_scheduler: str = ""  # empty: an in-process LocalCluster; "tcp://host:8786": that scheduler
     dask_workers: int = Field(default_factory=default_workers, ge=1, le=256)
+    worker_niceness: int = Field(default=10, ge=0, le=19)  # the local cluster's workers' nice(2): the API goes first
     api_token: str = ""  # empty: no authentication
     cors_origins: str = ""  # comma-separated origins
     tile_url: str = ""  # an optional online tile layer for the page

@@ -8,6 +8,7 @@ from sqlalchemy import Engine, create_engine, event
 from sqlalchemy.orm import Session, sessionmaker
 
 SQLITE_BUSY_TIMEOUT_S = 30.0  # writers wait for each other this long before "database is locked"
+POSTGRES_CONNECT_TIMEOUT_S = 5  # a new connection to an unreachable server fails after this (libpq connect_timeout)
 
 
 def make_engine(database_url: str) -> Engine:
@@ -17,7 +18,9 @@ def make_engine(database_url: str) -> Engine:
                                                           "timeout": SQLITE_BUSY_TIMEOUT_S})
         _sqlite_pragmas(engine)
         return engine
-    return create_engine(database_url, pool_pre_ping=True, pool_size=10, max_overflow=40)  # request + job threads
+    # request + job threads; a bounded connect: a cached read checks its revision on the event loop (deps.cached)
+    return create_engine(database_url, pool_pre_ping=True, pool_size=10, max_overflow=40,
+                         connect_args={"connect_timeout": POSTGRES_CONNECT_TIMEOUT_S})
 
 
 def _sqlite_pragmas(engine: Engine) -> None:

@@ -69,6 +69,7 @@ class ClusterLink:
         self._lock = threading.Lock()
         self._closing = threading.Event()
         self._status: tuple[float, dict] = (-STATUS_S, {})  # (when the scheduler was asked, what it said)
+        self._asking = False  # a thread of recent_status() is asking the scheduler
         self.client = None
         self.most_workers = 0  # the most workers the scheduler has had: an external cluster's size
 
@@ -81,9 +82,21 @@ class ClusterLink:
         from footprint.parallel import start_client
 
         s = self._settings
-        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False)
+        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False,
+                                     niceness=s.worker_niceness)
         self._stack.callback(close)
         return client
+
+    def recent_status(self) -> dict | None:
+        """The scheduler's last answer, at once (None before its first): when it is STATUS_S old, one thread asks
+        again meanwhile. /api/health answers from it: asked in each request's turn, the once-a-second round trip
+        to a busy scheduler held the readers that came at that moment past a second (issue 24 item 7)."""
+        with self._lock:
+            asked, last = self._status
+            if time.monotonic() - asked >= STATUS_S and last and not self._asking:
+                self._asking = True
+                threading.Thread(target=self.status, name="footprint-cluster-status", daemon=True).start()
+            return dict(last) if last else None
 
     def status(self) -> dict:
         """The cluster's health: ok (running, and no worker missing), scheduler address, workers and the size expected
@@ -103,7 +116,7 @@ class ClusterLink:
             now = {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
                    "error": one_line(exc)}
         with self._lock:
-            self._status = (time.monotonic(), now)
+            self._status, self._asking = (time.monotonic(), now), False
         return dict(now)
 
 

@@ -56,20 +56,20 @@ def _stored(session, footprint_id: str) -> tuple[dict, dict]:
 
 
 @router.get("/footprints", response_model=FootprintList, responses=read_cache.NOT_MODIFIED)
-def list_footprints(request: Request, job_id: StoredId | None = None, limit: int = Query(50, ge=1, le=500),
-                    offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> Response:
+async def list_footprints(request: Request, job_id: StoredId | None = None, limit: int = Query(50, ge=1, le=500),
+                          offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> Response:
     """Stored footprints, newest first (with an ETag: If-None-Match answers 304 while none changed)."""
     def build(session):
         rows, total = q.list_footprints(session, job_id=job_id, limit=limit, offset=offset)
         return read_cache.as_json(FootprintList, {"items": [_summary(r) for r in rows], "total": total})
 
-    return deps.cached(request, ("list", job_id, limit, offset), "footprints", build)
+    return await deps.cached(request, ("list", job_id, limit, offset), "footprints", build)
 
 
 @router.get("/footprints/{footprint_id}", response_model=FootprintRead,
             responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}, **read_cache.NOT_MODIFIED})
-def get_footprint(footprint_id: StoredId, request: Request,
-                  format: Literal["json", "geojson", "csv"] = Query("json")) -> Response:
+async def get_footprint(footprint_id: StoredId, request: Request,
+                        format: Literal["json", "geojson", "csv"] = Query("json")) -> Response:
     """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV (with an ETag:
     If-None-Match answers 304 while it is unchanged)."""
     def build(session):
@@ -84,7 +84,7 @@ def get_footprint(footprint_id: StoredId, request: Request,
         return read_cache.as_json(FootprintRead,
                                   item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()})
 
-    return deps.cached(request, ("item", footprint_id, format), "footprints", build)
+    return await deps.cached(request, ("item", footprint_id, format), "footprints", build)
 
 
 def _csv(points: list[dict]) -> str:

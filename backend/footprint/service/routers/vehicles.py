@@ -97,13 +97,13 @@ def _aero(vehicle) -> dict:
 
 @router.get("/vehicles", response_model=list[VehicleItem],
             responses=read_cache.NOT_MODIFIED)
-def list_vehicles(request: Request) -> Response:
+async def list_vehicles(request: Request) -> Response:
     """Built-in vehicles, then the stored custom ones (with an ETag: If-None-Match answers 304 while none changed)."""
     def build(session):
         items = list(_builtins().values()) + [_custom_item(r) for r in q.list_vehicles(session)]
         return read_cache.as_json(list[VehicleItem], items)
 
-    return deps.cached(request, ("list",), "vehicles", build)
+    return await deps.cached(request, ("list",), "vehicles", build)
 
 
 @router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)
