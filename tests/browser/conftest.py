@@ -29,8 +29,9 @@ FIGURES_DIR = (ROOT / "docs" / "figures" if os.environ.get("FOOTPRINT_WRITE_FIGU
                else Path(tempfile.mkdtemp(prefix="footprint-figures-")))
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-START_TIMEOUT_S = 90.0  # migrations, the Dask cluster and the first compile of the flight kernel
-JOB_TIMEOUT_S = 120.0
+START_TIMEOUT_S = 180.0  # migrations, the Dask cluster and the first compile of the flight kernel
+JOB_TIMEOUT_S = 180.0
+WAIT_MS = 120_000  # every wait for the page (Playwright's default too): a loaded machine is slow, not wrong
 
 # A single-parameter footprint of 4 bank settings (7 trajectories with the mirror), entered at 150 E heading
 # north-east: its boundary crosses longitude 180, so the tests also see the map unwrap it.
@@ -125,6 +126,14 @@ def browser():
     sync_api = pytest.importorskip("playwright.sync_api")
     with sync_api.sync_playwright() as p:
         b = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        new_context = b.new_context
+
+        def patient_context(**options):
+            context = new_context(**options)
+            context.set_default_timeout(WAIT_MS)  # for the waits a test does not time itself (30 s otherwise)
+            return context
+
+        b.new_context = patient_context
         yield b
         b.close()
 
@@ -159,7 +168,7 @@ def open_page(browser, service):
         contexts.append(context)
         run = PageRun(context.new_page())
         run.page.goto(service.base_url + "/")
-        run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+        run.page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
         return run
 
     yield opener

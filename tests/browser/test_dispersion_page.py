@@ -16,7 +16,7 @@ from footprint.core.sphere import Reference, downrange_crossrange_nmi
 
 from tests.authorities.report import example, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = FIGURES_DIR  # docs/figures only with FOOTPRINT_WRITE_FIGURES=1, else a temporary folder
@@ -103,7 +103,7 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
     d = job["result"]["dispersion"]
     assert job["study"] == DISPERSION_STUDY  # the form's study, with the stored sites
-    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
+    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=WAIT_MS)
     page.evaluate(FIT_ACROSS_180_JS)
     page.wait_for_timeout(300)
 
@@ -212,7 +212,7 @@ def test_an_earlier_dispersion_is_shown_again_after_a_reload(open_page, service,
     assert page.locator(f"#dispersion-jobs option[value='{jobs[0]['id']}']").count() == 1
     page.select_option("#dispersion-jobs", jobs[0]["id"])
     page.click("#dispersion-show")
-    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
+    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=WAIT_MS)
     assert page.locator("#dispersion-sites table tbody tr").count() == len(SITES)
     assert not run.errors and run.violations() == []
 
@@ -238,7 +238,7 @@ def show_dispersion(page, job, *, footprints=True):
             for (const fp of app.state.footprints.values()) if (fp.visible) await app.setVisible(fp, false); }""")
     page.select_option("#dispersion-jobs", job["id"])
     page.click("#dispersion-show")
-    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=10_000)
+    page.locator("path.dispersion-nominal.disp-copy-0").wait_for(state="attached", timeout=WAIT_MS)
 
 
 def set_layers(page, *shown):
@@ -458,7 +458,7 @@ def test_a_refused_dispersion_names_its_field(open_page, field, value, words):
     page.fill(field, value)
     page.click("#job-submit")
     note = page.locator(f"{field} + .field-error")
-    note.wait_for(timeout=10_000)
+    note.wait_for(timeout=WAIT_MS)
     assert note.inner_text().startswith(words) and value in note.inner_text(), note.inner_text()
     assert page.locator(".field-error:visible").count() == 1 and page.locator("#job-list li").count() == 0
 

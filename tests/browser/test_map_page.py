@@ -17,7 +17,7 @@ import pytest
 
 from tests.authorities.report import REPORT, betts, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, SEED_JOB, PageRun, running_service
+from .conftest import FIGURES_DIR, SEED_JOB, WAIT_MS, PageRun, running_service
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
@@ -120,10 +120,10 @@ def test_online_tile_layer_only_when_configured(browser, service, tile_server, t
         context.on("request", lambda r: configs.append(r.url) if r.url.endswith("/api/config") else None)
         run = PageRun(context.new_page())
         run.page.goto(svc.base_url + "/")
-        run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+        run.page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
         assert len(configs) == 1  # the page asked the service
         if tiles:
-            run.page.wait_for_selector("img.leaflet-tile.leaflet-tile-loaded", state="attached", timeout=5_000)
+            run.page.wait_for_selector("img.leaflet-tile.leaflet-tile-loaded", state="attached", timeout=WAIT_MS)
             assert tile_server.paths and all(re.fullmatch(r"/tiles/\d+/-?\d+/-?\d+\.png", p) for p in tile_server.paths)
             # under the Natural Earth layers (the tile pane below the basemap pane), with a toggle that removes it
             assert run.page.evaluate("""() => { const m = window.footprintApp.mapView.map;
@@ -131,9 +131,9 @@ def test_online_tile_layer_only_when_configured(browser, service, tile_server, t
             toggle = run.page.locator(".leaflet-control-layers-selector")
             assert toggle.count() == 1 and toggle.is_checked()
             toggle.uncheck()
-            run.page.wait_for_selector("img.leaflet-tile", state="detached", timeout=2_000)
+            run.page.wait_for_selector("img.leaflet-tile", state="detached", timeout=WAIT_MS)
             toggle.check()
-            run.page.wait_for_selector("img.leaflet-tile", state="attached", timeout=2_000)
+            run.page.wait_for_selector("img.leaflet-tile", state="attached", timeout=WAIT_MS)
         else:
             run.page.wait_for_timeout(300)  # late tile requests would show up by now
             assert tile_server.paths == []
@@ -181,7 +181,7 @@ def test_node_longitude_control_moves_the_polygon_east(open_page, service):
     node0 = float(run.page.input_value("#node-longitude"))
     run.page.fill("#node-longitude", f"{node0 + 20:.2f}")
     run.page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                               timeout=10_000)
+                               timeout=WAIT_MS)
     after = run.page.evaluate(BBOX_JS, selector)
     # by hand: a new node 20 deg east with the same inclination turns the whole orbit 20 deg about the pole
     assert delta_deg(after["west"], before["west"]) == pytest.approx(20.0, abs=PIXEL_DEG)
@@ -210,7 +210,7 @@ def test_submitted_job_reaches_100_percent_and_its_footprint_appears(open_page, 
     page.fill("#p-bank0", "0, 30, 60, 90, 120")
     page.click("#job-submit")
     item = page.locator("#job-list li").first
-    item.locator(".job-percent", has_text="100 %").wait_for(timeout=60_000)
+    item.locator(".job-percent", has_text="100 %").wait_for(timeout=WAIT_MS)
     assert item.locator(".job-status").inner_text() == "succeeded"
     assert page.locator("#job-list li progress").first.get_attribute("value") == "100"
     job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
@@ -228,7 +228,7 @@ def test_bad_field_shows_its_error_next_to_that_field(open_page):
     page.fill("#entry-velocity", "50")
     page.click("#job-submit")
     note = page.locator("#entry-velocity + .field-error")
-    note.wait_for(timeout=10_000)
+    note.wait_for(timeout=WAIT_MS)
     assert "velocity" in note.inner_text().lower() and "50" in note.inner_text()
     # worded by the label the planner sees, not the API's path (issue 13 item 7)
     assert note.inner_text().startswith("Velocity, earth-relative (ft/s): ") and "case.entry" not in note.inner_text()
@@ -282,7 +282,7 @@ def test_landing_sites_and_reach(open_page, service):
     page.locator("#map").click(position={"x": 300, "y": 200})
     page.locator("#site-list li", has_text="Clicked site").wait_for()
     page.click("#reach-submit")
-    page.locator("table.reach tbody tr").first.wait_for(state="attached", timeout=20_000)
+    page.locator("table.reach tbody tr").first.wait_for(state="attached", timeout=WAIT_MS)
     assert page.locator("table.reach tbody tr").count() == 4
     page.click("#reach-table")  # the wide table gets a dialog of its own, not the sidebar (issue 13 item 6)
     assert page.locator("#reach-dialog table.reach").is_visible()
@@ -308,7 +308,7 @@ def test_landing_sites_and_reach(open_page, service):
     page.screenshot(path=str(FIGURES / "map_reach_timeline.png"))
     # the verdicts are kept with the sites: after a reload the markers and the list still say them
     page.reload()
-    page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+    page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
     assert page.locator("#site-list .verdict").count() == len(stored)
     assert page.locator(".site-icon.site-reached, .site-icon.site-missed").count() >= len(stored)
 
@@ -369,7 +369,7 @@ def test_screenshots_of_both_projections(open_page, service):
     page = open_page(1280, 800).page
     FIGURES.mkdir(parents=True, exist_ok=True)
     page.click("#reach-submit")  # the landing sites coloured by the reach of the selected footprint
-    page.locator("table.reach").wait_for(state="attached", timeout=20_000)
+    page.locator("table.reach").wait_for(state="attached", timeout=WAIT_MS)
     page.evaluate("() => { document.querySelector('.sidebar').scrollTop = 0; }")
     page.evaluate("() => window.footprintApp.mapView.fitFootprints([...window.footprintApp.state.footprints.values()])")
     page.wait_for_timeout(400)
@@ -419,7 +419,7 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     study = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
     job_id = service.call("/api/jobs", {"kind": "optimize", "study": study})["id"]
     page.evaluate("(id) => window.footprintApp.jobs.follow(id, 'Betts shuttle, IPOPT')", job_id)
-    page.locator("path.optimum-track.opt-copy-0").wait_for(state="attached", timeout=90_000)
+    page.locator("path.optimum-track.opt-copy-0").wait_for(state="attached", timeout=WAIT_MS)
     flight = service.call(f"/api/jobs/{job_id}")["result"]["optimization"]["flight"]
     landing = page.evaluate("""() => window.footprintApp.mapView.optimumLayer.getLayers()
         .filter((l) => l.getLatLng && l.options.className.includes('opt-copy-0'))[0].getLatLng()""")
@@ -515,7 +515,7 @@ def test_the_api_docs_work_with_no_internet(browser, service, path, ready):
     run = PageRun(context.new_page())
     try:
         answer = run.page.goto(service.base_url + path)
-        run.page.locator(ready).first.wait_for(timeout=30_000)
+        run.page.locator(ready).first.wait_for(timeout=WAIT_MS)
         assert "footprint" in run.page.content().lower() and "/api/jobs" in run.page.content()
         hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
         assert hosts <= LOCAL_HOSTS, hosts
@@ -578,7 +578,7 @@ def test_a_move_keeps_the_flown_ranges_in_the_plot_and_a_rejected_one_is_marked(
     d0 = page.get_attribute(selector, "d")
     page.fill("#inclination", "75")
     page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                           timeout=10_000)
+                           timeout=WAIT_MS)
     shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown.points.map(p => p.downrange_nmi)",
                           fp["id"])
     assert shown == pytest.approx([p["downrange_nmi"] for p in fp["points"]], abs=1e-6)
@@ -586,7 +586,7 @@ def test_a_move_keeps_the_flown_ranges_in_the_plot_and_a_rejected_one_is_marked(
     # the axes end near the footprint (cross-range within +-2,000 nmi), not at -10,800 nmi for a folded far tip
     assert min(ticks) > -2_500 and max(ticks) < max(shown) + 2_500
     page.fill("#inclination", "200")
-    page.locator("#live-status", has_text="Not moved").wait_for(timeout=10_000)
+    page.locator("#live-status", has_text="Not moved").wait_for(timeout=WAIT_MS)
     assert "inclination_deg" in page.inner_text("#live-status") and "0 to 180" in page.inner_text("#live-status")
     assert "stale" in page.get_attribute(selector, "class")
 
@@ -611,7 +611,7 @@ def test_an_exact_move_draws_the_track_flown_again_and_says_how_far_the_shift_is
     page.evaluate("(id) => window.footprintApp.select(id)", fp["id"])
     page.select_option("#earth-rotation", "exact")
     status = page.locator("#live-status", has_text="approximate shift")
-    status.wait_for(timeout=30_000)
+    status.wait_for(timeout=WAIT_MS)
     numbers = re.search(r"lies up to ([\d,]+) nmi from the exact points, ([\d,]+) nmi on average over (\d+)", status.inner_text())
     assert numbers, status.inner_text()
     largest, mean = (float(numbers.group(i).replace(",", "")) for i in (1, 2))
@@ -647,7 +647,7 @@ def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service)
     page.fill("#node-longitude", "-60")
     page.fill("#inclination", "90")
     page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                           timeout=10_000)
+                           timeout=WAIT_MS)
     page.evaluate("() => { window.footprintApp.mapView.map.fitBounds([[-85, -200], [90, 200]], {animate: false}); }")
     page.wait_for_timeout(300)
     shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown", fp_id)
@@ -749,12 +749,12 @@ def test_the_page_asks_for_the_token_once_and_writes_with_it(browser, tmp_path):
             run, asked = PageRun(context.new_page()), []
             run.page.on("dialog", lambda d: (asked.append(d.message), d.accept("s3cret")))
             run.page.goto(svc.base_url + "/")
-            run.page.wait_for_selector("body[data-ready=true]", timeout=30_000)
+            run.page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
             for name in ("Woomera", "Kwajalein"):
                 run.page.set_input_files("#site-csv", files=[{
                     "name": "sites.csv", "mimeType": "text/csv",
                     "buffer": f"name,latitude_deg,longitude_deg\n{name},-31.2,136.8\n".encode()}])
-                run.page.wait_for_selector(f"#site-list >> text={name}", timeout=15_000)
+                run.page.wait_for_selector(f"#site-list >> text={name}", timeout=WAIT_MS)
             assert len(asked) == 1 and "API token" in asked[0]
             assert sorted(s["name"] for s in svc.call("/api/sites")) == ["Kwajalein", "Woomera"]
             # the one refused write (the browser logs its 401) is the only error

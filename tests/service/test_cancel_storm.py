@@ -45,7 +45,7 @@ def test_three_quick_cancels_keep_the_cluster_and_the_next_job_runs(own_cluster)
         assert api.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
         time.sleep(2.0)
     job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
-                       timeout_s=60.0)
+                       timeout_s=DEADLINE_S)
     assert job["status"] == "succeeded", job
     health = _health_soon(api, lambda h: h["cluster"]["workers"] == 2)
     assert health["status"] == "ok" and health["cluster"]["expected_workers"] == 2
@@ -63,5 +63,5 @@ def test_a_worker_lost_for_good_is_degraded_then_replaced(own_cluster):
     assert degraded["cluster"]["expected_workers"] == 2
     _health_soon(api, lambda h: h["cluster"]["workers"] == 2 and h["status"] == "ok")
     job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
-                       timeout_s=60.0)
+                       timeout_s=DEADLINE_S)
     assert job["status"] == "succeeded", job

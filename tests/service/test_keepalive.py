@@ -24,7 +24,7 @@ def server(scheduler_address, tmp_path_factory):
     server = uvicorn.Server(uvicorn.Config(app, log_level="warning", timeout_keep_alive=30))
     thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
     thread.start()
-    deadline = time.monotonic() + 60.0  # the lifespan: migrations, the cluster's numba warm-up
+    deadline = time.monotonic() + 120.0  # the lifespan: migrations, the cluster's numba warm-up
     while not server.started:
         assert time.monotonic() < deadline and thread.is_alive(), "uvicorn did not start"
         time.sleep(0.05)

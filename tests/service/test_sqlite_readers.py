@@ -1,14 +1,10 @@
 """SQLite: a GET reads beside a held write lock (WAL, deferred BEGIN); writes still take the lock in turn."""
 
 import sqlite3
-import time
 
 import pytest
 
 from .conftest import database_url, running_service
-
-LOCK_WAIT_S = 2.0  # a GET must not queue behind the writer for anywhere near the 30 s busy timeout
-
 
 @pytest.fixture
 def sqlite_service(scheduler_address, tmp_path):
@@ -23,10 +19,8 @@ def test_reads_do_not_wait_for_a_writer(sqlite_service):
     writer = sqlite3.connect(path, isolation_level=None)
     writer.execute("BEGIN IMMEDIATE")  # another process holds the one write lock
     try:
-        t0 = time.perf_counter()
-        r = api.get("/api/sites")
+        r = api.get("/api/sites")  # a read that took the write lock would wait out the busy timeout, then fail
         assert r.status_code == 200 and [s["name"] for s in r.json()] == ["Edwards"]
-        assert time.perf_counter() - t0 < LOCK_WAIT_S
     finally:
         writer.execute("ROLLBACK")
         writer.close()
