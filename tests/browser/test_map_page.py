@@ -210,8 +210,8 @@ def test_submitted_job_reaches_100_percent_and_its_footprint_appears(open_page, 
     page.fill("#p-bank0", "0, 30, 60, 90, 120")
     page.click("#job-submit")
     item = page.locator("#job-list li").first
-    item.locator(".job-percent", has_text="100 %").wait_for(timeout=WAIT_MS)
-    assert item.locator(".job-status").inner_text() == "succeeded"
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=WAIT_MS)  # 100 % comes before the result
+    assert item.locator(".job-percent").inner_text() == "100 %"
     assert page.locator("#job-list li progress").first.get_attribute("value") == "100"
     job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
     new_id = job["result"]["footprints"][0].rsplit("/", 1)[1]

@@ -15,8 +15,8 @@ router = APIRouter(tags=["health"])
 @router.get("/health", response_model=Health)
 async def health(request: Request) -> dict:
     """The service's state: database reachable, cluster up, version (the scheduler's address only to a caller with the
-    bearer token, so never when FOOTPRINT_API_TOKEN is unset). On the event loop but for the scheduler's answer (at
-    most once a second), as deps.cached reads: in the thread pool it waited behind the other readers' misses."""
+    bearer token, so never when FOOTPRINT_API_TOKEN is unset). On the event loop, as deps.cached reads: the scheduler
+    is asked in the background (ClusterLink.recent_status), or in the thread pool before its first answer."""
     try:
         with deps.sessions(request).begin() as session:
             database = {"ok": True, "dialect": q.dialect(session)}
