@@ -3,7 +3,6 @@ API process's readers waited behind two jobs' flights). Each thread's nice value
 /proc, not by the plugin that set it; a worker started later to replace one gets it too."""
 
 import os
-import time
 from pathlib import Path
 
 import pytest
@@ -42,9 +41,7 @@ def test_every_worker_thread_and_each_replacement_flies_at_the_niceness():
         assert set(thread_nice(os.getpid()).values()) == {ours}  # the starting process (the API's) is untouched
 
         client.restart(timeout=120)  # new worker processes under the same nannies
-        deadline = time.monotonic() + 120
-        while len(client.scheduler_info(n_workers=-1)["workers"]) < 2 and time.monotonic() < deadline:
-            time.sleep(0.2)
+        client.wait_for_workers(2, timeout=120)
         replaced = client.run(os.getpid)
         assert set(replaced.values()).isdisjoint(pids.values())
         for pid in replaced.values():

@@ -79,6 +79,17 @@ def running_service(url: str, scheduler: str, **settings):
         yield client
 
 
+def wait_until(condition, what: str, timeout_s: float = WAIT_S):
+    """Poll condition() until it returns something true, and return that; past timeout_s (a guard against a hang,
+    never a bound on speed) a TimeoutError saying what did not happen."""
+    deadline = time.monotonic() + timeout_s
+    while not (value := condition()):
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"{what}: not within {timeout_s:g} s")
+        time.sleep(0.05)
+    return value
+
+
 def wait_for_job(client, job_id: str, timeout_s: float = JOB_TIMEOUT_S, headers=None) -> dict:
     """Poll until the job is terminal; its final state."""
     deadline = time.monotonic() + timeout_s

@@ -9,6 +9,7 @@ import time
 import httpx
 import pytest
 
+from tests.service.conftest import wait_until
 from tests.service.sample_requests import FOOTPRINT
 from tests.service.test_job_limits import LONG
 from tests.service.test_restart import free_port, kill
@@ -73,10 +74,7 @@ def test_a_cancel_through_an_api_process_stops_the_job(served):
     base, _ = served
     with httpx.Client(base_url=base, timeout=30) as client:
         long = client.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
-        deadline = time.monotonic() + 120
-        while client.get(f"/api/jobs/{long}").json()["status"] != "running":
-            assert time.monotonic() < deadline
-            time.sleep(0.1)
+        wait_until(lambda: client.get(f"/api/jobs/{long}").json()["status"] == "running", "the long job runs")
         assert client.delete(f"/api/jobs/{long}").json()["status"] == "cancelled"
         short = [client.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"]
                  for _ in range(2)]  # both workers: one of them ran the cancelled job

@@ -9,6 +9,8 @@ import time
 from footprint.service.jobs import engine
 from footprint.service.settings import Settings
 
+from .conftest import wait_until
+
 
 class Scheduler:
     """A Dask client whose scheduler answers only when released."""
@@ -24,13 +26,6 @@ class Scheduler:
         return {"address": "tcp://10.0.0.1:8786", "workers": {f"w{i}": {} for i in range(self.workers)}}
 
 
-def wait_until(condition, seconds: float = 60.0):
-    deadline = time.monotonic() + seconds
-    while not condition():
-        assert time.monotonic() < deadline, "condition not met"
-        time.sleep(0.01)
-
-
 def test_health_reads_the_last_answer_while_one_thread_asks_again(monkeypatch, tmp_path):
     monkeypatch.setattr(engine, "STATUS_S", 0.05)
     link = engine.ClusterLink(settings=Settings(database_url=f"sqlite:///{tmp_path / 'x.db'}", dask_workers=2))
@@ -44,11 +39,11 @@ def test_health_reads_the_last_answer_while_one_thread_asks_again(monkeypatch, t
     time.sleep(0.1)  # the answer is older than STATUS_S
     last = link.recent_status()  # returns although the scheduler does not answer
     assert last == {"ok": True, "scheduler": "tcp://10.0.0.1:8786", "workers": 2, "expected_workers": 2}
-    wait_until(lambda: scheduler.asked == 2)  # one thread asks
+    wait_until(lambda: scheduler.asked == 2, "a thread asks the scheduler")  # one thread asks
     for _ in range(20):
         assert link.recent_status()["workers"] == 2
     assert scheduler.asked == 2  # and only that one
 
     scheduler.release.set()
-    wait_until(lambda: link.recent_status()["workers"] == 1)
+    wait_until(lambda: link.recent_status()["workers"] == 1, "health shows the answer")
     assert link.recent_status()["ok"] is False and link.recent_status()["expected_workers"] == 2

@@ -10,8 +10,9 @@ import time
 import httpx
 import pytest
 
+from .conftest import WAIT_S, wait_until
+
 HEADER_TIMEOUT_S, BODY_TIMEOUT_S = 1.0, 2.0
-WAIT_S = 120.0  # how long a test waits for the server to act: generous, a loaded machine is slow, not wrong
 CSV = "name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\n"
 
 
@@ -31,10 +32,9 @@ def server(scheduler_address, tmp_path_factory):
     server = uvicorn.Server(service_server.config(settings, create_app(settings), log_level="warning"))
     thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
     thread.start()
-    deadline = time.monotonic() + WAIT_S  # the lifespan: migrations, the cluster's numba warm-up
-    while not server.started:
-        assert time.monotonic() < deadline and thread.is_alive(), "uvicorn did not start"
-        time.sleep(0.05)
+    # the lifespan: migrations, the cluster's numba warm-up
+    wait_until(lambda: server.started or not thread.is_alive(), "uvicorn starts")
+    assert server.started, "uvicorn exited while starting"
     yield sock.getsockname()
     server.should_exit = True
     thread.join(30)

@@ -9,7 +9,7 @@ import time
 import pytest
 
 from footprint.service.jobs import engine, tasks
-from tests.service.conftest import WAIT_S, running_service, wait_for_job
+from tests.service.conftest import WAIT_S, running_service, wait_for_job, wait_until
 from tests.service.sample_requests import CASE, FOOTPRINT, OPTIMIZE
 
 LONG = OPTIMIZE | {"max_trajectories": 100_000, "case": CASE | {"integrator": {"rtol": 1e-12, "max_step_s": 0.05}}}
@@ -31,14 +31,17 @@ def _status_soon(api, job_id, wanted, timeout_s=WAIT_S):
     raise AssertionError(f"job {job_id} not {wanted} after {timeout_s} s: {job}")
 
 
+def _reports(api, job_id) -> bool:
+    """The optimization has reported its first trajectories."""
+    return (api.get(f"/api/jobs/{job_id}").json()["progress_note"] or "").startswith("trajectory ")
+
+
 def test_cancelled_jobs_free_their_workers_and_a_waiting_job_says_queued(service):
     long = [service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"] for _ in range(2)]
     for job_id in long:
         _status_soon(service, job_id, "running")  # both workers busy
-    deadline = time.monotonic() + WAIT_S  # a single-task job reports as it goes (it sat at 0 % until the end)
-    while not (service.get(f"/api/jobs/{long[0]}").json()["progress_note"] or "").startswith("trajectory "):
-        assert time.monotonic() < deadline, service.get(f"/api/jobs/{long[0]}").json()
-        time.sleep(0.2)
+    # a single-task job reports as it goes (it sat at 0 % until the end)
+    wait_until(lambda: _reports(service, long[0]), "the optimization reports its trajectories")
     assert 0.0 < service.get(f"/api/jobs/{long[0]}").json()["progress"] < 0.01
     waiting = service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
     time.sleep(2.0)
@@ -72,16 +75,10 @@ def test_a_cancelled_optimization_stops_itself_and_keeps_its_worker(service, sch
     with Client(scheduler_address, timeout="10s") as cluster:
         pids = cluster.run(os.getpid)
         job_id = service.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
-        deadline = time.monotonic() + WAIT_S
-        while not (service.get(f"/api/jobs/{job_id}").json()["progress_note"] or "").startswith("trajectory "):
-            assert time.monotonic() < deadline
-            time.sleep(0.1)
-        t0 = time.monotonic()
+        wait_until(lambda: _reports(service, job_id), "the optimization reports its trajectories")
         assert service.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
-        running = lambda: cluster.run(tasks.running_keys)  # noqa: E731 -- the scheduler forgets it at the cancel
-        while any(running().values()):
-            assert time.monotonic() - t0 < WAIT_S, running()
-            time.sleep(0.05)
+        # the workers, not the scheduler (which forgets the task at the cancel), say when it stopped
+        wait_until(lambda: not any(cluster.run(tasks.running_keys).values()), "the cancelled task stops")
         assert cluster.run(os.getpid) == pids  # the same worker processes: none was restarted
 
 
@@ -96,10 +93,8 @@ def test_a_task_that_reports_nothing_is_stopped_by_restarting_its_worker(service
     with Client(scheduler_address, timeout="10s") as cluster:
         pids = cluster.run(os.getpid)
         stuck = jobs.client.submit(time.sleep, 3_600, pure=False)  # only a restart frees its worker in time
-        deadline = time.monotonic() + WAIT_S
-        while not any(cluster.run(lambda dask_worker: len(dask_worker.state.executing)).values()):
-            assert time.monotonic() < deadline
-            time.sleep(0.05)
+        wait_until(lambda: any(cluster.run(lambda dask_worker: len(dask_worker.state.executing)).values()),
+                   "a worker runs the stuck task")
         jobs.stop([stuck])  # the 1 s grace, then the nanny's restart
         free = jobs.client.submit(os.getpid, pure=False)
         assert free.result(timeout=WAIT_S) in (after := cluster.run(os.getpid)).values()

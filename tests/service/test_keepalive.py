@@ -4,10 +4,11 @@ the client's next request on it failed with a reset. Against a real uvicorn serv
 
 import socket
 import threading
-import time
 
 import httpx
 import pytest
+
+from .conftest import wait_until
 
 
 @pytest.fixture(scope="module")
@@ -24,10 +25,9 @@ def server(scheduler_address, tmp_path_factory):
     server = uvicorn.Server(uvicorn.Config(app, log_level="warning", timeout_keep_alive=30))
     thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
     thread.start()
-    deadline = time.monotonic() + 120.0  # the lifespan: migrations, the cluster's numba warm-up
-    while not server.started:
-        assert time.monotonic() < deadline and thread.is_alive(), "uvicorn did not start"
-        time.sleep(0.05)
+    # the lifespan: migrations, the cluster's numba warm-up
+    wait_until(lambda: server.started or not thread.is_alive(), "uvicorn starts")
+    assert server.started, "uvicorn exited while starting"
     yield f"http://127.0.0.1:{sock.getsockname()[1]}"
     server.should_exit = True
     thread.join(30)
