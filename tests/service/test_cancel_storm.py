@@ -65,3 +65,24 @@ def test_a_worker_lost_for_good_is_degraded_then_replaced(own_cluster):
     job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
                        timeout_s=DEADLINE_S)
     assert job["status"] == "succeeded", job
+
+
+def test_a_queue_on_a_scheduler_with_no_worker_fails_with_the_reason(tmp_path):
+    """An external scheduler whose workers are gone: jobs sat "queued" for ever while health said degraded. Past
+    FOOTPRINT_NO_WORKERS_LIMIT_S the engine fails them and says what to do."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      scheduler_kwargs={"dashboard": False}) as cluster, \
+            running_service(f"sqlite:///{tmp_path / 'footprint.db'}", cluster.scheduler_address,
+                            no_workers_limit_s=2.0) as api:
+        first = api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"]
+        assert wait_for_job(api, first, timeout_s=DEADLINE_S)["status"] == "succeeded"
+        _health_soon(api, lambda h: h["cluster"]["workers"] == 1)
+        cluster.scale(0)
+        health = _health_soon(api, lambda h: h["cluster"]["workers"] == 0)
+        assert health["status"] == "degraded" and health["cluster"]["expected_workers"] == 1
+        job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
+                           timeout_s=DEADLINE_S)
+        assert job["status"] == "failed", job
+        assert "no worker for 2 s" in job["error"] and "FOOTPRINT_NO_WORKERS_LIMIT_S" in job["error"], job["error"]

@@ -44,6 +44,10 @@ REPLACE_AFTER_S = 10.0  # a worker missing this long (a nanny's restart takes se
 RESTART_TIMEOUT_S = 60.0  # a worker restart's wait for the nanny (a loaded machine starts a process slowly)
 
 
+class NoWorkers(RuntimeError):
+    """A queued job's cluster has had no worker for FOOTPRINT_NO_WORKERS_LIMIT_S."""
+
+
 class JobTimeLimit(RuntimeError):
     """A job ran past FOOTPRINT_JOB_TIME_LIMIT_S."""
 
@@ -72,6 +76,7 @@ class ClusterLink:
         self._asking = False  # a thread of recent_status() is asking the scheduler
         self.client = None
         self.most_workers = 0  # the most workers the scheduler has had: an external cluster's size
+        self._workerless_since: float | None = None  # when the scheduler was first seen with no worker, since then
 
     def expected_workers(self) -> int:
         """The cluster's size: the local cluster's FOOTPRINT_DASK_WORKERS, else the most an external one has had."""
@@ -109,6 +114,8 @@ class ClusterLink:
             info = self.client.scheduler_info(n_workers=-1)
             workers = len(info.get("workers", {}))
             self.most_workers = max(self.most_workers, workers)
+            with self._lock:
+                self._workerless_since = None if workers else (self._workerless_since or time.monotonic())
             expected = self.expected_workers()
             now = {"ok": self.client.status == "running" and workers >= max(expected, 1),
                    "scheduler": info.get("address", ""), "workers": workers, "expected_workers": expected}
@@ -118,6 +125,12 @@ class ClusterLink:
         with self._lock:
             self._status, self._asking = (time.monotonic(), now), False
         return dict(now)
+
+    def workerless_s(self) -> float:
+        """How long the scheduler has had no worker, as last seen (0 while it has one)."""
+        self.status()
+        with self._lock:
+            return 0.0 if self._workerless_since is None else time.monotonic() - self._workerless_since
 
 
 class RemoteJobs(ClusterLink):
@@ -341,6 +354,11 @@ class JobEngine(ClusterLink):
                 if cancelled:
                     self.stop(futures)
                     return None
+                if self.workerless_s() > self._settings.no_workers_limit_s:  # a queue it cannot run
+                    self.stop(futures)
+                    raise NoWorkers("the Dask scheduler has had no worker for "
+                                    f"{self._settings.no_workers_limit_s:g} s (FOOTPRINT_NO_WORKERS_LIMIT_S): start "
+                                    "workers on it and submit the job again")
                 if starts and not running:  # "queued" until a worker really runs it
                     with self._sessions.begin() as session:
                         q.mark_running(session, job_id=job_id)
