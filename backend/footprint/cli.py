@@ -380,9 +380,22 @@ def serve(host: Optional[str] = typer.Option(None, "--host", help="address to li
     except ValidationError as exc:
         _fail(error_line(exc))
     base = f"http://{settings.host}:{settings.port}"
+    _say_service_progress()
     typer.echo(f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
                f"{base}/redoc (database {settings.database_url.split('://')[0]})", err=True)
     run_service(settings)
+
+
+def _say_service_progress() -> None:
+    """The service's start-up steps and its jobs' ends on stderr, "footprint: ..." (uvicorn configures only its own
+    loggers: without a handler these INFO lines were dropped, and a first start compiling for a minute said nothing)."""
+    import logging
+
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("footprint: %(message)s"))
+    logger = logging.getLogger("footprint")
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
 
 
 @app.command()

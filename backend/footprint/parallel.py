@@ -29,10 +29,11 @@ def start_client(*, workers: int | None = None, scheduler: str | None = None, se
     cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
                            dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
     client = Client(cluster, set_as_default=set_as_default)
-    if niceness:
-        from footprint.worker_priority import Niceness
+    from footprint.local_workers import Niceness, ParentStops
 
-        client.register_plugin(Niceness(niceness))  # every worker, and each one that replaces a worker later
+    client.register_plugin(ParentStops())  # every worker, and each one that replaces a worker later
+    if niceness:
+        client.register_plugin(Niceness(niceness))
 
     def close():
         client.close()

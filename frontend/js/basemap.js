@@ -21,14 +21,16 @@ export function loadWorld(scale = "50m") {
 }
 
 /** A ring for a flat map: longitudes made continuous (a ring across +-180 runs on past it, and the copies of the
- * map at +-360 show the rest); a ring that goes once round a pole (Antarctica) is closed along that pole. */
+ * map at +-360 show the rest); a ring that goes once round a pole (Antarctica) is closed along that pole, and then
+ * by its first point again: d3-geo takes a ring's last point for the repeat of its first and leaves it out, which
+ * dropped the corner on the pole and drew a slanted edge across Antarctica (issue 25 item 5). */
 function planarRing(ring) {
   const lons = unwrapLongitudes(ring.map((c) => c[0]), ring[0][0]);
   const out = ring.map((c, i) => [lons[i], c[1]]);
   const turn = lons[lons.length - 1] - lons[0];
   if (Math.abs(turn) > 180) {
     const pole = ring.reduce((s, c) => s + c[1], 0) < 0 ? -90 : 90;
-    out.push([lons[lons.length - 1], pole], [lons[0], pole]);
+    out.push([lons[lons.length - 1], pole], [lons[0], pole], out[0]);
   }
   return out;
 }

@@ -2,7 +2,7 @@
 // its layers and counted outcomes, the site probabilities beside the reach table, the flights' table.
 import { api } from "./api.js";
 import { el, fmt } from "./format.js";
-import { boundaryLine, copyOffsets, describeParameter, listPoints, nearestAnchor, openRing, placeOnRing, planarOutline,
+import { copyOffsets, describeParameter, listPoints, nearestAnchor, openRing, placeOnRing, planarOutline,
          unwrapRing, wrapLongitude } from "./geometry.js";
 import { outcomeWords } from "./jobs.js";
 
@@ -22,7 +22,7 @@ export const confidenceOpacity = (rank) => 0.1 + 0.14 * rank;
 
 /** A colour between light grey (probability 0) and green (1). */
 export function probabilityColor(p) {
-  const a = [217, 217, 217], b = [27, 120, 55];
+  const a = [217, 217, 217], b = [8, 81, 156]; // grey to blue: green and red are the reach verdict's (issue 25 item 4)
   return `rgb(${a.map((v, i) => Math.round(v + (b[i] - v) * Math.max(0, Math.min(1, p)))).join(",")})`;
 }
 
@@ -64,13 +64,10 @@ export function placeDispersion(d) {
     const points = listPoints(lists); // planarOutline drops a closing point (once: a contour may repeat a vertex)
     if (points.length < 3) return null;
     const shown = { points, reference: reference ?? nearestAnchor(points, anchors), outline: lists.outline ?? null };
-    const area = planarOutline(shown);
-    if (!shown.outline && Math.abs(area[area.length - 1][0] - area[0][0]) > 180) {
-      // the ring goes round the earth's axis: it holds a pole, which only the service's outline (core.outline)
-      // closes; without one, its edge is drawn and no area (a fill would take the wrong side of the map)
-      return { area: null, line: area, holdsPole: true };
-    }
-    return { area, line: boundaryLine(shown, area) };
+    const { polygons, line } = planarOutline(shown);
+    // a ring round the earth's axis without the service's outline (core.outline): its edge and no area (a fill
+    // would take the wrong side of the map)
+    return polygons ? { area: polygons, line } : { area: null, line, holdsPole: true };
   };
   // each flight's nominal landing point on the copy where the drawn boundary has it (unwrapRing, as planarOutline)
   const boundaryLons = boundary.length ? unwrapRing(boundary, entry) : [];

@@ -6,13 +6,12 @@ import { api } from "./api.js";
 import { DISPERSION_STYLE, confidenceOpacity, dispersionURL, featureShown, levelWords, percent,
          probabilityColor } from "./dispersion.js";
 import { fmt } from "./format.js";
-import { boundaryLine, openRing, planarOutline, sameSite, sphericalRing, toCSV, unwrapLongitudes,
+import { openRing, planarOutline, sameSite, sphericalRing, toCSV, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { GLOBE_SITE_PX, dispersionFeatures, globeProjection, siteOpacity } from "./globe.js";
-import { SITE_NAMES_ZOOM } from "./mapview.js";
+import { LABEL_FONT } from "./mapview.js";
 
 const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
-const TOOLTIP_GAP_PX = 18; // a site's label on the map begins this far from it (tooltip offset 8, margin 6, padding 4)
 
 export function download(filename, content, type) {
   const blob = content instanceof Blob ? content : new Blob([content], { type });
@@ -84,11 +83,12 @@ function footprintShapes(fp, planar) {
   const trackLons = planar ? unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg)
                            : groundTrack.map((p) => p.longitude_deg);
   const coords = ring.map((p, i) => [lons[i], p.latitude_deg]);
-  const area = planar ? planarOutline(fp.shown) : [];
-  const polygon = { type: "Polygon", coordinates: [planar ? area.concat([area[0]]) : sphericalRing(points, d3.geoArea)] };
+  const flat = planar ? planarOutline(fp.shown) : null;
+  const polygon = planar ? { type: "MultiPolygon", coordinates: flat.polygons ?? [] }
+    : { type: "Polygon", coordinates: [sphericalRing(points, d3.geoArea)] };
   return {
     polygon,
-    boundary: planar ? { type: "LineString", coordinates: boundaryLine(fp.shown, area) } : polygon,
+    boundary: planar ? { type: "LineString", coordinates: flat.line } : polygon,
     track: { type: "LineString", coordinates: groundTrack.map((p, i) => [trackLons[i], p.latitude_deg]) },
     points: ring.map((p, i) => ({ type: "Point", coordinates: coords[i], mirrored: p.mirrored })),
     entry: { type: "Point", coordinates: [reference.longitude_deg, reference.latitude_deg] },
@@ -160,22 +160,82 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   eachCopy(offsets, () => { for (const fp of footprints) drawFootprint(pen, fp, !globeView); });
   if (dispersion && globeView) drawGlobeDispersion(pen, ctx, dispersion);
   eachCopy(dispersed, () => drawMapDispersion(pen, ctx, dispersion));
-  if (dispersion && !globeView) {
-    const namesShown = mapView.map.getZoom() >= SITE_NAMES_ZOOM;
-    eachCopy(offsets, () => drawMapDispersionSites(pen, ctx, dispersion, sites, namesShown));
-  }
+  if (dispersion && !globeView) eachCopy(offsets, () => drawMapDispersionSites(pen, dispersion, sites));
   eachCopy(offsets, () => {
     for (const s of sites) {
       const fill = s.reachable == null ? "#5b6b7b" : s.reachable ? "#2e7d32" : "#b3261e";
       pen.draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] }, { fill, stroke: "#fff", width: 1.5, radius: 5 });
-      const at = pen.at(s.longitude_deg, s.latitude_deg);
-      if (at) label(ctx, s.name, at[0] + (globeView ? GLOBE_SITE_PX.name : TOOLTIP_GAP_PX), at[1] + 4);
+      const at = globeView && pen.at(s.longitude_deg, s.latitude_deg);
+      if (at) label(ctx, s.name, at[0] + GLOBE_SITE_PX.name, at[1] + 4);
     }
   });
+  if (!globeView) drawSiteLabels(ctx, mapView.labels); // as the map placed them: no two over one another
   if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
-  drawLegend(ctx, footprints, globeView ? "Orthographic" : "Cylindrical equidistant",
-             dispersion && dispersionCaption(dispersion, globeView));
-  return canvas;
+  // the caption below the picture, where it covers nothing of the map
+  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView));
+  const crop = globeView ? { x: 0, y: 0, w: width, h: height } : worldCrop(mapView.map, width, height);
+  const out = cropped(canvas, crop, legendHeight(blocks));
+  const octx = out.getContext("2d");
+  if (!globeView) drawGridAndScale(octx, mapView.map, crop);
+  drawLegend(octx, blocks, globeView ? "Orthographic" : "Cylindrical equidistant", crop);
+  return out;
+}
+
+/** The part of the map's view that is the earth (CSS px of the container): latitudes -90 to 90 and one turn of
+ * longitude about the view's centre, within the view. The PNG of a tall pane at world zoom was mostly the bands
+ * beyond the poles (issue 25 item 5). */
+function worldCrop(map, width, height) {
+  const c = map.getCenter().lng, at = (lat, lon) => map.latLngToContainerPoint([lat, lon]);
+  const x = Math.max(0, Math.floor(at(0, c - 180).x)), y = Math.max(0, Math.floor(at(90, c).y));
+  return { x, y, w: Math.min(width, Math.ceil(at(0, c + 180).x)) - x, h: Math.min(height, Math.ceil(at(-90, c).y)) - y };
+}
+
+/** A new canvas of `crop` (CSS px) of the drawn one and `below` px more under it for the caption, scaled for
+ * PIXEL_RATIO. */
+function cropped(canvas, crop, below) {
+  const out = document.createElement("canvas");
+  out.width = Math.round(crop.w * PIXEL_RATIO);
+  out.height = Math.round((crop.h + below) * PIXEL_RATIO);
+  const ctx = out.getContext("2d");
+  const h = Math.round(crop.h * PIXEL_RATIO);
+  ctx.fillStyle = "#fff";
+  ctx.fillRect(0, 0, out.width, out.height);
+  ctx.drawImage(canvas, crop.x * PIXEL_RATIO, crop.y * PIXEL_RATIO, out.width, h, 0, 0, out.width, h);
+  ctx.scale(PIXEL_RATIO, PIXEL_RATIO);
+  return out;
+}
+
+/** The graticule's latitudes and longitudes along the PNG's left and bottom edges, and a scale bar in nautical miles
+ * along a meridian (the map's scale there is the same everywhere), as the map shows them. */
+function drawGridAndScale(ctx, map, crop) {
+  const at = (lat, lon) => map.latLngToContainerPoint([lat, lon]);
+  const b = map.getBounds(), step = map.getZoom() >= 3.5 ? 10 : 30;
+  ctx.font = "10px 'DejaVu Sans', Arial, sans-serif";
+  for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
+    const x = at(0, lon).x - crop.x, w = ((lon + 180) % 360 + 360) % 360 - 180;
+    if (x < 20 || x > crop.w - 20) continue;
+    const text = w === 0 ? "0°" : Math.abs(w) === 180 ? "180°" : `${Math.abs(w)}°${w > 0 ? "E" : "W"}`;
+    label(ctx, text, x, crop.h - 4, { align: "center" });
+  }
+  for (let lat = Math.ceil(Math.max(b.getSouth(), -90) / step) * step; lat <= Math.min(b.getNorth(), 90); lat += step) {
+    const y = at(lat, b.getWest()).y - crop.y;
+    if (y < 12 || y > crop.h - 16) continue;
+    label(ctx, lat === 0 ? "0°" : `${Math.abs(lat)}°${lat > 0 ? "N" : "S"}`, 3, y + 3);
+  }
+  const c = map.getCenter(), pxPerNmi = Math.abs(at(c.lat + 1, c.lng).y - at(c.lat, c.lng).y) / 60; // 1 deg: 60 nmi
+  const nmi = [50, 100, 200, 500, 1000, 2000, 5000].find((n) => n * pxPerNmi >= 60) ?? 5000;
+  const x0 = 40, y0 = crop.h - 22, len = nmi * pxPerNmi;
+  ctx.fillStyle = "rgba(255,255,255,0.85)";
+  ctx.fillRect(x0 - 4, y0 - 12, len + 150, 18);
+  ctx.strokeStyle = "#1d2733";
+  ctx.lineWidth = 1.5;
+  ctx.beginPath();
+  ctx.moveTo(x0, y0 - 4);
+  ctx.lineTo(x0, y0);
+  ctx.lineTo(x0 + len, y0);
+  ctx.lineTo(x0 + len, y0 - 4);
+  ctx.stroke();
+  label(ctx, `${fmt(nmi)} nmi along a meridian`, x0 + len + 6, y0 + 1);
 }
 
 function drawFootprint(pen, fp, planar) {
@@ -211,7 +271,7 @@ function drawMapDispersion(pen, ctx, { placed, layers }) {
   if (layers.nominal && placed.nominal) pen.draw(line(placed.nominal.line), nominalLine);
   if (layers.confidence) {
     placed.confidence.forEach((c, rank) => c.rings.forEach((r) => {
-      if (r.area) pen.draw({ type: "Polygon", coordinates: [r.area.concat([r.area[0]])] },
+      if (r.area) pen.draw({ type: "MultiPolygon", coordinates: r.area },
                            { fill: STYLE.confidence.color, alpha: confidenceOpacity(rank) });
       pen.draw(line(r.line), confidenceLine);
     }));
@@ -226,18 +286,36 @@ function drawMapDispersion(pen, ctx, { placed, layers }) {
 }
 
 /** The sites with their probability as the map marks them: a ring round a stored site, a smaller disc round a site of
- * the study only (named when the map is zoomed in far enough), the probability on the left. */
-function drawMapDispersionSites(pen, ctx, { placed, layers }, storedSites, namesShown) {
+ * the study only; their names and probabilities are the map's labels (drawSiteLabels). */
+function drawMapDispersionSites(pen, { placed, layers }, storedSites) {
   if (!layers.sites) return;
   for (const s of placed.sites) {
     const named = !storedSites.some((t) => sameSite(t, s));
     pen.draw({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] },
              { fill: probabilityColor(s.probability), stroke: STYLE.site.edgeColor, width: STYLE.site.widthPx,
                radius: named ? STYLE.site.radiusPx : STYLE.site.aroundStoredPx });
-    const at = pen.at(s.longitude_deg, s.latitude_deg);
-    const text = named && namesShown ? `${s.name} · ${percent(s.probability)}` : percent(s.probability);
-    label(ctx, text, at[0] - TOOLTIP_GAP_PX, at[1] + 4, { align: "right", bold: true });
   }
+}
+
+/** The map's site labels (MapView.placeSiteLabels: boxes in the container's px, leaders where they stand off). */
+function drawSiteLabels(ctx, labels) {
+  ctx.font = LABEL_FONT;
+  ctx.textBaseline = "middle";
+  for (const l of labels) {
+    if (l.leader) {
+      ctx.strokeStyle = "#1d2733";
+      ctx.lineWidth = 1;
+      ctx.beginPath();
+      ctx.moveTo(l.leader[0], l.leader[1]);
+      ctx.lineTo(l.leader[2], l.leader[3]);
+      ctx.stroke();
+    }
+    ctx.fillStyle = "rgba(255,255,255,0.85)";
+    ctx.fillRect(l.x, l.y, l.w, l.h);
+    ctx.fillStyle = "#1d2733";
+    ctx.fillText(l.text, l.x + 4, l.y + l.h / 2 + 0.5);
+  }
+  ctx.textBaseline = "alphabetic";
 }
 
 /** The dispersion as the globe draws it (globe.js): its confidence footprints, nominal boundary and 3-sigma ellipses
@@ -299,27 +377,32 @@ export function dispersionCaption({ name, dispersion: d, placed, layers }, globe
           shapes.join(", "), points.join(", ")].filter(Boolean);
 }
 
-function drawLegend(ctx, footprints, projectionName, dispersionLines) {
-  const LINE = 15, GAP = 6;
-  ctx.font = "12px 'DejaVu Sans', Arial, sans-serif";
+const LEGEND_LINE_PX = 15, LEGEND_GAP_PX = 6;
+
+/** The caption's blocks: [colour, lines] per footprint, and the dispersion's. */
+function captionBlocks(footprints, dispersionLines) {
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
   if (dispersionLines) blocks.push([STYLE.confidence.color, dispersionLines]);
-  const w = Math.max(180, ...blocks.flatMap(([, ls]) => ls.map((t) => ctx.measureText(t).width + 34)));
-  const h = 26 + blocks.reduce((sum, [, ls]) => sum + ls.length * LINE + GAP, 0);
-  ctx.fillStyle = "rgba(255,255,255,0.92)";
-  ctx.fillRect(10, 10, w, h);
-  ctx.strokeStyle = "#9aa8b5";
-  ctx.strokeRect(10, 10, w, h);
+  return blocks;
+}
+
+const legendHeight = (blocks) => 30 + blocks.reduce((sum, [, ls]) => sum + ls.length * LEGEND_LINE_PX + LEGEND_GAP_PX, 0);
+
+/** The caption under the picture: the projection and data, then what each footprint (and dispersion) is. */
+function drawLegend(ctx, blocks, projectionName, crop) {
+  ctx.font = "12px 'DejaVu Sans', Arial, sans-serif";
+  ctx.fillStyle = "#9aa8b5";
+  ctx.fillRect(0, crop.h, crop.w, 1);
   ctx.fillStyle = "#34495e";
-  ctx.fillText(`${projectionName} · Natural Earth`, 18, 27);
-  let y = 36;
+  ctx.fillText(`${projectionName} · Natural Earth`, 10, crop.h + 18);
+  let y = crop.h + 26;
   for (const [color, ls] of blocks) {
     ctx.globalAlpha = 0.85;
     ctx.fillStyle = color;
-    ctx.fillRect(18, y, 14, 10);
+    ctx.fillRect(10, y, 14, 10);
     ctx.globalAlpha = 1;
-    ls.forEach((t, k) => { ctx.fillStyle = k ? "#4a5a6a" : "#1d2733"; ctx.fillText(t, 38, y + 9 + k * LINE); });
-    y += ls.length * LINE + GAP;
+    ls.forEach((t, k) => { ctx.fillStyle = k ? "#4a5a6a" : "#1d2733"; ctx.fillText(t, 30, y + 9 + k * LEGEND_LINE_PX); });
+    y += ls.length * LEGEND_LINE_PX + LEGEND_GAP_PX;
   }
 }
 

@@ -128,17 +128,26 @@ export function describeParameter(parameter) {
     }).join(", ");
 }
 
-/** The boundary as the cylindrical map fills it: [lon, lat] pairs of the service's outline (the chart's edges
- * sampled, longitudes continuous, a polar cap closed along its pole), on the copy of the map where the ring's
- * first point lies as unwrapRing places it; the ring itself where there is no outline. */
+/** The footprint as the cylindrical map draws it. `polygons`: its area within -180..180 deg, to be drawn at every
+ * copy offset: the service's outline (core.outline: polygons of [outer, holes...] rings of [lon, lat], a pole -- or
+ * both -- taken in when the footprint holds it). `line`: its boundary as [lon, lat] pairs, continuous, on the copy
+ * where unwrapRing places the ring, ending on the copy of its first point (once round the axis: 360 deg on).
+ * Without the service's outline the ring is its own area, unless it goes round the earth's axis: then `polygons`
+ * is null (which side holds the pole only the footprint's chart can say). */
 export function planarOutline(shown) {
   const ring = openRing(shown.points);
-  if (!ring.length) return [];
+  if (!ring.length) return { polygons: [], line: [] };
   const ringLons = unwrapRing(ring, shown.reference);
   const o = shown.outline;
-  if (!o?.longitude_deg?.length) return ring.map((p, i) => [ringLons[i], p.latitude_deg]);
-  const shift = 360 * Math.round((ringLons[0] - o.longitude_deg[0]) / 360);
-  return o.longitude_deg.map((lon, i) => [lon + shift, o.latitude_deg[i]]);
+  const line = o?.longitude_deg?.length
+    ? o.longitude_deg.map((lon, i) => [lon + 360 * Math.round((ringLons[0] - o.longitude_deg[0]) / 360),
+                                       o.latitude_deg[i]])
+    : ring.map((p, i) => [ringLons[i], p.latitude_deg]);
+  const [x0, y0] = line[0], [xn] = line[line.length - 1];
+  const turns = Math.round((xn + wrapLongitude(x0 - xn) - x0) / 360); // the closing step is at most 180 deg
+  line.push([x0 + 360 * turns, y0]);
+  if (o?.area) return { polygons: o.area, line };
+  return { polygons: turns ? null : [[line]], line };
 }
 
 /** The points of a shape given as lists ({latitude_deg: [...], longitude_deg: [...], downrange_nmi: [...],
@@ -181,11 +190,6 @@ export function placeOnRing(points, ring, ringLons) {
     if (nearest < 0) return p.longitude_deg;
     return ringLons[nearest] + wrapLongitude(p.longitude_deg - ring[nearest].longitude_deg);
   });
-}
-
-/** The footprint's edge in a planarOutline: the outline closed, without its edges along a pole. */
-export function boundaryLine(shown, area) {
-  return shown.outline?.pole ? area.slice(0, -2) : area.concat(area.length ? [area[0]] : []);
 }
 
 function pointFields(p) {

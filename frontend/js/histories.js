@@ -5,7 +5,9 @@ import { gridAndTicks, niceTicks } from "./rangeplot.js";
 
 const SVG_NS = "http://www.w3.org/2000/svg";
 const MARGIN = { left: 52, right: 22, top: 18, bottom: 22 };
+const X_LABEL_PX = 14; // the bottom row's "Flight time (s)" under its ticks
 const TITLE_PX = 20;
+const TITLE_CHAR_PX = 7; // about a character of the title's 12 px bold: a longer title is cut with an ellipsis
 
 /** The four panels of a flight: [key, label, scale] (scale turns the stored unit into the plotted one). */
 export function historyPanels(flight) {
@@ -20,11 +22,11 @@ const tickLabel = (ticks) => {
   return (v) => fmt(v, digits);
 };
 
-function panel(x, y, w, h, time, values, label, color) {
+function panel(x, y, w, h, time, values, label, color, bottom) {
   const xt = niceTicks(0, Math.max(...time), 4), yt = niceTicks(Math.min(...values), Math.max(...values), 4);
   const [x0, x1] = [0, Math.max(xt[xt.length - 1], ...time)];
   const [y0, y1] = [Math.min(yt[0], ...values), Math.max(yt[yt.length - 1], ...values)];
-  const pw = w - MARGIN.left - MARGIN.right, ph = h - MARGIN.top - MARGIN.bottom;
+  const pw = w - MARGIN.left - MARGIN.right, ph = h - MARGIN.top - MARGIN.bottom - (bottom ? X_LABEL_PX : 0);
   const sx = (v) => x + MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
   const sy = (v) => y + MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
   const ylabel = tickLabel(yt);
@@ -33,6 +35,10 @@ function panel(x, y, w, h, time, values, label, color) {
   const d = time.map((t, i) => `${i ? "L" : "M"}${sx(t).toFixed(1)},${sy(values[i]).toFixed(1)}`).join("");
   parts.push(`<path class="history" d="${d}" style="stroke:${color}"/>`);
   parts.push(`<text class="axis-label" x="${sx(x0)}" y="${y + MARGIN.top - 5}">${label}</text>`);
+  if (bottom) {
+    parts.push(`<text class="axis-label x-label" x="${sx(x0) + pw / 2}" y="${y + h - 4}" text-anchor="middle">`
+               + "Flight time (s)</text>");
+  }
   return parts.join("");
 }
 
@@ -49,11 +55,13 @@ export function drawHistories(container, optimum) {
   const w = width / cols, h = (height - TITLE_PX) / rows;
   const parts = panels.map(([key, label, scale], i) => panel((i % cols) * w, TITLE_PX + Math.floor(i / cols) * h, w, h,
                                                              flight.time_s, flight[key].map((v) => v * scale), label,
-                                                             optimum.color));
+                                                             optimum.color, Math.floor(i / cols) === rows - 1));
   const s = optimum.result.summary;
-  const title = `${optimum.name}: cross-range ${fmt(s.crossrange_nmi)} nmi at down-range ${fmt(s.downrange_nmi)} nmi`
-    + " · against flight time (s)";
-  parts.push(`<text class="plot-title" x="6" y="14">${escapeHtml(title)}</text>`);
+  const numbers = `: cross-range ${fmt(s.crossrange_nmi)} nmi at down-range ${fmt(s.downrange_nmi)} nmi`;
+  const room = Math.max(8, Math.floor((width - 12) / TITLE_CHAR_PX) - numbers.length);
+  const name = optimum.name.length > room ? `${optimum.name.slice(0, room - 1)}…` : optimum.name;
+  parts.push(`<text class="plot-title" x="6" y="14"><title>${escapeHtml(optimum.name + numbers)}</title>`
+             + `${escapeHtml(name + numbers)}</text>`);
   container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot history-plot" viewBox="0 0 ${width} ${height}" width="${width}" `
     + `height="${height}" role="img" aria-label="Histories of ${escapeHtml(optimum.name)}">${parts.join("")}</svg>`;
 }

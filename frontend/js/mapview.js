@@ -2,15 +2,24 @@
 // Figs. 31-32), with Natural Earth land, coastlines and borders drawn from the shipped data.
 /* global L */
 import { loadWorld, planarFeatures } from "./basemap.js";
-import { boundaryLine, copyOffsets, describeParameter, openRing, planarOutline, sameSite, unwrapLongitudes,
+import { copyOffsets, describeParameter, openRing, planarOutline, sameSite, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { el, escapeHtml, fmt } from "./format.js";
 import { DISPERSION_STYLE as STYLE, LAYERS, confidenceOpacity, flightWords, intervalWords, levelWords, percent,
          probabilityColor, sigmaNmi } from "./dispersion.js";
+import { placeLabels } from "./labels.js";
 
 const GRATICULE_DEG = 30;
 const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world either way
-export const SITE_NAMES_ZOOM = 3; // below it a dispersion's sites (that are not stored sites) show their probability only
+export const LABEL_FONT = "11px 'DejaVu Sans', Arial, sans-serif"; // a site label's, on the map and in the PNG
+const LABEL_BOX_PX = { padX: 4, h: 15 }; // a label's box round its text
+const SITE_MARKER_PX = 8; // half a site marker (the dispersion's ring round a stored site: 11 px; its diamond: 7)
+let measure = null;
+const textWidth = (text) => {
+  measure ??= document.createElement("canvas").getContext("2d");
+  measure.font = LABEL_FONT;
+  return measure.measureText(text).width;
+};
 
 /** A dispersion's landing points as small squares on a canvas renderer: one layer for all of them (22 flights x
  * 1,000 samples, on each copy of the map), projected once per zoom and drawn where the renderer redraws. */
@@ -117,9 +126,11 @@ export class MapView {
     this.map.on("click", (e) => onClick?.(e.latlng));
     this.gridLabels = L.layerGroup().addTo(this.map);
     this.map.on("moveend zoomend", () => this._labelGraticule());
-    const zoomClass = () => element.classList.toggle("zoomed-out", this.map.getZoom() < SITE_NAMES_ZOOM);
-    this.map.on("zoomend", zoomClass);
-    zoomClass();
+    this.labelPane = this.map.createPane("siteLabels"); // over the shapes and markers, under the popups
+    this.labelPane.style.zIndex = 640;
+    this.labelPane.style.pointerEvents = "none";
+    this.labels = []; // the site labels as last placed: {text, x, y, w, h, leader} in the container's px
+    this.map.on("moveend zoomend viewreset resize", () => this.placeSiteLabels());
     this._addScale();
     this.ready = this._drawBasemap().then(() => this._labelGraticule());
   }
@@ -209,19 +220,20 @@ export class MapView {
     const ring = openRing(points);
     if (!ring.length) return;
     const ringLons = unwrapRing(ring, reference);
-    const area = planarOutline(fp.shown);
-    const boundary = boundaryLine(fp.shown, area);
+    const { polygons, line } = planarOutline(fp.shown);
     const trackLons = unwrapLongitudes(groundTrack.map((p) => p.longitude_deg), reference.longitude_deg);
-    const all = area.map(([lon]) => lon).concat(trackLons, [reference.longitude_deg]);
+    const all = line.map(([lon]) => lon).concat(trackLons, [reference.longitude_deg, -180, 180]); // the area: -180..180
     const group = L.layerGroup();
     const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true }; // every vertex kept, none clipped
     for (const offset of copyOffsets(Math.min(...all), Math.max(...all))) {
       const copy = `fp-${fp.id} fp-copy-${offset}`;
-      L.polygon(area.map(([lon, lat]) => [lat, lon + offset]),
-                { ...svg, stroke: false, fillColor: fp.color, fillOpacity: 0.22,
-                  className: `fp-polygon ${copy}`, interactive: false }).addTo(group);
-      // the boundary's line: the outline without its closing edges along a pole (no edge of the footprint)
-      L.polyline(boundary.map(([lon, lat]) => [lat, lon + offset]),
+      if (polygons?.length) {
+        L.polygon(polygons.map((rings) => rings.map((r) => r.map(([lon, lat]) => [lat, lon + offset]))),
+                  { ...svg, stroke: false, fillColor: fp.color, fillOpacity: 0.22,
+                    className: `fp-polygon ${copy}`, interactive: false }).addTo(group);
+      }
+      // the boundary's line: only the footprint's edge (the area's cuts at +-180 and its runs along a pole are not)
+      L.polyline(line.map(([lon, lat]) => [lat, lon + offset]),
                  { ...svg, color: fp.color, weight: 2, className: `fp-boundary ${copy}`, interactive: false }).addTo(group);
       if (groundTrack.length > 1) {
         L.polyline(groundTrack.map((p, i) => [p.latitude_deg, trackLons[i] + offset]),
@@ -309,7 +321,7 @@ export class MapView {
       const copy = `disp-copy-${offset}`;
       const latlngs = (pairs) => pairs.map(([lon, lat]) => [lat, lon + offset]);
       placed.confidence.forEach((c, rank) => c.rings.forEach((r) => {
-        if (r.area) L.polygon(latlngs(r.area), { ...svg, stroke: false, fillColor: STYLE.confidence.color, fillOpacity: confidenceOpacity(rank),
+        if (r.area) L.polygon(r.area.map((rings) => rings.map(latlngs)), { ...svg, stroke: false, fillColor: STYLE.confidence.color, fillOpacity: confidenceOpacity(rank),
                                      className: `dispersion-confidence-area ${copy}`, interactive: false }).addTo(groups.confidence);
         L.polyline(latlngs(r.line), { ...svg, color: STYLE.confidence.color, weight: STYLE.confidence.widthPx,
                                       opacity: STYLE.confidence.opacity,
@@ -346,15 +358,11 @@ export class MapView {
         el("br"), `${s.inside_nominal ? "inside" : "outside"} the nominal footprint · ${fmt(s.downrange_nmi)} nmi down-range, `
         + `${fmt(s.crossrange_nmi)} nmi cross-range`);
       for (const offset of WORLD_COPIES_DEG) {
-        // the stored site's own label says its name on the right; a site of the study only is named here, once
-        // the map is zoomed in far enough for names not to cover one another (its popup names it at any zoom)
+        // named, with its probability, by placeSiteLabels; its popup says the rest
         L.circleMarker([s.latitude_deg, s.longitude_deg + offset],
                        { renderer: this.svgRenderer, radius: named ? STYLE.site.radiusPx : STYLE.site.aroundStoredPx,
                          color: STYLE.site.edgeColor, weight: STYLE.site.widthPx, fillColor: probabilityColor(s.probability),
                          fillOpacity: 1, className: "dispersion-site" })
-          .bindTooltip(el("span", {}, named ? el("span", { class: "dispersion-site-name" }, `${s.name} · `) : null,
-                          percent(s.probability)),
-                       { permanent: true, direction: "left", offset: [-8, 0], className: "site-label dispersion-p" })
           .bindPopup(tip)
           .addTo(groups.sites);
       }
@@ -367,11 +375,13 @@ export class MapView {
     const g = this.dispersion?.groups[kind];
     if (!g) return;
     if (on) g.addTo(this.map); else g.remove();
+    if (kind === "sites") this.placeSiteLabels();
   }
 
   removeDispersion() {
     for (const g of Object.values(this.dispersion?.groups ?? {})) g.remove();
     this.dispersion = null;
+    this.placeSiteLabels();
   }
 
   /** The view on the dispersion's main copy, all of it. */
@@ -390,15 +400,21 @@ export class MapView {
   }
 
   setLegend(footprints) {
+    this._legendFootprints = footprints;
     const reach = this.reachLayer ? '<div class="legend-key">coloured lines: where deorbiting reaches a site (as the '
       + "landing-window timeline)</div>" : "";
     const optimum = this.optimum
       ? `<div><span class="line" style="background:${this.optimum.color}"></span>${escapeHtml(this.optimum.name)} (optimum)</div>` : "";
+    // one meaning per colour: green and red say the last reach analysis's verdict, blue a dispersion's probability
+    const sites = this.storedSites?.length ? '<div class="legend-key legend-sites"><span class="site-icon site-reached">'
+      + '</span>reached · <span class="site-icon site-missed"></span>not · <span class="site-icon site-unknown"></span>'
+      + "not checked (last reach)</div>" : "";
     this.legendDiv.innerHTML = footprints.length || optimum
       ? footprints.map((fp) => `<div><span class="swatch" style="background:${fp.color}"></span>${escapeHtml(fp.name)}</div>`).join("")
         + optimum + '<div class="legend-key"><span class="dash"></span>ground track · <span class="dot"></span>entry</div>' + reach
-      : "";
-    this.legendDiv.hidden = !(footprints.length || optimum);
+        + sites
+      : sites;
+    this.legendDiv.hidden = !(footprints.length || optimum || sites);
     if (this.dispersion) {
       const key = (cls, style, text) => el("div", {}, el("span", { class: cls, style }), text);
       const levels = this.dispersion.placed.confidence.map((c) => levelWords(c.level)).join(", ");
@@ -407,7 +423,8 @@ export class MapView {
         key("swatch", { background: STYLE.confidence.color }, `confidence footprints ${levels}`),
         key("line", { background: STYLE.ellipse.color }, "3σ ellipse of each flight"),
         key("dot", { background: STYLE.cloud.color }, "landing points"),
-        key("dot site", { background: probabilityColor(1) }, "site: P of reaching it (grey 0, green 1)")));
+        key("dot site", { background: `linear-gradient(90deg, ${probabilityColor(0)}, ${probabilityColor(1)})` },
+            "P of reaching a site with the dispersions (grey 0 to blue 1), in its label")));
       this.legendDiv.hidden = false;
     }
   }
@@ -423,19 +440,64 @@ export class MapView {
                  { icon: L.divIcon({ className: "site-marker", html: `<span class="site-icon site-${state}"></span>`,
                                      iconSize: [14, 14] }), keyboard: false,
                    title: `${s.name}: ${fmt(s.latitude_deg, 3)}°, ${fmt(s.longitude_deg, 3)}°` })
-          .bindTooltip(escapeHtml(s.name), { permanent: true, direction: "right", offset: [8, 0], className: "site-label" })
           .addTo(this.sitesLayer);
       }
     }
+    this.placeSiteLabels();
+    if (this._legendFootprints) this.setLegend(this._legendFootprints);
+  }
+
+  /** The sites' names (and a shown dispersion's probability of reaching each) placed where they cover no other
+   * label and no marker (labels.placeLabels): the stored sites first, then a dispersion's own; a name with no room
+   * is left out, its marker still names it on hover. */
+  placeSiteLabels() {
+    const size = this.map.getSize(), items = [];
+    const shownP = this.dispersion && this.map.hasLayer(this.dispersion.groups.sites) ? this.dispersion.placed.sites : [];
+    const stored = this.storedSites ?? [];
+    const texts = stored.map((s) => {
+      const d = shownP.find((t) => sameSite(t, s));
+      return [s, d ? `${s.name} · ${percent(d.probability)}` : s.name, Boolean(d)];
+    }).concat(shownP.filter((t) => !stored.some((s) => sameSite(t, s))).map((t) => [t, `${t.name} · ${percent(t.probability)}`, true]));
+    for (const [s, text, p] of texts) {
+      for (const offset of WORLD_COPIES_DEG) {
+        const at = this.map.latLngToContainerPoint([s.latitude_deg, s.longitude_deg + offset]);
+        if (at.x < -50 || at.y < -50 || at.x > size.x + 50 || at.y > size.y + 50) continue;
+        items.push({ x: at.x, y: at.y, w: textWidth(text) + 2 * LABEL_BOX_PX.padX, h: LABEL_BOX_PX.h, text, p });
+      }
+    }
+    const placed = placeLabels(items, { markerPx: SITE_MARKER_PX, bounds: { w: size.x, h: size.y } });
+    this.labels = items.flatMap((it, i) => (placed[i] ? [{ ...it, ...placed[i] }] : []));
+    this._drawSiteLabels();
+  }
+
+  _drawSiteLabels() {
+    const origin = this.map.containerPointToLayerPoint([0, 0]), size = this.map.getSize();
+    this.labelPane.replaceChildren();
+    const svg = document.createElementNS("http://www.w3.org/2000/svg", "svg");
+    svg.setAttribute("class", "site-leaders");
+    svg.setAttribute("width", size.x);
+    svg.setAttribute("height", size.y);
+    L.DomUtil.setPosition(svg, origin);
+    for (const l of this.labels) {
+      if (l.leader) {
+        const line = document.createElementNS("http://www.w3.org/2000/svg", "line");
+        [["x1", 0], ["y1", 1], ["x2", 2], ["y2", 3]].forEach(([k, i]) => line.setAttribute(k, l.leader[i].toFixed(1)));
+        svg.append(line);
+      }
+      const div = el("div", { class: `site-label${l.p ? " site-label-p" : ""}` }, l.text);
+      div.style.width = `${l.w}px`;
+      L.DomUtil.setPosition(div, origin.add([l.x, l.y]));
+      this.labelPane.append(div);
+    }
+    this.labelPane.prepend(svg);
   }
 
   /** Fit the view to the shown footprints on one world copy: their longitude spans placed on the circle so that
    * together they cover the shortest arc (footprints either side of 180 deg side by side, not 2.5 worlds apart). */
   fitFootprints(footprints) {
-    const boxes = footprints.map((fp) => this.footprintLayers.get(fp.id)?.getLayers()
-      .find((l) => l instanceof L.Polygon && l.options.className.includes("fp-copy-0"))?.getBounds()).filter(Boolean);
+    const boxes = footprints.map((fp) => this.mainBoundary(fp)?.getBounds()).filter(Boolean);
     if (!boxes.length) return;
-    // on the copy of the first footprint's main polygon (the one the page and its tests address)
+    // on the copy of the first footprint's main boundary line (its area is cut at 180 deg; the line runs on)
     const [west, east] = shortestCover(boxes.map((b) => [b.getWest(), b.getEast()]), boxes[0].getCenter().lng);
     const south = Math.min(...boxes.map((b) => b.getSouth())), north = Math.max(...boxes.map((b) => b.getNorth()));
     this.map.fitBounds([[south, west], [north, east]], { maxZoom: 4, paddingTopLeft: [50, 30], paddingBottomRight: [40, 70],
@@ -443,9 +505,14 @@ export class MapView {
   }
 
   fitFootprint(fp) {
-    const layer = this.footprintLayers.get(fp.id);
-    const main = layer && layer.getLayers().find((l) => l.options.className?.includes("fp-copy-0") && l instanceof L.Polygon);
+    const main = this.mainBoundary(fp);
     if (main) this.map.fitBounds(main.getBounds().pad(0.35), { maxZoom: 4 });
+  }
+
+  /** The footprint's edge on the main copy: continuous in longitude, as far past 180 deg as it runs. */
+  mainBoundary(fp) {
+    return this.footprintLayers.get(fp.id)?.getLayers()
+      .find((l) => l.options.className?.includes("fp-boundary") && l.options.className.includes("fp-copy-0"));
   }
 
   invalidate() { this.map.invalidateSize(); }

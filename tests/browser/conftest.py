@@ -184,3 +184,12 @@ def pytest_terminal_summary(terminalreporter):
     if skipped:
         terminalreporter.write_sep("!", f"{len(skipped)} browser tests SKIPPED: chromium not found at {CHROMIUM}; "
                                         "install with `apt-get install chromium`", red=True, bold=True)
+
+
+# The PNG export's part of the map (exporting.js worldCrop): latitudes -90..90 and one turn of longitude about the
+# view's centre, within the view, in the container's CSS px. Said here as the export's contract: a test maps a place
+# to the PNG's pixel through it.
+PNG_CROP_JS = """() => { const m = window.footprintApp.mapView.map, s = m.getSize(), c = m.getCenter().lng;
+  const at = (a, o) => m.latLngToContainerPoint([a, o]);
+  const x = Math.max(0, Math.floor(at(0, c - 180).x)), y = Math.max(0, Math.floor(at(90, c).y));
+  return {x, y, w: Math.min(s.x, Math.ceil(at(0, c + 180).x)) - x, h: Math.min(s.y, Math.ceil(at(-90, c).y)) - y}; }"""

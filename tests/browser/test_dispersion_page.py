@@ -16,7 +16,7 @@ from footprint.core.sphere import Reference, downrange_crossrange_nmi
 
 from tests.authorities.report import example, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, PNG_CROP_JS, WAIT_MS
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = FIGURES_DIR  # docs/figures only with FOOTPRINT_WRITE_FIGURES=1, else a temporary folder
@@ -162,9 +162,10 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     by_name = {s["name"]: s for s in d["sites"]}
     assert by_name[HOSTILE_SITE]["probability"] > 0.5 and by_name["Kennedy SLF"]["probability"] == 0
     assert "95 % interval" in page.locator("#dispersion-sites thead").inner_text()
-    # on the map: a marker per site (and copy), its probability beside it
+    # on the map: a marker per site (and copy), its name and probability in one label beside it (as text)
     assert page.locator("path.dispersion-site").count() == 3 * len(SITES)
-    assert percent(by_name[HOSTILE_SITE]["probability"]) in page.locator(".dispersion-p").all_inner_texts()
+    assert f"{HOSTILE_SITE} · {percent(by_name[HOSTILE_SITE]['probability'])}" in \
+        page.locator(".site-label-p").all_inner_texts()
     # every outcome counted
     outcomes = page.locator("#dispersion-outcomes").inner_text()
     assert f"{d['outcomes']['landed']:,} of {d['outcomes']['flights']:,} flights landed" in outcomes
@@ -315,7 +316,7 @@ ABOVE_SITE_PX = 9  # a probe over a site: past the stored site's disc (5 px), ab
 # the dispersion's ring round it (11 px)
 CONFIDENCE_RGB = (0x6A, 0x3D, 0x9A)  # dispersion.js DISPERSION_STYLE.confidence
 ELLIPSE_RGB = (0xD9, 0x5F, 0x02)
-SITE_RGB = {1: (27, 120, 55), 0: (217, 217, 217)}  # mapview's probabilityColor at P 1 and 0
+SITE_RGB = {1: (8, 81, 156), 0: (217, 217, 217)}  # dispersion.js probabilityColor at P 1 and 0: grey to blue
 COLOR_TOLERANCE = 8  # per channel, 0-255: the antialiasing and rounding of a canvas blend
 
 
@@ -349,7 +350,8 @@ def png_probes(page, places, view):
         : ((lat, lon) => { const p = app.mapView.map.latLngToContainerPoint([lat, lon]); return [p.x, p.y]; });
       return places.map(([lat, lon]) => { const [x, y] = xy(lat, lon); return [x, y - above]; }); }"""
     points = page.evaluate(js, [places, view, ABOVE_SITE_PX])
-    return [(round(x * PNG_PIXEL_RATIO), round(y * PNG_PIXEL_RATIO)) for x, y in points]
+    crop = page.evaluate(PNG_CROP_JS) if view == "map" else {"x": 0, "y": 0}  # the map's PNG is the world's part
+    return [(round((x - crop["x"]) * PNG_PIXEL_RATIO), round((y - crop["y"]) * PNG_PIXEL_RATIO)) for x, y in points]
 
 
 def test_the_png_export_draws_the_dispersion_as_the_map_and_the_globe_show_it(open_page, dispersion_job):
@@ -376,8 +378,9 @@ def test_the_png_export_draws_the_dispersion_as_the_map_and_the_globe_show_it(op
     unmarked = png_export(page)
     set_layers(page)
     bare = png_export(page)
-    box = page.locator("#map").bounding_box()
-    assert shown.size == (round(box["width"] * PNG_PIXEL_RATIO), round(box["height"] * PNG_PIXEL_RATIO))
+    crop = page.evaluate(PNG_CROP_JS)  # the world within the view (issue 25 item 5), not the bands past the poles
+    assert shown.width == round(crop["w"] * PNG_PIXEL_RATIO)  # and the caption under the map's part
+    assert round(crop["h"] * PNG_PIXEL_RATIO) < shown.height < round((crop["h"] + 120) * PNG_PIXEL_RATIO)
 
     # the sites' discs, coloured by their probability
     for xy, s in zip(probes[:1] + probes[2:], (certain, *never)):
@@ -443,7 +446,8 @@ def test_every_shape_lies_on_the_boundary_copy_and_a_ring_round_a_pole_is_filled
     assert placed["ellipse"] == pytest.approx([242, 258])
     assert placed["clouds"] == pytest.approx([251, 249])
     assert placed["ring"] and placed["cap"] == {"area": None, "holdsPole": True} and placed["holdsPole"]
-    lons, lats = np.array(placed["outlined"]).T  # with its outline the same ring is filled up to the pole
+    # with its outline the same ring is filled up to the pole (its area: polygons of [lon, lat] rings)
+    lons, lats = np.array([xy for polygon in placed["outlined"] for ring in polygon for xy in ring]).T
     assert lats.max() == 90.0 and lats.min() == pytest.approx(70.0, abs=0.01)
     assert lons.max() - lons.min() == pytest.approx(360.0, abs=0.1)
     assert not run.errors

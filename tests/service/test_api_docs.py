@@ -73,3 +73,36 @@ def test_the_openapi_document_validates_and_types_every_job_and_study_kind(api):
     for path in ("/api/trajectories", "/api/transform", "/api/reach"):  # typed, not an object of anything
         body = spec["paths"][path]["post"]["requestBody"]["content"]["application/json"]["schema"]
         assert body.get("$ref") or body.get("properties"), (path, body)
+
+
+OPERATION = re.compile(r"^- `(GET|POST|PUT|PATCH|DELETE) (/api/[^`?\s]*)", flags=re.M)
+
+
+def _operations(pairs) -> set[tuple[str, str]]:
+    """(method, path) with every path parameter written {}: the document says {id} where the OpenAPI says {job_id}."""
+    return {(m.upper(), re.sub(r"\{[^}]*\}", "{}", p)) for m, p in pairs}
+
+
+def test_the_document_lists_every_operation_of_the_openapi_and_no_other(api):
+    """Issue 25 item 7: PATCH /api/footprints/{id} was in the service and not in docs/api.md."""
+    spec = api.get("/openapi.json").json()
+    served = _operations((m, p) for p, ops in spec["paths"].items() for m in ops if p.startswith("/api/"))
+    assert _operations(OPERATION.findall(DOC.read_text())) == served
+    readme = (DOC.parents[1] / "README.md").read_text()
+    counted = re.search(r"every one of its (\d+) operations", readme)
+    assert counted and int(counted.group(1)) == sum(len(ops) for ops in spec["paths"].values()), counted
+
+
+def test_a_body_that_is_not_json_gets_the_status_the_document_gives(api):
+    r = api.post("/api/trajectories", content=b"{not json", headers={"Content-Type": "application/json"})
+    assert r.status_code == 422 and r.json()["field"] == "body", r.text
+    assert "A body that is not valid JSON: 422" in DOC.read_text()
+
+
+def test_an_unknown_vehicle_names_its_field_once(api):
+    r = api.post("/api/jobs", json={"kind": "footprint", "study": {
+        "case": {"vehicle": {"builtin": "nope"}, "entry": {"altitude_ft": 364800, "velocity_fps": 22000,
+                 "gamma_deg": -3, "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
+                 "stop": {"altitude_ft": 50000}}, "method": "single_parameter", "bank0_deg": [0]}})
+    assert r.status_code == 422
+    assert r.json()["detail"].count("vehicle.builtin") == 1 and "lod-1.89" in r.json()["detail"], r.text

@@ -1,15 +1,20 @@
 """GeoJSON geometry near the antimeridian and over the poles: rings and lines cut there, in either direction,
-nothing lost; a polar cap closed along its pole."""
+nothing lost; a polar cap taken in along its pole; a ring that holds both poles a hole in the map."""
 
 import numpy as np
 import pytest
 
-from footprint.core.outline import Outline
+from footprint.core.outline import POLES, Outline, window_area
 from footprint.pictures import geojson as geo
 
 
-def ring(lat, lon, pole=None):
-    return Outline(np.array(lat, float), np.array(lon, float), pole)
+def ring(lat, lon):
+    """The outline of a ring given open, the area on its left: closed by its first point, as many turns round the
+    axis on as its longitudes make."""
+    lat, lon = np.array(lat, float), np.array(lon, float)
+    turns = round((lon[-1] + (lon[1] - lon[0]) - lon[0]) / 360.0) if abs(lon[-1] - lon[0]) > 180 else 0
+    area, north, south = window_area(np.append(lat, lat[0]), np.append(lon, lon[0] + 360.0 * turns))
+    return Outline(lat, lon, area, POLES[north, south])
 
 
 def shoelace(ring) -> float:
@@ -18,28 +23,45 @@ def shoelace(ring) -> float:
 
 
 def test_a_ring_near_but_not_across_the_antimeridian_stays_one_polygon():
-    geometry = geo.polygon(ring([0, 10, 10, 0], [170, 170, 179.5, 179.5]))
+    geometry = geo.polygon(ring([0, 0, 10, 10], [170, 179.5, 179.5, 170]))
     assert geometry == {"type": "Polygon",
-                        "coordinates": [[[170, 0], [170, 10], [179.5, 10], [179.5, 0], [170, 0]]]}
+                        "coordinates": [[[170, 0], [179.5, 0], [179.5, 10], [170, 10], [170, 0]]]}
 
 
 def test_a_ring_across_the_antimeridian_is_cut_into_two_pieces():
-    geometry = geo.polygon(ring([0, 0, 20, 20], [170, 190, 190, 170]))  # a 20-deg box centred on 180
+    geometry = geo.polygon(ring([0, 0, 20, 20], [170, 190, 190, 170]))  # a 20-deg box centred on 180, anticlockwise
     assert geometry["type"] == "MultiPolygon"
     pieces = sorted((poly[0] for poly in geometry["coordinates"]), key=lambda r: r[0][0])
     assert [shoelace(r) for r in pieces] == pytest.approx([200.0, 200.0])  # 10 deg x 20 deg each
     assert {x for x, _ in pieces[0]} == {-180.0, -170.0} and {x for x, _ in pieces[1]} == {170.0, 180.0}
 
 
-def test_a_polar_cap_is_cut_at_the_antimeridian_and_closed_along_the_pole():
-    # a cap above 60 N drawn from 30 E once round to 390 E, closed along the pole
-    lon = list(np.linspace(30.0, 390.0, 13)) + [390.0, 30.0]
-    geometry = geo.polygon(ring([60.0] * 13 + [90.0, 90.0], lon, "north"))
-    assert geometry["type"] == "MultiPolygon"
-    pieces = [poly[0] for poly in geometry["coordinates"]]
-    assert all(-180.0 <= x <= 180.0 for r in pieces for x, _ in r)
-    assert all(any(y == 90.0 for _, y in r) for r in pieces)  # each piece reaches the pole
-    assert sum(shoelace(r) for r in pieces) == pytest.approx(360.0 * 30.0)  # the whole cap, once
+def test_a_polar_cap_is_cut_at_the_antimeridian_and_closed_along_its_pole():
+    # a ring along 60 N from 30 E eastward once round: the cap on its left, above it
+    o = ring([60.0] * 12, list(np.linspace(30.0, 360.0, 12, endpoint=False)))
+    geometry = geo.polygon(o)
+    assert o.pole == "north" and geometry["type"] == "Polygon"  # one piece from -180 to 180, along the pole
+    (cap,) = geometry["coordinates"]
+    assert min(x for x, _ in cap) == -180.0 and max(x for x, _ in cap) == 180.0
+    assert [-180.0, 90.0] in cap and [180.0, 90.0] in cap
+    assert shoelace(cap) == pytest.approx(360.0 * 30.0)  # the whole cap, once
+
+
+def test_the_same_ring_run_westward_holds_the_rest_of_the_earth_and_the_south_pole():
+    o = ring([60.0] * 12, list(np.linspace(390.0, 60.0, 12, endpoint=False)))
+    geometry = geo.polygon(o)
+    assert o.pole == "south" and geometry["type"] == "Polygon"
+    (rest,) = geometry["coordinates"]
+    assert [-180.0, -90.0] in rest and [180.0, -90.0] in rest
+    assert shoelace(rest) == pytest.approx(360.0 * 150.0)
+
+
+def test_a_clockwise_ring_is_a_hole_in_the_map_that_holds_both_poles():
+    o = ring([0, 20, 20, 0], [-10, -10, 10, 10])
+    geometry = geo.polygon(o)
+    assert o.pole == "both" and geometry["type"] == "Polygon"
+    world, hole = geometry["coordinates"]
+    assert shoelace(world) == pytest.approx(360.0 * 180.0) and shoelace(hole) == pytest.approx(400.0)
 
 
 @pytest.mark.parametrize("lon, crossing_lat", [

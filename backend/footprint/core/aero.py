@@ -590,7 +590,7 @@ def builtin_vehicle(vehicle_id: str) -> Vehicle:
     ids = builtin_vehicle_ids()
     if vehicle_id not in ids:
         raise InputError("vehicle.builtin",
-                         f"unknown vehicle {_show(vehicle_id)}; built-in vehicles are: {', '.join(ids)}")
+                         f"unknown vehicle {_show(vehicle_id)} (the built-in vehicles are {', '.join(ids)})")
     return _load_builtin(vehicle_id)
 
 

@@ -357,7 +357,7 @@ def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
 
 
 def _outline(base, down, cross) -> dict:
-    """The ring as the map draws a footprint (core.outline: edges sampled on the sphere, closed round a pole)."""
+    """The ring as the map draws a footprint (core.outline: edges sampled on the sphere, its area on the map)."""
     e = base.entry
     return outline(down, cross, Reference(e.latitude_deg, e.longitude_deg, e.heading_deg)).to_dict()
 

@@ -1,45 +1,67 @@
-"""A footprint's boundary as an area on a map of latitude and longitude (issue 13).
+"""A footprint's boundary as an area on a map of latitude and longitude (issues 13 and 25).
 
 The boundary's edges are straight in the (down-range, cross-range) chart about the entry (AFWAL-TR-82-3036
-eqs. 8-11, core.sphere), as footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and longitude instead,
-the long edges of a footprint over a pole become chords between points far apart in longitude. So each edge
-is sampled in the chart (every MAX_EDGE_NMI) and carried to latitude and longitude (sphere.latlon_from_ranges),
-the longitudes kept continuous. A boundary that goes once round the earth's axis encloses a pole (which one,
-reach.placement_margins says, in the chart): it is closed along that pole (latitude +-90 at both ends of the
-360 deg it spans), so that a fill on the cylindrical map, a GeoJSON ring and an even-odd test in latitude and
-longitude all hold the polar cap inside.
+eqs. 8-11, core.sphere), as footprints.area_nmi2 and reach.margins take them; drawn as straight lines of latitude and
+longitude instead, the long edges of a footprint over a pole become chords between points far apart in longitude. So
+each edge is sampled in the chart (every MAX_EDGE_NMI, and finer where it sweeps through longitude near a pole) and
+carried to latitude and longitude (sphere.latlon_from_ranges), the longitudes kept continuous: `latitude_deg`,
+`longitude_deg`, the boundary's line.
+
+The area is that ring's inside on the cylindrical map's one copy, -180 to 180 deg, decided by the ring alone: it is
+wound with the footprint on its left (the chart polygon counter-clockwise: the chart, the sphere and the map all keep
+orientation), cut where it crosses the antimeridian, and the pieces joined along the map's edge counter-clockwise
+(the window clip of d3-geo's and of Weiler-Atherton), so that the map's top or bottom edge -- a pole -- is taken in
+exactly when the footprint holds that pole. A ring that never crosses the antimeridian is the area's outer ring when
+it runs counter-clockwise on the map, and otherwise a hole in the whole map: a footprint that holds both poles.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference, latlon_from_ranges, unwrap_longitude
 
 MAX_EDGE_NMI = 60.0  # chart length of an outline's edge (1 deg of arc): short beside any footprint's features
+MAX_EDGE_LON_DEG = 2.0  # an edge's longitude step: near a pole 60 nmi sweeps through tens of degrees
+MAX_REFINE = 64  # at most this many pieces again for one such edge (a pass within metres of a pole stops here)
+WINDOW_DEG = (-180.0, 180.0)  # the map's one copy, as GeoJSON wants it (RFC 7946 section 3.1.9)
+POLES = {(True, True): "both", (True, False): "north", (False, True): "south", (False, False): None}
 
 
 @dataclass(frozen=True)
 class Outline:
-    """A closed ring (first point not repeated) in latitude and continuous longitude (deg): neighbours never
-    differ by more than 180 deg, so the ring is a plain polygon on the cylindrical map; `pole` is the pole it
-    encloses ("north", "south", or None), its last two points then on that pole."""
+    """A footprint on the cylindrical map. `latitude_deg`, `longitude_deg`: its boundary, a closed ring (first point
+    not repeated) in continuous longitude (neighbours never more than 180 deg apart), the footprint on its left.
+    `area`: the footprint within -180..180 deg as polygons, each [outer ring, holes...], each ring an (n, 2) array of
+    (longitude, latitude) closed by its first point again: outer rings counter-clockwise, holes clockwise (RFC 7946
+    section 3.1.6). `pole`: the poles it holds, "north", "south", "both" or None."""
 
     latitude_deg: np.ndarray
     longitude_deg: np.ndarray
+    area: tuple
     pole: str | None
 
     def to_dict(self) -> dict:
         return {"latitude_deg": self.latitude_deg.tolist(), "longitude_deg": self.longitude_deg.tolist(),
-                "pole": self.pole}
+                "area": [[ring.tolist() for ring in polygon] for polygon in self.area], "pole": self.pole}
+
+    @classmethod
+    def from_dict(cls, o: dict) -> "Outline":
+        return cls(np.asarray(o["latitude_deg"], float), np.asarray(o["longitude_deg"], float),
+                   tuple(tuple(np.asarray(r, float) for r in polygon) for polygon in o["area"]), o["pole"])
+
+    def shifted(self, lon_deg: float) -> "Outline":
+        """The boundary's line on another copy of the map (the area stays on its one copy)."""
+        return Outline(self.latitude_deg, self.longitude_deg + lon_deg, self.area, self.pole)
 
 
-def sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi=MAX_EDGE_NMI):
-    """The closed chart polygon with its edges cut into pieces of at most max_edge_nmi, closing point included."""
+def sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi=MAX_EDGE_NMI, pieces=None):
+    """The closed chart polygon with its edges cut into pieces of at most max_edge_nmi (or `pieces` per edge),
+    closing point included."""
     d = np.append(np.asarray(downrange_nmi, float), downrange_nmi[0])
     c = np.append(np.asarray(crossrange_nmi, float), crossrange_nmi[0])
-    pieces = np.maximum(1, np.ceil(np.hypot(np.diff(d), np.diff(c)) / max_edge_nmi)).astype(int)
+    if pieces is None:
+        pieces = np.maximum(1, np.ceil(np.hypot(np.diff(d), np.diff(c)) / max_edge_nmi)).astype(int)
     t = np.concatenate([np.arange(k) / k for k in pieces])
     edge = np.repeat(np.arange(len(pieces)), pieces)
     ds = np.append(d[edge] + t * (d[edge + 1] - d[edge]), d[-1])
@@ -50,15 +72,117 @@ def sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi=MAX_EDGE_NMI):
 def outline(downrange_nmi, crossrange_nmi, reference: Reference, max_edge_nmi=MAX_EDGE_NMI) -> Outline:
     """The outline of the boundary given by its points' flown down-range and cross-range (nmi, in order round
     the boundary) about `reference`, the entry point and heading they are measured from."""
-    ds, cs = sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi)
-    lat, lon = latlon_from_ranges(ds, cs, reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
-    lon = unwrap_longitude(lon)
-    turns = round((lon[-1] - lon[0]) / 360.0)  # the closing point is the first again: 0 or +-1 turns
-    if turns == 0:
-        return Outline(lat[:-1], lon[:-1], None)
-    _, north = placement_margins(reference, downrange_nmi, crossrange_nmi, np.zeros(len(downrange_nmi)),
-                                 [90.0], [0.0])
-    pole_deg = 90.0 if north[0] else -90.0
-    lat = np.concatenate([lat, [pole_deg, pole_deg]])
-    lon = np.concatenate([lon, [lon[-1], lon[0]]])
-    return Outline(lat, lon, "north" if north[0] else "south")
+    down, cross = np.asarray(downrange_nmi, float), np.asarray(crossrange_nmi, float)
+    if _signed_area(down, cross) < 0.0:  # the footprint on the left: a counter-clockwise chart polygon
+        down, cross = np.roll(down[::-1], 1), np.roll(cross[::-1], 1)  # the first point kept first
+    lat, lon = _ring_on_map(down, cross, reference, max_edge_nmi)
+    area, north, south = window_area(lat, lon)
+    return Outline(lat[:-1], lon[:-1], area, POLES[north, south])
+
+
+def _ring_on_map(down, cross, reference: Reference, max_edge_nmi):
+    """The chart ring sampled and carried to latitude and continuous longitude (closing point included); an edge
+    that sweeps more than MAX_EDGE_LON_DEG of longitude between samples is sampled again, finer."""
+    pieces = np.maximum(1, np.ceil(np.hypot(np.diff(np.append(down, down[0])),
+                                            np.diff(np.append(cross, cross[0]))) / max_edge_nmi)).astype(int)
+    for _ in range(2):
+        ds, cs = sampled_ring(down, cross, pieces=pieces)
+        lat, lon = latlon_from_ranges(ds, cs, reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
+        lon = unwrap_longitude(lon)
+        edge = np.repeat(np.arange(len(pieces)), pieces)
+        sweep = np.zeros(len(pieces))
+        np.maximum.at(sweep, edge, np.abs(np.diff(lon)))
+        finer = np.minimum(pieces * MAX_REFINE, np.ceil(pieces * sweep / MAX_EDGE_LON_DEG)).astype(int)
+        if np.all(finer <= pieces):
+            break
+        pieces = np.maximum(pieces, finer)
+    return lat, lon
+
+
+def _signed_area(x, y) -> float:
+    """Twice the shoelace area of a closed polygon (first point not repeated): positive counter-clockwise."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    return float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _edge_position(x, y) -> float:
+    """Where a point on the window's edge lies going counter-clockwise round it from its south-west corner: 0-1
+    the bottom (the south pole), 1-2 the east edge, 2-3 the top (the north pole), 3-4 the west edge."""
+    lo, hi = WINDOW_DEG
+    if x >= hi:
+        return 1.0 + (y + 90.0) / 180.0
+    return 3.0 + (90.0 - y) / 180.0  # arcs start and end on the east or west edge only
+
+
+CORNERS = ((1.0, (WINDOW_DEG[1], -90.0)), (2.0, (WINDOW_DEG[1], 90.0)), (3.0, (WINDOW_DEG[0], 90.0)),
+           (4.0, (WINDOW_DEG[0], -90.0)))
+
+
+def window_area(lat, lon):
+    """The inside (on its left) of a closed ring in continuous longitude (its last point its first, +-360 deg per
+    turn round the axis) on the map's copy WINDOW_DEG: (polygons, holds the north pole, holds the south pole)."""
+    lo, hi = WINDOW_DEG
+    lat, lon = np.asarray(lat, float), np.asarray(lon, float)
+    k = np.floor((lon - lo) / (hi - lo)).astype(int)  # the copy each point lies on
+    x = lon - (hi - lo) * k
+    cuts = np.nonzero(np.diff(k))[0]
+    if cuts.size == 0:
+        ring = np.column_stack([x, lat])
+        if _signed_area(x[:-1], lat[:-1]) > 0.0:
+            return ((ring,),), False, False
+        world = np.array([[lo, -90.0], [hi, -90.0], [hi, 90.0], [lo, 90.0], [lo, -90.0]])
+        return ((world, ring),), True, True
+    arcs = _arcs(lat, lon, k, x, cuts)
+    return _joined(arcs)
+
+
+def _arcs(lat, lon, k, x, cuts) -> list[np.ndarray]:
+    """The ring cut where it crosses an edge of its copy: arcs of (x, lat) within the window, each from the edge
+    to the edge."""
+    lo, hi = WINDOW_DEG
+    width = hi - lo
+    pieces, current = [], None
+    for n, i in enumerate(np.append(cuts, cuts[0] + len(lon) - 1)):  # from each cut to the next, round the ring
+        j = i % (len(lon) - 1)
+        edge = hi + width * min(k[j], k[j + 1])
+        t = (edge - lon[j]) / (lon[j + 1] - lon[j])
+        y = float(lat[j] + t * (lat[j + 1] - lat[j]))
+        east = k[j + 1] > k[j]
+        if current is not None:
+            current.append((hi if east else lo, y))
+            pieces.append(np.array(current))
+        if n == len(cuts):
+            break
+        current = [(lo if east else hi, y)]
+        stop = cuts[(n + 1) % len(cuts)] + (len(lon) - 1 if n + 1 == len(cuts) else 0)
+        for m in range(j + 1, stop + 1):
+            mm = m % (len(lon) - 1)
+            current.append((x[mm], lat[mm]))
+    return pieces
+
+
+def _joined(arcs: list[np.ndarray]):
+    """Arcs that run from the window's edge to its edge, joined into rings along the edge counter-clockwise."""
+    starts = np.array([_edge_position(*a[0]) for a in arcs])
+    unused, polygons, north, south = set(range(len(arcs))), [], False, False
+    while unused:
+        first = current = min(unused)
+        ring = []
+        while True:
+            unused.discard(current)
+            ring.extend(map(tuple, arcs[current]))
+            s = _edge_position(*arcs[current][-1])
+            ahead = (starts - s) % 4.0
+            nxt = int(np.argmin(np.where(ahead > 0.0, ahead, 4.0)))
+            end = s + ahead[nxt]
+            for corner, xy in CORNERS + tuple((c + 4.0, xy) for c, xy in CORNERS):
+                if s < corner < end:
+                    ring.append(xy)
+            north |= s < 2.5 < end or s < 6.5 < end
+            south |= s < 4.5 < end
+            if nxt == first:
+                break
+            current = nxt
+        ring.append(ring[0])
+        polygons.append((np.array(ring),))
+    return tuple(polygons), north, south

@@ -128,7 +128,8 @@ def _decode_arcs(topology: dict) -> list[np.ndarray]:
 
 def _ring(arcs: list[np.ndarray], indices: list[int]) -> list[list[float]]:
     """A ring for a flat map: longitudes made continuous (a ring across +-180 deg runs on past it; the copies at
-    +-360 deg show the rest), and a ring that goes once round a pole (Antarctica) closed along that pole."""
+    +-360 deg show the rest), and a ring that goes once round a pole (Antarctica) closed along that pole and then by
+    its first point again."""
     parts = []
     for k, i in enumerate(indices):
         arc = arcs[i] if i >= 0 else arcs[~i][::-1]  # ~i: arc i reversed (TopoJSON spec)
@@ -137,7 +138,7 @@ def _ring(arcs: list[np.ndarray], indices: list[int]) -> list[list[float]]:
     coords[:, 0] = unwrap_longitude(coords[:, 0], coords[0, 0])
     if abs(coords[-1, 0] - coords[0, 0]) > 180.0:
         pole = -90.0 if coords[:, 1].mean() < 0 else 90.0
-        coords = np.vstack([coords, [[coords[-1, 0], pole], [coords[0, 0], pole]]])
+        coords = np.vstack([coords, [[coords[-1, 0], pole], [coords[0, 0], pole], coords[0]]])  # closed (RFC 7946)
     return np.round(coords, 3).tolist()
 
 
@@ -173,9 +174,9 @@ def unwrap_ring(latitude_deg, longitude_deg, entry: dict) -> np.ndarray:
 
 
 def _area(points: list[dict], entry: dict, first_lon_deg: float):
-    """core.outline of the boundary (the chart's edges sampled, a polar cap closed along its pole), on the copy
-    where the ring's first point is at first_lon_deg."""
-    from footprint.core.outline import Outline, outline
+    """core.outline of the boundary (the chart's edges sampled; its area on the map's one copy), its line on the
+    copy where the ring's first point is at first_lon_deg."""
+    from footprint.core.outline import outline
 
     ref = Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"])
     if all(p.get("downrange_nmi") is not None and p.get("crossrange_nmi") is not None for p in points):
@@ -186,7 +187,7 @@ def _area(points: list[dict], entry: dict, first_lon_deg: float):
                                                ref.longitude_deg, ref.heading_deg, unwrap=True)
     o = outline(down, cross, ref)
     shift = 360.0 * round((first_lon_deg - o.longitude_deg[0]) / 360.0)
-    return Outline(o.latitude_deg, o.longitude_deg + shift, o.pole)
+    return o.shifted(shift)
 
 
 def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float, float]]:
@@ -272,19 +273,17 @@ def footprint_map(footprint: dict, title: str | None = None):
     lines += [[(y, -540.0), (y, 540.0)] for y in np.arange(-90.0, 90.1, GRATICULE_DEG)]
     folium.PolyLine(lines, color="#b9c6d2", weight=0.6).add_to(m)
 
-    span = np.concatenate([area.longitude_deg, track_lon])
+    span = np.concatenate([area.longitude_deg, track_lon, [-180.0, 180.0]])  # the area lies on the one copy
     for offset in WORLD_COPIES_DEG:
         if span.max() + offset < -540 or span.min() + offset > 540:
             continue
-        labels.bind(folium.Polygon(list(zip(area.latitude_deg.tolist(), (area.longitude_deg + offset).tolist())),
-                                   stroke=False, fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0,
-                                   no_clip=True), name).add_to(m)
-        edge = slice(0, -2) if area.pole else slice(None)  # the edge without the closure along a pole
-        edge_lat, edge_lon = area.latitude_deg[edge], area.longitude_deg[edge] + offset
-        if not area.pole:
-            edge_lat, edge_lon = np.append(edge_lat, edge_lat[0]), np.append(edge_lon, edge_lon[0])
-        folium.PolyLine(list(zip(edge_lat.tolist(), edge_lon.tolist())), color=COLOR, weight=2, smooth_factor=0,
-                        no_clip=True).add_to(m)
+        for piece in area.area:  # the footprint on this copy of the map (a pole's cap or a hole included)
+            labels.bind(folium.Polygon([[(float(y), float(x) + offset) for x, y in ring] for ring in piece],
+                                       stroke=False, fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0,
+                                       no_clip=True), name).add_to(m)
+        edge_lat, edge_lon = np.append(area.latitude_deg, area.latitude_deg[0]), area.longitude_deg + offset
+        folium.PolyLine(list(zip(edge_lat.tolist(), np.append(edge_lon, edge_lon[0]).tolist())), color=COLOR,
+                        weight=2, smooth_factor=0, no_clip=True).add_to(m)
         labels.bind(folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR,
                                     weight=1.5, dash_array="6 5"), "ground track").add_to(m)
         labels.bind(folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset], radius=6,

@@ -1,6 +1,6 @@
-"""GeoJSON for a footprint: its outline (core.outline: the chart's edges sampled, longitudes continuous, a polar
-cap closed along its pole) cut at the antimeridian into pieces that each lie within -180..180 deg (RFC 7946
-section 3.1.9), coordinates to 1e-6 deg (RFC 7946 section 11.2)."""
+"""GeoJSON for a footprint: its outline's area (core.outline: the chart's edges sampled, cut at the antimeridian into
+pieces that each lie within -180..180 deg, RFC 7946 section 3.1.9, a pole taken in when the footprint holds it),
+coordinates to 1e-6 deg (RFC 7946 section 11.2)."""
 
 import numpy as np
 
@@ -11,30 +11,6 @@ ANTIMERIDIAN_DEG = 180.0
 DIGITS = 6  # decimals of a coordinate: 0.1 m
 
 
-def _clip(ring: list, lo: float, hi: float) -> list:
-    """Sutherland-Hodgman: the closed ring [(lon, lat)...] clipped to lo <= lon <= hi (planar in degrees)."""
-    for inside, edge in ((lambda p: p[0] >= lo, lo), (lambda p: p[0] <= hi, hi)):
-        out = []
-        for i, cur in enumerate(ring):
-            prev = ring[i - 1]
-            if inside(cur) != inside(prev):
-                t = (edge - prev[0]) / (cur[0] - prev[0])
-                out.append((edge, prev[1] + t * (cur[1] - prev[1])))
-            if inside(cur):
-                out.append(cur)
-        ring = out
-        if not ring:
-            break
-    return ring
-
-
-def _windows(lon: np.ndarray) -> range:
-    """The 360-deg windows (k: -180 + 360 k .. 180 + 360 k) the longitudes touch."""
-    first = int(np.floor((lon.min() + ANTIMERIDIAN_DEG) / 360.0))
-    last = int(np.floor((lon.max() + ANTIMERIDIAN_DEG) / 360.0))
-    return range(first, last + 1)
-
-
 def area(points: list[dict], entry: dict) -> Outline:
     """The outline of a footprint's boundary points (their flown down-range and cross-range about the entry)."""
     return outline([p["downrange_nmi"] for p in points], [p["crossrange_nmi"] for p in points],
@@ -42,19 +18,11 @@ def area(points: list[dict], entry: dict) -> Outline:
 
 
 def polygon(o: Outline) -> dict:
-    """A Polygon, or a MultiPolygon of its pieces when the outline crosses the antimeridian."""
-    lon = np.asarray(o.longitude_deg, float)
-    ring = list(zip(lon.tolist(), np.asarray(o.latitude_deg, float).tolist()))
-    pieces = []
-    for k in _windows(lon):
-        shift = 360.0 * k
-        part = _clip(ring, -ANTIMERIDIAN_DEG + shift, ANTIMERIDIAN_DEG + shift)
-        if len(part) >= 3:
-            part = [[round(x - shift, DIGITS), round(y, DIGITS)] for x, y in part]
-            pieces.append(part + [part[0]])
+    """The outline's area (its pieces within -180..180 deg, core.outline) as a Polygon, or a MultiPolygon."""
+    pieces = [[[[round(float(x), DIGITS), round(float(y), DIGITS)] for x, y in ring] for ring in p] for p in o.area]
     if len(pieces) == 1:
-        return {"type": "Polygon", "coordinates": [pieces[0]]}
-    return {"type": "MultiPolygon", "coordinates": [[p] for p in pieces]}
+        return {"type": "Polygon", "coordinates": pieces[0]}
+    return {"type": "MultiPolygon", "coordinates": pieces}
 
 
 def line(lat_deg, lon_deg) -> dict:
@@ -108,9 +76,8 @@ def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
 def _ring(shape: dict, entry: dict) -> Outline:
     """A dispersion's ring as its outline: the service's own where the result has one, else made from its ranges
     (an ellipse: closed, its first point repeated last)."""
-    if "outline" in shape:
-        o = shape["outline"]
-        return Outline(np.asarray(o["latitude_deg"], float), np.asarray(o["longitude_deg"], float), o["pole"])
+    if "area" in shape.get("outline", {}):  # a result stored before issue 25 has no area: made again below
+        return Outline.from_dict(shape["outline"])
     down, cross = shape["downrange_nmi"], shape["crossrange_nmi"]
     if down[0] == down[-1] and cross[0] == cross[-1]:
         down, cross = down[:-1], cross[:-1]

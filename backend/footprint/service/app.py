@@ -3,6 +3,7 @@ resubmitted, the built-in vehicle summaries computed; the API under /api, the do
 
 import logging
 import re
+import time
 from contextlib import asynccontextmanager
 from urllib.parse import parse_qs
 
@@ -38,9 +39,16 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
+        log.info("migrating the database")
         await run_in_threadpool(migrate, db, settings.migrations_dir)
+        log.info("starting the job engine (%s)", f"the Dask scheduler {settings.dask_scheduler}"
+                 if settings.dask_scheduler else f"a local cluster of {settings.dask_workers} workers")
         await run_in_threadpool(app.state.jobs.start)
+        log.info("loading the flight kernels (numba): a first start compiles them, about a minute; later ones "
+                 "load them from its cache in seconds")
+        t0 = time.perf_counter()
         await run_in_threadpool(vehicles.warm_builtins)  # before ready: the first /api/vehicles answers at once
+        log.info("ready (the flight kernels took %.0f s)", time.perf_counter() - t0)
         try:
             yield
         finally:

@@ -175,11 +175,13 @@ class TrackPoint(BaseModel):
 
 
 class OutlineRead(BaseModel):
-    """The boundary as an area on the map (core.outline): latitude and continuous longitude (deg), a polar cap
-    closed along its pole (its last two points)."""
+    """The boundary on the cylindrical map (core.outline): its line in latitude and continuous longitude (deg), the
+    footprint on its left; its area within -180..180 deg as polygons of [longitude, latitude] rings (outer ring
+    counter-clockwise, holes clockwise, as a GeoJSON MultiPolygon's coordinates); the poles it holds."""
     latitude_deg: list[float]
     longitude_deg: list[float]
-    pole: Literal["north", "south"] | None
+    area: list[list[list[tuple[float, float]]]]
+    pole: Literal["north", "south", "both"] | None
 
 
 class FootprintRead(FootprintSummary):

@@ -225,6 +225,7 @@ class JobEngine(ClusterLink):
             self.client.run(tasks.warm_numba)
             tasks.warm_numba()  # this process flies the synchronous trajectories
             self.warm_seconds = time.perf_counter() - t0
+            log.info("the workers' flight kernels are ready (%.0f s): jobs run at full speed", self.warm_seconds)
         except Exception as exc:  # noqa: BLE001 -- a cold cache only costs the first job time
             if not self._closing.is_set():
                 log.warning("numba warm-up failed: %s", one_line(exc))

@@ -1,8 +1,13 @@
-"""The local cluster's workers at a lower CPU priority than the process that serves the API (nice(2)): a flight can
-wait a few milliseconds, a reader of the map cannot (issue 24 item 7: 200 readers' p99 was 1.8 s while two jobs
-held both cores)."""
+"""The local cluster's worker processes, as worker plugins (each worker, and every one that replaces a worker later):
+
+- at a lower CPU priority than the process that serves the API (nice(2)): a flight can wait a few milliseconds, a
+  reader of the map cannot (issue 24 item 7: 200 readers' p99 was 1.8 s while two jobs held both cores);
+- deaf to the terminal's Ctrl+C, which reaches the whole process group: the service closes its cluster itself, and
+  each worker's own KeyboardInterrupt printed a 30-line traceback over the shutdown (issue 25 item 8).
+"""
 
 import os
+import signal
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
@@ -32,3 +37,14 @@ def _threads() -> list[int]:
         return [int(t) for t in os.listdir("/proc/self/task")]
     except OSError:
         return [0]
+
+
+class ParentStops(WorkerPlugin):
+    """SIGINT ignored in the worker's process (its main thread runs the worker's event loop, where setup is called):
+    the service that started the cluster stops it."""
+
+    name = "footprint-parent-stops"
+    idempotent = True
+
+    def setup(self, worker) -> None:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
