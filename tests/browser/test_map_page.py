@@ -987,3 +987,16 @@ def test_a_coast_round_the_south_pole_is_closed_along_it_in_the_png(open_page):
         const ring = []; for (let lon = -180; lon <= 180; lon += 10) ring.push([lon, -80]);
         return d3.geoPath(d3.geoIdentity()).area(planarGeometry({ type: "Polygon", coordinates: [ring] })); }""")
     assert area == pytest.approx(360.0 * 10.0)
+
+
+def test_at_world_zoom_the_world_fills_the_maps_pane_on_a_full_hd_screen(open_page):
+    """Issue 25 item 5: on 1920 x 1080 the plot stood beside the map, whose pane was twice as tall as the world at
+    world zoom (43 % of it earth). With the plot under the map the world fills most of the pane."""
+    page = open_page(1920, 1080).page
+    page.evaluate("() => { window.footprintApp.mapView.map.fitBounds([[-60, -180], [80, 180]], {animate: false}); }")
+    page.wait_for_timeout(300)
+    share = page.evaluate("""() => { const m = window.footprintApp.mapView.map, s = m.getSize();
+        const a = m.latLngToContainerPoint([90, -180]), b = m.latLngToContainerPoint([-90, 180]);
+        const w = Math.min(s.x, b.x) - Math.max(0, a.x), h = Math.min(s.y, b.y) - Math.max(0, a.y);
+        return (w * h) / (s.x * s.y); }""")
+    assert share > 0.8, share
