@@ -20,7 +20,7 @@ export const DISPERSION_STYLE = {
 /** A confidence footprint's fill opacity: darker at a higher level (rank 0 the widest, lowest level). */
 export const confidenceOpacity = (rank) => 0.1 + 0.14 * rank;
 
-/** A colour between light grey (probability 0) and green (1). */
+/** A colour between light grey (probability 0) and blue (1). */
 export function probabilityColor(p) {
   const a = [217, 217, 217], b = [8, 81, 156]; // grey to blue: green and red are the reach verdict's (issue 25 item 4)
   return `rgb(${a.map((v, i) => Math.round(v + (b[i] - v) * Math.max(0, Math.min(1, p)))).join(",")})`;

@@ -108,8 +108,7 @@ def _signed_area(x, y) -> float:
 def _edge_position(x, y) -> float:
     """Where a point on the window's edge lies going counter-clockwise round it from its south-west corner: 0-1
     the bottom (the south pole), 1-2 the east edge, 2-3 the top (the north pole), 3-4 the west edge."""
-    lo, hi = WINDOW_DEG
-    if x >= hi:
+    if x >= WINDOW_DEG[1]:
         return 1.0 + (y + 90.0) / 180.0
     return 3.0 + (90.0 - y) / 180.0  # arcs start and end on the east or west edge only
 
