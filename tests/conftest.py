@@ -14,21 +14,6 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 # Starlette's TestClient and schemathesis' ASGI calls name the host "testserver": the service serves it in tests only
 os.environ.setdefault("FOOTPRINT_ALLOWED_HOSTS", "testserver")
 
-# The files that take longest go first (the rest keep their order): over the cores (the README's `-n auto --dist
-# loadfile`, a file per worker) a long file started last kept one worker busy while the other had finished.
-LONG_FILES = ("tests/browser/test_map_page.py", "tests/service/test_openapi_fuzz.py",
-              "tests/browser/test_dispersion_page.py", "tests/service/test_restart.py",
-              "tests/service/test_cancel_storm.py", "tests/service/test_api_processes.py",
-              "tests/service/test_dispersion_jobs.py", "tests/service/test_job_limits.py",
-              "tests/core/test_collocation_footprint.py", "tests/core/test_collocation.py")
-
-
-def pytest_collection_modifyitems(config, items):
-    rank = {name: i for i, name in enumerate(LONG_FILES)}
-    root = config.rootpath
-    items.sort(key=lambda item: rank.get(item.path.relative_to(root).as_posix(), len(LONG_FILES)))
-
-
 def _same(a, b, rel, path):
     """Equal structure and text, floats to `rel`: NumPy's SIMD loops may round the last bit of an array's
     tail differently in another process (alignment), so numbers from a worker match a serial run only so."""

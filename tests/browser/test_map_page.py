@@ -875,9 +875,11 @@ def assert_standalone_map_is_safe(page, dialogs, footprint):
     while True:  # the map may still be settling (its fit): find a point of the fill again until its tooltip shows
         inside = page.evaluate(FILL_POINT_JS)
         assert inside, "the footprint's area is not drawn"
+        page.mouse.move(0, 0)  # off the map: a point's tooltip from a hover on the way closes
         page.mouse.move(*inside)
-        try:
-            page.wait_for_selector(".leaflet-tooltip", timeout=2_000)
+        try:  # the area's own tooltip: it names the footprint
+            page.wait_for_function("(name) => [...document.querySelectorAll('.leaflet-tooltip')].some((t) => "
+                                   "t.textContent.includes(name))", arg=HOSTILE_NAME, timeout=2_000)
             break
         except PlaywrightTimeout:
             if time.monotonic() > deadline:
