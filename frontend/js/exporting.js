@@ -9,7 +9,7 @@ import { fmt } from "./format.js";
 import { openRing, planarOutline, sameSite, sphericalRing, toCSV, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { GLOBE_SITE_PX, dispersionFeatures, globeProjection, siteOpacity } from "./globe.js";
-import { LABEL_FONT } from "./mapview.js";
+import { LABEL_FONT, graticuleStepDeg, latWords, lonWords, scaleBar } from "./mapview.js";
 
 const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
 
@@ -209,22 +209,18 @@ function cropped(canvas, crop, below) {
  * along a meridian (the map's scale there is the same everywhere), as the map shows them. */
 function drawGridAndScale(ctx, map, crop) {
   const at = (lat, lon) => map.latLngToContainerPoint([lat, lon]);
-  const b = map.getBounds(), step = map.getZoom() >= 3.5 ? 10 : 30;
+  const b = map.getBounds(), step = graticuleStepDeg(map.getZoom());
   ctx.font = "10px 'DejaVu Sans', Arial, sans-serif";
   for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
-    const x = at(0, lon).x - crop.x, w = ((lon + 180) % 360 + 360) % 360 - 180;
-    if (x < 20 || x > crop.w - 20) continue;
-    const text = w === 0 ? "0°" : Math.abs(w) === 180 ? "180°" : `${Math.abs(w)}°${w > 0 ? "E" : "W"}`;
-    label(ctx, text, x, crop.h - 4, { align: "center" });
+    const x = at(0, lon).x - crop.x;
+    if (x >= 20 && x <= crop.w - 20) label(ctx, lonWords(lon), x, crop.h - 4, { align: "center" });
   }
   for (let lat = Math.ceil(Math.max(b.getSouth(), -90) / step) * step; lat <= Math.min(b.getNorth(), 90); lat += step) {
     const y = at(lat, b.getWest()).y - crop.y;
-    if (y < 12 || y > crop.h - 16) continue;
-    label(ctx, lat === 0 ? "0°" : `${Math.abs(lat)}°${lat > 0 ? "N" : "S"}`, 3, y + 3);
+    if (y >= 12 && y <= crop.h - 16) label(ctx, latWords(lat), 3, y + 3);
   }
-  const c = map.getCenter(), pxPerNmi = Math.abs(at(c.lat + 1, c.lng).y - at(c.lat, c.lng).y) / 60; // 1 deg: 60 nmi
-  const nmi = [50, 100, 200, 500, 1000, 2000, 5000].find((n) => n * pxPerNmi >= 60) ?? 5000;
-  const x0 = 40, y0 = crop.h - 22, len = nmi * pxPerNmi;
+  const { nmi, px: len } = scaleBar(map);
+  const x0 = 40, y0 = crop.h - 22;
   ctx.fillStyle = "rgba(255,255,255,0.85)";
   ctx.fillRect(x0 - 4, y0 - 12, len + 150, 18);
   ctx.strokeStyle = "#1d2733";

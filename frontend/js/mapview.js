@@ -14,6 +14,23 @@ const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world eith
 export const LABEL_FONT = "11px 'DejaVu Sans', Arial, sans-serif"; // a site label's, on the map and in the PNG
 const LABEL_BOX_PX = { padX: 4, h: 15 }; // a label's box round its text
 const SITE_MARKER_PX = 8; // half a site marker (the dispersion's ring round a stored site: 11 px; its diamond: 7)
+/** The graticule's spacing at a zoom, and its labels' words: "30°E", "180°", "0°"; "60°N". */
+export const graticuleStepDeg = (zoom) => (zoom >= 3.5 ? 10 : GRATICULE_DEG);
+export function lonWords(lon) {
+  const w = ((lon + 180) % 360 + 360) % 360 - 180;
+  return w === 0 ? "0°" : Math.abs(w) === 180 ? "180°" : `${Math.abs(w)}°${w > 0 ? "E" : "W"}`;
+}
+export const latWords = (lat) => (lat === 0 ? "0°" : `${Math.abs(lat)}°${lat > 0 ? "N" : "S"}`);
+
+/** The map's scale bar: a round length in nmi along a meridian (where the map's scale is the same everywhere; east-west
+ * it grows as 1 / cos latitude) at least 60 px long, and its length in px. */
+export function scaleBar(map) {
+  const c = map.getCenter(), y0 = map.latLngToContainerPoint(c).y;
+  const pxPerNmi = Math.abs(map.latLngToContainerPoint([c.lat + 1, c.lng]).y - y0) / 60; // 1 deg = 60 nmi
+  const nmi = [50, 100, 200, 500, 1000, 2000, 5000].find((n) => n * pxPerNmi >= 60) ?? 5000;
+  return { nmi, px: nmi * pxPerNmi };
+}
+
 let measure = null;
 const textWidth = (text) => {
   measure ??= document.createElement("canvas").getContext("2d");
@@ -159,19 +176,16 @@ export class MapView {
   /** Latitude and longitude labels of the graticule along the view's left and bottom edges. */
   _labelGraticule() {
     this.gridLabels.clearLayers();
-    const b = this.map.getBounds(), z = this.map.getZoom();
-    const step = z >= 3.5 ? 10 : GRATICULE_DEG;
+    const b = this.map.getBounds(), step = graticuleStepDeg(this.map.getZoom());
     const icon = (text, cls) => L.divIcon({ className: `grid-label ${cls}`, html: text, iconSize: null });
     const pad = (b.getNorth() - b.getSouth()) * 0.01;
     for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
-      const w = ((lon + 180) % 360 + 360) % 360 - 180;
-      const text = w === 0 ? "0°" : Math.abs(w) === 180 ? "180°" : `${Math.abs(w)}°${w > 0 ? "E" : "W"}`;
-      L.marker([Math.max(b.getSouth(), -90) + pad, lon], { icon: icon(text, "lon"), interactive: false, keyboard: false })
-        .addTo(this.gridLabels);
+      L.marker([Math.max(b.getSouth(), -90) + pad, lon], { icon: icon(lonWords(lon), "lon"), interactive: false,
+                                                           keyboard: false }).addTo(this.gridLabels);
     }
     for (let lat = Math.ceil(Math.max(b.getSouth(), -90) / step) * step; lat <= Math.min(b.getNorth(), 90); lat += step) {
-      const text = lat === 0 ? "0°" : `${Math.abs(lat)}°${lat > 0 ? "N" : "S"}`;
-      L.marker([lat, b.getWest()], { icon: icon(text, "lat"), interactive: false, keyboard: false }).addTo(this.gridLabels);
+      L.marker([lat, b.getWest()], { icon: icon(latWords(lat), "lat"), interactive: false, keyboard: false })
+        .addTo(this.gridLabels);
     }
   }
 
@@ -182,10 +196,8 @@ export class MapView {
     control.onAdd = () => {
       const div = L.DomUtil.create("div", "map-scale");
       const update = () => {
-        const c = this.map.getCenter(), y0 = this.map.latLngToContainerPoint(c).y;
-        const pxPerNmi = Math.abs(this.map.latLngToContainerPoint([c.lat + 1, c.lng]).y - y0) / 60; // 1 deg = 60 nmi
-        const nmi = [50, 100, 200, 500, 1000, 2000, 5000].find((n) => n * pxPerNmi >= 60) ?? 5000;
-        div.innerHTML = `<span class="bar" style="width:${Math.round(nmi * pxPerNmi)}px"></span>${fmt(nmi)} nmi along a meridian`;
+        const { nmi, px } = scaleBar(this.map);
+        div.innerHTML = `<span class="bar" style="width:${Math.round(px)}px"></span>${fmt(nmi)} nmi along a meridian`;
       };
       this.map.on("zoomend moveend", update);
       update();
