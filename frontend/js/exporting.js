@@ -169,11 +169,12 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
       if (at) label(ctx, s.name, at[0] + GLOBE_SITE_PX.name, at[1] + 4);
     }
   });
-  if (!globeView) drawSiteLabels(ctx, mapView.labels); // as the map placed them: no two over one another
+  const crop = globeView ? { x: 0, y: 0, w: width, h: height } : worldCrop(mapView.map, width, height);
+  // placed as the map places them (no two over one another), within the PNG's part of the view
+  if (!globeView) drawSiteLabels(ctx, mapView.siteLabelsWithin(crop));
   if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
   // the caption below the picture, where it covers nothing of the map
-  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView));
-  const crop = globeView ? { x: 0, y: 0, w: width, h: height } : worldCrop(mapView.map, width, height);
+  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites);
   const out = cropped(canvas, crop, legendHeight(blocks));
   const octx = out.getContext("2d");
   if (!globeView) drawGridAndScale(octx, mapView.map, crop);
@@ -375,10 +376,14 @@ export function dispersionCaption({ name, dispersion: d, placed, layers }, globe
 
 const LEGEND_LINE_PX = 15, LEGEND_GAP_PX = 6;
 
-/** The caption's blocks: [colour, lines] per footprint, and the dispersion's. */
-function captionBlocks(footprints, dispersionLines) {
+/** The caption's blocks: [colour, lines] per footprint, the dispersion's, and the sites' key (as the map's legend). */
+function captionBlocks(footprints, dispersionLines, sites) {
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
   if (dispersionLines) blocks.push([STYLE.confidence.color, dispersionLines]);
+  if (sites.length) {
+    blocks.push(["#2e7d32", ["sites: green reached, red not reached, grey not checked (the last reach analysis)"
+                             + (dispersionLines ? "; a dispersion's P of reaching one: grey 0 to blue 1" : "")]]);
+  }
   return blocks;
 }
 

@@ -13,7 +13,7 @@ const overlaps = (a, b, pad) => a.x < b.x + b.w + pad && b.x < a.x + a.w + pad
  * Place labels in order of `items` ({x, y}: the marker's point in px; w, h: the label's size). Returns for each
  * item null (no room) or {x, y, leader}: the label's top-left corner, and [x0, y0, x1, y1] from the marker's edge to
  * the label when it stands off (else null). `markerPx`: a marker's half size, every marker an obstacle; `gapPx`:
- * the space between a marker and a label beside it; `bounds` {w, h}: labels stay inside it.
+ * the space between a marker and a label beside it; `bounds` {x, y, w, h}: labels stay inside it.
  */
 export function placeLabels(items, { markerPx = 7, gapPx = 5, padPx = 2, bounds = null } = {}) {
   const taken = items.map((it) => ({ x: it.x - markerPx, y: it.y - markerPx, w: 2 * markerPx, h: 2 * markerPx }));
@@ -26,7 +26,8 @@ export function placeLabels(items, { markerPx = 7, gapPx = 5, padPx = 2, bounds 
           y: dy > 0 ? it.y + reach : dy < 0 ? it.y - reach - it.h : it.y - it.h / 2,
           w: it.w, h: it.h,
         };
-        if (bounds && (box.x < 0 || box.y < 0 || box.x + box.w > bounds.w || box.y + box.h > bounds.h)) continue;
+        if (bounds && (box.x < bounds.x || box.y < bounds.y || box.x + box.w > bounds.x + bounds.w
+                       || box.y + box.h > bounds.y + bounds.h)) continue;
         if (taken.some((t) => overlaps(box, t, padPx))) continue;
         taken.push(box);
         const leader = k === 0 ? null : [it.x + dx * markerPx, it.y + dy * markerPx,

@@ -463,7 +463,15 @@ export class MapView {
    * label and no marker (labels.placeLabels): the stored sites first, then a dispersion's own; a name with no room
    * is left out, its marker still names it on hover. */
   placeSiteLabels() {
-    const size = this.map.getSize(), items = [];
+    const size = this.map.getSize();
+    this.labels = this.siteLabelsWithin({ x: 0, y: 0, w: size.x, h: size.y });
+    this._drawSiteLabels();
+  }
+
+  /** The site labels placed within `bounds` (the container's px): {text, p, x, y, w, h, leader} each (the PNG places
+   * them within its crop). */
+  siteLabelsWithin(bounds) {
+    const items = [];
     const shownP = this.dispersion && this.map.hasLayer(this.dispersion.groups.sites) ? this.dispersion.placed.sites : [];
     const stored = this.storedSites ?? [];
     const texts = stored.map((s) => {
@@ -473,13 +481,13 @@ export class MapView {
     for (const [s, text, p] of texts) {
       for (const offset of WORLD_COPIES_DEG) {
         const at = this.map.latLngToContainerPoint([s.latitude_deg, s.longitude_deg + offset]);
-        if (at.x < -50 || at.y < -50 || at.x > size.x + 50 || at.y > size.y + 50) continue;
+        if (at.x < bounds.x - 50 || at.y < bounds.y - 50 || at.x > bounds.x + bounds.w + 50
+            || at.y > bounds.y + bounds.h + 50) continue;
         items.push({ x: at.x, y: at.y, w: textWidth(text) + 2 * LABEL_BOX_PX.padX, h: LABEL_BOX_PX.h, text, p });
       }
     }
-    const placed = placeLabels(items, { markerPx: SITE_MARKER_PX, bounds: { w: size.x, h: size.y } });
-    this.labels = items.flatMap((it, i) => (placed[i] ? [{ ...it, ...placed[i] }] : []));
-    this._drawSiteLabels();
+    const placed = placeLabels(items, { markerPx: SITE_MARKER_PX, bounds });
+    return items.flatMap((it, i) => (placed[i] ? [{ ...it, ...placed[i] }] : []));
   }
 
   _drawSiteLabels() {

@@ -55,13 +55,15 @@ class Outline:
         return Outline(self.latitude_deg, self.longitude_deg + lon_deg, self.area, self.pole)
 
 
-def sampled_ring(downrange_nmi, crossrange_nmi, max_edge_nmi=MAX_EDGE_NMI, pieces=None):
-    """The closed chart polygon with its edges cut into pieces of at most max_edge_nmi (or `pieces` per edge),
-    closing point included."""
-    d = np.append(np.asarray(downrange_nmi, float), downrange_nmi[0])
-    c = np.append(np.asarray(crossrange_nmi, float), crossrange_nmi[0])
-    if pieces is None:
-        pieces = np.maximum(1, np.ceil(np.hypot(np.diff(d), np.diff(c)) / max_edge_nmi)).astype(int)
+def _closed(downrange_nmi, crossrange_nmi):
+    """The chart polygon with its first point repeated last."""
+    return (np.append(np.asarray(downrange_nmi, float), downrange_nmi[0]),
+            np.append(np.asarray(crossrange_nmi, float), crossrange_nmi[0]))
+
+
+def sampled_ring(downrange_nmi, crossrange_nmi, pieces):
+    """The closed chart polygon with edge j cut into pieces[j] equal parts, closing point included."""
+    d, c = _closed(downrange_nmi, crossrange_nmi)
     t = np.concatenate([np.arange(k) / k for k in pieces])
     edge = np.repeat(np.arange(len(pieces)), pieces)
     ds = np.append(d[edge] + t * (d[edge + 1] - d[edge]), d[-1])
@@ -83,10 +85,10 @@ def outline(downrange_nmi, crossrange_nmi, reference: Reference, max_edge_nmi=MA
 def _ring_on_map(down, cross, reference: Reference, max_edge_nmi):
     """The chart ring sampled and carried to latitude and continuous longitude (closing point included); an edge
     that sweeps more than MAX_EDGE_LON_DEG of longitude between samples is sampled again, finer."""
-    pieces = np.maximum(1, np.ceil(np.hypot(np.diff(np.append(down, down[0])),
-                                            np.diff(np.append(cross, cross[0]))) / max_edge_nmi)).astype(int)
-    for _ in range(2):
-        ds, cs = sampled_ring(down, cross, pieces=pieces)
+    d, c = _closed(down, cross)
+    pieces = np.maximum(1, np.ceil(np.hypot(np.diff(d), np.diff(c)) / max_edge_nmi)).astype(int)
+    for _ in range(2):  # the finer edges once: their sweep is then within MAX_EDGE_LON_DEG (or MAX_REFINE)
+        ds, cs = sampled_ring(down, cross, pieces)
         lat, lon = latlon_from_ranges(ds, cs, reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
         lon = unwrap_longitude(lon)
         edge = np.repeat(np.arange(len(pieces)), pieces)
@@ -117,11 +119,11 @@ CORNERS = ((1.0, (WINDOW_DEG[1], -90.0)), (2.0, (WINDOW_DEG[1], 90.0)), (3.0, (W
            (4.0, (WINDOW_DEG[0], -90.0)))
 
 
-def window_area(lat, lon):
+def window_area(latitude_deg, longitude_deg):
     """The inside (on its left) of a closed ring in continuous longitude (its last point its first, +-360 deg per
     turn round the axis) on the map's copy WINDOW_DEG: (polygons, holds the north pole, holds the south pole)."""
     lo, hi = WINDOW_DEG
-    lat, lon = np.asarray(lat, float), np.asarray(lon, float)
+    lat, lon = np.asarray(latitude_deg, float), np.asarray(longitude_deg, float)
     k = np.floor((lon - lo) / (hi - lo)).astype(int)  # the copy each point lies on
     x = lon - (hi - lo) * k
     cuts = np.nonzero(np.diff(k))[0]
