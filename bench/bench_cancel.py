@@ -45,7 +45,7 @@ def workers_cpu(procs: list) -> float:
 
 
 def cancel_rounds(api, cluster, procs) -> list[dict]:
-    from footprint.service.jobs import tasks
+    from footprint import parallel
 
     out = []
     for _ in range(REPEAT):
@@ -53,7 +53,7 @@ def cancel_rounds(api, cluster, procs) -> list[dict]:
         until(lambda: (api.get(f"/api/jobs/{job_id}").json()["progress_note"] or "").startswith("trajectory "))
         t0 = time.perf_counter()
         assert api.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
-        stopped = until(lambda: not any(cluster.run(tasks.running_keys).values()))
+        stopped = until(lambda: not any(cluster.run(parallel.running_keys).values()))
         until(lambda: workers_cpu(procs) < IDLE_CPU_PERCENT, step_s=0.0)
         out.append({"task_stopped_s": round(stopped, 3), "cpu_idle_s": round(time.perf_counter() - t0, 3)})
     return out

@@ -102,7 +102,7 @@ def cold(run, study, samples, progress=None) -> dict:
 
 
 def main():
-    from footprint.contracts.dispersion import run
+    from footprint.api import disperse as run
     from footprint.parallel import start_client
 
     study = STUDY | {"samples": SAMPLES}

@@ -17,8 +17,8 @@ from collections import defaultdict
 from pathlib import Path
 
 from distributed import Client, LocalCluster
+from footprint import parallel
 from footprint.contracts import parse
-from footprint.contracts.sweep import run as run_sweep
 from _timing import save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -31,7 +31,7 @@ def measure(sweep, n_workers):
     with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         started = time.perf_counter()
-        result = run_sweep(sweep, client=client)
+        result = parallel.run("sweep", sweep, client=client)
     by_vehicle = defaultdict(float)
     for (vehicle, _, _), run in result.runs.items():
         by_vehicle[vehicle] += run.seconds

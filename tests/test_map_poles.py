@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from matplotlib.path import Path as PlanePath
 
-from footprint import api, contracts
+from footprint import api, parallel
 from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference
 from footprint.pictures import geojson
@@ -37,7 +37,7 @@ def moved(flown, node_deg, inclination_deg, step_nmi, rotation):
     """The service's transform of the boundary (POST /api/footprints/{id}/transform's points): the reference, the
     moved ranges and the outline."""
     entry, points = flown
-    result = contracts.module("transform").run({
+    result = parallel.run("transform", {
         "from": entry, "to": {"node_longitude_deg": node_deg, "inclination_deg": inclination_deg,
                               "argument_of_latitude_deg": 0.0},
         "step_downrange_nmi": step_nmi, "earth_rotation": rotation, "points": points})
@@ -122,7 +122,7 @@ def test_the_folium_map_fills_the_same_area(flown):
     from footprint.pictures.folium_page import footprint_map
 
     entry, points = flown
-    result = contracts.module("transform").run({
+    result = parallel.run("transform", {
         "from": entry, "to": {"node_longitude_deg": -30.0, "inclination_deg": 90.0, "argument_of_latitude_deg": 0.0},
         "step_downrange_nmi": 3_000.0, "points": points})
     m = footprint_map({"name": "moved", "points": result["points"], "entry": result["reference"]})

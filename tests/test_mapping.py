@@ -13,7 +13,11 @@ from footprint.pictures import maps as M
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.sphere import Reference
 from footprint.contracts.transform import TransformRequest
-from footprint.contracts.transform import run as run_transform
+from functools import partial
+
+from footprint import parallel
+
+run_transform = partial(parallel.run, "transform")
 from tests.authorities.report import table2_entry, table2_stop
 
 EAST = {"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0}

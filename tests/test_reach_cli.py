@@ -14,7 +14,11 @@ from pydantic import ValidationError
 from footprint.contracts import parse
 from footprint.core.orbits import CircularOrbit, position
 from footprint.contracts.case import error_line
-from footprint.contracts.reach import run as run_reach
+from functools import partial
+
+from footprint import parallel
+
+run_reach = partial(parallel.run, "reach")
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "reach_20_sites.json"

@@ -9,11 +9,15 @@ from pathlib import Path
 
 import pytest
 from distributed import Client, LocalCluster, get_task_stream
+from footprint import parallel
 from footprint.contracts import parse
 from footprint.core import footprint_methods as M
 from footprint.core.footprint_methods import footprint
 from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS
-from footprint.contracts.sweep import run as run_sweep
+
+
+def run_sweep(sweep, progress=None, **dask):
+    return parallel.run("sweep", sweep, progress, **dask)
 from tests.authorities.report import REPORT
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,7 +78,7 @@ def test_the_cluster_gives_the_numbers_of_a_serial_flight(small, same_numbers):
 
 def test_one_task_per_footprint_not_per_trajectory(small):
     result, stream, _ = small
-    ours = [t for t in stream if str(t["key"]).startswith("footprint-")]
+    ours = [t for t in stream if str(t["key"]).startswith("sweep-")]
     assert result.tasks == len(ours) == 4
     assert result.trajectories >= 4 * 6  # 3 banks + C_L max on the left, 2 flown on the right
     assert len({t["worker"] for t in ours}) == 2  # both workers took footprints

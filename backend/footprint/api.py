@@ -1,21 +1,25 @@
-"""The Python door: fly(case) and footprint(study), with dicts or validated models (footprint.contracts)."""
+"""The Python door: fly(case), footprint(study), disperse(study) and run(kind, request) for any kind, with dicts or
+validated models (footprint.contracts), all through the one runner (footprint.parallel)."""
 
-from footprint import contracts
+from footprint.parallel import run
 
 
 def fly(case):
     """Fly one trajectory (footprint.core.trajectory.Trajectory). `case` follows the case contract
     (footprint.contracts.case.Case)."""
-    return contracts.module("case").run(contracts.parse("case", case))
+    return run("case", case)
 
 
 def footprint(study, on_progress=None):
     """A landing footprint (footprint.core.footprints.Footprint). `study` follows the study contract
     (footprint.contracts.footprint)."""
-    return contracts.module("footprint").run(contracts.parse("footprint", study), on_progress)
+    return run("footprint", study, on_progress=on_progress)
 
 
 def disperse(study, progress=None, **dask):
     """A dispersed footprint (footprint.core.monte_carlo.DispersedFootprint) and how it ran: `study` follows
     footprint.contracts.dispersion; in this process, or on Dask with client=, workers= or scheduler=."""
-    return contracts.module("dispersion").run(study, progress, **dask)
+    return run("dispersion", study, progress, **dask)
+
+
+__all__ = ["disperse", "fly", "footprint", "run"]

@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 from pydantic import ValidationError
 
-from footprint import contracts
+from footprint import contracts, parallel
 from footprint.contracts.case import error_line, printable
 from footprint.contracts.records import strict_json
 from footprint.core.errors import InputError, NoOptimum
@@ -58,6 +58,19 @@ def _writable(path: Optional[Path], option: str) -> None:
         _fail(f"{option}: the folder {path.parent} does not exist (create it first)")
 
 
+def _dask_options(workers: Optional[int], scheduler: Optional[str], default: int) -> dict:
+    """The runner's keywords for --workers N (0: this process) or --scheduler ADDRESS, else `default` workers (0: this
+    process); a bad value: one line, exit 2."""
+    if workers is not None and not 0 <= workers <= 256:
+        _fail(f"--workers: {workers} is outside the allowed range 0 to 256")
+    if scheduler is not None and (workers is not None or "://" not in scheduler):
+        _fail("--scheduler: give an address like tcp://host:8786 (and no --workers: the scheduler has its own)")
+    if scheduler:
+        return {"scheduler": scheduler}
+    count = default if workers is None else workers
+    return {"workers": count} if count else {}
+
+
 def _answer(result: dict, as_json: bool, lines) -> None:
     """The full JSON when asked or piped (other tools read it); a few lines for a person at a terminal."""
     if as_json or not sys.stdout.isatty():
@@ -103,7 +116,7 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
         history: Optional[Path] = typer.Option(None, "--history", metavar="FILE.csv", help="write the time histories")):
     """Fly one trajectory and print its summary as JSON."""
     _writable(history, "--history")
-    traj = contracts.module("case").run(_request("case", case_file))
+    traj = parallel.run("case", _request("case", case_file))
     if history is not None:
         traj.write_csv(history)
     typer.echo(strict_json(traj.summary, indent=2))
@@ -118,7 +131,7 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
     _writable(plot, "--plot")
     study = _request("footprint", study_file)
     try:
-        fp = contracts.module("footprint").run(study)
+        fp = parallel.run("footprint", study)
     except NoOptimum as exc:  # a collocation footprint's first solves
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(1) from None
@@ -160,8 +173,7 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
         bar = stack.enter_context(tqdm(total=sw.size, unit="footprint", file=sys.stderr, mininterval=0.5))
-        result = contracts.module("sweep").run(sw, client=client,
-                                               progress=lambda done, total: bar.update(done - bar.n))
+        result = parallel.run("sweep", sw, lambda done, total: bar.update(done - bar.n), client=client)
     written = result.write(folder)
     _print_sweep_summary(result)
     figures = sum(p.suffix in (".png", ".svg") for p in written)
@@ -197,20 +209,14 @@ def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
 
     from tqdm import tqdm
 
-    from footprint.parallel import default_workers
-
     for path, option in ((figure, "--figure"), (geojson_out, "--geojson"), (csv_out, "--csv")):
         _writable(path, option)
     study = _request("dispersion", study_file)
-    if workers is not None and not 0 <= workers <= 256:
-        _fail(f"--workers: {workers} is outside the allowed range 0 to 256")
-    if scheduler is not None and (workers is not None or "://" not in scheduler):
-        _fail("--scheduler: give an address like tcp://host:8786 (and no --workers: the scheduler has its own)")
-    dask = {"scheduler": scheduler} if scheduler else {} if workers == 0 else {"workers": workers or default_workers()}
+    dask = _dask_options(workers, scheduler, parallel.default_workers())
     with ExitStack() as stack:
         bar = stack.enter_context(tqdm(total=len(study.chunks()), unit="chunk", file=sys.stderr, mininterval=0.5))
         try:
-            stats, info = contracts.module("dispersion").run(study, lambda done, total: bar.update(done - bar.n), **dask)
+            stats, info = parallel.run("dispersion", study, lambda done, total: bar.update(done - bar.n), **dask)
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
     if figure is not None:
@@ -290,7 +296,7 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
     _writable(csv_out, "--csv")
     request = _request("transform", request_file)
     try:
-        result = contracts.module("transform").run(request)
+        result = parallel.run("transform", request)
     except InputError as exc:  # a place the request's numbers cannot make (an inclination the latitude cannot fly)
         _fail(error_line(exc))
     if csv_out is not None:
@@ -311,7 +317,7 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
     from footprint.contracts.reach import write_windows_csv
 
     _writable(csv_out, "--csv")
-    result = contracts.module("reach").run(_request("reach", request_file))
+    result = parallel.run("reach", _request("reach", request_file))
     if csv_out is not None:
         write_windows_csv(result, csv_out)
     _answer(result, as_json, _reach_lines)
@@ -328,7 +334,7 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
     on stderr, say by how much). On a terminal, a short summary unless --json."""
     _writable(plot, "--plot")
     study = _request("optimize", study_file)
-    result = contracts.module("optimize").run(study)
+    result = parallel.run("optimize", study)
     if plot is not None:
         from footprint.pictures.figures import collocation_figure, optimization_figure, save
 
@@ -338,6 +344,37 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
         typer.echo(f"error: {result.one_line()}", err=True)
     if not result.feasible:
         raise typer.Exit(1)
+
+
+@app.command("run")
+def run_(kind: str = typer.Argument(..., metavar="KIND", help="a kind of job (footprint, optimize, sweep, reach, "
+                                                             "dispersion, or one a contract module adds)"),
+         request_file: Path = typer.Argument(..., metavar="REQUEST.json", help="the request, as a job's study"),
+         workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
+                                               help="local worker processes [0: fly in this process]"),
+         scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
+                                                 help="a running Dask scheduler instead of a local cluster")):
+    """Run any kind of job with the one runner, as the service's job engine does, and print what its job stores:
+    {"result": ..., "footprints": [...]} as JSON. A progress bar over its parts on stderr."""
+    from tqdm import tqdm
+
+    kinds = contracts.job_kinds()
+    if kind not in kinds:
+        _fail(f"KIND: {kind!r} is not a kind of job; allowed: {', '.join(kinds)}")
+    request = _request(kind, request_file)
+    dask = _dask_options(workers, scheduler, 0)
+    work = contracts.module(kind).WORK
+    with tqdm(total=len(work.split(request)), unit=work.part_unit, file=sys.stderr, mininterval=0.5) as bar:
+        try:
+            answer = parallel.run(kind, request, lambda done, total: bar.update(done - bar.n), **dask)
+        except OSError as exc:  # no scheduler there
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+    try:
+        stored = work.store(request, answer, None)
+    except NoOptimum as exc:  # what fails the job fails the command
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(1) from None
+    typer.echo(strict_json({"result": stored.result, "footprints": stored.footprints}, indent=2))
 
 
 @app.command("map")

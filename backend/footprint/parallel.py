@@ -1,12 +1,154 @@
-"""The package's one Dask client path, outside the numerical core: a LocalCluster of worker processes by
-default or a client of an external scheduler, and the map-like callable the core's parallel loops take
-(footprint.core.constrained's `map_tasks`), so the core itself starts no processes."""
+"""The one runner of every kind of work (footprint.contracts.work) and the package's only Dask code: a kind's parts
+run in this process, or as Dask tasks on a LocalCluster of worker processes or an external scheduler; the CLI, the
+Python API and the service's job engine all run work through here. The core starts no processes: its parallel
+loops take the map-like callable `client_map` gives.
 
+A part's task carries the contract module's name, the request as JSON and the part; each worker parses a request
+once (kept for the request's other parts) and reports progress as Dask events that the job engine follows; a task
+whose future is cancelled stops at its next report.
+"""
+
+import importlib
+import json
 import logging
 import os
+import signal
+import time
+import uuid
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
 from contextlib import contextmanager
+from typing import Any
+
+from footprint import contracts
+from footprint.contracts.work import RunInfo
+
+PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (the job engine subscribes)
+PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
+PARSED_KEPT = 4  # requests a worker keeps parsed (one job's parts share one parse)
+WARM_CASE = {"vehicle": {"builtin": "lod-2.2"},
+             "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
+             "stop": {"altitude_ft": 250_000}}  # a short flight that loads every compiled kernel
 
 
+# ----------------------------------------------------------------------------------------------- the runner
+def run(kind: str, request, progress: Callable[[int, int], None] | None = None, *, on_progress=None, client=None,
+        workers: int | None = None, scheduler: str | None = None):
+    """The kind's answer (its contract's WORK.combine) for a request (a dict or a parsed model): in this process,
+    or on Dask when a `client`, a count of local `workers` or a `scheduler` address is given. progress(done, total)
+    after each part; on_progress(fraction, note) inside a part run in this process (True from it stops the part).
+    Raises ValidationError or InputError for a bad request before any work starts."""
+    work = contracts.module(kind).WORK
+    request = contracts.parse(kind, request)
+    parts = list(work.split(request))
+    if client is None and workers is None and scheduler is None:
+        return work.combine(request, *_run_here(work, request, parts, progress, on_progress))
+    warm_s = warm_numba()  # numba's on-disk cache written here before the workers load it
+    t0 = time.perf_counter()
+    with dask_client(client, workers=workers, scheduler=scheduler) as c:
+        started = time.perf_counter()
+        n_workers = worker_count(c)
+        futures = submit_parts(c, kind, request, parts, prefix=kind)
+        outputs = gather(c, futures, progress)
+        finished = time.perf_counter()
+    return work.combine(request, outputs, RunInfo(tasks=len(parts), workers=n_workers, seconds=finished - started,
+                                                  startup_seconds=started - t0, warm_seconds=warm_s))
+
+
+def _run_here(work, request, parts: Sequence, progress, on_progress) -> tuple[list, RunInfo]:
+    t0 = time.perf_counter()
+    outputs = []
+    for done, part in enumerate(parts, 1):
+        outputs.append(work.run_part(request, part, on_progress))
+        if progress:
+            progress(done, len(parts))
+    return outputs, RunInfo(tasks=len(parts), seconds=time.perf_counter() - t0)
+
+
+def submit_parts(client, kind: str, request, parts: Sequence, *, prefix: str) -> list:
+    """One Dask task per part, keyed "<prefix>-<token>-<i>" (each run's keys its own): its future, in part order."""
+    module_name, data = contracts.MODULES[kind], json.dumps(contracts.stored_form(request))
+    token = uuid.uuid4().hex[:8]
+    return [client.submit(part_task, module_name, data, part, key=f"{prefix}-{token}-{i}", pure=False)
+            for i, part in enumerate(parts)]
+
+
+def gather(client, futures: list, progress: Callable[[int, int], None] | None = None) -> list:
+    """The futures' results in their order, taken as they complete (each released once read)."""
+    from distributed import as_completed
+
+    index = {f.key: i for i, f in enumerate(futures)}
+    outputs: list = [None] * len(futures)
+    if progress:
+        progress(0, len(futures))
+    for done, fut in enumerate(as_completed(futures), 1):
+        outputs[index[fut.key]] = fut.result()
+        fut.release()
+        if progress:
+            progress(done, len(futures))
+    return outputs
+
+
+# ------------------------------------------------------------------------------------------ in the worker
+_PARSED: OrderedDict[tuple[str, str], Any] = OrderedDict()
+
+
+def part_task(module_name: str, data: str, part):
+    """A Dask task: one part of a request (the contract module's WORK.run_part), its progress reported."""
+    module = importlib.import_module(module_name)
+    return module.WORK.run_part(parsed(module, data), part, progress_reporter())
+
+
+def parsed(module, data: str):
+    """The request of `data` (JSON), parsed by its contract module once in this process."""
+    key = (module.__name__, data)
+    if key in _PARSED:
+        _PARSED.move_to_end(key)
+    else:
+        _PARSED[key] = module.parse_request(json.loads(data))
+        while len(_PARSED) > PARSED_KEPT:
+            _PARSED.popitem(last=False)
+    return _PARSED[key]
+
+
+def progress_reporter():
+    """on_progress(fraction, note) for the core's long loops, sent as a Dask event of this task (its key), at
+    most every PROGRESS_EVERY_S; None outside a Dask worker. Returns True once the task is cancelled (the engine's
+    cancel and time limit cancel its future: the worker marks the running task), which stops the loop at its next
+    report: the worker is free at once, not restarted (the engine's last resort). Its creation sends the task's
+    first event, which tells the engine a worker has started it (the job is "running", its time limit counts)."""
+    from distributed import get_worker
+
+    try:
+        worker = get_worker()
+    except ValueError:
+        return None
+    key, last = worker.get_current_task(), [0.0]
+    worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": 0.0, "note": ""})
+
+    def on_progress(fraction: float, note: str) -> bool:
+        now = time.monotonic()
+        if now - last[0] >= PROGRESS_EVERY_S:
+            last[0] = now
+            worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": float(fraction), "note": note})
+        task = worker.state.tasks.get(key)  # read in this thread, written by the worker's event loop: a plain lookup
+        return task is None or task.state in ("cancelled", "released", "forgotten")
+    return on_progress
+
+
+def running_keys(dask_worker) -> list[str]:
+    """The keys this worker's threads run now, cancelled ones included (client.run(running_keys))."""
+    return [str(task.key) for task in dask_worker.state.executing]
+
+
+def warm_numba() -> float:
+    """Fly one short trajectory so this process has loaded (or compiled) numba's cache; the seconds taken."""
+    t0 = time.perf_counter()
+    run("case", WARM_CASE)
+    return time.perf_counter() - t0
+
+
+# ------------------------------------------------------------------------------------------ the cluster
 def default_workers() -> int:
     try:
         return len(os.sched_getaffinity(0))
@@ -29,11 +171,9 @@ def start_client(*, workers: int | None = None, scheduler: str | None = None, se
     cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
                            dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
     client = Client(cluster, set_as_default=set_as_default)
-    from footprint.local_workers import Niceness, ParentStops
-
-    client.register_plugin(ParentStops())  # every worker, and each one that replaces a worker later
+    client.register_plugin(_worker_plugin(ParentStops))  # every worker, and each one that replaces a worker later
     if niceness:
-        client.register_plugin(Niceness(niceness))
+        client.register_plugin(_worker_plugin(Niceness, niceness))
 
     def close():
         client.close()
@@ -68,3 +208,51 @@ def client_map(client):
 def worker_count(client) -> int:
     """How many workers the client's scheduler has now."""
     return len(client.scheduler_info(n_workers=-1)["workers"])
+
+
+# -------------------------------------------------------------------- the local cluster's worker processes
+class Niceness:
+    """Every thread of the worker's process at `niceness` or nicer (a flight can wait a few milliseconds, a reader of
+    the map cannot: issue 24 item 7). On Linux setpriority(2) sets one thread's value and a new thread inherits its
+    creator's, so the executor thread that flies the tasks (and any thread it starts) runs at it."""
+
+    name = "footprint-niceness"
+    idempotent = True
+
+    def __init__(self, niceness: int):
+        self.niceness = niceness
+
+    def setup(self, worker) -> None:
+        for tid in _threads():
+            try:
+                os.setpriority(os.PRIO_PROCESS, tid, max(self.niceness, os.getpriority(os.PRIO_PROCESS, tid)))
+            except OSError:  # a thread gone meanwhile: the others still go
+                pass
+
+
+class ParentStops:
+    """SIGINT ignored in the worker's process (its main thread runs the worker's event loop, where setup is called):
+    the service that started the cluster stops it, and each worker's own KeyboardInterrupt printed a 30-line
+    traceback over the shutdown (issue 25 item 8)."""
+
+    name = "footprint-parent-stops"
+    idempotent = True
+
+    def setup(self, worker) -> None:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _worker_plugin(behaviour: type, *args):
+    """A distributed WorkerPlugin (each worker, and every one that replaces a worker later) doing `behaviour`'s setup
+    (made here: Dask is imported only when a cluster starts)."""
+    from distributed.diagnostics.plugin import WorkerPlugin
+
+    return type(behaviour.__name__, (behaviour, WorkerPlugin), {})(*args)
+
+
+def _threads() -> list[int]:
+    """This process's thread ids (0, the calling thread, where /proc does not list them)."""
+    try:
+        return [int(t) for t in os.listdir("/proc/self/task")]
+    except OSError:
+        return [0]

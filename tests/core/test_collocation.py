@@ -173,7 +173,10 @@ FLY_THERE = json.loads((ROOT / "examples" / "optimize_fly_there.json").read_text
 def fly_there():
     """Betts' shuttle with his heat-rate correlation, landing at 15 N 50 E (3,000 nmi down, 900 across):
     the least heat load, and the most final energy, to the same place."""
-    from footprint.contracts.optimization import run as run_optimization
+    from footprint.api import run
+
+    def run_optimization(study):
+        return run("optimize", study)
 
     least_heat = run_optimization(FLY_THERE)
     most_energy = run_optimization(FLY_THERE | {"payoff": {"quantity": "final_energy_ft", "goal": "max"}})
@@ -193,7 +196,10 @@ def test_fly_there_lands_on_the_site_and_each_optimum_beats_the_other_on_its_own
 
 
 def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
-    from footprint.contracts.optimization import run as run_optimization
+    from footprint.api import run
+
+    def run_optimization(study):
+        return run("optimize", study)
 
     far = FLY_THERE | {"constraints": [{"quantity": "final_latitude_deg", "equals": 60},
                                        {"quantity": "final_longitude_deg", "equals": 30}],

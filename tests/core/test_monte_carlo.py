@@ -12,9 +12,10 @@ import pytest
 from pydantic import ValidationError
 from scipy import stats
 
-from footprint import contracts
+from footprint import contracts, parallel
 from footprint.contracts.case import error_line
-from footprint.contracts.dispersion import Plan, parse_request, run
+from footprint.api import disperse as run
+from footprint.contracts.dispersion import Plan, parse_request
 from footprint.core import monte_carlo as mc
 from footprint.core.errors import InputError
 from footprint.core.footprint_methods import footprint
@@ -68,7 +69,7 @@ def test_the_sample_covariance_is_the_linear_covariance_of_finite_differences():
     def landing(**entry):
         fly_case = copy.deepcopy(case) | {"bank": {"law": "single_parameter", "bank_gain": 60 / 90}}
         fly_case["entry"] |= entry
-        s = contracts.module("case").run(contracts.parse("case", fly_case)).summary
+        s = parallel.run("case", fly_case).summary
         return np.array(downrange_crossrange_nmi(s["final_latitude_deg"], s["final_longitude_deg"], e["latitude_deg"],
                                                  e["longitude_deg"], e["heading_deg"]))
 

@@ -8,7 +8,8 @@ import time
 
 import pytest
 
-from footprint.service.jobs import engine, tasks
+from footprint import parallel
+from footprint.service.jobs import engine
 from tests.service.conftest import WAIT_S, running_service, wait_for_job, wait_until
 from tests.service.sample_requests import CASE, FOOTPRINT, OPTIMIZE
 
@@ -78,7 +79,7 @@ def test_a_cancelled_optimization_stops_itself_and_keeps_its_worker(service, sch
         wait_until(lambda: _reports(service, job_id), "the optimization reports its trajectories")
         assert service.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
         # the workers, not the scheduler (which forgets the task at the cancel), say when it stopped
-        wait_until(lambda: not any(cluster.run(tasks.running_keys).values()), "the cancelled task stops")
+        wait_until(lambda: not any(cluster.run(parallel.running_keys).values()), "the cancelled task stops")
         assert cluster.run(os.getpid) == pids  # the same worker processes: none was restarted
 
 

@@ -7,6 +7,7 @@ study (a second route to the same numbers)."""
 import pytest
 
 import footprint
+from footprint import parallel
 from tests.authorities.report import example
 from tests.service.conftest import wait_for_job
 from tests.service.sample_requests import CASE
@@ -49,7 +50,6 @@ def test_a_reach_of_a_temperature_limited_study_runs_synchronously_and_as_a_job(
 def test_an_exact_transform_flies_a_temperature_limited_study_again(api, direct):
     """The exact transform flies the study again on the rotating earth from the destination: over HTTP as from
     Python (footprint.contracts.transform), one point per flown point of the footprint."""
-    from footprint import contracts
 
     entry = LIMITED["case"]["entry"]
     here = {"latitude_deg": entry["latitude_deg"], "longitude_deg": entry["longitude_deg"],
@@ -57,7 +57,7 @@ def test_an_exact_transform_flies_a_temperature_limited_study_again(api, direct)
     request = {"from": here, "to": here | {"longitude_deg": 30.0}, "earth_rotation": "exact", "study": LIMITED}
     r = api.post("/api/transform", json=request)
     assert r.status_code == 200, r.text
-    python = contracts.module("transform").run(contracts.parse("transform", request))
+    python = parallel.run("transform", request)
     served = r.json()["points"]
     assert [sorted(p) for p in served] == [sorted(p) for p in python["points"]]
     numbers = [(k, p[k]) for p in python["points"] for k in sorted(p) if isinstance(p[k], float)]

@@ -1,24 +1,39 @@
 """The request contracts: one module per kind of request, each with its pydantic model, the limits that bound the
-work it asks for, `parse_request(data, ctx)` and `run(request, ...)`; one registry of kinds for the CLI, the Python
-API and the service.
+work it asks for, `parse_request(data, ctx)` and its `WORK` (footprint.contracts.work: how it splits, runs and
+combines, and how a job stores it); one registry of kinds for the CLI, the Python API and the service.
 
     parse(kind, data, ctx)  -> the validated request (pydantic's ValidationError names the field)
-    module(kind).run(request, ...)
+    footprint.parallel.run(kind, request, ...)  -> the kind's answer, in this process or on Dask
+
+Adding a kind is its module and one line here.
 """
 
 import importlib
 from types import ModuleType
+from typing import Any
 
-MODULES = {"case": "case", "footprint": "footprint", "optimize": "optimization", "sweep": "sweep",
-           "transform": "transform", "reach": "reach", "dispersion": "dispersion"}  # kind -> footprint.contracts.<module>
-JOB_KINDS = ("footprint", "optimize", "sweep", "reach", "dispersion")  # the kinds the service runs as jobs, on Dask
+MODULES = {"case": "footprint.contracts.case", "footprint": "footprint.contracts.footprint",
+           "optimize": "footprint.contracts.optimization", "sweep": "footprint.contracts.sweep",
+           "transform": "footprint.contracts.transform", "reach": "footprint.contracts.reach",
+           "dispersion": "footprint.contracts.dispersion"}  # kind -> its contract module
 
 
 def module(kind: str) -> ModuleType:
     """The contract module of a kind (imported on first use: the optimization's pulls in CasADi)."""
-    return importlib.import_module(f"footprint.contracts.{MODULES[kind]}")
+    return importlib.import_module(MODULES[kind])
 
 
 def parse(kind: str, data, ctx: dict | None = None):
     """A request of this kind from a dict (a parsed request passes through); ctx from case.context()."""
     return module(kind).parse_request(data, ctx)
+
+
+def job_kinds() -> tuple[str, ...]:
+    """The kinds the service runs as jobs, on Dask: those whose work a job stores (imports every contract)."""
+    return tuple(kind for kind in MODULES if module(kind).WORK.store is not None)
+
+
+def stored_form(request: Any) -> dict:
+    """A parsed request as the job store and the workers read it: JSON, by alias, what was given (stored vehicles
+    resolved)."""
+    return request.model_dump(mode="json", by_alias=True, exclude_unset=True)

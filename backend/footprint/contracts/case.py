@@ -14,6 +14,7 @@ from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fi
                       ValidationError, ValidationInfo, model_validator)
 
 from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
+from footprint.contracts.work import Work
 from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
@@ -589,8 +590,11 @@ def parse_request(data, ctx: dict | None = None) -> Case:
 
 
 
-def run(case: Case):
+def fly(case: Case, part=None, on_progress=None):
     """Fly the case: footprint.core.trajectory.Trajectory (summary and histories)."""
     from footprint.core.trajectory import simulate
 
     return simulate(case.to_spec())
+
+
+WORK = Work(run_part=fly, part_unit="flight")  # answered at once, never a job

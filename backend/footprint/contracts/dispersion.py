@@ -19,9 +19,8 @@ the density errors of an atmosphere model change sign between layers; `std` one 
 from __future__ import annotations
 
 import csv
+import functools
 import io
-import time
-from collections.abc import Callable
 from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_validator
@@ -29,6 +28,7 @@ from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_v
 from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
+from footprint.contracts.work import RunInfo, Stored, Work
 from footprint.contracts.reach import Site
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
@@ -194,7 +194,8 @@ def parse_request(data, ctx: dict | None = None) -> DispersionStudy:
 
 # --------------------------------------------------------------------------------------------- running
 class Plan:
-    """What every task of a study needs: the nominal spec, the family's flights and the samples (drawn once)."""
+    """What every part of a study needs: the nominal spec, the family's flights and, once a part asks, the samples
+    (drawn once per process: the same bits wherever they are drawn)."""
 
     def __init__(self, study: DispersionStudy):
         from footprint.core.footprint_methods import control_family
@@ -203,11 +204,15 @@ class Plan:
         self.spec = study.footprint.case.to_spec()
         family, self.mirror = control_family(study.footprint.method, **study.footprint.to_params())
         self.flights = mc.flights(family, self.mirror)
+
+    @functools.cached_property
+    def samples(self) -> disp.Samples:
+        study = self.study
         density = None if study.density is None else disp.GaussMarkovDensity(
             tuple(study.density.std) if isinstance(study.density.std, list) else study.density.std,
             study.density.correlation_length_ft)
         try:
-            self.samples = disp.draw(study.distributions(self.spec), study.samples, study.seed, study.design, density)
+            return disp.draw(study.distributions(self.spec), study.samples, study.seed, study.design, density)
         except InputError as exc:  # the core names its own inputs: say the study's field
             name = exc.field.removeprefix("distributions.")
             raise InputError(f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field,
@@ -235,17 +240,22 @@ class Plan:
                              sites=[(site.name, site.latitude_deg, site.longitude_deg) for site in s.sites])
 
 
-def fly_chunk(study: dict | DispersionStudy, first: int, end: int, on_progress=None) -> mc.Landings:
-    """One task: samples first..end-1 of the study (drawn again in the worker: the same bits wherever it runs)."""
+def fly_chunk(study: DispersionStudy, chunk: tuple[int, int], on_progress=None) -> mc.Landings:
+    """A part: samples first..end-1 of the study."""
+    first, end = chunk
     return _plan(study).fly(first, end, on_progress)
 
 
-def result(study: dict | DispersionStudy, parts: list[mc.Landings], cloud_samples: int | None = CLOUD_SAMPLES_STORED,
-           info: dict | None = None) -> dict:
-    """The JSON-ready result of a run's chunks: the statistics, each cloud thinned to its first `cloud_samples`
-    samples, the study's samples and trajectories, and how it ran."""
-    plan = _plan(study)
-    return to_dict(plan.study, plan.statistics(parts), cloud_samples, info)
+def combine(study: DispersionStudy, parts: list[mc.Landings], info: RunInfo) -> tuple[mc.DispersedFootprint, dict]:
+    """The dispersed footprint and how it ran ({"tasks", "workers", "seconds"}: the flights; the statistics are the
+    caller's wait)."""
+    return _plan(study).statistics(parts), {"tasks": info.tasks, "workers": info.workers, "seconds": info.seconds}
+
+
+def store(study: DispersionStudy, answer: tuple[mc.DispersedFootprint, dict], name: str | None) -> Stored:
+    """A dispersion job's result: its JSON with each cloud thinned to CLOUD_SAMPLES_STORED samples."""
+    stats, info = answer
+    return Stored(result={"dispersion": to_dict(study, stats, CLOUD_SAMPLES_STORED, info)})
 
 
 def to_dict(study: DispersionStudy, stats: mc.DispersedFootprint, cloud_samples: int | None = CLOUD_SAMPLES_STORED,
@@ -273,49 +283,13 @@ def sites_csv(result: dict) -> str:
     return out.getvalue()
 
 
-_PLANS: dict[str, Plan] = {}  # a worker's plans by study (a study's chunks share one draw per process)
+_PLAN: list[Plan] = []  # this process's plan of the study it flies (a study's parts share one draw)
 
 
-def _plan(study: dict | DispersionStudy) -> Plan:
-    model = parse_request(study)
-    key = model.model_dump_json()
-    if key not in _PLANS:
-        _PLANS.clear()  # one study at a time is enough; keeps a worker's memory to one run's samples
-        _PLANS[key] = Plan(model)
-    return _PLANS[key]
+def _plan(study: DispersionStudy) -> Plan:
+    if not _PLAN or _PLAN[0].study is not study:  # one study at a time: a worker keeps one run's samples
+        _PLAN[:] = [Plan(study)]
+    return _PLAN[0]
 
 
-def run(study, progress: Callable[[int, int], None] | None = None, *, client=None, workers: int | None = None,
-        scheduler: str | None = None) -> tuple[mc.DispersedFootprint, dict]:
-    """The dispersed footprint and how it ran ({"tasks", "workers", "seconds"}): in this process, or on Dask (a
-    `client`, a LocalCluster of `workers` processes or the scheduler at `scheduler`, one task per chunk of samples,
-    taken as they complete). progress(done, total) in chunks."""
-    study = parse_request(study)
-    plan = _plan(study)
-    chunks = study.chunks()
-    t0 = time.perf_counter()
-    if client is None and workers is None and scheduler is None:
-        parts = []
-        for done, (first, end) in enumerate(chunks, 1):
-            parts.append(plan.fly(first, end))
-            if progress:
-                progress(done, len(chunks))
-        seconds = time.perf_counter() - t0  # the flights, as on Dask: the statistics are the caller's wait
-        return plan.statistics(parts), {"tasks": len(chunks), "workers": 0, "seconds": seconds}
-    from distributed import as_completed
-
-    from footprint.parallel import dask_client, worker_count
-
-    data = study.model_dump(mode="json", by_alias=True, exclude_unset=True)
-    with dask_client(client, workers=workers, scheduler=scheduler) as c:
-        n_workers = worker_count(c)
-        t0 = time.perf_counter()
-        futures = [c.submit(fly_chunk, data, first, end, pure=False) for first, end in chunks]
-        parts = []
-        for done, fut in enumerate(as_completed(futures), 1):
-            parts.append(fut.result())
-            fut.release()
-            if progress:
-                progress(done, len(chunks))
-        seconds = time.perf_counter() - t0
-    return plan.statistics(parts), {"tasks": len(chunks), "workers": n_workers, "seconds": seconds}
+WORK = Work(split=DispersionStudy.chunks, run_part=fly_chunk, combine=combine, store=store, part_unit="chunk")

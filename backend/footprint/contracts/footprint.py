@@ -4,12 +4,16 @@ One pydantic model per method (discriminated on "method"); `to_params()` gives t
 the core generator in footprint.core.footprints. The case's own bank law is replaced by the method's.
 """
 
+from dataclasses import asdict
 from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
+from footprint.contracts import stored_form
 from footprint.contracts.case import Case, Strict, bounded, door_limit, synchronous, validated
+from footprint.contracts.records import flown, plain
+from footprint.contracts.work import Stored, Work
 
 BankDeg = bounded(-180, 180, "deg")
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
@@ -174,9 +178,62 @@ def parse_request(data, ctx: dict | None = None) -> _Study:
 
 
 
-def run(study: _Study, on_progress=None):
+def fly(study: _Study, part=None, on_progress=None):
     """Fly the study's footprint (footprint.core.footprints.Footprint); on_progress(fraction, note) where the
     method reports (the collocation's IPOPT iterations)."""
     from footprint.core.footprint_methods import footprint
 
     return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
+
+
+POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
+                "side", "parameter", "stop_reason", "mirrored")  # a stored footprint point
+
+
+def ground_track(spec) -> dict:
+    """The flight flown with zero bank (Section II.6's maximum down-range flight), decimated for the map."""
+    from footprint.core.footprints import with_bank
+    from footprint.core.trajectory import simulate
+
+    return flown(simulate(with_bank(spec, "zero")))
+
+
+def ground_track_at(study: dict, reference: dict) -> list[dict]:
+    """A stored study's zero-bank track flown from another entry point and heading on the rotating earth (a moved
+    footprint's exact track, as a job stores it)."""
+    from footprint.core.rotation import at_geometry
+    from footprint.core.sphere import Reference
+
+    dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
+    track = ground_track(at_geometry(parse_request(study).case.to_spec(), dst, rotating=True))
+    return [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
+            for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])]
+
+
+def record(fp, *, vehicle: str, entry: dict, study: dict, track: dict | None, name: str) -> dict:
+    """A flown footprint as the row data the job store writes (summary, points, interior, ground track); `entry`: the
+    case's altitude_ft, velocity_fps and gamma_deg; `study`: its study as stored (plain data)."""
+    return {"name": name, "vehicle": vehicle, "method": fp.method, "study": study,
+            "entry": {**{k: float(fp.entry[k]) for k in ("latitude_deg", "longitude_deg", "heading_deg")}, **entry},
+            "area_nmi2": float(fp.area_nmi2), "max_crossrange_nmi": float(fp.max_crossrange_nmi),
+            "max_downrange_nmi": float(fp.max_downrange_nmi), "min_downrange_nmi": float(fp.min_downrange_nmi),
+            "trajectories": int(fp.trajectories),
+            "points": [_point(p) for p in fp.points], "interior": [_point(p) for p in fp.interior],
+            "ground_track": track}
+
+
+def _point(p) -> dict:
+    d = asdict(p)
+    return {k: plain(d[k]) for k in POINT_FIELDS}
+
+
+def store(study: _Study, fp, name: str | None) -> Stored:
+    """A footprint job's rows: the footprint and its zero-bank ground track."""
+    e = study.case.entry
+    entry = {"velocity_fps": e.velocity_fps, "gamma_deg": e.gamma_deg, "altitude_ft": e.altitude_ft}
+    return Stored(result={}, footprints=[record(fp, vehicle=study.case.vehicle.label(), entry=entry,
+                                                study=stored_form(study), track=ground_track(study.case.to_spec()),
+                                                name=name or study.default_name())])
+
+
+WORK = Work(run_part=fly, store=store, default_name=_Study.default_name, part_unit="footprint")

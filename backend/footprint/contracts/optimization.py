@@ -45,7 +45,9 @@ from footprint.core import collocation as col
 from footprint.core import constrained
 from footprint.core import optimize as opt
 from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
-from footprint.core.errors import InputError
+from footprint.contracts.records import FLIGHT_KEYS, flown, plain
+from footprint.contracts.work import Stored, Work
+from footprint.core.errors import InputError, NoOptimum
 from footprint.core.trajectory import simulate
 
 QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
@@ -365,10 +367,9 @@ def fly_optimum(study, result: opt.Result | col.Result):
     return simulate(problem.controls(problem.base, result.params))
 
 
-def run(study, on_progress=None) -> opt.Result | col.Result:
+def optimum(study: OptimizationStudy, part=None, on_progress=None) -> opt.Result | col.Result:
     """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations or the search's
     flights (True from it stops the search with the best point so far)."""
-    study = parse("optimize", study)
     if study.method == "collocation":
         return col.solve(collocation_problem(study), on_progress=on_progress)
     problem = problem_of(study)
@@ -379,3 +380,16 @@ def run(study, on_progress=None) -> opt.Result | col.Result:
                                         velocities_fps=alpha.nodes if alpha else (), bank_nodes=bank.nodes)
     return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, on_progress=on_progress,
                         **search)
+
+
+def store(study: OptimizationStudy, result: opt.Result | col.Result, name: str | None) -> Stored:
+    """An optimization job's result: the optimum, its parameters and the convergence history, and its flight (the
+    integrator's; the ground track and the histories the page plots); a collocation that ends without an optimum
+    fails the job with its one line (status and largest violation)."""
+    if isinstance(result, col.Result) and not result.ok:
+        raise NoOptimum(result.one_line())
+    return Stored(result={"optimization": {**plain(result.to_dict()),
+                                           "flight": flown(fly_optimum(study, result), FLIGHT_KEYS)}})
+
+
+WORK = Work(run_part=optimum, store=store, part_unit="optimization")

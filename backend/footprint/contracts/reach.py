@@ -23,12 +23,12 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts import parse
 from footprint.contracts.bounds import SITE_NAME_CHARS
 from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
-from footprint.contracts.footprint import run as fly_study
-from footprint.contracts.records import csv_cell
+from footprint.contracts.footprint import fly as fly_study
+from footprint.contracts.records import csv_cell, plain
+from footprint.contracts.work import Stored, Work
 from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import reach
@@ -194,10 +194,9 @@ def footprint_polygon(req: ReachRequest):
     return arr[:, 0], arr[:, 1], arr[:, 2], info
 
 
-def run(request: dict | ReachRequest, on_progress=None) -> dict:
+def analysis(req: ReachRequest, part=None, on_progress=None) -> dict:
     """The reach analysis: windows and a per-site summary, as a JSON-ready dict; on_progress(fraction, note) over
     the placements (True stops)."""
-    req = parse("reach", request)
     orbit = req.orbit.to_orbit()
     revs, span_end_s = req.revolutions.span(orbit)
     down, cross, flight_time, info = footprint_polygon(req)
@@ -256,6 +255,13 @@ def _deorbit_points(orbit, window, u_step_deg) -> dict:
     u = np.arange(window.u_start_deg, window.u_end_deg + 0.5 * u_step_deg, u_step_deg)
     lat, lon = position(orbit, window.revolution, u)
     return {"latitude_deg": np.atleast_1d(lat).tolist(), "longitude_deg": np.atleast_1d(lon).tolist()}
+
+
+def store(req: ReachRequest, result: dict, name: str | None) -> Stored:
+    return Stored(result={"reach": plain(result)})
+
+
+WORK = Work(run_part=analysis, store=store, part_unit="analysis")
 
 
 WINDOW_COLUMNS = ("site", "revolution", "u_start_deg", "u_end_deg", "u_width_deg", "samples", "max_margin_nmi",

@@ -12,8 +12,8 @@ contours). The contract:
      "entry_velocity_fps": [...], "entry_gamma_deg": [...], "velocity_frame": "inertial",
      "contours_fps": [...]}
 
-`run` flies it on Dask (an in-process LocalCluster by default, or a scheduler address; the same
-code path) and gathers the footprints as they complete. A footprint the core fails on becomes a row
+`footprint.parallel.run("sweep", ...)` flies it, one part per footprint, on Dask (a LocalCluster or a scheduler
+address; the same code path) or in this process. A footprint the core fails on becomes a row
 with its error message; the rest of the sweep goes on. `SweepResult.write(folder)` writes the tidy
 point table, the per-footprint summary and, when footprint.pictures.figures is there, the figures.
 
@@ -26,21 +26,22 @@ import csv
 import json
 import os
 import time
-import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Callable, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
 from pydantic import (BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model,
                       model_validator)
 
 from footprint.contracts import parse
+from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
 from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, bounded, door_limit, error_line,
                                      model_fields, validated)
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy
-from footprint.contracts.footprint import run as fly_study
+from footprint.contracts.footprint import fly as fly_study
+from footprint.contracts.footprint import ground_track, record
 from footprint.contracts.records import csv_cell
-from footprint.parallel import dask_client, worker_count
+from footprint.contracts.work import RunInfo, Stored, Work
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
 MAX_FOOTPRINTS_HTTP = 1_000  # one sweep job
@@ -152,14 +153,16 @@ def parse_request(data, ctx: dict | None = None) -> _Sweep:
 # ------------------------------------------------------------------------------------------ worker
 @dataclass
 class FootprintRun:
-    """One task's outcome: the footprint (None if the core failed) and its pull-out reference."""
+    """One part's outcome: the footprint (None if the core failed), its pull-out reference and ground track."""
 
     vehicle: str
     entry_velocity_fps: float
     entry_gamma_deg: float
     method: str
+    study: dict  # the footprint's study, as stored
     footprint: Any = None  # footprint.core.footprints.Footprint
     pullout: dict | None = None  # altitude_ft, downrange_nmi, velocity_fps, time_s of the footprint's first point
+    ground_track: dict | None = None  # the zero-bank flight, decimated (footprint.contracts.footprint.ground_track)
     trajectories: int = 0
     seconds: float = 0.0
     worker: str = ""
@@ -170,73 +173,45 @@ class FootprintRun:
         return self.vehicle, self.entry_velocity_fps, self.entry_gamma_deg
 
 
-def fly_footprint(job: dict, study=None, on_progress=None) -> FootprintRun:
-    """The task: fly one footprint (`study`: job["study"] parsed already; on_progress as the core's footprints take
-    it: a True answer stops it). Never raises: a failure in the core comes back as a run with `error` set."""
+def fly_footprint(sweep: "_Sweep", job: dict, on_progress=None) -> FootprintRun:
+    """A part: one footprint of the sweep (`job`: one of sweep.jobs(); on_progress as the core's footprints take it:
+    a True answer stops it). Never raises: a failure in the core comes back as a run with `error` set."""
     vehicle, velocity_fps, gamma_deg = job["key"]
     run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,
-                       method=job["study"]["method"], worker=f"pid {os.getpid()}")
+                       method=job["study"]["method"], study=job["study"], worker=f"pid {os.getpid()}")
     t0 = time.perf_counter()
     try:
-        run.footprint = fly_study(study or parse("footprint", job["study"]), on_progress=on_progress)
+        study = parse("footprint", job["study"])
+        run.footprint = fly_study(study, on_progress=on_progress)
         first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
         run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
         run.trajectories = run.footprint.trajectories
+        run.ground_track = ground_track(study.case.to_spec())
     except Exception as exc:  # noqa: BLE001 -- any failure of one footprint is that footprint's row
         run.footprint, run.error = None, f"{type(exc).__name__}: {exc}"
     run.seconds = time.perf_counter() - t0
     return run
 
 
-def warm_numba(sweep: _Sweep) -> float:
-    """Fly one trajectory here so numba's on-disk cache is written before the workers start (they only
-    load it). Returns the seconds taken."""
-    from footprint.core.trajectory import simulate
-
-    t0 = time.perf_counter()
-    simulate(parse("footprint", sweep.jobs()[0]["study"]).case.to_spec())
-    return time.perf_counter() - t0
+def combine(sweep: "_Sweep", runs: list[FootprintRun], info: RunInfo) -> "SweepResult":
+    return SweepResult(sweep=sweep, runs={run.key: run for run in runs}, tasks=info.tasks, workers=info.workers,
+                       seconds=info.seconds, startup_seconds=info.startup_seconds, warm_seconds=info.warm_seconds)
 
 
-def run(sweep, client=None, progress: Callable[[int, int], None] | None = None, *,
-              workers: int | None = None, scheduler: str | None = None) -> "SweepResult":
-    """Fly every footprint of the sweep on Dask, one task per footprint, gathered as they complete.
-
-    `client`: a distributed.Client to use (else a LocalCluster of `workers` processes, or a client of the
-    scheduler at `scheduler`; the same code path). `progress(done, total)` is called after each footprint.
-    Raises ValidationError or InputError for a bad sweep before anything is submitted.
-    """
-    from distributed import as_completed
-
-    sweep = parse("sweep", sweep)
-    jobs = sweep.jobs()
-    warm_s = warm_numba(sweep)
-    runs: dict[tuple, FootprintRun] = {}
-    t0 = time.perf_counter()
-    with dask_client(client, workers=workers, scheduler=scheduler) as c:
-        started = time.perf_counter()
-        n_workers = worker_count(c)
-        token = uuid.uuid4().hex[:8]
-        futures = {c.submit(fly_footprint, job, key=f"footprint-{token}-{i}", pure=False): job
-                   for i, job in enumerate(jobs)}
-        if progress:
-            progress(0, len(jobs))
-        for done, fut in enumerate(as_completed(futures), 1):
-            job = futures[fut]
-            try:
-                run = fut.result()
-            except Exception as exc:  # noqa: BLE001 -- a lost worker, say: that footprint's row, not the sweep's end
-                vehicle, v, g = job["key"]
-                run = FootprintRun(vehicle=vehicle, entry_velocity_fps=v, entry_gamma_deg=g,
-                                   method=job["study"]["method"], error=f"{type(exc).__name__}: {exc}")
-            fut.release()
-            runs[run.key] = run
-            if progress:
-                progress(done, len(jobs))
-        finished = time.perf_counter()
-    order = [job["key"] for job in jobs]
-    return SweepResult(sweep=sweep, runs={k: runs[k] for k in order}, tasks=len(futures), workers=n_workers,
-                       seconds=finished - started, startup_seconds=started - t0, warm_seconds=warm_s)
+def store(sweep: "_Sweep", result: "SweepResult", name: str | None) -> Stored:
+    """A sweep job's rows: each footprint flown (named for the sweep, its vehicle and entry), and the sweep's
+    summary with the errors of those that failed."""
+    flown_runs = [r for r in result.runs.values() if r.footprint is not None]
+    errors = [{"vehicle": r.vehicle, "entry_velocity_fps": r.entry_velocity_fps, "entry_gamma_deg": r.entry_gamma_deg,
+               "error": r.error} for r in result.runs.values() if r.footprint is None]
+    footprints = [record(r.footprint, vehicle=r.vehicle, study=r.study, track=r.ground_track,
+                         entry={"velocity_fps": r.entry_velocity_fps, "gamma_deg": r.entry_gamma_deg,
+                                "altitude_ft": sweep.base.entry.altitude_ft},
+                         name=fitted(f"{sweep.name} {r.vehicle}", f"{r.entry_velocity_fps:g} fps "
+                                     f"{r.entry_gamma_deg:g} deg", FOOTPRINT_NAME_CHARS))
+                  for r in flown_runs]
+    return Stored(result={"sweep": {"name": sweep.name, "footprints": len(flown_runs), "errors": errors}},
+                  footprints=footprints)
 
 
 # ------------------------------------------------------------------------------------------ result
@@ -400,3 +375,6 @@ def _write_csv(path: Path, columns, rows) -> Path:
     return path
 
 
+
+
+WORK = Work(split=_Sweep.jobs, run_part=fly_footprint, combine=combine, store=store, part_unit="footprint")

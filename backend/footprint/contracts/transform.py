@@ -37,10 +37,10 @@ from typing import Literal
 import numpy as np
 from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts import parse
 from footprint.contracts.case import Strict, bounded, door_limit, validated
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.records import csv_cell
+from footprint.contracts.work import Work
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.rotation import ranges_near
@@ -167,10 +167,8 @@ def parse_request(data, ctx: dict | None = None) -> TransformRequest:
 
 
 
-def run(request) -> dict:
-    """Carry out a transform request (a dict or a TransformRequest); raises pydantic's ValidationError or
-    InputError for a user's mistake."""
-    req = parse("transform", request)
+def transform(req: TransformRequest, part=None, on_progress=None) -> dict:
+    """Carry out a transform request; raises InputError for a user's mistake the contract cannot see."""
     src, dst0 = req.from_.reference("from"), req.to.reference("to")
     from footprint.core.rotation import stepped_reference
 
@@ -247,3 +245,6 @@ def write_csv(result: dict, path) -> Path:
     return path
 
 
+
+
+WORK = Work(run_part=transform, part_unit="transform")  # answered at once, never a job

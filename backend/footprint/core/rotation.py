@@ -216,3 +216,16 @@ def ranges_near(lat, lon, ref: Reference, near_downrange_nmi):
 def _extent(down):
     down = np.asarray(down, float)
     return float(down.max() - down.min())
+
+
+def shift_error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) -> dict:
+    """Section IV.3's question for a footprint: the approximate shift of each stored point (`shifted`, in the stored
+    points' order) against the point of the same control flown again (`exact`): the largest and mean distance on
+    the sphere (nmi) over the points in both."""
+    flown = {control_key(p["side"], p["parameter"]): p for p in exact}
+    pairs = [(a, flown[k]) for s, a in zip(stored, shifted) if (k := control_key(s["side"], s["parameter"])) in flown]
+    if not pairs:
+        return {"max": None, "mean": None, "points": 0}
+    d = distance_nmi([a["latitude_deg"] for a, _ in pairs], [a["longitude_deg"] for a, _ in pairs],
+                     [e["latitude_deg"] for _, e in pairs], [e["longitude_deg"] for _, e in pairs])
+    return {"max": float(d.max()), "mean": float(d.mean()), "points": len(pairs)}

@@ -22,7 +22,7 @@ from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
 from footprint.service import deps, errors, nul, page, read_cache, schemas
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine, RemoteJobs
-from footprint.service.routers import footprints, geometry, health, jobs, sites, trajectories, vehicles
+from footprint.service.routers import dispersion, footprints, geometry, health, jobs, sites, trajectories, vehicles
 from footprint.service.settings import MAX_BODY_BYTES, MAX_HEADER_BYTES, MAX_URL_BYTES, Settings
 
 WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
@@ -65,8 +65,8 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
         RemoteJobs(settings=settings)
     app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
-    errors.document(app, schemas.CONTRACT_BODIES)
-    routers = [module.router for module in (health, vehicles, trajectories, jobs, footprints, geometry, sites)]
+    errors.document(app, schemas.contract_bodies())
+    routers = [module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)]
     for router in routers:
         app.include_router(router, prefix="/api")
     _api_docs(app, settings.tile_url)

@@ -74,7 +74,16 @@ def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchrono
         raise invalid(exc, prefix) from None
 
 
-def stored_form(request_model) -> dict:
-    """A parsed request as the job store and the workers read it: JSON, by alias, what was given (stored vehicles
-    resolved)."""
-    return request_model.model_dump(mode="json", by_alias=True, exclude_unset=True)
+def answer_now(request: Request, kind: str, data, prefix: str = ""):
+    """A contract kind's answer computed in this process (footprint.parallel.run) for a body, with the synchronous
+    door's limits: a mistake, in the body or one only the numbers show (an inclination the latitude cannot fly), is a
+    422 naming the field."""
+    from footprint import parallel
+    from footprint.core.errors import InputError
+    from footprint.service.errors import invalid
+
+    parsed = parse_body(request, kind, data, prefix, synchronous=True)
+    try:
+        return parallel.run(kind, parsed)
+    except InputError as exc:
+        raise invalid(exc, prefix) from None

@@ -4,15 +4,29 @@ job's study, a trajectory's case, a transform or a reach request are parsed by t
 
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints, create_model
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints, create_model
 
 from footprint import contracts
-from footprint.contracts import JOB_KINDS
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
 from footprint.contracts.case import model_fields
 from footprint.contracts.reach import Site
 
-JobKind = Literal[JOB_KINDS]
+
+
+def _job_kind(kind: str) -> str:
+    """A kind the registry runs as a job (looked up at each request: a kind registered later is one too)."""
+    kinds = contracts.job_kinds()
+    if kind not in kinds:
+        raise ValueError(f"{kind!r} is not a kind of job; allowed: {', '.join(kinds)}")
+    return kind
+
+
+def _kinds_schema(schema: dict) -> None:
+    schema["enum"] = list(contracts.job_kinds())  # the document's kinds: those registered when it is made
+
+
+JobKind = Annotated[str, StringConstraints(max_length=40), AfterValidator(_job_kind),
+                    Field(json_schema_extra=_kinds_schema)]
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 VEHICLE_ID_PATTERN = rf"^[A-Za-z0-9][A-Za-z0-9_.-]{{0,{VEHICLE_ID_CHARS - 1}}}$"
 # a job's or a footprint's id, as db.queries makes them (str(uuid.uuid4())): anything else is a 422, never a lookup
@@ -39,12 +53,13 @@ def _typed_job(kind: str) -> type[BaseModel]:
                         name=(str | None, Field(default=None, max_length=JOB_NAME_CHARS)))
 
 
-# POST /api/jobs as the OpenAPI document declares it: one typed study per kind, discriminated on "kind"
-TypedJobCreate = Annotated[Union[tuple(_typed_job(k) for k in JOB_KINDS)], Field(discriminator="kind")]
-# the other bodies that are a contract's request (service.errors.document declares them)
-CONTRACT_BODIES = {("post", "/api/jobs"): TypedJobCreate, ("post", "/api/trajectories"): contracts.module("case").REQUEST,
-                   ("post", "/api/transform"): contracts.module("transform").REQUEST,
-                   ("post", "/api/reach"): contracts.module("reach").REQUEST}
+def contract_bodies() -> dict:
+    """The bodies that are a contract's request, as the OpenAPI document declares them (service.errors.document):
+    POST /api/jobs one typed study per kind of job registered now, discriminated on "kind"."""
+    jobs = Annotated[Union[tuple(_typed_job(k) for k in contracts.job_kinds())], Field(discriminator="kind")]
+    return {("post", "/api/jobs"): jobs, ("post", "/api/trajectories"): contracts.module("case").REQUEST,
+            ("post", "/api/transform"): contracts.module("transform").REQUEST,
+            ("post", "/api/reach"): contracts.module("reach").REQUEST}
 
 
 # POST /api/footprints/{id}/transform: a transform request less what the stored footprint gives (its points, its
@@ -66,7 +81,7 @@ class JobCreated(BaseModel):
 
 class JobSummary(BaseModel):
     id: str
-    kind: JobKind
+    kind: str
     name: str | None
     status: JobStatus
     progress: float

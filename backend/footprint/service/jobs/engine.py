@@ -16,17 +16,15 @@ import logging
 import re
 import threading
 import time
-import uuid
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import ExitStack
 
 from sqlalchemy.orm import Session, sessionmaker
 
-from footprint import contracts
-from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
+from footprint import contracts, parallel
+from footprint.contracts.work import RunInfo
 from footprint.service.db import queries as q
 from footprint.service.db.models import PENDING
-from footprint.service.jobs import tasks
 from footprint.service.settings import Settings
 
 log = logging.getLogger("footprint.service.jobs")
@@ -34,7 +32,7 @@ MAX_ERROR_CHARS = 500  # a failed job's error line
 # a Dask scheduler's, worker's or nanny's address (not the full stop or the quote that may end it)
 CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://[^\s'\"]*[^\s'\".,;:)]")
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
-STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: tasks.progress_reporter) has its
+STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: parallel.progress_reporter) has its
 # worker restarted
 STATUS_S = 1.0  # the cluster's status is asked of the scheduler at most this often (/api/health under load)
 CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
@@ -140,7 +138,7 @@ class RemoteJobs(ClusterLink):
 
     def start(self) -> None:
         self.client = self._connect()
-        threading.Thread(target=tasks.warm_numba, name="footprint-warm", daemon=True).start()
+        threading.Thread(target=parallel.warm_numba, name="footprint-warm", daemon=True).start()
 
     def submit(self, *, job_id: str, request=None) -> None:
         """Nothing to do: the engine finds the queued row within QUEUE_POLL_S."""
@@ -174,7 +172,7 @@ class JobEngine(ClusterLink):
     def start(self) -> None:
         """Connect to (or start) the cluster, warm numba in its workers, and submit the pending jobs again."""
         self.client = self._connect()
-        self.client.subscribe_topic(tasks.PROGRESS_TOPIC, self._on_report)
+        self.client.subscribe_topic(parallel.PROGRESS_TOPIC, self._on_report)
         threading.Thread(target=self._warm, name="footprint-warm", daemon=True).start()
         with self._sessions.begin() as session:
             pending = q.pending_job_ids(session)
@@ -222,8 +220,8 @@ class JobEngine(ClusterLink):
     def _warm(self) -> None:
         t0 = time.perf_counter()
         try:
-            self.client.run(tasks.warm_numba)
-            tasks.warm_numba()  # this process flies the synchronous trajectories
+            self.client.run(parallel.warm_numba)
+            parallel.warm_numba()  # this process flies the synchronous trajectories
             self.warm_seconds = time.perf_counter() - t0
             log.info("the workers' flight kernels are ready (%.0f s): jobs run at full speed", self.warm_seconds)
         except Exception as exc:  # noqa: BLE001 -- a cold cache only costs the first job time
@@ -264,7 +262,7 @@ class JobEngine(ClusterLink):
                 self._cancels.discard(job_id)
 
     def stop(self, futures: list) -> None:
-        """Cancel the futures (a running task stops at its next progress report: tasks.progress_reporter), and
+        """Cancel the futures (a running task stops at its next progress report: parallel.progress_reporter), and
         restart the workers still running one after STOP_GRACE_S: Dask cannot interrupt a running task, and a worker
         that kept computing a cancelled job would hold its core for hours. The workers are asked: the scheduler
         forgets a task at its cancel while the worker's thread runs on, and the next task waits behind it."""
@@ -273,7 +271,7 @@ class JobEngine(ClusterLink):
         deadline = time.monotonic() + STOP_GRACE_S
         while True:
             try:
-                running = self.client.run(tasks.running_keys)
+                running = self.client.run(parallel.running_keys)
             except Exception as exc:  # noqa: BLE001 -- a worker lost meanwhile: its tasks are gone with it
                 log.info("could not ask the workers what they run: %s", one_line(exc))
                 return
@@ -289,7 +287,7 @@ class JobEngine(ClusterLink):
         another stop may have restarted them meanwhile)."""
         with self._restarting:
             try:
-                running = self.client.run(tasks.running_keys, workers=busy)
+                running = self.client.run(parallel.running_keys, workers=busy)
             except Exception as exc:  # noqa: BLE001 -- a worker lost meanwhile: its tasks are gone with it
                 log.info("could not ask the workers what they run: %s", one_line(exc))
                 return
@@ -309,12 +307,18 @@ class JobEngine(ClusterLink):
                 if job is None:
                     return
                 kind, study, name = job.kind, job.study, job.name
-            outputs = self._compute(job_id, _calls(kind, request or contracts.parse(kind, study), study, name))
+            work = contracts.module(kind).WORK
+            request = request or contracts.parse(kind, study)
+            parts = list(work.split(request))
+            t0 = time.perf_counter()
+            outputs = self._compute(job_id, parallel.submit_parts(self.client, kind, request, parts,
+                                                                  prefix=f"{kind}-{job_id}"))
             if outputs is None:
                 return
-            result, footprints = _results(kind, study, outputs)
+            info = RunInfo(tasks=len(parts), workers=self.expected_workers(), seconds=time.perf_counter() - t0)
+            stored = work.store(request, work.combine(request, outputs, info), name)
             with self._sessions() as session:
-                written = q.finish_job(session, job_id=job_id, result=result, footprints=footprints)
+                written = q.finish_job(session, job_id=job_id, result=stored.result, footprints=stored.footprints)
             log.info("job %s %s", job_id, "succeeded" if written else "ended elsewhere (nothing written)")
         except Exception as exc:  # noqa: BLE001 -- a job that fails is that job's row, not the service's end
             if self._closing.is_set():
@@ -327,11 +331,8 @@ class JobEngine(ClusterLink):
                 self._futures.pop(job_id, None)
                 self._watched.discard(job_id)
 
-    def _compute(self, job_id: str, calls: list) -> list | None:
+    def _compute(self, job_id: str, futures: list) -> list | None:
         """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile."""
-        token = uuid.uuid4().hex[:8]
-        futures = [self.client.submit(fn, *args, key=f"{fn.__name__}-{job_id}-{token}-{i}", pure=False)
-                   for i, (fn, *args) in enumerate(calls)]
         index = {f.key: i for i, f in enumerate(futures)}
         with self._lock:
             self._futures[job_id] = futures
@@ -429,34 +430,3 @@ async def _replace_workers(cluster, names: list[str]) -> None:
                 log.info("closing a lost nanny: %s", one_line(exc))
     await cluster._correct_state()
 
-
-def _calls(kind: str, request, study: dict, name: str | None) -> list[tuple]:
-    """The job's Dask tasks: (function, arguments...) each, coarse (a footprint, an optimization, a reach); the
-    workers get the stored study (plain data) and parse it once each."""
-    if kind == "footprint":
-        return [(tasks.footprint_task, study, name or request.default_name())]
-    if kind == "sweep":
-        return [(tasks.sweep_footprint_task, job, fitted(f"{request.name} {job['key'][0]}", f"{job['key'][1]:g} fps "
-                                                         f"{job['key'][2]:g} deg", FOOTPRINT_NAME_CHARS))
-                for job in request.jobs()]
-    if kind == "dispersion":
-        return [(tasks.dispersion_task, study, first, end) for first, end in request.chunks()]
-    return [(tasks.TASKS[kind], study)]
-
-
-def _results(kind: str, study: dict, outputs: list) -> tuple[dict, list[dict]]:
-    """(the job's result document, its footprint records)."""
-    if kind == "footprint":
-        return {}, outputs
-    if kind == "sweep":
-        flown = [o for o in outputs if "error" not in o]
-        errors = [{"vehicle": o["key"][0], "entry_velocity_fps": o["key"][1], "entry_gamma_deg": o["key"][2],
-                   "error": o["error"]} for o in outputs if "error" in o]
-        return {"sweep": {"name": study["name"], "footprints": len(flown), "errors": errors}}, flown
-    if kind == "optimize":
-        return {"optimization": outputs[0]}, []
-    if kind == "dispersion":
-        from footprint.contracts.dispersion import result
-
-        return {"dispersion": result(study, outputs, info={"tasks": len(outputs)})}, []
-    return {"reach": outputs[0]}, []

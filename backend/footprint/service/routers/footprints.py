@@ -8,15 +8,15 @@ from typing import Literal
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
-from footprint.contracts import parse
+from footprint.contracts.footprint import ground_track_at
 from footprint.contracts.records import csv_cell
 from footprint.pictures import geojson
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
 from footprint.core.errors import InputError
+from footprint.core.rotation import shift_error_nmi
 from footprint.service.errors import NotFound, Unavailable
-from footprint.service.routers.geometry import transform
 from footprint.service.schemas import (FootprintList, FootprintRead, FootprintRename, FootprintSummary,
                                        FootprintTransform, FootprintTransformRead, StoredId)
 
@@ -142,47 +142,21 @@ def transform_footprint(footprint_id: StoredId, request: Request, body: Footprin
     exact = body.get("earth_rotation") == "exact"
     points = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
                "flight_time_s": p["flight_time_s"], "downrange_nmi": p["downrange_nmi"]} for p in item["points"]]
-    result = transform(request, common | ({"study": study} if exact else {"points": points}))
+    result = deps.answer_now(request, "transform", common | ({"study": study} if exact else {"points": points}))
     boundary = [p for p in result["points"] if p.get("on_boundary", True)]
     area = geojson.area(boundary, result["reference"])
     result["outline"] = area.to_dict()
     if exact:
-        result["ground_track"] = _exact_track(study, result["reference"])
-        shifted = transform(request, common | {"points": points, "earth_rotation": "approximate"})
-        result["approximate_error_nmi"] = _error_nmi(item["points"], shifted["points"], boundary)
+        result["ground_track"] = ground_track_at(study, result["reference"])
+        shifted = deps.answer_now(request, "transform", common | {"points": points, "earth_rotation": "approximate"})
+        result["approximate_error_nmi"] = shift_error_nmi(item["points"], shifted["points"], boundary)
     elif item["ground_track"]:
         track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"],
                   "flight_time_s": t["time_s"]} for t in item["ground_track"]]
-        moved = transform(request, common | {"points": track, "mirror": False})
+        moved = deps.answer_now(request, "transform", common | {"points": track, "mirror": False})
         result["ground_track"] = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
                                    "time_s": p.get("flight_time_s")} for p in moved["points"]]
     moved_item = item | {"points": boundary, "ground_track": result.get("ground_track", []),
                          "entry": item["entry"] | result["reference"]}
     result["geojson"] = geojson.feature_collection(moved_item, area)  # the same GeoJSON as the stored footprint's
     return result
-
-
-def _exact_track(study: dict, reference: dict) -> list[dict]:
-    """The zero-bank track flown from the destination on the rotating earth (as a job stores it)."""
-    from footprint.core.rotation import at_geometry
-    from footprint.core.sphere import Reference
-    from footprint.service.jobs.tasks import ground_track
-
-    dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
-    track = ground_track(at_geometry(parse("footprint", study).case.to_spec(), dst, rotating=True))
-    return [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
-            for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])]
-
-
-def _error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) -> dict:
-    """Section IV.3's question for this footprint: the approximate shift of each stored point against the point
-    of the same control flown again (largest and mean distance on the sphere, nmi, over the points in both)."""
-    from footprint.core.rotation import control_key, distance_nmi
-
-    flown = {control_key(p["side"], p["parameter"]): p for p in exact}
-    pairs = [(a, flown[k]) for s, a in zip(stored, shifted) if (k := control_key(s["side"], s["parameter"])) in flown]
-    if not pairs:
-        return {"max": None, "mean": None, "points": 0}
-    d = distance_nmi([a["latitude_deg"] for a, _ in pairs], [a["longitude_deg"] for a, _ in pairs],
-                     [e["latitude_deg"] for _, e in pairs], [e["longitude_deg"] for _, e in pairs])
-    return {"max": float(d.max()), "mean": float(d.mean()), "points": len(pairs)}

@@ -2,20 +2,17 @@
 
 import asyncio
 import json
-from typing import Literal
 
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import StreamingResponse
 from starlette.concurrency import run_in_threadpool
 
 from footprint import contracts
-from footprint.contracts import JOB_KINDS
-from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import NotFound
-from footprint.service.schemas import JobCreate, JobCreated, JobList, JobRead, StoredId
+from footprint.service.schemas import JobCreate, JobCreated, JobKind, JobList, JobRead, StoredId
 
 router = APIRouter(tags=["jobs"])
 EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
@@ -42,9 +39,9 @@ def create_job(body: JobCreate, request: Request, response: Response) -> dict:
     """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
     as the Location header) to poll or follow."""
     study = deps.parse_body(request, body.kind, body.study, "study.")
-    name = body.name or (study.default_name() if body.kind == "footprint" else None)
+    name = body.name or contracts.module(body.kind).WORK.default_name(study)
     with deps.sessions(request).begin() as session:
-        job = q.create_job(session, kind=body.kind, study=deps.stored_form(study), name=name)
+        job = q.create_job(session, kind=body.kind, study=contracts.stored_form(study), name=name)
         job_id = job.id
     deps.engine(request).submit(job_id=job_id, request=study)
     response.headers["Location"] = url = f"/api/jobs/{job_id}"
@@ -53,7 +50,7 @@ def create_job(body: JobCreate, request: Request, response: Response) -> dict:
 
 @router.get("/jobs", response_model=JobList)
 def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
-              kind: str | None = Query(None, pattern=f"^({'|'.join(JOB_KINDS)})$"),
+              kind: JobKind | None = Query(None),
               limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> dict:
     """Jobs newest first, filtered by status and kind."""
     with deps.sessions(request).begin() as session:
@@ -69,26 +66,6 @@ def get_job(job_id: StoredId, request: Request) -> dict:
         if job is None:
             raise NotFound(f"no job {job_id!r}")
         return _read(session, job)
-
-
-@router.get("/jobs/{job_id}/dispersion", response_class=Response,
-            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}})
-def get_dispersion(job_id: StoredId, request: Request,
-                   format: Literal["geojson", "csv"] = Query("geojson")) -> Response:
-    """A succeeded dispersion job's result for a GIS or a spreadsheet: GeoJSON of the nominal and confidence
-    footprints, the 1 and 3 sigma ellipses, the entry and the sites with their probability; or CSV of the sites."""
-    with deps.sessions(request).begin() as session:
-        job = q.get_job(session, job_id=job_id)
-        if job is None:
-            raise NotFound(f"no job {job_id!r}")
-        if job.kind != "dispersion" or job.status != "succeeded":
-            raise NotFound(f"job {job_id!r} is a {job.kind} job" if job.kind != "dispersion" else
-                           f"job {job_id!r} is {job.status}: its dispersion is there once it has succeeded")
-        result = q.job_result(session, job_id=job_id)["dispersion"]
-    if format == "csv":
-        return Response(contracts.module("dispersion").sites_csv(result), media_type="text/csv", headers={
-            "Content-Disposition": f'attachment; filename="dispersion-{job_id}-sites.csv"'})
-    return Response(json.dumps(geojson.dispersion_collection(result)), media_type="application/geo+json")
 
 
 @router.delete("/jobs/{job_id}", response_model=JobRead)

@@ -9,7 +9,6 @@ from fastapi import APIRouter, Body, Path, Query, Request, Response
 from pydantic import ValidationError
 
 from footprint.contracts.case import error_line
-from footprint import contracts
 from footprint.contracts.reach import Site
 from footprint.service import deps
 from footprint.service.db import queries as q
@@ -131,7 +130,7 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
     elif store_verdicts:
         raise RequestInvalid("store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts")
     req = deps.parse_body(request, "reach", body, synchronous=True)
-    result = plain(contracts.module("reach").run(req))
+    result = plain(deps.answer_now(request, "reach", req))
     if store_verdicts:
         with deps.sessions(request).begin() as session:
             q.store_verdicts(session, verdicts={i: _verdict(s, req, result) for i, s in zip(ids, result["sites"])})

@@ -1,0 +1,62 @@
+"""How a kind's work runs, as its contract module says it in one `WORK`: the parts it splits into, one part run (in
+this process or in a Dask worker, which parses the request once), the parts' outputs combined into the kind's answer,
+and, for a kind the service runs as a job, that answer as the rows the job store writes. footprint.parallel is the
+one runner of every kind; it calls only these."""
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Generic, TypeVar
+
+Request = TypeVar("Request")
+Part = TypeVar("Part")
+Output = TypeVar("Output")
+Answer = TypeVar("Answer")
+
+# on_progress(fraction of the part done, note) -> True to stop: the core's long loops take it (a cancel, a time limit)
+OnProgress = Callable[[float, str], bool | None]
+
+
+@dataclass(frozen=True)
+class RunInfo:
+    """How a run went: its tasks, the workers it had (0: this process), and its seconds (first part submitted to last
+    output; before them, starting or reaching the cluster and warming numba in this process)."""
+
+    tasks: int
+    workers: int = 0
+    seconds: float = 0.0
+    startup_seconds: float = 0.0
+    warm_seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Stored:
+    """A job's answer as the store keeps it: the result document (JSON-ready) and the footprint records it made."""
+
+    result: dict[str, Any]
+    footprints: list[dict[str, Any]] = field(default_factory=list)
+
+
+def _one_part(request: Any) -> Sequence[None]:
+    return (None,)
+
+
+def _only_output(request: Any, outputs: list[Any], info: RunInfo) -> Any:
+    return outputs[0]
+
+
+def _no_name(request: Any) -> str | None:
+    return None
+
+
+@dataclass(frozen=True)
+class Work(Generic[Request, Part, Output, Answer]):
+    """A kind's work. `run_part` must be a module-level function (a Dask task pickles it by name); parts are plain,
+    small data. `store` is None for a kind the service answers at once (no job); `part_unit` names a part on a
+    progress bar."""
+
+    run_part: Callable[[Request, Part, OnProgress | None], Output]
+    split: Callable[[Request], Sequence[Part]] = _one_part
+    combine: Callable[[Request, list[Output], RunInfo], Answer] = _only_output
+    store: Callable[[Request, Answer, str | None], Stored] | None = None
+    default_name: Callable[[Request], str | None] = _no_name
+    part_unit: str = "task"
