@@ -16,10 +16,19 @@ import time
 
 import psutil
 
-CASE = {"vehicle": {"builtin": "lod-1.89"},
-        "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3, "heading_deg": 90,
-                  "latitude_deg": 10, "longitude_deg": 0},
-        "stop": {"altitude_ft": 50_000}, "integrator": {"rtol": 1e-12, "max_step_s": 0.05}}
+CASE = {
+    "vehicle": {"builtin": "lod-1.89"},
+    "entry": {
+        "altitude_ft": 364_800,
+        "velocity_fps": 22_000,
+        "gamma_deg": -3,
+        "heading_deg": 90,
+        "latitude_deg": 10,
+        "longitude_deg": 0,
+    },
+    "stop": {"altitude_ft": 50_000},
+    "integrator": {"rtol": 1e-12, "max_step_s": 0.05},
+}
 LONG = {"case": CASE, "payoff": {"quantity": "crossrange_nmi", "goal": "max"}, "max_trajectories": 100_000}
 REPEAT = 5
 IDLE_CPU_PERCENT = 10.0
@@ -90,12 +99,19 @@ def main():
                 rounds = cancel_rounds(api, cluster, procs)
                 restarts = restart_rounds(engine, cluster)
     idle = [r["cpu_idle_s"] for r in rounds]
-    result = {"what": "DELETE of a running optimization to its workers' CPU idle (< 10 % of a core), 2 local workers",
-              "rounds": rounds, "cpu_idle_median_s": statistics.median(idle), "cpu_idle_max_s": max(idle),
-              "target_s": 2.0, "met": max(idle) <= 2.0,
-              "baseline": "a task that never reports, stopped by its worker's restart (seconds to a free worker)",
-              "restart_s": restarts, "restart_over_report": round(statistics.median(restarts) / statistics.median(idle), 1),
-              "cores": os.cpu_count(), "load_average_1min": round(os.getloadavg()[0], 2)}
+    result = {
+        "what": "DELETE of a running optimization to its workers' CPU idle (< 10 % of a core), 2 local workers",
+        "rounds": rounds,
+        "cpu_idle_median_s": statistics.median(idle),
+        "cpu_idle_max_s": max(idle),
+        "target_s": 2.0,
+        "met": max(idle) <= 2.0,
+        "baseline": "a task that never reports, stopped by its worker's restart (seconds to a free worker)",
+        "restart_s": restarts,
+        "restart_over_report": round(statistics.median(restarts) / statistics.median(idle), 1),
+        "cores": os.cpu_count(),
+        "load_average_1min": round(os.getloadavg()[0], 2),
+    }
     from _timing import save_result
 
     save_result("cancel", result)

@@ -1,10 +1,10 @@
-"""Dispersed footprints on Dask: the L/D 1.89 Table 2 case (examples/disperse_lod189.json, 22 flights a sample) at
-about 10,000 trajectories, flown in this process (the baseline, in the same run), then on a LocalCluster of 1 and of 2
-workers (one task per chunk of ~1,000 trajectories, contracts.dispersion.CHUNK_FLIGHTS). Cluster start-up is timed apart; each cluster is warmed (numba's
-cache loaded) by a small run first. Then the call a user makes, run(workers=2) starting its own cluster ("cold": the
-workers import the package and load the compiled cache in their first chunk), at 10,000 and at 100,000 trajectories
-(4,546 samples), the 100,000 with the resident set (psutil RSS) of this process and of each worker sampled every
-RSS_PERIOD_S and at each finished chunk: a run keeps the landing points only, so memory should stay flat.
+"""Dispersed footprints on Dask: the L/D 1.89 Table 2 case (examples/disperse_lod189.json, 22 flights a sample) at about
+10,000 trajectories, flown in this process (the baseline, in the same run), then on a LocalCluster of 1 and of 2 workers
+(one task per chunk of ~1,000 trajectories, contracts.dispersion.CHUNK_FLIGHTS). Cluster start-up is timed apart; each
+cluster is warmed (numba's cache loaded) by a small run first. Then the call a user makes, run(workers=2) starting its
+own cluster ("cold": the workers import the package and load the compiled cache in their first chunk), at 10,000 and at
+100,000 trajectories (4,546 samples), the 100,000 with the resident set (psutil RSS) of this process and of each worker
+sampled every RSS_PERIOD_S and at each finished chunk: a run keeps the landing points only, so memory should stay flat.
 
 run()'s seconds end with the last chunk, before the statistics, in process as on Dask: in_process_statistics_s is
 wall minus seconds.
@@ -75,18 +75,28 @@ class RSS:
 
     def report(self) -> dict:
         mains = [m for m, _ in self.ticks] + [m for _, m, _ in self.chunks]
-        out = {"period_s": RSS_PERIOD_S, "ticks": len(self.ticks), "chunks": len(self.chunks),
-               "main_start_mib": round(self.start / MIB, 1), "main_peak_mib": round(max(mains) / MIB, 1),
-               "main_after_first_chunk_mib": round(self.chunks[0][1] / MIB, 1),
-               "main_at_last_chunk_mib": round(self.chunks[-1][1] / MIB, 1), "workers": []}
+        out = {
+            "period_s": RSS_PERIOD_S,
+            "ticks": len(self.ticks),
+            "chunks": len(self.chunks),
+            "main_start_mib": round(self.start / MIB, 1),
+            "main_peak_mib": round(max(mains) / MIB, 1),
+            "main_after_first_chunk_mib": round(self.chunks[0][1] / MIB, 1),
+            "main_at_last_chunk_mib": round(self.chunks[-1][1] / MIB, 1),
+            "workers": [],
+        }
         for pid in sorted({pid for _, ws in self.ticks for pid in ws}):
             seen = [ws[pid] for _, ws in self.ticks if pid in ws]
             at = [ws[pid] for _, _, ws in self.chunks if pid in ws]
-            out["workers"].append({"first_seen_mib": round(seen[0] / MIB, 1),
-                                   "peak_mib": round(max(seen + at) / MIB, 1),
-                                   "after_first_chunk_mib": round(at[0] / MIB, 1),
-                                   "at_last_chunk_mib": round(at[-1] / MIB, 1),
-                                   "growth_first_to_last_chunk_mib": round((at[-1] - at[0]) / MIB, 1)})
+            out["workers"].append(
+                {
+                    "first_seen_mib": round(seen[0] / MIB, 1),
+                    "peak_mib": round(max(seen + at) / MIB, 1),
+                    "after_first_chunk_mib": round(at[0] / MIB, 1),
+                    "at_last_chunk_mib": round(at[-1] / MIB, 1),
+                    "growth_first_to_last_chunk_mib": round((at[-1] - at[0]) / MIB, 1),
+                }
+            )
         return out
 
 
@@ -95,10 +105,15 @@ def cold(run, study, samples, progress=None) -> dict:
     before, t0 = load(), time.perf_counter()
     _, info = run(study | {"samples": samples}, progress, workers=2)
     wall = time.perf_counter() - t0
-    return {"trajectories": samples * FLIGHTS, "seconds": round(info["seconds"], 2), "wall_s": round(wall, 2),
-            "start_close_and_statistics_s": round(wall - info["seconds"], 2), "tasks": info["tasks"],
-            "trajectories_per_s": round(samples * FLIGHTS / info["seconds"]),
-            "load_average_1min": {"before": before, "after": load()}}
+    return {
+        "trajectories": samples * FLIGHTS,
+        "seconds": round(info["seconds"], 2),
+        "wall_s": round(wall, 2),
+        "start_close_and_statistics_s": round(wall - info["seconds"], 2),
+        "tasks": info["tasks"],
+        "trajectories_per_s": round(samples * FLIGHTS / info["seconds"]),
+        "load_average_1min": {"before": before, "after": load()},
+    }
 
 
 def main():
@@ -110,9 +125,13 @@ def main():
     before, t0 = load(), time.perf_counter()
     _, here = run(study)
     wall = time.perf_counter() - t0
-    figures = {"trajectories": SAMPLES * FLIGHTS, "in_process_s": round(here["seconds"], 2),
-               "in_process_statistics_s": round(wall - here["seconds"], 2), "load_average_1min": before,
-               "load_average_1min_after": load()}
+    figures = {
+        "trajectories": SAMPLES * FLIGHTS,
+        "in_process_s": round(here["seconds"], 2),
+        "in_process_statistics_s": round(wall - here["seconds"], 2),
+        "load_average_1min": before,
+        "load_average_1min_after": load(),
+    }
     for workers in (1, 2):
         t0 = time.perf_counter()
         client, close = start_client(workers=workers)
@@ -123,25 +142,32 @@ def main():
             _, info = run(study, client=client)
         finally:
             close()
-        figures[f"workers_{workers}"] = {"cluster_start_s": round(started, 2), "seconds": round(info["seconds"], 2),
-                                         "tasks": info["tasks"],
-                                         "trajectories_per_s": round(figures["trajectories"] / info["seconds"]),
-                                         "load_average_1min": {"before": before, "after": load()}}
+        figures[f"workers_{workers}"] = {
+            "cluster_start_s": round(started, 2),
+            "seconds": round(info["seconds"], 2),
+            "tasks": info["tasks"],
+            "trajectories_per_s": round(figures["trajectories"] / info["seconds"]),
+            "load_average_1min": {"before": before, "after": load()},
+        }
     figures["speedup_1_to_2_workers"] = round(figures["workers_1"]["seconds"] / figures["workers_2"]["seconds"], 2)
     figures["in_process_over_2_workers"] = round(figures["in_process_s"] / figures["workers_2"]["seconds"], 2)
     figures["cold_workers_2"] = cold(run, study, SAMPLES)
-    figures["in_process_over_cold_2_workers"] = round(figures["in_process_s"] / figures["cold_workers_2"]["seconds"],
-                                                      2)
+    figures["in_process_over_cold_2_workers"] = round(figures["in_process_s"] / figures["cold_workers_2"]["seconds"], 2)
     with RSS() as rss:
         big = cold(run, study, SAMPLES_100K, rss.progress)
-    figures["cold_workers_2_100k"] = big | {"rss": rss.report(), "in_process_estimate_s": round(
-        figures["in_process_s"] / figures["trajectories"] * big["trajectories"], 1)}
+    figures["cold_workers_2_100k"] = big | {
+        "rss": rss.report(),
+        "in_process_estimate_s": round(figures["in_process_s"] / figures["trajectories"] * big["trajectories"], 1),
+    }
     figures["targets"] = {
-        "10k_on_2_workers_s": TARGET_S["10k"], "10k_met_warm": figures["workers_2"]["seconds"] <= TARGET_S["10k"],
+        "10k_on_2_workers_s": TARGET_S["10k"],
+        "10k_met_warm": figures["workers_2"]["seconds"] <= TARGET_S["10k"],
         "10k_met_cold_run": figures["cold_workers_2"]["seconds"] <= TARGET_S["10k"],
         "10k_met_cold_wall": figures["cold_workers_2"]["wall_s"] <= TARGET_S["10k"],
-        "100k_on_2_workers_s": TARGET_S["100k"], "100k_met_run": big["seconds"] <= TARGET_S["100k"],
-        "100k_met_wall": big["wall_s"] <= TARGET_S["100k"]}
+        "100k_on_2_workers_s": TARGET_S["100k"],
+        "100k_met_run": big["seconds"] <= TARGET_S["100k"],
+        "100k_met_wall": big["wall_s"] <= TARGET_S["100k"],
+    }
     figures["cores"] = os.cpu_count()
     save_result("disperse", figures)
     print(json.dumps(figures, indent=2))

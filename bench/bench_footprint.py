@@ -12,10 +12,11 @@ right-hand side (bench_trajectory.scipy_flight: the stricter of its two baseline
 import json
 from pathlib import Path
 
+from _timing import median_ms, save_result  # noqa: E402
 from bench_trajectory import scipy_flight
+
 from footprint.contracts import parse
 from footprint.core.footprints import single_parameter, with_bank
-from _timing import median_ms, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 CASE = json.loads((HERE.parent / "examples" / "table2_lod22.json").read_text())

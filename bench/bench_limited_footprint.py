@@ -11,13 +11,18 @@ down-range within 5 % of the optimized ones, at >= 10x less computation.
     python3 bench/bench_limited_footprint.py   # prints the figures, writes bench/results/limited_footprint.json
 """
 
+from _timing import REPORT, save_result, table2_entry, table2_stop  # noqa: E402
+
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.parallel import client_map, dask_client
-from _timing import REPORT, table2_entry, table2_stop, save_result  # noqa: E402
 
-CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop(),
-        "heating": {"model": "reference"}}
+CASE = {
+    "vehicle": {"builtin": "lod-1.89"},
+    "entry": table2_entry(),
+    "stop": table2_stop(),
+    "heating": {"model": "reference"},
+}
 LIMIT_R = REPORT["sec3.limit_R"].value
 DOWNRANGES_NMI = (2_000.0, 4_000.0, 8_000.0, 11_000.0)  # as scripts/section_iii.py
 MAX_EVALUATIONS = 3_000
@@ -28,32 +33,57 @@ def main():
     C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process
     simple = C.temperature_limited_footprint(spec, LIMIT_R)
     with dask_client(workers=2) as client:
-        opt = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
-                                  controls="bank_alpha", min_downrange=True, max_evaluations=MAX_EVALUATIONS,
-                                  map_tasks=client_map(client))
+        opt = C.optimal_footprint(
+            spec,
+            DOWNRANGES_NMI,
+            constraints=(C.temperature_limit(LIMIT_R),),
+            controls="bank_alpha",
+            min_downrange=True,
+            max_evaluations=MAX_EVALUATIONS,
+            map_tasks=client_map(client),
+        )
     fp = simple.footprint
-    best = {"max_crossrange_nmi": opt.point("max_crossrange").crossrange_nmi,
-            "max_downrange_nmi": opt.point("max_downrange").downrange_nmi,
-            "min_downrange_nmi": opt.point("min_downrange").downrange_nmi}
-    ours = {"max_crossrange_nmi": fp.max_crossrange_nmi, "max_downrange_nmi": fp.max_downrange_nmi,
-            "min_downrange_nmi": fp.min_downrange_nmi}
+    best = {
+        "max_crossrange_nmi": opt.point("max_crossrange").crossrange_nmi,
+        "max_downrange_nmi": opt.point("max_downrange").downrange_nmi,
+        "min_downrange_nmi": opt.point("min_downrange").downrange_nmi,
+    }
+    ours = {
+        "max_crossrange_nmi": fp.max_crossrange_nmi,
+        "max_downrange_nmi": fp.max_downrange_nmi,
+        "min_downrange_nmi": fp.min_downrange_nmi,
+    }
     out = {
         "limit_R": LIMIT_R,
-        "simple": {**{k: round(v, 1) for k, v in ours.items()}, "trajectories": simple.trajectories,
-                   "seconds": round(simple.seconds, 3),
-                   "settings": [{"bank0_deg": p.bank0_deg, "alpha_floor_deg": p.floor_deg,
-                                 "max_temperature_R": round(p.summary["max_temperature_R"], 1),
-                                 "flights": p.flights} for p in simple.points]},
-        "optimized": {**{k: round(v, 1) for k, v in best.items()}, "trajectories": opt.trajectories,
-                      "seconds_2_workers": round(opt.seconds, 3),
-                      "points": [p.to_dict() for p in opt.points]},
+        "simple": {
+            **{k: round(v, 1) for k, v in ours.items()},
+            "trajectories": simple.trajectories,
+            "seconds": round(simple.seconds, 3),
+            "settings": [
+                {
+                    "bank0_deg": p.bank0_deg,
+                    "alpha_floor_deg": p.floor_deg,
+                    "max_temperature_R": round(p.summary["max_temperature_R"], 1),
+                    "flights": p.flights,
+                }
+                for p in simple.points
+            ],
+        },
+        "optimized": {
+            **{k: round(v, 1) for k, v in best.items()},
+            "trajectories": opt.trajectories,
+            "seconds_2_workers": round(opt.seconds, 3),
+            "points": [p.to_dict() for p in opt.points],
+        },
         "difference_percent": {k: round(100.0 * (ours[k] / best[k] - 1.0), 2) for k in ours},
         "trajectory_ratio": round(opt.trajectories / simple.trajectories, 1),
         "seconds_ratio": round(opt.seconds / simple.seconds, 1),
     }
-    print(f"simple: {simple.trajectories} trajectories, {simple.seconds:.2f} s; optimized: {opt.trajectories} "
-          f"trajectories, {opt.seconds:.1f} s on 2 workers; ratio {out['trajectory_ratio']}x trajectories, "
-          f"{out['seconds_ratio']}x seconds")
+    print(
+        f"simple: {simple.trajectories} trajectories, {simple.seconds:.2f} s; optimized: {opt.trajectories} "
+        f"trajectories, {opt.seconds:.1f} s on 2 workers; ratio {out['trajectory_ratio']}x trajectories, "
+        f"{out['seconds_ratio']}x seconds"
+    )
     for k in ours:
         print(f"  {k:18} simple {ours[k]:8,.0f}  optimized {best[k]:8,.0f}  ({out['difference_percent'][k]:+.1f} %)")
     save_result("limited_footprint", out)

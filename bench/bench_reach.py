@@ -26,12 +26,12 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _timing import save_result, timings_s  # noqa: E402
 
 from footprint.api import footprint  # noqa: E402
 from footprint.contracts import parse  # noqa: E402
 from footprint.core.orbits import frames  # noqa: E402
 from footprint.core.reach import margins_reference, reach  # noqa: E402
-from _timing import timings_s, save_result  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 REQUEST = json.loads((HERE.parent / "examples" / "reach_20_sites.json").read_text())

@@ -14,11 +14,18 @@ import json
 import statistics
 import time
 
+from _timing import example, save_result  # noqa: E402
+
 from footprint.contracts import parse
 from footprint.core.integrate import integrate
-from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, simulate_summary, \
-    _set_left_pole
-from _timing import example, save_result  # noqa: E402
+from footprint.core.trajectory import (
+    _set_left_pole,
+    initial_mode,
+    initial_state,
+    pack_parameters,
+    simulate,
+    simulate_summary,
+)
 
 ROUNDS = 15
 CALLS_PER_ROUND = 40
@@ -27,8 +34,12 @@ CALLS_PER_ROUND = 40
 def cases():
     table2, lod189 = example("table2_lod22"), example("footprint_lod189")["case"]
     heating = {"model": "reference"}
-    return {"table2_lod22": table2, "lod189": lod189,
-            "table2_lod22_heating": {**table2, "heating": heating}, "lod189_heating": {**lod189, "heating": heating}}
+    return {
+        "table2_lod22": table2,
+        "lod189": lod189,
+        "table2_lod22_heating": {**table2, "heating": heating},
+        "lod189_heating": {**lod189, "heating": heating},
+    }
 
 
 def integrator_only(spec):
@@ -56,17 +67,25 @@ def main():
     for name, case in cases().items():
         spec = parse("case", case).to_spec()
         full, summary = simulate(spec).summary, simulate_summary(spec)  # compiles or loads the cache
-        assert {k: v.hex() if isinstance(v, float) else v for k, v in summary.items()} == \
-            {k: v.hex() if isinstance(v, float) else v for k, v in full.items()}, name
-        ms = per_call_ms({"full": lambda: simulate(spec), "summary": lambda: simulate_summary(spec),
-                          "integrator": integrator_only(spec)})
+        assert {k: v.hex() if isinstance(v, float) else v for k, v in summary.items()} == {
+            k: v.hex() if isinstance(v, float) else v for k, v in full.items()
+        }, name
+        ms = per_call_ms(
+            {
+                "full": lambda: simulate(spec),
+                "summary": lambda: simulate_summary(spec),
+                "integrator": integrator_only(spec),
+            }
+        )
         result[name] = {
             "full_simulate_ms_per_trajectory": round(ms["full"], 3),
             "summary_only_ms_per_trajectory": round(ms["summary"], 3),
             "summary_over_full": round(ms["summary"] / ms["full"], 3),
             "integrator_alone_ms": round(ms["integrator"], 3),
-            "python_after_the_integrator_ms": {"full": round(ms["full"] - ms["integrator"], 3),
-                                               "summary_only": round(ms["summary"] - ms["integrator"], 3)},
+            "python_after_the_integrator_ms": {
+                "full": round(ms["full"] - ms["integrator"], 3),
+                "summary_only": round(ms["summary"] - ms["integrator"], 3),
+            },
             "rows": summary["steps"] + 1,
             "downrange_nmi": round(summary["downrange_nmi"], 3),
         }

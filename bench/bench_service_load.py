@@ -19,10 +19,11 @@ Starts the real service as a subprocess (`footprint serve --port FREE --database
 
 No job may be lost. Reported: p50/p99/max latency of the reads (alone, and while the jobs run) with the
 error counts, the job throughput (jobs and trajectories per second from the first submission to the last
-success), and each endpoint's reads one at a time (the service time without queueing). Baseline, in this process after the server has stopped: the same reads (bursts and
-one at a time) sent to the same app (create_app on a copy of the same database) through
-httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and no uvicorn; the ratios
-(loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops with an error past TOTAL_BUDGET_S (4 min).
+success), and each endpoint's reads one at a time (the service time without queueing). Baseline, in this process
+after the server has stopped: the same reads (bursts and one at a time) sent to the same app (create_app on a copy of
+the same database) through httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and no uvicorn; the ratios
+(loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops
+with an error past TOTAL_BUDGET_S (4 min).
 
     python3 bench/bench_service_load.py [--api-processes N] [--code DIR] [--label NAME] [--readers N ...]
                                         [--jobs N] [--long-jobs N] [--postgres-url URL]
@@ -67,14 +68,21 @@ JOBS_BUDGET_S = 60.0
 WINDOW_S = 20.0  # readers measured while the long jobs are running
 # examples/disperse_lod189.json in one task (~45,000 flights, a minute or two on one core): each long job runs on a
 # worker of its own, and none ends inside the window
-LONG_DISPERSION = json.loads((ROOT / "examples" / "disperse_lod189.json").read_text()) | {"samples": 2048,
-                                                                                          "chunk_samples": 2048}
+LONG_DISPERSION = json.loads((ROOT / "examples" / "disperse_lod189.json").read_text()) | {
+    "samples": 2048,
+    "chunk_samples": 2048,
+}
 
 
 def small_study(i: int) -> dict:
     """A small footprint study: the Table 2 case, 3 bank settings (one of them different per job), one half."""
-    return {"case": CASE, "method": "single_parameter", "bank0_deg": [0.0, 30.0 + i, 90.0],
-            "min_range": "zero_lift", "mirror": False}
+    return {
+        "case": CASE,
+        "method": "single_parameter",
+        "bank0_deg": [0.0, 30.0 + i, 90.0],
+        "min_range": "zero_lift",
+        "mirror": False,
+    }
 
 
 def _free_port() -> int:
@@ -106,22 +114,34 @@ def fresh_database(workdir: Path, server_url: str | None):
 
 
 @contextmanager
-def running_service(workdir: Path, database_url: str, *, workers: int = 2, api_processes: int = 1,
-                    code: Path | None = None):
+def running_service(
+    workdir: Path, database_url: str, *, workers: int = 2, api_processes: int = 1, code: Path | None = None
+):
     """`footprint serve` on a free loopback port over `database_url` (the package from `code`, a backend/ folder,
     when given); yields (base_url, log_path, process)."""
     port = _free_port()
     log = workdir / "serve.log"
-    cmd = [sys.executable, "-m", "footprint.cli", "serve", "--host", "127.0.0.1", "--port", str(port),
-           "--database-url", database_url, "--workers", str(workers)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "footprint.cli",
+        "serve",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(port),
+        "--database-url",
+        database_url,
+        "--workers",
+        str(workers),
+    ]
     if api_processes > 1:
         cmd += ["--api-processes", str(api_processes)]
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
     if code is not None:
         env["PYTHONPATH"] = os.pathsep.join([str(code)] + [p for p in [env.get("PYTHONPATH")] if p])
     with open(log, "w") as out:
-        proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, cwd=workdir, env=env,
-                                start_new_session=True)
+        proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, cwd=workdir, env=env, start_new_session=True)
     try:
         yield f"http://127.0.0.1:{port}", log, proc
     finally:
@@ -144,8 +164,12 @@ async def wait_healthy(client: httpx.AsyncClient, proc, budget_s: float, workers
         try:
             r = await client.get("/api/health", timeout=5)
             last = r.json()
-            if r.status_code == 200 and last["database"]["ok"] and last["cluster"]["ok"] and \
-                    last["cluster"]["workers"] >= workers:
+            if (
+                r.status_code == 200
+                and last["database"]["ok"]
+                and last["cluster"]["ok"]
+                and last["cluster"]["workers"] >= workers
+            ):
                 return time.perf_counter() - t0, last
         except (httpx.TransportError, ValueError, KeyError):
             pass
@@ -223,6 +247,7 @@ def read_paths(footprint_id: str, n: int) -> list[str]:
 
 def httpx_get(client: httpx.AsyncClient):
     """GET through httpx: the status code, or the transport error's kind."""
+
     async def get(path: str) -> int | str:
         try:
             return (await client.get(path)).status_code
@@ -240,12 +265,13 @@ async def aiohttp_get(base_url: str, concurrency: int):
 
     connector = aiohttp.TCPConnector(limit=concurrency, keepalive_timeout=4.0)  # before uvicorn's 5 s (http_client)
     async with aiohttp.ClientSession(base_url, connector=connector, timeout=aiohttp.ClientTimeout(total=30)) as session:
+
         async def get(path: str) -> int | str:
             try:
                 async with session.get(path) as r:
                     await r.read()
                     return r.status
-            except (aiohttp.ClientError, asyncio.TimeoutError) as exc:
+            except (TimeoutError, aiohttp.ClientError) as exc:
                 return type(exc).__name__
 
         yield get
@@ -265,8 +291,9 @@ async def read_burst(get, paths: list[str]) -> list[float]:
     return list(await asyncio.gather(*(one(p) for p in paths)))
 
 
-async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event) -> tuple[dict[str, list[float]],
-                                                                                         dict[str, int]]:
+async def readers_until(
+    get, paths: list[str], readers: int, done: asyncio.Event
+) -> tuple[dict[str, list[float]], dict[str, int]]:
     """`readers` closed-loop readers, each sending the mix one GET after another until `done`; ({path: latencies of
     its 200s in seconds}, {error kind: count})."""
     latencies: dict[str, list[float]] = {p: [] for p in paths}
@@ -289,8 +316,9 @@ async def readers_until(get, paths: list[str], readers: int, done: asyncio.Event
     return latencies, errors
 
 
-async def readers_during_jobs(client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int,
-                              label: str) -> dict:
+async def readers_during_jobs(
+    client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int, label: str
+) -> dict:
     """`jobs` footprint jobs submitted at once (through `client`) and `readers` readers (through `get`) until the
     last job ends; every job must succeed and be stored once."""
     done = asyncio.Event()
@@ -306,28 +334,42 @@ async def readers_during_jobs(client: httpx.AsyncClient, get, paths: list[str], 
     wall = time.perf_counter() - t0
     fps = await check_jobs(client, final)
     trajectories = sum(fp["trajectories"] for fp in fps.values())
-    return {"readers": readers, "errors": sum(errors.values()), "error_kinds": errors,
-            **percentiles_ms(latencies), "reads_per_s": round(len(latencies) / wall, 1),
-            "jobs": {"submitted": jobs, "succeeded": len(final), "lost": jobs - len(fps),
-                     "footprints_stored": len(fps), "trajectories": trajectories,
-                     "submit_p50_ms": round(1e3 * statistics.median(submit_s), 1),
-                     "submit_max_ms": round(1e3 * max(submit_s), 1),
-                     "first_submission_to_last_success_s": round(wall, 2),
-                     "jobs_per_s": round(jobs / wall, 2), "trajectories_per_s": round(trajectories / wall, 1)}}
+    return {
+        "readers": readers,
+        "errors": sum(errors.values()),
+        "error_kinds": errors,
+        **percentiles_ms(latencies),
+        "reads_per_s": round(len(latencies) / wall, 1),
+        "jobs": {
+            "submitted": jobs,
+            "succeeded": len(final),
+            "lost": jobs - len(fps),
+            "footprints_stored": len(fps),
+            "trajectories": trajectories,
+            "submit_p50_ms": round(1e3 * statistics.median(submit_s), 1),
+            "submit_max_ms": round(1e3 * max(submit_s), 1),
+            "first_submission_to_last_success_s": round(wall, 2),
+            "jobs_per_s": round(jobs / wall, 2),
+            "trajectories_per_s": round(trajectories / wall, 1),
+        },
+    }
 
 
-async def readers_during_long_jobs(client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int,
-                                   window_s: float) -> dict:
+async def readers_during_long_jobs(
+    client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int, window_s: float
+) -> dict:
     """`jobs` dispersion jobs (minutes each on 2 workers) and, once all of them run, `readers` readers for
     `window_s`; then the jobs are cancelled: each must end `cancelled` and the cluster keep its workers."""
     ids = []
     for i in range(jobs):
-        r = await client.post("/api/jobs", json={"kind": "dispersion", "study": LONG_DISPERSION | {"seed": 100 + i},
-                                                 "name": f"long-{i}"})
+        r = await client.post(
+            "/api/jobs", json={"kind": "dispersion", "study": LONG_DISPERSION | {"seed": 100 + i}, "name": f"long-{i}"}
+        )
         ids.append(_check(r, 202, f"POST /api/jobs long #{i}")["id"])
     t0 = time.perf_counter()
-    while not all(d["status"] == "running" for d in [_check(await client.get(f"/api/jobs/{i}"), 200, "GET job")
-                                                     for i in ids]):
+    while not all(
+        d["status"] == "running" for d in [_check(await client.get(f"/api/jobs/{i}"), 200, "GET job") for i in ids]
+    ):
         if time.perf_counter() - t0 > START_BUDGET_S:
             raise TimeoutError(f"{jobs} long jobs not all running after {START_BUDGET_S} s")
         await asyncio.sleep(0.2)
@@ -345,9 +387,16 @@ async def readers_during_long_jobs(client: httpx.AsyncClient, get, paths: list[s
     final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
     assert all(d["status"] == "cancelled" for d in final.values()), [d["status"] for d in final.values()]
     await wait_healthy(client, None, START_BUDGET_S, workers=2)  # a stopped task's worker is replaced
-    return {"readers": readers, "jobs_running": jobs, "window_s": window_s, "errors": sum(errors.values()),
-            "error_kinds": errors, **percentiles_ms(latencies), "reads_per_s": round(len(latencies) / window_s, 1),
-            "by_path": {_template(p, paths): percentiles_ms(v) for p, v in by_path.items()}}
+    return {
+        "readers": readers,
+        "jobs_running": jobs,
+        "window_s": window_s,
+        "errors": sum(errors.values()),
+        "error_kinds": errors,
+        **percentiles_ms(latencies),
+        "reads_per_s": round(len(latencies) / window_s, 1),
+        "by_path": {_template(p, paths): percentiles_ms(v) for p, v in by_path.items()},
+    }
 
 
 async def sequential_reads(get, paths: list[str], repeat: int) -> list[float]:
@@ -362,16 +411,21 @@ async def sequential_reads(get, paths: list[str], repeat: int) -> list[float]:
 def percentiles_ms(latencies_s: list[float]) -> dict:
     ms = sorted(1e3 * x for x in latencies_s)
     q = statistics.quantiles(ms, n=100, method="inclusive")
-    return {"n": len(ms), "p50_ms": round(statistics.median(ms), 2), "p99_ms": round(q[98], 2),
-            "max_ms": round(ms[-1], 2)}
+    return {
+        "n": len(ms),
+        "p50_ms": round(statistics.median(ms), 2),
+        "p99_ms": round(q[98], 2),
+        "max_ms": round(ms[-1], 2),
+    }
 
 
 def http_client(base_url=None, transport=None, concurrency=CONCURRENT_READS) -> httpx.AsyncClient:
     # idle connections are dropped after 4 s, before uvicorn's 5 s keep-alive timeout closes them from the
     # server side: reusing a connection the server is closing at that moment is a client race, not an error
     limits = httpx.Limits(max_connections=concurrency, max_keepalive_connections=concurrency, keepalive_expiry=4.0)
-    return httpx.AsyncClient(base_url=base_url or "http://localhost", transport=transport, limits=limits,
-                             timeout=httpx.Timeout(30.0))
+    return httpx.AsyncClient(
+        base_url=base_url or "http://localhost", transport=transport, limits=limits, timeout=httpx.Timeout(30.0)
+    )
 
 
 async def seed(client: httpx.AsyncClient) -> tuple[str, str]:
@@ -382,11 +436,23 @@ async def seed(client: httpx.AsyncClient) -> tuple[str, str]:
     return ids[0], fps[ids[0]]["id"]
 
 
-async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, sequential: int,
-               readers: tuple[int, ...] = READERS, long_jobs: int = 0, window_s: float = WINDOW_S) -> dict:
+async def load(
+    base_url: str,
+    proc,
+    *,
+    reads: int,
+    rounds: int,
+    jobs: int,
+    sequential: int,
+    readers: tuple[int, ...] = READERS,
+    long_jobs: int = 0,
+    window_s: float = WINDOW_S,
+) -> dict:
     """The measured run against a started service; raises on a lost job (read errors are counted)."""
-    async with http_client(base_url, concurrency=jobs + 2) as client, \
-            aiohttp_get(base_url, max((reads, *readers))) as get:
+    async with (
+        http_client(base_url, concurrency=jobs + 2) as client,
+        aiohttp_get(base_url, max((reads, *readers))) as get,
+    ):
         start_s, health = await wait_healthy(client, proc, START_BUDGET_S)
         t_seed = time.perf_counter()
         _, footprint_id = await seed(client)
@@ -408,10 +474,12 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
         by_path = {}
         for lat, path in zip(alone, paths * rounds):
             by_path.setdefault(path.replace(footprint_id, "{id}"), []).append(lat)
-        during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}")
-                  for n in readers if jobs}
-        during_long = {str(n): await readers_during_long_jobs(client, get, paths, n, long_jobs, window_s)
-                       for n in readers if long_jobs}
+        during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}") for n in readers if jobs}
+        during_long = {
+            str(n): await readers_during_long_jobs(client, get, paths, n, long_jobs, window_s)
+            for n in readers
+            if long_jobs
+        }
         total = _check(await client.get("/api/jobs", params={"limit": 1}), 200, "GET /api/jobs")["total"]
         expected = (jobs + long_jobs) * len(readers) + 1
         assert total == expected, f"{total} jobs stored, expected {expected}"
@@ -422,10 +490,14 @@ async def load(base_url: str, proc, *, reads: int, rounds: int, jobs: int, seque
         "first_read_ms": first,
         "load_average_1min_before": round(load_before, 2),
         "cluster_workers": health["cluster"]["workers"],
-        "reads": {"concurrent": reads, "rounds": rounds, "mix": sorted(set(p.replace(footprint_id, "{id}")
-                                                                            for p in paths)),
-                  "errors": 0, **percentiles_ms(alone),
-                  "by_path": {k: percentiles_ms(v) for k, v in by_path.items()}},
+        "reads": {
+            "concurrent": reads,
+            "rounds": rounds,
+            "mix": sorted(set(p.replace(footprint_id, "{id}") for p in paths)),
+            "errors": 0,
+            **percentiles_ms(alone),
+            "by_path": {k: percentiles_ms(v) for k, v in by_path.items()},
+        },
         "reads_one_at_a_time": percentiles_ms(one_at_a_time),
         "readers_while_jobs_run": during,
         "readers_while_long_jobs_run": during_long,
@@ -453,20 +525,50 @@ async def in_process_reads(database_url: str, *, reads: int, rounds: int, sequen
     return {"concurrent": percentiles_ms(lat), "one_at_a_time": percentiles_ms(one_at_a_time)}
 
 
-def run(*, reads: int = CONCURRENT_READS, rounds: int = ROUNDS, jobs: int = JOBS, workers: int = 2,
-        sequential: int = SEQUENTIAL_REPEAT, baseline: bool = True, budget_s: float = TOTAL_BUDGET_S,
-        readers: tuple[int, ...] = READERS, api_processes: int = 1, code: Path | None = None,
-        long_jobs: int = 0, window_s: float = WINDOW_S, postgres_url: str | None = None) -> dict:
+def run(
+    *,
+    reads: int = CONCURRENT_READS,
+    rounds: int = ROUNDS,
+    jobs: int = JOBS,
+    workers: int = 2,
+    sequential: int = SEQUENTIAL_REPEAT,
+    baseline: bool = True,
+    budget_s: float = TOTAL_BUDGET_S,
+    readers: tuple[int, ...] = READERS,
+    api_processes: int = 1,
+    code: Path | None = None,
+    long_jobs: int = 0,
+    window_s: float = WINDOW_S,
+    postgres_url: str | None = None,
+) -> dict:
     t0 = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="footprint-load-") as tmp, \
-            fresh_database(Path(tmp), postgres_url) as database_url:
+    with (
+        tempfile.TemporaryDirectory(prefix="footprint-load-") as tmp,
+        fresh_database(Path(tmp), postgres_url) as database_url,
+    ):
         workdir = Path(tmp)
-        with running_service(workdir, database_url, workers=workers, api_processes=api_processes, code=code) as \
-                (base_url, log, proc):
+        with running_service(workdir, database_url, workers=workers, api_processes=api_processes, code=code) as (
+            base_url,
+            log,
+            proc,
+        ):
             try:
-                figures = asyncio.run(asyncio.wait_for(load(base_url, proc, reads=reads, rounds=rounds, jobs=jobs,
-                                                            sequential=sequential, readers=readers,
-                                                            long_jobs=long_jobs, window_s=window_s), budget_s))
+                figures = asyncio.run(
+                    asyncio.wait_for(
+                        load(
+                            base_url,
+                            proc,
+                            reads=reads,
+                            rounds=rounds,
+                            jobs=jobs,
+                            sequential=sequential,
+                            readers=readers,
+                            long_jobs=long_jobs,
+                            window_s=window_s,
+                        ),
+                        budget_s,
+                    )
+                )
             except BaseException:
                 sys.stderr.write(f"--- footprint serve log ---\n{log.read_text()[-4000:]}\n")
                 raise
@@ -478,14 +580,19 @@ def run(*, reads: int = CONCURRENT_READS, rounds: int = ROUNDS, jobs: int = JOBS
                 database_url = f"sqlite:///{workdir / 'in_process.db'}"
             left = budget_s - (time.perf_counter() - t0)
             t_base = time.perf_counter()
-            figures["in_process_asgi_reads"] = asyncio.run(asyncio.wait_for(
-                in_process_reads(database_url, reads=reads, rounds=rounds, sequential=sequential), max(left, 1.0)))
+            figures["in_process_asgi_reads"] = asyncio.run(
+                asyncio.wait_for(
+                    in_process_reads(database_url, reads=reads, rounds=rounds, sequential=sequential), max(left, 1.0)
+                )
+            )
             figures["in_process_asgi_reads"]["with_its_start_and_stop_s"] = round(time.perf_counter() - t_base, 1)
             base = figures["in_process_asgi_reads"]
             figures["loopback_over_in_process"] = {
                 "concurrent_p50": round(figures["reads"]["p50_ms"] / base["concurrent"]["p50_ms"], 2),
                 "concurrent_p99": round(figures["reads"]["p99_ms"] / base["concurrent"]["p99_ms"], 2),
-                "one_at_a_time_p50": round(figures["reads_one_at_a_time"]["p50_ms"] / base["one_at_a_time"]["p50_ms"], 2),
+                "one_at_a_time_p50": round(
+                    figures["reads_one_at_a_time"]["p50_ms"] / base["one_at_a_time"]["p50_ms"], 2
+                ),
             }
     figures["total_s"] = round(time.perf_counter() - t0, 1)
     if figures["total_s"] > budget_s:
@@ -500,21 +607,34 @@ def main():
     parser.add_argument("--api-processes", type=int, default=1, help="footprint serve --api-processes")
     parser.add_argument("--code", type=Path, help="a backend/ folder to serve instead of this checkout's")
     parser.add_argument("--label", default="", help="results file suffix: service_load-LABEL.json")
-    parser.add_argument("--postgres-url", help="a Postgres server (e.g. postgresql+psycopg://postgres@127.0.0.1:5432/"
-                                               "test): the run gets a new database on it, dropped afterwards")
+    parser.add_argument(
+        "--postgres-url",
+        help="a Postgres server (e.g. postgresql+psycopg://postgres@127.0.0.1:5432/"
+        "test): the run gets a new database on it, dropped afterwards",
+    )
     parser.add_argument("--readers", type=int, nargs="+", default=list(READERS), help="closed-loop readers")
     parser.add_argument("--jobs", type=int, default=JOBS, help="small footprint jobs per readers count (0: none)")
-    parser.add_argument("--long-jobs", type=int, default=0,
-                        help=f"dispersion jobs that run through a {WINDOW_S:.0f} s window of readers, then are "
-                             "cancelled (0: none)")
+    parser.add_argument(
+        "--long-jobs",
+        type=int,
+        default=0,
+        help=f"dispersion jobs that run through a {WINDOW_S:.0f} s window of readers, then are cancelled (0: none)",
+    )
     args = parser.parse_args()
-    figures = run(api_processes=args.api_processes, code=args.code, baseline=args.code is None,
-                  readers=tuple(args.readers), jobs=args.jobs, long_jobs=args.long_jobs,
-                  postgres_url=args.postgres_url, budget_s=TOTAL_BUDGET_S + len(args.readers) * (WINDOW_S + 40))
+    figures = run(
+        api_processes=args.api_processes,
+        code=args.code,
+        baseline=args.code is None,
+        readers=tuple(args.readers),
+        jobs=args.jobs,
+        long_jobs=args.long_jobs,
+        postgres_url=args.postgres_url,
+        budget_s=TOTAL_BUDGET_S + len(args.readers) * (WINDOW_S + 40),
+    )
     database = "Postgres" if args.postgres_url else "SQLite"
     result = {
         "what": f"footprint serve (uvicorn in {args.api_processes} process(es), {database}, LocalCluster of 2 workers) "
-                "on 127.0.0.1, aiohttp readers",
+        "on 127.0.0.1, aiohttp readers",
         "code": str(args.code or "this checkout"),
         "baseline": "the same reads through httpx.ASGITransport into create_app() in-process (no socket, no uvicorn)",
         "cores": os.cpu_count(),

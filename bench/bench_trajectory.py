@@ -22,11 +22,12 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import median_ms, save_result  # noqa: E402
 from scipy.integrate import solve_ivp
+
 from footprint.contracts import parse
 from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
-from footprint.core.trajectory import initial_mode, initial_state, pack_parameters, simulate, _set_left_pole
-from _timing import median_ms, save_result  # noqa: E402
+from footprint.core.trajectory import _set_left_pole, initial_mode, initial_state, pack_parameters, simulate
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "examples" / "table2_lod22.json"
@@ -64,10 +65,12 @@ def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
 
     def pullout(t, s):
         return evaluate(t, s, p, aero, ctrl, mode)[11]  # sin(gamma)
+
     pullout.terminal, pullout.direction = True, 1.0
 
     def ground(t, s):
         return evaluate(t, s, p, aero, ctrl, mode)[9] - p[P_STOP_ALT]
+
     ground.terminal, ground.direction = True, -1.0
 
     kw = dict(method="RK45", rtol=1e-13, atol=atol, max_step=spec.max_step_s)
@@ -106,8 +109,11 @@ def main():
         "speedup_vs_scipy_with_compiled_rhs": round(ms_base / ms_ours, 1),
         "footprint_rhs_evaluations": ours["rhs_evaluations"],
         "scipy_rhs_evaluations": int(nfev_base),
-        "flight_time_s": {"footprint": round(ours["flight_time_s"], 3), "scipy": round(float(t_base), 3),
-                          "scipy_plain": round(float(t_plain), 3)},
+        "flight_time_s": {
+            "footprint": round(ours["flight_time_s"], 3),
+            "scipy": round(float(t_base), 3),
+            "scipy_plain": round(float(t_plain), 3),
+        },
         "first_cli_fly_new_process_s": round(cli_s, 2),
     }
     save_result("trajectory", result)

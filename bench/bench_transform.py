@@ -27,10 +27,10 @@ import json  # noqa: E402
 import math  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _timing import median_ms, save_result  # noqa: E402
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S  # noqa: E402
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges, move, rotation_shift  # noqa: E402
-from _timing import median_ms, save_result  # noqa: E402
 
 N_POINTS = 100_000
 LOOP_SUBSET = 2_000
@@ -46,8 +46,13 @@ def points(n=N_POINTS, seed=1982):
     """Uniform in an L/D 1.89 footprint's box: down-range 900-7,300 nmi, cross-range +-1,800 nmi, flight
     times 250-2,900 s."""
     rng = np.random.default_rng(seed)
-    lat, lon = latlon_from_ranges(rng.uniform(900.0, 7_300.0, n), rng.uniform(-1_800.0, 1_800.0, n),
-                                  SRC.latitude_deg, SRC.longitude_deg, SRC.heading_deg)
+    lat, lon = latlon_from_ranges(
+        rng.uniform(900.0, 7_300.0, n),
+        rng.uniform(-1_800.0, 1_800.0, n),
+        SRC.latitude_deg,
+        SRC.longitude_deg,
+        SRC.heading_deg,
+    )
     return lat, lon, rng.uniform(250.0, 2_900.0, n)
 
 
@@ -61,10 +66,14 @@ def ours(lat, lon, t):
 def report_vectorized(lat, lon, t):
     phi_L, theta_L = np.radians(lat), np.radians(lon)
     phi_L0, theta_L0, sigma_0 = map(math.radians, (SRC.latitude_deg, SRC.longitude_deg, SRC.heading_deg))
-    LF = np.arccos(np.clip(np.sin(phi_L) * math.sin(phi_L0)
-                           + np.cos(phi_L) * math.cos(phi_L0) * np.cos(theta_L - theta_L0), -1.0, 1.0))  # (8)
-    zeta = np.arctan2(np.sin(theta_L - theta_L0) * np.cos(phi_L) * math.cos(phi_L0),
-                      np.sin(phi_L) - math.sin(phi_L0) * np.cos(LF))  # (9)
+    LF = np.arccos(
+        np.clip(
+            np.sin(phi_L) * math.sin(phi_L0) + np.cos(phi_L) * math.cos(phi_L0) * np.cos(theta_L - theta_L0), -1.0, 1.0
+        )
+    )  # (8)
+    zeta = np.arctan2(
+        np.sin(theta_L - theta_L0) * np.cos(phi_L) * math.cos(phi_L0), np.sin(phi_L) - math.sin(phi_L0) * np.cos(LF)
+    )  # (9)
     xi = zeta - sigma_0
     s = np.sin(LF) * np.sin(xi)
     Y = np.arcsin(s)  # (11), positive right as printed (radians of arc)
@@ -103,10 +112,19 @@ def report_vectorized(lat, lon, t):
 def report_point(lat, lon, t):
     phi_L, theta_L = math.radians(lat), math.radians(lon)
     phi_L0, theta_L0, sigma_0 = map(math.radians, (SRC.latitude_deg, SRC.longitude_deg, SRC.heading_deg))
-    LF = math.acos(max(-1.0, min(1.0, math.sin(phi_L) * math.sin(phi_L0)
-                                  + math.cos(phi_L) * math.cos(phi_L0) * math.cos(theta_L - theta_L0))))  # (8)
-    zeta = math.atan2(math.sin(theta_L - theta_L0) * math.cos(phi_L) * math.cos(phi_L0),
-                      math.sin(phi_L) - math.sin(phi_L0) * math.cos(LF))  # (9)
+    LF = math.acos(
+        max(
+            -1.0,
+            min(
+                1.0,
+                math.sin(phi_L) * math.sin(phi_L0) + math.cos(phi_L) * math.cos(phi_L0) * math.cos(theta_L - theta_L0),
+            ),
+        )
+    )  # (8)
+    zeta = math.atan2(
+        math.sin(theta_L - theta_L0) * math.cos(phi_L) * math.cos(phi_L0),
+        math.sin(phi_L) - math.sin(phi_L0) * math.cos(LF),
+    )  # (9)
     xi = zeta - sigma_0
     Y = math.asin(math.sin(LF) * math.sin(xi))  # (11)
     X = math.copysign(math.acos(max(-1.0, min(1.0, math.cos(LF) / math.cos(Y)))), math.cos(xi))  # (10)
@@ -129,8 +147,9 @@ def report_point(lat, lon, t):
     hi = math.asin(math.sin(phi_M0) * math.cos(LF_M) + math.cos(phi_M0) * math.sin(LF_M))
     for _ in range(BISECTIONS):
         mid = 0.5 * (lo + hi)
-        z = math.atan2(math.sin(dtheta(mid)) * math.cos(mid) * math.cos(phi_M0),
-                       math.sin(mid) - math.sin(phi_M0) * math.cos(LF_M))
+        z = math.atan2(
+            math.sin(dtheta(mid)) * math.cos(mid) * math.cos(phi_M0), math.sin(mid) - math.sin(phi_M0) * math.cos(LF_M)
+        )
         if abs(z) > abs(zeta_M):
             lo = mid
         else:

@@ -12,8 +12,7 @@ target_metadata = Base.metadata
 
 
 def _run(connection) -> None:
-    context.configure(connection=connection, target_metadata=target_metadata, render_as_batch=True,
-                      compare_type=True)
+    context.configure(connection=connection, target_metadata=target_metadata, render_as_batch=True, compare_type=True)
     with context.begin_transaction():
         context.run_migrations()
 
@@ -30,8 +29,12 @@ def run_online() -> None:
 
 
 def run_offline() -> None:
-    context.configure(url=os.environ.get("FOOTPRINT_DATABASE_URL", "sqlite:///footprint.db"),
-                      target_metadata=target_metadata, literal_binds=True, render_as_batch=True)
+    context.configure(
+        url=os.environ.get("FOOTPRINT_DATABASE_URL", "sqlite:///footprint.db"),
+        target_metadata=target_metadata,
+        literal_binds=True,
+        render_as_batch=True,
+    )
     with context.begin_transaction():
         context.run_migrations()
 

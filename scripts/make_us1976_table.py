@@ -32,7 +32,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-
 import ussa1976
 import ussa1976.core as ussa
 

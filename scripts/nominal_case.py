@@ -19,10 +19,14 @@ VEHICLES = ("lod-2.2", "lod-1.89", "lod-2.6")
 
 
 def case(vehicle, gamma_deg):
-    return {"vehicle": {"builtin": vehicle},
-            "planet": {"rotating": True, "oblate": True, "atmosphere": {"model": "ardc1959"}},
-            "entry": table2_entry(gamma_deg=gamma_deg),
-            "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": table2_stop()}
+    return {
+        "vehicle": {"builtin": vehicle},
+        "planet": {"rotating": True, "oblate": True, "atmosphere": {"model": "ardc1959"}},
+        "entry": table2_entry(gamma_deg=gamma_deg),
+        "alpha": {"law": "max_ld"},
+        "bank": {"law": "zero"},
+        "stop": table2_stop(),
+    }
 
 
 def row(vehicle, gamma_deg):
@@ -30,14 +34,19 @@ def row(vehicle, gamma_deg):
     ws = builtin_vehicle(vehicle).wing_loading_psf
     s, h = t.summary, t.history
     i = int((h["time_s"] <= s["pullout_time_s"]).nonzero()[0][-1])  # the pull-out row (an event row)
-    return (f"| {vehicle} | {gamma_deg:g} | {s['pullout_altitude_ft']:,.0f} | {s['pullout_time_s']:.1f} "
-            f"| {h['velocity_fps'][i]:,.0f} | {h['cl'][i]:.3f} | {ws / h['cl'][i]:,.0f} | {s['downrange_nmi']:,.1f} | {s['crossrange_nmi']:,.1f} "
-            f"| {s['flight_time_s']:,.1f} | {s['max_dynamic_pressure_psf']:,.0f} |")
+    return (
+        f"| {vehicle} | {gamma_deg:g} | {s['pullout_altitude_ft']:,.0f} | {s['pullout_time_s']:.1f} "
+        f"| {h['velocity_fps'][i]:,.0f} | {h['cl'][i]:.3f} | {ws / h['cl'][i]:,.0f} | {s['downrange_nmi']:,.1f} | {s['crossrange_nmi']:,.1f} "
+        f"| {s['flight_time_s']:,.1f} | {s['max_dynamic_pressure_psf']:,.0f} |"
+    )
 
 
 def main():
-    body = ["| vehicle | γ_e deg | pull-out altitude ft | at s | V at pull-out ft/s | C_L there | W/(C_L S) psf | down-range nmi "
-            "| cross-range nmi | flight time s | max q psf |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    body = [
+        "| vehicle | γ_e deg | pull-out altitude ft | at s | V at pull-out ft/s | C_L there | W/(C_L S) psf | down-range nmi "
+        "| cross-range nmi | flight time s | max q psf |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     body += [row(v, g) for v in VEHICLES for g in GAMMAS]
     DOC.write_text(DOC.read_text().split("<!-- table -->")[0] + "<!-- table -->\n" + "\n".join(body) + "\n")
     print("\n".join(body))

@@ -12,25 +12,35 @@ import sys
 import time
 from dataclasses import replace
 from pathlib import Path
+
+from matplotlib.figure import Figure
+
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.controls import pack_controls
 from footprint.core.heating import REFERENCE_RADIUS_FT
 from footprint.core.trajectory import simulate
-from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
 from footprint.parallel import client_map, dask_client
-from matplotlib.figure import Figure
+from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
-from tests.authorities.report import REPORT as PUBLISHED, table2_entry, table2_stop  # noqa: E402
+from tests.authorities.report import REPORT as PUBLISHED  # noqa: E402
+from tests.authorities.report import table2_entry, table2_stop
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop(),
-               "heating": {"model": "reference"}}
+TABLE2_CASE = {
+    "vehicle": {"builtin": "lod-1.89"},
+    "entry": table2_entry(),
+    "stop": table2_stop(),
+    "heating": {"model": "reference"},
+}
 # the report's numbers (Section III)
-REPORT = {f"{end}_{which}_nmi": PUBLISHED[f"sec3.{end}{'' if which == 'unconstrained' else '_2550'}_nmi"].value
-          for end in ("max_crossrange", "max_downrange", "min_downrange") for which in ("unconstrained", "2550")}
+REPORT = {
+    f"{end}_{which}_nmi": PUBLISHED[f"sec3.{end}{'' if which == 'unconstrained' else '_2550'}_nmi"].value
+    for end in ("max_crossrange", "max_downrange", "min_downrange")
+    for which in ("unconstrained", "2550")
+}
 LIMIT_R = PUBLISHED["sec3.limit_R"].value
 # Fig. 22's limits, and lower ones: in our heating model 2,550 degR is far from the plunge's floor (see notes)
 FIG22_LIMITS_R = (None, 2_600.0, 2_550.0, 2_500.0, 2_450.0, 2_400.0, 2_350.0)
@@ -45,38 +55,79 @@ def main():
     spec = parse("case", TABLE2_CASE).to_spec()
     with dask_client(workers=WORKERS) as client:
         map_tasks = client_map(client)
-        fig22 = C.max_crossrange_vs_temperature(spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS,
-                                                map_tasks=map_tasks)
-        print("fig22", [(lim, round(r.payoff, 1), round(r.summary["max_temperature_R"], 1)) for lim, r in fig22],
-              flush=True)
-        free = C.optimal_footprint(spec, DOWNRANGES_NMI, controls="bank", min_downrange=True,
-                                   max_evaluations=MAX_EVALUATIONS, map_tasks=map_tasks)
+        fig22 = C.max_crossrange_vs_temperature(
+            spec, FIG22_LIMITS_R, max_evaluations=MAX_EVALUATIONS, map_tasks=map_tasks
+        )
+        print(
+            "fig22",
+            [(lim, round(r.payoff, 1), round(r.summary["max_temperature_R"], 1)) for lim, r in fig22],
+            flush=True,
+        )
+        free = C.optimal_footprint(
+            spec,
+            DOWNRANGES_NMI,
+            controls="bank",
+            min_downrange=True,
+            max_evaluations=MAX_EVALUATIONS,
+            map_tasks=map_tasks,
+        )
         print("free", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi)) for p in free.points], flush=True)
-        hot = C.optimal_footprint(spec, DOWNRANGES_NMI, constraints=(C.temperature_limit(LIMIT_R),),
-                                  controls="bank_alpha", min_downrange=True, max_evaluations=HOT_MAX_EVALUATIONS,
-                                  map_tasks=map_tasks)
-    print("2550", [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi), p.result.feasible)
-                   for p in hot.points], flush=True)
+        hot = C.optimal_footprint(
+            spec,
+            DOWNRANGES_NMI,
+            constraints=(C.temperature_limit(LIMIT_R),),
+            controls="bank_alpha",
+            min_downrange=True,
+            max_evaluations=HOT_MAX_EVALUATIONS,
+            map_tasks=map_tasks,
+        )
+    print(
+        "2550",
+        [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi), p.result.feasible) for p in hot.points],
+        flush=True,
+    )
     C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process: time the method
     simple = C.temperature_limited_footprint(spec, LIMIT_R)
     print("simple", simple.trajectories, [(p.bank0_deg, p.floor_deg) for p in simple.points], flush=True)
     # the unconstrained Fig. 22 point replaces the footprint's own max cross-range point when better (same problem)
-    results = {"fig22": [{"limit_R": lim, "crossrange_nmi": r.payoff, "downrange_nmi": r.summary["downrange_nmi"],
-                          "max_temperature_R": r.summary["max_temperature_R"], "feasible": r.feasible,
-                          "trajectories": r.trajectories, "parameters": dict(zip(r.names, map(float, r.params)))}
-                         for lim, r in fig22],
-               "unconstrained_footprint": free.to_dict(), "footprint_2550": hot.to_dict(),
-               "simple_2550": {"trajectories": simple.trajectories, "seconds": simple.seconds,
-                               "footprint": simple.footprint.to_dict(),
-                               "settings": [{"bank0_deg": p.bank0_deg, "alpha_floor_deg": p.floor_deg,
-                                             "max_temperature_R": p.summary["max_temperature_R"],
-                                             "flights": p.flights} for p in simple.points]},
-               "seconds": time.perf_counter() - t0}
+    results = {
+        "fig22": [
+            {
+                "limit_R": lim,
+                "crossrange_nmi": r.payoff,
+                "downrange_nmi": r.summary["downrange_nmi"],
+                "max_temperature_R": r.summary["max_temperature_R"],
+                "feasible": r.feasible,
+                "trajectories": r.trajectories,
+                "parameters": dict(zip(r.names, map(float, r.params))),
+            }
+            for lim, r in fig22
+        ],
+        "unconstrained_footprint": free.to_dict(),
+        "footprint_2550": hot.to_dict(),
+        "simple_2550": {
+            "trajectories": simple.trajectories,
+            "seconds": simple.seconds,
+            "footprint": simple.footprint.to_dict(),
+            "settings": [
+                {
+                    "bank0_deg": p.bank0_deg,
+                    "alpha_floor_deg": p.floor_deg,
+                    "max_temperature_R": p.summary["max_temperature_R"],
+                    "flights": p.flights,
+                }
+                for p in simple.points
+            ],
+        },
+        "seconds": time.perf_counter() - t0,
+    }
     (DOCS / "figures").mkdir(parents=True, exist_ok=True)
     (DOCS / "figures" / "section_iii.json").write_text(json.dumps(results, indent=1, default=float))
     figures(spec, fig22, free, hot, simple)
-    plunge = {law: simulate(replace(spec, ctrl=pack_controls(bank_law="zero", alpha_law=law))).summary[
-        "max_temperature_R"] for law in ("max_ld", "cl_max")}  # the zero-bank plunge at both ends of alpha
+    plunge = {
+        law: simulate(replace(spec, ctrl=pack_controls(bank_law="zero", alpha_law=law))).summary["max_temperature_R"]
+        for law in ("max_ld", "cl_max")
+    }  # the zero-bank plunge at both ends of alpha
     write_markdown(fig22, free, hot, simple, results["seconds"], plunge)
     print(f"done in {results['seconds']:.0f} s", flush=True)
 
@@ -106,27 +157,46 @@ def figures(spec, fig22, free, hot, simple):
     if bad:
         ax.plot(*zip(*bad), "o", mfc="none", color="k", label="ours, limit not met (at the RET reached)")
     t = [x for x, _ in ok + bad]
-    ax.plot([PUBLISHED["sec3.max_temperature_R"].value, LIMIT_R], [REPORT["max_crossrange_unconstrained_nmi"], REPORT["max_crossrange_2550_nmi"]],
-            "s--", color="0.5", label="report (Fig. 22 end points)")
+    ax.plot(
+        [PUBLISHED["sec3.max_temperature_R"].value, LIMIT_R],
+        [REPORT["max_crossrange_unconstrained_nmi"], REPORT["max_crossrange_2550_nmi"]],
+        "s--",
+        color="0.5",
+        label="report (Fig. 22 end points)",
+    )
     ax.set_xlim(min(t) - 50, 2_700)
     ax.set_ylim(1_000, 2_200)
-    finish(fig, ax, "Maximum allowable surface temperature (°R)", CROSSRANGE_LABEL,
-           "Fig. 22: cross-range vs allowable temperature, L/D 1.89, γ₀ = −2°", "fig22_crossrange_vs_temperature.png")
+    finish(
+        fig,
+        ax,
+        "Maximum allowable surface temperature (°R)",
+        CROSSRANGE_LABEL,
+        "Fig. 22: cross-range vs allowable temperature, L/D 1.89, γ₀ = −2°",
+        "fig22_crossrange_vs_temperature.png",
+    )
 
     fig = Figure(figsize=(8.0, 6.0), layout="constrained")
     ax = fig.add_subplot()
     for fp, style, name in ((free, "o-k", "unconstrained"), (hot, "s--", f"RET ≤ {LIMIT_R:,.0f} °R")):
         ax.plot(*outline(fp.points), style, label=name)
-    ax.plot(*outline(simple.footprint.points), "^:", color="tab:red",
-            label=f"simple method, RET ≤ {LIMIT_R:,.0f} °R ({simple.trajectories} trajectories)")
-    finish(fig, ax, DOWNRANGE_LABEL, CROSSRANGE_LABEL,
-           "Fig. 29: optimal footprints, unconstrained and temperature-constrained (mirrored)",
-           "fig29_constrained_footprint.png")
+    ax.plot(
+        *outline(simple.footprint.points),
+        "^:",
+        color="tab:red",
+        label=f"simple method, RET ≤ {LIMIT_R:,.0f} °R ({simple.trajectories} trajectories)",
+    )
+    finish(
+        fig,
+        ax,
+        DOWNRANGE_LABEL,
+        CROSSRANGE_LABEL,
+        "Fig. 29: optimal footprints, unconstrained and temperature-constrained (mirrored)",
+        "fig29_constrained_footprint.png",
+    )
 
     fig = Figure(figsize=(11.0, 4.5), layout="constrained")
     axs = fig.subplots(1, 3)
-    for (lim, r), style in zip([(lim, r) for lim, r in fig22 if lim in (None, 2_600.0, LIMIT_R)],
-                               ("-k", "--", "-.")):
+    for (lim, r), style in zip([(lim, r) for lim, r in fig22 if lim in (None, 2_600.0, LIMIT_R)], ("-k", "--", "-.")):
         ctrl = C.control_problem(spec, controls="bank" if lim is None else "bank_alpha").controls
         h = simulate(ctrl(spec, r.params)).history
         name = "unconstrained" if lim is None else f"≤ {lim:,.0f} °R"
@@ -161,37 +231,75 @@ def write_markdown(fig22, free, hot, simple, seconds, plunge):
         "`docs/figures/section_iii.json`. Entry 364,800 ft, 24,480 ft/s relative, γ₀ −2°, stop at 50,000 ft;",
         "heating `ReferenceHeating()` (eqs. 5-7, Table 1), calibrated so the unconstrained optimum (bank table)",
         "peaks at 2,670 °R. Unconstrained: (L/D)max alpha, 8-point bank table from pull-out (Fig. 20).",
-        ("Constrained: bank table plus an alpha table vs velocity at "
-         f"{', '.join(f'{v:,.0f}' for v in C.ALPHA_TABLE_VELOCITIES_FPS)} ft/s, alpha in "
-         f"{C.ALPHA_BOUNDS_DEG[0]}-{C.ALPHA_BOUNDS_DEG[1]} deg ((L/D)max to C_L max), zero bank in the plunge,"),
-        (f"RET ≤ limit with TTOL {C.TTOL_TEMPERATURE_R} °R. Creep + pattern with the penalty of eq. (4), "
-         f"≤ {MAX_EVALUATIONS} trajectories per point ({HOT_MAX_EVALUATIONS} for the constrained footprint),"
-         f" run {seconds:.0f} s on 2 workers."),
+        (
+            "Constrained: bank table plus an alpha table vs velocity at "
+            f"{', '.join(f'{v:,.0f}' for v in C.ALPHA_TABLE_VELOCITIES_FPS)} ft/s, alpha in "
+            f"{C.ALPHA_BOUNDS_DEG[0]}-{C.ALPHA_BOUNDS_DEG[1]} deg ((L/D)max to C_L max), zero bank in the plunge,"
+        ),
+        (
+            f"RET ≤ limit with TTOL {C.TTOL_TEMPERATURE_R} °R. Creep + pattern with the penalty of eq. (4), "
+            f"≤ {MAX_EVALUATIONS} trajectories per point ({HOT_MAX_EVALUATIONS} for the constrained footprint),"
+            f" run {seconds:.0f} s on 2 workers."
+        ),
         "",
         "| quantity | ours | report | note |",
         "|---|---|---|---|",
-        row("max cross-range, unconstrained (nmi)", f"{cr0:,.0f} (RET {r0.summary['max_temperature_R']:,.0f} °R)",
-            "1,964 (RET 2,670 °R)", "bank table only"),
-        row("max cross-range, RET ≤ 2,600 °R (nmi)",
-            f"{r26.payoff:,.0f} (RET {r26.summary['max_temperature_R']:,.1f})", "between (curve only)", ""),
-        row("max cross-range, RET ≤ 2,550 °R (nmi)",
-            f"{r25.payoff:,.0f} (RET {r25.summary['max_temperature_R']:,.1f})", "1,780", ""),
+        row(
+            "max cross-range, unconstrained (nmi)",
+            f"{cr0:,.0f} (RET {r0.summary['max_temperature_R']:,.0f} °R)",
+            "1,964 (RET 2,670 °R)",
+            "bank table only",
+        ),
+        row(
+            "max cross-range, RET ≤ 2,600 °R (nmi)",
+            f"{r26.payoff:,.0f} (RET {r26.summary['max_temperature_R']:,.1f})",
+            "between (curve only)",
+            "",
+        ),
+        row(
+            "max cross-range, RET ≤ 2,550 °R (nmi)",
+            f"{r25.payoff:,.0f} (RET {r25.summary['max_temperature_R']:,.1f})",
+            "1,780",
+            "",
+        ),
         row("cross-range loss at 2,550 °R", f"{loss:.1f} %", "9.4 %", ""),
-        row("max down-range, unconstrained (nmi)", f"{fmax.downrange_nmi:,.0f} (RET "
-            f"{fmax.result.summary['max_temperature_R']:,.0f})", "14,500", ""),
-        row("max down-range, RET ≤ 2,550 °R (nmi)", f"{hmax.downrange_nmi:,.0f} (RET "
-            f"{hmax.result.summary['max_temperature_R']:,.1f}, feasible {hmax.result.feasible})", "11,700 (−19 %)",
-            f"{100.0 * (hmax.downrange_nmi / fmax.downrange_nmi - 1.0):+.1f} %"),
-        row("min down-range, unconstrained (nmi)", f"{fmin.downrange_nmi:,.0f} (RET "
-            f"{fmin.result.summary['max_temperature_R']:,.0f})", "≈1,000", "minimize down-range, bank table"),
-        row("min down-range, RET ≤ 2,550 °R (nmi)", f"{hmin.downrange_nmi:,.0f} (RET "
-            f"{hmin.result.summary['max_temperature_R']:,.1f}, feasible {hmin.result.feasible})", "≈2,000 (doubled)",
-            f"x{hmin.downrange_nmi / fmin.downrange_nmi:.2f}"),
+        row(
+            "max down-range, unconstrained (nmi)",
+            f"{fmax.downrange_nmi:,.0f} (RET {fmax.result.summary['max_temperature_R']:,.0f})",
+            "14,500",
+            "",
+        ),
+        row(
+            "max down-range, RET ≤ 2,550 °R (nmi)",
+            f"{hmax.downrange_nmi:,.0f} (RET "
+            f"{hmax.result.summary['max_temperature_R']:,.1f}, feasible {hmax.result.feasible})",
+            "11,700 (−19 %)",
+            f"{100.0 * (hmax.downrange_nmi / fmax.downrange_nmi - 1.0):+.1f} %",
+        ),
+        row(
+            "min down-range, unconstrained (nmi)",
+            f"{fmin.downrange_nmi:,.0f} (RET {fmin.result.summary['max_temperature_R']:,.0f})",
+            "≈1,000",
+            "minimize down-range, bank table",
+        ),
+        row(
+            "min down-range, RET ≤ 2,550 °R (nmi)",
+            f"{hmin.downrange_nmi:,.0f} (RET "
+            f"{hmin.result.summary['max_temperature_R']:,.1f}, feasible {hmin.result.feasible})",
+            "≈2,000 (doubled)",
+            f"x{hmin.downrange_nmi / fmin.downrange_nmi:.2f}",
+        ),
     ]
-    lines += [row(f"max cross-range, RET ≤ {lim:,.0f} °R (nmi)",
-                  f"{r.payoff:,.0f} (RET {r.summary['max_temperature_R']:,.1f}, feasible {r.feasible})", "—",
-                  f"{100.0 * (r.payoff / cr0 - 1.0):+.1f} %, below the report's range")
-              for lim, r in fig22 if lim is not None and lim < LIMIT_R]
+    lines += [
+        row(
+            f"max cross-range, RET ≤ {lim:,.0f} °R (nmi)",
+            f"{r.payoff:,.0f} (RET {r.summary['max_temperature_R']:,.1f}, feasible {r.feasible})",
+            "—",
+            f"{100.0 * (r.payoff / cr0 - 1.0):+.1f} %, below the report's range",
+        )
+        for lim, r in fig22
+        if lim is not None and lim < LIMIT_R
+    ]
     lines += [
         "",
         "## Fig. 29: optimal footprint points (left half)",
@@ -200,8 +308,10 @@ def write_markdown(fig22, free, hot, simple, seconds, plunge):
         "|---|---|---|",
     ]
     for pf, ph in zip(free.points, hot.points):
-        lines.append(f"| {pf.label} | {pf.downrange_nmi:,.0f} / {pf.crossrange_nmi:,.0f} | "
-                     f"{ph.downrange_nmi:,.0f} / {ph.crossrange_nmi:,.0f}, {ph.result.feasible} |")
+        lines.append(
+            f"| {pf.label} | {pf.downrange_nmi:,.0f} / {pf.crossrange_nmi:,.0f} | "
+            f"{ph.downrange_nmi:,.0f} / {ph.crossrange_nmi:,.0f}, {ph.result.feasible} |"
+        )
     lines += [
         "",
         *simple_section(hot, simple),
@@ -211,12 +321,16 @@ def write_markdown(fig22, free, hot, simple, seconds, plunge):
         "",
         "## Notes",
         "",
-        ("* Calibration (Section III.1): the unconstrained optimum, the bank table `heating.CALIBRATION_BANK_DEG`, "
-         f"peaks at 2,670 °R with R_ref = {REFERENCE_RADIUS_FT} ft, ε 0.8. The report's R_N, emissivity and wall"),
+        (
+            "* Calibration (Section III.1): the unconstrained optimum, the bank table `heating.CALIBRATION_BANK_DEG`, "
+            f"peaks at 2,670 °R with R_ref = {REFERENCE_RADIUS_FT} ft, ε 0.8. The report's R_N, emissivity and wall"
+        ),
         "  model are not given, so how the peak RET responds to alpha and to the pull-out altitude is ours.",
-        (f"* The plunge: at zero bank it peaks at {plunge['max_ld']:,.0f} °R at (L/D)max and {plunge['cl_max']:,.0f} °R"
-         " at C_L max, where the report calls 2,550 °R \"about the lowest that can be achieved on the initial"),
-        "  plunge\". So 2,550 °R is a much milder limit here than in the report, and the losses are smaller: the",
+        (
+            f"* The plunge: at zero bank it peaks at {plunge['max_ld']:,.0f} °R at (L/D)max and {plunge['cl_max']:,.0f} °R"
+            ' at C_L max, where the report calls 2,550 °R "about the lowest that can be achieved on the initial'
+        ),
+        '  plunge". So 2,550 °R is a much milder limit here than in the report, and the losses are smaller: the',
         "  comparison of magnitudes checks the machinery (the limit held within the 5 °R band, alpha raised where",
         "  the peak occurs), not the heating model. [heating_sensitivity.md](heating_sensitivity.md) shows what",
         "  moves the floor: the lost lift table (fill (b) puts it at the report's ≈2,550 °R), not conduction.",
@@ -227,8 +341,10 @@ def write_markdown(fig22, free, hot, simple, seconds, plunge):
         "  ~21,700 ft/s), above its plunge (~230 s). Under the limit the search raises alpha at the 20,000 and",
         "  26,000 ft/s nodes and keeps the bank schedule (fig29_histories.png; the 2,000 ft/s node sits at 20°, the",
         "  (L/D)max of Mach 2); the report's case approaches C_L max.",
-        (f"* Floor: the lowest peak reached on the max cross-range problem is {floor_R:,.0f} °R (rows below it end"
-         " infeasible with that best violation); the loss becomes report-sized (~5 %) only there."),
+        (
+            f"* Floor: the lowest peak reached on the max cross-range problem is {floor_R:,.0f} °R (rows below it end"
+            " infeasible with that best violation); the loss becomes report-sized (~5 %) only there."
+        ),
         "* The unconstrained min down-range flight banks steeply right after pull-out and heats far past",
         "  2,670 °R (the RET in the table); under the limit it cannot, which is what lengthens it.",
         "* Min down-range: the report does not say how its ≈1,000 nmi rear point was produced; ours minimizes",
@@ -242,9 +358,11 @@ def write_markdown(fig22, free, hot, simple, seconds, plunge):
 
 def simple_section(hot, simple):
     fp = simple.footprint
-    pairs = (("max cross-range (nmi)", fp.max_crossrange_nmi, hot.point("max_crossrange").crossrange_nmi),
-             ("max down-range (nmi)", fp.max_downrange_nmi, hot.point("max_downrange").downrange_nmi),
-             ("min down-range (nmi)", fp.min_downrange_nmi, hot.point("min_downrange").downrange_nmi))
+    pairs = (
+        ("max cross-range (nmi)", fp.max_crossrange_nmi, hot.point("max_crossrange").crossrange_nmi),
+        ("max down-range (nmi)", fp.max_downrange_nmi, hot.point("max_downrange").downrange_nmi),
+        ("min down-range (nmi)", fp.min_downrange_nmi, hot.point("min_downrange").downrange_nmi),
+    )
     lines = [
         "",
         f"## Beyond the report: a simple method for the heating constraint (RET ≤ {LIMIT_R:,.0f} °R)",
@@ -270,13 +388,18 @@ def simple_section(hot, simple):
         "| φ₀ (deg) | alpha floor a (deg) | peak RET (°R) | flights |",
         "|---|---|---|---|",
     ]
-    lines += [f"| {p.bank0_deg:.0f} | {'left out' if p.floor_deg is None else f'{p.floor_deg:.2f}'} | "
-              f"{p.summary['max_temperature_R']:,.0f} | {p.flights} |" for p in simple.points]
+    lines += [
+        f"| {p.bank0_deg:.0f} | {'left out' if p.floor_deg is None else f'{p.floor_deg:.2f}'} | "
+        f"{p.summary['max_temperature_R']:,.0f} | {p.flights} |"
+        for p in simple.points
+    ]
     lines += [
         "",
-        ("The optimized min down-range point misses the limit (it is the search's best violation); the simple"
-         if not hot.point("min_downrange").result.feasible else
-         "The optimized min down-range point banks and raises alpha within the limit; the simple"),
+        (
+            "The optimized min down-range point misses the limit (it is the search's best violation); the simple"
+            if not hot.point("min_downrange").result.feasible
+            else "The optimized min down-range point banks and raises alpha within the limit; the simple"
+        ),
         "method's near side is the steepest bank it can still cool, about twice the unconstrained",
         "single-parameter minimum, as the report's 1,000 → 2,000 nmi. Between 11,000 nmi and the maximum",
         "down-range the optimized footprint has no point, so the simple method's 30° and 15° settings lie",

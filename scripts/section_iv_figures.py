@@ -36,10 +36,19 @@ ORIGIN_EAST = Reference(0.0, 0.0, 90.0)
 
 
 def study(vehicle, velocity_fps=24_480, mirror_half=True):
-    return parse("footprint", {"case": {"vehicle": {"builtin": vehicle}, "planet": {"rotating": False},
-                                 "entry": TABLE2_ENTRY | {"velocity_fps": velocity_fps},
-                                 "stop": table2_stop()},
-                        "method": "single_parameter", "mirror": mirror_half})
+    return parse(
+        "footprint",
+        {
+            "case": {
+                "vehicle": {"builtin": vehicle},
+                "planet": {"rotating": False},
+                "entry": TABLE2_ENTRY | {"velocity_fps": velocity_fps},
+                "stop": table2_stop(),
+            },
+            "method": "single_parameter",
+            "mirror": mirror_half,
+        },
+    )
 
 
 def fly(st):
@@ -55,8 +64,11 @@ def whole_by_mirror(half):
     down = np.array([p.downrange_nmi for p in half.points])
     side = np.array([p.side == "left" for p in half.points])
     mlat, mlon = mirror(lat[side], lon[side], ORIGIN_EAST)
-    return (np.concatenate([lat, mlat[::-1]]), np.concatenate([lon, mlon[::-1]]),
-            np.concatenate([down, down[side][::-1]]))
+    return (
+        np.concatenate([lat, mlat[::-1]]),
+        np.concatenate([lon, mlon[::-1]]),
+        np.concatenate([down, down[side][::-1]]),
+    )
 
 
 def moved_layer(lat, lon, down, dst, **style):
@@ -65,8 +77,11 @@ def moved_layer(lat, lon, down, dst, **style):
 
 
 def heading_label(h):
-    return {90.0: "heading 90° (east, inclination 0°)", 30.0: "heading 30° (inclination 60°)",
-            -90.0: "heading −90° (west)"}[h]
+    return {
+        90.0: "heading 90° (east, inclination 0°)",
+        30.0: "heading 30° (inclination 60°)",
+        -90.0: "heading −90° (west)",
+    }[h]
 
 
 # ------------------------------------------------------------------------------------------- figures
@@ -75,17 +90,33 @@ def fig31(half):
     cyl = []
     for tag, h in (("a", 90.0), ("b", 30.0), ("c", -90.0)):
         dst = Reference(0.0, 0.0, h)
-        cyl.append({"projection": "cylindrical", "title": f"({tag}) L/D 1.89, {heading_label(h)}",
-                    "layers": [moved_layer(lat, lon, down, dst, marker="o")], "legend": False})
-    save(panels_figure(cyl, ncols=1, title="Fig. 31 (a-c): L/D 1.89 footprint, cylindrical equidistant"),
-         FIGURES / "fig31_cylindrical.png")
+        cyl.append(
+            {
+                "projection": "cylindrical",
+                "title": f"({tag}) L/D 1.89, {heading_label(h)}",
+                "layers": [moved_layer(lat, lon, down, dst, marker="o")],
+                "legend": False,
+            }
+        )
+    save(
+        panels_figure(cyl, ncols=1, title="Fig. 31 (a-c): L/D 1.89 footprint, cylindrical equidistant"),
+        FIGURES / "fig31_cylindrical.png",
+    )
     ortho = []
     for tag, inc in (("d", 0.0), ("e", 60.0)):
         dst = Reference(0.0, 0.0, float(heading_for_inclination(0.0, inc)))
-        ortho.append({"projection": "orthographic", "title": f"({tag}) inclination {inc:g}°",
-                      "layers": [moved_layer(lat, lon, down, dst, marker="o")], "legend": False})
-    save(panels_figure(ortho, ncols=2, title="Fig. 31 (d, e): L/D 1.89 footprint, orthographic"),
-         FIGURES / "fig31_orthographic.png")
+        ortho.append(
+            {
+                "projection": "orthographic",
+                "title": f"({tag}) inclination {inc:g}°",
+                "layers": [moved_layer(lat, lon, down, dst, marker="o")],
+                "legend": False,
+            }
+        )
+    save(
+        panels_figure(ortho, ncols=2, title="Fig. 31 (d, e): L/D 1.89 footprint, orthographic"),
+        FIGURES / "fig31_orthographic.png",
+    )
 
 
 def fig32(half):
@@ -95,13 +126,24 @@ def fig32(half):
     for projection in panels:
         for inc in (0.0, 30.0):
             dst = Reference(0.0, 0.0, float(heading_for_inclination(0.0, inc)))
-            panels[projection].append({"projection": projection, "legend": False,
-                                       "title": f"({next(tags)}) L/D 2.6, inclination {inc:g}°",
-                                       "layers": [moved_layer(lat, lon, down, dst, marker="o")]})
-    save(panels_figure(panels["cylindrical"], ncols=1, title="Fig. 32 (a, b): L/D 2.6 footprint, cylindrical "
-                                                            "equidistant"), FIGURES / "fig32_cylindrical.png")
-    save(panels_figure(panels["orthographic"], ncols=2, title="Fig. 32 (c, d): L/D 2.6 footprint, orthographic"),
-         FIGURES / "fig32_orthographic.png")
+            panels[projection].append(
+                {
+                    "projection": projection,
+                    "legend": False,
+                    "title": f"({next(tags)}) L/D 2.6, inclination {inc:g}°",
+                    "layers": [moved_layer(lat, lon, down, dst, marker="o")],
+                }
+            )
+    save(
+        panels_figure(
+            panels["cylindrical"], ncols=1, title="Fig. 32 (a, b): L/D 2.6 footprint, cylindrical equidistant"
+        ),
+        FIGURES / "fig32_cylindrical.png",
+    )
+    save(
+        panels_figure(panels["orthographic"], ncols=2, title="Fig. 32 (c, d): L/D 2.6 footprint, orthographic"),
+        FIGURES / "fig32_orthographic.png",
+    )
 
 
 def fig33(comparisons):
@@ -111,17 +153,37 @@ def fig33(comparisons):
         pts = base.points
         mlat, mlon = move([p.latitude_deg for p in pts], [p.longitude_deg for p in pts], ORIGIN_EAST, dst)
         alat, alon = approximate_points(base, dst, points=pts)
-        layers = [footprint_layer(mlat, mlon, reference=dst, label="non-rotating, moved", color="0.55", linewidth=2.2),
-                  footprint_layer(alat, alon, reference=dst, label="shifted west by ωp t (report)", color="k",
-                                  marker="o"),
-                  footprint_layer([p.latitude_deg for p in c.exact.points], [p.longitude_deg for p in c.exact.points],
-                                  reference=dst, label="flown on the rotating earth", color="C3",
-                                  linestyle=(0, (4, 2)), marker="s")]
-        panels.append({"projection": "cylindrical", "extent": "auto", "layers": layers, "legend": "best",
-                       "title": f"({tag}) {name}: max error {c.max_error_nmi:.0f} nmi"})
-    save(panels_figure(panels, ncols=1, panel_size=(7.5, 4.2),
-                       title="Fig. 33: shift due to earth rotation, L/D 1.89 (same inertial entry state)"),
-         FIGURES / "fig33_rotation_shift.png")
+        layers = [
+            footprint_layer(mlat, mlon, reference=dst, label="non-rotating, moved", color="0.55", linewidth=2.2),
+            footprint_layer(alat, alon, reference=dst, label="shifted west by ωp t (report)", color="k", marker="o"),
+            footprint_layer(
+                [p.latitude_deg for p in c.exact.points],
+                [p.longitude_deg for p in c.exact.points],
+                reference=dst,
+                label="flown on the rotating earth",
+                color="C3",
+                linestyle=(0, (4, 2)),
+                marker="s",
+            ),
+        ]
+        panels.append(
+            {
+                "projection": "cylindrical",
+                "extent": "auto",
+                "layers": layers,
+                "legend": "best",
+                "title": f"({tag}) {name}: max error {c.max_error_nmi:.0f} nmi",
+            }
+        )
+    save(
+        panels_figure(
+            panels,
+            ncols=1,
+            panel_size=(7.5, 4.2),
+            title="Fig. 33: shift due to earth rotation, L/D 1.89 (same inertial entry state)",
+        ),
+        FIGURES / "fig33_rotation_shift.png",
+    )
 
 
 # ----------------------------------------------------------------------------------------------- table
@@ -135,26 +197,30 @@ def comparisons(velocity_fps, frames):
     out = {}
     for frame in frames:
         for name, h in CASES.items():
-            out[(frame, name)] = approximate_vs_exact(spec, st.method, params, Reference(0.0, 0.0, h),
-                                                      velocity_frame=frame, nonrotating=base)
+            out[(frame, name)] = approximate_vs_exact(
+                spec, st.method, params, Reference(0.0, 0.0, h), velocity_frame=frame, nonrotating=base
+            )
     return out
 
 
 def table(rows: dict, velocity_fps) -> list[str]:
-    lines = ["| case | exact flight keeps | max error nmi | mean error nmi | move alone, max / mean nmi | "
-             "flight time s, non-rotating | flight time s, rotating | down-range extent nmi: non-rot. → shifted → "
-             "flown | verdict |",
-             "|---|---|---:|---:|---:|---|---|---|---|"]
+    lines = [
+        "| case | exact flight keeps | max error nmi | mean error nmi | move alone, max / mean nmi | "
+        "flight time s, non-rotating | flight time s, rotating | down-range extent nmi: non-rot. → shifted → "
+        "flown | verdict |",
+        "|---|---|---:|---:|---:|---|---|---|---|",
+    ]
     for (frame, name), c in rows.items():
         ext = c.downrange_extent_nmi
         verdict = _verdict(ext)
         t0, t1 = c.flight_time_nonrotating_s, c.flight_time_exact_s
-        keeps = (f"inertial {velocity_fps:,} ft/s" if frame == "inertial"
-                 else f"relative {velocity_fps:,} ft/s")
-        lines.append(f"| {name} | {keeps} | {c.max_error_nmi:,.0f} | {c.mean_error_nmi:,.0f} | "
-                     f"{c.move_error_nmi['max_nmi']:,.1f} / {c.move_error_nmi['mean_nmi']:,.1f} | "
-                     f"{t0[0]:,.0f}–{t0[1]:,.0f} | {t1[0]:,.0f}–{t1[1]:,.0f} | "
-                     f"{ext['nonrotating']:,.0f} → {ext['approximate']:,.0f} → {ext['exact']:,.0f} | {verdict} |")
+        keeps = f"inertial {velocity_fps:,} ft/s" if frame == "inertial" else f"relative {velocity_fps:,} ft/s"
+        lines.append(
+            f"| {name} | {keeps} | {c.max_error_nmi:,.0f} | {c.mean_error_nmi:,.0f} | "
+            f"{c.move_error_nmi['max_nmi']:,.1f} / {c.move_error_nmi['mean_nmi']:,.1f} | "
+            f"{t0[0]:,.0f}–{t0[1]:,.0f} | {t1[0]:,.0f}–{t1[1]:,.0f} | "
+            f"{ext['nonrotating']:,.0f} → {ext['approximate']:,.0f} → {ext['exact']:,.0f} | {verdict} |"
+        )
     return lines
 
 
@@ -255,9 +321,9 @@ flights (front) most: 0.004178 deg/s x 2,818 s = 11.8° of longitude at the fron
 
 The report: the westward shift "has the effect of stretching the footprint when the initial conditions are
 heading west on the equator, compacting it when heading east". **Ours does, with the inertial entry state:**
-eastbound the down-range extent of the L/D 1.89 footprint goes from {ee['nonrotating']:,.0f} nmi to
-{ee['approximate']:,.0f} nmi by the shift and to {ee['exact']:,.0f} nmi when flown on the rotating earth;
-westbound it goes from {ew['nonrotating']:,.0f} to {ew['approximate']:,.0f} (shift) and {ew['exact']:,.0f} nmi (flown).
+eastbound the down-range extent of the L/D 1.89 footprint goes from {ee["nonrotating"]:,.0f} nmi to
+{ee["approximate"]:,.0f} nmi by the shift and to {ee["exact"]:,.0f} nmi when flown on the rotating earth;
+westbound it goes from {ew["nonrotating"]:,.0f} to {ew["approximate"]:,.0f} (shift) and {ew["exact"]:,.0f} nmi (flown).
 The first-order shift is within {worst:,.0f} nmi of the flown footprint at every point in these cases (mean {worst_mean:,.0f} nmi
 or less): {_share(main_rows)} of the footprint's down-range extent.
 With the earth-relative entry state kept instead, the eastbound footprint grows rather than shrinks (more
@@ -295,8 +361,10 @@ def _share(rows):
 
 
 def _footprint_row(name, fp):
-    return (f"| {name} | {fp.max_downrange_nmi:,.0f} | {fp.min_downrange_nmi:,.0f} | {fp.max_crossrange_nmi:,.0f} | "
-            f"{_times(fp)} |")
+    return (
+        f"| {name} | {fp.max_downrange_nmi:,.0f} | {fp.min_downrange_nmi:,.0f} | {fp.max_crossrange_nmi:,.0f} | "
+        f"{_times(fp)} |"
+    )
 
 
 def _times(fp):
@@ -315,10 +383,15 @@ def main():
     fig33({name: main_rows[("inertial", name)] for name in CASES})
     write_doc(main_rows, fast_rows, half189, half26, time.perf_counter() - t0)
     for key, c in list(main_rows.items()) + list(fast_rows.items()):
-        print(f"{key[0]:>8} {key[1]:<32} max {c.max_error_nmi:7.1f} nmi  mean {c.mean_error_nmi:7.1f} nmi  "
-              f"extent {c.downrange_extent_nmi}", file=sys.stderr)
-    print(f"wrote {DOC.relative_to(ROOT)} and docs/figures/fig31_*.png, fig32_*.png, fig33_*.png "
-          f"in {time.perf_counter() - t0:.1f} s")
+        print(
+            f"{key[0]:>8} {key[1]:<32} max {c.max_error_nmi:7.1f} nmi  mean {c.mean_error_nmi:7.1f} nmi  "
+            f"extent {c.downrange_extent_nmi}",
+            file=sys.stderr,
+        )
+    print(
+        f"wrote {DOC.relative_to(ROOT)} and docs/figures/fig31_*.png, fig32_*.png, fig33_*.png "
+        f"in {time.perf_counter() - t0:.1f} s"
+    )
 
 
 if __name__ == "__main__":

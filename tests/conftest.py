@@ -4,7 +4,6 @@ set HYPOTHESIS_PROFILE=explore to search afresh."""
 import os
 
 import pytest
-
 from hypothesis import settings
 
 settings.register_profile("repeatable", derandomize=True, print_blob=True)
@@ -13,6 +12,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 # Starlette's TestClient and schemathesis' ASGI calls name the host "testserver": the service serves it in tests only
 os.environ.setdefault("FOOTPRINT_ALLOWED_HOSTS", "testserver")
+
 
 def _same(a, b, rel, path):
     """Equal structure and text, floats to `rel`: NumPy's SIMD loops may round the last bit of an array's

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.footprints import with_bank
@@ -19,8 +20,9 @@ TABLE2 = json.loads((EXAMPLES / "table2_lod22.json").read_text())
 
 
 def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "footprint.cli", *map(str, args)], capture_output=True, text=True,
-                          cwd=cwd, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "footprint.cli", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
 
 
 def write_case(tmp_path, case):
@@ -40,9 +42,20 @@ def test_fly_prints_the_summary_and_writes_the_history(tmp_path):
     r = run("fly", ROOT / "examples" / "table2_lod22.json", "--history", out)
     assert r.returncode == 0, r.stderr
     summary = json.loads(r.stdout)
-    for key in ("downrange_nmi", "crossrange_nmi", "flight_time_s", "final_altitude_ft", "final_velocity_fps",
-                "final_latitude_deg", "final_longitude_deg", "final_heading_deg", "pullout_altitude_ft",
-                "pullout_time_s", "max_dynamic_pressure_psf", "max_temperature_R"):
+    for key in (
+        "downrange_nmi",
+        "crossrange_nmi",
+        "flight_time_s",
+        "final_altitude_ft",
+        "final_velocity_fps",
+        "final_latitude_deg",
+        "final_longitude_deg",
+        "final_heading_deg",
+        "pullout_altitude_ft",
+        "pullout_time_s",
+        "max_dynamic_pressure_psf",
+        "max_temperature_R",
+    ):
         assert key in summary
     assert summary["final_altitude_ft"] == pytest.approx(50_000.0, abs=1.0)
     lines = out.read_text().splitlines()
@@ -52,19 +65,22 @@ def test_fly_prints_the_summary_and_writes_the_history(tmp_path):
     assert last["downrange_nmi"] == pytest.approx(summary["downrange_nmi"], rel=1e-9)
 
 
-@pytest.mark.parametrize("case, field, words", [
-    (with_("vehicle", builtin="lod-9.9"), "vehicle", "lod-1.89"),
-    (with_("entry", gamma_deg=2.0), "gamma_deg", "climbs"),
-    (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1000 to 40000"),
-    (with_("entry", velocity_fps=500), "entry.velocity_fps", "1000 to 40000"),
-    (with_("entry", latitude_deg=95), "entry.latitude_deg", "-90 to 90"),
-    (with_("bank", k="fast"), "bank.k", ""),
-    (with_("stop", altitude_ft=-5), "stop.altitude_ft", "allowed range"),
-    ({**TABLE2, "planet": {"atmosphere": {"model": "mars"}}}, "planet.atmosphere.model", "ardc1959"),
-    ({k: v for k, v in TABLE2.items() if k != "entry"}, "entry", "required"),
-    ('{"vehicle": {"builtin": "lod-2.2"},', "case.json", "not valid JSON"),
-    ("[1, 2]", "case.json", "JSON object"),
-])
+@pytest.mark.parametrize(
+    "case, field, words",
+    [
+        (with_("vehicle", builtin="lod-9.9"), "vehicle", "lod-1.89"),
+        (with_("entry", gamma_deg=2.0), "gamma_deg", "climbs"),
+        (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1000 to 40000"),
+        (with_("entry", velocity_fps=500), "entry.velocity_fps", "1000 to 40000"),
+        (with_("entry", latitude_deg=95), "entry.latitude_deg", "-90 to 90"),
+        (with_("bank", k="fast"), "bank.k", ""),
+        (with_("stop", altitude_ft=-5), "stop.altitude_ft", "allowed range"),
+        ({**TABLE2, "planet": {"atmosphere": {"model": "mars"}}}, "planet.atmosphere.model", "ardc1959"),
+        ({k: v for k, v in TABLE2.items() if k != "entry"}, "entry", "required"),
+        ('{"vehicle": {"builtin": "lod-2.2"},', "case.json", "not valid JSON"),
+        ("[1, 2]", "case.json", "JSON object"),
+    ],
+)
 def test_a_bad_case_gets_one_line_naming_the_field_and_exit_2(tmp_path, case, field, words):
     r = run("fly", write_case(tmp_path, case))
     assert r.returncode == 2
@@ -93,7 +109,7 @@ def test_vehicles_lists_the_appendix_b_vehicles_beside_the_report():
         assert rows[vid]["wing_loading_psf"] == REPORT[f"vehicle.{vid}.wing_loading_psf"].value
     table = run("vehicles")
     assert table.returncode == 0 and "lod-2.6" in table.stdout
-    assert f'{REPORT["vehicle.lod-1.89.ld_max"].value}' in table.stdout
+    assert f"{REPORT['vehicle.lod-1.89.ld_max'].value}" in table.stdout
 
 
 def test_footprint_prints_the_boundary_and_draws_it(tmp_path):
@@ -109,8 +125,14 @@ def test_footprint_prints_the_boundary_and_draws_it(tmp_path):
     assert sides == ["axis", "left", "left", "axis", "right", "right"]
     assert out["trajectories"] == 4 and [p["mirrored"] for p in out["points"]].count(True) == 2
     for p in out["points"]:
-        assert {"downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
-                "parameter"} <= set(p)
+        assert {
+            "downrange_nmi",
+            "crossrange_nmi",
+            "flight_time_s",
+            "latitude_deg",
+            "longitude_deg",
+            "parameter",
+        } <= set(p)
     left, right = out["points"][1], out["points"][5]
     assert right["crossrange_nmi"] == -left["crossrange_nmi"] and right["parameter"] == left["parameter"]
     assert out["area_nmi2"] > 0
@@ -132,8 +154,12 @@ def test_a_temperature_limited_footprint_keeps_every_flown_point_within_the_limi
     """The simple heating-constrained method as a study: both halves flown on the rotating earth, each point's
     alpha floor searched for its own side; the settings that no floor can cool are left out."""
     study = json.loads((ROOT / "examples" / "footprint_lod189.json").read_text())
-    study = {"case": {**study["case"], "heating": {"model": "reference"}}, "method": "temperature_limited",
-             "limit_R": REPORT["sec3.limit_R"].value, "bank0_deg": [0, 60, 90, 120]}
+    study = {
+        "case": {**study["case"], "heating": {"model": "reference"}},
+        "method": "temperature_limited",
+        "limit_R": REPORT["sec3.limit_R"].value,
+        "bank0_deg": [0, 60, 90, 120],
+    }
     r = run("footprint", write_case(tmp_path, study))
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
@@ -160,14 +186,17 @@ def test_a_temperature_limited_footprint_needs_a_heating_model(tmp_path):
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "case.heating" in r.stderr, r.stderr
 
 
-@pytest.mark.parametrize("args, option", [
-    (("fly", EXAMPLES / "table2_lod22.json", "--history", "{missing}/h.csv"), "--history"),
-    (("footprint", EXAMPLES / "footprint_lod189.json", "--plot", "{missing}/f.png"), "--plot"),
-    (("optimize", EXAMPLES / "optimize_betts_collocation.json", "--plot", "{missing}/o.png"), "--plot"),
-    (("map", EXAMPLES / "footprint_lod189.json", "--out", "{missing}/m.html"), "--out"),
-    (("disperse", EXAMPLES / "disperse_lod189.json", "--geojson", "{missing}/d.geojson"), "--geojson"),
-    (("disperse", EXAMPLES / "disperse_lod189.json", "--csv", "{missing}/d.csv"), "--csv"),
-])
+@pytest.mark.parametrize(
+    "args, option",
+    [
+        (("fly", EXAMPLES / "table2_lod22.json", "--history", "{missing}/h.csv"), "--history"),
+        (("footprint", EXAMPLES / "footprint_lod189.json", "--plot", "{missing}/f.png"), "--plot"),
+        (("optimize", EXAMPLES / "optimize_betts_collocation.json", "--plot", "{missing}/o.png"), "--plot"),
+        (("map", EXAMPLES / "footprint_lod189.json", "--out", "{missing}/m.html"), "--out"),
+        (("disperse", EXAMPLES / "disperse_lod189.json", "--geojson", "{missing}/d.geojson"), "--geojson"),
+        (("disperse", EXAMPLES / "disperse_lod189.json", "--csv", "{missing}/d.csv"), "--csv"),
+    ],
+)
 def test_an_output_into_a_missing_folder_is_one_line_and_nothing_is_made(tmp_path, args, option):
     """Issue 13 item 10: --history printed a traceback and --plot made the folders a typo named."""
     missing = tmp_path / "no" / "such"
@@ -177,11 +206,17 @@ def test_an_output_into_a_missing_folder_is_one_line_and_nothing_is_made(tmp_pat
     assert not (tmp_path / "no").exists()
 
 
-@pytest.mark.parametrize("study, line", [
-    ({"method": "wiggle"}, "error: method: 'wiggle' is not one of 'single_parameter', 'constant_bank', 'staged', "
-                           "'two_parameter', 'constant_altitude', 'temperature_limited', 'collocation'"),
-    (None, "error: method: missing (this looks like a case: a study holds it as 'case' and names its 'method')"),
-])
+@pytest.mark.parametrize(
+    "study, line",
+    [
+        (
+            {"method": "wiggle"},
+            "error: method: 'wiggle' is not one of 'single_parameter', 'constant_bank', 'staged', "
+            "'two_parameter', 'constant_altitude', 'temperature_limited', 'collocation'",
+        ),
+        (None, "error: method: missing (this looks like a case: a study holds it as 'case' and names its 'method')"),
+    ],
+)
 def test_a_wrong_method_or_a_case_file_is_named_not_dumped(tmp_path, study, line):
     case = json.loads((EXAMPLES / "table2_lod22.json").read_text())
     path = tmp_path / "study.json"
@@ -196,8 +231,9 @@ def run_on_terminal(*args):
     import pty
 
     leader, follower = pty.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "footprint.cli", *map(str, args)], stdout=follower,
-                            stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "footprint.cli", *map(str, args)], stdout=follower, stderr=subprocess.PIPE, text=True
+    )
     os.close(follower)
     chunks = []
     while True:
@@ -256,10 +292,17 @@ def test_a_file_json_cannot_read_is_one_line_and_exit_2(tmp_path, which, command
 def test_a_temperature_limit_no_setting_can_meet_is_one_line_and_exit_2(tmp_path):
     """Issue 15 item 10: a temperature-limited study whose limit cannot be met (22,000 ft/s at -3 deg, 2,550 degR)
     is the user's limit, named with its value: one line, exit 2."""
-    study = {"case": {"vehicle": {"builtin": "lod-1.89"}, "heating": {"model": "reference"},
-                      "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3},
-                      "stop": {"altitude_ft": 50_000}},
-             "method": "temperature_limited", "limit_R": 2_550, "bank0_deg": [0, 60]}
+    study = {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "heating": {"model": "reference"},
+            "entry": {"altitude_ft": 364_800, "velocity_fps": 22_000, "gamma_deg": -3},
+            "stop": {"altitude_ft": 50_000},
+        },
+        "method": "temperature_limited",
+        "limit_R": 2_550,
+        "bank0_deg": [0, 60],
+    }
     path = tmp_path / "hot.json"
     path.write_text(json.dumps(study))
     r = run("footprint", path)
@@ -272,17 +315,26 @@ def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(t
     """Issue 16: `footprint disperse` answers what the Python door and the job kind answer, trajectories included."""
     from footprint import disperse
 
-    study = {"footprint": json.loads((EXAMPLES / "footprint_lod189.json").read_text()) | {"bank0_deg": [0, 60]},
-             "samples": 24, "seed": 3, "entry": {"gamma_deg": {"normal": {"std": 0.05}}}, "histories": [7],
-             "sites": [{"name": "Ascension", "latitude_deg": -7.95, "longitude_deg": -14.36}]}
+    study = {
+        "footprint": json.loads((EXAMPLES / "footprint_lod189.json").read_text()) | {"bank0_deg": [0, 60]},
+        "samples": 24,
+        "seed": 3,
+        "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
+        "histories": [7],
+        "sites": [{"name": "Ascension", "latitude_deg": -7.95, "longitude_deg": -14.36}],
+    }
     path = write_case(tmp_path, study)
     piped = run("disperse", path, "--workers", 0, "--geojson", tmp_path / "d.geojson", "--csv", tmp_path / "d.csv")
     assert piped.returncode == 0, piped.stderr
     got = json.loads(piped.stdout)
     kinds = [f["properties"]["kind"] for f in json.loads((tmp_path / "d.geojson").read_text())["features"]]
     assert kinds.count("ellipse") == 2 * len(got["flights"]) and kinds.count("site") == 1
-    assert (tmp_path / "d.csv").read_text().splitlines()[1].startswith(
-        f"Ascension,-7.95,-14.36,{got['sites'][0]['probability']},")
+    assert (
+        (tmp_path / "d.csv")
+        .read_text()
+        .splitlines()[1]
+        .startswith(f"Ascension,-7.95,-14.36,{got['sites'][0]['probability']},")
+    )
     here, _ = disperse(study)
     flights = len(here.flights)  # the family: each setting and its mirror, counted by the core
     assert got["trajectories"] == 24 * flights == got["outcomes"]["flights"]

@@ -25,8 +25,15 @@ from footprint import cli
 from tests.test_foliummap import FOOTPRINT as MAP_FOOTPRINT  # as `footprint footprint` prints one, across 180 deg
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-BY_PREFIX = {"fly": "table2_", "footprint": "footprint_", "optimize": "optimize_", "sweep": "sweep_",
-             "transform": "transform_", "reach": "reach_", "disperse": "disperse_"}  # a command's examples
+BY_PREFIX = {
+    "fly": "table2_",
+    "footprint": "footprint_",
+    "optimize": "optimize_",
+    "sweep": "sweep_",
+    "transform": "transform_",
+    "reach": "reach_",
+    "disperse": "disperse_",
+}  # a command's examples
 ALL_EXAMPLES = {p.name: json.loads(p.read_text()) for p in sorted(EXAMPLES.glob("*.json"))}
 TABLE2 = ALL_EXAMPLES["table2_lod22.json"]
 
@@ -59,24 +66,110 @@ RAW_EXAMPLES = 350  # over all the commands
 # ------------------------------------------------------------------------------- what the documents hold
 # written into the JSON text after json.dumps (which cannot write them, or not without deep recursion in the test)
 HUGE_INT, DEEP, NEAR_LIMIT, LONG, LONG_KEY = "@@huge-int@@", "@@deep@@", "@@near-limit@@", "@@long@@", "@@long-key@@"
-TEXT = {HUGE_INT: "9" * 5_000,  # past Python's 4,300 digits of int() from text: json.loads raises ValueError
-        LONG: json.dumps("x" * 100_000), LONG_KEY: json.dumps("k" * 10_000),
-        DEEP: "[" * 50_000 + "]" * 50_000,  # past the JSON reader's recursion limit
-        NEAR_LIMIT: '{"x": ' * 900 + "1" + "}" * 900}  # just within it (pydantic's own limit is lower)
-STRANGE_TEXT = ["", " ", "\x00", "a\x00b", "\n", "a\nb", "\r\n", "\t", "\u2028", "\x1b[31mred", "\ud800", "\ufeff",
-                "NaN", "Infinity", "-1e999", "1e308", "0x10", "true", "null", "{}", "[]", "lod-1.89", "lod-2.2",
-                "single_parameter", "collocation", "constant", "table", "zero", "max_ld", "exact", "approximate",
-                "🚀" * 3, "é" * 40, LONG, "%s%n{0}", "../../etc/passwd", HUGE_INT, DEEP, NEAR_LIMIT]
-STRANGE_NUMBERS = [0, -0.0, -1, 1, 2, 0.5, -180, 180.0001, 1e-300, 5e-324, 1e308, -1e308, 2 ** 31, 2 ** 63,
-                   -(2 ** 63) - 1, 10 ** 400, float("nan"), float("inf"), float("-inf")]
+TEXT = {
+    HUGE_INT: "9" * 5_000,  # past Python's 4,300 digits of int() from text: json.loads raises ValueError
+    LONG: json.dumps("x" * 100_000),
+    LONG_KEY: json.dumps("k" * 10_000),
+    DEEP: "[" * 50_000 + "]" * 50_000,  # past the JSON reader's recursion limit
+    NEAR_LIMIT: '{"x": ' * 900 + "1" + "}" * 900,
+}  # just within it (pydantic's own limit is lower)
+STRANGE_TEXT = [
+    "",
+    " ",
+    "\x00",
+    "a\x00b",
+    "\n",
+    "a\nb",
+    "\r\n",
+    "\t",
+    "\u2028",
+    "\x1b[31mred",
+    "\ud800",
+    "\ufeff",
+    "NaN",
+    "Infinity",
+    "-1e999",
+    "1e308",
+    "0x10",
+    "true",
+    "null",
+    "{}",
+    "[]",
+    "lod-1.89",
+    "lod-2.2",
+    "single_parameter",
+    "collocation",
+    "constant",
+    "table",
+    "zero",
+    "max_ld",
+    "exact",
+    "approximate",
+    "🚀" * 3,
+    "é" * 40,
+    LONG,
+    "%s%n{0}",
+    "../../etc/passwd",
+    HUGE_INT,
+    DEEP,
+    NEAR_LIMIT,
+]
+STRANGE_NUMBERS = [
+    0,
+    -0.0,
+    -1,
+    1,
+    2,
+    0.5,
+    -180,
+    180.0001,
+    1e-300,
+    5e-324,
+    1e308,
+    -1e308,
+    2**31,
+    2**63,
+    -(2**63) - 1,
+    10**400,
+    float("nan"),
+    float("inf"),
+    float("-inf"),
+]
 scalars = st.one_of(
-    st.none(), st.booleans(), st.sampled_from(STRANGE_NUMBERS), st.integers(),
-    st.floats(allow_nan=True, allow_infinity=True), st.sampled_from(STRANGE_TEXT), st.text(max_size=12),
+    st.none(),
+    st.booleans(),
+    st.sampled_from(STRANGE_NUMBERS),
+    st.integers(),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from(STRANGE_TEXT),
+    st.text(max_size=12),
 )
-keys = st.one_of(st.sampled_from(["", "x", "law", "method", "case", "vehicle", "\x00", "a\nb", "\u2028", "é" * 90,
-                                  LONG_KEY, "__class__", "from", "to"]), st.text(max_size=8))
-values = st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=4),
-                                                        st.dictionaries(keys, inner, max_size=4)), max_leaves=12)
+keys = st.one_of(
+    st.sampled_from(
+        [
+            "",
+            "x",
+            "law",
+            "method",
+            "case",
+            "vehicle",
+            "\x00",
+            "a\nb",
+            "\u2028",
+            "é" * 90,
+            LONG_KEY,
+            "__class__",
+            "from",
+            "to",
+        ]
+    ),
+    st.text(max_size=8),
+)
+values = st.recursive(
+    scalars,
+    lambda inner: st.one_of(st.lists(inner, max_size=4), st.dictionaries(keys, inner, max_size=4)),
+    max_leaves=12,
+)
 
 
 def paths(doc, here=()) -> list[tuple]:
@@ -112,8 +205,11 @@ def mutation(draw, doc):
     deep, emptied, or its array grown."""
     path = draw(st.sampled_from(paths(doc)))
     target = get(doc, path)
-    ops = ["replace", "wrap", "nest"] + (["drop"] if path else []) + (["unknown key", "empty"]
-                                                                     if isinstance(target, (dict, list)) else [])
+    ops = (
+        ["replace", "wrap", "nest"]
+        + (["drop"] if path else [])
+        + (["unknown key", "empty"] if isinstance(target, (dict, list)) else [])
+    )
     ops += ["grow"] if isinstance(target, list) and target else []
     op = draw(st.sampled_from(ops))
     if op == "replace":
@@ -164,11 +260,15 @@ def raw_files(draw):
     text = json.dumps(draw(st.sampled_from(list(ALL_EXAMPLES.values())))).encode()
     how = draw(st.sampled_from(["cut", "splice", "utf-16", "utf-8-sig", "latin-1", "binary", "empty", "scalar"]))
     if how == "cut":
-        return text[:draw(st.integers(0, len(text) - 1))]
+        return text[: draw(st.integers(0, len(text) - 1))]
     if how == "splice":
         at = draw(st.integers(0, len(text)))
-        junk = draw(st.one_of(st.binary(min_size=1, max_size=8),
-                              st.sampled_from([b"\xff", b"\xc3", b"\xed\xa0\x80", b"\x00", b"\x80\x80", b"}", b","])))
+        junk = draw(
+            st.one_of(
+                st.binary(min_size=1, max_size=8),
+                st.sampled_from([b"\xff", b"\xc3", b"\xed\xa0\x80", b"\x00", b"\x80\x80", b"}", b","]),
+            )
+        )
         return text[:at] + junk + text[at:]
     if how == "utf-16":
         return text.decode().encode("utf-16")
@@ -241,7 +341,8 @@ def assert_one_line_or_success(result, command: str, content: bytes) -> str:
     if isinstance(result.exception, Parsed):
         return "parsed"
     assert result.exception is None or isinstance(result.exception, SystemExit), (
-        f"{command} raised {type(result.exception).__name__}: {result.exception!r} on {shown!r}")
+        f"{command} raised {type(result.exception).__name__}: {result.exception!r} on {shown!r}"
+    )
     assert result.exit_code in (0, 2), f"{command}: exit {result.exit_code} on {shown!r}\n{result.output}"
     assert "Traceback" not in result.output, result.output
     if result.exit_code == 0:
@@ -254,9 +355,13 @@ def assert_one_line_or_success(result, command: str, content: bytes) -> str:
 
 def bounded_fuzz(max_examples: int):
     """The same examples on every run, a bounded number of them (the default suite stays fast)."""
-    return settings(max_examples=max_examples, deadline=None, derandomize=True, database=None,
-                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                                           HealthCheck.function_scoped_fixture])
+    return settings(
+        max_examples=max_examples,
+        deadline=None,
+        derandomize=True,
+        database=None,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.function_scoped_fixture],
+    )
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -309,26 +414,48 @@ def changed(doc: dict, where: str, value) -> dict:
 SHUTTLE_CASE = ALL_EXAMPLES["optimize_betts_shuttle.json"]["case"]  # an inline vehicle (polynomial aero)
 
 
-@pytest.mark.parametrize("command, doc, line", [
-    # a key with a line break (or another character that does not print) was echoed as it is: two lines
-    ("fly", {**TABLE2, "a\nb": 1}, r"error: a\nb: Extra inputs are not permitted (got 1)"),
-    ("footprint", {**STUDY, "\x1e": None}, r"error: \x1e: Extra inputs are not permitted (got None)"),
-    ("fly", {**TABLE2, "vehicle": {"builtin": "lod-2.2", "x\u2028y\x00": 1}},
-     r"error: vehicle.x\u2028y\x00: Extra inputs are not permitted (got 1)"),
-    # map read its file unchecked: a null latitude reached folium (ValueError: Location values cannot contain
-    # NaNs), a word float(), a list html.escape (AttributeError): tracebacks
-    ("map", changed(MAP_FOOTPRINT, "points.0.latitude_deg", None),
-     "error: points.0.latitude_deg: Input should be a valid number (got None)"),
-    ("map", changed(MAP_FOOTPRINT, "points.1.longitude_deg", "east"),
-     "error: points.1.longitude_deg: Input should be a valid number, unable to parse string as a number (got 'east')"),
-    ("map", changed(MAP_FOOTPRINT, "entry.heading_deg", float("nan")),
-     "error: entry.heading_deg: nan is outside the allowed range -360 to 360 deg"),
-    ("map", changed(MAP_FOOTPRINT, "name", ["a", "list"]),
-     "error: name: Input should be a valid string (got ['a', 'list'])"),
-    # an inline vehicle's coefficient of 401 digits: math.isfinite(int) raised OverflowError in core.aero
-    ("fly", changed(SHUTTLE_CASE, "vehicle.aero.polynomial.cl.0", 10 ** 400),
-     f"error: vehicle: aero.polynomial.cl[0]: {'1' + '0' * 76}... is not a finite number"),
-])
+@pytest.mark.parametrize(
+    "command, doc, line",
+    [
+        # a key with a line break (or another character that does not print) was echoed as it is: two lines
+        ("fly", {**TABLE2, "a\nb": 1}, r"error: a\nb: Extra inputs are not permitted (got 1)"),
+        ("footprint", {**STUDY, "\x1e": None}, r"error: \x1e: Extra inputs are not permitted (got None)"),
+        (
+            "fly",
+            {**TABLE2, "vehicle": {"builtin": "lod-2.2", "x\u2028y\x00": 1}},
+            r"error: vehicle.x\u2028y\x00: Extra inputs are not permitted (got 1)",
+        ),
+        # map read its file unchecked: a null latitude reached folium (ValueError: Location values cannot contain
+        # NaNs), a word float(), a list html.escape (AttributeError): tracebacks
+        (
+            "map",
+            changed(MAP_FOOTPRINT, "points.0.latitude_deg", None),
+            "error: points.0.latitude_deg: Input should be a valid number (got None)",
+        ),
+        (
+            "map",
+            changed(MAP_FOOTPRINT, "points.1.longitude_deg", "east"),
+            "error: points.1.longitude_deg: Input should be a valid number, unable to parse string as a number "
+            "(got 'east')",
+        ),
+        (
+            "map",
+            changed(MAP_FOOTPRINT, "entry.heading_deg", float("nan")),
+            "error: entry.heading_deg: nan is outside the allowed range -360 to 360 deg",
+        ),
+        (
+            "map",
+            changed(MAP_FOOTPRINT, "name", ["a", "list"]),
+            "error: name: Input should be a valid string (got ['a', 'list'])",
+        ),
+        # an inline vehicle's coefficient of 401 digits: math.isfinite(int) raised OverflowError in core.aero
+        (
+            "fly",
+            changed(SHUTTLE_CASE, "vehicle.aero.polynomial.cl.0", 10**400),
+            f"error: vehicle: aero.polynomial.cl[0]: {'1' + '0' * 76}... is not a finite number",
+        ),
+    ],
+)
 def test_a_bad_key_or_value_found_by_the_fuzz_gets_one_line(quick_commands, folder, command, doc, line):
     result = invoke(command, json_bytes(doc, ensure_ascii=True), folder)
     assert (result.exit_code, result.stderr) == (2, line + "\n")
@@ -338,4 +465,6 @@ def test_an_integer_of_5000_digits_gets_one_line(quick_commands, folder):
     """json.loads raises a plain ValueError (Python's limit on the digits of int() from text), not JSONDecodeError."""
     result = invoke("sweep", b'{"name": ' + b"9" * 5_000 + b"}", folder)
     assert (result.exit_code, result.stderr) == (
-        2, f"error: {folder / 'request.json'}: not a request: a number with more than 4,300 digits\n")
+        2,
+        f"error: {folder / 'request.json'}: not a request: a number with more than 4,300 digits\n",
+    )

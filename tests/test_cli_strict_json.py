@@ -1,6 +1,6 @@
 """Issue 24 item 8: the CLI's JSON is strict JSON (RFC 8259) everywhere. `footprint optimize --json` printed NaN in
-the optimum's temperature_R history for examples/optimize_fly_there.json without its stop altitude (301 of them; the service writes
-null), and a C_D of 1e308 was accepted and printed Infinity with a numpy overflow warning."""
+the optimum's temperature_R history for examples/optimize_fly_there.json without its stop altitude (301 of them; the
+service writes null), and a C_D of 1e308 was accepted and printed Infinity with a numpy overflow warning."""
 
 import json
 import math
@@ -14,6 +14,7 @@ from tests.test_cli import ROOT, run
 def _strict(text: str):
     def refuse(constant):
         raise ValueError(f"not JSON: {constant}")
+
     return json.loads(text, parse_constant=refuse)
 
 
@@ -31,12 +32,20 @@ def test_an_optimum_flown_past_its_heating_data_prints_null_not_nan(tmp_path):
 def test_strict_json_maps_non_finite_numbers_to_null_and_refuses_what_escapes():
     import numpy as np
 
-    assert _strict(strict_json({"a": math.nan, "b": [np.float64(np.inf), 1.5], "c": np.float32(-np.inf)})) == \
-        {"a": None, "b": [None, 1.5], "c": None}
+    assert _strict(strict_json({"a": math.nan, "b": [np.float64(np.inf), 1.5], "c": np.float32(-np.inf)})) == {
+        "a": None,
+        "b": [None, 1.5],
+        "c": None,
+    }
 
 
-@pytest.mark.parametrize("aero, field", [({"constant": {"cl": 0.5, "cd": 1e308}}, "vehicle.aero.constant.cd"),
-                                         ({"polynomial": {"cl": [0, 1e200], "cd": [0.1]}}, "vehicle.aero.polynomial.cl")])
+@pytest.mark.parametrize(
+    "aero, field",
+    [
+        ({"constant": {"cl": 0.5, "cd": 1e308}}, "vehicle.aero.constant.cd"),
+        ({"polynomial": {"cl": [0, 1e200], "cd": [0.1]}}, "vehicle.aero.polynomial.cl"),
+    ],
+)
 def test_a_coefficient_that_overflows_the_forces_is_refused_with_its_field(tmp_path, aero, field):
     case = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
     case["vehicle"] = {"aero": aero, "wing_loading_psf": 50}

@@ -5,14 +5,14 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import matplotlib.pyplot as plt
-from matplotlib.colors import to_rgb
 import numpy as np
 import pytest
+from matplotlib.colors import to_rgb
 
 from footprint.contracts import parse
-from footprint.pictures import figures as G
 from footprint.core import footprints as F
 from footprint.core.trajectory import Trajectory
+from footprint.pictures import figures as G
 from tests.authorities.report import table2_entry, table2_stop
 
 TABLE2_CASE = {"vehicle": {"builtin": "lod-1.89"}, "entry": table2_entry(), "stop": table2_stop()}
@@ -21,10 +21,22 @@ MIN_FILE_BYTES = 5_000  # a drawn footprint, not an empty canvas
 
 
 def pt(d, c, side="left", parameter=None, mirrored=False, contours=()):
-    return F.FootprintPoint(parameter=parameter or {}, side=side, downrange_nmi=d, crossrange_nmi=c,
-                            flight_time_s=1000.0, latitude_deg=0.0, longitude_deg=0.0, heading_deg=90.0,
-                            final_velocity_fps=1000.0, final_altitude_ft=50_000.0, pullout_altitude_ft=2e5,
-                            stop_reason="altitude", contours=contours, mirrored=mirrored)
+    return F.FootprintPoint(
+        parameter=parameter or {},
+        side=side,
+        downrange_nmi=d,
+        crossrange_nmi=c,
+        flight_time_s=1000.0,
+        latitude_deg=0.0,
+        longitude_deg=0.0,
+        heading_deg=90.0,
+        final_velocity_fps=1000.0,
+        final_altitude_ft=50_000.0,
+        pullout_altitude_ft=2e5,
+        stop_reason="altitude",
+        contours=contours,
+        mirrored=mirrored,
+    )
 
 
 def contour(v, d, c):
@@ -33,20 +45,41 @@ def contour(v, d, c):
 
 def hand_footprint(with_contours=False):
     """Front axis point, two left points, the zero-lift point, the left points reflected."""
+
     def cs(d, c):  # iso-velocity points short of the end; the 3,000 nmi point never slows to 2,000 ft/s
         if not with_contours:
             return ()
         out = (contour(6000.0, d - 300, 0.8 * c),)
         return out + ((contour(2000.0, d - 50, 0.95 * c),) if d != 3000.0 else ())
 
-    left = [pt(2500.0, 900.0, parameter={"bank0_deg": 45.0, "bank_gain": 0.5}, contours=cs(2500.0, 900.0)),
-            pt(900.0, 600.0, parameter={"bank0_deg": 90.0, "bank_gain": 1.0}, contours=cs(900.0, 600.0))]
-    right = [pt(p.downrange_nmi, -p.crossrange_nmi, "right", p.parameter, True,
-                tuple(c | {"crossrange_nmi": -c["crossrange_nmi"]} for c in p.contours)) for p in left]
-    points = ([pt(3000.0, 0.0, "axis", {"bank0_deg": 0.0, "bank_gain": 0.0}, contours=cs(3000.0, 0.0))] + left
-              + [pt(500.0, 0.0, "axis", {"min_range": "zero_lift"}, contours=cs(500.0, 0.0))] + right[::-1])
-    return F.Footprint(method="single_parameter", points=points, area_nmi2=F.area_nmi2(points), trajectories=4,
-                       entry={"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0})
+    left = [
+        pt(2500.0, 900.0, parameter={"bank0_deg": 45.0, "bank_gain": 0.5}, contours=cs(2500.0, 900.0)),
+        pt(900.0, 600.0, parameter={"bank0_deg": 90.0, "bank_gain": 1.0}, contours=cs(900.0, 600.0)),
+    ]
+    right = [
+        pt(
+            p.downrange_nmi,
+            -p.crossrange_nmi,
+            "right",
+            p.parameter,
+            True,
+            tuple(c | {"crossrange_nmi": -c["crossrange_nmi"]} for c in p.contours),
+        )
+        for p in left
+    ]
+    points = (
+        [pt(3000.0, 0.0, "axis", {"bank0_deg": 0.0, "bank_gain": 0.0}, contours=cs(3000.0, 0.0))]
+        + left
+        + [pt(500.0, 0.0, "axis", {"min_range": "zero_lift"}, contours=cs(500.0, 0.0))]
+        + right[::-1]
+    )
+    return F.Footprint(
+        method="single_parameter",
+        points=points,
+        area_nmi2=F.area_nmi2(points),
+        trajectories=4,
+        entry={"latitude_deg": 0.0, "longitude_deg": 0.0, "heading_deg": 90.0},
+    )
 
 
 def lines(ax, gid):
@@ -133,15 +166,18 @@ def test_drawing_into_a_given_axes_returns_its_figure():
         plt.close(fig)
 
 
-@pytest.mark.parametrize("parameter, label", [
-    ({"bank0_deg": 45.0, "bank_gain": 0.5}, r"$\phi_0$=45°"),
-    ({"bank_gain": 0.67, "sigma_f_deg": -15.0}, r"K=0.67, $\sigma_f$=-15°"),
-    ({"bank_deg": 30.0, "turn_deg": 90.0}, r"$\phi$=30°"),
-    ({"turn_deg": 11.448540987}, r"$\Delta\sigma$=11.4°"),
-    ({"turn_deg": 38.2, "until": "wings_level"}, r"$\Delta\sigma$=38.2° (max)"),
-    ({"min_range": "zero_lift"}, "zero lift"),
-    ({"min_range": "cl_max"}, r"$C_{L\,max}$"),
-])
+@pytest.mark.parametrize(
+    "parameter, label",
+    [
+        ({"bank0_deg": 45.0, "bank_gain": 0.5}, r"$\phi_0$=45°"),
+        ({"bank_gain": 0.67, "sigma_f_deg": -15.0}, r"K=0.67, $\sigma_f$=-15°"),
+        ({"bank_deg": 30.0, "turn_deg": 90.0}, r"$\phi$=30°"),
+        ({"turn_deg": 11.448540987}, r"$\Delta\sigma$=11.4°"),
+        ({"turn_deg": 38.2, "until": "wings_level"}, r"$\Delta\sigma$=38.2° (max)"),
+        ({"min_range": "zero_lift"}, "zero lift"),
+        ({"min_range": "cl_max"}, r"$C_{L\,max}$"),
+    ],
+)
 def test_parameter_labels_as_the_report_names_them(parameter, label):
     assert G.parameter_label(parameter) == label
 
@@ -180,8 +216,9 @@ def test_one_closed_contour_per_velocity_through_the_points_that_reached_it():
     contours = {ln.get_label(): ln for ln in lines(ax, "contour")}
     assert list(contours) == ["6,000 ft/s", "2,000 ft/s"]  # fastest (innermost) first
     for label, v in (("6,000 ft/s", 6000.0), ("2,000 ft/s", 2000.0)):
-        expected = [(c["downrange_nmi"], c["crossrange_nmi"]) for p in fp.points for c in p.contours
-                    if c["velocity_fps"] == v]
+        expected = [
+            (c["downrange_nmi"], c["crossrange_nmi"]) for p in fp.points for c in p.contours if c["velocity_fps"] == v
+        ]
         assert vertices(contours[label]) == expected + expected[:1]
     assert len(vertices(contours["2,000 ft/s"])) == len(fp.points)  # one point missed it, the line closes
 
@@ -194,10 +231,29 @@ def test_contours_need_a_footprint_generated_with_them():
 # ----------------------------------------------------------------------------------------- trajectories
 def synthetic_trajectory(scale):
     t = np.linspace(0.0, 2000.0, 50)
-    h = {k: np.zeros_like(t) for k in ("gamma_deg", "heading_deg", "latitude_deg", "longitude_deg", "alpha_deg",
-                                       "mach", "dynamic_pressure_psf", "cl", "cd", "lift_to_drag")}
-    h |= {"time_s": t, "altitude_ft": 300_000.0 - 100.0 * t * scale, "velocity_fps": 24_000.0 - 10.0 * t,
-          "bank_deg": 45.0 * scale * (1 - t / 2000.0), "downrange_nmi": 3.0 * t, "crossrange_nmi": 0.1 * t * scale}
+    h = {
+        k: np.zeros_like(t)
+        for k in (
+            "gamma_deg",
+            "heading_deg",
+            "latitude_deg",
+            "longitude_deg",
+            "alpha_deg",
+            "mach",
+            "dynamic_pressure_psf",
+            "cl",
+            "cd",
+            "lift_to_drag",
+        )
+    }
+    h |= {
+        "time_s": t,
+        "altitude_ft": 300_000.0 - 100.0 * t * scale,
+        "velocity_fps": 24_000.0 - 10.0 * t,
+        "bank_deg": 45.0 * scale * (1 - t / 2000.0),
+        "downrange_nmi": 3.0 * t,
+        "crossrange_nmi": 0.1 * t * scale,
+    }
     return Trajectory(summary={}, history=h)
 
 
@@ -232,14 +288,25 @@ def test_bank_schedule_axis_extends_past_zero_for_a_negative_final_heading():
 
 def optimum(names, params):
     """An optimize.Result's drawn fields, by hand."""
-    return SimpleNamespace(names=tuple(names), params=np.asarray(params, dtype=float), method="creep_pattern",
-                           history=[{"trajectories": n, "payoff": 30.0 + n} for n in (1, 2, 3)], payoff=33.0,
-                           trajectories=3, feasible=True)
+    return SimpleNamespace(
+        names=tuple(names),
+        params=np.asarray(params, dtype=float),
+        method="creep_pattern",
+        history=[{"trajectories": n, "payoff": 30.0 + n} for n in (1, 2, 3)],
+        payoff=33.0,
+        trajectories=3,
+        feasible=True,
+    )
 
 
 def test_an_optimum_draws_each_table_against_its_own_abscissa():
-    names = ["bank_deg_at_energy_ft_177000", "bank_deg_at_energy_ft_10445000", "alpha_deg_at_time_s_0",
-             "alpha_deg_at_time_s_900.5", "alpha_deg_at_time_s_2000"]
+    names = [
+        "bank_deg_at_energy_ft_177000",
+        "bank_deg_at_energy_ft_10445000",
+        "alpha_deg_at_time_s_0",
+        "alpha_deg_at_time_s_900.5",
+        "alpha_deg_at_time_s_2000",
+    ]
     _, bank, alpha = G.optimization_figure(optimum(names, [5.0, 73.0, 17.0, 17.5, 16.0])).axes
     assert list(bank.get_lines()[0].get_xdata()) == [177_000.0, 10_445_000.0]
     assert "Energy height" in bank.get_xlabel() and bank.get_ylabel() == "Bank angle (deg)"
@@ -254,8 +321,11 @@ def test_the_reports_bank_table_is_drawn_from_90_to_minus_15_deg():
 
 
 def test_pullout_carpet_one_curve_per_entry_velocity_sorted_by_angle():
-    rows = [{"entry_velocity_fps": v, "entry_gamma_deg": g, "pullout_altitude_ft": 1000.0 * (200 + g + v / 1000)}
-            for v in (24_000.0, 20_000.0) for g in (-5.0, -1.5, -10.0)]
+    rows = [
+        {"entry_velocity_fps": v, "entry_gamma_deg": g, "pullout_altitude_ft": 1000.0 * (200 + g + v / 1000)}
+        for v in (24_000.0, 20_000.0)
+        for g in (-5.0, -1.5, -10.0)
+    ]
     rows.append({"entry_velocity_fps": 20_000.0, "entry_gamma_deg": -25.0, "pullout_altitude_ft": None})  # skipped
     fig = G.pullout_carpet_figure(rows)
     (ax,) = fig.axes
@@ -267,8 +337,10 @@ def test_pullout_carpet_one_curve_per_entry_velocity_sorted_by_angle():
 
 
 def test_pullout_carpet_adds_the_pullout_range_panel_when_given():
-    rows = [{"entry_velocity_fps": 20_000.0, "entry_gamma_deg": g, "pullout_altitude_ft": 1.5e5,
-             "pullout_downrange_nmi": r} for g, r in ((-2.0, 470.0), (-10.0, 190.0))]
+    rows = [
+        {"entry_velocity_fps": 20_000.0, "entry_gamma_deg": g, "pullout_altitude_ft": 1.5e5, "pullout_downrange_nmi": r}
+        for g, r in ((-2.0, 470.0), (-10.0, 190.0))
+    ]
     alt, rng = G.pullout_carpet_figure(rows).axes
     assert rng.get_ylabel() == "Down-range to pull-out (n.mi.)"
     assert list(rng.get_lines()[0].get_ydata()) == [190.0, 470.0]

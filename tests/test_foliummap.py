@@ -10,18 +10,44 @@ import pytest
 from footprint.core.sphere import unwrap_longitude
 from footprint.pictures.folium_page import FRONTEND_DIR, topojson_features, unwrap_ring
 
-pytestmark = pytest.mark.skipif(not (FRONTEND_DIR / "vendor" / "leaflet").is_dir(),
-                                reason="run `npm ci` in frontend/ (the map inlines the npm leaflet package)")
+pytestmark = pytest.mark.skipif(
+    not (FRONTEND_DIR / "vendor" / "leaflet").is_dir(),
+    reason="run `npm ci` in frontend/ (the map inlines the npm leaflet package)",
+)
 
 # Three points of a footprint entered at 170 E heading east: its boundary crosses longitude 180.
 FOOTPRINT = {
-    "method": "single_parameter", "entry": {"latitude_deg": 0.0, "longitude_deg": 170.0, "heading_deg": 90.0},
-    "points": [{"latitude_deg": 0.0, "longitude_deg": -150.0, "downrange_nmi": 2400.0, "crossrange_nmi": 0.0,
-                "flight_time_s": 2000.0, "parameter": {"bank0_deg": 0.0}, "mirrored": False},
-               {"latitude_deg": 10.0, "longitude_deg": 179.0, "downrange_nmi": 900.0, "crossrange_nmi": 600.0,
-                "flight_time_s": 1500.0, "parameter": {"bank0_deg": 90.0}, "mirrored": False},
-               {"latitude_deg": -10.0, "longitude_deg": 179.0, "downrange_nmi": 900.0, "crossrange_nmi": -600.0,
-                "flight_time_s": 1500.0, "parameter": {"bank0_deg": 90.0}, "mirrored": True}],
+    "method": "single_parameter",
+    "entry": {"latitude_deg": 0.0, "longitude_deg": 170.0, "heading_deg": 90.0},
+    "points": [
+        {
+            "latitude_deg": 0.0,
+            "longitude_deg": -150.0,
+            "downrange_nmi": 2400.0,
+            "crossrange_nmi": 0.0,
+            "flight_time_s": 2000.0,
+            "parameter": {"bank0_deg": 0.0},
+            "mirrored": False,
+        },
+        {
+            "latitude_deg": 10.0,
+            "longitude_deg": 179.0,
+            "downrange_nmi": 900.0,
+            "crossrange_nmi": 600.0,
+            "flight_time_s": 1500.0,
+            "parameter": {"bank0_deg": 90.0},
+            "mirrored": False,
+        },
+        {
+            "latitude_deg": -10.0,
+            "longitude_deg": 179.0,
+            "downrange_nmi": 900.0,
+            "crossrange_nmi": -600.0,
+            "flight_time_s": 1500.0,
+            "parameter": {"bank0_deg": 90.0},
+            "mirrored": True,
+        },
+    ],
 }
 
 
@@ -60,11 +86,17 @@ def test_ring_across_180_is_drawn_whole_next_to_its_entry():
 
 
 def test_topojson_decoding_with_reversed_arcs():
-    topology = {"type": "Topology", "transform": {"scale": [1.0, 1.0], "translate": [0.0, 0.0]},
-                "arcs": [[[0, 0], [1, 0], [0, 1]], [[1, 1], [-1, 0], [0, -1]]],
-                "objects": {"square": {"type": "GeometryCollection",
-                                       "geometries": [{"type": "Polygon", "arcs": [[0, 1]]},
-                                                      {"type": "Polygon", "arcs": [[~1, ~0]]}]}}}
+    topology = {
+        "type": "Topology",
+        "transform": {"scale": [1.0, 1.0], "translate": [0.0, 0.0]},
+        "arcs": [[[0, 0], [1, 0], [0, 1]], [[1, 1], [-1, 0], [0, -1]]],
+        "objects": {
+            "square": {
+                "type": "GeometryCollection",
+                "geometries": [{"type": "Polygon", "arcs": [[0, 1]]}, {"type": "Polygon", "arcs": [[~1, ~0]]}],
+            }
+        },
+    }
     features = topojson_features(topology, "square")["features"]
     assert features[0]["geometry"]["coordinates"] == [[[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]]
     assert features[1]["geometry"]["coordinates"] == [[[0, 0], [0, 1], [1, 1], [1, 0], [0, 0]]]
@@ -82,8 +114,11 @@ def test_user_text_never_enters_a_script_and_the_scripts_are_pinned_by_hash():
 
     points = [dict(p, parameter={"bank0_deg`${alert(2)}`": 1.0}) for p in FOOTPRINT["points"]]
     html = footprint_map_html(dict(FOOTPRINT, points=points), title=HOSTILE_NAME)
-    running = [text for attrs, text in re.findall(r"<script(\s[^>]*)?>(.*?)</script>", html, re.S)
-               if "application/json" not in (attrs or "")]
+    running = [
+        text
+        for attrs, text in re.findall(r"<script(\s[^>]*)?>(.*?)</script>", html, re.S)
+        if "application/json" not in (attrs or "")
+    ]
     assert running and not any("alert" in text for text in running)
     labels = re.search(r'<script type="application/json" id="footprint-labels">(.*?)</script>', html, re.S).group(1)
     assert "<" not in labels and HOSTILE_NAME in json.loads(labels)

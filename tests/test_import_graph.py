@@ -46,7 +46,7 @@ def cycles(graph) -> list[list[str]]:
         stack.append(m)
         for n in sorted(graph.get(m, ())):
             if state.get(n) == "open":
-                found.append(stack[stack.index(n):] + [n])
+                found.append(stack[stack.index(n) :] + [n])
             elif n not in state:
                 visit(n)
         stack.pop()
@@ -64,8 +64,13 @@ def test_the_package_has_no_import_cycle():
 
 
 def test_the_core_imports_nothing_from_the_layers_above():
-    above = [(m, n) for m, deps in import_graph().items() if m.startswith("footprint.core")
-             for n in deps if not n.startswith("footprint.core")]
+    above = [
+        (m, n)
+        for m, deps in import_graph().items()
+        if m.startswith("footprint.core")
+        for n in deps
+        if not n.startswith("footprint.core")
+    ]
     assert not above, above
 
 

@@ -28,8 +28,15 @@ GRID = np.array([(a, b) for a in np.arange(-88.0, 90.0, 4.0) for b in np.arange(
 @pytest.fixture(scope="module")
 def flown():
     fp = api.footprint(json.loads((ROOT / "examples" / "footprint_lod189.json").read_text()))
-    points = [{"latitude_deg": p.latitude_deg, "longitude_deg": p.longitude_deg, "flight_time_s": p.flight_time_s,
-               "downrange_nmi": p.downrange_nmi} for p in fp.points]
+    points = [
+        {
+            "latitude_deg": p.latitude_deg,
+            "longitude_deg": p.longitude_deg,
+            "flight_time_s": p.flight_time_s,
+            "downrange_nmi": p.downrange_nmi,
+        }
+        for p in fp.points
+    ]
     return fp.entry, points
 
 
@@ -37,10 +44,16 @@ def moved(flown, node_deg, inclination_deg, step_nmi, rotation):
     """The service's transform of the boundary (POST /api/footprints/{id}/transform's points): the reference, the
     moved ranges and the outline."""
     entry, points = flown
-    result = parallel.run("transform", {
-        "from": entry, "to": {"node_longitude_deg": node_deg, "inclination_deg": inclination_deg,
-                              "argument_of_latitude_deg": 0.0},
-        "step_downrange_nmi": step_nmi, "earth_rotation": rotation, "points": points})
+    result = parallel.run(
+        "transform",
+        {
+            "from": entry,
+            "to": {"node_longitude_deg": node_deg, "inclination_deg": inclination_deg, "argument_of_latitude_deg": 0.0},
+            "step_downrange_nmi": step_nmi,
+            "earth_rotation": rotation,
+            "points": points,
+        },
+    )
     r = result["reference"]
     reference = Reference(r["latitude_deg"], r["longitude_deg"], r["heading_deg"])
     down, cross = [p["downrange_nmi"] for p in result["points"]], [p["crossrange_nmi"] for p in result["points"]]
@@ -89,8 +102,9 @@ def test_a_footprint_that_holds_one_pole_is_closed_along_its_own_edge_with_the_r
     for rotation in ("approximate", "none"):
         bad, held, o = disagreements(flown, -170.0, 60.0, 0.0, rotation)
         assert o.pole == "north" and held > 100 and bad == 0, rotation
-        drawn = geojson_inside(geojson.polygon(o), np.array([10.0, 40.0, 60.0, 89.9]),
-                               np.array([58.0, 55.0, 58.0, 0.0]))
+        drawn = geojson_inside(
+            geojson.polygon(o), np.array([10.0, 40.0, 60.0, 89.9]), np.array([58.0, 55.0, 58.0, 0.0])
+        )
         assert drawn.tolist() == [False, False, False, True], rotation
 
 
@@ -122,19 +136,33 @@ def test_the_folium_map_fills_the_same_area(flown):
     from footprint.pictures.folium_page import footprint_map
 
     entry, points = flown
-    result = parallel.run("transform", {
-        "from": entry, "to": {"node_longitude_deg": -30.0, "inclination_deg": 90.0, "argument_of_latitude_deg": 0.0},
-        "step_downrange_nmi": 3_000.0, "points": points})
+    result = parallel.run(
+        "transform",
+        {
+            "from": entry,
+            "to": {"node_longitude_deg": -30.0, "inclination_deg": 90.0, "argument_of_latitude_deg": 0.0},
+            "step_downrange_nmi": 3_000.0,
+            "points": points,
+        },
+    )
     m = footprint_map({"name": "moved", "points": result["points"], "entry": result["reference"]})
-    main = [[np.asarray(ring, float)[:, ::-1] for ring in child.locations]
-            for child in m._children.values() if isinstance(child, folium.Polygon)
-            and all(-180.0 <= lon <= 180.0 for ring in child.locations for _, lon in ring)]
-    drawn = geojson_inside({"type": "MultiPolygon", "coordinates": [[r.tolist() for r in p] for p in main]},
-                           GRID[:, 0], GRID[:, 1])
+    main = [
+        [np.asarray(ring, float)[:, ::-1] for ring in child.locations]
+        for child in m._children.values()
+        if isinstance(child, folium.Polygon)
+        and all(-180.0 <= lon <= 180.0 for ring in child.locations for _, lon in ring)
+    ]
+    drawn = geojson_inside(
+        {"type": "MultiPolygon", "coordinates": [[r.tolist() for r in p] for p in main]}, GRID[:, 0], GRID[:, 1]
+    )
     r = result["reference"]
-    margin, sphere = placement_margins(Reference(r["latitude_deg"], r["longitude_deg"], r["heading_deg"]),
-                                       [p["downrange_nmi"] for p in result["points"]],
-                                       [p["crossrange_nmi"] for p in result["points"]], np.zeros(len(points)),
-                                       GRID[:, 0], GRID[:, 1])
+    margin, sphere = placement_margins(
+        Reference(r["latitude_deg"], r["longitude_deg"], r["heading_deg"]),
+        [p["downrange_nmi"] for p in result["points"]],
+        [p["crossrange_nmi"] for p in result["points"]],
+        np.zeros(len(points)),
+        GRID[:, 0],
+        GRID[:, 1],
+    )
     clear = np.abs(margin) > CLEAR_NMI
     assert sphere[clear].sum() > 100 and np.array_equal(drawn[clear], sphere[clear])

@@ -29,8 +29,12 @@ BETTS_SHARE = 0.995  # issue 12: the search reaches 99.5 % of the published fina
 def run(tmp_path, study, *args):
     path = tmp_path / "study.json"
     path.write_text(json.dumps(study))
-    return subprocess.run([sys.executable, "-m", "footprint.cli", "optimize", str(path), *args],
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "footprint.cli", "optimize", str(path), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
 
 
 def test_unconstrained_optimum_beats_the_single_parameter_control_and_draws_fig_3(tmp_path):
@@ -62,8 +66,13 @@ def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
     """Section III: the bank table plus an alpha table vs velocity, maximum cross-range at RET <= 2,550 degR."""
     case = {**STUDY["case"], "heating": {"model": "reference"}}
     limit = REPORT["sec3.limit_R"].value
-    study = {**STUDY, "case": case, "controls": ["bank", "alpha"], "max_trajectories": 2_500,
-             "constraints": [{"quantity": "max_temperature_R", "at_most": limit}]}
+    study = {
+        **STUDY,
+        "case": case,
+        "controls": ["bank", "alpha"],
+        "max_trajectories": 2_500,
+        "constraints": [{"quantity": "max_temperature_R", "at_most": limit}],
+    }
     r = run(tmp_path, study)
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
@@ -74,15 +83,18 @@ def test_bank_and_alpha_tables_hold_a_temperature_limit(tmp_path):
     assert max(alphas.values()) > 12.5  # the unconstrained optimum peaks at 2,670 degR: alpha must rise
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"constraints": [{"quantity": "max_temperature_R", "at_most": 2550}]}, "case.heating"),
-    ({"constraints": [{"quantity": "downrange_nmi", "equals": 4000, "at_most": 5000}]}, "exactly one of"),
-    ({"payoff": {"quantity": "happiness", "goal": "max"}}, "payoff.quantity"),
-    ({"method": "genetic"}, "method"),
-    ({"max_trajectories": 5}, "max_trajectories"),
-    ({"controls": ["alpha"]}, "controls"),
-    ({"controls": ["bank", "bank"]}, "controls"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"constraints": [{"quantity": "max_temperature_R", "at_most": 2550}]}, "case.heating"),
+        ({"constraints": [{"quantity": "downrange_nmi", "equals": 4000, "at_most": 5000}]}, "exactly one of"),
+        ({"payoff": {"quantity": "happiness", "goal": "max"}}, "payoff.quantity"),
+        ({"method": "genetic"}, "method"),
+        ({"max_trajectories": 5}, "max_trajectories"),
+        ({"controls": ["alpha"]}, "controls"),
+        ({"controls": ["bank", "bank"]}, "controls"),
+    ],
+)
 def test_a_bad_study_gets_one_line_and_exit_2(tmp_path, change, words):
     r = run(tmp_path, {**STUDY, **change})
     assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr
@@ -93,11 +105,17 @@ def test_a_bad_study_gets_one_line_and_exit_2(tmp_path, change, words):
 ENERGY_FT = [177_000, 10_445_000]  # the terminal (80,000 ft, 2,500 ft/s) to the entry energy height
 
 
-@pytest.mark.parametrize("knobs", [
-    {},  # the example: bank (16 nodes) and alpha (8 nodes) against energy height
-    {"bank_table": {"time_s": [0, 2_100], "count": 12, "bounds_deg": [-1, 89]},
-     "alpha_table": {"velocity_fps": [2_500, 25_600], "count": 6}},
-], ids=["energy_energy", "time_velocity"])
+@pytest.mark.parametrize(
+    "knobs",
+    [
+        {},  # the example: bank (16 nodes) and alpha (8 nodes) against energy height
+        {
+            "bank_table": {"time_s": [0, 2_100], "count": 12, "bounds_deg": [-1, 89]},
+            "alpha_table": {"velocity_fps": [2_500, 25_600], "count": 6},
+        },
+    ],
+    ids=["energy_energy", "time_velocity"],
+)
 def test_betts_shuttle_maximum_cross_range_within_half_a_percent_of_the_published_optimum(tmp_path, knobs):
     """Betts (2010) section 6.1 posed as a study: creep + pattern, default weights, tolerance-scaled constraints."""
     published = betts_optimum()
@@ -132,45 +150,81 @@ def test_constraints_are_scaled_by_their_tolerance_by_default_only_with_a_table_
     plain = {k: v for k, v in BETTS.items() if k not in ("bank_table", "alpha_table")}
     assert [c.scale for c in parse("optimize", plain).core_constraints()] == [1.0, 1.0]  # eq. (4) as before
     given = dict(BETTS["constraints"][0], scale=2.0)
-    assert parse("optimize", {**plain, "constraints": [given], "constraint_scaling": "tolerance"}) \
-        .core_constraints()[0].scale == 2.0
+    assert (
+        parse("optimize", {**plain, "constraints": [given], "constraint_scaling": "tolerance"})
+        .core_constraints()[0]
+        .scale
+        == 2.0
+    )
 
 
-NARROW_ALPHA = {**BETTS["case"], "vehicle": {**BETTS["case"]["vehicle"], "aero": {"polynomial": {
-    **BETTS["case"]["vehicle"]["aero"]["polynomial"], "alpha_range_deg": [0, 45]}}}}
+NARROW_ALPHA = {
+    **BETTS["case"],
+    "vehicle": {
+        **BETTS["case"]["vehicle"],
+        "aero": {"polynomial": {**BETTS["case"]["vehicle"]["aero"]["polynomial"], "alpha_range_deg": [0, 45]}},
+    },
+}
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"bank_table": {"altitude_ft": [0, 1]}}, "bank_table.altitude_ft: Extra inputs"),
-    ({"bank_table": {"time_s": [0, 100], "energy_ft": [1e5, 1e7]}}, "bank_table: give at most one of"),
-    ({"bank_table": {"time_s": [0, 500, 400]}}, "time_s must be strictly increasing"),
-    ({"bank_table": {"zeta_deg": [-200, 0]}}, "bank_table.zeta_deg.0: -200 is outside the allowed range -180 to 180"),
-    ({"bank_table": {"heading_deg": [0, 270]}}, "bank_table.heading_deg.1: 270 is outside the allowed range"),
-    ({"bank_table": {"time_s": [-5, 100]}}, "bank_table.time_s.0: -5 is outside the allowed range 0 to 100000 s"),
-    ({"bank_table": {"velocity_fps": [0, 50_000]}}, "bank_table.velocity_fps.1: 50000 is outside the allowed range"),
-    ({"bank_table": {"energy_ft": [0, 2e8]}}, "bank_table.energy_ft.1: 2e+08 is outside the allowed range 0 to 1e+08"),
-    ({"bank_table": {"energy_ft": ENERGY_FT, "count": 1}}, "bank_table.count: 1 is outside the allowed range 2 to 64"),
-    ({"bank_table": {"energy_ft": [1e5, 1e6, 1e7], "count": 8}}, "needs the first and last node"),
-    ({"bank_table": {"bounds_deg": [-200, 89]}}, "bank_table.bounds_deg.0: -200 is outside the allowed range"),
-    ({"bank_table": {"bounds_deg": [89, -1]}}, "bounds_deg lower bound 89 is not below its upper bound -1"),
-    ({"bank_table": {"initial_deg": [10, 20, 30]}}, "initial_deg has 3 values for 8 nodes"),
-    ({"bank_table": {"bounds_deg": [-1, 89], "initial_deg": 95}}, "initial_deg 95 is outside bounds_deg -1 to 89"),
-    ({"alpha_table": {"heading_deg": [0, 10]}}, "alpha_table.heading_deg: Extra inputs"),
-    ({"alpha_table": {"time_s": [0, 1e6]}}, "alpha_table.time_s.1: 1e+06 is outside the allowed range"),
-    ({"alpha_table": {"velocity_fps": [3_000, 2_000]}}, "alpha_table: velocity_fps must be strictly increasing"),
-    ({"alpha_table": {"energy_ft": ENERGY_FT, "count": 65}}, "alpha_table.count: 65 is outside the allowed range"),
-    ({"alpha_table": {"bounds_deg": [-100, 40]}}, "alpha_table.bounds_deg.0: -100 is outside the allowed range -90"),
-    ({"case": NARROW_ALPHA, "alpha_table": {"bounds_deg": [-5, 40]}},
-     "alpha_table: bounds_deg -5 to 40 must lie within the vehicle's alpha range 0 to 45 deg"),
-    ({"case": NARROW_ALPHA, "alpha_table": {"initial_deg": 60}},
-     "alpha_table: initial_deg 60 is outside the vehicle's alpha range 0 to 45 deg"),
-    ({"alpha_table": {"initial_deg": [15, 17]}}, "alpha_table: initial_deg has 2 values for 5 nodes"),
-    ({"controls": ["bank"]}, "alpha_table: the alpha table is searched with controls ['bank', 'alpha']"),
-    ({"constraint_scaling": "unit"}, "constraint_scaling: Input should be 'tolerance' or 'none'"),
-    ({"constraints": [{"quantity": "final_gamma_deg", "equals": -5}]}, "constraints.0.tolerance: constraint_scaling"),
-    ({"constraints": [{"quantity": "final_gamma_deg", "equals": -5, "tolerance": 0.1, "scale": 0}]},
-     "constraints.0.scale: 0 is outside the allowed range"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"bank_table": {"altitude_ft": [0, 1]}}, "bank_table.altitude_ft: Extra inputs"),
+        ({"bank_table": {"time_s": [0, 100], "energy_ft": [1e5, 1e7]}}, "bank_table: give at most one of"),
+        ({"bank_table": {"time_s": [0, 500, 400]}}, "time_s must be strictly increasing"),
+        (
+            {"bank_table": {"zeta_deg": [-200, 0]}},
+            "bank_table.zeta_deg.0: -200 is outside the allowed range -180 to 180",
+        ),
+        ({"bank_table": {"heading_deg": [0, 270]}}, "bank_table.heading_deg.1: 270 is outside the allowed range"),
+        ({"bank_table": {"time_s": [-5, 100]}}, "bank_table.time_s.0: -5 is outside the allowed range 0 to 100000 s"),
+        (
+            {"bank_table": {"velocity_fps": [0, 50_000]}},
+            "bank_table.velocity_fps.1: 50000 is outside the allowed range",
+        ),
+        (
+            {"bank_table": {"energy_ft": [0, 2e8]}},
+            "bank_table.energy_ft.1: 2e+08 is outside the allowed range 0 to 1e+08",
+        ),
+        (
+            {"bank_table": {"energy_ft": ENERGY_FT, "count": 1}},
+            "bank_table.count: 1 is outside the allowed range 2 to 64",
+        ),
+        ({"bank_table": {"energy_ft": [1e5, 1e6, 1e7], "count": 8}}, "needs the first and last node"),
+        ({"bank_table": {"bounds_deg": [-200, 89]}}, "bank_table.bounds_deg.0: -200 is outside the allowed range"),
+        ({"bank_table": {"bounds_deg": [89, -1]}}, "bounds_deg lower bound 89 is not below its upper bound -1"),
+        ({"bank_table": {"initial_deg": [10, 20, 30]}}, "initial_deg has 3 values for 8 nodes"),
+        ({"bank_table": {"bounds_deg": [-1, 89], "initial_deg": 95}}, "initial_deg 95 is outside bounds_deg -1 to 89"),
+        ({"alpha_table": {"heading_deg": [0, 10]}}, "alpha_table.heading_deg: Extra inputs"),
+        ({"alpha_table": {"time_s": [0, 1e6]}}, "alpha_table.time_s.1: 1e+06 is outside the allowed range"),
+        ({"alpha_table": {"velocity_fps": [3_000, 2_000]}}, "alpha_table: velocity_fps must be strictly increasing"),
+        ({"alpha_table": {"energy_ft": ENERGY_FT, "count": 65}}, "alpha_table.count: 65 is outside the allowed range"),
+        (
+            {"alpha_table": {"bounds_deg": [-100, 40]}},
+            "alpha_table.bounds_deg.0: -100 is outside the allowed range -90",
+        ),
+        (
+            {"case": NARROW_ALPHA, "alpha_table": {"bounds_deg": [-5, 40]}},
+            "alpha_table: bounds_deg -5 to 40 must lie within the vehicle's alpha range 0 to 45 deg",
+        ),
+        (
+            {"case": NARROW_ALPHA, "alpha_table": {"initial_deg": 60}},
+            "alpha_table: initial_deg 60 is outside the vehicle's alpha range 0 to 45 deg",
+        ),
+        ({"alpha_table": {"initial_deg": [15, 17]}}, "alpha_table: initial_deg has 2 values for 5 nodes"),
+        ({"controls": ["bank"]}, "alpha_table: the alpha table is searched with controls ['bank', 'alpha']"),
+        ({"constraint_scaling": "unit"}, "constraint_scaling: Input should be 'tolerance' or 'none'"),
+        (
+            {"constraints": [{"quantity": "final_gamma_deg", "equals": -5}]},
+            "constraints.0.tolerance: constraint_scaling",
+        ),
+        (
+            {"constraints": [{"quantity": "final_gamma_deg", "equals": -5, "tolerance": 0.1, "scale": 0}]},
+            "constraints.0.scale: 0 is outside the allowed range",
+        ),
+    ],
+)
 def test_a_bad_search_knob_gets_one_line_and_exit_2(tmp_path, change, words):
     r = run(tmp_path, {**BETTS, **change})
     assert r.returncode == 2 and r.stdout == "" and "Traceback" not in r.stderr
@@ -192,9 +246,11 @@ def test_collocation_study_reaches_betts_published_optimum_and_draws_its_histori
 
 
 def test_an_unreachable_collocation_target_exits_1_with_one_line(tmp_path):
-    study = {**COLLOCATION, "constraints": COLLOCATION["constraints"] + [{"quantity": "downrange_nmi",
-                                                                          "equals": 20000}],
-             "collocation": {**COLLOCATION["collocation"], "max_iterations": 300}}
+    study = {
+        **COLLOCATION,
+        "constraints": COLLOCATION["constraints"] + [{"quantity": "downrange_nmi", "equals": 20000}],
+        "collocation": {**COLLOCATION["collocation"], "max_iterations": 300},
+    }
     r = run(tmp_path, study)
     assert r.returncode == 1
     lines = r.stderr.strip().splitlines()
@@ -203,12 +259,15 @@ def test_an_unreachable_collocation_target_exits_1_with_one_line(tmp_path):
     assert json.loads(r.stdout)["feasible"] is False  # the last iterate is printed
 
 
-@pytest.mark.parametrize("change, field", [
-    ({"collocation": {"intervals": 2}}, "collocation.intervals"),
-    ({"collocation": {"bank_bounds_deg": [10, -10]}}, "bank_bounds_deg"),
-    ({"method": "creep_pattern"}, "collocation: options for method 'collocation'"),
-    ({"payoff": {"quantity": "pullout_altitude_ft"}}, "pullout_altitude_ft: not available to the collocation"),
-])
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"collocation": {"intervals": 2}}, "collocation.intervals"),
+        ({"collocation": {"bank_bounds_deg": [10, -10]}}, "bank_bounds_deg"),
+        ({"method": "creep_pattern"}, "collocation: options for method 'collocation'"),
+        ({"payoff": {"quantity": "pullout_altitude_ft"}}, "pullout_altitude_ft: not available to the collocation"),
+    ],
+)
 def test_a_bad_collocation_study_is_one_line_and_exit_2(tmp_path, change, field):
     r = run(tmp_path, {**COLLOCATION, **change})
     assert r.returncode == 2

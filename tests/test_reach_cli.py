@@ -1,37 +1,40 @@
-"""The reach request (footprint.contracts.reach) and `footprint reach`, run as a user runs it: a new process, exit status,
-stdout and stderr."""
+"""The reach request (footprint.contracts.reach) and `footprint reach`, run as a user runs it: a new process, exit
+status, stdout and stderr."""
 
 import csv
 import json
 import subprocess
 import sys
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from footprint.contracts import parse
-from footprint.core.orbits import CircularOrbit, position
-from footprint.contracts.case import error_line
-from functools import partial
-
 from footprint import parallel
+from footprint.contracts import parse
+from footprint.contracts.case import error_line
+from footprint.core.orbits import CircularOrbit, position
 
 run_reach = partial(parallel.run, "reach")
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "reach_20_sites.json"
-DIAMOND = [{"downrange_nmi": 5000, "crossrange_nmi": 0, "flight_time_s": 3000},
-           {"downrange_nmi": 3000, "crossrange_nmi": 500, "flight_time_s": 2000},
-           {"downrange_nmi": 1000, "crossrange_nmi": 0, "flight_time_s": 1000},
-           {"downrange_nmi": 3000, "crossrange_nmi": -500, "flight_time_s": 2000}]
+DIAMOND = [
+    {"downrange_nmi": 5000, "crossrange_nmi": 0, "flight_time_s": 3000},
+    {"downrange_nmi": 3000, "crossrange_nmi": 500, "flight_time_s": 2000},
+    {"downrange_nmi": 1000, "crossrange_nmi": 0, "flight_time_s": 1000},
+    {"downrange_nmi": 3000, "crossrange_nmi": -500, "flight_time_s": 2000},
+]
 REQUEST = {
     "footprint": {"points": DIAMOND},
     "orbit": {"inclination_deg": 28.5, "altitude_nmi": 100, "node_longitude_deg": -170.0},
-    "sites": [{"name": "KSC", "latitude_deg": 28.615, "longitude_deg": -80.695},
-              {"name": "Kwajalein", "latitude_deg": 8.720, "longitude_deg": 167.732},
-              {"name": "South Pole", "latitude_deg": -90.0, "longitude_deg": 0.0}],
+    "sites": [
+        {"name": "KSC", "latitude_deg": 28.615, "longitude_deg": -80.695},
+        {"name": "Kwajalein", "latitude_deg": 8.720, "longitude_deg": 167.732},
+        {"name": "South Pole", "latitude_deg": -90.0, "longitude_deg": 0.0},
+    ],
     "revolutions": {"first": 1, "last": 3},
     "u_step_deg": 1.0,
     "earth_rotation": "approximate",
@@ -39,8 +42,9 @@ REQUEST = {
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "footprint.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "footprint.cli", *map(str, args)], capture_output=True, text=True, timeout=600
+    )
 
 
 def write(tmp_path, data):
@@ -94,11 +98,21 @@ def test_a_mirrored_half_is_the_whole_footprint():
 
 def test_the_node_by_right_ascension_and_sidereal_angle():
     a = run_reach(REQUEST)
-    b = run_reach(edited("orbit", {"inclination_deg": 28.5, "altitude_ft": 100 * 6076.115485564304,
-                                   "right_ascension_deg": 100.0, "greenwich_sidereal_deg": 270.0}))
+    b = run_reach(
+        edited(
+            "orbit",
+            {
+                "inclination_deg": 28.5,
+                "altitude_ft": 100 * 6076.115485564304,
+                "right_ascension_deg": 100.0,
+                "greenwich_sidereal_deg": 270.0,
+            },
+        )
+    )
     assert b["orbit"]["node_longitude_deg"] == pytest.approx(-170.0)
-    assert [(w["site"], w["revolution"], w["u_start_deg"], w["u_end_deg"]) for w in a["windows"]] == \
-        [(w["site"], w["revolution"], w["u_start_deg"], w["u_end_deg"]) for w in b["windows"]]
+    assert [(w["site"], w["revolution"], w["u_start_deg"], w["u_end_deg"]) for w in a["windows"]] == [
+        (w["site"], w["revolution"], w["u_start_deg"], w["u_end_deg"]) for w in b["windows"]
+    ]
 
 
 def test_a_span_in_hours_ends_inside_the_last_revolution():
@@ -110,20 +124,40 @@ def test_a_span_in_hours_ends_inside_the_last_revolution():
 
 def test_a_site_on_the_ground_track_without_rotation():
     """The analytic window of tests/core/test_reach.py through the request: no rotation anywhere."""
-    orbit = CircularOrbit(40.0, 100 * 6076.115485564304, node_longitude_deg=25.0, rotation_rate_deg_s=0.0,
-                          nodal_regression=False)
+    orbit = CircularOrbit(
+        40.0, 100 * 6076.115485564304, node_longitude_deg=25.0, rotation_rate_deg_s=0.0, nodal_regression=False
+    )
     lat, lon = position(orbit, 1, 200.0)
-    r = run_reach(edited("orbit", {"inclination_deg": 40.0, "altitude_nmi": 100, "node_longitude_deg": 25.0,
-                                   "rotation_rate_deg_s": 0.0, "nodal_regression": False})
-                  | {"sites": [{"name": "on track", "latitude_deg": float(lat), "longitude_deg": float(lon)}],
-                     "earth_rotation": "none"})
+    r = run_reach(
+        edited(
+            "orbit",
+            {
+                "inclination_deg": 40.0,
+                "altitude_nmi": 100,
+                "node_longitude_deg": 25.0,
+                "rotation_rate_deg_s": 0.0,
+                "nodal_regression": False,
+            },
+        )
+        | {
+            "sites": [{"name": "on track", "latitude_deg": float(lat), "longitude_deg": float(lon)}],
+            "earth_rotation": "none",
+        }
+    )
     assert [(w["revolution"], w["u_start_deg"], w["u_end_deg"]) for w in r["windows"]] == [
-        (1, 117.0, 183.0), (2, 117.0, 183.0), (3, 117.0, 183.0)]
+        (1, 117.0, 183.0),
+        (2, 117.0, 183.0),
+        (3, 117.0, 183.0),
+    ]
 
 
 def test_a_study_flown_on_a_rotating_earth_gets_a_note():
-    study = {"case": json.loads((ROOT / "examples" / "table2_lod22.json").read_text()), "method": "constant_bank",
-             "bank_deg": [0, 45], "min_range": None}
+    study = {
+        "case": json.loads((ROOT / "examples" / "table2_lod22.json").read_text()),
+        "method": "constant_bank",
+        "bank_deg": [0, 45],
+        "min_range": None,
+    }
     assert study["case"].get("planet", {}).get("rotating", True)
     r = run_reach(edited("footprint", {"study": study}))
     assert r["footprint"]["source"] == "study" and r["footprint"]["points"] >= 3
@@ -147,8 +181,17 @@ def test_the_command_prints_json_and_writes_the_windows_csv(tmp_path):
     assert result == json.loads(json.dumps(run_reach(REQUEST) | {"analysis": result["analysis"]}))
     rows = list(csv.DictReader(out.open()))
     assert len(rows) == len(result["windows"]) > 0
-    assert list(rows[0]) == ["site", "revolution", "u_start_deg", "u_end_deg", "u_width_deg", "samples",
-                             "max_margin_nmi", "deorbit_time_start_s", "deorbit_time_end_s"]
+    assert list(rows[0]) == [
+        "site",
+        "revolution",
+        "u_start_deg",
+        "u_end_deg",
+        "u_width_deg",
+        "samples",
+        "max_margin_nmi",
+        "deorbit_time_start_s",
+        "deorbit_time_end_s",
+    ]
     assert float(rows[0]["u_start_deg"]) == result["windows"][0]["u_start_deg"]
 
 
@@ -166,28 +209,37 @@ def test_the_example_reaches_every_site_in_a_day(tmp_path):
     assert (lats > 0).any() and (lats < 0).any()
 
 
-@pytest.mark.parametrize("data, field, words", [
-    (edited("orbit.inclination_deg", 200), "orbit.inclination_deg", "0 to 180 deg"),
-    (edited("orbit.altitude_nmi", 5), "orbit.altitude_nmi", "16 to 16000 nmi"),
-    (edited("orbit.altitude_ft", 600_000), "orbit", "exactly one of altitude_ft or altitude_nmi"),
-    (edited("orbit.right_ascension_deg", 10.0), "orbit", "greenwich_sidereal_deg"),
-    (edited("sites.1.latitude_deg", 95), "sites.1.latitude_deg", "-90 to 90 deg"),
-    (edited("sites", []), "sites", "at least 1"),
-    (edited("u_step_deg", 0), "u_step_deg", "0.01 to 30 deg"),
-    (edited("earth_rotation", "exact"), "earth_rotation", "approximate"),
-    (edited("footprint.points.0.crossrange_nmi", 6000), "footprint.points.0.crossrange_nmi", "-5400 to 5400"),
-    (edited("footprint.points", DIAMOND[:2]), "footprint.points", "at least 3"),
-    (edited("footprint.study", json.loads(EXAMPLE.read_text())["footprint"]["study"]), "footprint",
-     "exactly one of 'points'"),
-    (edited("revolutions", {"first": 5, "last": 2}), "revolutions", "at least first 5"),
-    (edited("revolutions", {"first": 1, "last": 20_000}), "revolutions and u_step_deg", "1 to 2,000,000"),
-    (edited("revolutions", {"first": 1, "last": 2, "hours": 3}), "revolutions", "exactly one of 'last'"),
-    (edited("orbit", None), "orbit", "required"),
-    ({**REQUEST, "colour": "red"}, "colour", "not permitted"),
-    (edited("footprint", {"study": {"method": "single_parameter", "case": {"vehicle": {"builtin": "lod-2.2"}}}}),
-     "footprint.study.case.entry", "required"),
-    ('{"orbit": ', "reach.json", "not valid JSON"),
-])
+@pytest.mark.parametrize(
+    "data, field, words",
+    [
+        (edited("orbit.inclination_deg", 200), "orbit.inclination_deg", "0 to 180 deg"),
+        (edited("orbit.altitude_nmi", 5), "orbit.altitude_nmi", "16 to 16000 nmi"),
+        (edited("orbit.altitude_ft", 600_000), "orbit", "exactly one of altitude_ft or altitude_nmi"),
+        (edited("orbit.right_ascension_deg", 10.0), "orbit", "greenwich_sidereal_deg"),
+        (edited("sites.1.latitude_deg", 95), "sites.1.latitude_deg", "-90 to 90 deg"),
+        (edited("sites", []), "sites", "at least 1"),
+        (edited("u_step_deg", 0), "u_step_deg", "0.01 to 30 deg"),
+        (edited("earth_rotation", "exact"), "earth_rotation", "approximate"),
+        (edited("footprint.points.0.crossrange_nmi", 6000), "footprint.points.0.crossrange_nmi", "-5400 to 5400"),
+        (edited("footprint.points", DIAMOND[:2]), "footprint.points", "at least 3"),
+        (
+            edited("footprint.study", json.loads(EXAMPLE.read_text())["footprint"]["study"]),
+            "footprint",
+            "exactly one of 'points'",
+        ),
+        (edited("revolutions", {"first": 5, "last": 2}), "revolutions", "at least first 5"),
+        (edited("revolutions", {"first": 1, "last": 20_000}), "revolutions and u_step_deg", "1 to 2,000,000"),
+        (edited("revolutions", {"first": 1, "last": 2, "hours": 3}), "revolutions", "exactly one of 'last'"),
+        (edited("orbit", None), "orbit", "required"),
+        ({**REQUEST, "colour": "red"}, "colour", "not permitted"),
+        (
+            edited("footprint", {"study": {"method": "single_parameter", "case": {"vehicle": {"builtin": "lod-2.2"}}}}),
+            "footprint.study.case.entry",
+            "required",
+        ),
+        ('{"orbit": ', "reach.json", "not valid JSON"),
+    ],
+)
 def test_bad_input_gets_one_line_and_exit_status_2(tmp_path, data, field, words):
     r = run("reach", write(tmp_path, data))
     assert r.returncode == 2, r.stdout + r.stderr

@@ -17,9 +17,16 @@ _spec.loader.exec_module(validation)
 def test_validation_report_is_written_with_every_number_and_figure(tmp_path):
     validation.main(["--out", str(tmp_path)])
     text = (tmp_path / "validation.md").read_text()
-    published = [f"{REPORT[k].value:,.0f} {REPORT[k].unit}" for k in (
-        "sec3.max_crossrange_nmi", "sec3.max_downrange_nmi", "appc.max_crossrange_single_parameter_nmi",
-        "appc.max_crossrange_constant_altitude_nmi", "table2.inertial_velocity_fps")]
+    published = [
+        f"{REPORT[k].value:,.0f} {REPORT[k].unit}"
+        for k in (
+            "sec3.max_crossrange_nmi",
+            "sec3.max_downrange_nmi",
+            "appc.max_crossrange_single_parameter_nmi",
+            "appc.max_crossrange_constant_altitude_nmi",
+            "table2.inertial_velocity_fps",
+        )
+    ]
     for needle in (*published, "Where and why we differ"):
         assert needle in text
     pngs = sorted(p.name for p in (tmp_path / "figures").glob("*.png"))

@@ -1,7 +1,7 @@
 """Footprint: landing footprints of lifting entry vehicles (AFWAL-TR-82-3036).
 
-`from footprint import fly, footprint, disperse` is the Python door. Importing `footprint.core` alone pulls in only numpy and
-numba (the top level loads the pydantic case contract lazily).
+`from footprint import fly, footprint, disperse` is the Python door. Importing `footprint.core` alone pulls in only
+numpy and numba (the top level loads the pydantic case contract lazily).
 """
 
 __all__ = ["Footprint", "Trajectory", "disperse", "fly", "footprint"]

@@ -3,7 +3,6 @@
 import json
 import sys
 from pathlib import Path
-from typing import Optional
 
 import typer
 from pydantic import ValidationError
@@ -13,8 +12,9 @@ from footprint.contracts.case import error_line, printable
 from footprint.contracts.records import strict_json
 from footprint.core.errors import InputError, NoOptimum
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
-                  help="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036).")
+app = typer.Typer(
+    add_completion=False, no_args_is_help=True, help="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036)."
+)
 
 
 def _fail(message: str) -> None:
@@ -51,14 +51,14 @@ def _request(kind: str, path: Path):
         _fail(error_line(exc))
 
 
-def _writable(path: Optional[Path], option: str) -> None:
+def _writable(path: Path | None, option: str) -> None:
     """An output file or folder named on the command line goes into a folder that exists: one line and exit 2
     before any work, never a traceback or folders made where a typo points."""
     if path is not None and not path.resolve().parent.is_dir():
         _fail(f"{option}: the folder {path.parent} does not exist (create it first)")
 
 
-def _dask_options(workers: Optional[int], scheduler: Optional[str], default: int) -> dict:
+def _dask_options(workers: int | None, scheduler: str | None, default: int) -> dict:
     """The runner's keywords for --workers N (0: this process) or --scheduler ADDRESS, else `default` workers (0: this
     process); a bad value: one line, exit 2."""
     if workers is not None and not 0 <= workers <= 256:
@@ -81,17 +81,25 @@ def _answer(result: dict, as_json: bool, lines) -> None:
 
 def _reach_lines(r: dict) -> list[str]:
     o, a = r["orbit"], r["analysis"]
-    out = [f"orbit: inclination {o['inclination_deg']:g} deg, node {o['node_longitude_deg']:g} deg, period "
-           f"{o['period_s'] / 60:.1f} min; revolutions {a['revolutions'][0]}-{a['revolutions'][1]}, "
-           f"{len(r['windows'])} landing windows, {sum(s['reachable'] for s in r['sites'])} of {len(r['sites'])} "
-           "sites reached"]
+    out = [
+        f"orbit: inclination {o['inclination_deg']:g} deg, node {o['node_longitude_deg']:g} deg, period "
+        f"{o['period_s'] / 60:.1f} min; revolutions {a['revolutions'][0]}-{a['revolutions'][1]}, "
+        f"{len(r['windows'])} landing windows, {sum(s['reachable'] for s in r['sites'])} of {len(r['sites'])} "
+        "sites reached"
+    ]
     for s in r["sites"]:
         if s["reachable"]:
-            out.append(f"  {s['name']}: {s['windows']} windows on revolutions "
-                       f"{', '.join(map(str, s['revolutions'][:8]))}{'...' if len(s['revolutions']) > 8 else ''}; "
-                       f"first deorbit at {s['first_deorbit_time_s'] / 3600:.2f} h")
+            out.append(
+                f"  {s['name']}: {s['windows']} windows on revolutions "
+                f"{', '.join(map(str, s['revolutions'][:8]))}{'...' if len(s['revolutions']) > 8 else ''}; "
+                f"first deorbit at {s['first_deorbit_time_s'] / 3600:.2f} h"
+            )
         else:
-            short = "" if s["best_margin_nmi"] is None else f" (the nearest placement falls {-s['best_margin_nmi']:,.0f} nmi short)"
+            short = (
+                ""
+                if s["best_margin_nmi"] is None
+                else f" (the nearest placement falls {-s['best_margin_nmi']:,.0f} nmi short)"
+            )
             out.append(f"  {s['name']}: not reached{short}")
     return out + [f"note: {n}" for n in r.get("notes", [])]
 
@@ -99,10 +107,15 @@ def _reach_lines(r: dict) -> list[str]:
 def _optimum_lines(r: dict) -> list[str]:
     s = r["summary"]
     verdict = "optimal" if r.get("feasible") else "NOT feasible"
-    cost = (f"{r['iterations']} IPOPT iterations, {r['seconds']:.1f} s" if r.get("method") == "collocation"
-            else f"{r['trajectories']} trajectories, {r['seconds']:.1f} s")
-    out = [f"{verdict}: cross-range {s['crossrange_nmi']:,.1f} nmi at down-range {s['downrange_nmi']:,.1f} nmi, "
-           f"flight {s.get('flight_time_s', float('nan')):,.0f} s ({cost})"]
+    cost = (
+        f"{r['iterations']} IPOPT iterations, {r['seconds']:.1f} s"
+        if r.get("method") == "collocation"
+        else f"{r['trajectories']} trajectories, {r['seconds']:.1f} s"
+    )
+    out = [
+        f"{verdict}: cross-range {s['crossrange_nmi']:,.1f} nmi at down-range {s['downrange_nmi']:,.1f} nmi, "
+        f"flight {s.get('flight_time_s', float('nan')):,.0f} s ({cost})"
+    ]
     if r.get("method") == "collocation" and r.get("agreement"):
         g = r["agreement"]
         out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['longitude_deg']):.4f} deg")
@@ -112,8 +125,10 @@ def _optimum_lines(r: dict) -> list[str]:
 
 
 @app.command()
-def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case file (see README: the case contract)"),
-        history: Optional[Path] = typer.Option(None, "--history", metavar="FILE.csv", help="write the time histories")):
+def fly(
+    case_file: Path = typer.Argument(..., metavar="CASE.json", help="case file (see README: the case contract)"),
+    history: Path | None = typer.Option(None, "--history", metavar="FILE.csv", help="write the time histories"),
+):
     """Fly one trajectory and print its summary as JSON."""
     _writable(history, "--history")
     traj = parallel.run("case", _request("case", case_file))
@@ -123,9 +138,12 @@ def fly(case_file: Path = typer.Argument(..., metavar="CASE.json", help="case fi
 
 
 @app.command("footprint")
-def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="footprint study (case + method)"),
-               plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
-                                                   help="draw the footprint (PNG or SVG by the suffix)")):
+def footprint_(
+    study_file: Path = typer.Argument(..., metavar="STUDY.json", help="footprint study (case + method)"),
+    plot: Path | None = typer.Option(
+        None, "--plot", metavar="FILE.png", help="draw the footprint (PNG or SVG by the suffix)"
+    ),
+):
     """Fly a landing footprint and print it as JSON (points in boundary order, area, trajectories). Exit status
     1 with one line on stderr when a collocation footprint's first solves end without an optimum."""
     _writable(plot, "--plot")
@@ -143,14 +161,20 @@ def footprint_(study_file: Path = typer.Argument(..., metavar="STUDY.json", help
 
 
 @app.command()
-def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
-                                            help="sweep file: base case, method, vehicles, velocities, angles"),
-          out: Optional[Path] = typer.Option(None, "--out", metavar="FOLDER",
-                                             help="where to write points.csv, summary.csv, figures/ [./NAME]"),
-          workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
-                                                help="local worker processes [the number of cores]"),
-          scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
-                                                  help="a running Dask scheduler instead of a local cluster")):
+def sweep(
+    sweep_file: Path = typer.Argument(
+        ..., metavar="SWEEP.json", help="sweep file: base case, method, vehicles, velocities, angles"
+    ),
+    out: Path | None = typer.Option(
+        None, "--out", metavar="FOLDER", help="where to write points.csv, summary.csv, figures/ [./NAME]"
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local worker processes [the number of cores]"
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
+    ),
+):
     """Fly a footprint data base (Appendix C) on Dask, one task per footprint; print the summary table.
 
     Exit status 1 when some footprints failed (their rows carry the error), 2 for a bad sweep file."""
@@ -177,31 +201,45 @@ def sweep(sweep_file: Path = typer.Argument(..., metavar="SWEEP.json",
     written = result.write(folder)
     _print_sweep_summary(result)
     figures = sum(p.suffix in (".png", ".svg") for p in written)
-    typer.echo(f"{len(result.runs)} footprints, {result.trajectories} trajectories in {result.seconds:.1f} s on "
-               f"{result.workers} worker(s); wrote {folder}/points.csv, summary.csv"
-               + (f" and {figures} figures" if figures else f" ({result.figures_note})" if result.figures_note else ""))
+    typer.echo(
+        f"{len(result.runs)} footprints, {result.trajectories} trajectories in {result.seconds:.1f} s on "
+        f"{result.workers} worker(s); wrote {folder}/points.csv, summary.csv"
+        + (f" and {figures} figures" if figures else f" ({result.figures_note})" if result.figures_note else "")
+    )
     if result.errors:
-        typer.echo(f"error: {len(result.errors)} of {len(result.runs)} footprints failed; see the error column "
-                   f"of {folder}/summary.csv", err=True)
+        typer.echo(
+            f"error: {len(result.errors)} of {len(result.runs)} footprints failed; see the error column "
+            f"of {folder}/summary.csv",
+            err=True,
+        )
         raise typer.Exit(1)
 
 
 @app.command()
-def disperse(study_file: Path = typer.Argument(..., metavar="STUDY.json",
-                                               help="dispersion study: a footprint study, distributions, samples, sites"),
-             workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
-                                                   help="local worker processes [the cores]; 0: fly in this process"),
-             scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
-                                                     help="a running Dask scheduler instead of a local cluster"),
-             figure: Optional[Path] = typer.Option(None, "--figure", metavar="FILE.png",
-                                                   help="draw the nominal and confidence footprints, clouds, ellipses"),
-             geojson_out: Optional[Path] = typer.Option(None, "--geojson", metavar="FILE.geojson",
-                                                        help="the nominal and confidence footprints, ellipses, sites"),
-             csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="FILE.csv",
-                                                    help="each site's probability and its 95 % interval"),
-             clouds: int = typer.Option(1_000, "--clouds", metavar="N", min=0,
-                                        help="landing points of each setting kept in the JSON"),
-             as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
+def disperse(
+    study_file: Path = typer.Argument(
+        ..., metavar="STUDY.json", help="dispersion study: a footprint study, distributions, samples, sites"
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local worker processes [the cores]; 0: fly in this process"
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
+    ),
+    figure: Path | None = typer.Option(
+        None, "--figure", metavar="FILE.png", help="draw the nominal and confidence footprints, clouds, ellipses"
+    ),
+    geojson_out: Path | None = typer.Option(
+        None, "--geojson", metavar="FILE.geojson", help="the nominal and confidence footprints, ellipses, sites"
+    ),
+    csv_out: Path | None = typer.Option(
+        None, "--csv", metavar="FILE.csv", help="each site's probability and its 95 % interval"
+    ),
+    clouds: int = typer.Option(
+        1_000, "--clouds", metavar="N", min=0, help="landing points of each setting kept in the JSON"
+    ),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
+):
     """Fly a footprint study in N Monte Carlo samples of its entry, air and aerodynamics (one Dask task per chunk
     of samples): each setting's landing cloud, mean, covariance and 1/3-sigma ellipses, the footprint reached with
     probability p, each site's probability with its 95 % interval, and every flight that did not land, counted."""
@@ -238,17 +276,24 @@ def _dispersion_lines(r: dict) -> list[str]:
     o, run = r["outcomes"], r["run"]
     ended = ", ".join(f"{v:,} {k}" for k, v in o.items() if k not in ("flights", "landed"))
     where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"
-    out = [f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}): {o['flights']:,} trajectories in "
-           f"{run['seconds']:.1f} s {where}; "
-           f"{o.get('landed', 0):,} landed" + (f", {ended}" if ended else "")]
+    out = [
+        f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}): {o['flights']:,} trajectories in "
+        f"{run['seconds']:.1f} s {where}; "
+        f"{o.get('landed', 0):,} landed" + (f", {ended}" if ended else "")
+    ]
     out.append(f"  {'setting':<28} {'landed':>7} {'mean D nmi':>10} {'mean X nmi':>10} {'sd D':>7} {'sd X':>7}")
     for f in r["flights"]:
-        name = f"{f['side']} " + ", ".join(f"{k} {v:g}" if isinstance(v, (int, float)) else str(v)
-                                           for k, v in f["parameter"].items() if k != "bank_gain")
+        name = f"{f['side']} " + ", ".join(
+            f"{k} {v:g}" if isinstance(v, (int, float)) else str(v)
+            for k, v in f["parameter"].items()
+            if k != "bank_gain"
+        )
         if "covariance_nmi2" in f:
             (a, _), (_, d) = f["covariance_nmi2"]
-            out.append(f"  {name:<28} {f['landed']:>7,} {f['mean_downrange_nmi']:>10,.0f} "
-                       f"{f['mean_crossrange_nmi']:>10,.0f} {a ** 0.5:>7.1f} {d ** 0.5:>7.1f}")
+            out.append(
+                f"  {name:<28} {f['landed']:>7,} {f['mean_downrange_nmi']:>10,.0f} "
+                f"{f['mean_crossrange_nmi']:>10,.0f} {a**0.5:>7.1f} {d**0.5:>7.1f}"
+            )
         else:
             out.append(f"  {name:<28} {f['landed']:>7,}")
         for what, samples in f["outcome_samples"].items():
@@ -256,15 +301,18 @@ def _dispersion_lines(r: dict) -> list[str]:
             out.append(f"    {f['outcomes'][what]:,} {what}: samples {listed}")
     for c in r["confidence"]:
         area = sum(ring["area_nmi2"] for ring in c["rings"])
-        out.append(f"  footprint reached with probability >= {c['level']:g}: {area:,.0f} nmi2 in {len(c['rings'])} "
-                   "ring(s)")
+        out.append(
+            f"  footprint reached with probability >= {c['level']:g}: {area:,.0f} nmi2 in {len(c['rings'])} ring(s)"
+        )
     if r["histories"]:
         asked = sorted({h["sample"] for h in r["histories"]})
         out.append(f"  the flights of sample(s) {', '.join(map(str, asked))} with their histories: in the JSON")
     for s in r["sites"]:
         lo, hi = s["interval"]
-        out.append(f"  {s['name']}: probability {s['probability']:.3f} ({s['interval_level']:.0%} interval "
-                   f"{lo:.3f}-{hi:.3f}); {'inside' if s['inside_nominal'] else 'outside'} the nominal footprint")
+        out.append(
+            f"  {s['name']}: probability {s['probability']:.3f} ({s['interval_level']:.0%} interval "
+            f"{lo:.3f}-{hi:.3f}); {'inside' if s['inside_nominal'] else 'outside'} the nominal footprint"
+        )
     return out
 
 
@@ -272,23 +320,31 @@ def _print_sweep_summary(result):
     def num(v, fmt):
         return format(v, fmt) if v is not None else "-".rjust(int(fmt.split(".")[0]))
 
-    typer.echo(f"{'vehicle':<16} {'V fps':>7} {'gamma':>6} {'max X nmi':>9} {'max D nmi':>9} {'min D nmi':>9} "
-               f"{'area nmi2':>10} {'traj':>5} {'s':>6}  note")
+    typer.echo(
+        f"{'vehicle':<16} {'V fps':>7} {'gamma':>6} {'max X nmi':>9} {'max D nmi':>9} {'min D nmi':>9} "
+        f"{'area nmi2':>10} {'traj':>5} {'s':>6}  note"
+    )
     for r in result.summary_rows():
-        note = r["error"] or ", ".join(f"{r[k]} {what}" for k, what in (("skip_outs", "skipped out"),
-                                                                       ("unfinished", "unfinished (max_steps)"))
-                                       if r.get(k))
-        typer.echo(f"{r['vehicle']:<16} {r['entry_velocity_fps']:>7.0f} {r['entry_gamma_deg']:>6g} "
-                   f"{num(r.get('max_crossrange_nmi'), '9.0f')} {num(r.get('max_downrange_nmi'), '9.0f')} "
-                   f"{num(r.get('min_downrange_nmi'), '9.0f')} {num(r.get('area_nmi2'), '10.3g')} "
-                   f"{r['trajectories']:>5} {r['seconds']:>6.2f}  {note}")
+        note = r["error"] or ", ".join(
+            f"{r[k]} {what}"
+            for k, what in (("skip_outs", "skipped out"), ("unfinished", "unfinished (max_steps)"))
+            if r.get(k)
+        )
+        typer.echo(
+            f"{r['vehicle']:<16} {r['entry_velocity_fps']:>7.0f} {r['entry_gamma_deg']:>6g} "
+            f"{num(r.get('max_crossrange_nmi'), '9.0f')} {num(r.get('max_downrange_nmi'), '9.0f')} "
+            f"{num(r.get('min_downrange_nmi'), '9.0f')} {num(r.get('area_nmi2'), '10.3g')} "
+            f"{r['trajectories']:>5} {r['seconds']:>6.2f}  {note}"
+        )
 
 
 @app.command()
-def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
-                                                 help="transform request: points, from, to, step, mirror, rotation"),
-              csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="OUT.csv",
-                                                     help="also write the points as CSV")):
+def transform(
+    request_file: Path = typer.Argument(
+        ..., metavar="FILE.json", help="transform request: points, from, to, step, mirror, rotation"
+    ),
+    csv_out: Path | None = typer.Option(None, "--csv", metavar="OUT.csv", help="also write the points as CSV"),
+):
     """Move footprint points to another node, inclination or deorbit point (Section IV), mirror a half, and
     allow for the earth's rotation; print the moved points as JSON."""
     from footprint.contracts.transform import write_csv
@@ -305,11 +361,13 @@ def transform(request_file: Path = typer.Argument(..., metavar="FILE.json",
 
 
 @app.command()
-def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
-                                            help="reach request: footprint, orbit, sites, revolutions"),
-          csv_out: Optional[Path] = typer.Option(None, "--csv", metavar="FILE.csv",
-                                                 help="also write the windows as CSV"),
-          as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
+def reach(
+    request_file: Path = typer.Argument(
+        ..., metavar="REACH.json", help="reach request: footprint, orbit, sites, revolutions"
+    ),
+    csv_out: Path | None = typer.Option(None, "--csv", metavar="FILE.csv", help="also write the windows as CSV"),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
+):
     """Which landing sites a footprint reaches from which deorbit points of which revolutions (Section IV).
 
     Prints JSON: the orbit, the footprint, a summary per site and the windows (contiguous runs of deorbit
@@ -324,10 +382,13 @@ def reach(request_file: Path = typer.Argument(..., metavar="REACH.json",
 
 
 @app.command()
-def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
-             plot: Optional[Path] = typer.Option(None, "--plot", metavar="FILE.png",
-                                                 help="draw the convergence history and the bank schedule"),
-             as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)")):
+def optimize(
+    study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
+    plot: Path | None = typer.Option(
+        None, "--plot", metavar="FILE.png", help="draw the convergence history and the bank schedule"
+    ),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
+):
     """Optimize the bank schedule (creep + pattern, Section II.4) or, with "method": "collocation", alpha(t) and
     bank(t) to the true optimum (IPOPT): prints the optimum, its parameters or control tables and the convergence
     history as JSON. Exit status 1 when no feasible point was found (the result, and for the collocation one line
@@ -347,13 +408,20 @@ def optimize(study_file: Path = typer.Argument(..., metavar="STUDY.json", help="
 
 
 @app.command("run")
-def run_(kind: str = typer.Argument(..., metavar="KIND", help="a kind of job (footprint, optimize, sweep, reach, "
-                                                             "dispersion, or one a contract module adds)"),
-         request_file: Path = typer.Argument(..., metavar="REQUEST.json", help="the request, as a job's study"),
-         workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
-                                               help="local worker processes [0: fly in this process]"),
-         scheduler: Optional[str] = typer.Option(None, "--scheduler", metavar="tcp://HOST:PORT",
-                                                 help="a running Dask scheduler instead of a local cluster")):
+def run_(
+    kind: str = typer.Argument(
+        ...,
+        metavar="KIND",
+        help="a kind of job (footprint, optimize, sweep, reach, dispersion, or one a contract module adds)",
+    ),
+    request_file: Path = typer.Argument(..., metavar="REQUEST.json", help="the request, as a job's study"),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local worker processes [0: fly in this process]"
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
+    ),
+):
     """Run any kind of job with the one runner, as the service's job engine does, and print what its job stores:
     {"result": ..., "footprints": [...]} as JSON. A progress bar over its parts on stderr."""
     from tqdm import tqdm
@@ -378,10 +446,13 @@ def run_(kind: str = typer.Argument(..., metavar="KIND", help="a kind of job (fo
 
 
 @app.command("map")
-def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
-                                               help="a footprint as `footprint footprint` prints it"),
-         out: Path = typer.Option(Path("map.html"), "-o", "--out", metavar="MAP.html", help="the HTML file to write"),
-         title: Optional[str] = typer.Option(None, "--title", help="the map's title [vehicle and method]")):
+def map_(
+    footprint_file: Path = typer.Argument(
+        ..., metavar="FOOTPRINT.json", help="a footprint as `footprint footprint` prints it"
+    ),
+    out: Path = typer.Option(Path("map.html"), "-o", "--out", metavar="MAP.html", help="the HTML file to write"),
+    title: str | None = typer.Option(None, "--title", help="the map's title [vehicle and method]"),
+):
     """Write a standalone HTML map of a footprint (folium, cylindrical equidistant, Natural Earth) that works
     offline: Leaflet and the coastlines are inlined, nothing is loaded from the internet."""
     from footprint.pictures.folium_page import write_footprint_map
@@ -396,30 +467,41 @@ def map_(footprint_file: Path = typer.Argument(..., metavar="FOOTPRINT.json",
 
 
 @app.command()
-def serve(host: Optional[str] = typer.Option(None, "--host", help="address to listen on [FOOTPRINT_HOST or 127.0.0.1]"),
-          port: Optional[int] = typer.Option(None, "--port", help="port [FOOTPRINT_PORT or 8000]"),
-          database_url: Optional[str] = typer.Option(None, "--database-url", metavar="URL",
-                                                     help="[FOOTPRINT_DATABASE_URL or sqlite:///footprint.db]"),
-          workers: Optional[int] = typer.Option(None, "--workers", metavar="N",
-                                                help="local Dask worker processes [FOOTPRINT_DASK_WORKERS or the cores]"),
-          api_processes: Optional[int] = typer.Option(
-              None, "--api-processes", metavar="N",
-              help="processes answering HTTP over the one database; past 1 this one runs the jobs "
-                   "[FOOTPRINT_API_PROCESSES or 1]")):
+def serve(
+    host: str | None = typer.Option(None, "--host", help="address to listen on [FOOTPRINT_HOST or 127.0.0.1]"),
+    port: int | None = typer.Option(None, "--port", help="port [FOOTPRINT_PORT or 8000]"),
+    database_url: str | None = typer.Option(
+        None, "--database-url", metavar="URL", help="[FOOTPRINT_DATABASE_URL or sqlite:///footprint.db]"
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local Dask worker processes [FOOTPRINT_DASK_WORKERS or the cores]"
+    ),
+    api_processes: int | None = typer.Option(
+        None,
+        "--api-processes",
+        metavar="N",
+        help="processes answering HTTP over the one database; past 1 this one runs the jobs "
+        "[FOOTPRINT_API_PROCESSES or 1]",
+    ),
+):
     """Run the web service and the map page (SQLite in the working directory and a local Dask cluster unless
     FOOTPRINT_* settings say otherwise); the API is under /api, its docs at /docs."""
     from footprint.service.processes import serve as run_service
     from footprint.service.settings import load_settings
 
     try:
-        settings = load_settings(host=host, port=port, database_url=database_url, dask_workers=workers,
-                                 api_processes=api_processes)
+        settings = load_settings(
+            host=host, port=port, database_url=database_url, dask_workers=workers, api_processes=api_processes
+        )
     except ValidationError as exc:
         _fail(error_line(exc))
     base = f"http://{settings.host}:{settings.port}"
     _say_service_progress()
-    typer.echo(f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
-               f"{base}/redoc (database {settings.database_url.split('://')[0]})", err=True)
+    typer.echo(
+        f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
+        f"{base}/redoc (database {settings.database_url.split('://')[0]})",
+        err=True,
+    )
     run_service(settings)
 
 
@@ -447,8 +529,10 @@ def vehicles(as_json: bool = typer.Option(False, "--json", help="print JSON inst
     typer.echo(f"{'id':<10} {'W/S psf':>8} {'(L/D)max':>9} {'alpha deg':>9} {'report':>7}  note")
     for r in rows:
         rep = "-" if r["reported_ld_max"] is None else f"{r['reported_ld_max']:.2f}"
-        typer.echo(f"{r['id']:<10} {r['wing_loading_psf']:>8.0f} {r['ld_max_m20_200kft']:>9.3f} "
-                   f"{r['alpha_ld_max_deg']:>9.2f} {rep:>7}  {r.get('note', '')}")
+        typer.echo(
+            f"{r['id']:<10} {r['wing_loading_psf']:>8.0f} {r['ld_max_m20_200kft']:>9.3f} "
+            f"{r['alpha_ld_max_deg']:>9.2f} {rep:>7}  {r.get('note', '')}"
+        )
 
 
 def main():

@@ -23,8 +23,14 @@ SECURITY_HEADERS = {"X-Content-Type-Options": "nosniff", "Referrer-Policy": "no-
 def js_string(text: str) -> str:
     """text as a JavaScript string literal that is also safe inside an HTML <script> element: <, >, & and
     U+2028/2029 escaped (json.dumps' ensure_ascii escapes every other non-ASCII character)."""
-    return (json.dumps(str(text)).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
-            .replace("\u2028", "\\u2028").replace("\u2029", "\\u2029"))
+    return (
+        json.dumps(str(text))
+        .replace("<", "\\u003c")
+        .replace(">", "\\u003e")
+        .replace("&", "\\u0026")
+        .replace("\u2028", "\\u2028")
+        .replace("\u2029", "\\u2029")
+    )
 
 
 def html_attribute(text: str) -> str:
@@ -70,19 +76,35 @@ def page_policy(tile_url: str = "", script_hashes: list[str] = ()) -> str:
     """The service's policy for the page, its static files, the API and the docs: scripts only from the service
     (and the inline ones of script_hashes: /docs' Swagger UI set-up)."""
     tiles = tile_source(tile_url)
-    return policy({
-        "default-src": ["'self'"], "script-src": ["'self'", *script_hashes], "style-src": ["'self'", "'unsafe-inline'"],
-        "img-src": ["'self'", "data:", "blob:"] + ([tiles] if tiles else []), "connect-src": ["'self'"],
-        "font-src": ["'self'", "data:"], "worker-src": ["'self'", "blob:"],  # ReDoc's search runs in a blob: worker
-        "object-src": ["'none'"], "base-uri": ["'none'"], "form-action": ["'self'"], "frame-ancestors": ["'none'"]})
+    return policy(
+        {
+            "default-src": ["'self'"],
+            "script-src": ["'self'", *script_hashes],
+            "style-src": ["'self'", "'unsafe-inline'"],
+            "img-src": ["'self'", "data:", "blob:"] + ([tiles] if tiles else []),
+            "connect-src": ["'self'"],
+            "font-src": ["'self'", "data:"],
+            "worker-src": ["'self'", "blob:"],  # ReDoc's search runs in a blob: worker
+            "object-src": ["'none'"],
+            "base-uri": ["'none'"],
+            "form-action": ["'self'"],
+            "frame-ancestors": ["'none'"],
+        }
+    )
 
 
 def standalone_policy(script_hashes: list[str], *, header: bool) -> str:
     """The policy of a self-contained HTML file (the folium map): nothing loaded, only the hashed inline scripts.
     frame-ancestors only in a header: chromium reports it as an error in a <meta> tag, where it is ignored."""
     directives = {
-        "default-src": ["'none'"], "script-src": script_hashes or ["'none'"], "style-src": ["'unsafe-inline'"],
-        "img-src": ["data:"], "object-src": ["'none'"], "base-uri": ["'none'"], "form-action": ["'none'"]}
+        "default-src": ["'none'"],
+        "script-src": script_hashes or ["'none'"],
+        "style-src": ["'unsafe-inline'"],
+        "img-src": ["data:"],
+        "object-src": ["'none'"],
+        "base-uri": ["'none'"],
+        "form-action": ["'none'"],
+    }
     if header:
         directives["frame-ancestors"] = ["'none'"]
     return policy(directives)
@@ -94,4 +116,4 @@ def with_policy_meta(html: str, content_policy: str) -> str:
     head = re.search(r"<head[^>]*>", html, re.I)
     if head is None:
         raise ValueError("the HTML has no <head> for its Content-Security-Policy")
-    return f"{html[:head.end()]}\n{meta}{html[head.end():]}"
+    return f"{html[: head.end()]}\n{meta}{html[head.end() :]}"

@@ -26,14 +26,24 @@ from footprint.contracts.work import RunInfo
 PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (the job engine subscribes)
 PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
 PARSED_KEPT = 4  # requests a worker keeps parsed (one job's parts share one parse)
-WARM_CASE = {"vehicle": {"builtin": "lod-2.2"},
-             "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
-             "stop": {"altitude_ft": 250_000}}  # a short flight that loads every compiled kernel
+WARM_CASE = {
+    "vehicle": {"builtin": "lod-2.2"},
+    "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
+    "stop": {"altitude_ft": 250_000},
+}  # a short flight that loads every compiled kernel
 
 
 # ----------------------------------------------------------------------------------------------- the runner
-def run(kind: str, request, progress: Callable[[int, int], None] | None = None, *, on_progress=None, client=None,
-        workers: int | None = None, scheduler: str | None = None):
+def run(
+    kind: str,
+    request,
+    progress: Callable[[int, int], None] | None = None,
+    *,
+    on_progress=None,
+    client=None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+):
     """The kind's answer (its contract's WORK.combine) for a request (a dict or a parsed model): in this process,
     or on Dask when a `client`, a count of local `workers` or a `scheduler` address is given. progress(done, total)
     after each part; on_progress(fraction, note) inside a part run in this process (True from it stops the part).
@@ -51,8 +61,17 @@ def run(kind: str, request, progress: Callable[[int, int], None] | None = None, 
         futures = submit_parts(c, kind, request, parts, prefix=kind)
         outputs = gather(c, futures, progress)
         finished = time.perf_counter()
-    return work.combine(request, outputs, RunInfo(tasks=len(parts), workers=n_workers, seconds=finished - started,
-                                                  startup_seconds=started - t0, warm_seconds=warm_s))
+    return work.combine(
+        request,
+        outputs,
+        RunInfo(
+            tasks=len(parts),
+            workers=n_workers,
+            seconds=finished - started,
+            startup_seconds=started - t0,
+            warm_seconds=warm_s,
+        ),
+    )
 
 
 def _run_here(work, request, parts: Sequence, progress, on_progress) -> tuple[list, RunInfo]:
@@ -69,8 +88,10 @@ def submit_parts(client, kind: str, request, parts: Sequence, *, prefix: str) ->
     """One Dask task per part, keyed "<prefix>-<token>-<i>" (each run's keys its own): its future, in part order."""
     module_name, data = contracts.MODULES[kind], json.dumps(contracts.stored_form(request))
     token = uuid.uuid4().hex[:8]
-    return [client.submit(part_task, module_name, data, part, key=f"{prefix}-{token}-{i}", pure=False)
-            for i, part in enumerate(parts)]
+    return [
+        client.submit(part_task, module_name, data, part, key=f"{prefix}-{token}-{i}", pure=False)
+        for i, part in enumerate(parts)
+    ]
 
 
 def gather(client, futures: list, progress: Callable[[int, int], None] | None = None) -> list:
@@ -133,6 +154,7 @@ def progress_reporter():
             worker.log_event(PROGRESS_TOPIC, {"key": str(key), "progress": float(fraction), "note": note})
         task = worker.state.tasks.get(key)  # read in this thread, written by the worker's event loop: a plain lookup
         return task is None or task.state in ("cancelled", "released", "forgotten")
+
     return on_progress
 
 
@@ -156,8 +178,9 @@ def default_workers() -> int:
         return os.cpu_count() or 1
 
 
-def start_client(*, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True,
-                 niceness: int = 0):
+def start_client(
+    *, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True, niceness: int = 0
+):
     """(client, close): a client of `scheduler` ("tcp://host:port"), or of a new LocalCluster of `workers` processes
     (default: the cores), one thread each, no dashboard (its HTTP routes on any free port), each at `niceness` (the
     service's readers go first). close() shuts them from any thread (their context managers bind a context variable
@@ -168,8 +191,14 @@ def start_client(*, workers: int | None = None, scheduler: str | None = None, se
         client = Client(scheduler, timeout="10s", set_as_default=set_as_default)
         return client, client.close
     # ":0": any free port for the scheduler's HTTP routes (None would still take 8787, or warn when it is taken)
-    cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-                           dashboard_address=":0", scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
+    cluster = LocalCluster(
+        n_workers=workers or default_workers(),
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":0",
+        scheduler_kwargs={"dashboard": False},
+        silence_logs=logging.ERROR,
+    )
     client = Client(cluster, set_as_default=set_as_default)
     client.register_plugin(_worker_plugin(ParentStops))  # every worker, and each one that replaces a worker later
     if niceness:
@@ -199,6 +228,7 @@ def client_map(client):
     """A callable with builtin map's signature that runs func on the client's workers, one task per item, and
     returns the results in order. func must be picklable (defined at module level); pure=False: each item is
     run, none taken for another's result by its arguments' hash."""
+
     def map_tasks(func, *iterables):
         return client.gather(client.map(func, *iterables, pure=False))
 

@@ -7,12 +7,11 @@ Revises: 2026_12_02_0002
 Create Date: 2026-12-02 05:00:00
 """
 
-from alembic import op
 import sqlalchemy as sa
+from alembic import op
 
-
-revision = '2026_12_02_0003'
-down_revision = '2026_12_02_0002'
+revision = "2026_12_02_0003"
+down_revision = "2026_12_02_0002"
 branch_labels = None
 depends_on = None
 
@@ -38,8 +37,11 @@ def _renamed(value, old: str, new: str):
 
 def _rename(old: str, new: str) -> None:
     bind = op.get_bind()
-    for table, keys, column in (("jobs", ("id",), "study"), ("footprints", ("id",), "study"),
-                                ("footprint_points", ("footprint_id", "interior", "seq"), "parameter")):
+    for table, keys, column in (
+        ("jobs", ("id",), "study"),
+        ("footprints", ("id",), "study"),
+        ("footprint_points", ("footprint_id", "interior", "seq"), "parameter"),
+    ):
         t = sa.table(table, *(sa.column(k) for k in keys), sa.column(column, sa.JSON()))
         for row in bind.execute(sa.select(t)).mappings().all():
             value = _renamed(row[column], old, new)

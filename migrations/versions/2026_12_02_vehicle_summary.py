@@ -7,21 +7,20 @@ Revises: 2026_12_02_0003
 Create Date: 2026-12-02 05:30:00
 """
 
-from alembic import op
 import sqlalchemy as sa
+from alembic import op
 
-
-revision = '2026_12_02_0004'
-down_revision = '2026_12_02_0003'
+revision = "2026_12_02_0004"
+down_revision = "2026_12_02_0003"
 branch_labels = None
 depends_on = None
 
 
 def upgrade() -> None:
-    with op.batch_alter_table('vehicles', schema=None) as batch_op:
-        batch_op.add_column(sa.Column('summary', sa.JSON(), nullable=True))
+    with op.batch_alter_table("vehicles", schema=None) as batch_op:
+        batch_op.add_column(sa.Column("summary", sa.JSON(), nullable=True))
 
 
 def downgrade() -> None:
-    with op.batch_alter_table('vehicles', schema=None) as batch_op:
-        batch_op.drop_column('summary')
+    with op.batch_alter_table("vehicles", schema=None) as batch_op:
+        batch_op.drop_column("summary")

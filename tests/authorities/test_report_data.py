@@ -15,14 +15,22 @@ def test_the_table2_example_is_table2():
     e = table2_entry()
     for field in ("altitude_ft", "velocity_fps", "gamma_deg", "heading_deg", "latitude_deg", "longitude_deg"):
         assert e[field] == REPORT[f"table2.{field}"].value, field
-    assert e["velocity_frame"] == "relative" and table2_stop() == {"altitude_ft": REPORT["table2.stop_altitude_ft"].value}
+    assert e["velocity_frame"] == "relative" and table2_stop() == {
+        "altitude_ft": REPORT["table2.stop_altitude_ft"].value
+    }
 
 
 def test_the_report_s_own_arithmetic():
     v = {k: n.value for k, n in REPORT.items()}
     assert v["sec3.max_crossrange_nmi"] - v["sec3.crossrange_loss_nmi"] == v["sec3.max_crossrange_2550_nmi"]
-    assert round(100 * v["sec3.crossrange_loss_nmi"] / v["sec3.max_crossrange_nmi"], 1) == v["sec3.crossrange_loss_percent"]
-    assert round(100 * (1 - v["sec3.max_downrange_2550_nmi"] / v["sec3.max_downrange_nmi"])) == v["sec3.downrange_loss_percent"]
+    assert (
+        round(100 * v["sec3.crossrange_loss_nmi"] / v["sec3.max_crossrange_nmi"], 1)
+        == v["sec3.crossrange_loss_percent"]
+    )
+    assert (
+        round(100 * (1 - v["sec3.max_downrange_2550_nmi"] / v["sec3.max_downrange_nmi"]))
+        == v["sec3.downrange_loss_percent"]
+    )
     assert v["sec3.min_downrange_2550_nmi"] == 2 * v["sec3.min_downrange_nmi"]  # "doubled"
     assert round(3 * v["sec2.iterations_per_optimum"] / v["sec2.points_per_footprint"]) == v["sec2.cost_factor"]
     assert 3 * v["sec2.iterations_per_optimum"] * v["sec2.cyber175_s_per_trajectory"] == v["sec2.optimized_points_s"]

@@ -25,10 +25,21 @@ ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = Path("/usr/bin/chromium")
 # the tests' screenshots: the tracked docs/figures are rewritten only when asked (FOOTPRINT_WRITE_FIGURES=1, as a
 # figure run does); a test run writes to a temporary folder and leaves the checkout as it was
-FIGURES_DIR = (ROOT / "docs" / "figures" if os.environ.get("FOOTPRINT_WRITE_FIGURES") == "1"
-               else Path(tempfile.mkdtemp(prefix="footprint-figures-")))
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+FIGURES_DIR = (
+    ROOT / "docs" / "figures"
+    if os.environ.get("FOOTPRINT_WRITE_FIGURES") == "1"
+    else Path(tempfile.mkdtemp(prefix="footprint-figures-"))
+)
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 START_TIMEOUT_S = 180.0  # migrations, the Dask cluster and the first compile of the flight kernel
 JOB_TIMEOUT_S = 180.0
 WAIT_MS = 120_000  # every wait for the page (Playwright's default too): a loaded machine is slow, not wrong
@@ -36,10 +47,22 @@ WAIT_MS = 120_000  # every wait for the page (Playwright's default too): a loade
 # A single-parameter footprint of 4 bank settings (7 trajectories with the mirror), entered at 150 E heading
 # north-east: its boundary crosses longitude 180, so the tests also see the map unwrap it.
 SEED_ENTRY = table2_entry(heading_deg=60.0, latitude_deg=28.5, longitude_deg=150.0)
-SEED_JOB = {"kind": "footprint", "name": "lod-1.89, 4 banks, 150E",
-            "study": {"case": {"vehicle": {"builtin": "lod-1.89"}, "entry": SEED_ENTRY, "alpha": {"law": "max_ld"},
-                               "bank_start": "pullout", "stop": table2_stop()},
-                      "method": "single_parameter", "bank0_deg": [0, 45, 90, 135], "mirror": True}}
+SEED_JOB = {
+    "kind": "footprint",
+    "name": "lod-1.89, 4 banks, 150E",
+    "study": {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "entry": SEED_ENTRY,
+            "alpha": {"law": "max_ld"},
+            "bank_start": "pullout",
+            "stop": table2_stop(),
+        },
+        "method": "single_parameter",
+        "bank0_deg": [0, 45, 90, 135],
+        "mirror": True,
+    },
+}
 
 
 def _free_port() -> int:
@@ -54,8 +77,12 @@ class Service:
 
     def call(self, path: str, body=None, method=None):
         data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.base_url + path, data=data, method=method or ("POST" if data else "GET"),
-                                     headers={"Content-Type": "application/json"})
+        req = urllib.request.Request(
+            self.base_url + path,
+            data=data,
+            method=method or ("POST" if data else "GET"),
+            headers={"Content-Type": "application/json"},
+        )
         with urllib.request.urlopen(req, timeout=60) as res:
             return json.loads(res.read() or b"null")
 
@@ -75,12 +102,23 @@ class Service:
 def running_service(folder: Path, **env):
     """The service on a free port with a new SQLite file in folder and one Dask worker; env overrides settings."""
     port = _free_port()
-    env = os.environ | {"FOOTPRINT_DATABASE_URL": f"sqlite:///{folder / 'footprint.db'}", "FOOTPRINT_DASK_WORKERS": "1",
-                        "FOOTPRINT_HOST": "127.0.0.1", "FOOTPRINT_PORT": str(port), "FOOTPRINT_API_TOKEN": "",
-                        "FOOTPRINT_TILE_URL": ""} | env
+    env = (
+        os.environ
+        | {
+            "FOOTPRINT_DATABASE_URL": f"sqlite:///{folder / 'footprint.db'}",
+            "FOOTPRINT_DASK_WORKERS": "1",
+            "FOOTPRINT_HOST": "127.0.0.1",
+            "FOOTPRINT_PORT": str(port),
+            "FOOTPRINT_API_TOKEN": "",
+            "FOOTPRINT_TILE_URL": "",
+        }
+        | env
+    )
     log = open(folder / "service.log", "w")
-    code = ("import uvicorn\nfrom footprint.service.app import create_app\nfrom footprint.service.settings import "
-            "load_settings\ns = load_settings()\nuvicorn.run(create_app(s), host=s.host, port=s.port, log_level='warning')")
+    code = (
+        "import uvicorn\nfrom footprint.service.app import create_app\nfrom footprint.service.settings import "
+        "load_settings\ns = load_settings()\nuvicorn.run(create_app(s), host=s.host, port=s.port, log_level='warning')"
+    )
     proc = subprocess.Popen([sys.executable, "-c", code], cwd=folder, env=env, stdout=log, stderr=subprocess.STDOUT)
     svc = Service(f"http://127.0.0.1:{port}")
     try:
@@ -182,8 +220,13 @@ def pytest_terminal_summary(terminalreporter):
         return
     skipped = [r for r in terminalreporter.stats.get("skipped", []) if "tests/browser/" in str(r.nodeid)]
     if skipped:
-        terminalreporter.write_sep("!", f"{len(skipped)} browser tests SKIPPED: chromium not found at {CHROMIUM}; "
-                                        "install with `apt-get install chromium`", red=True, bold=True)
+        terminalreporter.write_sep(
+            "!",
+            f"{len(skipped)} browser tests SKIPPED: chromium not found at {CHROMIUM}; "
+            "install with `apt-get install chromium`",
+            red=True,
+            bold=True,
+        )
 
 
 # The PNG export's part of the map (exporting.js worldCrop): latitudes -90..90 and one turn of longitude about the

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from footprint.core.outline import outline
 from footprint.core.sphere import Reference, downrange_crossrange_nmi
-
 from tests.authorities.report import example, table2_entry, table2_stop
 
 from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, PNG_CROP_JS, WAIT_MS
@@ -25,27 +25,55 @@ LEVELS = (0.5, 0.9)
 MEAN_SHIFT_DEG = 5.0  # an ellipse's middle from its flight's nominal landing point: the mean's shift is < 1 deg here
 PIXEL_DEG = 2.0  # a path's box read back through Leaflet's pixels at a whole-world zoom: 1 px < 0.5 deg
 # entered at 0 N 0 E heading east (Table 2), the L/D 1.89 footprint runs past 180 E to about 112 W
-HOSTILE_SITE = "Nadi <img src=x onerror=alert(1)> & \"Fiji\" ${1}"
+HOSTILE_SITE = 'Nadi <img src=x onerror=alert(1)> & "Fiji" ${1}'
 HOSTILE_JOB = "lod-1.89 dispersed <b>east</b> & </script>"
-SITES = (("Diego Garcia", -7.313, 72.411), ("Andersen AFB, Guam", 13.584, 144.93), ("Kwajalein", 8.72, 167.732),
-         (HOSTILE_SITE, -17.755, 177.443), ("Pago Pago", -14.331, -170.711), ("Honolulu", 21.319, -157.922),
-         ("Christchurch", -43.489, 172.532), ("Kennedy SLF", 28.615, -80.695))
+SITES = (
+    ("Diego Garcia", -7.313, 72.411),
+    ("Andersen AFB, Guam", 13.584, 144.93),
+    ("Kwajalein", 8.72, 167.732),
+    (HOSTILE_SITE, -17.755, 177.443),
+    ("Pago Pago", -14.331, -170.711),
+    ("Honolulu", 21.319, -157.922),
+    ("Christchurch", -43.489, 172.532),
+    ("Kennedy SLF", 28.615, -80.695),
+)
 
 # the study the job form builds from its defaults and the first test's inputs (Table 2's entry: 0 N 0 E heading east)
-NORMAL = {"altitude_ft": 1000, "velocity_fps": 15, "gamma_deg": 0.05, "heading_deg": 0.05, "latitude_deg": 0.02,
-          "longitude_deg": 0.02}
+NORMAL = {
+    "altitude_ft": 1000,
+    "velocity_fps": 15,
+    "gamma_deg": 0.05,
+    "heading_deg": 0.05,
+    "latitude_deg": 0.02,
+    "longitude_deg": 0.02,
+}
 DISPERSION_STUDY = {
-    "footprint": {"case": {"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": True}, "entry": table2_entry(),
-                           "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": table2_stop()},
-                  "method": "single_parameter", "mirror": True, "bank0_deg": [0, 45, 90, 135]},
-    "samples": SAMPLES, "design": "sobol", "seed": 1,
+    "footprint": {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "planet": {"rotating": True},
+            "entry": table2_entry(),
+            "alpha": {"law": "max_ld"},
+            "bank_start": "pullout",
+            "stop": table2_stop(),
+        },
+        "method": "single_parameter",
+        "mirror": True,
+        "bank0_deg": [0, 45, 90, 135],
+    },
+    "samples": SAMPLES,
+    "design": "sobol",
+    "seed": 1,
     "entry": {k: {"normal": {"std": std}} for k, std in NORMAL.items()},
-    "vehicle": {"cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-                "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-                "wing_loading_psf": {"normal": {"std": 1}}},
+    "vehicle": {
+        "cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+        "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+        "wing_loading_psf": {"normal": {"std": 1}},
+    },
     "density": {"std": 0.05, "correlation_length_ft": 30000},
     "confidence": list(LEVELS),
-    "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in SITES]}
+    "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in SITES],
+}
 
 # the view from 30 W to 300 E (braced: fitBounds returns the map, which Playwright would serialize for tens of seconds)
 FIT_ACROSS_180_JS = "() => { window.footprintApp.mapView.map.fitBounds([[-60, -30], [60, 300]], {animate: false}); }"
@@ -79,7 +107,9 @@ def stored_sites(service):
     return service.call("/api/sites")
 
 
-def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabilities(open_page, service, stored_sites):
+def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabilities(
+    open_page, service, stored_sites
+):
     t0 = time.monotonic()
     run = open_page(1280, 800)
     page, dialogs = run.page, []
@@ -134,7 +164,10 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     boxes = [e.evaluate(BBOX_JS) for e in ellipses.all()]
     for b, nominal_point in zip(boxes, d["nominal"]):
         # entered at 0 E heading east, the whole footprint lies in 0..360 E on the main copy
-        assert abs((b["west"] + b["east"]) / 2 - nominal_point["longitude_deg"] % 360) < MEAN_SHIFT_DEG, (b, nominal_point)
+        assert abs((b["west"] + b["east"]) / 2 - nominal_point["longitude_deg"] % 360) < MEAN_SHIFT_DEG, (
+            b,
+            nominal_point,
+        )
     zero_bank = boxes[0]  # flights[0]: bank 0, on the axis, the far end of the footprint (3 sigma: ~45 deg long)
     assert 180 < zero_bank["west"] < far < zero_bank["east"], (zero_bank, far)
 
@@ -156,28 +189,40 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     assert rows.count() == len(SITES)
     table = {r.locator("td.site-name").inner_text(): r.locator("td").all_inner_texts() for r in rows.all()}
     for s in d["sites"]:
-        assert table[s["name"]][1:] == [percent(s["probability"]), interval(s["interval"]),
-                                        "inside" if s["inside_nominal"] else "outside"], (s, table[s["name"]])
+        assert table[s["name"]][1:] == [
+            percent(s["probability"]),
+            interval(s["interval"]),
+            "inside" if s["inside_nominal"] else "outside",
+        ], (s, table[s["name"]])
     assert HOSTILE_SITE in table
     by_name = {s["name"]: s for s in d["sites"]}
     assert by_name[HOSTILE_SITE]["probability"] > 0.5 and by_name["Kennedy SLF"]["probability"] == 0
     assert "95 % interval" in page.locator("#dispersion-sites thead").inner_text()
     # on the map: a marker per site (and copy), its name and probability in one label beside it (as text)
     assert page.locator("path.dispersion-site").count() == 3 * len(SITES)
-    assert f"{HOSTILE_SITE} · {percent(by_name[HOSTILE_SITE]['probability'])}" in \
-        page.locator(".site-label-p").all_inner_texts()
+    assert (
+        f"{HOSTILE_SITE} · {percent(by_name[HOSTILE_SITE]['probability'])}"
+        in page.locator(".site-label-p").all_inner_texts()
+    )
     # every outcome counted
     outcomes = page.locator("#dispersion-outcomes").inner_text()
     assert f"{d['outcomes']['landed']:,} of {d['outcomes']['flights']:,} flights landed" in outcomes
     assert all(what in outcomes for what in d["outcomes"] if what not in ("flights", "landed"))
     # no name became markup anywhere: no <img>, no <b> from a name, no dialog, no CSP violation
-    assert page.locator("#dispersion-sites img, .leaflet-pane img.leaflet-marker-icon[src=x], .map-legend img, "
-                        "#job-list b, .map-legend b, #dispersion-panel b").count() == 0
+    assert (
+        page.locator(
+            "#dispersion-sites img, .leaflet-pane img.leaflet-marker-icon[src=x], .map-legend img, "
+            "#job-list b, .map-legend b, #dispersion-panel b"
+        ).count()
+        == 0
+    )
     assert HOSTILE_JOB in page.locator(".map-legend").inner_text()
     assert HOSTILE_JOB in page.locator("#dispersion-sites caption").inner_text()
     # the dispersion in the report's axes
     assert page.locator("#plot svg.dispersion-plot path.dispersion-ellipse").count() == len(drawn)
-    assert page.locator("#plot svg.dispersion-plot path.dispersion-confidence").count() == sum(len(c["rings"]) for c in d["confidence"])
+    assert page.locator("#plot svg.dispersion-plot path.dispersion-confidence").count() == sum(
+        len(c["rings"]) for c in d["confidence"]
+    )
 
     assert not any(word in page.locator("#dispersion-panel").inner_text() for word in ("null", "undefined", "NaN"))
     # per flight: landed, other outcomes, mean and spread, in a dialog
@@ -191,7 +236,11 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
     page.evaluate("() => window.footprintApp.setView('map')")
     # the stored sites say their probability too
     stored_row = page.locator("#site-list li", has_text="Kwajalein")
-    assert stored_row.locator(".dispersion-p").inner_text().startswith(f"P {percent(by_name['Kwajalein']['probability'])} (")
+    assert (
+        stored_row.locator(".dispersion-p")
+        .inner_text()
+        .startswith(f"P {percent(by_name['Kwajalein']['probability'])} (")
+    )
 
     FIGURES.mkdir(parents=True, exist_ok=True)
     page.evaluate("""async () => { const app = window.footprintApp;
@@ -269,9 +318,13 @@ def test_the_panel_downloads_the_shown_dispersion_as_geojson_and_a_sites_csv(ope
     assert name == f"{stem}.geojson"
     collection = json.loads(body)
     kinds = Counter(f["properties"]["kind"] for f in collection["features"])
-    assert kinds == {"nominal_footprint": 1, "entry": 1, "site": len(SITES),
-                     "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
-                     "ellipse": sum(len(f["ellipses"]) for f in d["flights"])}, kinds
+    assert kinds == {
+        "nominal_footprint": 1,
+        "entry": 1,
+        "site": len(SITES),
+        "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
+        "ellipse": sum(len(f["ellipses"]) for f in d["flights"]),
+    }, kinds
     probabilities = {s["name"]: s["probability"] for s in d["sites"]}
     sites = [f["properties"] for f in collection["features"] if f["properties"]["kind"] == "site"]
     assert {p["name"]: p["probability"] for p in sites} == probabilities
@@ -298,9 +351,13 @@ def test_the_header_geojson_holds_the_dispersion_layers_that_are_shown(open_page
         return Counter(p["kind"] for p in ours), ours
 
     kinds, ours = exported()
-    assert kinds == {"nominal_footprint": 1, "entry": 1, "site": len(SITES),
-                     "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
-                     "ellipse": sum("3" in f["ellipses"] for f in d["flights"])}, kinds
+    assert kinds == {
+        "nominal_footprint": 1,
+        "entry": 1,
+        "site": len(SITES),
+        "confidence_footprint": sum(len(c["rings"]) for c in d["confidence"]),
+        "ellipse": sum("3" in f["ellipses"] for f in d["flights"]),
+    }, kinds
     assert {p["sigma"] for p in ours if p["kind"] == "ellipse"} == {3}
     sites = {p["name"]: p["probability"] for p in ours if p["kind"] == "site"}
     assert sites == {s["name"]: s["probability"] for s in d["sites"]}
@@ -453,8 +510,10 @@ def test_every_shape_lies_on_the_boundary_copy_and_a_ring_round_a_pole_is_filled
     assert not run.errors
 
 
-@pytest.mark.parametrize("field, value, words", [("#d-samples", "0", "Samples: "),
-                                                 ("#entry-velocity", "50", "Velocity, earth-relative (ft/s): ")])
+@pytest.mark.parametrize(
+    "field, value, words",
+    [("#d-samples", "0", "Samples: "), ("#entry-velocity", "50", "Velocity, earth-relative (ft/s): ")],
+)
 def test_a_refused_dispersion_names_its_field(open_page, field, value, words):
     """A 422 of a dispersion study shows next to the input that holds the field: its own (samples) or one of its
     footprint study's ("study.footprint.case.entry.velocity_fps", the form's case input); no job is queued."""
@@ -478,9 +537,14 @@ def test_a_dispersion_over_the_pole_is_filled_to_the_pole(open_page, service, st
     on the map, on the globe and in the PNG; Svalbard, past the pole from nowhere, is reached in every sample."""
     fp = example("footprint_lod189") | {"bank0_deg": [0, 30, 60, 90, 120]}
     fp["case"]["entry"] |= {"latitude_deg": 60.0, "longitude_deg": -30.0, "heading_deg": 0.0}
-    study = {"footprint": fp, "samples": 64, "seed": 2, "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
-             "confidence": [0.5, 0.9],
-             "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in POLAR_SITES]}
+    study = {
+        "footprint": fp,
+        "samples": 64,
+        "seed": 2,
+        "entry": {"gamma_deg": {"normal": {"std": 0.05}}},
+        "confidence": [0.5, 0.9],
+        "sites": [{"name": n, "latitude_deg": la, "longitude_deg": lo} for n, la, lo in POLAR_SITES],
+    }
     job = service.run_job({"kind": "dispersion", "name": "lod-1.89 north from 60 N", "study": study})
     assert job["status"] == "succeeded", job
     result = job["result"]["dispersion"]

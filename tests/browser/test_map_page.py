@@ -37,8 +37,10 @@ BBOX_JS = """(selector) => {
 
 def ring(points):
     """The boundary without a repeated closing point (what the page draws)."""
-    same = points[0]["latitude_deg"] == points[-1]["latitude_deg"] and \
-        points[0]["longitude_deg"] == points[-1]["longitude_deg"]
+    same = (
+        points[0]["latitude_deg"] == points[-1]["latitude_deg"]
+        and points[0]["longitude_deg"] == points[-1]["longitude_deg"]
+    )
     return points[:-1] if len(points) > 1 and same else points
 
 
@@ -80,12 +82,17 @@ def test_page_loads_with_no_request_leaving_localhost(open_page):
 
 def png_tile(size=256) -> bytes:
     """A size x size PNG, light grey (written here: no imaging library needed)."""
+
     def chunk(kind, data):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
     rows = b"".join(b"\x00" + b"\xd0\xd8\xe0" * size for _ in range(size))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0))
+        + chunk(b"IDAT", zlib.compress(rows))
+        + chunk(b"IEND", b"")
+    )
 
 
 @pytest.fixture
@@ -126,8 +133,11 @@ def test_online_tile_layer_only_when_configured(browser, service, tile_server, t
     context = browser.new_context(viewport={"width": 1000, "height": 700})
     with contextlib.ExitStack() as stack:
         stack.callback(context.close)
-        svc = stack.enter_context(running_service(tmp_path, FOOTPRINT_TILE_URL=tile_server.url_template)) \
-            if tiles else service
+        svc = (
+            stack.enter_context(running_service(tmp_path, FOOTPRINT_TILE_URL=tile_server.url_template))
+            if tiles
+            else service
+        )
         assert svc.call("/api/config")["tile_url"] == (tile_server.url_template if tiles else None)
         configs = []
         context.on("request", lambda r: configs.append(r.url) if r.url.endswith("/api/config") else None)
@@ -196,8 +206,9 @@ def test_node_longitude_control_moves_the_polygon_east(open_page, service):
     d0 = run.page.get_attribute(selector, "d")
     node0 = float(run.page.input_value("#node-longitude"))
     run.page.fill("#node-longitude", f"{node0 + 20:.2f}")
-    run.page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                               timeout=WAIT_MS)
+    run.page.wait_for_function(
+        "([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0], timeout=WAIT_MS
+    )
     after = run.page.evaluate(BBOX_JS, selector)
     pixel = run.page.evaluate(PIXEL_JS)  # a vertex is rounded to a whole pixel on the map's layer, each time
     # by hand: a new node 20 deg east with the same inclination turns the whole orbit 20 deg about the pole
@@ -205,9 +216,18 @@ def test_node_longitude_control_moves_the_polygon_east(open_page, service):
     assert delta_deg(after["east"], before["east"]) == pytest.approx(20.0, abs=pixel)
     assert after["south"] == pytest.approx(before["south"], abs=pixel)
     # and by the transform API: the same entry 20 deg east with the same heading
-    moved = service.call(f"/api/footprints/{fp['id']}/transform", {
-        "to": {"latitude_deg": entry["latitude_deg"], "longitude_deg": entry["longitude_deg"] + 20,
-               "heading_deg": entry["heading_deg"]}, "step_downrange_nmi": 0, "earth_rotation": "none"})
+    moved = service.call(
+        f"/api/footprints/{fp['id']}/transform",
+        {
+            "to": {
+                "latitude_deg": entry["latitude_deg"],
+                "longitude_deg": entry["longitude_deg"] + 20,
+                "heading_deg": entry["heading_deg"],
+            },
+            "step_downrange_nmi": 0,
+            "earth_rotation": "none",
+        },
+    )
     lons = moved["outline"]["longitude_deg"]
     assert delta_deg(after["west"], min(lons)) == pytest.approx(0.0, abs=pixel)
     assert delta_deg(after["east"], max(lons)) == pytest.approx(0.0, abs=pixel)
@@ -256,13 +276,28 @@ def test_bad_field_shows_its_error_next_to_that_field(open_page):
 
 def test_keyboard_reaches_every_control_with_a_visible_focus(open_page):
     page = open_page().page
-    wanted = {"view-globe", "export-png", "node-longitude-range", "node-longitude", "inclination-range",
-              "step-downrange-range", "earth-rotation", "live-reset", "entry-velocity", "job-method", "job-submit",
-              "site-click-toggle", "site-csv", "reach-submit"}
+    wanted = {
+        "view-globe",
+        "export-png",
+        "node-longitude-range",
+        "node-longitude",
+        "inclination-range",
+        "step-downrange-range",
+        "earth-rotation",
+        "live-reset",
+        "entry-velocity",
+        "job-method",
+        "job-submit",
+        "site-click-toggle",
+        "site-csv",
+        "reach-submit",
+    }
     seen, outlines = set(), {}
     for _ in range(90):
         page.keyboard.press("Tab")
-        focused = page.evaluate("() => [document.activeElement.id, getComputedStyle(document.activeElement).outlineStyle]")
+        focused = page.evaluate(
+            "() => [document.activeElement.id, getComputedStyle(document.activeElement).outlineStyle]"
+        )
         seen.add(focused[0])
         outlines[focused[0]] = focused[1]
     assert wanted <= seen, f"not reached by Tab: {sorted(wanted - seen)}"
@@ -312,12 +347,19 @@ def test_landing_sites_and_reach(open_page, service):
         return {points: f.detail.points, controls: f.controls}; }""")
     stored = page.evaluate("() => window.footprintApp.sites.sites")
     ring_points = fp["points"][:-1] if fp["points"][0] == fp["points"][-1] else fp["points"]
-    body = {"footprint": {"points": [{k: p[k] for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s")}
-                                     for p in ring_points]},
-            "orbit": {"inclination_deg": fp["controls"]["inclinationDeg"], "altitude_nmi": 100,
-                      "node_longitude_deg": fp["controls"]["nodeLongitudeDeg"]},
-            "sites": [{k: s[k] for k in ("name", "latitude_deg", "longitude_deg")} for s in stored],
-            "revolutions": {"first": 1, "hours": 24}, "earth_rotation": "approximate"}
+    body = {
+        "footprint": {
+            "points": [{k: p[k] for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s")} for p in ring_points]
+        },
+        "orbit": {
+            "inclination_deg": fp["controls"]["inclinationDeg"],
+            "altitude_nmi": 100,
+            "node_longitude_deg": fp["controls"]["nodeLongitudeDeg"],
+        },
+        "sites": [{k: s[k] for k in ("name", "latitude_deg", "longitude_deg")} for s in stored],
+        "revolutions": {"first": 1, "hours": 24},
+        "earth_rotation": "approximate",
+    }
     windows = service.call("/api/reach", body)["windows"]
     assert len(windows) > 0
     assert page.locator("#plot svg.timeline-plot rect.window").count() == len(windows)
@@ -371,8 +413,11 @@ def test_globe_turns_and_clips_the_far_side(open_page, service):
     assert rotate1[0] == pytest.approx(rotate0[0] + 30.0, abs=1.0)  # 0.25 deg per pixel
     # centred on the entry's antipode: the entry is on the hidden hemisphere (not drawn), and what is drawn of
     # the footprint is cut at the limb (every vertex inside the disk)
-    page.evaluate("""([lon, lat]) => { const g = window.footprintApp.globe; g.rotate = [-(lon - 180), lat, 0];
-                     g.render(); }""", [service.footprint["entry"]["longitude_deg"], service.footprint["entry"]["latitude_deg"]])
+    page.evaluate(
+        """([lon, lat]) => { const g = window.footprintApp.globe; g.rotate = [-(lon - 180), lat, 0];
+                     g.render(); }""",
+        [service.footprint["entry"]["longitude_deg"], service.footprint["entry"]["latitude_deg"]],
+    )
     assert page.locator(f"path.globe-entry.fp-{service.footprint['id']}").count() == 0
     disk = page.evaluate("""() => { const p = window.footprintApp.globe.projection();
                                     return [...p.translate(), p.scale()]; }""")
@@ -403,8 +448,12 @@ def map_file(footprint: dict, folder) -> Path:
 
     src, out = folder / "footprint.json", folder / "map.html"
     src.write_text(json.dumps(footprint))
-    res = subprocess.run([sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
-                         capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [sys.executable, "-m", "footprint.cli", "map", str(src), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert res.returncode == 0, res.stderr
     return out
 
@@ -452,7 +501,8 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     assert set(page.locator("#plot text.x-label").all_text_contents()) == {"Flight time (s)"}  # issue 25 item 8
     title = page.locator("#plot text.plot-title")  # within the plot: the name gives way to the numbers
     assert title.evaluate("(t) => t.getBBox().x + t.getBBox().width") <= page.locator("#plot svg").evaluate(
-        "(s) => s.viewBox.baseVal.width")
+        "(s) => s.viewBox.baseVal.width"
+    )
     page.locator("#job-list li .job-status", has_text="succeeded").first.wait_for()
     page.screenshot(path=str(FIGURES / "map_optimum_histories.png"))
     page.click("#plot-range")
@@ -469,7 +519,9 @@ LABEL_BOXES_JS = """() => ({
 
 
 def boxes_overlap(a, b) -> bool:
-    return a["x"] < b["x"] + b["w"] and b["x"] < a["x"] + a["w"] and a["y"] < b["y"] + b["h"] and b["y"] < a["y"] + a["h"]
+    return (
+        a["x"] < b["x"] + b["w"] and b["x"] < a["x"] + a["w"] and a["y"] < b["y"] + b["h"] and b["y"] < a["y"] + a["h"]
+    )
 
 
 @pytest.fixture
@@ -496,9 +548,13 @@ def test_twenty_sites_are_labelled_without_one_label_over_another(open_page, twe
             page.wait_for_timeout(300)
         got = page.evaluate(LABEL_BOXES_JS)
         labels, markers, frame = got["labels"], got["markers"], got["view"]
-        visible = [m for m in markers if frame["x"] <= m["x"] <= frame["x"] + frame["width"]
-                   and frame["y"] <= m["y"] <= frame["y"] + frame["height"]]
-        clashes = [(a["text"], b["text"]) for i, a in enumerate(labels) for b in labels[i + 1:] if boxes_overlap(a, b)]
+        visible = [
+            m
+            for m in markers
+            if frame["x"] <= m["x"] <= frame["x"] + frame["width"]
+            and frame["y"] <= m["y"] <= frame["y"] + frame["height"]
+        ]
+        clashes = [(a["text"], b["text"]) for i, a in enumerate(labels) for b in labels[i + 1 :] if boxes_overlap(a, b)]
         assert not clashes, (view, clashes)
         covered = [a["text"] for a in labels for m in markers if boxes_overlap(a, m)]
         assert not covered, (view, covered)
@@ -545,28 +601,46 @@ def test_the_pages_own_collocation_defaults_converge(open_page, service):
     assert not run.errors, run.errors
 
 
-POLAR_JOB = {"kind": "footprint", "name": "lod-1.89 north from 40N",
-             "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
-                                "entry": table2_entry(heading_deg=0.0, latitude_deg=40.0, longitude_deg=10.0),
-                                "alpha": {"law": "max_ld"}, "bank_start": "pullout", "stop": table2_stop()},
-                       "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120], "mirror": True}}
+POLAR_JOB = {
+    "kind": "footprint",
+    "name": "lod-1.89 north from 40N",
+    "study": {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "entry": table2_entry(heading_deg=0.0, latitude_deg=40.0, longitude_deg=10.0),
+            "alpha": {"law": "max_ld"},
+            "bank_start": "pullout",
+            "stop": table2_stop(),
+        },
+        "method": "single_parameter",
+        "bank0_deg": [0, 30, 60, 90, 120],
+        "mirror": True,
+    },
+}
 
 
 def show_only(page, fp_id):
     """The page shows this footprint alone, selected (its orbit controls move it)."""
-    page.evaluate("""async (id) => { const app = window.footprintApp;
+    page.evaluate(
+        """async (id) => { const app = window.footprintApp;
         for (const fp of app.state.footprints.values()) if (fp.id !== id && fp.visible) await app.setVisible(fp, false);
-        await app.select(id); }""", fp_id)
+        await app.select(id); }""",
+        fp_id,
+    )
 
 
 def pixels(page, latlngs):
     """The map's RGB at each (lat, lon): a screenshot read at the container points Leaflet gives."""
-    from PIL import Image
     import io
 
-    points = page.evaluate("""(ll) => { const m = window.footprintApp.mapView.map, r = m.getContainer()
+    from PIL import Image
+
+    points = page.evaluate(
+        """(ll) => { const m = window.footprintApp.mapView.map, r = m.getContainer()
         .getBoundingClientRect(); return ll.map(([a, o]) => { const p = m.latLngToContainerPoint([a, o]);
-        return [p.x + r.left, p.y + r.top]; }); }""", latlngs)
+        return [p.x + r.left, p.y + r.top]; }); }""",
+        latlngs,
+    )
     image = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
     return [image.getpixel((round(x), round(y))) for x, y in points]
 
@@ -575,8 +649,11 @@ def png_pixels(page, latlngs, save_as=None):
     """The page's PNG export's RGB at each (lat, lon): the map's container points, at the export's pixel ratio."""
     from PIL import Image
 
-    points = page.evaluate("""(ll) => { const m = window.footprintApp.mapView.map;
-        return ll.map(([a, o]) => { const p = m.latLngToContainerPoint([a, o]); return [p.x, p.y]; }); }""", latlngs)
+    points = page.evaluate(
+        """(ll) => { const m = window.footprintApp.mapView.map;
+        return ll.map(([a, o]) => { const p = m.latLngToContainerPoint([a, o]); return [p.x, p.y]; }); }""",
+        latlngs,
+    )
     crop = page.evaluate(PNG_CROP_JS)
     with page.expect_download() as info:
         page.click("#export-png")
@@ -609,8 +686,9 @@ def test_a_footprint_over_the_pole_fills_the_polar_cap(open_page, service):
     # on the globe centred on the pole: the pole itself is inside, the equator far off the axis is not
     pole_and_off = page.evaluate("""() => { const g = window.footprintApp.globe, p = g.projection(),
         r = g.element.getBoundingClientRect(); return [p([0, 90]), p([100, 5])].map(([x, y]) => [x + r.left, y + r.top]); }""")
-    from PIL import Image
     import io
+
+    from PIL import Image
 
     def globe_pixels():
         image = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
@@ -685,7 +763,9 @@ def test_footprints_either_side_of_180_fit_one_world(open_page, service):
         for (const fp of app.state.footprints.values()) await app.setVisible(fp, true);
         app.mapView.fitFootprints([...app.state.footprints.values()]); }""")
     page.wait_for_timeout(300)
-    bounds = page.evaluate("() => { const b = window.footprintApp.mapView.map.getBounds(); return [b.getWest(), b.getEast()]; }")
+    bounds = page.evaluate(
+        "() => { const b = window.footprintApp.mapView.map.getBounds(); return [b.getWest(), b.getEast()]; }"
+    )
     assert bounds[1] - bounds[0] <= 500.0  # one world, the padding and a quarter zoom step (2.5 worlds before)
     # by hand: [150, 250] and [-40, 60] leave gaps of 70 deg (250 to 320) and 90 deg (60 to 150): the cover is
     # 150 E eastward across 180 to 60 E, [-210, 60]; [170, 190] and [-175, -170] lie in [170, 190]
@@ -705,10 +785,12 @@ def test_a_move_keeps_the_flown_ranges_in_the_plot_and_a_rejected_one_is_marked(
     selector = polygon_selector(fp["id"])
     d0 = page.get_attribute(selector, "d")
     page.fill("#inclination", "75")
-    page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                           timeout=WAIT_MS)
-    shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown.points.map(p => p.downrange_nmi)",
-                          fp["id"])
+    page.wait_for_function(
+        "([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0], timeout=WAIT_MS
+    )
+    shown = page.evaluate(
+        "(id) => window.footprintApp.state.footprints.get(id).shown.points.map(p => p.downrange_nmi)", fp["id"]
+    )
     assert shown == pytest.approx([p["downrange_nmi"] for p in fp["points"]], abs=1e-6)
     ticks = [float(t.replace(",", "")) for t in page.locator("#plot text.tick").all_text_contents()]
     # the axes end near the footprint (cross-range within +-2,000 nmi), not at -10,800 nmi for a folded far tip
@@ -740,24 +822,39 @@ def test_an_exact_move_draws_the_track_flown_again_and_says_how_far_the_shift_is
     page.select_option("#earth-rotation", "exact")
     status = page.locator("#live-status", has_text="approximate shift")
     status.wait_for(timeout=WAIT_MS)
-    numbers = re.search(r"lies up to ([\d,]+) nmi from the exact points, ([\d,]+) nmi on average over (\d+)", status.inner_text())
+    numbers = re.search(
+        r"lies up to ([\d,]+) nmi from the exact points, ([\d,]+) nmi on average over (\d+)", status.inner_text()
+    )
     assert numbers, status.inner_text()
     largest, mean = (float(numbers.group(i).replace(",", "")) for i in (1, 2))
     assert largest >= mean > 0 and int(numbers.group(3)) == len(ring(fp["points"]))
-    shown = page.evaluate("""(id) => { const s = window.footprintApp.state.footprints.get(id).shown;
+    shown = page.evaluate(
+        """(id) => { const s = window.footprintApp.state.footprints.get(id).shown;
         return {track: s.groundTrack[s.groundTrack.length - 1], tip: s.points.find(p => p.parameter?.bank0_deg === 0)}; }""",
-                          fp["id"])
+        fp["id"],
+    )
     # the same flight by two control laws (the zero-bank law, and K = 0 of phi = K zeta): to 1e-6 deg, 0.1 m
     assert shown["track"]["latitude_deg"] == pytest.approx(shown["tip"]["latitude_deg"], abs=1e-6)
     assert delta_deg(shown["track"]["longitude_deg"], shown["tip"]["longitude_deg"]) == pytest.approx(0.0, abs=1e-6)
     assert not run.errors, run.errors
 
 
-LONG_JOB = {"kind": "footprint", "name": "lod-1.89 Table 2 entry, past half-way round",
-            "study": {"case": {"vehicle": {"builtin": "lod-1.89"},
-                               "entry": table2_entry(), "alpha": {"law": "max_ld"}, "bank_start": "pullout",
-                               "stop": table2_stop()},
-                      "method": "single_parameter", "bank0_deg": [0, 30, 60, 90, 120, 150], "mirror": True}}
+LONG_JOB = {
+    "kind": "footprint",
+    "name": "lod-1.89 Table 2 entry, past half-way round",
+    "study": {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "entry": table2_entry(),
+            "alpha": {"law": "max_ld"},
+            "bank_start": "pullout",
+            "stop": table2_stop(),
+        },
+        "method": "single_parameter",
+        "bank0_deg": [0, 30, 60, 90, 120, 150],
+        "mirror": True,
+    },
+}
 
 
 def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service):
@@ -772,22 +869,30 @@ def test_a_footprint_past_half_way_round_moved_over_the_pole(open_page, service)
     d0 = page.get_attribute(selector, "d")
     page.fill("#node-longitude", "-60")
     page.fill("#inclination", "90")
-    page.wait_for_function("([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0],
-                           timeout=WAIT_MS)
+    page.wait_for_function(
+        "([s, d0]) => document.querySelector(s)?.getAttribute('d') !== d0", arg=[selector, d0], timeout=WAIT_MS
+    )
     page.evaluate("() => { window.footprintApp.mapView.map.fitBounds([[-85, -200], [90, 200]], {animate: false}); }")
     page.wait_for_timeout(300)
     shown = page.evaluate("(id) => window.footprintApp.state.footprints.get(id).shown", fp_id)
     assert shown["outline"]["pole"] == "north"
-    assert min(p["downrange_nmi"] for p in shown["points"]) > 0 and max(p["downrange_nmi"] for p in shown["points"]) > 14_000
+    assert (
+        min(p["downrange_nmi"] for p in shown["points"]) > 0
+        and max(p["downrange_nmi"] for p in shown["points"]) > 14_000
+    )
     page.screenshot(path=str(FIGURES / "map_past_halfway_polar.png"))
 
 
-@pytest.mark.parametrize("node, inclination, step, rotation, pole, figure", [
-    (-30.0, 90.0, 3_000.0, "none", "both", "map_two_poles.png"),
-    (-170.0, 60.0, 0.0, "approximate", "north", "map_one_pole_inclined.png"),
-])
-def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(open_page, service, node, inclination,
-                                                                           step, rotation, pole, figure):
+@pytest.mark.parametrize(
+    "node, inclination, step, rotation, pole, figure",
+    [
+        (-30.0, 90.0, 3_000.0, "none", "both", "map_two_poles.png"),
+        (-170.0, 60.0, 0.0, "approximate", "north", "map_one_pole_inclined.png"),
+    ],
+)
+def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(
+    open_page, service, node, inclination, step, rotation, pole, figure
+):
     """Issue 25 items 1-2: moved onto a polar orbit the L/D 1.89 footprint holds both poles (it was drawn inverted);
     onto a 60 deg orbit with the report's rotation shift, the north pole (closed along a wrong meridian). A pixel
     changes where the footprint is shown exactly where the reach test on the sphere says the point is inside, at
@@ -797,9 +902,14 @@ def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(ope
 
     job = service.run_job(LONG_JOB)
     fp_id = job["result"]["footprints"][0].rsplit("/", 1)[1]
-    moved = service.call(f"/api/footprints/{fp_id}/transform", {
-        "to": {"node_longitude_deg": node, "inclination_deg": inclination, "argument_of_latitude_deg": 0.0},
-        "step_downrange_nmi": step, "earth_rotation": rotation})
+    moved = service.call(
+        f"/api/footprints/{fp_id}/transform",
+        {
+            "to": {"node_longitude_deg": node, "inclination_deg": inclination, "argument_of_latitude_deg": 0.0},
+            "step_downrange_nmi": step,
+            "earth_rotation": rotation,
+        },
+    )
     assert moved["outline"]["pole"] == pole
     page = open_page(1280, 800).page
     show_only(page, fp_id)
@@ -809,8 +919,12 @@ def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(ope
     page.fill("#step-downrange", f"{step:g}")
     page.fill("#inclination", f"{inclination:g}")
     page.fill("#node-longitude", f"{node:g}")
-    page.wait_for_function("(pole) => [...window.footprintApp.state.footprints.values()].some((f) => "
-                           "f.visible && f.shown?.outline?.pole === pole)", arg=pole, timeout=WAIT_MS)
+    page.wait_for_function(
+        "(pole) => [...window.footprintApp.state.footprints.values()].some((f) => "
+        "f.visible && f.shown?.outline?.pole === pole)",
+        arg=pole,
+        timeout=WAIT_MS,
+    )
     assert page.get_attribute(selector, "d") != d0
     page.evaluate("() => { window.footprintApp.mapView.map.fitBounds([[-90, -180], [90, 180]], {animate: false}); }")
     page.wait_for_timeout(300)
@@ -820,12 +934,14 @@ def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(ope
     cross = [p["crossrange_nmi"] for p in moved["points"] if p.get("on_boundary", True)]
     probes = np.array([(a, b) for a in np.arange(-75.0, 80.0, 15.0) for b in np.arange(-165.0, 180.0, 30.0)])
     margin, inside = placement_margins(reference, down, cross, np.zeros(len(down)), probes[:, 0], probes[:, 1])
-    covered = page.evaluate("""(ll) => { const m = window.footprintApp.mapView.map, r = m.getContainer()
+    covered = page.evaluate(
+        """(ll) => { const m = window.footprintApp.mapView.map, r = m.getContainer()
         .getBoundingClientRect(), boxes = [...document.querySelectorAll(
             ".leaflet-control, .map-legend, .leaflet-marker-icon, .site-label")].map((e) => e.getBoundingClientRect());
         return ll.map(([a, o]) => { const p = m.latLngToContainerPoint([a, o]), x = p.x + r.left, y = p.y + r.top;
             return boxes.some((b) => x >= b.left - 2 && x <= b.right + 2 && y >= b.top - 2 && y <= b.bottom + 2); }); }""",
-                            probes.tolist())  # a label's pane takes no pointer: elementFromPoint would not see it
+        probes.tolist(),
+    )  # a label's pane takes no pointer: elementFromPoint would not see it
     clear = (np.abs(margin) > 100.0) & ~np.array(covered)  # off the edge, and not under the legend or a label
     shown, shown_png = pixels(page, probes.tolist()), png_pixels(page, probes.tolist(), f"export_{figure}")
     page.screenshot(path=str(FIGURES / figure))
@@ -836,8 +952,14 @@ def test_a_moved_footprint_that_holds_poles_is_filled_as_the_sphere_holds_it(ope
     for what, a, b in (("map", shown, hidden), ("PNG export", shown_png, hidden_png)):
         changed = np.array([sum(abs(u - v) for u, v in zip(x, y)) > 12 for x, y in zip(a, b)])
         wrong = clear & (changed != inside)
-        assert not wrong.any(), (what, probes[wrong].tolist(), inside[wrong].tolist(), margin[wrong].round().tolist(),
-                                 [a[i] for i in np.nonzero(wrong)[0]], [b[i] for i in np.nonzero(wrong)[0]])
+        assert not wrong.any(), (
+            what,
+            probes[wrong].tolist(),
+            inside[wrong].tolist(),
+            margin[wrong].round().tolist(),
+            [a[i] for i in np.nonzero(wrong)[0]],
+            [b[i] for i in np.nonzero(wrong)[0]],
+        )
 
 
 # ------------------------------------------------------------------------------------ issue 15 item 1: no script
@@ -879,8 +1001,12 @@ def assert_standalone_map_is_safe(page, dialogs, footprint):
         page.mouse.move(0, 0)  # off the map: a point's tooltip from a hover on the way closes
         page.mouse.move(*inside)
         try:  # the area's own tooltip: it names the footprint
-            page.wait_for_function("(name) => [...document.querySelectorAll('.leaflet-tooltip')].some((t) => "
-                                   "t.textContent.includes(name))", arg=HOSTILE_NAME, timeout=2_000)
+            page.wait_for_function(
+                "(name) => [...document.querySelectorAll('.leaflet-tooltip')].some((t) => "
+                "t.textContent.includes(name))",
+                arg=HOSTILE_NAME,
+                timeout=2_000,
+            )
             break
         except PlaywrightTimeout:
             if time.monotonic() > deadline:
@@ -955,9 +1081,16 @@ def test_the_page_asks_for_the_token_once_and_writes_with_it(browser, tmp_path):
             run.page.goto(svc.base_url + "/")
             run.page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
             for name in ("Woomera", "Kwajalein"):
-                run.page.set_input_files("#site-csv", files=[{
-                    "name": "sites.csv", "mimeType": "text/csv",
-                    "buffer": f"name,latitude_deg,longitude_deg\n{name},-31.2,136.8\n".encode()}])
+                run.page.set_input_files(
+                    "#site-csv",
+                    files=[
+                        {
+                            "name": "sites.csv",
+                            "mimeType": "text/csv",
+                            "buffer": f"name,latitude_deg,longitude_deg\n{name},-31.2,136.8\n".encode(),
+                        }
+                    ],
+                )
                 run.page.wait_for_selector(f"#site-list >> text={name}", timeout=WAIT_MS)
             assert len(asked) == 1 and "API token" in asked[0]
             assert sorted(s["name"] for s in svc.call("/api/sites")) == ["Kwajalein", "Woomera"]
@@ -976,7 +1109,7 @@ def test_a_name_a_spreadsheet_would_run_is_exported_as_text(open_page):
         return toCSV([{ id: 'a', name: '=HYPERLINK("http://example.invalid")', shown: { points: [p(10, -5), p(20, 5)] } },
                       { id: 'b', name: 'Kennedy, "SLF"', shown: { points: [p(30, 0)] } }]); }""")
     rows = list(csv.reader(io.StringIO(csv_text)))
-    assert rows[1][:2] == ["a", "'=HYPERLINK(\"http://example.invalid\")"] and rows[1][6] == "-5"
+    assert rows[1][:2] == ["a", '\'=HYPERLINK("http://example.invalid")'] and rows[1][6] == "-5"
     assert rows[3][:2] == ["b", 'Kennedy, "SLF"']
     assert not run.errors
 

@@ -78,8 +78,13 @@ def test_unknown_builtin():
 
 
 def test_alpha_ranges():
-    expect = {"lod-1.89": (7.5, 40.0), "lod-2.2": (0.0, 40.0), "lod-2.6": (0.0, 20.0),
-              "low-lod": (0.0, 20.0), "high-lod": (0.0, 20.0)}
+    expect = {
+        "lod-1.89": (7.5, 40.0),
+        "lod-2.2": (0.0, 40.0),
+        "lod-2.6": (0.0, 20.0),
+        "low-lod": (0.0, 20.0),
+        "high-lod": (0.0, 20.0),
+    }
     for vid, (lo, hi) in expect.items():
         b = blob(vid)
         assert (b[1], b[2]) == (lo, hi)
@@ -220,8 +225,14 @@ def test_corrected_cell_through_normal_axial_conversion():
 def test_lod189_synthesized_lift_matches_printed_fill():
     # aero_tables.md FILLED Table B-1 (3 decimals); the data file stores the fill to 6 decimals
     b = blob("lod-1.89")
-    for mach, alpha, expect in [(2.0, 7.5, 0.194), (20.0, 12.5, 0.180), (20.0, 17.5, 0.289),
-                                (8.0, 25.0, 0.513), (5.0, 40.0, 0.940), (2.0, 40.0, 1.193)]:
+    for mach, alpha, expect in [
+        (2.0, 7.5, 0.194),
+        (20.0, 12.5, 0.180),
+        (20.0, 17.5, 0.289),
+        (8.0, 25.0, 0.513),
+        (5.0, 40.0, 0.940),
+        (2.0, 40.0, 1.193),
+    ]:
         for h in (0.0, 185_000.0, 300_000.0):  # no altitude dependence
             assert first(b, mach, alpha, h) == pytest.approx(expect, abs=0.0005 + 1e-12)
     # by construction: 1.2611 x the L/D 2.2 lift curve (B-3 M20 at 12.5 deg = .134 + (.201 - .134) / 8)
@@ -293,8 +304,9 @@ def test_rotation_preserves_resultant(vid):
 
 def test_polynomial_vehicle_closed_form():
     # CL = 0.02 a, CD = 0.05 + 0.0005 a^2: (L/D)max = 0.02 / (2 sqrt(0.05 * 0.0005)) = 2 at a = sqrt(100) = 10 deg
-    v = vehicle_from_definition({"name": "poly", "wing_loading_psf": 55,
-                                 "aero": {"polynomial": {"cl": [0.0, 0.02], "cd": [0.05, 0.0, 0.0005]}}})
+    v = vehicle_from_definition(
+        {"name": "poly", "wing_loading_psf": 55, "aero": {"polynomial": {"cl": [0.0, 0.02], "cd": [0.05, 0.0, 0.0005]}}}
+    )
     assert v.wing_loading_psf == 55.0 and v.blob[0] == 2 and (v.blob[1], v.blob[2]) == (0.0, 60.0)
     assert coefficients(v.blob, 7.0, 10.0, 1e5) == pytest.approx((0.2, 0.1), abs=1e-15)
     assert coefficients(v.blob, 7.0, 30.0, 1e5) == pytest.approx((0.6, 0.5), abs=1e-15)
@@ -304,16 +316,21 @@ def test_polynomial_vehicle_closed_form():
         assert ld == pytest.approx(2.0, abs=1e-12) and alpha == pytest.approx(10.0, abs=1e-9)
         assert alpha_cl_max_deg(v.blob, mach, h) == pytest.approx(60.0)
         assert alpha_zero_lift_deg(v.blob, mach, h) == pytest.approx(0.0)
-    w = vehicle_from_definition({"wing_loading_psf": 55, "aero": {"polynomial": {
-        "cl": [-0.1, 0.02], "cd": [0.05, 0.0, 0.0005], "alpha_range_deg": [-10, 30]}}})
+    w = vehicle_from_definition(
+        {
+            "wing_loading_psf": 55,
+            "aero": {"polynomial": {"cl": [-0.1, 0.02], "cd": [0.05, 0.0, 0.0005], "alpha_range_deg": [-10, 30]}},
+        }
+    )
     assert (w.blob[1], w.blob[2]) == (-10.0, 30.0)
     assert alpha_zero_lift_deg(w.blob, 5.0, 0.0) == pytest.approx(5.0, abs=1e-9)  # -0.1 + 0.02 a = 0
     assert alpha_cl_max_deg(w.blob, 5.0, 0.0) == pytest.approx(30.0)
 
 
 def test_constant_vehicle_and_weight_over_area():
-    v = vehicle_from_definition({"name": "brick", "weight_lb": 10_000, "reference_area_ft2": 200,
-                                 "aero": {"constant": {"cl": 0.5, "cd": 0.25}}})
+    v = vehicle_from_definition(
+        {"name": "brick", "weight_lb": 10_000, "reference_area_ft2": 200, "aero": {"constant": {"cl": 0.5, "cd": 0.25}}}
+    )
     assert v.wing_loading_psf == 50.0 and v.name == "brick"
     for mach, alpha, h in [(0.3, 0.0, 0.0), (20.0, 33.0, 2e5)]:
         assert coefficients(v.blob, mach, alpha, h) == (0.5, 0.25)
@@ -330,11 +347,21 @@ def test_user_tables_equal_builtin():
 
 
 def _tables(**change):
-    t = {"form": "lift_drag",
-         "first": {"mach": [2.0, 10.0], "alpha_deg": [0.0, 20.0], "altitude_ft": [0.0],
-                   "values": [[[0.0], [0.6]], [[0.0], [0.5]]]},
-         "second": {"mach": [2.0], "alpha_deg": [0.0, 20.0], "altitude_ft": [0.0, 2e5],
-                    "values": [[[0.05, 0.07], [0.3, 0.32]]]}}
+    t = {
+        "form": "lift_drag",
+        "first": {
+            "mach": [2.0, 10.0],
+            "alpha_deg": [0.0, 20.0],
+            "altitude_ft": [0.0],
+            "values": [[[0.0], [0.6]], [[0.0], [0.5]]],
+        },
+        "second": {
+            "mach": [2.0],
+            "alpha_deg": [0.0, 20.0],
+            "altitude_ft": [0.0, 2e5],
+            "values": [[[0.05, 0.07], [0.3, 0.32]]],
+        },
+    }
     for path, value in change.items():
         node = t
         keys = path.split("__")
@@ -367,8 +394,10 @@ BAD = [
     ({"wing_loading_psf": 50, "aero": {"constant": {"cl": float("nan"), "cd": 0.1}}}, "vehicle.aero.constant.cl"),
     ({"wing_loading_psf": 50, "aero": {"polynomial": {"cl": [], "cd": [0.1]}}}, "vehicle.aero.polynomial.cl"),
     ({"wing_loading_psf": 50, "aero": {"polynomial": {"cl": [0.1], "cd": [-0.1]}}}, "vehicle.aero.polynomial.cd"),
-    ({"wing_loading_psf": 50, "aero": {"polynomial": {"cl": [0.1], "cd": [0.1], "alpha_range_deg": [10, 5]}}},
-     "vehicle.aero.polynomial.alpha_range_deg"),
+    (
+        {"wing_loading_psf": 50, "aero": {"polynomial": {"cl": [0.1], "cd": [0.1], "alpha_range_deg": [10, 5]}}},
+        "vehicle.aero.polynomial.alpha_range_deg",
+    ),
     (_tables(form="body"), "vehicle.aero.tables.form"),
     (_tables(first__mach=[10.0, 2.0]), "vehicle.aero.tables.first.mach"),
     (_tables(first__alpha_deg=[0.0, "20"]), "vehicle.aero.tables.first.alpha_deg[1]"),
@@ -453,8 +482,13 @@ def test_compiled_equals_python(vid):
     b = blob(vid)
     rng = np.random.default_rng(3)
     for mach, alpha, h in zip(rng.uniform(0, 25, 10), rng.uniform(-5, 45, 10), rng.uniform(-1e4, 3.5e5, 10)):
-        for f, args in [(lookup, (b, int(b[3]), mach, alpha, h)), (lookup, (b, int(b[4]), mach, alpha, h)),
-                        (coefficients, (b, mach, alpha, h)), (alpha_max_ld_deg, (b, mach, h)),
-                        (alpha_cl_max_deg, (b, mach, h)), (alpha_zero_lift_deg, (b, mach, h)),
-                        (alpha_for_cl_deg, (b, 0.1, mach, h, b[1], b[2]))]:
+        for f, args in [
+            (lookup, (b, int(b[3]), mach, alpha, h)),
+            (lookup, (b, int(b[4]), mach, alpha, h)),
+            (coefficients, (b, mach, alpha, h)),
+            (alpha_max_ld_deg, (b, mach, h)),
+            (alpha_cl_max_deg, (b, mach, h)),
+            (alpha_zero_lift_deg, (b, mach, h)),
+            (alpha_for_cl_deg, (b, 0.1, mach, h, b[1], b[2])),
+        ]:
             assert np.allclose(f(*args), f.py_func(*args), rtol=1e-12, atol=1e-15), f.__name__

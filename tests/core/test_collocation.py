@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from footprint.contracts import parse
 from footprint.core import collocation as col
 from footprint.core.heating import CorrelationHeating
@@ -36,17 +37,25 @@ def betts_published():
 
 BETTS = betts_published()
 # Betts' heat-rate correlation (Practical Methods, 2nd ed., sec. 6.1): q = 17,700 sqrt(rho) (1e-4 V)^3.07 f(alpha)
-BETTS_HEATING = CorrelationHeating(coefficient=17_700.0 * 1e-4**3.07, density_exponent=0.5, velocity_exponent=3.07,
-                                   alpha_polynomial=(1.0672181, -0.19213774e-1, 0.21286289e-3, -0.10117249e-5))
+BETTS_HEATING = CorrelationHeating(
+    coefficient=17_700.0 * 1e-4**3.07,
+    density_exponent=0.5,
+    velocity_exponent=3.07,
+    alpha_polynomial=(1.0672181, -0.19213774e-1, 0.21286289e-3, -0.10117249e-5),
+)
 BETTS_HEAT_RATE_LIMIT = 70.0  # Btu/(ft^2 s), Betts sec. 6.1
 
 
 def betts_problem(**changes):
     spec = parse("case", STUDY["case"]).to_spec()
-    problem = col.Problem(base=spec, objective=(("final_latitude_deg", 1.0),), goal="max",
-                          constraints=(Constraint("final_velocity_fps", "equals", 2500.0),
-                                       Constraint("final_gamma_deg", "equals", -5.0)),
-                          alpha_bounds_deg=(-90.0, 90.0), bank_bounds_deg=(-1.0, 89.0))
+    problem = col.Problem(
+        base=spec,
+        objective=(("final_latitude_deg", 1.0),),
+        goal="max",
+        constraints=(Constraint("final_velocity_fps", "equals", 2500.0), Constraint("final_gamma_deg", "equals", -5.0)),
+        alpha_bounds_deg=(-90.0, 90.0),
+        bank_bounds_deg=(-1.0, 89.0),
+    )
     return replace(problem, **changes)
 
 
@@ -58,8 +67,13 @@ def betts_free():
 @pytest.fixture(scope="module")
 def betts_heat():
     pr = betts_problem()
-    return col.solve(replace(pr, base=replace(pr.base, heating=BETTS_HEATING), constraints=pr.constraints + (
-        Constraint("max_heat_rate_btu_ft2_s", "at_most", BETTS_HEAT_RATE_LIMIT),)))
+    return col.solve(
+        replace(
+            pr,
+            base=replace(pr.base, heating=BETTS_HEATING),
+            constraints=pr.constraints + (Constraint("max_heat_rate_btu_ft2_s", "at_most", BETTS_HEAT_RATE_LIMIT),),
+        )
+    )
 
 
 def test_betts_maximum_cross_range_is_the_published_optimum(betts_free):
@@ -101,11 +115,20 @@ def test_the_control_tables_are_what_fly_takes(betts_free):
     """The optimum's tables, written into a case, fly to the same end (the CLI's route of `footprint fly`)."""
     from footprint import fly
 
-    case = dict(STUDY["case"], bank_start="entry",
-                bank={"law": "table", "time_s": betts_free.controls["time_s"].tolist(),
-                      "bank_deg": betts_free.controls["bank_deg"].tolist()},
-                alpha={"law": "table", "time_s": betts_free.controls["time_s"].tolist(),
-                       "alpha_deg": betts_free.controls["alpha_deg"].tolist()})
+    case = dict(
+        STUDY["case"],
+        bank_start="entry",
+        bank={
+            "law": "table",
+            "time_s": betts_free.controls["time_s"].tolist(),
+            "bank_deg": betts_free.controls["bank_deg"].tolist(),
+        },
+        alpha={
+            "law": "table",
+            "time_s": betts_free.controls["time_s"].tolist(),
+            "alpha_deg": betts_free.controls["alpha_deg"].tolist(),
+        },
+    )
     flown = fly(case).summary
     assert flown["final_latitude_deg"] == pytest.approx(betts_free.refly["final_latitude_deg"], abs=1e-9)
 
@@ -115,16 +138,19 @@ def test_a_warm_started_neighbour_moves_with_its_target(betts_free):
     left means less range (a free-energy argument), so the latitude falls."""
     tr = col.Transcription(betts_problem())
     first = tr.solve(betts_free.guess)
-    second = tr.solve(first.guess, warm=first.solver_state,
-                      constraint_targets={"final_velocity_fps": (2600.0, 2600.0)})
+    second = tr.solve(first.guess, warm=first.solver_state, constraint_targets={"final_velocity_fps": (2600.0, 2600.0)})
     assert second.ok and second.summary["final_velocity_fps"] == pytest.approx(2600.0, abs=1e-3)
     assert second.summary["final_latitude_deg"] < first.summary["final_latitude_deg"]
     assert second.iterations < first.iterations
 
 
 def test_a_down_range_beyond_reach_is_infeasible_with_the_violation_named():
-    result = col.solve(betts_problem(constraints=betts_problem().constraints + (
-        Constraint("downrange_nmi", "equals", 20_000.0),), max_iterations=300))
+    result = col.solve(
+        betts_problem(
+            constraints=betts_problem().constraints + (Constraint("downrange_nmi", "equals", 20_000.0),),
+            max_iterations=300,
+        )
+    )
     assert result.status in ("infeasible", "not_converged")
     assert not result.feasible and result.max_violation > 1e-3
     assert result.one_line().startswith(("infeasible:", "not converged:"))
@@ -134,8 +160,13 @@ def test_a_down_range_beyond_reach_is_infeasible_with_the_violation_named():
 
 def test_a_heat_rate_below_the_entry_floor_is_not_an_optimum():
     pr = betts_problem(max_iterations=300)
-    result = col.solve(replace(pr, base=replace(pr.base, heating=BETTS_HEATING), constraints=pr.constraints + (
-        Constraint("max_heat_rate_btu_ft2_s", "at_most", 5.0),)))
+    result = col.solve(
+        replace(
+            pr,
+            base=replace(pr.base, heating=BETTS_HEATING),
+            constraints=pr.constraints + (Constraint("max_heat_rate_btu_ft2_s", "at_most", 5.0),),
+        )
+    )
     assert not result.feasible and "largest violation" in result.message
 
 
@@ -201,9 +232,13 @@ def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
     def run_optimization(study):
         return run("optimize", study)
 
-    far = FLY_THERE | {"constraints": [{"quantity": "final_latitude_deg", "equals": 60},
-                                       {"quantity": "final_longitude_deg", "equals": 30}],
-                       "collocation": {"intervals": 100, "max_seconds": 10}}
+    far = FLY_THERE | {
+        "constraints": [
+            {"quantity": "final_latitude_deg", "equals": 60},
+            {"quantity": "final_longitude_deg", "equals": 30},
+        ],
+        "collocation": {"intervals": 100, "max_seconds": 10},
+    }
     result = run_optimization(far)
     assert not result.ok and not result.feasible
     # one stage: the polish does not run after a stage without an optimum (two stages would take 2 x 10 s; the

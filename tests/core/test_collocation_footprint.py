@@ -46,8 +46,14 @@ def shuttle():
     """Betts' shuttle (polynomial aero, exponential atmosphere, non-rotating sphere), free final state at
     80,000 ft, the load held to 3 g (without a limit the nearest point turns round riding the stop altitude at
     41 g, where the integrator stops at the first touch), both halves solved."""
-    return fly(SHUTTLE, lambda *report: PROGRESS.append(report)), fly({"case": BETTS_CASE, "method": "single_parameter",
-                            "bank0_deg": list(range(0, 151, 15)), "min_range": "zero_lift"})
+    return fly(SHUTTLE, lambda *report: PROGRESS.append(report)), fly(
+        {
+            "case": BETTS_CASE,
+            "method": "single_parameter",
+            "bank0_deg": list(range(0, 151, 15)),
+            "min_range": "zero_lift",
+        }
+    )
 
 
 def test_the_optimal_boundary_holds_every_single_parameter_point(shuttle):

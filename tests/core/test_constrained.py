@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.constants import G0_FT_S2
@@ -19,8 +20,12 @@ BAND_R = 0.5 * C.TTOL_TEMPERATURE_R  # degR, half the tolerance band of the temp
 
 
 def lod189(bank=None):
-    case = {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY, "stop": table2_stop(),
-            "heating": {"model": "reference"}}
+    case = {
+        "vehicle": {"builtin": "lod-1.89"},
+        "entry": TABLE2_ENTRY,
+        "stop": table2_stop(),
+        "heating": {"model": "reference"},
+    }
     if bank is not None:
         case["bank"] = bank
     return parse("case", case).to_spec()
@@ -34,10 +39,16 @@ def single_parameter_spec():
 def alpha_only_problem(spec, limit_R):
     """Five alpha-table parameters under the single-parameter bank: the Section III problem made small."""
     na = len(C.ALPHA_TABLE_VELOCITIES_FPS)
-    return Problem(lower=np.full(na, C.ALPHA_BOUNDS_DEG[0]), upper=np.full(na, C.ALPHA_BOUNDS_DEG[1]),
-                   initial=np.full(na, C.ALPHA_MAX_LD_HYPERSONIC_DEG), payoff="crossrange_nmi", goal="max",
-                   constraints=(C.temperature_limit(limit_R),), base=spec,
-                   controls=lambda s, x: C.with_alpha_table(s, x))
+    return Problem(
+        lower=np.full(na, C.ALPHA_BOUNDS_DEG[0]),
+        upper=np.full(na, C.ALPHA_BOUNDS_DEG[1]),
+        initial=np.full(na, C.ALPHA_MAX_LD_HYPERSONIC_DEG),
+        payoff="crossrange_nmi",
+        goal="max",
+        constraints=(C.temperature_limit(limit_R),),
+        base=spec,
+        controls=lambda s, x: C.with_alpha_table(s, x),
+    )
 
 
 def test_spec_carries_the_heating_model(single_parameter_spec):
@@ -78,8 +89,9 @@ def test_bank_alpha_controls_keep_both_tables():
 def test_temperature_constrained_optimum_is_in_the_band():
     spec = lod189(OPTIMAL_BANK)
     free = simulate(spec).summary  # the unconstrained optimum at (L/D)max: 2,670 degR by calibration
-    r = creep_pattern_feasible(alpha_only_problem(spec, LIMIT_R), max_evaluations=200,
-                               step=5.0, min_step=0.2, soft_start=1e-2)
+    r = creep_pattern_feasible(
+        alpha_only_problem(spec, LIMIT_R), max_evaluations=200, step=5.0, min_step=0.2, soft_start=1e-2
+    )
     assert free["max_temperature_R"] == pytest.approx(REPORT["sec3.max_temperature_R"].value, abs=5.0)
     assert r.feasible
     assert r.summary["max_temperature_R"] <= LIMIT_R + BAND_R + 1e-9
@@ -88,8 +100,9 @@ def test_temperature_constrained_optimum_is_in_the_band():
 
 
 def test_an_impossible_temperature_is_reported_infeasible(single_parameter_spec):
-    r = creep_pattern_feasible(alpha_only_problem(single_parameter_spec, 2_000.0), max_evaluations=120,
-                               step=5.0, min_step=0.2)
+    r = creep_pattern_feasible(
+        alpha_only_problem(single_parameter_spec, 2_000.0), max_evaluations=120, step=5.0, min_step=0.2
+    )
     assert not r.feasible
     excess = r.summary["max_temperature_R"] - 2_000.0 - BAND_R
     assert r.max_violation == pytest.approx(excess, abs=1e-9)  # degR, the best flight's own excess
@@ -118,9 +131,14 @@ def test_tables_on_other_abscissae_fly_at_their_nodes():
     bank = C.ControlTable("energy", (1e6, 5e6, 1e7), (0.0, 90.0), (10.0, 40.0, 70.0))
     alpha = C.ControlTable("time", (0.0, 600.0, 1_500.0), (12.5, 40.0), (30.0, 20.0, 15.0))
     pr = C.control_problem(lod189(), controls="bank_alpha", bank_table=bank, alpha_table=alpha)
-    assert pr.names == ("bank_deg_at_energy_ft_1000000", "bank_deg_at_energy_ft_5000000",
-                        "bank_deg_at_energy_ft_10000000", "alpha_deg_at_time_s_0", "alpha_deg_at_time_s_600",
-                        "alpha_deg_at_time_s_1500")
+    assert pr.names == (
+        "bank_deg_at_energy_ft_1000000",
+        "bank_deg_at_energy_ft_5000000",
+        "bank_deg_at_energy_ft_10000000",
+        "alpha_deg_at_time_s_0",
+        "alpha_deg_at_time_s_600",
+        "alpha_deg_at_time_s_1500",
+    )
     assert list(pr.initial) == [10.0, 40.0, 70.0, 30.0, 20.0, 15.0] and list(pr.upper) == [90.0] * 3 + [40.0] * 3
     h = simulate(pr.controls(pr.base, pr.initial)).history
     energy_ft = h["altitude_ft"] + h["velocity_fps"] ** 2 / (2.0 * G0_FT_S2)
@@ -169,11 +187,10 @@ def test_the_coolest_floor_meets_the_limit_and_a_lower_one_does_not(single_param
     p = C.coolest_floor(single_parameter_spec, LIMIT_R)
     assert p.floor_deg is not None and C.ALPHA_BOUNDS_DEG[0] < p.floor_deg < C.ALPHA_BOUNDS_DEG[1]
     assert p.summary["max_temperature_R"] <= LIMIT_R + C.TTOL_TEMPERATURE_R
-    lower = C.FLOOR_SCAN_STEP_DEG / 2 ** C.FLOOR_BISECTIONS  # deg: the search's resolution
+    lower = C.FLOOR_SCAN_STEP_DEG / 2**C.FLOOR_BISECTIONS  # deg: the search's resolution
     below = simulate(C.with_alpha_floor(single_parameter_spec, p.floor_deg - lower)).summary
     assert below["max_temperature_R"] > LIMIT_R + C.TTOL_TEMPERATURE_R
-    assert p.flights <= 1 + (C.ALPHA_BOUNDS_DEG[1] - C.ALPHA_BOUNDS_DEG[0]) / C.FLOOR_SCAN_STEP_DEG \
-        + C.FLOOR_BISECTIONS
+    assert p.flights <= 1 + (C.ALPHA_BOUNDS_DEG[1] - C.ALPHA_BOUNDS_DEG[0]) / C.FLOOR_SCAN_STEP_DEG + C.FLOOR_BISECTIONS
 
 
 @pytest.fixture(scope="module")
@@ -203,8 +220,9 @@ def test_the_simple_method_is_within_5_percent_of_the_optimizer_at_a_tenth_of_th
     """Issue 5: max cross-range and max down-range within 5 % of the optimized constrained footprint's,
     for at least 10x fewer trajectories (here against three of its points, its two ends and 8,000 nmi: a lower
     bound on its cost; bench/bench_limited_footprint.py measures the whole)."""
-    opt = C.optimal_footprint(lod189(), (8_000.0,), constraints=(C.temperature_limit(LIMIT_R),),
-                              controls="bank_alpha", max_evaluations=3_000)
+    opt = C.optimal_footprint(
+        lod189(), (8_000.0,), constraints=(C.temperature_limit(LIMIT_R),), controls="bank_alpha", max_evaluations=3_000
+    )
     simple = limited_2550.footprint
     assert all(p.result.feasible for p in opt.points)
     assert simple.max_crossrange_nmi == pytest.approx(opt.point("max_crossrange").crossrange_nmi, rel=0.05)

@@ -12,8 +12,13 @@ ENTRY = table2_entry()
 
 
 def fly(bank=None, alpha=None, vehicle="lod-2.2", **kw):
-    case = {"vehicle": {"builtin": vehicle}, "entry": dict(ENTRY), "alpha": alpha or {"law": "max_ld"},
-            "bank": bank or {"law": "zero"}, "stop": table2_stop()}
+    case = {
+        "vehicle": {"builtin": vehicle},
+        "entry": dict(ENTRY),
+        "alpha": alpha or {"law": "max_ld"},
+        "bank": bank or {"law": "zero"},
+        "stop": table2_stop(),
+    }
     case.update(kw)
     t = footprint.fly(case)
     return t.summary, t.history
@@ -137,7 +142,9 @@ def test_constant_altitude_turn_ends_when_the_wings_come_level():
     assert 2.0 < 90.0 - h["heading_deg"][end] < 60.0
     assert h["bank_deg"][end - 1] < 5.0  # the bank had come down to level
     assert np.all(h["bank_deg"][end:] == 0.0)
-    assert s["crossrange_nmi"] < fly({"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85})[0]["crossrange_nmi"]
+    assert (
+        s["crossrange_nmi"] < fly({"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85})[0]["crossrange_nmi"]
+    )
 
 
 def test_inertial_entry_velocity_is_converted():
@@ -147,16 +154,41 @@ def test_inertial_entry_velocity_is_converted():
     assert inertial["downrange_nmi"] == pytest.approx(rel["downrange_nmi"], rel=2e-3)
 
 
-@pytest.mark.parametrize("kw", [
-    {"bank_law": "two_parameter", "bank_gain": 0.8, "bank_limit_deg": 75.0, "sigma_f_deg": 30.0, "mirror": True,
-     "bank_variable": "heading", "alpha_law": "gamma_hold", "gamma_deg": -1.5, "alpha_before": "cl_max",
-     "hold_time_constant_s": 20.0},
-    {"bank_law": "table", "bank_variable": "energy", "bank_table": ([1e5, 5e6], [10.0, 60.0]),
-     "bank_start": "altitude", "bank_start_altitude_ft": 250_000.0, "alpha_law": "table",
-     "alpha_table": ([0.0, 900.0, 2_000.0], [40.0, 20.0, 15.0]), "alpha_table_abscissa": "time"},
-    {"bank_law": "staged", "bank_deg": 40.0, "turn_deg": 45.0, "bank_start": "entry", "alpha_law": "max_ld_floor",
-     "alpha_table": ([12_000.0, 16_000.0], [0.0, 20.0])},
-])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {
+            "bank_law": "two_parameter",
+            "bank_gain": 0.8,
+            "bank_limit_deg": 75.0,
+            "sigma_f_deg": 30.0,
+            "mirror": True,
+            "bank_variable": "heading",
+            "alpha_law": "gamma_hold",
+            "gamma_deg": -1.5,
+            "alpha_before": "cl_max",
+            "hold_time_constant_s": 20.0,
+        },
+        {
+            "bank_law": "table",
+            "bank_variable": "energy",
+            "bank_table": ([1e5, 5e6], [10.0, 60.0]),
+            "bank_start": "altitude",
+            "bank_start_altitude_ft": 250_000.0,
+            "alpha_law": "table",
+            "alpha_table": ([0.0, 900.0, 2_000.0], [40.0, 20.0, 15.0]),
+            "alpha_table_abscissa": "time",
+        },
+        {
+            "bank_law": "staged",
+            "bank_deg": 40.0,
+            "turn_deg": 45.0,
+            "bank_start": "entry",
+            "alpha_law": "max_ld_floor",
+            "alpha_table": ([12_000.0, 16_000.0], [0.0, 20.0]),
+        },
+    ],
+)
 def test_unpack_controls_inverts_pack_controls(kw):
     ctrl = pack_controls(**kw)
     assert np.array_equal(pack_controls(**unpack_controls(ctrl)), ctrl)

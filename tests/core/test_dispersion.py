@@ -101,12 +101,15 @@ def test_the_density_factor_is_linear_between_the_nodes_and_held_beyond():
     assert density_factor_table(delta, np.nan) == 1.0 + delta[0]  # a NaN altitude reads no node out of range
 
 
-@pytest.mark.parametrize("knobs, field", [
-    ({"cl_multiplier": 0.0}, "dispersion.cl_multiplier"),
-    ({"cd_multiplier": float("nan")}, "dispersion.cd_multiplier"),
-    ({"density_delta": np.zeros(DENSITY_NODE_COUNT - 1)}, "dispersion.density_delta"),
-    ({"density_delta": np.full(DENSITY_NODE_COUNT, -1.0)}, "dispersion.density_delta"),
-])
+@pytest.mark.parametrize(
+    "knobs, field",
+    [
+        ({"cl_multiplier": 0.0}, "dispersion.cl_multiplier"),
+        ({"cd_multiplier": float("nan")}, "dispersion.cd_multiplier"),
+        ({"density_delta": np.zeros(DENSITY_NODE_COUNT - 1)}, "dispersion.density_delta"),
+        ({"density_delta": np.full(DENSITY_NODE_COUNT, -1.0)}, "dispersion.density_delta"),
+    ],
+)
 def test_a_bad_dispersion_names_its_field(knobs, field):
     with pytest.raises(InputError) as err:
         Dispersion(**knobs)
@@ -130,8 +133,9 @@ def test_the_density_profile_is_correlated_as_exp_minus_dh_over_l():
     """Sample correlation between nodes against exp(-Delta h / L), within 4 standard errors of a correlation
     coefficient estimated from n samples, (1 - rho^2) / sqrt(n)."""
     n, length_ft = 20_000, 30_000.0
-    delta = mc.draw({}, n, seed=3, method="random",
-                    density=mc.GaussMarkovDensity(std=0.08, correlation_length_ft=length_ft)).density_delta
+    delta = mc.draw(
+        {}, n, seed=3, method="random", density=mc.GaussMarkovDensity(std=0.08, correlation_length_ft=length_ft)
+    ).density_delta
     assert delta.shape == (n, DENSITY_NODE_COUNT)
     sample = np.corrcoef(delta, rowvar=False)
     for i, j in [(0, 1), (0, 3), (5, 6), (10, 13), (20, 30), (37, 40), (2, 40)]:
@@ -171,7 +175,7 @@ def test_a_seed_and_n_give_the_same_samples_to_the_bit_however_they_are_chunked(
     for name in a.values:
         assert a.values[name].tobytes() == b.values[name].tobytes()
     assert a.density_delta.tobytes() == b.density_delta.tobytes()
-    chunks = [a[i:i + 64] for i in range(0, len(a), 64)]
+    chunks = [a[i : i + 64] for i in range(0, len(a), 64)]
     assert [len(c) for c in chunks] == [64, 64, 64, 64, 44]
     base = table2()
     for i in (0, 63, 64, 299):
@@ -209,16 +213,19 @@ def test_a_small_monte_carlo_run_flies_in_chunks_as_in_one_piece():
     assert np.corrcoef(ld_multiplier, down)[0, 1] > 0.7
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    ({"distributions": {"mass_lb": mc.Normal(1.0, 1.0)}}, "distributions.mass_lb"),
-    ({"distributions": {"gamma_deg": mc.Normal(-2.0, 0.0)}}, "distributions.gamma_deg"),
-    ({"distributions": {"heading_deg": mc.Uniform(91.0, 90.0)}}, "distributions.heading_deg"),
-    ({"distributions": {"cd_multiplier": mc.Normal(1.0, 1.0)}}, "distributions.cd_multiplier"),  # draws < 0
-    ({"density": mc.GaussMarkovDensity(std=0.5)}, "density"),
-    ({"density": mc.GaussMarkovDensity(std=0.1, correlation_length_ft=0.0)}, "density"),
-    ({"method": "halton"}, "method"),
-    ({"n": 0}, "n"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"distributions": {"mass_lb": mc.Normal(1.0, 1.0)}}, "distributions.mass_lb"),
+        ({"distributions": {"gamma_deg": mc.Normal(-2.0, 0.0)}}, "distributions.gamma_deg"),
+        ({"distributions": {"heading_deg": mc.Uniform(91.0, 90.0)}}, "distributions.heading_deg"),
+        ({"distributions": {"cd_multiplier": mc.Normal(1.0, 1.0)}}, "distributions.cd_multiplier"),  # draws < 0
+        ({"density": mc.GaussMarkovDensity(std=0.5)}, "density"),
+        ({"density": mc.GaussMarkovDensity(std=0.1, correlation_length_ft=0.0)}, "density"),
+        ({"method": "halton"}, "method"),
+        ({"n": 0}, "n"),
+    ],
+)
 def test_a_bad_draw_names_its_field(kwargs, field):
     args = {"distributions": {}, "n": 64, "seed": 0} | kwargs
     with pytest.raises(InputError) as err:

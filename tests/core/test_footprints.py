@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+
 from footprint.contracts import parse
 from footprint.core import footprints as F
 from footprint.core.sphere import MEAN_RADIUS_NMI
@@ -14,14 +15,26 @@ TABLE2_ENTRY = table2_entry()
 
 
 def spec(vehicle="lod-1.89", entry=None, **case):
-    return parse("case", {"vehicle": {"builtin": vehicle}, "entry": entry or TABLE2_ENTRY,
-                       "stop": table2_stop(), **case}).to_spec()
+    return parse(
+        "case", {"vehicle": {"builtin": vehicle}, "entry": entry or TABLE2_ENTRY, "stop": table2_stop(), **case}
+    ).to_spec()
 
 
 def pt(d, c):
-    return F.FootprintPoint(parameter={}, side="left", downrange_nmi=d, crossrange_nmi=c, flight_time_s=0.0,
-                            latitude_deg=0.0, longitude_deg=0.0, heading_deg=90.0, final_velocity_fps=0.0,
-                            final_altitude_ft=0.0, pullout_altitude_ft=None, stop_reason="altitude")
+    return F.FootprintPoint(
+        parameter={},
+        side="left",
+        downrange_nmi=d,
+        crossrange_nmi=c,
+        flight_time_s=0.0,
+        latitude_deg=0.0,
+        longitude_deg=0.0,
+        heading_deg=90.0,
+        final_velocity_fps=0.0,
+        final_altitude_ft=0.0,
+        pullout_altitude_ft=None,
+        stop_reason="altitude",
+    )
 
 
 # ---------------------------------------------------------------------------------------------- area
@@ -58,8 +71,10 @@ def test_upper_boundary_has_every_point_on_or_below_it():
 
 # ------------------------------------------------------------------------------------------ symmetry
 def test_reflected_half_equals_the_flown_right_half_on_a_sphere_without_rotation():
-    s = spec(planet={"rotating": False, "oblate": False},
-             entry={**TABLE2_ENTRY, "latitude_deg": 20.0, "longitude_deg": 40.0, "heading_deg": 50.0})
+    s = spec(
+        planet={"rotating": False, "oblate": False},
+        entry={**TABLE2_ENTRY, "latitude_deg": 20.0, "longitude_deg": 40.0, "heading_deg": 50.0},
+    )
     assert F.mirror_is_exact(s)
     for b in (30.0, 105.0):
         left = F.point_of_trajectory({}, "left", simulate(F.with_bank(s, "single_parameter", bank_gain=b / 90.0)))
@@ -177,15 +192,24 @@ def test_single_parameter_reaches_what_the_staged_and_two_parameter_sets_reach(v
 
 def test_appendix_c_medium_vehicle_loses_most_of_its_cross_range_in_constant_altitude_turns():
     # Appendix C: medium L/D, K sigma (Fig. C-21) against turning at constant altitude (Fig. C-46)
-    s = parse("case", {"vehicle": {"builtin": "lod-2.6", "wing_loading_psf": REPORT["appc.medium_wing_loading_psf"].value},
-                    "entry": {"altitude_ft": REPORT["appc.entry_altitude_ft"].value,
-                              "velocity_fps": REPORT["appc.velocity_fps"].value, "velocity_frame": "inertial",
-                              "gamma_deg": REPORT["appc.gamma_deg"].value},
-                    "stop": {"altitude_ft": None, "velocity_fps": REPORT["appc.stop_velocity_fps"].value}}).to_spec()
+    s = parse(
+        "case",
+        {
+            "vehicle": {"builtin": "lod-2.6", "wing_loading_psf": REPORT["appc.medium_wing_loading_psf"].value},
+            "entry": {
+                "altitude_ft": REPORT["appc.entry_altitude_ft"].value,
+                "velocity_fps": REPORT["appc.velocity_fps"].value,
+                "velocity_frame": "inertial",
+                "gamma_deg": REPORT["appc.gamma_deg"].value,
+            },
+            "stop": {"altitude_ft": None, "velocity_fps": REPORT["appc.stop_velocity_fps"].value},
+        },
+    ).to_spec()
     single = F.single_parameter(s, min_range="cl_max", mirror=False)
     turns = F.constant_altitude(s, mirror=False)
-    assert single.max_crossrange_nmi == pytest.approx(REPORT["appc.max_crossrange_single_parameter_nmi"].value,
-                                                      rel=0.10)
+    assert single.max_crossrange_nmi == pytest.approx(
+        REPORT["appc.max_crossrange_single_parameter_nmi"].value, rel=0.10
+    )
     assert all(p.stop_reason == "velocity" for p in single.points + turns.points)  # the skips come back
     # the report's ratio is 0.29; the turns keep between a fifth and a third of the cross-range
     assert 0.2 < turns.max_crossrange_nmi / single.max_crossrange_nmi < 1 / 3
@@ -195,8 +219,11 @@ def test_a_steep_bank_past_the_pole_of_the_initial_great_circle_does_not_chatter
     # high-lod at 25,800 ft/s turns a right angle and reaches the pole of its initial great circle, where the
     # remaining heading change zeta jumps between +-180 deg: K zeta = +-240 deg are different attitudes,
     # +-180 deg (the physical end of the bank range) the same one
-    s = spec("high-lod", entry={"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial",
-                                "gamma_deg": -1.5}, stop={"altitude_ft": None, "velocity_fps": 2_000})
+    s = spec(
+        "high-lod",
+        entry={"altitude_ft": 300_000, "velocity_fps": 25_800, "velocity_frame": "inertial", "gamma_deg": -1.5},
+        stop={"altitude_ft": None, "velocity_fps": 2_000},
+    )
     t = simulate(F.with_bank(s, "single_parameter", bank_gain=120.0 / 90.0))
     assert t.summary["stop_reason"] == "velocity" and t.summary["steps"] < 5_000
     assert np.max(np.abs(t.history["bank_deg"])) == 180.0
@@ -209,7 +236,9 @@ def test_crossrange_at_a_downrange_is_read_on_the_left_half_chords():
 
     from footprint.core.footprints import crossrange_at_nmi
 
-    pts = [SimpleNamespace(downrange_nmi=d, crossrange_nmi=c)
-           for d, c in ((3000, 600), (1000, 400), (0, 0), (1000, -400), (3000, -600))]
+    pts = [
+        SimpleNamespace(downrange_nmi=d, crossrange_nmi=c)
+        for d, c in ((3000, 600), (1000, 400), (0, 0), (1000, -400), (3000, -600))
+    ]
     assert crossrange_at_nmi(pts, 2000.0) == pytest.approx(500.0)
     assert crossrange_at_nmi(pts, 3500.0) is None

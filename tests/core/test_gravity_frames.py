@@ -43,8 +43,11 @@ def test_eq_a10_is_the_gradient_of_the_zonal_potential(lat_deg, alt_ft):
     j2, j3, j4 = c.J_ZONAL / 1.5, c.H_ZONAL / 2.5, -c.K_ZONAL / 3.75
     lon = math.radians(37.0)
     r = RE + alt_ft
-    x, y, z = r * math.cos(math.radians(lat_deg)) * math.cos(lon), r * math.cos(math.radians(lat_deg)) * math.sin(
-        lon), r * math.sin(math.radians(lat_deg))
+    x, y, z = (
+        r * math.cos(math.radians(lat_deg)) * math.cos(lon),
+        r * math.cos(math.radians(lat_deg)) * math.sin(lon),
+        r * math.sin(math.radians(lat_deg)),
+    )
     g = np.array(gravity_ecef(x, y, z, MU, RE, c.J_ZONAL, c.H_ZONAL, c.K_ZONAL, True))
     ref = potential_gradient(x, y, z, j2, j3, j4)
     # central differences at h = 20 ft resolve 1e-8 ft/s^2; the J3 and J4 terms are ~1e-4 ft/s^2,
@@ -69,8 +72,7 @@ def test_spherical_gravity_is_mu_over_r_squared():
 
 
 @settings(max_examples=300, deadline=None)
-@given(lat=st.floats(-90, 90), lon=st.floats(-180, 180), alt=st.floats(-20_000, 3_000_000),
-       oblate=st.booleans())
+@given(lat=st.floats(-90, 90), lon=st.floats(-180, 180), alt=st.floats(-20_000, 3_000_000), oblate=st.booleans())
 def test_geodetic_round_trip(lat, lon, alt, oblate):
     x, y, z = ecef_from_geodetic(math.radians(lat), math.radians(lon), alt, RE, RP, oblate)
     la, lo, al = geodetic_from_ecef(x, y, z, RE, RP, oblate)
@@ -88,8 +90,13 @@ def test_polar_radius_and_flattening():
 
 
 @settings(max_examples=200, deadline=None)
-@given(lat=st.floats(-89, 89), lon=st.floats(-180, 180), v=st.floats(1000, 40000), gamma=st.floats(-89, 89),
-       heading=st.floats(0, 359.999))
+@given(
+    lat=st.floats(-89, 89),
+    lon=st.floats(-180, 180),
+    v=st.floats(1000, 40000),
+    gamma=st.floats(-89, 89),
+    heading=st.floats(0, 359.999),
+)
 def test_flight_angles_round_trip(lat, lon, v, gamma, heading):
     x, y, z = ecef_from_geodetic(math.radians(lat), math.radians(lon), 300_000.0, RE, RP, True)
     vel = velocity_from_angles(x, y, z, v, math.radians(gamma), math.radians(heading))
@@ -104,8 +111,9 @@ def test_table2_inertial_speed():
     t2 = {k: REPORT[f"table2.{k}"].value for k in ("altitude_ft", "velocity_fps", "gamma_deg", "heading_deg")}
     r = RE + t2["altitude_ft"]
     x, y, z = r, 0.0, 0.0
-    vx, vy, vz = velocity_from_angles(x, y, z, t2["velocity_fps"], math.radians(t2["gamma_deg"]),
-                                      math.radians(t2["heading_deg"]))
+    vx, vy, vz = velocity_from_angles(
+        x, y, z, t2["velocity_fps"], math.radians(t2["gamma_deg"]), math.radians(t2["heading_deg"])
+    )
     vy_inertial = vy + c.OMEGA_EARTH_RAD_S * r
     assert math.hypot(vx, vy_inertial, vz) == pytest.approx(26_031.6, abs=0.1)
 
@@ -129,8 +137,9 @@ def test_ranges_match_report_spherical_triangles():
     for lat, lon in rng.uniform([-60, -80], [60, 20], size=(50, 2)):
         la, lo = math.radians(lat), math.radians(lon)
         lf = math.acos(math.sin(la) * math.sin(lat0) + math.cos(la) * math.cos(lat0) * math.cos(lo - lon0))  # (8)
-        zeta = math.atan2(math.sin(lo - lon0) * math.cos(la) * math.cos(lat0),
-                          math.sin(la) - math.sin(lat0) * math.cos(lf))  # (9), quadrant by atan2
+        zeta = math.atan2(
+            math.sin(lo - lon0) * math.cos(la) * math.cos(lat0), math.sin(la) - math.sin(lat0) * math.cos(lf)
+        )  # (9), quadrant by atan2
         xi = zeta - sig0
         yd = math.asin(math.sin(lf) * math.sin(xi))  # (11)
         xd = math.acos(math.cos(lf) / math.cos(yd))  # (10)

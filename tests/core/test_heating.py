@@ -7,8 +7,9 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from footprint.contracts import parse
+
 from footprint.api import fly
+from footprint.contracts import parse
 from footprint.core.atmosphere import FT_PER_M, KG_PER_SLUG, atmosphere_table
 from footprint.core.dynamics import P_ATM, P_ATM_T, P_RHO0, P_SCALE_H
 from footprint.core.heating import (
@@ -35,19 +36,31 @@ MAX_CROSS_RANGE_BANK = {"law": "table", "heading_deg": list(range(-15, 91, 15)),
 
 
 def lod189(alpha=None, bank=None, heating=None):
-    case = {"vehicle": {"builtin": "lod-1.89"}, "entry": dict(TABLE2_ENTRY), "alpha": alpha or {"law": "max_ld"},
-            "bank": bank or dict(MAX_CROSS_RANGE_BANK), "stop": table2_stop()}
+    case = {
+        "vehicle": {"builtin": "lod-1.89"},
+        "entry": dict(TABLE2_ENTRY),
+        "alpha": alpha or {"law": "max_ld"},
+        "bank": bank or dict(MAX_CROSS_RANGE_BANK),
+        "stop": table2_stop(),
+    }
     if heating is not None:
         case["heating"] = heating
     return case
 
 
 # --- Table 1 and eq. (7) ---------------------------------------------------------------------------------------
-@pytest.mark.parametrize("alpha_deg, ratio", [
-    *(tuple(row) for row in REPORT["table1.h_ratio_vs_alpha"].value),  # Table 1 as printed
-    (10, 0.1725), (22.5, 0.1875), (35, 0.23), (47.5, 0.28),  # linear between rows
-    (-5, 0.17), (70, 0.30),  # held at the ends
-])
+@pytest.mark.parametrize(
+    "alpha_deg, ratio",
+    [
+        *(tuple(row) for row in REPORT["table1.h_ratio_vs_alpha"].value),  # Table 1 as printed
+        (10, 0.1725),
+        (22.5, 0.1875),
+        (35, 0.23),
+        (47.5, 0.28),  # linear between rows
+        (-5, 0.17),
+        (70, 0.30),  # held at the ends
+    ],
+)
 def test_table1_ratio(alpha_deg, ratio):
     assert table1_ratio(alpha_deg) == pytest.approx(ratio, abs=1e-12)
 
@@ -76,9 +89,17 @@ def test_detra_kemp_riddell_worked_example():
     assert fay_riddell_coefficient_lbm_ft2_s(rho, 20_000.0, t_inf, 1.0) == pytest.approx(0.01551, abs=1e-5)
 
 
-@pytest.mark.parametrize("alpha_deg, heat_rate, temperature_R", [
-    (0, 19.7, 2_682), (20, 20.2, 2_701), (25, 23.0, 2_790), (30, 26.4, 2_887), (45, 29.8, 2_975), (50, 34.2, 3_081),
-])
+@pytest.mark.parametrize(
+    "alpha_deg, heat_rate, temperature_R",
+    [
+        (0, 19.7, 2_682),
+        (20, 20.2, 2_701),
+        (25, 23.0, 2_790),
+        (30, 26.4, 2_887),
+        (45, 29.8, 2_975),
+        (50, 34.2, 3_081),
+    ],
+)
 def test_body_point_table_of_heating_md(alpha_deg, heat_rate, temperature_R):
     """heating.md §5 table (R = 1 ft, eps = 0.8, H_AW = H_0, H_W = 0.24 T_W iterated), printed to 0.1 and 1 degR."""
     q, t = ReferenceHeating(reference_radius_ft=1.0, emissivity=0.8).evaluate(6.118e-7, 20_000.0, alpha_deg, 449.0)
@@ -86,9 +107,17 @@ def test_body_point_table_of_heating_md(alpha_deg, heat_rate, temperature_R):
     assert t == pytest.approx(temperature_R, abs=2.0)  # degR
 
 
-@pytest.mark.parametrize("altitude_ft, velocity_fps", [
-    (280_000, 25_500), (250_000, 24_000), (230_000, 22_000), (200_000, 20_000), (180_000, 16_000), (150_000, 12_000),
-])
+@pytest.mark.parametrize(
+    "altitude_ft, velocity_fps",
+    [
+        (280_000, 25_500),
+        (250_000, 24_000),
+        (230_000, 22_000),
+        (200_000, 20_000),
+        (180_000, 16_000),
+        (150_000, 12_000),
+    ],
+)
 def test_fay_riddell_against_sutton_graves(altitude_ft, velocity_fps):
     """Sutton & Graves (1971), an independent correlation: q = 1.7415e-4 sqrt(rho/R_n) V^3, SI, Earth air.
     DKR goes as V^3.15 and Sutton-Graves as V^3, so they part by up to ~15 % near orbital speed."""
@@ -116,8 +145,9 @@ def test_calibration_recomputes_the_reference_radius(max_crossrange):
     spec = parse("case", lod189()).to_spec()
     p = pack_parameters(spec)
     h = max_crossrange.history
-    radius_ft = calibrate_reference_radius_ft(h["altitude_ft"], h["velocity_fps"], h["alpha_deg"],
-                                              (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]))
+    radius_ft = calibrate_reference_radius_ft(
+        h["altitude_ft"], h["velocity_fps"], h["alpha_deg"], (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    )
     assert radius_ft == pytest.approx(REFERENCE_RADIUS_FT, rel=1e-3)  # the constant is rounded to 4 figures
 
 
@@ -183,9 +213,13 @@ def test_thin_skin_lags_and_damps_a_flight_and_tends_to_ret():
 
 
 # --- the generic correlation ------------------------------------------------------------------------------------
-BETTS_SHUTTLE = {"model": "correlation", "coefficient": 17_700 * 1e-4**3.07, "density_exponent": 0.5,
-                 "velocity_exponent": 3.07,
-                 "alpha_polynomial_deg": [1.0672181, -0.19213774e-1, 0.21286289e-3, -0.10117249e-5]}
+BETTS_SHUTTLE = {
+    "model": "correlation",
+    "coefficient": 17_700 * 1e-4**3.07,
+    "density_exponent": 0.5,
+    "velocity_exponent": 3.07,
+    "alpha_polynomial_deg": [1.0672181, -0.19213774e-1, 0.21286289e-3, -0.10117249e-5],
+}
 
 
 def test_correlation_by_hand():
@@ -206,8 +240,9 @@ def test_correlation_along_a_flight():
     without_t = fly(lod189(heating=BETTS_SHUTTLE)).summary
     assert without_t["max_temperature_R"] is None
     assert with_t["max_heat_rate_btu_ft2_s"] == pytest.approx(without_t["max_heat_rate_btu_ft2_s"])
-    assert with_t["max_temperature_R"] == pytest.approx(radiation_equilibrium_R(with_t["max_heat_rate_btu_ft2_s"],
-                                                                                0.8), rel=1e-12)
+    assert with_t["max_temperature_R"] == pytest.approx(
+        radiation_equilibrium_R(with_t["max_heat_rate_btu_ft2_s"], 0.8), rel=1e-12
+    )
 
 
 # --- the contract -----------------------------------------------------------------------------------------------
@@ -222,18 +257,26 @@ def test_reference_defaults_are_the_calibrated_ones():
     assert model == ReferenceHeating(reference_radius_ft=REFERENCE_RADIUS_FT, emissivity=0.8)
 
 
-@pytest.mark.parametrize("heating, field", [
-    ({"model": "reference", "emissivity": 1.5}, "heating.emissivity"),
-    ({"model": "reference", "reference_radius_ft": 0}, "heating.reference_radius_ft"),
-    ({"model": "correlation", "coefficient": 1.0, "velocity_exponent": 12}, "heating.velocity_exponent"),
-    ({"model": "reference", "nose_radius": 1}, "heating.nose_radius"),
-    ({"model": "reference", "skin_heat_capacity_btu_ft2_R": -1}, "heating.skin_heat_capacity_btu_ft2_R"),
-])
+@pytest.mark.parametrize(
+    "heating, field",
+    [
+        ({"model": "reference", "emissivity": 1.5}, "heating.emissivity"),
+        ({"model": "reference", "reference_radius_ft": 0}, "heating.reference_radius_ft"),
+        ({"model": "correlation", "coefficient": 1.0, "velocity_exponent": 12}, "heating.velocity_exponent"),
+        ({"model": "reference", "nose_radius": 1}, "heating.nose_radius"),
+        ({"model": "reference", "skin_heat_capacity_btu_ft2_R": -1}, "heating.skin_heat_capacity_btu_ft2_R"),
+    ],
+)
 def test_bad_heating_section_is_one_line(tmp_path, heating, field):
     path = tmp_path / "case.json"
     path.write_text(json.dumps(lod189(heating=heating)))
-    r = subprocess.run([sys.executable, "-m", "footprint.cli", "fly", str(path)], check=False, capture_output=True,
-                       text=True, timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-m", "footprint.cli", "fly", str(path)],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and field in lines[0] and "Traceback" not in r.stderr, r.stderr

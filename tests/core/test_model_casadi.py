@@ -31,19 +31,34 @@ from footprint.core.collocation import SMOOTHING_STAGES
 from footprint.core.constants import G0_FT_S2
 from footprint.core.controls import pack_controls
 from footprint.core.dynamics import M_BANK_ACTIVE, M_SIZE, evaluate
-from footprint.core.frames import altitude_ft, ecef_from_geodetic, flight_angles, geodetic_from_ecef, \
-    velocity_from_angles
+from footprint.core.frames import (
+    altitude_ft,
+    ecef_from_geodetic,
+    flight_angles,
+    geodetic_from_ecef,
+    velocity_from_angles,
+)
 from footprint.core.heating import TABLE1_ALPHA_DEG, ReferenceHeating
 from footprint.core.model_casadi import (
-    ATMOSPHERE_GRID_FT, Atmosphere, FlightModel, Heating, geodetic, planet_model, radial_altitude_ft, smooth_table,
+    ATMOSPHERE_GRID_FT,
+    Atmosphere,
+    FlightModel,
+    Heating,
+    geodetic,
+    planet_model,
+    radial_altitude_ft,
+    smooth_table,
 )
 from footprint.core.trajectory import Entry, FlightSpec, Planet, pack_parameters
 
 LOD189 = builtin_vehicle("lod-1.89")
-POLYNOMIAL_VEHICLE = vehicle_from_definition({
-    "name": "polynomial test vehicle", "wing_loading_psf": 60.0,
-    "aero": {"polynomial": {"cl": [-0.05, 0.035], "cd": [0.06, 0.0, 0.0006]}},  # alpha in deg, L/D ~2.2 at 20
-})
+POLYNOMIAL_VEHICLE = vehicle_from_definition(
+    {
+        "name": "polynomial test vehicle",
+        "wing_loading_psf": 60.0,
+        "aero": {"polynomial": {"cl": [-0.05, 0.035], "cd": [0.06, 0.0, 0.0006]}},  # alpha in deg, L/D ~2.2 at 20
+    }
+)
 # rotating oblate earth, density 1e-6 slug/ft^3 (that of ~130,000 ft) falling by 3e-9 over the <= 3 ft between
 # the model's radial and the integrator's geodetic altitude: the same density on both sides
 OBLATE_UNIFORM_AIR = Planet(atmosphere="exponential", rho0_slug_ft3=1e-6, scale_height_ft=1e9, temperature_R=400.0)
@@ -80,24 +95,32 @@ KINK_CLEARANCE_FT = 2 * (ATMOSPHERE_GRID_FT[1] - ATMOSPHERE_GRID_FT[0])  # two s
 
 
 def _spec(vehicle, planet, alpha_deg, bank_deg):
-    ctrl = pack_controls(bank_law="constant", bank_deg=bank_deg, bank_start="entry", alpha_law="constant",
-                         alpha_deg=alpha_deg)
-    return FlightSpec(vehicle=vehicle, planet=planet, entry=Entry(200_000.0, 20_000.0, -1.0),  # unused here
-                      ctrl=ctrl)
+    ctrl = pack_controls(
+        bank_law="constant", bank_deg=bank_deg, bank_start="entry", alpha_law="constant", alpha_deg=alpha_deg
+    )
+    return FlightSpec(
+        vehicle=vehicle,
+        planet=planet,
+        entry=Entry(200_000.0, 20_000.0, -1.0),  # unused here
+        ctrl=ctrl,
+    )
 
 
 def _ecef_state(planet, lat_deg, lon_deg, alt_ft, v_fps, gamma_deg, heading_deg):
-    x, y, z = ecef_from_geodetic(math.radians(lat_deg), math.radians(lon_deg), alt_ft, planet.radius_ft,
-                                 planet.polar_radius_ft, planet.oblate)
-    return np.array([x, y, z, *velocity_from_angles(x, y, z, v_fps, math.radians(gamma_deg),
-                                                     math.radians(heading_deg))])
+    x, y, z = ecef_from_geodetic(
+        math.radians(lat_deg), math.radians(lon_deg), alt_ft, planet.radius_ft, planet.polar_radius_ft, planet.oblate
+    )
+    return np.array(
+        [x, y, z, *velocity_from_angles(x, y, z, v_fps, math.radians(gamma_deg), math.radians(heading_deg))]
+    )
 
 
 def _spherical(s):
     """(r ft, longitude rad, geocentric latitude rad, V ft/s, gamma rad, heading rad) of an earth-fixed state."""
     x, y, z = s[:3]
-    return np.array([math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)),
-                     *flight_angles(*s)])
+    return np.array(
+        [math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), *flight_angles(*s)]
+    )
 
 
 def _integrator(spec, s):
@@ -153,9 +176,9 @@ def _blob_table(blob, offset):
     sizes = [int(blob[o + i]) for i in range(3)]
     start, axes = o + 3, []
     for n in sizes:
-        axes.append(blob[start:start + n].copy())
+        axes.append(blob[start : start + n].copy())
         start += n
-    return axes, blob[start:start + int(np.prod(sizes))].reshape(sizes)
+    return axes, blob[start : start + int(np.prod(sizes))].reshape(sizes)
 
 
 def _corner_widths(axes, smoothing):
@@ -284,8 +307,10 @@ TABLES = {"CL": LOD189.blob[3], "CD": LOD189.blob[4]}
 
 def _sample_points(axes, widths, n, rng):
     """n points over each axis' range widened by 10 % and two corner widths each side (the held edges too)."""
-    return [rng.uniform(a[0] - 0.1 * (a[-1] - a[0]) - 2 * eps, a[-1] + 0.1 * (a[-1] - a[0]) + 2 * eps, n)
-            for a, eps in zip(axes, widths)]
+    return [
+        rng.uniform(a[0] - 0.1 * (a[-1] - a[0]) - 2 * eps, a[-1] + 0.1 * (a[-1] - a[0]) + 2 * eps, n)
+        for a, eps in zip(axes, widths)
+    ]
 
 
 def _corner_bound(axes, values, smoothing):
@@ -398,10 +423,16 @@ LIMIT_STEP = 1e-6  # relative step of the limit around the temperature: 1000x co
 
 
 @pytest.mark.parametrize("smoothing", SMOOTHING_STAGES)
-@pytest.mark.parametrize("alt_ft, v_fps, alpha_deg", [
-    (150_000.0, 12_000.0, 10.0), (200_000.0, 20_000.0, 22.5), (250_000.0, 24_000.0, 35.0),
-    (180_000.0, 16_000.0, 47.5), (220_000.0, 22_000.0, 55.0),  # 55: Table 1 held beyond 50 deg
-])
+@pytest.mark.parametrize(
+    "alt_ft, v_fps, alpha_deg",
+    [
+        (150_000.0, 12_000.0, 10.0),
+        (200_000.0, 20_000.0, 22.5),
+        (250_000.0, 24_000.0, 35.0),
+        (180_000.0, 16_000.0, 47.5),
+        (220_000.0, 22_000.0, 55.0),  # 55: Table 1 held beyond 50 deg
+    ],
+)
 def test_temperature_margin_is_negative_exactly_within_the_limit(alt_ft, v_fps, alpha_deg, smoothing):
     # off Table 1's corners the smoothed ratio is np.interp's, so the margin's zero is core.heating's temperature
     assert _node_distance(TABLE1_ALPHA_DEG, alpha_deg)[0] > smoothing * np.diff(TABLE1_ALPHA_DEG).min()

@@ -13,8 +13,8 @@ from pydantic import ValidationError
 from scipy import stats
 
 from footprint import contracts, parallel
-from footprint.contracts.case import error_line
 from footprint.api import disperse as run
+from footprint.contracts.case import error_line
 from footprint.contracts.dispersion import Plan, parse_request
 from footprint.core import monte_carlo as mc
 from footprint.core.errors import InputError
@@ -32,10 +32,17 @@ def study(footprint_study=SMALL, **fields) -> dict:
 
 def test_without_dispersion_every_sample_lands_on_the_nominal_point_to_the_bit():
     result, _ = run(study(samples=6, seed=3))
-    nominal = footprint(parse_request(study()).footprint.case.to_spec(), "single_parameter",
-                        bank0_deg=SMALL["bank0_deg"], min_range="zero_lift", mirror=True)  # simulate's histories
-    flown = {(p.side, p.parameter.get("bank0_deg", p.parameter.get("min_range"))): p
-             for p in nominal.points + nominal.interior}
+    nominal = footprint(
+        parse_request(study()).footprint.case.to_spec(),
+        "single_parameter",
+        bank0_deg=SMALL["bank0_deg"],
+        min_range="zero_lift",
+        mirror=True,
+    )  # simulate's histories
+    flown = {
+        (p.side, p.parameter.get("bank0_deg", p.parameter.get("min_range"))): p
+        for p in nominal.points + nominal.interior
+    }
     clouds = result.clouds
     for j, f in enumerate(result.flights):
         p = flown[(f["side"], f["parameter"].get("bank0_deg", f["parameter"].get("min_range")))]
@@ -48,8 +55,9 @@ def test_without_dispersion_every_sample_lands_on_the_nominal_point_to_the_bit()
 
 
 def _flight(result, side, bank0_deg):
-    return next(j for j, f in enumerate(result.flights)
-                if f["side"] == side and f["parameter"].get("bank0_deg") == bank0_deg)
+    return next(
+        j for j, f in enumerate(result.flights) if f["side"] == side and f["parameter"].get("bank0_deg") == bank0_deg
+    )
 
 
 SPREAD = {"altitude_ft": 300.0, "velocity_fps": 4.0, "gamma_deg": 0.004}  # small: the response is linear
@@ -60,8 +68,15 @@ def test_the_sample_covariance_is_the_linear_covariance_of_finite_differences():
     """N = 2,000 samples of a banked flight: its (down-range, cross-range) covariance against J Sigma J^T, J by
     central differences of fly() in the same ranges (about the nominal entry)."""
     n = 2_000
-    result, _ = run(study(ONE_SETTING, samples=n, design="random", seed=11,
-                          entry={k: {"normal": {"std": s}} for k, s in SPREAD.items()}))
+    result, _ = run(
+        study(
+            ONE_SETTING,
+            samples=n,
+            design="random",
+            seed=11,
+            entry={k: {"normal": {"std": s}} for k, s in SPREAD.items()},
+        )
+    )
     sample = np.array(result.flights[0]["covariance_nmi2"])
     case = ONE_SETTING["case"]
     e = case["entry"]
@@ -70,11 +85,19 @@ def test_the_sample_covariance_is_the_linear_covariance_of_finite_differences():
         fly_case = copy.deepcopy(case) | {"bank": {"law": "single_parameter", "bank_gain": 60 / 90}}
         fly_case["entry"] |= entry
         s = parallel.run("case", fly_case).summary
-        return np.array(downrange_crossrange_nmi(s["final_latitude_deg"], s["final_longitude_deg"], e["latitude_deg"],
-                                                 e["longitude_deg"], e["heading_deg"]))
+        return np.array(
+            downrange_crossrange_nmi(
+                s["final_latitude_deg"],
+                s["final_longitude_deg"],
+                e["latitude_deg"],
+                e["longitude_deg"],
+                e["heading_deg"],
+            )
+        )
 
-    jacobian = np.stack([(landing(**{k: e[k] + s}) - landing(**{k: e[k] - s})) / (2 * s) for k, s in SPREAD.items()],
-                        axis=1)
+    jacobian = np.stack(
+        [(landing(**{k: e[k] + s}) - landing(**{k: e[k] - s})) / (2 * s) for k, s in SPREAD.items()], axis=1
+    )
     linear = jacobian @ np.diag([s * s for s in SPREAD.values()]) @ jacobian.T
     # each entry within 4 of its sampling standard errors, sqrt((S_ii S_jj + S_ij^2) / (n - 1)) for a normal cloud
     # (for a variance sqrt(2 / (n - 1)) = 3.2 % of it)
@@ -92,11 +115,19 @@ def test_site_probabilities_inside_outside_and_on_the_nominal_boundary():
     nominal = plan.nominal()
     down, _ = mc.nominal_ranges(spec, nominal)
     front = down[0, 0]  # the zero-bank flight: the nominal footprint's farthest point, a vertex of its boundary
-    sites = [("deep inside", *latlon_from_ranges(0.6 * front, 0.0, e.latitude_deg, e.longitude_deg, e.heading_deg)),
-             ("far outside", 45.0, -100.0),
-             ("on the boundary", nominal.values[0, 0, mc.LAT], nominal.values[0, 0, mc.LON])]
-    result, _ = run(study(samples=256, seed=5, entry={"gamma_deg": {"normal": {"std": 0.02}}},
-                          sites=[{"name": n, "latitude_deg": float(a), "longitude_deg": float(o)} for n, a, o in sites]))
+    sites = [
+        ("deep inside", *latlon_from_ranges(0.6 * front, 0.0, e.latitude_deg, e.longitude_deg, e.heading_deg)),
+        ("far outside", 45.0, -100.0),
+        ("on the boundary", nominal.values[0, 0, mc.LAT], nominal.values[0, 0, mc.LON]),
+    ]
+    result, _ = run(
+        study(
+            samples=256,
+            seed=5,
+            entry={"gamma_deg": {"normal": {"std": 0.02}}},
+            sites=[{"name": n, "latitude_deg": float(a), "longitude_deg": float(o)} for n, a, o in sites],
+        )
+    )
     by_name = {s["name"]: s for s in result.sites}
     assert by_name["deep inside"]["probability"] == 1.0 and by_name["deep inside"]["inside_nominal"]
     assert by_name["far outside"]["probability"] == 0.0 and not by_name["far outside"]["inside_nominal"]
@@ -107,8 +138,7 @@ def test_site_probabilities_inside_outside_and_on_the_nominal_boundary():
 
 
 def test_the_confidence_footprint_lies_inside_the_nominal_one_and_grows_as_the_level_falls():
-    result, _ = run(study(samples=128, seed=2, entry={"gamma_deg": {"normal": {"std": 0.05}}},
-                          confidence=[0.5, 0.99]))
+    result, _ = run(study(samples=128, seed=2, entry={"gamma_deg": {"normal": {"std": 0.05}}}, confidence=[0.5, 0.99]))
     half, most = (max(c["rings"], key=lambda r: r["area_nmi2"]) for c in result.confidence)
     assert most["area_nmi2"] < half["area_nmi2"]
     front = result.nominal[0]["downrange_nmi"]
@@ -133,8 +163,13 @@ def test_the_clopper_pearson_interval_is_the_beta_quantiles():
 
 
 def test_a_chunked_run_is_the_same_whatever_the_chunks():
-    s = study(samples=20, seed=9, entry={"velocity_fps": {"uniform": {"half_width": 30}}},
-              vehicle={"cd_multiplier": {"truncated_normal": {"std": 0.02}}}, density={"std": 0.03})
+    s = study(
+        samples=20,
+        seed=9,
+        entry={"velocity_fps": {"uniform": {"half_width": 30}}},
+        vehicle={"cd_multiplier": {"truncated_normal": {"std": 0.02}}},
+        density={"std": 0.03},
+    )
     whole, _ = run(s | {"chunk_samples": 20})
     cut, info = run(s | {"chunk_samples": 3})
     assert info["tasks"] == 7
@@ -156,19 +191,35 @@ def test_flights_that_end_otherwise_are_counted_not_dropped():
     assert all(f["landed"] + sum(f["outcomes"].values()) == 32 for f in result.flights)
 
 
-@pytest.mark.parametrize("fields, field, words", [
-    ({"entry": {"altitude_ft": {"normal": {"std": -100}}}}, "entry.altitude_ft.normal.std", "must be > 0"),
-    ({"entry": {"altitude_ft": {"gamma": {"k": 2}}}}, "entry.altitude_ft.gamma", "not permitted"),
-    ({"entry": {"altitude_ft": {}}}, "entry.altitude_ft", "exactly one of"),
-    ({"vehicle": {"lift": {"normal": {"std": 0.1}}}}, "vehicle.lift", "not permitted"),
-    ({"samples": 2_000_000}, "samples", "1000000"),
-    ({"footprint": FOOTPRINT, "samples": 1_000_000}, "samples", "22000000 trajectories"),
-    ({"density": {"std": 0.5}}, "density.std", "0 to 0.2"),
-    ({"footprint": {"case": FOOTPRINT["case"], "method": "two_parameter", "bank_gain": [0.5], "sigma_f_deg": [0]}},
-     "footprint.method", "fixed control laws"),
-    ({"footprint": FOOTPRINT | {"case": FOOTPRINT["case"] | {"stop": {"altitude_ft": -5}}}},
-     "footprint.case.stop.altitude_ft", "outside the allowed range"),  # not footprint.single_parameter.case...
-])
+@pytest.mark.parametrize(
+    "fields, field, words",
+    [
+        ({"entry": {"altitude_ft": {"normal": {"std": -100}}}}, "entry.altitude_ft.normal.std", "must be > 0"),
+        ({"entry": {"altitude_ft": {"gamma": {"k": 2}}}}, "entry.altitude_ft.gamma", "not permitted"),
+        ({"entry": {"altitude_ft": {}}}, "entry.altitude_ft", "exactly one of"),
+        ({"vehicle": {"lift": {"normal": {"std": 0.1}}}}, "vehicle.lift", "not permitted"),
+        ({"samples": 2_000_000}, "samples", "1000000"),
+        ({"footprint": FOOTPRINT, "samples": 1_000_000}, "samples", "22000000 trajectories"),
+        ({"density": {"std": 0.5}}, "density.std", "0 to 0.2"),
+        (
+            {
+                "footprint": {
+                    "case": FOOTPRINT["case"],
+                    "method": "two_parameter",
+                    "bank_gain": [0.5],
+                    "sigma_f_deg": [0],
+                }
+            },
+            "footprint.method",
+            "fixed control laws",
+        ),
+        (
+            {"footprint": FOOTPRINT | {"case": FOOTPRINT["case"] | {"stop": {"altitude_ft": -5}}}},
+            "footprint.case.stop.altitude_ft",
+            "outside the allowed range",
+        ),  # not footprint.single_parameter.case...
+    ],
+)
 def test_bad_dispersions_get_one_line_naming_the_field(fields, field, words):
     with pytest.raises(ValidationError) as info:
         parse_request(study(**fields))
@@ -188,8 +239,9 @@ def test_a_footprint_round_a_pole_is_outlined_closed_along_it():
     equator holds no pole."""
     polar = copy.deepcopy(SMALL)
     polar["case"]["entry"] |= {"latitude_deg": 60.0, "heading_deg": 0.0}
-    result = run(study(polar, samples=8, seed=2, entry={"gamma_deg": {"normal": {"std": 0.02}}},
-                       confidence=[0.5]))[0].to_dict()
+    result = run(study(polar, samples=8, seed=2, entry={"gamma_deg": {"normal": {"std": 0.02}}}, confidence=[0.5]))[
+        0
+    ].to_dict()
     ring = max(result["confidence"][0]["rings"], key=lambda r: r["area_nmi2"])
     for shape in (result["nominal_boundary"], ring):
         o = shape["outline"]
@@ -212,8 +264,13 @@ def test_a_study_that_ends_by_velocity_or_altitude_lands_every_flight_that_ends_
     assert result.outcomes == {"flights": 24, "landed": 24}
     assert all(f["landed"] == 4 for f in result.flights)
     fast = ONE_SETTING | {"case": FOOTPRINT["case"] | {"stop": {"altitude_ft": 120_000, "velocity_fps": 8_000}}}
-    s = study(fast, samples=64, seed=1, entry={"gamma_deg": {"normal": {"std": 0.5}}},
-              vehicle={"cl_multiplier": {"normal": {"std": 0.1}}})
+    s = study(
+        fast,
+        samples=64,
+        seed=1,
+        entry={"gamma_deg": {"normal": {"std": 0.5}}},
+        vehicle={"cl_multiplier": {"normal": {"std": 0.1}}},
+    )
     result, _ = run(copy.deepcopy(s))
     assert result.nominal[0]["stop_reason"] == "velocity"
     early = result.flights[0]["outcome_samples"]["hit the stop altitude early"]

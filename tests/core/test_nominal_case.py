@@ -7,8 +7,15 @@ from tests.authorities.report import REPORT, table2_entry, table2_stop
 
 
 def nominal(vehicle, gamma_deg=REPORT["table2.gamma_deg"].value):
-    return fly({"vehicle": {"builtin": vehicle}, "entry": table2_entry(gamma_deg=gamma_deg),
-                "alpha": {"law": "max_ld"}, "bank": {"law": "zero"}, "stop": table2_stop()}).summary
+    return fly(
+        {
+            "vehicle": {"builtin": vehicle},
+            "entry": table2_entry(gamma_deg=gamma_deg),
+            "alpha": {"law": "max_ld"},
+            "bank": {"law": "zero"},
+            "stop": table2_stop(),
+        }
+    ).summary
 
 
 def test_lod_189_zero_bank_reaches_the_reported_maximum_downrange():

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from footprint.contracts import parse
 from footprint.core import footprints as F
 from footprint.core import optimize as O
@@ -13,8 +14,7 @@ REPORT_MAX_CROSSRANGE_NMI = REPORT["sec3.max_crossrange_nmi"].value  # the L/D 1
 
 @pytest.fixture(scope="module")
 def lod189():
-    return parse("case", {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY,
-                       "stop": table2_stop()}).to_spec()
+    return parse("case", {"vehicle": {"builtin": "lod-1.89"}, "entry": TABLE2_ENTRY, "stop": table2_stop()}).to_spec()
 
 
 def rosenbrock(x):
@@ -42,8 +42,12 @@ def test_bounds_are_never_left():
         return rosenbrock(x)
 
     lower, upper = np.array([-2.0, -1.0]), np.array([0.5, 3.0])  # the free optimum (1, 1) lies outside
-    r = O.creep_pattern(O.Problem(lower=lower, upper=upper, initial=[-1.2, 1.0], payoff="f", goal="min",
-                                  evaluate=f), step=1.0, min_step=1e-6, max_evaluations=5_000)
+    r = O.creep_pattern(
+        O.Problem(lower=lower, upper=upper, initial=[-1.2, 1.0], payoff="f", goal="min", evaluate=f),
+        step=1.0,
+        min_step=1e-6,
+        max_evaluations=5_000,
+    )
     pts = np.array(seen)
     assert np.all(pts >= lower) and np.all(pts <= upper)
     assert r.params[0] == pytest.approx(0.5, abs=1e-4)  # on the bound: x0 = 0.5, x1 = 0.25
@@ -52,9 +56,18 @@ def test_bounds_are_never_left():
 
 def constrained_quadratic(weight=1e4):
     # min x.x  with  x0 + x1 + x2 = 3 and x0 >= 1.5 (active): x = (1.5, 0.75, 0.75)
-    return O.Problem(lower=[-5] * 3, upper=[5] * 3, initial=[0, 0, 0], payoff="f", goal="min", evaluate=quadratic,
-                     constraints=(O.Constraint("sum", "equals", 3.0, 1e-3, weight),
-                                  O.Constraint("x0", "at_least", 1.5, 1e-3, weight)))
+    return O.Problem(
+        lower=[-5] * 3,
+        upper=[5] * 3,
+        initial=[0, 0, 0],
+        payoff="f",
+        goal="min",
+        evaluate=quadratic,
+        constraints=(
+            O.Constraint("sum", "equals", 3.0, 1e-3, weight),
+            O.Constraint("x0", "at_least", 1.5, 1e-3, weight),
+        ),
+    )
 
 
 def test_constrained_quadratic_by_two_routes():
@@ -75,12 +88,14 @@ def test_the_search_reports_every_flight_and_stops_when_asked():
     assert len(heard) == full.trajectories and heard == sorted(heard) and heard[-1] <= 1.0
     assert heard[:3] == pytest.approx([1 / 400, 2 / 400, 3 / 400])
     stops = []
-    cut = O.optimize(constrained_quadratic(), max_evaluations=400,
-                     on_progress=lambda f, note: stops.append(f) or len(stops) >= 25)
+    cut = O.optimize(
+        constrained_quadratic(), max_evaluations=400, on_progress=lambda f, note: stops.append(f) or len(stops) >= 25
+    )
     assert len(stops) == 25 and cut.trajectories == 25 and cut.augmented_payoff >= full.augmented_payoff
     scipy_heard = []
-    O.optimize_scipy(constrained_quadratic(), "Nelder-Mead", max_evaluations=50,
-                     on_progress=lambda f, note: scipy_heard.append(note))
+    O.optimize_scipy(
+        constrained_quadratic(), "Nelder-Mead", max_evaluations=50, on_progress=lambda f, note: scipy_heard.append(note)
+    )
     assert scipy_heard[0] == "trajectory 1 of at most 50"
 
 
@@ -92,15 +107,23 @@ def test_penalty_is_zero_inside_the_band_and_quadratic_outside():
     assert O.penalty((eq,), {"downrange_nmi": 3955.0}) == pytest.approx(400.0)  # (45 - 25)^2
     hot = O.Constraint("max_temperature_R", "at_most", 2550.0, O.TTOL_TEMPERATURE_R, weight=2.0)
     assert O.penalty((hot,), {"max_temperature_R": 2000.0}) == 0.0  # the safe side is never penalized
-    assert O.penalty((hot,), {"max_temperature_R": 2556.5}) == pytest.approx(2.0 * 4.0 ** 2)
-    pr = O.Problem(lower=[0], upper=[1], initial=[0], payoff="downrange_nmi", goal="max", constraints=(eq,),
-                   evaluate=lambda x: {})
+    assert O.penalty((hot,), {"max_temperature_R": 2556.5}) == pytest.approx(2.0 * 4.0**2)
+    pr = O.Problem(
+        lower=[0], upper=[1], initial=[0], payoff="downrange_nmi", goal="max", constraints=(eq,), evaluate=lambda x: {}
+    )
     assert O.augmented(pr, {"downrange_nmi": 4035.0}) == pytest.approx(-4035.0 + 100.0)  # always worse
 
 
 def test_an_unreachable_constraint_is_reported_infeasible():
-    pr = O.Problem(lower=[-5] * 3, upper=[5] * 3, initial=[0, 0, 0], payoff="f", goal="min", evaluate=quadratic,
-                   constraints=(O.Constraint("x0", "at_least", 7.0, 0.1),))
+    pr = O.Problem(
+        lower=[-5] * 3,
+        upper=[5] * 3,
+        initial=[0, 0, 0],
+        payoff="f",
+        goal="min",
+        evaluate=quadratic,
+        constraints=(O.Constraint("x0", "at_least", 7.0, 0.1),),
+    )
     r = O.optimize(pr, step=0.5, min_step=1e-6, max_evaluations=5_000)
     assert not r.feasible
     assert r.max_violation == pytest.approx(7.0 - 5.0 - 0.05, abs=1e-6)  # the best it could do: x0 on its bound
@@ -129,8 +152,11 @@ def test_slsqp_reaches_the_same_unconstrained_optimum(lod189):
 
 
 def test_downrange_constrained_optimum_lands_in_the_band(lod189):
-    r = O.optimize(O.cross_range_problem(lod189, downrange_nmi=4000.0), max_evaluations=400,
-                   **(O.CROSS_RANGE_SEARCH | {"ftol": 0.0}))
+    r = O.optimize(
+        O.cross_range_problem(lod189, downrange_nmi=4000.0),
+        max_evaluations=400,
+        **(O.CROSS_RANGE_SEARCH | {"ftol": 0.0}),
+    )
     assert r.feasible
     assert abs(r.summary["downrange_nmi"] - 4000.0) <= O.TTOL_DOWNRANGE_NMI / 2
     assert r.payoff > 1_900.0  # single-parameter control at 4,000 nmi: 1,929 nmi
@@ -139,8 +165,9 @@ def test_downrange_constrained_optimum_lands_in_the_band(lod189):
 def test_soft_start_beats_the_single_parameter_control_at_3000_nmi(lod189):
     # unit weights from the start stall at 1,658 nmi here, below the single-parameter control
     sp = F.single_parameter(lod189, bank0_deg=tuple(np.arange(95.0, 105.1, 0.5)), mirror=False, min_range=None)
-    r = O.optimize(O.cross_range_problem(lod189, downrange_nmi=3000.0), max_evaluations=1_200,
-                   **O.CONSTRAINED_CROSS_RANGE_SEARCH)
+    r = O.optimize(
+        O.cross_range_problem(lod189, downrange_nmi=3000.0), max_evaluations=1_200, **O.CONSTRAINED_CROSS_RANGE_SEARCH
+    )
     assert r.feasible
     d = r.summary["downrange_nmi"]
     pts = sorted((p.downrange_nmi, p.crossrange_nmi) for p in sp.points if p.side == "left")
@@ -149,8 +176,7 @@ def test_soft_start_beats_the_single_parameter_control_at_3000_nmi(lod189):
 
 
 def test_a_downrange_beyond_reach_is_infeasible(lod189):
-    r = O.optimize(O.cross_range_problem(lod189, downrange_nmi=16_000.0), max_evaluations=150,
-                   **O.CROSS_RANGE_SEARCH)
+    r = O.optimize(O.cross_range_problem(lod189, downrange_nmi=16_000.0), max_evaluations=150, **O.CROSS_RANGE_SEARCH)
     assert not r.feasible
     assert r.max_violation > 1_000.0  # zero bank reaches 14,869 nmi
 

@@ -57,8 +57,9 @@ def test_heading_at_the_ascending_node_is_90_minus_i(inclination_deg):
     assert descending == pytest.approx(0.0, abs=1e-12)  # 90 + i, within a turn
     if inclination_deg < 90.0:  # the plane's trace where it crosses a latitude: cos i = sin(heading) cos(lat)
         lat, _ = position(orbit, 1, 40.0)
-        assert inertial_heading_deg(orbit, 40.0) == pytest.approx(heading_for_inclination(lat, inclination_deg),
-                                                                  abs=1e-9)
+        assert inertial_heading_deg(orbit, 40.0) == pytest.approx(
+            heading_for_inclination(lat, inclination_deg), abs=1e-9
+        )
 
 
 @pytest.mark.parametrize("regression", [True, False])
@@ -115,8 +116,9 @@ def test_positions_lie_in_the_orbit_plane_in_inertial_coordinates():
     r = np.stack([np.cos(dec) * np.cos(ra), np.cos(dec) * np.sin(ra), np.sin(dec)], axis=-1)
     node = np.radians(raan + orbit.node_rate_deg_s * t)
     inc = math.radians(orbit.inclination_deg)
-    normal = np.stack([np.sin(node) * math.sin(inc), -np.cos(node) * math.sin(inc), np.full_like(node, math.cos(inc))],
-                      axis=-1)
+    normal = np.stack(
+        [np.sin(node) * math.sin(inc), -np.cos(node) * math.sin(inc), np.full_like(node, math.cos(inc))], axis=-1
+    )
     np.testing.assert_allclose(np.sum(r * normal, axis=-1), 0.0, atol=1e-12)
     to_node = np.stack([np.cos(node), np.sin(node), np.zeros_like(node)], axis=-1)
     np.testing.assert_allclose(np.sum(r * to_node, axis=-1), np.cos(np.radians(u)), atol=1e-12)

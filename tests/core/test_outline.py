@@ -74,8 +74,14 @@ def test_an_outline_keeps_the_boundary_points_and_follows_the_chart_edges():
     o = outline(down, cross, reference, max_edge_nmi=50.0)
     from footprint.core.sphere import downrange_crossrange_nmi
 
-    d, c = downrange_crossrange_nmi(o.latitude_deg, o.longitude_deg, reference.latitude_deg,
-                                    reference.longitude_deg, reference.heading_deg, unwrap=True)
+    d, c = downrange_crossrange_nmi(
+        o.latitude_deg,
+        o.longitude_deg,
+        reference.latitude_deg,
+        reference.longitude_deg,
+        reference.heading_deg,
+        unwrap=True,
+    )
     assert len(o.latitude_deg) > 5 * len(down)
     # every sample lies on a chart edge: its distance to the polygon's edges is round-off
     ring = np.column_stack([np.append(down, down[0]), np.append(cross, cross[0])])

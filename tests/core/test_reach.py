@@ -12,18 +12,50 @@ from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges
 
 R_NMI = MEAN_RADIUS_NMI
 # A small convex footprint about its reference: down-range, cross-range (nmi), flight time (s).
-SMALL = np.array([(1300.0, 0.0, 1900.0), (1250.0, 90.0, 1850.0), (1120.0, 150.0, 1700.0), (1000.0, 160.0, 1500.0),
-                  (900.0, 100.0, 1400.0), (860.0, 0.0, 1300.0), (900.0, -100.0, 1400.0), (1000.0, -160.0, 1500.0),
-                  (1120.0, -150.0, 1700.0), (1250.0, -90.0, 1850.0)])
+SMALL = np.array(
+    [
+        (1300.0, 0.0, 1900.0),
+        (1250.0, 90.0, 1850.0),
+        (1120.0, 150.0, 1700.0),
+        (1000.0, 160.0, 1500.0),
+        (900.0, 100.0, 1400.0),
+        (860.0, 0.0, 1300.0),
+        (900.0, -100.0, 1400.0),
+        (1000.0, -160.0, 1500.0),
+        (1120.0, -150.0, 1700.0),
+        (1250.0, -90.0, 1850.0),
+    ]
+)
 # A diamond on the initial great circle from 1,000 to 5,000 nmi.
 DIAMOND = np.array([(5000.0, 0.0, 3000.0), (3000.0, 500.0, 2000.0), (1000.0, 0.0, 1000.0), (3000.0, -500.0, 2000.0)])
 # The shape of the L/D 1.89 footprint (Table 2 entry, inertial speed, non-rotating earth), rounded: it
 # reaches past half the circumference (pi R' = 10,807 nmi).
-LOD189 = np.array([(15202, 0, 4779), (14690, 852, 4652), (13366, 1459, 4326), (11418, 1880, 3852),
-                   (8999, 2138, 3275), (6337, 2227, 2649), (4044, 2118, 2105), (2645, 1778, 1730), (1908, 1279, 1445),
-                   (1554, 739, 1170), (1404, 20, 338), (1404, -20, 338), (1554, -739, 1169), (1908, -1279, 1445),
-                   (2645, -1778, 1730), (4044, -2118, 2105), (6337, -2227, 2649), (8999, -2138, 3275),
-                   (11418, -1880, 3852), (13366, -1459, 4326), (14690, -852, 4652)], float)
+LOD189 = np.array(
+    [
+        (15202, 0, 4779),
+        (14690, 852, 4652),
+        (13366, 1459, 4326),
+        (11418, 1880, 3852),
+        (8999, 2138, 3275),
+        (6337, 2227, 2649),
+        (4044, 2118, 2105),
+        (2645, 1778, 1730),
+        (1908, 1279, 1445),
+        (1554, 739, 1170),
+        (1404, 20, 338),
+        (1404, -20, 338),
+        (1554, -739, 1169),
+        (1908, -1279, 1445),
+        (2645, -1778, 1730),
+        (4044, -2118, 2105),
+        (6337, -2227, 2649),
+        (8999, -2138, 3275),
+        (11418, -1880, 3852),
+        (13366, -1459, 4326),
+        (14690, -852, 4652),
+    ],
+    float,
+)
 
 
 def cols(poly):
@@ -34,10 +66,16 @@ def assert_same_windows(a, b):
     assert len(a) == len(b)
     for x, y in zip(a, b):
         assert (x.site, x.revolution, x.u_start_deg, x.u_end_deg, x.samples) == (
-            y.site, y.revolution, y.u_start_deg, y.u_end_deg, y.samples)
+            y.site,
+            y.revolution,
+            y.u_start_deg,
+            y.u_end_deg,
+            y.samples,
+        )
         assert x.max_margin_nmi == pytest.approx(y.max_margin_nmi, abs=1e-6)  # nmi, rounding
         assert (x.deorbit_time_start_s, x.deorbit_time_end_s) == pytest.approx(
-            (y.deorbit_time_start_s, y.deorbit_time_end_s), abs=1e-6)
+            (y.deorbit_time_start_s, y.deorbit_time_end_s), abs=1e-6
+        )
 
 
 def test_a_site_at_a_footprint_point_is_on_the_boundary_and_a_nudge_decides():
@@ -51,8 +89,9 @@ def test_a_site_at_a_footprint_point_is_on_the_boundary_and_a_nudge_decides():
         assert inside[0] and abs(m[0]) < 1e-6  # nmi: on the boundary counts as inside
         for nudge_nmi, expect in ((0.5, True), (-0.5, False)):
             dn, cn = np.array([dv, cv]) + nudge_nmi * toward
-            m, inside = placement_margins(ref, d, c, t, *latlon_from_ranges(dn, cn, ref.latitude_deg,
-                                                                             ref.longitude_deg, ref.heading_deg))
+            m, inside = placement_margins(
+                ref, d, c, t, *latlon_from_ranges(dn, cn, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
+            )
             assert inside[0] == expect
             assert (m[0] > 0) == expect and 0.05 < abs(m[0]) <= 0.5 + 1e-6  # nmi, a nudge at a convex corner
 
@@ -73,8 +112,9 @@ def test_the_footprint_reaches_past_half_the_circumference():
 def test_a_site_on_the_ground_track_is_reached_over_the_analytic_u_window():
     """No earth rotation, no regression: the track is one great circle and a site on it at u_s is reached from
     u_s - 5,000/R' to u_s - 1,000/R' (radians): 116.73 to 183.35 deg, a width of 66.6 deg."""
-    orbit = CircularOrbit(40.0, 100 * FT_PER_NMI, node_longitude_deg=25.0, rotation_rate_deg_s=0.0,
-                          nodal_regression=False)
+    orbit = CircularOrbit(
+        40.0, 100 * FT_PER_NMI, node_longitude_deg=25.0, rotation_rate_deg_s=0.0, nodal_regression=False
+    )
     lat, lon = position(orbit, 1, 200.0)
     d, c, t = cols(DIAMOND)
     r = reach(d, c, t, [lat], [lon], orbit, [1, 2], u_step_deg=1.0, earth_rotation="none")
@@ -97,8 +137,14 @@ def test_a_window_across_the_node_is_one_pass():
     d, c, t = cols(DIAMOND)
     r = reach(d, c, t, [lat], [lon], orbit, [1, 2, 3], earth_rotation="none")
     got = [(w.revolution, w.u_start_deg, w.u_end_deg) for w in r.windows]
-    assert got == [(1, 0.0, 13.0), (1, 307.0, 359.0), (2, 0.0, 13.0), (2, 307.0, 359.0), (3, 0.0, 13.0),
-                   (3, 307.0, 359.0)]
+    assert got == [
+        (1, 0.0, 13.0),
+        (1, 307.0, 359.0),
+        (2, 0.0, 13.0),
+        (2, 307.0, 359.0),
+        (3, 0.0, 13.0),
+        (3, 307.0, 359.0),
+    ]
     assert [len(p) for p in r.passes(0)] == [1, 2, 2, 1]
     cut = reach(d, c, t, [lat], [lon], orbit, [1, 2, 3], earth_rotation="none", time_span_s=1.5 * orbit.period_s)
     assert [(w.revolution, w.u_start_deg) for w in cut.windows] == [(1, 0.0), (1, 307.0), (2, 0.0)]
@@ -144,7 +190,8 @@ def test_near_the_pole_a_polar_orbit_matches_the_same_geometry_on_the_equator():
     pole = [(x.u_start_deg, x.u_end_deg) for x in a.windows if x.site == 4]
     assert pole == [(47.0, 61.0)]
     assert (90.0 - math.degrees(2600.0 / R_NMI), 90.0 - math.degrees(1720.0 / R_NMI)) == pytest.approx(
-        (46.70, 61.35), abs=0.01)
+        (46.70, 61.35), abs=0.01
+    )
 
 
 def test_margins_agree_with_great_circle_distances_to_a_dense_boundary():
@@ -223,13 +270,33 @@ def test_progress_rises_over_the_placements_and_a_true_answer_stops():
     orbit = CircularOrbit(28.5, 100 * FT_PER_NMI)
     d, c, t = cols(LOD189)
     reports = []
-    full = reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0, chunk_elements=len(d) * 40,
-                 on_progress=lambda f, note: reports.append((f, note)) and False)
+    full = reach(
+        d,
+        c,
+        t,
+        [28.5],
+        [-80.6],
+        orbit,
+        range(1, 4),
+        u_step_deg=2.0,
+        chunk_elements=len(d) * 40,
+        on_progress=lambda f, note: reports.append((f, note)) and False,
+    )
     placements = 3 * 180
     assert [f for f, _ in reports] == [a / placements for a in range(0, placements, 40)]
     assert reports[1][1] == "placement 40 of 540"
     assert_same_windows(full.windows, reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0).windows)
     asked = []
     with pytest.raises(Stopped, match="stopped at placement 80 of 540"):
-        reach(d, c, t, [28.5], [-80.6], orbit, range(1, 4), u_step_deg=2.0, chunk_elements=len(d) * 40,
-              on_progress=lambda f, note: asked.append(f) or len(asked) == 3)
+        reach(
+            d,
+            c,
+            t,
+            [28.5],
+            [-80.6],
+            orbit,
+            range(1, 4),
+            u_step_deg=2.0,
+            chunk_elements=len(d) * 40,
+            on_progress=lambda f, note: asked.append(f) or len(asked) == 3,
+        )

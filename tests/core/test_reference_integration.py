@@ -121,7 +121,9 @@ def position_from_geodetic(lat, lon, alt, oblate):
         r = RE + alt
         return np.array([r * cos_lat * math.cos(lon), r * cos_lat * math.sin(lon), r * sin_lat])
     n = RE / math.sqrt(1.0 - E2 * sin_lat * sin_lat)
-    return np.array([(n + alt) * cos_lat * math.cos(lon), (n + alt) * cos_lat * math.sin(lon), (n * (1.0 - E2) + alt) * sin_lat])
+    return np.array(
+        [(n + alt) * cos_lat * math.cos(lon), (n + alt) * cos_lat * math.sin(lon), (n * (1.0 - E2) + alt) * sin_lat]
+    )
 
 
 def rot_z(angle):
@@ -197,8 +199,7 @@ class Reference:
         left = np.cross(rhat, vhat)
         left /= math.sqrt(left @ left)
         b = math.radians(self.bank_deg(t, r, vr, active))
-        a = gravity(r, self.oblate) + force_per_coeff * (
-            cl * (math.cos(b) * lift_up + math.sin(b) * left) - cd * vhat)
+        a = gravity(r, self.oblate) + force_per_coeff * (cl * (math.cos(b) * lift_up + math.sin(b) * left) - cd * vhat)
         return np.concatenate([y[3:], a])
 
     # --- the flight
@@ -254,21 +255,31 @@ BANKS = {
     "K0.8": ({"law": "single_parameter", "bank_gain": 0.8, "limit_deg": 85.0}, ("single_parameter", 0.8, 85.0)),
     "K0.6": ({"law": "single_parameter", "bank_gain": 0.6}, ("single_parameter", 0.6, None)),
 }
-PLANETS = {"sphere-fixed": (False, False), "sphere-rot": (False, True), "oblate-fixed": (True, False),
-           "oblate-rot": (True, True)}
+PLANETS = {
+    "sphere-fixed": (False, False),
+    "sphere-rot": (False, True),
+    "oblate-fixed": (True, False),
+    "oblate-rot": (True, True),
+}
 
-CASES = {f"{planet}-{bank}": (planet, bank, "lod-2.2", TABLE2_ENTRY) for planet in PLANETS
-         for bank in ("bank30", "K0.8")}
+CASES = {
+    f"{planet}-{bank}": (planet, bank, "lod-2.2", TABLE2_ENTRY) for planet in PLANETS for bank in ("bank30", "K0.8")
+}
 CASES["inclined-oblate-rot-K0.6"] = ("oblate-rot", "K0.6", "constant", INCLINED_ENTRY)
 
 
 def case_dict(name):
     planet, bank, vehicle, entry = CASES[name]
     oblate, rotating = PLANETS[planet]
-    return {"vehicle": CONSTANT_VEHICLE if vehicle == "constant" else {"builtin": vehicle},
-            "planet": {"rotating": rotating, "oblate": oblate}, "entry": dict(entry),
-            "alpha": {"law": "max_ld"}, "bank": BANKS[bank][0], "bank_start": "pullout",
-            "stop": table2_stop()}
+    return {
+        "vehicle": CONSTANT_VEHICLE if vehicle == "constant" else {"builtin": vehicle},
+        "planet": {"rotating": rotating, "oblate": oblate},
+        "entry": dict(entry),
+        "alpha": {"law": "max_ld"},
+        "bank": BANKS[bank][0],
+        "bank_start": "pullout",
+        "stop": table2_stop(),
+    }
 
 
 def reference_for(name):
@@ -283,7 +294,7 @@ def reference_for(name):
     return Reference(oblate=oblate, rotating=rotating, entry=entry, bank=BANKS[bank][1], vehicle=veh)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def flown(name):
     """(fly() trajectory, reference, reference result) of one case, computed once."""
     ref = reference_for(name)
@@ -299,18 +310,40 @@ def comparison(name):
     traj, _, res = flown(name)
     s = traj.summary
     rows = [
-        ("final_latitude_deg", s["final_latitude_deg"], res["final_latitude_deg"],
-         s["final_latitude_deg"] - res["final_latitude_deg"], TOL_LATLON_DEG),
-        ("final_longitude_deg", s["final_longitude_deg"], res["final_longitude_deg"],
-         wrap180(s["final_longitude_deg"] - res["final_longitude_deg"]), TOL_LATLON_DEG),
-        ("flight_time_s", s["flight_time_s"], res["flight_time_s"],
-         s["flight_time_s"] - res["flight_time_s"], TOL_TIME_S),
+        (
+            "final_latitude_deg",
+            s["final_latitude_deg"],
+            res["final_latitude_deg"],
+            s["final_latitude_deg"] - res["final_latitude_deg"],
+            TOL_LATLON_DEG,
+        ),
+        (
+            "final_longitude_deg",
+            s["final_longitude_deg"],
+            res["final_longitude_deg"],
+            wrap180(s["final_longitude_deg"] - res["final_longitude_deg"]),
+            TOL_LATLON_DEG,
+        ),
+        (
+            "flight_time_s",
+            s["flight_time_s"],
+            res["flight_time_s"],
+            s["flight_time_s"] - res["flight_time_s"],
+            TOL_TIME_S,
+        ),
     ]
     po = res["pullout"]
     ours_po = s["pullout_altitude_ft"]
     if po is None or ours_po is None:
-        rows.append(("pullout_altitude_ft", ours_po, None if po is None else po["altitude_ft"],
-                     0.0 if po is None and ours_po is None else math.inf, TOL_PULLOUT_FT))
+        rows.append(
+            (
+                "pullout_altitude_ft",
+                ours_po,
+                None if po is None else po["altitude_ft"],
+                0.0 if po is None and ours_po is None else math.inf,
+                TOL_PULLOUT_FT,
+            )
+        )
     else:
         rows.append(("pullout_altitude_ft", ours_po, po["altitude_ft"], ours_po - po["altitude_ft"], TOL_PULLOUT_FT))
     return rows
@@ -344,7 +377,8 @@ def test_reference_initial_state_is_table_2():
     # Section II.2: 24,480 ft/s relative "corresponds to an inertial velocity of 26,032 feet/second"
     assert np.linalg.norm(v_i) == pytest.approx(REPORT["entry.inertial_velocity_text_fps"].value, abs=3.0)
     assert math.degrees(math.asin(r @ ref.v_rel(ref.y0) / np.linalg.norm(r) / v_rel)) == pytest.approx(
-        REPORT["table2.gamma_deg"].value)
+        REPORT["table2.gamma_deg"].value
+    )
     assert ref.zeta_deg(0.0, r, ref.v_rel(ref.y0)) == pytest.approx(REPORT["table2.heading_deg"].value, abs=1e-12)
 
 
@@ -359,8 +393,7 @@ def test_fly_agrees_with_the_reference(name):
     assert traj.summary["stop_reason"] == "altitude"
     assert res["final_altitude_ft"] == pytest.approx(50_000.0, abs=1e-3)
     rows = comparison(name)
-    table = "\n".join(f"  {q:22s} ours {o!s:>22} ref {r!s:>22} diff {d:+.3g} (tol {tol:g})"
-                      for q, o, r, d, tol in rows)
+    table = "\n".join(f"  {q:22s} ours {o!s:>22} ref {r!s:>22} diff {d:+.3g} (tol {tol:g})" for q, o, r, d, tol in rows)
     bad = [q for q, _, _, d, tol in rows if not abs(d) <= tol]
     assert not bad, f"{name}: {bad} disagree with the reference\n{table}"
 
@@ -372,8 +405,11 @@ def test_fly_follows_the_reference_along_the_trajectory(name):
     worst = {"altitude_ft": 0.0, "latitude_deg": 0.0, "longitude_deg": 0.0}
     for i in np.flatnonzero(h["time_s"] <= res["flight_time_s"]):
         lat, lon, alt = ref.earth_fixed_at(res, h["time_s"][i])
-        for key, d in (("altitude_ft", h["altitude_ft"][i] - alt), ("latitude_deg", h["latitude_deg"][i] - lat),
-                       ("longitude_deg", wrap180(h["longitude_deg"][i] - lon))):
+        for key, d in (
+            ("altitude_ft", h["altitude_ft"][i] - alt),
+            ("latitude_deg", h["latitude_deg"][i] - lat),
+            ("longitude_deg", wrap180(h["longitude_deg"][i] - lon)),
+        ):
             worst[key] = max(worst[key], abs(d))
     assert worst["altitude_ft"] <= TOL_HISTORY_ALT_FT, worst
     assert worst["latitude_deg"] <= TOL_HISTORY_LATLON_DEG, worst

@@ -17,31 +17,56 @@ from footprint.core.sphere import (
 UNIT_VECTOR_TOL = 1e-15  # a few ulps of a coordinate of a unit vector
 
 
-@pytest.mark.parametrize("lon, expected", [
-    (-180.0, -180.0), (180.0, -180.0), (540.0, -180.0), (-540.0, -180.0),  # [-180, 180): +180 becomes -180
-    (0.0, 0.0), (179.75, 179.75), (-179.75, -179.75), (190.0, -170.0), (-190.0, 170.0), (359.0, -1.0),
-    (720.25, 0.25), (-1080.5, -0.5),
-])
+@pytest.mark.parametrize(
+    "lon, expected",
+    [
+        (-180.0, -180.0),
+        (180.0, -180.0),
+        (540.0, -180.0),
+        (-540.0, -180.0),  # [-180, 180): +180 becomes -180
+        (0.0, 0.0),
+        (179.75, 179.75),
+        (-179.75, -179.75),
+        (190.0, -170.0),
+        (-190.0, 170.0),
+        (359.0, -1.0),
+        (720.25, 0.25),
+        (-1080.5, -0.5),
+    ],
+)
 def test_wrap_is_half_open_above_by_default(lon, expected):
     assert float(wrap_longitude(lon)) == expected
 
 
-@pytest.mark.parametrize("lon, expected", [
-    (-180.0, 180.0), (180.0, 180.0), (540.0, 180.0), (-540.0, 180.0),  # (-180, 180]: -180 becomes +180
-    (0.0, 0.0), (179.75, 179.75), (-179.75, -179.75), (190.0, -170.0), (-190.0, 170.0),
-])
+@pytest.mark.parametrize(
+    "lon, expected",
+    [
+        (-180.0, 180.0),
+        (180.0, 180.0),
+        (540.0, 180.0),
+        (-540.0, 180.0),  # (-180, 180]: -180 becomes +180
+        (0.0, 0.0),
+        (179.75, 179.75),
+        (-179.75, -179.75),
+        (190.0, -170.0),
+        (-190.0, 170.0),
+    ],
+)
 def test_wrap_closed_above_keeps_plus_180(lon, expected):
     assert float(wrap_longitude(lon, closed_above=True)) == expected
 
 
-@pytest.mark.parametrize("lon, center, expected, expected_closed_above", [
-    (10.0, 360.0, 370.0, 370.0),
-    (-170.0, 180.0, 190.0, 190.0),
-    (0.0, 180.0, 0.0, 360.0),  # the window [0, 360) about 180, or (0, 360]
-    (360.0, 180.0, 0.0, 360.0),
-    (-90.0, -90.0, -90.0, -90.0),
-    (90.0, -90.0, -270.0, 90.0),  # the window [-270, 90) about -90, or (-270, 90]
-])
+@pytest.mark.parametrize(
+    "lon, center, expected, expected_closed_above",
+    [
+        (10.0, 360.0, 370.0, 370.0),
+        (-170.0, 180.0, 190.0, 190.0),
+        (0.0, 180.0, 0.0, 360.0),  # the window [0, 360) about 180, or (0, 360]
+        (360.0, 180.0, 0.0, 360.0),
+        (-90.0, -90.0, -90.0, -90.0),
+        (90.0, -90.0, -270.0, 90.0),  # the window [-270, 90) about -90, or (-270, 90]
+    ],
+)
 def test_wrap_about_a_centre(lon, center, expected, expected_closed_above):
     assert float(wrap_longitude(lon, center)) == expected
     assert float(wrap_longitude(lon, center, closed_above=True)) == expected_closed_above
@@ -88,11 +113,16 @@ def test_a_half_is_closed_along_the_axis_and_a_whole_boundary_is_not():
 
 
 def test_unit_vectors_broadcast_and_the_initial_great_circle():
-    np.testing.assert_allclose(unit_vectors(0.0, [0.0, 90.0, 180.0]), [[1, 0, 0], [0, 1, 0], [-1, 0, 0]],
-                               atol=UNIT_VECTOR_TOL)
+    np.testing.assert_allclose(
+        unit_vectors(0.0, [0.0, 90.0, 180.0]), [[1, 0, 0], [0, 1, 0], [-1, 0, 0]], atol=UNIT_VECTOR_TOL
+    )
     np.testing.assert_allclose(unit_vectors([90.0, -90.0], 0.0), [[0, 0, 1], [0, 0, -1]], atol=UNIT_VECTOR_TOL)
     # eastbound from (0, 0): the equator; northbound: the meridian of Greenwich
-    np.testing.assert_allclose(great_circle(Reference(0.0, 0.0, 90.0), [0.0, 90.0, 180.0]),
-                               [[1, 0, 0], [0, 1, 0], [-1, 0, 0]], atol=UNIT_VECTOR_TOL)
-    np.testing.assert_allclose(great_circle(Reference(0.0, 0.0, 0.0), [90.0, -90.0]), [[0, 0, 1], [0, 0, -1]],
-                               atol=UNIT_VECTOR_TOL)
+    np.testing.assert_allclose(
+        great_circle(Reference(0.0, 0.0, 90.0), [0.0, 90.0, 180.0]),
+        [[1, 0, 0], [0, 1, 0], [-1, 0, 0]],
+        atol=UNIT_VECTOR_TOL,
+    )
+    np.testing.assert_allclose(
+        great_circle(Reference(0.0, 0.0, 0.0), [90.0, -90.0]), [[0, 0, 1], [0, 0, -1]], atol=UNIT_VECTOR_TOL
+    )

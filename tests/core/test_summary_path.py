@@ -27,22 +27,32 @@ def variant(base, **changes):
 CASES = {
     "table2": TABLE2,
     "lod189 past half a circumference": LOD189,
-    "reference heating, banked": variant(LOD189, heating={"model": "reference"},
-                                         bank={"law": "constant", "bank_deg": 40}),
+    "reference heating, banked": variant(
+        LOD189, heating={"model": "reference"}, bank={"law": "constant", "bank_deg": 40}
+    ),
     "thin skin": variant(LOD189, heating={"model": "reference", "skin_heat_capacity_btu_ft2_R": 0.01}),
     # about Betts' shuttle correlation: 17,700 (1e-4)^3.07 rho^0.5 V^3.07
-    "correlation heating": variant(TABLE2, heating={"model": "correlation", "coefficient": 9.3e-9,
-                                                    "velocity_exponent": 3.07, "emissivity": 0.8}),
-    "skip-out": variant(TABLE2, entry=dict(TABLE2["entry"], velocity_fps=26_500, gamma_deg=-1.0),
-                        stop={"altitude_ft": 50_000, "max_altitude_ft": 600_000}),
-    "orbiting, stopped by time": variant(TABLE2, entry=dict(TABLE2["entry"], velocity_fps=25_800, gamma_deg=-1.0),
-                                         stop={"altitude_ft": 50_000, "time_s": 20_000}),
+    "correlation heating": variant(
+        TABLE2, heating={"model": "correlation", "coefficient": 9.3e-9, "velocity_exponent": 3.07, "emissivity": 0.8}
+    ),
+    "skip-out": variant(
+        TABLE2,
+        entry=dict(TABLE2["entry"], velocity_fps=26_500, gamma_deg=-1.0),
+        stop={"altitude_ft": 50_000, "max_altitude_ft": 600_000},
+    ),
+    "orbiting, stopped by time": variant(
+        TABLE2,
+        entry=dict(TABLE2["entry"], velocity_fps=25_800, gamma_deg=-1.0),
+        stop={"altitude_ft": 50_000, "time_s": 20_000},
+    ),
     "stopped by velocity": variant(TABLE2, stop={"altitude_ft": None, "velocity_fps": 8_000}),
     "zero lift, ground hit": variant(TABLE2, bank={"law": "zero_lift"}, stop={"altitude_ft": 0}),
     "constant-altitude turn": variant(TABLE2, bank={"law": "constant_altitude", "turn_deg": 60}),
     "high-lod, far off the initial great circle": variant(TABLE2, vehicle={"builtin": "high-lod"}),
-    "inertial entry near the date line": variant(TABLE2, entry=dict(TABLE2["entry"], velocity_frame="inertial",
-                                                 heading_deg=10, latitude_deg=30, longitude_deg=170)),
+    "inertial entry near the date line": variant(
+        TABLE2,
+        entry=dict(TABLE2["entry"], velocity_frame="inertial", heading_deg=10, latitude_deg=30, longitude_deg=170),
+    ),
 }
 
 
@@ -65,16 +75,36 @@ def test_a_dispersed_heated_flight_gives_the_same_summary_both_ways():
 
 
 @settings(max_examples=60, deadline=None)
-@given(latitude_deg=st.floats(-80, 80), longitude_deg=st.floats(-180, 180), heading_deg=st.floats(-180, 360),
-       velocity_fps=st.floats(20_000, 27_500), gamma_deg=st.floats(-5, -0.5), bank_deg=st.floats(-100, 100),
-       vehicle=st.sampled_from(["lod-1.89", "lod-2.2", "lod-2.6"]))
-def test_summary_path_equals_the_full_path_anywhere(latitude_deg, longitude_deg, heading_deg, velocity_fps,
-                                                    gamma_deg, bank_deg, vehicle):
-    entry = dict(TABLE2["entry"], latitude_deg=latitude_deg, longitude_deg=longitude_deg, heading_deg=heading_deg,
-                 velocity_fps=velocity_fps, gamma_deg=gamma_deg)
-    spec = parse("case", variant(TABLE2, vehicle={"builtin": vehicle}, entry=entry,
-                                 bank={"law": "constant", "bank_deg": bank_deg},
-                                 stop={"altitude_ft": 50_000, "time_s": 15_000})).to_spec()
+@given(
+    latitude_deg=st.floats(-80, 80),
+    longitude_deg=st.floats(-180, 180),
+    heading_deg=st.floats(-180, 360),
+    velocity_fps=st.floats(20_000, 27_500),
+    gamma_deg=st.floats(-5, -0.5),
+    bank_deg=st.floats(-100, 100),
+    vehicle=st.sampled_from(["lod-1.89", "lod-2.2", "lod-2.6"]),
+)
+def test_summary_path_equals_the_full_path_anywhere(
+    latitude_deg, longitude_deg, heading_deg, velocity_fps, gamma_deg, bank_deg, vehicle
+):
+    entry = dict(
+        TABLE2["entry"],
+        latitude_deg=latitude_deg,
+        longitude_deg=longitude_deg,
+        heading_deg=heading_deg,
+        velocity_fps=velocity_fps,
+        gamma_deg=gamma_deg,
+    )
+    spec = parse(
+        "case",
+        variant(
+            TABLE2,
+            vehicle={"builtin": vehicle},
+            entry=entry,
+            bank={"law": "constant", "bank_deg": bank_deg},
+            stop={"altitude_ft": 50_000, "time_s": 15_000},
+        ),
+    ).to_spec()
     assert bits(simulate_summary(spec)) == bits(simulate(spec).summary)
 
 

@@ -1,6 +1,5 @@
 """Whole-trajectory checks that could fail: conservation laws, symmetry, convergence, the report's Table 2."""
 
-
 import numpy as np
 import pytest
 
@@ -15,8 +14,13 @@ TABLE2_ENTRY = table2_entry()
 
 
 def case(vehicle="lod-2.2", bank=None, planet=None, **kw):
-    definition = {"vehicle": vehicle if isinstance(vehicle, dict) else {"builtin": vehicle}, "entry": dict(TABLE2_ENTRY), "alpha": {"law": "max_ld"},
-         "bank": bank or {"law": "zero"}, "stop": table2_stop()}
+    definition = {
+        "vehicle": vehicle if isinstance(vehicle, dict) else {"builtin": vehicle},
+        "entry": dict(TABLE2_ENTRY),
+        "alpha": {"law": "max_ld"},
+        "bank": bank or {"law": "zero"},
+        "stop": table2_stop(),
+    }
     if planet is not None:
         definition["planet"] = planet
     definition.update(kw)
@@ -25,14 +29,25 @@ def case(vehicle="lod-2.2", bank=None, planet=None, **kw):
 
 def vacuum_orbit(rotating):
     """A constant-aero vehicle in an atmosphere of zero density, on an eccentric orbit for 5,000 s."""
-    vehicle = vehicle_from_definition({"name": "probe", "wing_loading_psf": 40,
-                                       "aero": {"constant": {"cl": 0.3, "cd": 0.1}}})
+    vehicle = vehicle_from_definition(
+        {"name": "probe", "wing_loading_psf": 40, "aero": {"constant": {"cl": 0.3, "cd": 0.1}}}
+    )
     planet = Planet(rotating=rotating, atmosphere="exponential", rho0_slug_ft3=0.0)
-    return FlightSpec(vehicle=vehicle, planet=planet,
-                      entry=Entry(altitude_ft=364_800, velocity_fps=26_500, gamma_deg=1.0, heading_deg=60,
-                                  latitude_deg=10, velocity_frame="inertial"),
-                      ctrl=pack_controls(bank_law="constant", bank_deg=30.0, bank_start="entry"),
-                      stop=Stop(altitude_ft=None, time_s=5_000.0, skip_altitude_ft=1e9), rtol=1e-10)
+    return FlightSpec(
+        vehicle=vehicle,
+        planet=planet,
+        entry=Entry(
+            altitude_ft=364_800,
+            velocity_fps=26_500,
+            gamma_deg=1.0,
+            heading_deg=60,
+            latitude_deg=10,
+            velocity_frame="inertial",
+        ),
+        ctrl=pack_controls(bank_law="constant", bank_deg=30.0, bank_start="entry"),
+        stop=Stop(altitude_ft=None, time_s=5_000.0, skip_altitude_ft=1e9),
+        rtol=1e-10,
+    )
 
 
 def potential(x, y, z):
@@ -41,8 +56,16 @@ def potential(x, y, z):
     s = z / r
     q = c.RADIUS_EQUATORIAL_FT / r
     j2, j3, j4 = c.J_ZONAL / 1.5, c.H_ZONAL / 2.5, -c.K_ZONAL / 3.75
-    return c.MU_EARTH_FT3_S2 / r * (1 - j2 * q**2 * (3 * s**2 - 1) / 2 - j3 * q**3 * (5 * s**3 - 3 * s) / 2
-                                    - j4 * q**4 * (35 * s**4 - 30 * s**2 + 3) / 8)
+    return (
+        c.MU_EARTH_FT3_S2
+        / r
+        * (
+            1
+            - j2 * q**2 * (3 * s**2 - 1) / 2
+            - j3 * q**3 * (5 * s**3 - 3 * s) / 2
+            - j4 * q**4 * (35 * s**4 - 30 * s**2 + 3) / 8
+        )
+    )
 
 
 @pytest.mark.parametrize("rotating", [False, True])
@@ -66,8 +89,9 @@ def test_energy_is_conserved_without_air(rotating):
     assert np.max(np.abs(energy / energy[0] - 1)) < 1e-9
 
 
-@pytest.mark.parametrize("bank", [{"law": "constant", "bank_deg": 35},
-                                  {"law": "single_parameter", "bank_gain": 0.9, "limit_deg": 85}])
+@pytest.mark.parametrize(
+    "bank", [{"law": "constant", "bank_deg": 35}, {"law": "single_parameter", "bank_gain": 0.9, "limit_deg": 85}]
+)
 def test_mirror_bank_gives_mirror_crossrange(bank):
     # non-rotating earth without the odd zonal term H (J3), the only north-south asymmetry of App. A
     planet = {"rotating": False, "oblate": True, "h": 0.0}

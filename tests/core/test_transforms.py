@@ -43,6 +43,8 @@ CIRCLE_POLE_BAND_NMI = math.radians(0.001) * MEAN_RADIUS_NMI
 
 def off_circle_pole(cross_nmi):
     return abs(cross_nmi) < math.pi / 2 * MEAN_RADIUS_NMI - CIRCLE_POLE_BAND_NMI
+
+
 AUTHORITY_DEG = 1e-6  # against geographiclib and the report's trigonometry (acos near 1 keeps ~8 digits)
 # The printed forms take arc cosines of numbers that tend to 1: eq. (10) for points abeam of the start,
 # eq. (8) solved for the longitude difference in the iteration for points due north or south of it. A few
@@ -59,10 +61,20 @@ references = st.builds(Reference, lats, lons, headings)
 
 def arc_deg(lat1, lon1, lat2, lon2):
     """Angle between two points (deg), robust at 0 and near the poles (vector form, independent of ours)."""
-    a = np.array([math.cos(math.radians(lat1)) * math.cos(math.radians(lon1)),
-                  math.cos(math.radians(lat1)) * math.sin(math.radians(lon1)), math.sin(math.radians(lat1))])
-    b = np.array([math.cos(math.radians(lat2)) * math.cos(math.radians(lon2)),
-                  math.cos(math.radians(lat2)) * math.sin(math.radians(lon2)), math.sin(math.radians(lat2))])
+    a = np.array(
+        [
+            math.cos(math.radians(lat1)) * math.cos(math.radians(lon1)),
+            math.cos(math.radians(lat1)) * math.sin(math.radians(lon1)),
+            math.sin(math.radians(lat1)),
+        ]
+    )
+    b = np.array(
+        [
+            math.cos(math.radians(lat2)) * math.cos(math.radians(lon2)),
+            math.cos(math.radians(lat2)) * math.sin(math.radians(lon2)),
+            math.sin(math.radians(lat2)),
+        ]
+    )
     return math.degrees(math.atan2(np.linalg.norm(np.cross(a, b)), a @ b))
 
 
@@ -80,10 +92,19 @@ def report_ranges_nmi(lat, lon, lat0, lon0, sigma0):
     quadrant its numerator and denominator give.
     """
     phi_L, theta_L, phi_L0, theta_L0, sigma_0 = map(math.radians, (lat, lon, lat0, lon0, sigma0))
-    LF = math.acos(max(-1.0, min(1.0, math.sin(phi_L) * math.sin(phi_L0)
-                                  + math.cos(phi_L) * math.cos(phi_L0) * math.cos(theta_L - theta_L0))))  # (8)
-    zeta = math.atan2(math.sin(theta_L - theta_L0) * math.cos(phi_L) * math.cos(phi_L0),
-                      math.sin(phi_L) - math.sin(phi_L0) * math.cos(LF))  # (9)
+    LF = math.acos(
+        max(
+            -1.0,
+            min(
+                1.0,
+                math.sin(phi_L) * math.sin(phi_L0) + math.cos(phi_L) * math.cos(phi_L0) * math.cos(theta_L - theta_L0),
+            ),
+        )
+    )  # (8)
+    zeta = math.atan2(
+        math.sin(theta_L - theta_L0) * math.cos(phi_L) * math.cos(phi_L0),
+        math.sin(phi_L) - math.sin(phi_L0) * math.cos(LF),
+    )  # (9)
     xi = zeta - sigma_0
     Y_D = R * math.asin(math.sin(LF) * math.sin(xi))  # (11)
     X_D = R * math.acos(max(-1.0, min(1.0, math.cos(LF) / math.cos(math.asin(math.sin(LF) * math.sin(xi))))))  # (10)
@@ -116,8 +137,10 @@ def report_latlon(down_nmi, cross_nmi, lat0, lon0, sigma0_M, tol_rad=1e-15):
         return d if east else -d
 
     def zeta(phi_LM):  # eq. (9)
-        return math.atan2(math.sin(dtheta(phi_LM)) * math.cos(phi_LM) * math.cos(phi_L0),
-                          math.sin(phi_LM) - math.sin(phi_L0) * math.cos(LF_M))
+        return math.atan2(
+            math.sin(dtheta(phi_LM)) * math.cos(phi_LM) * math.cos(phi_L0),
+            math.sin(phi_LM) - math.sin(phi_L0) * math.cos(LF_M),
+        )
 
     lo = math.asin(math.sin(phi_L0) * math.cos(LF_M) - math.cos(phi_L0) * math.sin(LF_M))  # zeta = +-180 deg
     hi = math.asin(math.sin(phi_L0) * math.cos(LF_M) + math.cos(phi_L0) * math.sin(LF_M))  # zeta = 0
@@ -144,8 +167,11 @@ def test_latlon_to_ranges_and_back_is_the_identity(lat, lon, ref):
 
 
 @settings(max_examples=300, deadline=None)
-@given(d=st.floats(-CIRCUMFERENCE_NMI / 2 * 0.999999, CIRCUMFERENCE_NMI / 2 * 0.999999),
-       c=st.floats(-0.999 * math.pi / 2 * R, 0.999 * math.pi / 2 * R), ref=references)
+@given(
+    d=st.floats(-CIRCUMFERENCE_NMI / 2 * 0.999999, CIRCUMFERENCE_NMI / 2 * 0.999999),
+    c=st.floats(-0.999 * math.pi / 2 * R, 0.999 * math.pi / 2 * R),
+    ref=references,
+)
 def test_ranges_to_latlon_and_back_is_the_identity(d, c, ref):
     lat, lon = latlon_from_ranges(d, c, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
     d2, c2 = downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
@@ -170,8 +196,7 @@ def test_round_trip_of_many_points_at_once():
 def test_ranges_agree_with_geodesics_on_the_sphere(lat, lon, ref):
     """Walk our down-range along the initial great circle (direct problem), turn left, walk our cross-range:
     that lands on the point; and the foot is the nearest point of the circle (inverse problem)."""
-    d, c = (float(x) for x in downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg,
-                                                         ref.heading_deg))
+    d, c = (float(x) for x in downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg, ref.heading_deg))
     assume(abs(c) < 0.999 * math.pi / 2 * R)  # at the circle's pole every foot is as near
     foot = SPHERE.Direct(ref.latitude_deg, ref.longitude_deg, ref.heading_deg, d)
     end = SPHERE.Direct(foot["lat2"], foot["lon2"], foot["azi2"] - 90.0, c)  # left of the heading
@@ -224,8 +249,13 @@ def test_eq_11_as_printed_is_positive_to_the_right_and_eq_10_loses_the_sign_behi
 
 
 @settings(max_examples=300, deadline=None)
-@given(d=st.floats(-10_000.0, 10_000.0), c=st.floats(-4_000.0, 4_000.0),
-       lat0=st.floats(-80.0, 80.0), lon0=lons, heading=headings)
+@given(
+    d=st.floats(-10_000.0, 10_000.0),
+    c=st.floats(-4_000.0, 4_000.0),
+    lat0=st.floats(-80.0, 80.0),
+    lon0=lons,
+    heading=headings,
+)
 def test_iteration_12_to_15_as_printed_agrees_with_our_closed_form(d, c, lat0, lon0, heading):
     lf_deg = math.degrees(math.acos(math.cos(c / R) * math.cos(d / R)))  # eq. (12)
     assume(0.01 < lf_deg < 179.99)  # eq. (13) divides by sin(LF_M)
@@ -241,9 +271,18 @@ def test_the_report_way_round_trip_moves_a_footprint_like_ours():
     """Eqs. 8-11 forward, change node, heading and down-range, eqs. 12-15 back: the report's procedure for
     "calculating a new footprint" (IV.1) against move() on a footprint-sized ring of points."""
     src, dst, step = Reference(0.0, 0.0, 90.0), Reference(0.0, -40.0, 30.0), 500.0
-    ring = [(float(a), float(b)) for a, b in zip(*latlon_from_ranges(
-        3000 + 2500 * np.cos(np.linspace(0, 2 * np.pi, 37)), 1700 * np.sin(np.linspace(0, 2 * np.pi, 37)),
-        src.latitude_deg, src.longitude_deg, src.heading_deg))]
+    ring = [
+        (float(a), float(b))
+        for a, b in zip(
+            *latlon_from_ranges(
+                3000 + 2500 * np.cos(np.linspace(0, 2 * np.pi, 37)),
+                1700 * np.sin(np.linspace(0, 2 * np.pi, 37)),
+                src.latitude_deg,
+                src.longitude_deg,
+                src.heading_deg,
+            )
+        )
+    ]
     lat_m, lon_m = move([p[0] for p in ring], [p[1] for p in ring], src, dst, step)
     for (lat, lon), a, b in zip(ring, lat_m, lon_m):
         x, y = report_ranges_nmi(lat, lon, src.latitude_deg, src.longitude_deg, src.heading_deg)
@@ -374,8 +413,9 @@ def test_within_a_hundredth_of_a_degree_of_the_poles(lat0):
 
 
 # -------------------------------------------------------------------------------------- rotation shift
-@pytest.mark.parametrize("t_s, report_deg", [(REPORT["sec4.flight_time_min_s"].value, 8.36),
-                                              (REPORT["sec4.flight_time_max_s"].value, 16.71)])
+@pytest.mark.parametrize(
+    "t_s, report_deg", [(REPORT["sec4.flight_time_min_s"].value, 8.36), (REPORT["sec4.flight_time_max_s"].value, 16.71)]
+)
 def test_rotation_shift_matches_the_report(t_s, report_deg):
     """Section IV.3: omega_p = .004178 deg/s; "a longitude shift of 8.4 to 16.7 degrees" for 2,000 to
     4,000 s, "toward the west, that is toward more negative values"; latitude unchanged."""
@@ -397,8 +437,15 @@ ROTATION_STUDY = table2_entry()
 
 def l189_spec():
 
-    return parse("case", {"vehicle": {"builtin": "lod-1.89"}, "planet": {"rotating": False},
-                       "entry": ROTATION_STUDY, "stop": table2_stop()}).to_spec()
+    return parse(
+        "case",
+        {
+            "vehicle": {"builtin": "lod-1.89"},
+            "planet": {"rotating": False},
+            "entry": ROTATION_STUDY,
+            "stop": table2_stop(),
+        },
+    ).to_spec()
 
 
 @settings(max_examples=100, deadline=None)
@@ -420,8 +467,9 @@ def test_at_geometry_changes_only_the_entry_point_heading_rotation_and_frame():
     moved = at_geometry(spec, Reference(10.0, -20.0, 30.0), rotating=True, velocity_frame="inertial")
     e = moved.entry
     assert (e.latitude_deg, e.longitude_deg, e.heading_deg, e.velocity_frame) == (10.0, -20.0, 30.0, "inertial")
-    assert (e.altitude_ft, e.velocity_fps, e.gamma_deg) == tuple(REPORT[f"table2.{k}"].value for k in
-                                                              ("altitude_ft", "velocity_fps", "gamma_deg"))
+    assert (e.altitude_ft, e.velocity_fps, e.gamma_deg) == tuple(
+        REPORT[f"table2.{k}"].value for k in ("altitude_ft", "velocity_fps", "gamma_deg")
+    )
     assert moved.planet.rotating and not spec.planet.rotating
     assert moved.vehicle is spec.vehicle and np.array_equal(moved.ctrl, spec.ctrl)
 

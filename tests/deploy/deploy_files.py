@@ -21,8 +21,24 @@ COMPOSE = ROOT / "docker-compose.yml"
 COMPOSE_SCHEMA = ROOT / "tests" / "authorities" / "compose-spec.json"
 
 KEYWORDS = {
-    "FROM", "RUN", "CMD", "LABEL", "EXPOSE", "ENV", "ADD", "COPY", "ENTRYPOINT", "VOLUME", "USER",
-    "WORKDIR", "ARG", "ONBUILD", "STOPSIGNAL", "HEALTHCHECK", "SHELL", "MAINTAINER",
+    "FROM",
+    "RUN",
+    "CMD",
+    "LABEL",
+    "EXPOSE",
+    "ENV",
+    "ADD",
+    "COPY",
+    "ENTRYPOINT",
+    "VOLUME",
+    "USER",
+    "WORKDIR",
+    "ARG",
+    "ONBUILD",
+    "STOPSIGNAL",
+    "HEALTHCHECK",
+    "SHELL",
+    "MAINTAINER",
 }
 
 
@@ -51,7 +67,7 @@ def _split_flags(rest: str) -> tuple[dict[str, str], str]:
         if not m:
             return flags, rest
         flags[m.group(1)] = m.group(2) if m.group(2) is not None else "true"
-        rest = rest[m.end():]
+        rest = rest[m.end() :]
 
 
 def parse_dockerfile(text: str) -> list[Instruction]:
@@ -216,7 +232,7 @@ def assert_real_settings(Settings, env, monkeypatch):
     settings = Settings()
     direct = package_environ_reads()
     for k, v in env.items():
-        name = k[len(prefix):].lower()
+        name = k[len(prefix) :].lower()
         if k in direct and name not in Settings.model_fields:
             continue
         assert name in Settings.model_fields, f"{k} is not a setting of footprint.service.settings.Settings"

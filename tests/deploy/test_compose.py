@@ -17,7 +17,6 @@ import urllib.request
 import jsonschema
 import pytest
 import yaml
-
 from deploy_files import (
     COMPOSE,
     COMPOSE_SCHEMA,
@@ -150,7 +149,9 @@ def test_api_database_url_points_at_the_postgres_service(compose):
     assert url.drivername == "postgresql+psycopg"
     assert (url.host, url.port or 5432) == (pg_name, 5432)
     assert (url.username, url.password, url.database) == (
-        pg_env["POSTGRES_USER"], pg_env["POSTGRES_PASSWORD"], pg_env["POSTGRES_DB"],
+        pg_env["POSTGRES_USER"],
+        pg_env["POSTGRES_PASSWORD"],
+        pg_env["POSTGRES_DB"],
     )
     assert api["depends_on"][pg_name]["condition"] == "service_healthy"
     # the driver the URL names is a dependency of the package the image installs
@@ -216,7 +217,7 @@ def test_api_command_is_a_real_cli_command(compose):
 def test_compose_env_sets_only_real_settings(compose, monkeypatch):
     from footprint.service.settings import Settings
 
-    for name, s in compose["services"].items():
+    for s in compose["services"].values():
         env = {k: v for k, v in _env(s).items() if k.startswith("FOOTPRINT_")}
         if env:
             with monkeypatch.context() as m:
@@ -275,16 +276,28 @@ def _health_port(service):
 def test_dask_services_start_and_answer_their_health_checks(compose, tmp_path):
     """Run the compose file's scheduler and worker commands (ports moved to free loopback ones): every
     option must be one dask accepts, the health URLs must answer, and the worker must import footprint."""
-    (sched_name, sched), = services_running(compose, "dask", "scheduler").items()
+    ((sched_name, sched),) = services_running(compose, "dask", "scheduler").items()
     worker_name, worker = next(iter(services_running(compose, "dask", "worker").items()))
     s_cmd, w_cmd = _command(sched), _command(worker)
     port, s_http, w_http = _free_port(), _free_port(), _free_port()
     assert _health_port(sched) == int(_option(s_cmd, "--dashboard-address").rsplit(":", 1)[1])
     assert _health_port(worker) == int(_option(w_cmd, "--dashboard-address").rsplit(":", 1)[1])
-    s_cmd = _localize(s_cmd, {"0.0.0.0": "127.0.0.1", _option(s_cmd, "--port"): str(port),
-                              _option(s_cmd, "--dashboard-address"): f"127.0.0.1:{s_http}"})
-    w_cmd = _localize(w_cmd, {f"tcp://{sched_name}:": "tcp://127.0.0.1:", w_cmd[2].rsplit(":", 1)[1]: str(port),
-                              _option(w_cmd, "--dashboard-address"): f"127.0.0.1:{w_http}"}) + ["--host", "127.0.0.1"]
+    s_cmd = _localize(
+        s_cmd,
+        {
+            "0.0.0.0": "127.0.0.1",
+            _option(s_cmd, "--port"): str(port),
+            _option(s_cmd, "--dashboard-address"): f"127.0.0.1:{s_http}",
+        },
+    )
+    w_cmd = _localize(
+        w_cmd,
+        {
+            f"tcp://{sched_name}:": "tcp://127.0.0.1:",
+            w_cmd[2].rsplit(":", 1)[1]: str(port),
+            _option(w_cmd, "--dashboard-address"): f"127.0.0.1:{w_http}",
+        },
+    ) + ["--host", "127.0.0.1"]
     assert s_cmd[0] == w_cmd[0] == "dask"
     s_cmd, w_cmd = ([sys.executable, "-m", "dask", *c[1:]] for c in (s_cmd, w_cmd))  # this interpreter's dask
     env = dict(os.environ)

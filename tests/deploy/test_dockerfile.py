@@ -11,20 +11,19 @@ import urllib.parse
 from pathlib import Path
 
 import pytest
-from packaging.specifiers import SpecifierSet
-
 from deploy_files import (
     DOCKERFILE,
     ROOT,
     DockerfileError,
-    dockerignore_patterns,
-    health_url,
     assert_real_settings,
+    dockerignore_patterns,
     get_routes,
+    health_url,
     ignored,
     parse_dockerfile,
     stages,
 )
+from packaging.specifiers import SpecifierSet
 
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 
@@ -58,7 +57,7 @@ def test_parser_joins_continuations_and_drops_comments():
         'CMD ["x", "y"]\n'
         "COPY --from=base --chown=u:g /a /b\n"
         "ENV A=1 B='two words'\n"
-        "HEALTHCHECK --interval=5s CMD [\"python\", \"-c\", \"print(1)\"]\n"
+        'HEALTHCHECK --interval=5s CMD ["python", "-c", "print(1)"]\n'
     )
     ins = parse_dockerfile(text)
     assert [i.keyword for i in ins] == ["FROM", "RUN", "CMD", "COPY", "ENV", "HEALTHCHECK"]
@@ -187,7 +186,10 @@ def test_the_code_puts_numba_cache_where_the_dockerfile_says(final, tmp_path):
         expected = tmp_path / "footprint"
     out = subprocess.run(
         [sys.executable, "-c", "import footprint.core._jit, numba; print(numba.config.CACHE_DIR)"],
-        env=child, capture_output=True, text=True, check=True,
+        env=child,
+        capture_output=True,
+        text=True,
+        check=True,
     ).stdout.strip()
     assert Path(out) == expected or expected in Path(out).parents, out
 
@@ -280,7 +282,8 @@ def test_repository_paths_are_set_to_copied_folders(final):
     # checkout under `pip install -e .` and may be another one when the tests run against another install
     source_root = Path(footprint.__file__).resolve().parents[2]
     repo_paths = [
-        name for name, f in Settings.model_fields.items()
+        name
+        for name, f in Settings.model_fields.items()
         if isinstance(f.default, Path) and source_root in f.default.resolve().parents
     ]
     assert repo_paths, "expected the page and migrations folders among the settings"
@@ -293,4 +296,3 @@ def test_repository_paths_are_set_to_copied_folders(final):
             (src,) = sources
             default = Settings.model_fields[name].default.resolve().relative_to(source_root)
             assert Path(src.rstrip("/")) == default, (var, src, default)
-

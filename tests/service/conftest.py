@@ -61,8 +61,9 @@ def scheduler_address():
     scheduler: the service connects to it the way it connects to a deployment's dask-scheduler."""
     from distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      scheduler_kwargs={"dashboard": False}) as cluster:
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0", scheduler_kwargs={"dashboard": False}
+    ) as cluster:
         yield cluster.scheduler_address
 
 
@@ -104,8 +105,10 @@ def wait_for_job(client, job_id: str, timeout_s: float = JOB_TIMEOUT_S, headers=
 @pytest.fixture(scope="module", params=DATABASES)
 def api(request, scheduler_address, tmp_path_factory):
     """A running service per database kind, for a whole test module."""
-    with database_url(request.param, tmp_path_factory.mktemp(request.param)) as url, \
-            running_service(url, scheduler_address) as client:
+    with (
+        database_url(request.param, tmp_path_factory.mktemp(request.param)) as url,
+        running_service(url, scheduler_address) as client,
+    ):
         client.database = request.param
         client.database_url = url
         yield client

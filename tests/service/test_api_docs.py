@@ -45,11 +45,21 @@ def test_the_openapi_document_declares_the_error_body_the_service_sends(api):
             if method in ("post", "put", "patch", "delete"):
                 assert {"401", "413"} <= set(errors), (method, path)
     assert "409" in spec["paths"]["/api/vehicles"]["post"]["responses"]
-    answers = [api.post("/api/trajectories", json={"vehicle": {"builtin": "lod-1.89"},
-                                                   "entry": {"altitude_ft": 364800, "velocity_fps": 50, "gamma_deg": -2}}),
-               api.get(f"/api/footprints/{UNKNOWN_ID}"), api.post("/api/jobs", json={"kind": "nope"}),
-               api.post("/api/vehicles", json={"id": "lod-1.89", "vehicle": {"aero": {"constant": {"cl": 1, "cd": 1}},
-                                                                             "wing_loading_psf": 50}})]
+    answers = [
+        api.post(
+            "/api/trajectories",
+            json={
+                "vehicle": {"builtin": "lod-1.89"},
+                "entry": {"altitude_ft": 364800, "velocity_fps": 50, "gamma_deg": -2},
+            },
+        ),
+        api.get(f"/api/footprints/{UNKNOWN_ID}"),
+        api.post("/api/jobs", json={"kind": "nope"}),
+        api.post(
+            "/api/vehicles",
+            json={"id": "lod-1.89", "vehicle": {"aero": {"constant": {"cl": 1, "cd": 1}}, "wing_loading_psf": 50}},
+        ),
+    ]
     assert [a.status_code for a in answers] == [422, 404, 422, 409]
     for a in answers:
         ErrorBody.model_validate(a.json(), strict=True)
@@ -68,8 +78,15 @@ def test_the_openapi_document_validates_and_types_every_job_and_study_kind(api):
     assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach", "dispersion"}
     study = spec["components"]["schemas"]["FootprintJob"]["properties"]["study"]
     assert study["discriminator"]["propertyName"] == "method"
-    assert set(study["discriminator"]["mapping"]) == {"single_parameter", "constant_bank", "staged", "two_parameter",
-                                                      "constant_altitude", "temperature_limited", "collocation"}
+    assert set(study["discriminator"]["mapping"]) == {
+        "single_parameter",
+        "constant_bank",
+        "staged",
+        "two_parameter",
+        "constant_altitude",
+        "temperature_limited",
+        "collocation",
+    }
     for path in ("/api/trajectories", "/api/transform", "/api/reach"):  # typed, not an object of anything
         body = spec["paths"][path]["post"]["requestBody"]["content"]["application/json"]["schema"]
         assert body.get("$ref") or body.get("properties"), (path, body)
@@ -100,9 +117,27 @@ def test_a_body_that_is_not_json_gets_the_status_the_document_gives(api):
 
 
 def test_an_unknown_vehicle_names_its_field_once(api):
-    r = api.post("/api/jobs", json={"kind": "footprint", "study": {
-        "case": {"vehicle": {"builtin": "nope"}, "entry": {"altitude_ft": 364800, "velocity_fps": 22000,
-                 "gamma_deg": -3, "heading_deg": 90, "latitude_deg": 0, "longitude_deg": 0},
-                 "stop": {"altitude_ft": 50000}}, "method": "single_parameter", "bank0_deg": [0]}})
+    r = api.post(
+        "/api/jobs",
+        json={
+            "kind": "footprint",
+            "study": {
+                "case": {
+                    "vehicle": {"builtin": "nope"},
+                    "entry": {
+                        "altitude_ft": 364800,
+                        "velocity_fps": 22000,
+                        "gamma_deg": -3,
+                        "heading_deg": 90,
+                        "latitude_deg": 0,
+                        "longitude_deg": 0,
+                    },
+                    "stop": {"altitude_ft": 50000},
+                },
+                "method": "single_parameter",
+                "bank0_deg": [0],
+            },
+        },
+    )
     assert r.status_code == 422
     assert r.json()["detail"].count("vehicle.builtin") == 1 and "lod-1.89" in r.json()["detail"], r.text

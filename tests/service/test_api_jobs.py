@@ -12,17 +12,35 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from footprint.api import footprint as fly_footprint
 from footprint.api import fly
+from footprint.api import footprint as fly_footprint
 from tests.authorities.report import betts
 
 from .conftest import wait_for_job
-from .sample_requests import (FOOTPRINT, LONG_FOOTPRINT, OPTIMAL_FOOTPRINT, OPTIMIZE, REACH, SWEEP, UNKNOWN_ID,
-                              footprint_study)
+from .sample_requests import (
+    FOOTPRINT,
+    LONG_FOOTPRINT,
+    OPTIMAL_FOOTPRINT,
+    OPTIMIZE,
+    REACH,
+    SWEEP,
+    UNKNOWN_ID,
+    footprint_study,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
-POINT_KEYS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
-              "side", "parameter", "stop_reason", "mirrored")
+POINT_KEYS = (
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "latitude_deg",
+    "longitude_deg",
+    "heading_deg",
+    "side",
+    "parameter",
+    "stop_reason",
+    "mirrored",
+)
 
 
 def submit(api, kind, study, **extra):
@@ -30,8 +48,12 @@ def submit(api, kind, study, **extra):
     assert r.status_code == 202, r.text
     job_id = r.json()["id"]
     # issue 13 item 9: the job's URL in the Location header and the body
-    assert r.json() | {"id": None} == {"id": None, "status": "queued", "url": f"/api/jobs/{job_id}",
-                                       "events": f"/api/jobs/{job_id}/events"}
+    assert r.json() | {"id": None} == {
+        "id": None,
+        "status": "queued",
+        "url": f"/api/jobs/{job_id}",
+        "events": f"/api/jobs/{job_id}/events",
+    }
     assert r.headers["location"] == f"/api/jobs/{job_id}"
     return job_id
 
@@ -54,14 +76,24 @@ def test_a_footprint_job_equals_the_python_door(footprint_job, same_numbers):
     direct = fly_footprint(FOOTPRINT)
     assert len(job["result"]["footprints"]) == 1 and job["progress"] == 1.0 and job["error"] is None
     assert job["started_at"] <= job["finished_at"] and job["study"] == FOOTPRINT
-    same_numbers([{k: p[k] for k in POINT_KEYS} for p in stored["points"]],
-                 [{k: getattr(p, k) for k in POINT_KEYS} for p in direct.points])
+    same_numbers(
+        [{k: p[k] for k in POINT_KEYS} for p in stored["points"]],
+        [{k: getattr(p, k) for k in POINT_KEYS} for p in direct.points],
+    )
     same_numbers([p["downrange_nmi"] for p in stored["interior"]], [p.downrange_nmi for p in direct.interior])
-    same_numbers([stored[k] for k in ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi")],
-                 [direct.area_nmi2, direct.max_crossrange_nmi, direct.max_downrange_nmi, direct.min_downrange_nmi])
+    same_numbers(
+        [stored[k] for k in ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi")],
+        [direct.area_nmi2, direct.max_crossrange_nmi, direct.max_downrange_nmi, direct.min_downrange_nmi],
+    )
     assert stored["trajectories"] == direct.trajectories and stored["name"] == "lod-1.89 small"
-    assert stored["entry"] == {"latitude_deg": 10.0, "longitude_deg": 0.0, "heading_deg": 90.0,
-                               "velocity_fps": 22_000.0, "gamma_deg": -3.0, "altitude_ft": 364_800.0}
+    assert stored["entry"] == {
+        "latitude_deg": 10.0,
+        "longitude_deg": 0.0,
+        "heading_deg": 90.0,
+        "velocity_fps": 22_000.0,
+        "gamma_deg": -3.0,
+        "altitude_ft": 364_800.0,
+    }
 
 
 @pytest.fixture(scope="module")
@@ -91,10 +123,13 @@ def test_an_optimal_footprint_job_is_stored_like_the_others(api, optimal_direct,
     assert job["progress"] == 1.0 and job["progress_note"] is None
     stored = api.get(f"/api/footprints/{job['result']['footprints'][0].rsplit('/', 1)[1]}").json()
     assert stored["method"] == "collocation" and len(stored["points"]) == 1 + 2 * 5
-    same_numbers([[p["downrange_nmi"], p["crossrange_nmi"], p["latitude_deg"], p["longitude_deg"]]
-                  for p in stored["points"]],
-                 [[p.downrange_nmi, p.crossrange_nmi, p.latitude_deg, p.longitude_deg] for p in optimal_direct.points])
-    geometry = api.get(f"/api/footprints/{stored['id']}", params={"format": "geojson"}).json()["features"][0]["geometry"]
+    same_numbers(
+        [[p["downrange_nmi"], p["crossrange_nmi"], p["latitude_deg"], p["longitude_deg"]] for p in stored["points"]],
+        [[p.downrange_nmi, p.crossrange_nmi, p.latitude_deg, p.longitude_deg] for p in optimal_direct.points],
+    )
+    geometry = api.get(f"/api/footprints/{stored['id']}", params={"format": "geojson"}).json()["features"][0][
+        "geometry"
+    ]
     assert geometry["type"] in ("Polygon", "MultiPolygon")
 
 
@@ -186,30 +221,38 @@ def test_deleting_a_footprint_deletes_its_points_and_track(api):
     assert api.get(f"/api/jobs/{job['id']}").json()["result"]["footprints"] == []
     engine = create_engine(api.database_url)
     with engine.connect() as c:
-        left = [c.execute(text(f"SELECT COUNT(*) FROM {t} WHERE footprint_id = :i"), {"i": fp_id}).scalar()
-                for t in ("footprint_points", "trajectories")]
+        left = [
+            c.execute(text(f"SELECT COUNT(*) FROM {t} WHERE footprint_id = :i"), {"i": fp_id}).scalar()
+            for t in ("footprint_points", "trajectories")
+        ]
     engine.dispose()
     assert left == [0, 0]
 
 
 def test_moving_a_footprint_along_its_parallel_shifts_every_longitude(api, footprint_job):
     _, stored = footprint_job
-    moved = api.post(f"/api/footprints/{stored['id']}/transform",
-                     json={"to": {"latitude_deg": 10, "longitude_deg": 25, "heading_deg": 90}}).json()
+    moved = api.post(
+        f"/api/footprints/{stored['id']}/transform",
+        json={"to": {"latitude_deg": 10, "longitude_deg": 25, "heading_deg": 90}},
+    ).json()
     # from (10 N, 0 E, heading 90) to (10 N, 25 E, heading 90): a rotation about the polar axis by 25 deg
     assert len(moved["points"]) == len(stored["points"])
     for a, b in zip(stored["points"], moved["points"]):
         assert b["latitude_deg"] == pytest.approx(a["latitude_deg"], abs=1e-9)
         assert b["longitude_deg"] == pytest.approx(a["longitude_deg"] + 25, abs=1e-9)
-    assert moved["ground_track"][-1]["longitude_deg"] == pytest.approx(stored["ground_track"][-1]["longitude_deg"] + 25,
-                                                                       abs=1e-9)
+    assert moved["ground_track"][-1]["longitude_deg"] == pytest.approx(
+        stored["ground_track"][-1]["longitude_deg"] + 25, abs=1e-9
+    )
     same_place = {"latitude_deg": 10, "longitude_deg": 0, "heading_deg": 90}
     again = api.post(f"/api/footprints/{stored['id']}/transform", json={"to": same_place, "earth_rotation": "exact"})
     flown = [p for p in again.json()["points"] if p["on_boundary"]]  # the study flown again, from the same place
-    assert [p["crossrange_nmi"] for p in flown] == pytest.approx([p["crossrange_nmi"] for p in stored["points"]],
-                                                                  abs=1e-6)  # nmi
-    bad = api.post(f"/api/footprints/{stored['id']}/transform", json={"to": {"latitude_deg": 95, "longitude_deg": 0,
-                                                                          "heading_deg": 0}})
+    assert [p["crossrange_nmi"] for p in flown] == pytest.approx(
+        [p["crossrange_nmi"] for p in stored["points"]], abs=1e-6
+    )  # nmi
+    bad = api.post(
+        f"/api/footprints/{stored['id']}/transform",
+        json={"to": {"latitude_deg": 95, "longitude_deg": 0, "heading_deg": 0}},
+    )
     assert bad.status_code == 422 and bad.json()["field"] == "to.latitude_deg"
 
 
@@ -231,19 +274,33 @@ def test_a_sweep_job_is_one_footprint_per_task(api, same_numbers):
     for link, velocity in zip(job["result"]["footprints"], SWEEP["entry_velocity_fps"]):
         stored = api.get(link).json()
         assert stored["entry"]["velocity_fps"] == velocity
-        study = {"case": {"vehicle": {"builtin": "lod-1.89"},
-                          "entry": {"altitude_ft": 364_800, "heading_deg": 90, "velocity_fps": velocity,
-                                    "gamma_deg": -3}, "stop": {"altitude_ft": 50_000}},
-                 "method": "single_parameter", "bank0_deg": [0, 90]}
-        same_numbers([p["downrange_nmi"] for p in stored["points"]],
-                     [p.downrange_nmi for p in fly_footprint(study).points])
+        study = {
+            "case": {
+                "vehicle": {"builtin": "lod-1.89"},
+                "entry": {"altitude_ft": 364_800, "heading_deg": 90, "velocity_fps": velocity, "gamma_deg": -3},
+                "stop": {"altitude_ft": 50_000},
+            },
+            "method": "single_parameter",
+            "bank0_deg": [0, 90],
+        }
+        same_numbers(
+            [p["downrange_nmi"] for p in stored["points"]], [p.downrange_nmi for p in fly_footprint(study).points]
+        )
 
 
 def test_optimize_and_reach_jobs_store_their_results(api):
     opt = run_job(api, "optimize", OPTIMIZE)["result"]["optimization"]
     assert opt["trajectories"] <= 20 and set(opt["parameters"]) and opt["history"]
-    again = fly({**OPTIMIZE["case"], "bank": {"law": "table", "heading_deg": [-15, 0, 15, 30, 45, 60, 75, 90],
-                                              "bank_deg": list(opt["parameters"].values())}})
+    again = fly(
+        {
+            **OPTIMIZE["case"],
+            "bank": {
+                "law": "table",
+                "heading_deg": [-15, 0, 15, 30, 45, 60, 75, 90],
+                "bank_deg": list(opt["parameters"].values()),
+            },
+        }
+    )
     assert opt["summary"]["crossrange_nmi"] == pytest.approx(again.summary["crossrange_nmi"], abs=1e-6)  # nmi
     flight = opt["flight"]  # the optimum's flight for the map: it ends where the Python door's flight does
     assert flight["latitude_deg"][-1] == pytest.approx(again.summary["final_latitude_deg"], abs=1e-9)
@@ -291,8 +348,10 @@ def test_progress_events_end_when_the_job_does(api):
     with api.stream("GET", f"/api/jobs/{job_id}/events") as r:
         assert r.headers["content-type"].startswith("text/event-stream")
         text = "".join(r.iter_text())
-    events = [(b.split("\n")[0].removeprefix("event: "), json.loads(b.split("\n")[1].removeprefix("data: ")))
-              for b in text.strip().split("\n\n")]
+    events = [
+        (b.split("\n")[0].removeprefix("event: "), json.loads(b.split("\n")[1].removeprefix("data: ")))
+        for b in text.strip().split("\n\n")
+    ]
     assert events[-1][0] == "end" and events[-1][1]["status"] == "succeeded"
     progress = [data["progress"] for name, data in events if name == "progress"]
     assert progress == sorted(progress) and progress[-1] == 1.0
@@ -300,8 +359,11 @@ def test_progress_events_end_when_the_job_does(api):
 
 
 def test_cancel_a_running_job_and_keep_a_finished_ones_status(api):
-    long = {**OPTIMIZE, "max_trajectories": 100_000,
-            "constraints": [{"quantity": "downrange_nmi", "equals": 4_000}]}  # many seconds of work
+    long = {
+        **OPTIMIZE,
+        "max_trajectories": 100_000,
+        "constraints": [{"quantity": "downrange_nmi", "equals": 4_000}],
+    }  # many seconds of work
     job_id = submit(api, "optimize", long)
     r = api.delete(f"/api/jobs/{job_id}")
     assert r.status_code == 200 and r.json()["status"] == "cancelled" and r.json()["result"] is None
@@ -354,13 +416,16 @@ def test_a_move_keeps_the_flown_ranges_and_draws_the_polar_cap(api, long_footpri
     its GeoJSON is the stored one's kind: cut at the antimeridian, closed along the pole, 6 decimals."""
     stored = long_footprint
     assert max(p["downrange_nmi"] for p in stored["points"]) > 14_000
-    moved = api.post(f"/api/footprints/{stored['id']}/transform",
-                     json={"to": {"latitude_deg": 0, "longitude_deg": -60, "inclination_deg": 90},
-                           "step_downrange_nmi": 1_000}).json()
+    moved = api.post(
+        f"/api/footprints/{stored['id']}/transform",
+        json={"to": {"latitude_deg": 0, "longitude_deg": -60, "inclination_deg": 90}, "step_downrange_nmi": 1_000},
+    ).json()
     assert [p["downrange_nmi"] for p in moved["points"]] == pytest.approx(
-        [p["downrange_nmi"] for p in stored["points"]], abs=1e-6)
+        [p["downrange_nmi"] for p in stored["points"]], abs=1e-6
+    )
     assert [p["crossrange_nmi"] for p in moved["points"]] == pytest.approx(
-        [p["crossrange_nmi"] for p in stored["points"]], abs=1e-6)
+        [p["crossrange_nmi"] for p in stored["points"]], abs=1e-6
+    )
     assert moved["outline"]["pole"] == "north" and stored["outline"]["pole"] is None
     area = next(f for f in moved["geojson"]["features"] if f["properties"]["kind"] == "footprint")["geometry"]
     rings = [poly[0] for poly in area["coordinates"]] if area["type"] == "MultiPolygon" else area["coordinates"]
@@ -379,8 +444,9 @@ def test_an_exact_move_flies_the_track_again_and_measures_the_approximate_shift(
     end = exact["ground_track"][-1]
     assert end["latitude_deg"] == pytest.approx(tip["latitude_deg"], abs=1e-9)
     assert end["longitude_deg"] == pytest.approx(tip["longitude_deg"], abs=1e-9)
-    approximate = api.post(f"/api/footprints/{stored['id']}/transform",
-                           json={"to": to, "earth_rotation": "approximate"}).json()
+    approximate = api.post(
+        f"/api/footprints/{stored['id']}/transform", json={"to": to, "earth_rotation": "approximate"}
+    ).json()
     a_tip = next(q for p, q in zip(stored["points"], approximate["points"]) if p["parameter"].get("bank0_deg") == 0)
     assert approximate["ground_track"][-1]["longitude_deg"] == pytest.approx(a_tip["longitude_deg"], abs=1e-6)
     error = exact["approximate_error_nmi"]
@@ -395,15 +461,18 @@ def test_an_exact_move_flies_the_track_again_and_measures_the_approximate_shift(
 def test_footprints_get_unique_names_and_can_be_renamed(api):
     """Issue 13 item 5: the same study twice gave two footprints of one name; a planner renames them."""
     study = footprint_study(latitude_deg=-33.0)
-    first, second = (api.get(run_job(api, "footprint", study, name="twin")["result"]["footprints"][0]).json()
-                     for _ in range(2))
+    first, second = (
+        api.get(run_job(api, "footprint", study, name="twin")["result"]["footprints"][0]).json() for _ in range(2)
+    )
     assert (first["name"], second["name"]) == ("twin", "twin (2)")
     renamed = api.patch(f"/api/footprints/{second['id']}", json={"name": "  Vandenberg south  "})
     assert renamed.status_code == 200 and renamed.json()["name"] == "Vandenberg south"
     again = api.patch(f"/api/footprints/{first['id']}", json={"name": "Vandenberg south"}).json()
     assert again["name"] == "Vandenberg south (2)"
-    assert api.patch(f"/api/footprints/{first['id']}", json={"name": "Vandenberg south (2)"}).json()["name"] \
-        == "Vandenberg south (2)"  # its own name is not taken by itself
+    assert (
+        api.patch(f"/api/footprints/{first['id']}", json={"name": "Vandenberg south (2)"}).json()["name"]
+        == "Vandenberg south (2)"
+    )  # its own name is not taken by itself
     blank = api.patch(f"/api/footprints/{first['id']}", json={"name": "   "})
     assert blank.status_code == 422 and "name" in blank.json()["detail"]
     assert api.patch(f"/api/footprints/{UNKNOWN_ID}", json={"name": "x"}).status_code == 404

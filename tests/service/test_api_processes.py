@@ -27,8 +27,20 @@ def served(tmp_path_factory):
     port = free_port()
     log_path = tmp / "serve.log"
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
-    cmd = [sys.executable, "-m", "footprint.cli", "serve", "--port", str(port), "--workers", "2",
-           "--api-processes", "2", "--database-url", f"sqlite:///{tmp / 'footprint.db'}"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "footprint.cli",
+        "serve",
+        "--port",
+        str(port),
+        "--workers",
+        "2",
+        "--api-processes",
+        "2",
+        "--database-url",
+        f"sqlite:///{tmp / 'footprint.db'}",
+    ]
     with open(log_path, "w") as log:
         proc = subprocess.Popen(cmd, cwd=tmp, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     base = f"http://127.0.0.1:{port}"
@@ -38,8 +50,10 @@ def served(tmp_path_factory):
             assert proc.poll() is None, f"serve exited ({proc.returncode}):\n{log_path.read_text()[-3000:]}"
             assert time.monotonic() < deadline, log_path.read_text()[-3000:]
             try:  # the engine answers, and both API processes have started (one may take longer)
-                if httpx.get(f"{base}/api/health", timeout=2).json()["status"] == "ok" \
-                        and log_path.read_text().count("Application startup complete") == 2:
+                if (
+                    httpx.get(f"{base}/api/health", timeout=2).json()["status"] == "ok"
+                    and log_path.read_text().count("Application startup complete") == 2
+                ):
                     break
             except (httpx.HTTPError, ValueError, KeyError):
                 pass
@@ -76,8 +90,9 @@ def test_a_cancel_through_an_api_process_stops_the_job(served):
         long = client.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
         wait_until(lambda: client.get(f"/api/jobs/{long}").json()["status"] == "running", "the long job runs")
         assert client.delete(f"/api/jobs/{long}").json()["status"] == "cancelled"
-        short = [client.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"]
-                 for _ in range(2)]  # both workers: one of them ran the cancelled job
+        short = [
+            client.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"] for _ in range(2)
+        ]  # both workers: one of them ran the cancelled job
         assert all(_wait(client, s)["status"] == "succeeded" for s in short)
         assert client.get(f"/api/jobs/{long}").json()["status"] == "cancelled"
 

@@ -18,18 +18,34 @@ GLIDER = {"aero": {"constant": {"cl": 0.5, "cd": 0.25}}, "wing_loading_psf": 50}
 
 def test_health_names_the_database_and_the_cluster(api):
     health = api.get("/api/health").json()
-    assert health == {"status": "ok", "version": footprint.__version__,
-                      "database": {"ok": True, "dialect": api.database},
-                      "cluster": {"ok": True, "workers": 2, "expected_workers": 2}}  # no token set: no caller sees the scheduler's address
+    assert health == {
+        "status": "ok",
+        "version": footprint.__version__,
+        "database": {"ok": True, "dialect": api.database},
+        "cluster": {"ok": True, "workers": 2, "expected_workers": 2},
+    }  # no token set: no caller sees the scheduler's address
 
 
 def test_openapi_docs_list_the_contract_paths(api):
     assert api.get("/docs").status_code == 200
     paths = set(api.get("/openapi.json").json()["paths"])
-    assert {"/api/health", "/api/vehicles", "/api/vehicles/{vehicle_id}", "/api/trajectories", "/api/jobs",
-            "/api/jobs/{job_id}", "/api/jobs/{job_id}/events", "/api/footprints", "/api/footprints/{footprint_id}",
-            "/api/footprints/{footprint_id}/transform", "/api/transform", "/api/sites", "/api/sites/{site_id}",
-            "/api/sites/csv", "/api/reach"} <= paths
+    assert {
+        "/api/health",
+        "/api/vehicles",
+        "/api/vehicles/{vehicle_id}",
+        "/api/trajectories",
+        "/api/jobs",
+        "/api/jobs/{job_id}",
+        "/api/jobs/{job_id}/events",
+        "/api/footprints",
+        "/api/footprints/{footprint_id}",
+        "/api/footprints/{footprint_id}/transform",
+        "/api/transform",
+        "/api/sites",
+        "/api/sites/{site_id}",
+        "/api/sites/csv",
+        "/api/reach",
+    } <= paths
 
 
 def test_builtin_vehicles_carry_the_reports_lift_to_drag(api):
@@ -88,8 +104,10 @@ def test_listing_custom_vehicles_rebuilds_none_of_them(api, monkeypatch):
 
 
 def test_a_bad_custom_vehicle_names_its_field(api):
-    r = api.post("/api/vehicles", json={"id": "bad", "vehicle": {"aero": {"constant": {"cl": 0.5, "cd": -0.1}},
-                                                                  "wing_loading_psf": 50}})
+    r = api.post(
+        "/api/vehicles",
+        json={"id": "bad", "vehicle": {"aero": {"constant": {"cl": 0.5, "cd": -0.1}}, "wing_loading_psf": 50}},
+    )
     assert r.status_code == 422 and r.json()["field"] == "vehicle.aero.constant.cd"
     r = api.post("/api/vehicles", json={"id": "bad", "vehicle": {**GLIDER, "wing_loading_psf": 5_000}})
     assert r.status_code == 422 and r.json()["field"] == "vehicle.wing_loading_psf"
@@ -111,14 +129,24 @@ def test_a_trajectory_is_flown_at_once_and_its_history_decimated(api):
     rows = fly(fine).history["time_s"]
     assert len(rows) > 2_000 and len(long["history"]["time_s"]) == 2_000
     assert long["history"]["time_s"][0] == 0 and long["history"]["time_s"][-1] == rows[-1]
-    assert {"altitude_ft", "velocity_fps", "latitude_deg", "longitude_deg", "downrange_nmi", "crossrange_nmi",
-            "bank_deg", "alpha_deg"} <= set(history)
+    assert {
+        "altitude_ft",
+        "velocity_fps",
+        "latitude_deg",
+        "longitude_deg",
+        "downrange_nmi",
+        "crossrange_nmi",
+        "bank_deg",
+        "alpha_deg",
+    } <= set(history)
 
 
 def test_transform_moves_points_along_the_parallel(api):
-    body = {"points": [{"latitude_deg": 10, "longitude_deg": 30}, {"latitude_deg": -5, "longitude_deg": 40}],
-            "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
-            "to": {"latitude_deg": 0, "longitude_deg": -50, "heading_deg": 90}}
+    body = {
+        "points": [{"latitude_deg": 10, "longitude_deg": 30}, {"latitude_deg": -5, "longitude_deg": 40}],
+        "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+        "to": {"latitude_deg": 0, "longitude_deg": -50, "heading_deg": 90},
+    }
     moved = api.post("/api/transform", json=body).json()["points"]
     assert [(round(p["latitude_deg"], 9), round(p["longitude_deg"], 9)) for p in moved] == [(10, -20), (-5, -10)]
 
@@ -129,13 +157,20 @@ def test_sites_crud_and_csv_upload(api):
     site = created.json()
     assert api.get(f"/api/sites/{site['id']}").json() == site
     moved = api.put(f"/api/sites/{site['id']}", json={"name": "WSSH", "latitude_deg": 32.94, "longitude_deg": -106.42})
-    assert moved.json() == {"id": site["id"], "name": "WSSH", "latitude_deg": 32.94, "longitude_deg": -106.42,
-                            "last_reach": None}
+    assert moved.json() == {
+        "id": site["id"],
+        "name": "WSSH",
+        "latitude_deg": 32.94,
+        "longitude_deg": -106.42,
+        "last_reach": None,
+    }
     assert api.delete(f"/api/sites/{site['id']}").status_code == 204
     for method in ("get", "delete"):
         assert getattr(api, method)(f"/api/sites/{site['id']}").status_code == 404
-    assert api.put(f"/api/sites/{site['id']}", json={"name": "x", "latitude_deg": 0, "longitude_deg": 0}) \
-        .status_code == 404
+    assert (
+        api.put(f"/api/sites/{site['id']}", json={"name": "x", "latitude_deg": 0, "longitude_deg": 0}).status_code
+        == 404
+    )
     csv_text = "name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\nEdwards,34.9,-117.9\n"
     r = api.post("/api/sites/csv", content=csv_text, headers={"content-type": "text/csv"})
     assert r.status_code == 201 and r.json() == {"created": 2}
@@ -175,14 +210,19 @@ def test_a_reach_may_keep_each_stored_sites_verdict(api):
     stored = {s["name"]: s["last_reach"] for s in api.get("/api/sites").json()}
     for site in kept["sites"]:
         v = stored[site["name"]]
-        assert (v["reachable"], v["windows"], v["footprint"]) == (site["reachable"], site["windows"],
-                                                                   "four-point footprint")
+        assert (v["reachable"], v["windows"], v["footprint"]) == (
+            site["reachable"],
+            site["windows"],
+            "four-point footprint",
+        )
         assert v["orbit"] == {"inclination_deg": 28.5, "node_longitude_deg": 0.0}
     refused = api.post("/api/reach", params={"store_verdicts": "true"}, json=REACH)
     assert refused.status_code == 422 and refused.json()["field"] == "store_verdicts"
     site = next(s for s in api.get("/api/sites").json() if s["last_reach"] is not None)
-    renamed = api.put(f"/api/sites/{site['id']}", json={"name": "renamed", "latitude_deg": site["latitude_deg"],
-                                                        "longitude_deg": site["longitude_deg"]}).json()
+    renamed = api.put(
+        f"/api/sites/{site['id']}",
+        json={"name": "renamed", "latitude_deg": site["latitude_deg"], "longitude_deg": site["longitude_deg"]},
+    ).json()
     assert renamed["last_reach"] == site["last_reach"]  # a new name keeps the verdict; a new place does not
     moved = api.put(f"/api/sites/{site['id']}", json={"name": "renamed", "latitude_deg": 0.0, "longitude_deg": 0.0})
     assert moved.json()["last_reach"] is None

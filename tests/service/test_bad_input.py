@@ -43,7 +43,7 @@ def test_nul_in_any_stored_text_is_422_naming_the_field(api):
     assert_names(api.post("/api/sites", json=site), "name")
     stored = api.post("/api/sites", json=site | {"name": "KSC"}).json()
     assert_names(api.put(f"/api/sites/{stored['id']}", json=site), "name")
-    csv = "name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\nEd\x00wards,34.9,-117.9\n".encode()
+    csv = b"name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\nEd\x00wards,34.9,-117.9\n"
     assert_names(api.post("/api/sites/csv", content=csv, headers={"content-type": "text/csv"}), "line 3")
     job = {"kind": "footprint", "study": FOOTPRINT, "name": "nul\x00"}
     assert_names(api.post("/api/jobs", json=job), "name")
@@ -76,8 +76,10 @@ def test_a_job_error_carries_no_sql_and_no_address():
     line = one_line(err.value)
     assert line.startswith("OperationalError: ") and "no such table" in line, line
     assert "SELECT" not in line and "secret" not in line and "sqlalche.me" not in line
-    died = RuntimeError("Attempted to run task footprint_task-1 on 4 different workers, but all those workers died "
-                        "while running it. The last worker that attempt to run the task was tcp://10.1.2.3:40145.")
+    died = RuntimeError(
+        "Attempted to run task footprint_task-1 on 4 different workers, but all those workers died "
+        "while running it. The last worker that attempt to run the task was tcp://10.1.2.3:40145."
+    )
     assert "10.1.2.3" not in one_line(died) and "40145" not in one_line(died) and "worker" in one_line(died)
 
 
@@ -88,8 +90,10 @@ def test_health_shows_no_scheduler_address_without_the_token(api):
 
 @pytest.fixture(scope="module")
 def guarded(scheduler_address, tmp_path_factory):
-    with database_url("sqlite", tmp_path_factory.mktemp("guarded")) as url, \
-            running_service(url, scheduler_address, api_token="s3cret") as client:
+    with (
+        database_url("sqlite", tmp_path_factory.mktemp("guarded")) as url,
+        running_service(url, scheduler_address, api_token="s3cret") as client,
+    ):
         client.scheduler_address = scheduler_address
         yield client
 
@@ -113,13 +117,20 @@ def test_the_bearer_token_is_compared_in_constant_time(guarded, monkeypatch):
 
 
 # issue 15 item 11
-@pytest.mark.parametrize("path, body, field", [
-    ("/api/sites", {"name": "x" * 200_000, "latitude_deg": 0, "longitude_deg": 0}, "name"),
-    ("/api/sites", {"name": "KSC", "latitude_deg": 0, "longitude_deg": 0, "x" * 200_000: 1}, "x" * 77 + "..."),
-    ("/api/jobs", {"kind": "footprint", "study": FOOTPRINT | {"y" * 200_000: 1}}, "study." + "y" * 77 + "..."),
-    ("/api/trajectories", {"vehicle": {"stored": "z" * 200_000}}, "vehicle.stored"),
-    ("/api/transform", {"points": [{"latitude_deg": "w" * 1_000, "longitude_deg": 0}] * 500}, "points.0.latitude_deg"),
-])
+@pytest.mark.parametrize(
+    "path, body, field",
+    [
+        ("/api/sites", {"name": "x" * 200_000, "latitude_deg": 0, "longitude_deg": 0}, "name"),
+        ("/api/sites", {"name": "KSC", "latitude_deg": 0, "longitude_deg": 0, "x" * 200_000: 1}, "x" * 77 + "..."),
+        ("/api/jobs", {"kind": "footprint", "study": FOOTPRINT | {"y" * 200_000: 1}}, "study." + "y" * 77 + "..."),
+        ("/api/trajectories", {"vehicle": {"stored": "z" * 200_000}}, "vehicle.stored"),
+        (
+            "/api/transform",
+            {"points": [{"latitude_deg": "w" * 1_000, "longitude_deg": 0}] * 500},
+            "points.0.latitude_deg",
+        ),
+    ],
+)
 def test_a_422_echoes_no_huge_value(api, path, body, field):
     r = api.post(path, json=body)
     assert r.status_code == 422 and r.json()["field"] == field, r.text[:300]
@@ -134,8 +145,16 @@ def test_invalid_json_names_the_body(api):
 
 
 def test_head_is_answered_wherever_get_is(api):
-    for path in ("/api/health", "/api/jobs", "/api/vehicles", "/api/sites", "/openapi.json", "/docs", "/",
-                 "/js/main.js"):
+    for path in (
+        "/api/health",
+        "/api/jobs",
+        "/api/vehicles",
+        "/api/sites",
+        "/openapi.json",
+        "/docs",
+        "/",
+        "/js/main.js",
+    ):
         get, head = api.get(path), api.head(path)
         assert head.status_code == get.status_code == 200, path
         assert head.content == b"" and head.headers["content-type"] == get.headers["content-type"], path
@@ -151,9 +170,19 @@ def test_a_head_of_a_job_events_stream_ends_at_once(api):
     api.delete(job["url"])
 
 
-@pytest.mark.parametrize("path", ["/package.json", "/package-lock.json", "/README.md", "/scripts/vendor.mjs",
-                                  "/.gitignore", "/node_modules/leaflet/package.json", "/js/../package.json",
-                                  "/vendor/../package-lock.json"])
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/package.json",
+        "/package-lock.json",
+        "/README.md",
+        "/scripts/vendor.mjs",
+        "/.gitignore",
+        "/node_modules/leaflet/package.json",
+        "/js/../package.json",
+        "/vendor/../package-lock.json",
+    ],
+)
 def test_only_the_pages_own_files_are_served(api, path):
     assert api.get(path).status_code == 404
 
@@ -176,8 +205,12 @@ def test_every_path_of_the_api_document_names_its_methods_in_allow(api):
     document = api.get("/openapi.json").json()["paths"]
     order = ["GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS", "TRACE"]
     for template, operations in document.items():
-        integers = {p["name"] for op in operations.values() for p in op.get("parameters", [])
-                    if p["in"] == "path" and p["schema"].get("type") == "integer"}
+        integers = {
+            p["name"]
+            for op in operations.values()
+            for p in op.get("parameters", [])
+            if p["in"] == "path" and p["schema"].get("type") == "integer"
+        }
         path = re.sub(r"\{([^}]+)\}", lambda m: "7" if m[1] in integers else UNKNOWN_ID, template)
         methods = {m.upper() for m in operations} | ({"HEAD"} if "get" in operations else set())
         r = api.request("TRACE", path)

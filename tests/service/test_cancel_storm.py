@@ -15,7 +15,9 @@ from tests.service.sample_requests import FOOTPRINT
 
 ROOT = Path(__file__).resolve().parents[2]
 SWEEP = json.loads((ROOT / "examples" / "sweep_dataset1.json").read_text()) | {
-    "vehicles": ["low-lod", "high-lod"], "entry_velocity_fps": [22_000, 24_000], "entry_gamma_deg": [-1.5, -2, -3],
+    "vehicles": ["low-lod", "high-lod"],
+    "entry_velocity_fps": [22_000, 24_000],
+    "entry_gamma_deg": [-1.5, -2, -3],
 }
 DEADLINE_S = 120.0  # generous: a loaded machine starts a worker process slowly
 
@@ -44,8 +46,9 @@ def test_three_quick_cancels_keep_the_cluster_and_the_next_job_runs(own_cluster)
         time.sleep(0.3)
         assert api.delete(f"/api/jobs/{job_id}").json()["status"] == "cancelled"
         time.sleep(2.0)
-    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
-                       timeout_s=DEADLINE_S)
+    job = wait_for_job(
+        api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"], timeout_s=DEADLINE_S
+    )
     assert job["status"] == "succeeded", job
     health = _health_soon(api, lambda h: h["cluster"]["workers"] == 2)
     assert health["status"] == "ok" and health["cluster"]["expected_workers"] == 2
@@ -62,8 +65,9 @@ def test_a_worker_lost_for_good_is_degraded_then_replaced(own_cluster):
     assert degraded["status"] == "degraded" and not degraded["cluster"]["ok"]
     assert degraded["cluster"]["expected_workers"] == 2
     _health_soon(api, lambda h: h["cluster"]["workers"] == 2 and h["status"] == "ok")
-    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
-                       timeout_s=DEADLINE_S)
+    job = wait_for_job(
+        api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"], timeout_s=DEADLINE_S
+    )
     assert job["status"] == "succeeded", job
 
 
@@ -72,17 +76,28 @@ def test_a_queue_on_a_scheduler_with_no_worker_fails_with_the_reason(tmp_path):
     FOOTPRINT_NO_WORKERS_LIMIT_S the engine fails them and says what to do."""
     from distributed import LocalCluster
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      scheduler_kwargs={"dashboard": False}) as cluster, \
-            running_service(f"sqlite:///{tmp_path / 'footprint.db'}", cluster.scheduler_address,
-                            no_workers_limit_s=2.0) as api:
+    with (
+        LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            scheduler_kwargs={"dashboard": False},
+        ) as cluster,
+        running_service(
+            f"sqlite:///{tmp_path / 'footprint.db'}", cluster.scheduler_address, no_workers_limit_s=2.0
+        ) as api,
+    ):
         first = api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"]
         assert wait_for_job(api, first, timeout_s=DEADLINE_S)["status"] == "succeeded"
         _health_soon(api, lambda h: h["cluster"]["workers"] == 1)
         cluster.scale(0)
         health = _health_soon(api, lambda h: h["cluster"]["workers"] == 0)
         assert health["status"] == "degraded" and health["cluster"]["expected_workers"] == 1
-        job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
-                           timeout_s=DEADLINE_S)
+        job = wait_for_job(
+            api,
+            api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT}).json()["id"],
+            timeout_s=DEADLINE_S,
+        )
         assert job["status"] == "failed", job
         assert "no worker for 2 s" in job["error"] and "FOOTPRINT_NO_WORKERS_LIMIT_S" in job["error"], job["error"]

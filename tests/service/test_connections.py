@@ -25,8 +25,13 @@ def server(scheduler_address, tmp_path_factory):
     from footprint.service.settings import load_settings
 
     url = f"sqlite:///{tmp_path_factory.mktemp('connections') / 'footprint.db'}"
-    settings = load_settings(database_url=url, dask_scheduler=scheduler_address, allowed_hosts="planner.example",
-                             header_timeout_s=HEADER_TIMEOUT_S, body_timeout_s=BODY_TIMEOUT_S)
+    settings = load_settings(
+        database_url=url,
+        dask_scheduler=scheduler_address,
+        allowed_hosts="planner.example",
+        header_timeout_s=HEADER_TIMEOUT_S,
+        body_timeout_s=BODY_TIMEOUT_S,
+    )
     sock = socket.socket()
     sock.bind(("127.0.0.1", 0))
     server = uvicorn.Server(service_server.config(settings, create_app(settings), log_level="warning"))
@@ -84,8 +89,9 @@ def test_a_connection_that_sends_nothing_is_closed(server):
 
 
 def test_a_body_declared_and_not_sent_is_answered_408_and_nothing_is_stored(server):
-    head = (b"POST /api/sites/csv HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: text/csv\r\n"
-            b"Content-Length: 500000\r\n\r\n")
+    head = (
+        b"POST /api/sites/csv HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: text/csv\r\nContent-Length: 500000\r\n\r\n"
+    )
     answer, held_s = exchange(server, head, CSV.encode())
     assert status(answer) == 408 and b"FOOTPRINT_BODY_TIMEOUT_S" in answer
     assert held_s >= BODY_TIMEOUT_S * 0.9
@@ -116,10 +122,21 @@ def test_keep_alive_requests_are_answered_past_the_header_deadline(server):
         assert client.get("/api/health").status_code == 200
 
 
-@pytest.mark.parametrize("host, expected", [
-    ("127.0.0.1", 200), ("localhost:8000", 200), ("LOCALHOST", 200), ("[::1]:8000", 200),
-    ("planner.example", 200), ("planner.example:443", 200),
-    ("rebind.example", 421), ("127.0.0.1.rebind.example", 421), ("[::2]", 421), ("", 421)])
+@pytest.mark.parametrize(
+    "host, expected",
+    [
+        ("127.0.0.1", 200),
+        ("localhost:8000", 200),
+        ("LOCALHOST", 200),
+        ("[::1]:8000", 200),
+        ("planner.example", 200),
+        ("planner.example:443", 200),
+        ("rebind.example", 421),
+        ("127.0.0.1.rebind.example", 421),
+        ("[::2]", 421),
+        ("", 421),
+    ],
+)
 def test_only_the_served_host_names_are_answered(server, host, expected):
     answer, _ = exchange(server, b"GET /api/config HTTP/1.1\r\nHost: %s\r\nConnection: close\r\n\r\n" % host.encode())
     assert status(answer) == expected, answer[:300]
@@ -131,20 +148,29 @@ def test_a_rebound_page_can_neither_read_nor_write(server):
     name = f"rebind.example:{server[1]}"
     with httpx.Client(base_url=f"http://{server[0]}:{server[1]}", timeout=WAIT_S) as client:
         read = client.get("/api/sites", headers={"Host": name})
-        write = client.post("/api/sites/csv", content=CSV, headers={"Host": name, "Origin": f"http://{name}",
-                                                                     "Content-Type": "text/csv"})
+        write = client.post(
+            "/api/sites/csv",
+            content=CSV,
+            headers={"Host": name, "Origin": f"http://{name}", "Content-Type": "text/csv"},
+        )
         assert (read.status_code, write.status_code) == (421, 421)
         assert "FOOTPRINT_ALLOWED_HOSTS" in write.json()["detail"]
         assert [s for s in client.get("/api/sites").json() if s["name"] == "KSC"] == []
 
 
 def test_oversized_paths_and_headers_are_refused(server):
-    long_url, _ = exchange(server, b"GET /api/footprints?job_id=%s HTTP/1.1\r\nHost: 127.0.0.1\r\n"
-                                   b"Connection: close\r\n\r\n" % (b"x" * 20_000))
+    long_url, _ = exchange(
+        server,
+        b"GET /api/footprints?job_id=%s HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n" % (b"x" * 20_000),
+    )
     assert status(long_url) == 414
-    big_headers, _ = exchange(server, b"GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Big: %s\r\n"
-                                      b"Connection: close\r\n\r\n" % (b"a" * 36_000))
+    big_headers, _ = exchange(
+        server,
+        b"GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Big: %s\r\nConnection: close\r\n\r\n" % (b"a" * 36_000),
+    )
     assert status(big_headers) == 431
-    huge, _ = exchange(server, b"GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Big: %s\r\n"
-                               b"Connection: close\r\n\r\n" % (b"a" * 100_000))
+    huge, _ = exchange(
+        server,
+        b"GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Big: %s\r\nConnection: close\r\n\r\n" % (b"a" * 100_000),
+    )
     assert status(huge) in (400, 431)  # h11's buffer (a block still arriving) or the guard (one that arrived whole)

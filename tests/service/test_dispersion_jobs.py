@@ -13,10 +13,16 @@ from tests.authorities.report import example
 from tests.service.conftest import wait_for_job
 from tests.service.sample_requests import UNKNOWN_ID
 
-STUDY = {"footprint": example("footprint_lod189") | {"bank0_deg": [0, 60, 120]}, "samples": 40, "seed": 4,
-         "chunk_samples": 10, "entry": {"gamma_deg": {"normal": {"std": 0.03}}},
-         "vehicle": {"cd_multiplier": {"uniform": {"half_width": 0.02}}}, "density": {"std": 0.04},
-         "sites": [{"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411}]}
+STUDY = {
+    "footprint": example("footprint_lod189") | {"bank0_deg": [0, 60, 120]},
+    "samples": 40,
+    "seed": 4,
+    "chunk_samples": 10,
+    "entry": {"gamma_deg": {"normal": {"std": 0.03}}},
+    "vehicle": {"cd_multiplier": {"uniform": {"half_width": 0.02}}},
+    "density": {"std": 0.04},
+    "sites": [{"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411}],
+}
 
 
 def test_the_same_seed_and_samples_give_the_same_bits_in_this_process_and_on_two_remote_workers(scheduler_address):
@@ -47,22 +53,27 @@ def test_a_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
     assert listed["items"][0]["id"] == job["id"]
 
 
-@pytest.mark.parametrize("change, field", [
-    ({"entry": {"gamma_deg": {"normal": {"std": -1}}}}, "study.entry.gamma_deg.normal.std"),
-    ({"samples": 200_000}, "study.samples"),
-    ({"density": {"std": [0.1, 0.1]}}, "study.density"),
-    ({"footprint": STUDY["footprint"] | {"bank0_deg": [200]}}, "study.footprint.bank0_deg.0"),
-])
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"entry": {"gamma_deg": {"normal": {"std": -1}}}}, "study.entry.gamma_deg.normal.std"),
+        ({"samples": 200_000}, "study.samples"),
+        ({"density": {"std": [0.1, 0.1]}}, "study.density"),
+        ({"footprint": STUDY["footprint"] | {"bank0_deg": [200]}}, "study.footprint.bank0_deg.0"),
+    ],
+)
 def test_bad_dispersions_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "dispersion", "study": STUDY | change})
     assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
 
 
-SITES = [{"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411},  # deep inside
-         {"name": "Kennedy SLF, \"=cmd\"", "latitude_deg": 28.615, "longitude_deg": -80.695},  # behind the entry
-         {"name": "Honolulu", "latitude_deg": 21.319, "longitude_deg": -157.922},  # past 180 E, near the far end
-         {"name": "Kwajalein", "latitude_deg": 8.72, "longitude_deg": 167.732},
-         {"name": "=1+2", "latitude_deg": -80.0, "longitude_deg": 0.0}]  # a formula, to a spreadsheet
+SITES = [
+    {"name": "Diego Garcia", "latitude_deg": -7.313, "longitude_deg": 72.411},  # deep inside
+    {"name": 'Kennedy SLF, "=cmd"', "latitude_deg": 28.615, "longitude_deg": -80.695},  # behind the entry
+    {"name": "Honolulu", "latitude_deg": 21.319, "longitude_deg": -157.922},  # past 180 E, near the far end
+    {"name": "Kwajalein", "latitude_deg": 8.72, "longitude_deg": 167.732},
+    {"name": "=1+2", "latitude_deg": -80.0, "longitude_deg": 0.0},
+]  # a formula, to a spreadsheet
 
 
 def _holds(geometry, lon, lat) -> bool:
@@ -79,8 +90,9 @@ def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
     import csv
     import io
 
-    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "dispersion",
-                                                        "study": STUDY | {"sites": SITES}}).json()["id"])
+    job = wait_for_job(
+        api, api.post("/api/jobs", json={"kind": "dispersion", "study": STUDY | {"sites": SITES}}).json()["id"]
+    )
     assert job["status"] == "succeeded", job
     result = job["result"]["dispersion"]
     r = api.get(f"/api/jobs/{job['id']}/dispersion")
@@ -89,9 +101,19 @@ def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
     by_kind = {}
     for f in features:
         by_kind.setdefault(f["properties"]["kind"], []).append(f)
-        coords = np.array([xy for ring in (f["geometry"]["coordinates"] if f["geometry"]["type"] == "MultiPolygon"
-                                           else [f["geometry"]["coordinates"]]) for xy in np.reshape(ring, (-1, 2))]
-                          if f["geometry"]["type"] != "Point" else [f["geometry"]["coordinates"]])
+        coords = np.array(
+            [
+                xy
+                for ring in (
+                    f["geometry"]["coordinates"]
+                    if f["geometry"]["type"] == "MultiPolygon"
+                    else [f["geometry"]["coordinates"]]
+                )
+                for xy in np.reshape(ring, (-1, 2))
+            ]
+            if f["geometry"]["type"] != "Point"
+            else [f["geometry"]["coordinates"]]
+        )
         assert (np.abs(coords[:, 0]) <= 180).all() and (np.abs(coords[:, 1]) <= 90).all()
     nominal = by_kind["nominal_footprint"][0]["geometry"]
     assert nominal["type"] == "MultiPolygon"  # the L/D 1.89 footprint runs past 180 E
@@ -120,8 +142,9 @@ def test_a_dispersion_is_read_as_geojson_and_its_sites_as_csv(api):
 def test_only_a_succeeded_dispersion_job_has_a_dispersion(api):
     assert api.get(f"/api/jobs/{UNKNOWN_ID}/dispersion").status_code == 404
     assert api.get("/api/jobs/nope/dispersion").status_code == 422  # cannot be an id
-    job = api.post("/api/jobs", json={"kind": "footprint", "study": example("footprint_lod189")
-                                      | {"bank0_deg": [0]}}).json()
+    job = api.post(
+        "/api/jobs", json={"kind": "footprint", "study": example("footprint_lod189") | {"bank0_deg": [0]}}
+    ).json()
     r = api.get(f"/api/jobs/{job['id']}/dispersion")
     assert r.status_code == 404 and "is a footprint job" in r.json()["detail"], r.json()
     assert api.get(f"/api/jobs/{job['id']}/dispersion", params={"format": "kml"}).status_code == 422

@@ -24,8 +24,7 @@ def shoelace(ring) -> float:
 
 def test_a_ring_near_but_not_across_the_antimeridian_stays_one_polygon():
     geometry = geo.polygon(ring([0, 0, 10, 10], [170, 179.5, 179.5, 170]))
-    assert geometry == {"type": "Polygon",
-                        "coordinates": [[[170, 0], [179.5, 0], [179.5, 10], [170, 10], [170, 0]]]}
+    assert geometry == {"type": "Polygon", "coordinates": [[[170, 0], [179.5, 0], [179.5, 10], [170, 10], [170, 0]]]}
 
 
 def test_a_ring_across_the_antimeridian_is_cut_into_two_pieces():
@@ -64,10 +63,13 @@ def test_a_clockwise_ring_is_a_hole_in_the_map_that_holds_both_poles():
     assert shoelace(world) == pytest.approx(360.0 * 180.0) and shoelace(hole) == pytest.approx(400.0)
 
 
-@pytest.mark.parametrize("lon, crossing_lat", [
-    ([175.0, 178.0, -179.0, -176.0], 5.0),  # eastward: 180 lies 2 of the 3 deg from 178 to 181
-    ([-176.0, -179.0, 178.0, 175.0], 4.0),  # westward: -180 lies 1 of the 3 deg from -179 to -182
-])
+@pytest.mark.parametrize(
+    "lon, crossing_lat",
+    [
+        ([175.0, 178.0, -179.0, -176.0], 5.0),  # eastward: 180 lies 2 of the 3 deg from 178 to 181
+        ([-176.0, -179.0, 178.0, 175.0], 4.0),  # westward: -180 lies 1 of the 3 deg from -179 to -182
+    ],
+)
 def test_a_line_is_cut_where_it_crosses_either_way(lon, crossing_lat):
     lat = [0.0, 3.0, 6.0, 9.0]
     geometry = geo.line(lat, lon)

@@ -59,8 +59,9 @@ def test_a_job_past_its_time_limit_fails_with_one_line(scheduler_address, tmp_pa
         job_id = api.post("/api/jobs", json={"kind": "optimize", "study": LONG}).json()["id"]
         job = wait_for_job(api, job_id, timeout_s=WAIT_S)
     assert job["status"] == "failed"
-    assert job["error"] == ("JobTimeLimit: the job ran past its time limit of 3 s (FOOTPRINT_JOB_TIME_LIMIT_S) and "
-                            "was stopped")
+    assert job["error"] == (
+        "JobTimeLimit: the job ran past its time limit of 3 s (FOOTPRINT_JOB_TIME_LIMIT_S) and was stopped"
+    )
 
 
 def test_a_cancelled_optimization_stops_itself_and_keeps_its_worker(service, scheduler_address, monkeypatch):
@@ -94,8 +95,10 @@ def test_a_task_that_reports_nothing_is_stopped_by_restarting_its_worker(service
     with Client(scheduler_address, timeout="10s") as cluster:
         pids = cluster.run(os.getpid)
         stuck = jobs.client.submit(time.sleep, 3_600, pure=False)  # only a restart frees its worker in time
-        wait_until(lambda: any(cluster.run(lambda dask_worker: len(dask_worker.state.executing)).values()),
-                   "a worker runs the stuck task")
+        wait_until(
+            lambda: any(cluster.run(lambda dask_worker: len(dask_worker.state.executing)).values()),
+            "a worker runs the stuck task",
+        )
         jobs.stop([stuck])  # the 1 s grace, then the nanny's restart
         free = jobs.client.submit(os.getpid, pure=False)
         assert free.result(timeout=WAIT_S) in (after := cluster.run(os.getpid)).values()
@@ -105,9 +108,13 @@ def test_a_task_that_reports_nothing_is_stopped_by_restarting_its_worker(service
 def test_a_job_error_hides_cluster_addresses_but_keeps_the_sentence():
     from footprint.service.jobs.engine import one_line
 
-    exc = RuntimeError("Attempted to run task 'x' on 4 different workers, but all those workers died while running it. "
-                       "The last worker that attempt to run the task was tcp://127.0.0.1:41234. Inspecting worker "
-                       "logs is often a good next step ('tls://10.0.0.2:8786').")
-    assert one_line(exc) == ("RuntimeError: Attempted to run task 'x' on 4 different workers, but all those workers "
-                             "died while running it. The last worker that attempt to run the task was <address>. "
-                             "Inspecting worker logs is often a good next step ('<address>').")
+    exc = RuntimeError(
+        "Attempted to run task 'x' on 4 different workers, but all those workers died while running it. "
+        "The last worker that attempt to run the task was tcp://127.0.0.1:41234. Inspecting worker "
+        "logs is often a good next step ('tls://10.0.0.2:8786')."
+    )
+    assert one_line(exc) == (
+        "RuntimeError: Attempted to run task 'x' on 4 different workers, but all those workers "
+        "died while running it. The last worker that attempt to run the task was <address>. "
+        "Inspecting worker logs is often a good next step ('<address>')."
+    )

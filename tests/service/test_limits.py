@@ -24,14 +24,17 @@ def with_changes(study: dict, path: str, value) -> dict:
     return study
 
 
-@pytest.mark.parametrize("path, value, field, allowed", [
-    ("case.entry.velocity_fps", 50, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
-    ("case.entry.velocity_fps", 45_000, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
-    ("case.entry.gamma_deg", 20, "study.case.entry.gamma_deg", "-90 to 10 deg"),
-    ("case.entry.latitude_deg", -91, "study.case.entry.latitude_deg", "-90 to 90 deg"),
-    ("bank0_deg", [float(b) for b in range(101)], "study.bank0_deg", "1 to 200"),  # 101 x 2 sides
-    ("bank0_deg", [200], "study.bank0_deg.0", "0 to 180 deg"),
-])
+@pytest.mark.parametrize(
+    "path, value, field, allowed",
+    [
+        ("case.entry.velocity_fps", 50, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
+        ("case.entry.velocity_fps", 45_000, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
+        ("case.entry.gamma_deg", 20, "study.case.entry.gamma_deg", "-90 to 10 deg"),
+        ("case.entry.latitude_deg", -91, "study.case.entry.latitude_deg", "-90 to 90 deg"),
+        ("bank0_deg", [float(b) for b in range(101)], "study.bank0_deg", "1 to 200"),  # 101 x 2 sides
+        ("bank0_deg", [200], "study.bank0_deg.0", "0 to 180 deg"),
+    ],
+)
 def test_a_footprint_job_out_of_range_names_the_field(api, path, value, field, allowed):
     r = post_job(api, "footprint", with_changes(FOOTPRINT, path, value))
     assert r.status_code == 422
@@ -49,8 +52,11 @@ def test_other_job_kinds_name_their_fields(api):
     assert r.status_code == 422 and r.json()["field"] == "study.orbit.inclination_deg"
     r = api.post("/api/jobs", json={"kind": "flight", "study": FOOTPRINT})
     assert r.status_code == 422 and r.json()["field"] == "kind"
-    r = post_job(api, "footprint", with_changes(FOOTPRINT, "case.vehicle", {"aero": {"constant": {"cl": 1, "cd": 0}},
-                                                                             "wing_loading_psf": 50}))
+    r = post_job(
+        api,
+        "footprint",
+        with_changes(FOOTPRINT, "case.vehicle", {"aero": {"constant": {"cl": 1, "cd": 0}}, "wing_loading_psf": 50}),
+    )
     assert r.status_code == 422 and r.json()["field"] == "study.case.vehicle.aero.constant.cd"
     assert api.get("/api/jobs", params={"kind": "footprint", "status": "queued"}).json()["total"] == 0  # none stored
 
@@ -65,9 +71,11 @@ def test_a_trajectory_out_of_range_names_the_field(api):
 
 
 def test_transform_points_are_limited_to_ten_thousand(api):
-    body = {"points": [{"latitude_deg": 0, "longitude_deg": 0}] * 10_001,
-            "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
-            "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90}}
+    body = {
+        "points": [{"latitude_deg": 0, "longitude_deg": 0}] * 10_001,
+        "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+        "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90},
+    }
     r = api.post("/api/transform", json=body)
     assert r.status_code == 422 and r.json()["field"] == "points" and "10,000" in r.json()["detail"]
     assert api.post("/api/transform", json=body | {"points": body["points"][:10_000]}).status_code == 200
@@ -86,8 +94,16 @@ def test_a_body_over_one_megabyte_is_refused(api):
     assert r.status_code == 413
 
 
-@pytest.mark.parametrize("path", [f"/api/jobs/{UNKNOWN_ID}", f"/api/footprints/{UNKNOWN_ID}",
-                                  f"/api/footprints/{UNKNOWN_ID}?format=geojson", "/api/vehicles/0f0e", "/api/sites/999999"])
+@pytest.mark.parametrize(
+    "path",
+    [
+        f"/api/jobs/{UNKNOWN_ID}",
+        f"/api/footprints/{UNKNOWN_ID}",
+        f"/api/footprints/{UNKNOWN_ID}?format=geojson",
+        "/api/vehicles/0f0e",
+        "/api/sites/999999",
+    ],
+)
 def test_unknown_ids_are_404(api, path):
     r = api.get(path)
     assert r.status_code == 404 and r.json()["detail"]
@@ -96,9 +112,12 @@ def test_unknown_ids_are_404(api, path):
 
 @pytest.fixture(scope="module")
 def guarded(scheduler_address, tmp_path_factory):
-    with database_url("sqlite", tmp_path_factory.mktemp("guarded")) as url, \
-            running_service(url, scheduler_address, api_token="s3cret",
-                            cors_origins="https://planner.example, http://localhost:5173") as client:
+    with (
+        database_url("sqlite", tmp_path_factory.mktemp("guarded")) as url,
+        running_service(
+            url, scheduler_address, api_token="s3cret", cors_origins="https://planner.example, http://localhost:5173"
+        ) as client,
+    ):
         yield client
 
 
@@ -122,10 +141,17 @@ def test_computations_that_store_nothing_need_no_token(guarded):
     assert guarded.post("/api/trajectories", json=CASE).status_code == 200
     assert guarded.post("/api/reach", json=REACH).status_code == 200
     assert guarded.post("/api/reach?store_verdicts=true", json=REACH | {"sites": []}).status_code == 401
-    assert guarded.post("/api/transform", json={"points": [{"latitude_deg": 0, "longitude_deg": 0}],
-                                                "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
-                                                "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90}}
-                        ).status_code == 200
+    assert (
+        guarded.post(
+            "/api/transform",
+            json={
+                "points": [{"latitude_deg": 0, "longitude_deg": 0}],
+                "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+                "to": {"latitude_deg": 0, "longitude_deg": 10, "heading_deg": 90},
+            },
+        ).status_code
+        == 200
+    )
 
 
 def test_cors_allows_the_configured_origins_only(guarded, api):
@@ -153,12 +179,17 @@ def test_every_footprint_method_has_its_point_count_checked():
     http = context(HTTP)
     contracts.parse("footprint", {"case": heated, "method": "temperature_limited", "limit_R": 2550}, http)
     contracts.parse("footprint", {"case": CASE, "method": "collocation", "points_per_half": 11}, http)
-    wide = {"case": heated, "method": "temperature_limited", "limit_R": 2550,
-            "bank0_deg": [float(b % 180) for b in range(181)]}
+    wide = {
+        "case": heated,
+        "method": "temperature_limited",
+        "limit_R": 2550,
+        "bank0_deg": [float(b % 180) for b in range(181)],
+    }
     with pytest.raises(ValidationError) as err:
         contracts.parse("footprint", wide, http)
-    assert error_line(err.value).startswith("bank0_deg: 181 settings x 2 sides = 362 footprint points is outside "
-                                            "the allowed range 1 to 200 over HTTP")
+    assert error_line(err.value).startswith(
+        "bank0_deg: 181 settings x 2 sides = 362 footprint points is outside the allowed range 1 to 200 over HTTP"
+    )
     assert contracts.parse("footprint", wide).settings() == ("bank0_deg", 181)  # the CLI's own machine: allowed
 
 
@@ -166,9 +197,13 @@ def test_a_synchronous_reach_is_bounded_to_seconds_and_the_same_reach_runs_as_a_
     """Issue 15 item 3: POST /api/reach at its documented caps took 44 s in the API process. A synchronous request
     is bounded to about two seconds of work (a 422 naming the field and the limit); the same request is a reach job,
     whose limit is the contract's; a collocation study (a minute of NLP solves) is only ever a job."""
-    many = REACH | {"sites": [{"name": f"s{i}", "latitude_deg": (i % 170) - 85.0, "longitude_deg": float(i % 360)}
-                              for i in range(1_000)],
-                    "revolutions": {"first": 1, "last": 60}, "u_step_deg": 0.5}  # 4 points, 43,200 placements
+    many = REACH | {
+        "sites": [
+            {"name": f"s{i}", "latitude_deg": (i % 170) - 85.0, "longitude_deg": float(i % 360)} for i in range(1_000)
+        ],
+        "revolutions": {"first": 1, "last": 60},
+        "u_step_deg": 0.5,
+    }  # 4 points, 43,200 placements
     r = api.post("/api/reach", json=many)
     assert r.status_code == 422 and r.json()["field"] == "sites", r.text
     assert "at most 2e+07 in a synchronous request" in r.json()["detail"]
@@ -180,15 +215,27 @@ def test_a_synchronous_reach_is_bounded_to_seconds_and_the_same_reach_runs_as_a_
     assert r.status_code == 422 and r.json()["field"] == "footprint.study.method", r.text
 
 
-@pytest.mark.parametrize("query", ["store_verdicts=1", "store_verdicts=yes", "store_verdicts=on", "store_verdicts=t",
-                                   "store_verdicts=y", "store_verdicts=%74rue", "store%5Fverdicts=true",
-                                   "store_verdicts=TRUE", "store_verdicts=false&store_verdicts=1"])
+@pytest.mark.parametrize(
+    "query",
+    [
+        "store_verdicts=1",
+        "store_verdicts=yes",
+        "store_verdicts=on",
+        "store_verdicts=t",
+        "store_verdicts=y",
+        "store_verdicts=%74rue",
+        "store%5Fverdicts=true",
+        "store_verdicts=TRUE",
+        "store_verdicts=false&store_verdicts=1",
+    ],
+)
 def test_every_spelling_of_store_verdicts_needs_the_token(guarded, query):
     """Issue 24 item 2: the guard looked for the text "store_verdicts=true", and each of these (true to the route's
     parser) overwrote the stored sites' verdicts without the token."""
     token = {"Authorization": "Bearer s3cret"}
-    site = guarded.post("/api/sites", json={"name": "Kourou", "latitude_deg": 5.2, "longitude_deg": -52.8},
-                        headers=token).json()
+    site = guarded.post(
+        "/api/sites", json={"name": "Kourou", "latitude_deg": 5.2, "longitude_deg": -52.8}, headers=token
+    ).json()
     try:
         before = guarded.get("/api/sites").json()
         assert guarded.post(f"/api/reach?{query}", json=REACH | {"sites": []}).status_code == 401

@@ -20,8 +20,9 @@ def bench():
 
 
 def test_reads_and_jobs_under_load_lose_nothing(bench):
-    figures = bench.run(reads=50, rounds=2, jobs=5, workers=2, sequential=2, baseline=False, budget_s=600.0,
-                        readers=(50,))  # the budget stops a hang, it bounds no speed
+    figures = bench.run(
+        reads=50, rounds=2, jobs=5, workers=2, sequential=2, baseline=False, budget_s=600.0, readers=(50,)
+    )  # the budget stops a hang, it bounds no speed
     assert figures["reads"]["n"] == 100 and figures["reads"]["errors"] == 0
     during = figures["readers_while_jobs_run"]["50"]
     assert during["errors"] == 0 and during["n"] >= 50 and figures["reads_one_at_a_time"]["n"] == 2 * 4
@@ -48,7 +49,9 @@ def test_the_load_checks_can_fail(bench):
 
     async def missing():
         async with httpx.AsyncClient(transport=httpx.MockTransport(handler), base_url="http://x") as client:
-            await bench.check_jobs(client, {"j": {"status": "succeeded", "result": {"footprints": ["/api/footprints/fp-1"]}}})
+            await bench.check_jobs(
+                client, {"j": {"status": "succeeded", "result": {"footprints": ["/api/footprints/fp-1"]}}}
+            )
 
     with pytest.raises(AssertionError, match="HTTP 404"):
         asyncio.run(missing())

@@ -65,12 +65,20 @@ def test_the_bank_gain_migration_renames_k_in_stored_studies_and_points_only(eng
     with engine.begin() as connection:
         cfg.attributes["connection"] = connection
         command.upgrade(cfg, "2026_12_02_0002")
-    case = {"vehicle": {"builtin": "lod-2.2"}, "planet": {"k": 0.001},
-            "bank": {"law": "single_parameter", "k": 0.8, "limit_deg": 85}}
+    case = {
+        "vehicle": {"builtin": "lod-2.2"},
+        "planet": {"k": 0.001},
+        "bank": {"law": "single_parameter", "k": 0.8, "limit_deg": 85},
+    }
     study = {"case": case, "method": "two_parameter", "k": [0.5, 1.0]}
     with engine.begin() as c:
-        c.execute(text("INSERT INTO jobs (id, kind, status, progress, study, attempts, created_at) VALUES "
-                       "('j', 'footprint', 'queued', 0, :s, 0, CURRENT_TIMESTAMP)"), {"s": json.dumps(study)})
+        c.execute(
+            text(
+                "INSERT INTO jobs (id, kind, status, progress, study, attempts, created_at) VALUES "
+                "('j', 'footprint', 'queued', 0, :s, 0, CURRENT_TIMESTAMP)"
+            ),
+            {"s": json.dumps(study)},
+        )
     migrate(engine, MIGRATIONS_DIR)
     with engine.connect() as c:
         stored = c.execute(text("SELECT study FROM jobs WHERE id = 'j'")).scalar_one()

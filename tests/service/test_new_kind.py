@@ -27,8 +27,10 @@ def registered(monkeypatch):
 def test_the_python_api_runs_it_here_and_on_dask(scheduler_address):
     assert KIND in contracts.job_kinds()
     assert api.run(KIND, {"n": 1_000, "parts": 3}) == {"sum": closed_form(1_000), "parts": 3}
-    assert api.run(KIND, {"n": 12_345, "parts": 7}, scheduler=scheduler_address) == {"sum": closed_form(12_345),
-                                                                                      "parts": 7}
+    assert api.run(KIND, {"n": 12_345, "parts": 7}, scheduler=scheduler_address) == {
+        "sum": closed_form(12_345),
+        "parts": 7,
+    }
 
 
 def test_the_cli_runs_it_and_names_a_bad_field(tmp_path):

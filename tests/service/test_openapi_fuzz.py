@@ -22,11 +22,18 @@ EXAMPLES = 12  # per operation; the default suite's runs are derandomized (the s
 # of every field, the largest reach among them) takes minutes, so the default suite fuzzes them without it and
 # `-m slow` runs it
 HEAVY = ["POST /api/jobs", "POST /api/reach", "POST /api/transform"]
-QUICK = SchemathesisConfig.from_dict({"operations": [{"include-name": name, "phases": {"coverage": {"enabled": False}}}
-                                                     for name in HEAVY]})
-CONTRACT_BODIES = {("POST", "/api/jobs"), ("POST", "/api/trajectories"), ("POST", "/api/transform"),
-                   ("POST", "/api/reach"), ("POST", "/api/footprints/{footprint_id}/transform"),
-                   ("POST", "/api/vehicles"), ("POST", "/api/sites/csv")}
+QUICK = SchemathesisConfig.from_dict(
+    {"operations": [{"include-name": name, "phases": {"coverage": {"enabled": False}}} for name in HEAVY]}
+)
+CONTRACT_BODIES = {
+    ("POST", "/api/jobs"),
+    ("POST", "/api/trajectories"),
+    ("POST", "/api/transform"),
+    ("POST", "/api/reach"),
+    ("POST", "/api/footprints/{footprint_id}/transform"),
+    ("POST", "/api/vehicles"),
+    ("POST", "/api/sites/csv"),
+}
 
 
 @pytest.fixture(scope="module")

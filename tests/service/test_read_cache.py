@@ -17,8 +17,9 @@ from tests.service.sample_requests import FOOTPRINT
 @pytest.fixture(scope="module")
 def stored(api):
     """(footprint id, its name) of a footprint job run through the module's service."""
-    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT,
-                                                          "name": "cached"}).json()["id"])
+    job = wait_for_job(
+        api, api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT, "name": "cached"}).json()["id"]
+    )
     assert job["status"] == "succeeded", job
     fp_id = job["result"]["footprints"][0].rsplit("/", 1)[-1]
     return fp_id, api.get(f"/api/footprints/{fp_id}").json()["name"]

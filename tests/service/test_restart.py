@@ -18,8 +18,11 @@ from .sample_requests import CASE, FOOTPRINT
 START_TIMEOUT_S = 120.0  # a cold numba cache compiles for up to a minute
 # a few seconds of one worker's time (fine integrator steps): still running when the server is killed, now that a job
 # shows "running" only once a worker has started it
-OPTIMIZE_1S = {"case": CASE | {"integrator": {"rtol": 1e-12, "max_step_s": 0.2}},
-               "constraints": [{"quantity": "downrange_nmi", "equals": 3_000}], "max_trajectories": 250}
+OPTIMIZE_1S = {
+    "case": CASE | {"integrator": {"rtol": 1e-12, "max_step_s": 0.2}},
+    "constraints": [{"quantity": "downrange_nmi", "equals": 3_000}],
+    "max_trajectories": 250,
+}
 
 
 def free_port() -> int:
@@ -33,8 +36,16 @@ def start(tmp_path, port: int) -> subprocess.Popen:
     log_path = tmp_path / f"serve-{time.monotonic_ns()}.log"
     log = open(log_path, "w")
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
-    cmd = [sys.executable, "-c", "from footprint.cli import main; main()", "serve", "--port", str(port),
-           "--workers", "2"]  # the database: the default, footprint.db in the working directory
+    cmd = [
+        sys.executable,
+        "-c",
+        "from footprint.cli import main; main()",
+        "serve",
+        "--port",
+        str(port),
+        "--workers",
+        "2",
+    ]  # the database: the default, footprint.db in the working directory
     proc = subprocess.Popen(cmd, cwd=tmp_path, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     deadline = time.monotonic() + START_TIMEOUT_S
     while time.monotonic() < deadline:

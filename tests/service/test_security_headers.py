@@ -34,10 +34,24 @@ def client(scheduler_address, tmp_path_factory):
         yield c
 
 
-@pytest.mark.parametrize("path, status", [
-    ("/api/health", 200), ("/api/footprints", 200), ("/api/vehicles", 200), ("/", 200), ("/js/main.js", 200),
-    ("/styles.css", 200), ("/openapi.json", 200), ("/redoc", 200), ("/api/nope", 404),
-    (f"/api/footprints/{UNKNOWN_ID}", 404), ("/api/footprints/0f0e", 422), ("/no-such-file.js", 404), ("/api/footprints?limit=nope", 422)])
+@pytest.mark.parametrize(
+    "path, status",
+    [
+        ("/api/health", 200),
+        ("/api/footprints", 200),
+        ("/api/vehicles", 200),
+        ("/", 200),
+        ("/js/main.js", 200),
+        ("/styles.css", 200),
+        ("/openapi.json", 200),
+        ("/redoc", 200),
+        ("/api/nope", 404),
+        (f"/api/footprints/{UNKNOWN_ID}", 404),
+        ("/api/footprints/0f0e", 422),
+        ("/no-such-file.js", 404),
+        ("/api/footprints?limit=nope", 422),
+    ],
+)
 def test_every_get_carries_the_headers(client, path, status):
     r = client.get(path)
     assert r.status_code == status, r.text
@@ -65,18 +79,24 @@ def test_the_tile_layer_origin_is_allowed_for_images(tmp_path):
     from footprint.service.app import create_app
     from footprint.service.settings import load_settings
 
-    settings = load_settings(database_url=f"sqlite:///{tmp_path / 'f.db'}",
-                             tile_url="https://{s}.tiles.example.org:8443/{z}/{x}/{y}.png")
+    settings = load_settings(
+        database_url=f"sqlite:///{tmp_path / 'f.db'}", tile_url="https://{s}.tiles.example.org:8443/{z}/{x}/{y}.png"
+    )
     r = TestClient(create_app(settings)).get("/api/config")  # no lifespan: the config needs no database
     policy = assert_secured(r)
     assert "https://*.tiles.example.org:8443" in policy["img-src"]
     assert "https://*.tiles.example.org:8443" not in policy["connect-src"] + policy["script-src"]
 
 
-@pytest.mark.parametrize("url, source", [
-    ("", None), ("http://127.0.0.1:9000/tiles/{z}/{x}/{y}.png", "http://127.0.0.1:9000"),
-    ("https://{s}.tile.openstreetmap.org/{z}/{x}/{y}.png", "https://*.tile.openstreetmap.org"),
-    ("https://tiles.{s}.example.org/{z}/{x}/{y}.png", "https:")])
+@pytest.mark.parametrize(
+    "url, source",
+    [
+        ("", None),
+        ("http://127.0.0.1:9000/tiles/{z}/{x}/{y}.png", "http://127.0.0.1:9000"),
+        ("https://{s}.tile.openstreetmap.org/{z}/{x}/{y}.png", "https://*.tile.openstreetmap.org"),
+        ("https://tiles.{s}.example.org/{z}/{x}/{y}.png", "https:"),
+    ],
+)
 def test_tile_source(url, source):
     assert tile_source(url) == source
 

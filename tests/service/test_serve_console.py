@@ -16,14 +16,18 @@ def test_a_start_says_what_it_does_and_ctrl_c_stops_it_quietly(tmp_path):
         (log_path,) = tmp_path.glob("serve-*.log")
         wait_until(lambda: "flight kernels are ready" in log_path.read_text(), "the workers warmed")
         text = log_path.read_text()
-        for step in ("footprint: migrating the database", "footprint: starting the job engine (a local cluster of 2",
-                     "footprint: loading the flight kernels (numba): a first start compiles them",
-                     "footprint: ready (the flight kernels took", "footprint: the workers' flight kernels are ready ("):
+        for step in (
+            "footprint: migrating the database",
+            "footprint: starting the job engine (a local cluster of 2",
+            "footprint: loading the flight kernels (numba): a first start compiles them",
+            "footprint: ready (the flight kernels took",
+            "footprint: the workers' flight kernels are ready (",
+        ):
             assert step in text, text
         os.killpg(proc.pid, signal.SIGINT)  # what Ctrl+C in a terminal does
         wait_until(lambda: proc.poll() is not None, "serve stopped by SIGINT")
         time.sleep(1.0)  # a worker's last words, if any, after the parent
-        said = log_path.read_text()[len(text):]
+        said = log_path.read_text()[len(text) :]
         assert proc.returncode in (0, 128 + signal.SIGINT, -signal.SIGINT), said  # uvicorn re-raises the signal
         assert "Traceback" not in said and "ERROR" not in said and "CommClosedError" not in said, said
         assert "Application shutdown complete" in said

@@ -4,16 +4,26 @@ files served at / next to the API."""
 import pytest
 from pydantic import ValidationError
 
-from footprint.service.settings import load_settings
 from footprint.parallel import default_workers
+from footprint.service.settings import load_settings
 
 from .conftest import database_url, running_service
 
 
 @pytest.fixture
 def clean_env(monkeypatch):
-    for name in ("DATABASE_URL", "DASK_SCHEDULER", "DASK_WORKERS", "API_TOKEN", "CORS_ORIGINS", "TILE_URL", "HOST",
-                 "PORT", "HEADER_TIMEOUT_S", "BODY_TIMEOUT_S"):
+    for name in (
+        "DATABASE_URL",
+        "DASK_SCHEDULER",
+        "DASK_WORKERS",
+        "API_TOKEN",
+        "CORS_ORIGINS",
+        "TILE_URL",
+        "HOST",
+        "PORT",
+        "HEADER_TIMEOUT_S",
+        "BODY_TIMEOUT_S",
+    ):
         monkeypatch.delenv(f"FOOTPRINT_{name}", raising=False)
     return monkeypatch
 
@@ -21,17 +31,29 @@ def clean_env(monkeypatch):
 def test_the_defaults_are_sqlite_in_the_working_directory_a_local_cluster_and_loopback(clean_env):
     clean_env.delenv("FOOTPRINT_ALLOWED_HOSTS", raising=False)  # the tests' "testserver" (tests/conftest.py)
     s = load_settings()
-    assert (s.database_url, s.dask_scheduler, s.api_token, s.host, s.port) == \
-        ("sqlite:///footprint.db", "", "", "127.0.0.1", 8000)
+    assert (s.database_url, s.dask_scheduler, s.api_token, s.host, s.port) == (
+        "sqlite:///footprint.db",
+        "",
+        "",
+        "127.0.0.1",
+        8000,
+    )
     assert s.dask_workers == default_workers() and s.cors_origin_list == []
     assert s.host_names == {"localhost", "127.0.0.1", "[::1]"}
     assert (s.header_timeout_s, s.body_timeout_s) == (10.0, 30.0)
 
 
-@pytest.mark.parametrize("host, allowed, names", [
-    ("0.0.0.0", "", set()), ("::", "", set()),  # a wildcard bind names no host: FOOTPRINT_ALLOWED_HOSTS does
-    ("192.168.1.20", "", {"192.168.1.20"}), ("fd00::5", "", {"[fd00::5]"}),
-    ("0.0.0.0", " Footprint.Example , planner.lan", {"footprint.example", "planner.lan"}), ("0.0.0.0", "*", {"*"})])
+@pytest.mark.parametrize(
+    "host, allowed, names",
+    [
+        ("0.0.0.0", "", set()),
+        ("::", "", set()),  # a wildcard bind names no host: FOOTPRINT_ALLOWED_HOSTS does
+        ("192.168.1.20", "", {"192.168.1.20"}),
+        ("fd00::5", "", {"[fd00::5]"}),
+        ("0.0.0.0", " Footprint.Example , planner.lan", {"footprint.example", "planner.lan"}),
+        ("0.0.0.0", "*", {"*"}),
+    ],
+)
 def test_the_served_host_names(clean_env, host, allowed, names):
     assert load_settings(host=host, allowed_hosts=allowed).host_names == {"localhost", "127.0.0.1", "[::1]"} | names
 
@@ -54,12 +76,20 @@ def test_the_settings_pass_to_another_process_through_the_environment(clean_env)
     """`serve --api-processes N` hands its settings (the CLI's overrides included) to uvicorn's processes this way."""
     from footprint.service.settings import Settings, environment
 
-    given = load_settings(database_url="postgresql+psycopg://db/x", port=9001, api_token="t", api_processes=3,
-                          cors_origins="https://a.example", job_time_limit_s=12.5, dask_workers=5)
+    given = load_settings(
+        database_url="postgresql+psycopg://db/x",
+        port=9001,
+        api_token="t",
+        api_processes=3,
+        cors_origins="https://a.example",
+        job_time_limit_s=12.5,
+        dask_workers=5,
+    )
     for name, value in environment(given).items():
         clean_env.setenv(name, value)
-    assert load_settings() == given and set(environment(given)) == {f"FOOTPRINT_{n.upper()}"
-                                                                    for n in Settings.model_fields}
+    assert load_settings() == given and set(environment(given)) == {
+        f"FOOTPRINT_{n.upper()}" for n in Settings.model_fields
+    }
 
 
 def test_the_page_is_served_at_the_root(scheduler_address, tmp_path):

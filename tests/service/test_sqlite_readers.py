@@ -6,6 +6,7 @@ import pytest
 
 from .conftest import database_url, running_service
 
+
 @pytest.fixture
 def sqlite_service(scheduler_address, tmp_path):
     with database_url("sqlite", tmp_path) as url, running_service(url, scheduler_address) as api:
@@ -14,8 +15,10 @@ def sqlite_service(scheduler_address, tmp_path):
 
 def test_reads_do_not_wait_for_a_writer(sqlite_service):
     api, path = sqlite_service
-    assert api.post("/api/sites", json={"name": "Edwards", "latitude_deg": 34.9,
-                                        "longitude_deg": -117.9}).status_code == 201
+    assert (
+        api.post("/api/sites", json={"name": "Edwards", "latitude_deg": 34.9, "longitude_deg": -117.9}).status_code
+        == 201
+    )
     writer = sqlite3.connect(path, isolation_level=None)
     writer.execute("BEGIN IMMEDIATE")  # another process holds the one write lock
     try:
@@ -24,5 +27,7 @@ def test_reads_do_not_wait_for_a_writer(sqlite_service):
     finally:
         writer.execute("ROLLBACK")
         writer.close()
-    assert api.post("/api/sites", json={"name": "White Sands", "latitude_deg": 32.4,
-                                        "longitude_deg": -106.4}).status_code == 201  # the writer's turn came
+    assert (
+        api.post("/api/sites", json={"name": "White Sands", "latitude_deg": 32.4, "longitude_deg": -106.4}).status_code
+        == 201
+    )  # the writer's turn came

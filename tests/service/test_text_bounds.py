@@ -11,8 +11,7 @@ import pytest
 from sqlalchemy import String, inspect
 
 from footprint.contracts import parse
-from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, TEXT_COLUMNS, VEHICLE_NAME_CHARS, \
-    fitted
+from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, TEXT_COLUMNS, VEHICLE_NAME_CHARS, fitted
 from footprint.service.db.engine import make_engine, migrate
 from footprint.service.db.models import Base
 from footprint.service.settings import MIGRATIONS_DIR
@@ -24,8 +23,11 @@ from .sample_requests import FOOTPRINT
 def named_vehicle_study(chars: int) -> dict:
     """FOOTPRINT with an inline vehicle (the sample's built-in one, written out) named with `chars` characters."""
     study = copy.deepcopy(FOOTPRINT)
-    study["case"]["vehicle"] = {"name": "V" * chars, "wing_loading_psf": 50,
-                                "aero": {"constant": {"cl": 0.5, "cd": 0.27}}}
+    study["case"]["vehicle"] = {
+        "name": "V" * chars,
+        "wing_loading_psf": 50,
+        "aero": {"constant": {"cl": 0.5, "cd": 0.27}},
+    }
     return study
 
 
@@ -34,8 +36,12 @@ def test_the_migrated_columns_have_the_tables_bounds(tmp_path):
     migrate(engine, MIGRATIONS_DIR)
     with engine.connect() as c:
         inspector = inspect(c)
-        migrated = {(t, col["name"]): col["type"].length for t in inspector.get_table_names()
-                    for col in inspector.get_columns(t) if isinstance(col["type"], String)}
+        migrated = {
+            (t, col["name"]): col["type"].length
+            for t in inspector.get_table_names()
+            for col in inspector.get_columns(t)
+            if isinstance(col["type"], String)
+        }
     engine.dispose()
     for column, chars in TEXT_COLUMNS.items():
         assert migrated[column] == chars, column
@@ -53,8 +59,9 @@ def test_a_derived_name_keeps_its_tail_and_fits():
 def test_the_cli_refuses_a_vehicle_name_past_its_bound_in_one_line(tmp_path):
     path = tmp_path / "study.json"
     path.write_text(json.dumps(named_vehicle_study(VEHICLE_NAME_CHARS + 100)))
-    r = subprocess.run([sys.executable, "-m", "footprint.cli", "footprint", str(path)], capture_output=True,
-                       text=True, timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-m", "footprint.cli", "footprint", str(path)], capture_output=True, text=True, timeout=300
+    )
     assert r.returncode == 2 and r.stdout == ""
     assert len(r.stderr.strip().splitlines()) == 1
     assert "vehicle.name" in r.stderr and f"{VEHICLE_NAME_CHARS}" in r.stderr
@@ -62,8 +69,10 @@ def test_the_cli_refuses_a_vehicle_name_past_its_bound_in_one_line(tmp_path):
 
 @pytest.fixture(scope="module", params=DATABASES)
 def client(request, scheduler_address, tmp_path_factory):
-    with database_url(request.param, tmp_path_factory.mktemp(request.param)) as url, \
-            running_service(url, scheduler_address) as c:
+    with (
+        database_url(request.param, tmp_path_factory.mktemp(request.param)) as url,
+        running_service(url, scheduler_address) as c,
+    ):
         yield c
 
 

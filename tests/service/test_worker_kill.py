@@ -22,8 +22,11 @@ from .sample_requests import CASE
 
 # 2-4 s of one worker's time (fine integrator steps, 50 bank settings: 100 trajectories), all in one task: still
 # running well after the job shows "running" (its task's first event)
-SLOW_FOOTPRINT = {"case": CASE | {"integrator": {"rtol": 1e-12, "max_step_s": 0.2}}, "method": "single_parameter",
-                  "bank0_deg": [3.0 * i for i in range(50)]}
+SLOW_FOOTPRINT = {
+    "case": CASE | {"integrator": {"rtol": 1e-12, "max_step_s": 0.2}},
+    "method": "single_parameter",
+    "bank0_deg": [3.0 * i for i in range(50)],
+}
 INTO_THE_TASK_S = 0.5  # the kill comes this long after the task started
 ENDS_WITHIN_S = 120.0  # the task flown again (2-4 s), with room to spare on a busy machine: else it hangs
 WORKERS = 2
@@ -32,8 +35,16 @@ WORKERS = 2
 @pytest.fixture(scope="module")
 def cluster():
     """A client of this module's LocalCluster (worker processes under nannies, one thread each)."""
-    with LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      scheduler_kwargs={"dashboard": False}) as local, Client(local, set_as_default=False) as client:
+    with (
+        LocalCluster(
+            n_workers=WORKERS,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            scheduler_kwargs={"dashboard": False},
+        ) as local,
+        Client(local, set_as_default=False) as client,
+    ):
         yield client
 
 
@@ -47,6 +58,7 @@ def service(cluster, tmp_path_factory):
 @pytest.fixture
 def no_retry(cluster):
     """The scheduler gives up on a task at the first worker that dies running it."""
+
     def set_allowed(n, dask_scheduler=None):
         before, dask_scheduler.allowed_failures = dask_scheduler.allowed_failures, n
         return before
@@ -84,7 +96,7 @@ def kill_the_worker_running(service, cluster, job_id: str) -> tuple[str, str, in
     time.sleep(INTO_THE_TASK_S)
     busy = {w: k for w, keys in cluster.processing().items() for k in keys if job_id in str(k)}
     assert len(busy) == 1, cluster.processing()  # one task, on one worker
-    (address, key), = busy.items()
+    ((address, key),) = busy.items()
     pid = cluster.run(os.getpid, workers=[address])[address]
     assert poll(service, job_id, lambda j: True, 0)["status"] == "running"  # still mid-task when killed
     os.kill(pid, signal.SIGKILL)
@@ -93,8 +105,10 @@ def kill_the_worker_running(service, cluster, job_id: str) -> tuple[str, str, in
 
 def times_processed(cluster, key: str) -> int:
     """How often the scheduler handed the task to a worker (its transition log)."""
+
     def count(dask_scheduler=None):
         return sum(1 for t in dask_scheduler.story(key) if t[0] == key and t[2] == "processing")
+
     return cluster.run_on_scheduler(count)
 
 

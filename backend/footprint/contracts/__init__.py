@@ -12,10 +12,15 @@ import importlib
 from types import ModuleType
 from typing import Any
 
-MODULES = {"case": "footprint.contracts.case", "footprint": "footprint.contracts.footprint",
-           "optimize": "footprint.contracts.optimization", "sweep": "footprint.contracts.sweep",
-           "transform": "footprint.contracts.transform", "reach": "footprint.contracts.reach",
-           "dispersion": "footprint.contracts.dispersion"}  # kind -> its contract module
+MODULES = {
+    "case": "footprint.contracts.case",
+    "footprint": "footprint.contracts.footprint",
+    "optimize": "footprint.contracts.optimization",
+    "sweep": "footprint.contracts.sweep",
+    "transform": "footprint.contracts.transform",
+    "reach": "footprint.contracts.reach",
+    "dispersion": "footprint.contracts.dispersion",
+}  # kind -> its contract module
 
 
 def module(kind: str) -> ModuleType:

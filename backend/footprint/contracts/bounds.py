@@ -10,9 +10,14 @@ SITE_NAME_CHARS = 200  # a landing site's name
 PROGRESS_NOTE_CHARS = 200  # what a running job is doing (the core's note, cut to fit)
 
 # column -> its bound (the request fields that write it use the same constant)
-TEXT_COLUMNS = {("vehicles", "id"): VEHICLE_ID_CHARS, ("footprints", "vehicle"): VEHICLE_NAME_CHARS,
-                ("jobs", "name"): JOB_NAME_CHARS, ("footprints", "name"): FOOTPRINT_NAME_CHARS,
-                ("sites", "name"): SITE_NAME_CHARS, ("jobs", "progress_note"): PROGRESS_NOTE_CHARS}
+TEXT_COLUMNS = {
+    ("vehicles", "id"): VEHICLE_ID_CHARS,
+    ("footprints", "vehicle"): VEHICLE_NAME_CHARS,
+    ("jobs", "name"): JOB_NAME_CHARS,
+    ("footprints", "name"): FOOTPRINT_NAME_CHARS,
+    ("sites", "name"): SITE_NAME_CHARS,
+    ("jobs", "progress_note"): PROGRESS_NOTE_CHARS,
+}
 
 ELLIPSIS = "…"
 
@@ -22,5 +27,5 @@ def fitted(head: str, tail: str, chars: int) -> str:
     apart) keeps its tail whole and cuts its head, marked by an ellipsis, so it fits the column it is written to."""
     room = chars - len(tail) - 1
     if len(head) > room:
-        head = head[:max(room - len(ELLIPSIS), 0)] + ELLIPSIS
+        head = head[: max(room - len(ELLIPSIS), 0)] + ELLIPSIS
     return f"{head} {tail}"[:chars]

@@ -8,10 +8,20 @@ import functools
 import json
 import re
 from dataclasses import replace
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
-from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, TypeAdapter,
-                      ValidationError, ValidationInfo, model_validator)
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    TypeAdapter,
+    ValidationError,
+    ValidationInfo,
+    model_validator,
+)
 
 from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
 from footprint.contracts.work import Work
@@ -32,8 +42,9 @@ def bounded(lo: float, hi: float, unit: str = "", kind: type = float):
             raise ValueError(f"{v:g} is outside the allowed range {lo:g} to {hi:g}{' ' + unit if unit else ''}")
         return v
 
-    return Annotated[kind, BeforeValidator(_not_bool), AfterValidator(check),
-                     Field(json_schema_extra={"minimum": lo, "maximum": hi})]
+    return Annotated[
+        kind, BeforeValidator(_not_bool), AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})
+    ]
 
 
 def _not_bool(v):
@@ -92,8 +103,10 @@ class VehicleCase(Strict):
     """A built-in vehicle (with an optional wing-loading change), an inline aero definition, or (over HTTP) a vehicle
     stored in the service, {"stored": id}."""
 
-    model_config = ConfigDict(extra="forbid", json_schema_extra={
-        "anyOf": [{"required": ["builtin"]}, {"required": ["aero"]}, {"required": ["stored"]}]})
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra={"anyOf": [{"required": ["builtin"]}, {"required": ["aero"]}, {"required": ["stored"]}]},
+    )
     stored: str | None = Field(default=None, max_length=VEHICLE_ID_CHARS)  # replaced by its definition as it is parsed
     builtin: str | None = None
     name: str | None = Field(default=None, max_length=VEHICLE_NAME_CHARS)  # a footprint's `vehicle`
@@ -111,8 +124,9 @@ class VehicleCase(Strict):
             raise ValueError("stored: a stored vehicle is given by its id alone")
         lookup = (info.context or {}).get("vehicles")
         if lookup is None:
-            raise ValueError("stored: stored vehicles live in the service (POST /api/vehicles); give 'builtin' or "
-                             "'aero' here")
+            raise ValueError(
+                "stored: stored vehicles live in the service (POST /api/vehicles); give 'builtin' or 'aero' here"
+            )
         definition = lookup(str(data["stored"]))
         if definition is None:
             raise ValueError(f"stored: no stored vehicle {data['stored']!r} (GET /api/vehicles lists them)")
@@ -197,10 +211,21 @@ class PlanetCase(Strict):
         if polar is None:  # scale the default flattening to the given equatorial radius
             polar = self.radius_ft * c.RADIUS_POLAR_FT / c.RADIUS_EQUATORIAL_FT
         a = self.atmosphere
-        return Planet(rotating=self.rotating, oblate=self.oblate, radius_ft=self.radius_ft, polar_radius_ft=polar,
-                      mu_ft3_s2=self.mu_ft3_s2, rotation_rate_deg_s=self.rotation_rate_deg_s, j=self.j, h=self.h,
-                      k=self.k, atmosphere=a.model, rho0_slug_ft3=a.rho0_slug_ft3,
-                      scale_height_ft=a.scale_height_ft, temperature_R=a.temperature_R)
+        return Planet(
+            rotating=self.rotating,
+            oblate=self.oblate,
+            radius_ft=self.radius_ft,
+            polar_radius_ft=polar,
+            mu_ft3_s2=self.mu_ft3_s2,
+            rotation_rate_deg_s=self.rotation_rate_deg_s,
+            j=self.j,
+            h=self.h,
+            k=self.k,
+            atmosphere=a.model,
+            rho0_slug_ft3=a.rho0_slug_ft3,
+            scale_height_ft=a.scale_height_ft,
+            temperature_R=a.temperature_R,
+        )
 
 
 # ------------------------------------------------------------------------------------------- entry
@@ -219,8 +244,10 @@ class EntryCase(Strict):
     @model_validator(mode="after")
     def _enters(self):
         if self.gamma_deg > 0 and self.altitude_ft > SENSIBLE_ATMOSPHERE_FT:
-            raise ValueError(f"gamma_deg {self.gamma_deg:g} > 0 above {SENSIBLE_ATMOSPHERE_FT:,.0f} ft climbs away "
-                             "with no atmosphere to enter; allowed: gamma_deg <= 0 there")
+            raise ValueError(
+                f"gamma_deg {self.gamma_deg:g} > 0 above {SENSIBLE_ATMOSPHERE_FT:,.0f} ft climbs away "
+                "with no atmosphere to enter; allowed: gamma_deg <= 0 there"
+            )
         return self
 
     def to_entry(self) -> Entry:
@@ -304,8 +331,9 @@ def table_abscissa(table, names, default=None):
     if not given and default is not None:
         return default
     if len(given) != 1:
-        raise ValueError(f"give {'exactly' if default is None else 'at most'} one of {', '.join(names)} as the "
-                         "table's abscissa")
+        raise ValueError(
+            f"give {'exactly' if default is None else 'at most'} one of {', '.join(names)} as the table's abscissa"
+        )
     return given[0], getattr(table, given[0])
 
 
@@ -319,8 +347,17 @@ class BankConstantAltitude(Strict):
     side: Literal["left", "right"] = "left"
 
 
-BankCase = Annotated[Union[BankZero, BankConstant, BankStaged, BankTwoParameter, BankSingleParameter, BankTable,
-                           BankZeroLift, BankConstantAltitude], Field(discriminator="law")]
+BankCase = Annotated[
+    BankZero
+    | BankConstant
+    | BankStaged
+    | BankTwoParameter
+    | BankSingleParameter
+    | BankTable
+    | BankZeroLift
+    | BankConstantAltitude,
+    Field(discriminator="law"),
+]
 
 Alpha = bounded(-30, 90, "deg")
 
@@ -368,8 +405,9 @@ class AlphaGammaHold(Strict):
     before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
 
 
-AlphaCase = Annotated[Union[AlphaMaxLD, AlphaCLMax, AlphaConstant, AlphaTable, AlphaLevelFlight, AlphaGammaHold],
-                      Field(discriminator="law")]
+AlphaCase = Annotated[
+    AlphaMaxLD | AlphaCLMax | AlphaConstant | AlphaTable | AlphaLevelFlight | AlphaGammaHold, Field(discriminator="law")
+]
 
 
 def _check_table(x, y, xname, yname):
@@ -405,8 +443,11 @@ class HeatingReference(Strict):
     skin_heat_capacity_btu_ft2_R: bounded(0, 100, "Btu/(ft^2 degR)") = 0.0
 
     def to_model(self):
-        return ReferenceHeating(reference_radius_ft=self.reference_radius_ft, emissivity=self.emissivity,
-                                skin_heat_capacity_btu_ft2_R=self.skin_heat_capacity_btu_ft2_R)
+        return ReferenceHeating(
+            reference_radius_ft=self.reference_radius_ft,
+            emissivity=self.emissivity,
+            skin_heat_capacity_btu_ft2_R=self.skin_heat_capacity_btu_ft2_R,
+        )
 
 
 class HeatingCorrelation(Strict):
@@ -420,12 +461,16 @@ class HeatingCorrelation(Strict):
     emissivity: bounded(0.01, 1) | None = None  # with it, eq. (7) gives a radiation-equilibrium temperature
 
     def to_model(self):
-        return CorrelationHeating(coefficient=self.coefficient, density_exponent=self.density_exponent,
-                                  velocity_exponent=self.velocity_exponent,
-                                  alpha_polynomial=tuple(self.alpha_polynomial_deg), emissivity=self.emissivity)
+        return CorrelationHeating(
+            coefficient=self.coefficient,
+            density_exponent=self.density_exponent,
+            velocity_exponent=self.velocity_exponent,
+            alpha_polynomial=tuple(self.alpha_polynomial_deg),
+            emissivity=self.emissivity,
+        )
 
 
-HeatingCase = Annotated[Union[HeatingReference, HeatingCorrelation], Field(discriminator="model")]
+HeatingCase = Annotated[HeatingReference | HeatingCorrelation, Field(discriminator="model")]
 
 
 class IntegratorCase(Strict):
@@ -454,8 +499,9 @@ class Case(Strict):
         if s.altitude_ft is not None and s.altitude_ft >= e.altitude_ft:
             raise ValueError(f"stop.altitude_ft {s.altitude_ft:g} must be below entry.altitude_ft {e.altitude_ft:g}")
         if s.max_altitude_ft <= e.altitude_ft:
-            raise ValueError(f"stop.max_altitude_ft {s.max_altitude_ft:g} must be above entry.altitude_ft "
-                             f"{e.altitude_ft:g}")
+            raise ValueError(
+                f"stop.max_altitude_ft {s.max_altitude_ft:g} must be above entry.altitude_ft {e.altitude_ft:g}"
+            )
         if self.bank.law == "constant_altitude" and self.alpha.law != "max_ld":
             raise ValueError("bank law 'constant_altitude' flies alpha at (L/D)max: alpha.law must be 'max_ld'")
         return self
@@ -469,15 +515,22 @@ class Case(Strict):
         return self._spec
 
     def _build_spec(self) -> FlightSpec:
-        return FlightSpec(vehicle=self.vehicle.to_vehicle(), planet=self.planet.to_planet(),
-                          entry=self.entry.to_entry(), ctrl=self.controls(), stop=self._stop(),
-                          rtol=self.integrator.rtol, max_step_s=self.integrator.max_step_s,
-                          heating=None if self.heating is None else self.heating.to_model())
+        return FlightSpec(
+            vehicle=self.vehicle.to_vehicle(),
+            planet=self.planet.to_planet(),
+            entry=self.entry.to_entry(),
+            ctrl=self.controls(),
+            stop=self._stop(),
+            rtol=self.integrator.rtol,
+            max_step_s=self.integrator.max_step_s,
+            heating=None if self.heating is None else self.heating.to_model(),
+        )
 
     def _stop(self) -> Stop:
         s = self.stop
-        return Stop(altitude_ft=s.altitude_ft, velocity_fps=s.velocity_fps, time_s=s.time_s,
-                    skip_altitude_ft=s.max_altitude_ft)
+        return Stop(
+            altitude_ft=s.altitude_ft, velocity_fps=s.velocity_fps, time_s=s.time_s, skip_altitude_ft=s.max_altitude_ft
+        )
 
     def controls(self):
         b, a = self.bank, self.alpha
@@ -487,7 +540,9 @@ class Case(Strict):
         if isinstance(b, BankStaged):
             kw["turn_deg"] = b.turn_deg
         if isinstance(b, (BankTwoParameter, BankSingleParameter)):
-            kw.update(bank_gain=abs(b.bank_gain), mirror=b.bank_gain < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable)
+            kw.update(
+                bank_gain=abs(b.bank_gain), mirror=b.bank_gain < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable
+            )
         if isinstance(b, BankTwoParameter):
             kw["sigma_f_deg"] = b.sigma_f_deg
         if isinstance(b, BankTable):
@@ -523,12 +578,18 @@ def error_line(exc: ValidationError | InputError) -> str:
         for i, x in enumerate(err["loc"]):
             after = err["loc"][i - 1] if i else None
             study = after in ("study", "footprint")  # a job's study, a dispersion's footprint study
-            if isinstance(x, str) and ((after in (None, "bank", "alpha", "heating") or study) and x in _LAW_TAGS
-                                       or (study and x in _STUDY_TAGS)):
+            if isinstance(x, str) and (
+                (after in (None, "bank", "alpha", "heating") or study)
+                and x in _LAW_TAGS
+                or (study and x in _STUDY_TAGS)
+            ):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
             loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
         msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
-        if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it, not the input
+        if err["type"] in (
+            "union_tag_invalid",
+            "union_tag_not_found",
+        ):  # a law's or a study's tag: name it, not the input
             ctx = err.get("ctx", {})
             tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
             loc.append(tag)
@@ -536,8 +597,12 @@ def error_line(exc: ValidationError | InputError) -> str:
                 msg = f"{ctx['tag']!r} is not one of {allowed}"
             else:
                 msg = "missing" + (f"; one of {allowed}" if allowed else "")
-            if tag == "method" and err["type"] == "union_tag_not_found" and isinstance(err.get("input"), dict) \
-                    and "vehicle" in err["input"]:
+            if (
+                tag == "method"
+                and err["type"] == "union_tag_not_found"
+                and isinstance(err.get("input"), dict)
+                and "vehicle" in err["input"]
+            ):
                 msg += " (this looks like a case: a study holds it as 'case' and names its 'method')"
         elif err["type"] not in ("missing", "value_error") and "input" in err:
             msg += f" (got {_short(err['input'])})"
@@ -567,7 +632,7 @@ def printable(text: str) -> str:
 
 def clip(text: str, limit: int) -> str:
     """Text cut at limit characters ("..." marks the cut)."""
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _short(value, limit=ECHO_CHARS) -> str:
@@ -575,9 +640,24 @@ def _short(value, limit=ECHO_CHARS) -> str:
     return clip(repr(value), limit)
 
 
-_LAW_TAGS = {"zero", "constant", "staged", "two_parameter", "single_parameter", "table", "zero_lift",
-             "constant_altitude", "max_ld", "cl_max", "level_flight", "gamma_hold", "constant_bank", "reference",
-             "correlation", "temperature_limited"}
+_LAW_TAGS = {
+    "zero",
+    "constant",
+    "staged",
+    "two_parameter",
+    "single_parameter",
+    "table",
+    "zero_lift",
+    "constant_altitude",
+    "max_ld",
+    "cl_max",
+    "level_flight",
+    "gamma_hold",
+    "constant_bank",
+    "reference",
+    "correlation",
+    "temperature_limited",
+}
 _STUDY_TAGS = {"collocation"}  # a study's method that is also a field name (the optimization's "collocation")
 
 
@@ -587,7 +667,6 @@ ADAPTER = TypeAdapter(REQUEST)
 
 def parse_request(data, ctx: dict | None = None) -> Case:
     return validated(ADAPTER, data, Case, ctx)
-
 
 
 def fly(case: Case, part=None, on_progress=None):

@@ -27,9 +27,9 @@ from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_v
 
 from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
 from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
 from footprint.contracts.work import RunInfo, Stored, Work
-from footprint.contracts.reach import Site
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
 from footprint.core.atmosphere import DENSITY_NODE_COUNT
@@ -82,7 +82,9 @@ class Distribution(Strict):
     def _one(self):
         given = [k for k in ("normal", "uniform", "truncated_normal") if getattr(self, k) is not None]
         if len(given) != 1:
-            raise ValueError(f"give exactly one of normal, uniform, truncated_normal (got {', '.join(given) or 'none'})")
+            raise ValueError(
+                f"give exactly one of normal, uniform, truncated_normal (got {', '.join(given) or 'none'})"
+            )
         return self
 
     def about(self, nominal: float) -> disp.Distribution:
@@ -119,8 +121,9 @@ class DensityDispersion(Strict):
     @model_validator(mode="after")
     def _nodes(self):
         if isinstance(self.std, list) and len(self.std) != DENSITY_NODE_COUNT:
-            raise ValueError(f"std: {len(self.std)} values; give one, or {DENSITY_NODE_COUNT} (0 to 400,000 ft every "
-                             "10,000 ft)")
+            raise ValueError(
+                f"std: {len(self.std)} values; give one, or {DENSITY_NODE_COUNT} (0 to 400,000 ft every 10,000 ft)"
+            )
         return self
 
 
@@ -144,8 +147,10 @@ class DispersionStudy(Strict):
             raise ValueError("a dispersion is run as a job; submit it with POST /api/jobs")
         fp = self.footprint
         if fp.method not in LAWS:
-            raise ValueError(f"footprint.method: a dispersion flies fixed control laws ({', '.join(LAWS)}); "
-                             f"{fp.method!r} chooses each point's controls for the world it flies in")
+            raise ValueError(
+                f"footprint.method: a dispersion flies fixed control laws ({', '.join(LAWS)}); "
+                f"{fp.method!r} chooses each point's controls for the world it flies in"
+            )
         if fp.contours_fps:
             raise ValueError("footprint.contours_fps: not available in a dispersion")
         samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
@@ -153,13 +158,17 @@ class DispersionStudy(Strict):
             raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")
         for i, index in enumerate(self.histories):
             if not 0 <= index < self.samples:
-                raise ValueError(f"histories.{i}: sample {index} is outside the allowed range 0 to "
-                                 f"{self.samples - 1:,} (the samples, counted from 0)")
+                raise ValueError(
+                    f"histories.{i}: sample {index} is outside the allowed range 0 to "
+                    f"{self.samples - 1:,} (the samples, counted from 0)"
+                )
         flights, where = door_limit(info, MAX_FLIGHTS, MAX_FLIGHTS_HTTP)
         if self.samples * self.flights_per_sample() > flights:
-            raise ValueError(f"samples: {self.samples:,} samples x {self.flights_per_sample()} flights = "
-                             f"{self.samples * self.flights_per_sample():,} trajectories is outside the allowed range "
-                             f"1 to {flights:,.0f}{where}")
+            raise ValueError(
+                f"samples: {self.samples:,} samples x {self.flights_per_sample()} flights = "
+                f"{self.samples * self.flights_per_sample():,} trajectories is outside the allowed range "
+                f"1 to {flights:,.0f}{where}"
+            )
         return self
 
     def flights_per_sample(self) -> int:
@@ -169,10 +178,17 @@ class DispersionStudy(Strict):
 
     def distributions(self, spec) -> dict[str, disp.Distribution]:
         """The core's distributions of the dispersed inputs, about the nominal spec's values."""
-        nominal = {"altitude_ft": spec.entry.altitude_ft, "velocity_fps": spec.entry.velocity_fps,
-                   "gamma_deg": spec.entry.gamma_deg, "heading_deg": spec.entry.heading_deg,
-                   "latitude_deg": spec.entry.latitude_deg, "longitude_deg": spec.entry.longitude_deg,
-                   "cl_multiplier": 1.0, "cd_multiplier": 1.0, "wing_loading_psf": spec.vehicle.wing_loading_psf}
+        nominal = {
+            "altitude_ft": spec.entry.altitude_ft,
+            "velocity_fps": spec.entry.velocity_fps,
+            "gamma_deg": spec.entry.gamma_deg,
+            "heading_deg": spec.entry.heading_deg,
+            "latitude_deg": spec.entry.latitude_deg,
+            "longitude_deg": spec.entry.longitude_deg,
+            "cl_multiplier": 1.0,
+            "cd_multiplier": 1.0,
+            "wing_loading_psf": spec.vehicle.wing_loading_psf,
+        }
         given = self.entry.model_dump(exclude_none=True) | self.vehicle.model_dump(exclude_none=True)
         groups = {**{k: self.entry for k in disp.ENTRY_INPUTS}, **{k: self.vehicle for k in disp.VEHICLE_INPUTS}}
         return {name: getattr(groups[name], name).about(nominal[name]) for name in given}
@@ -208,15 +224,21 @@ class Plan:
     @functools.cached_property
     def samples(self) -> disp.Samples:
         study = self.study
-        density = None if study.density is None else disp.GaussMarkovDensity(
-            tuple(study.density.std) if isinstance(study.density.std, list) else study.density.std,
-            study.density.correlation_length_ft)
+        density = (
+            None
+            if study.density is None
+            else disp.GaussMarkovDensity(
+                tuple(study.density.std) if isinstance(study.density.std, list) else study.density.std,
+                study.density.correlation_length_ft,
+            )
+        )
         try:
             return disp.draw(study.distributions(self.spec), study.samples, study.seed, study.design, density)
         except InputError as exc:  # the core names its own inputs: say the study's field
             name = exc.field.removeprefix("distributions.")
-            raise InputError(f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field,
-                             exc.message) from None
+            raise InputError(
+                f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field, exc.message
+            ) from None
 
     def fly(self, first: int, end: int, on_progress=None) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first, on_progress)
@@ -229,15 +251,27 @@ class Plan:
         out = []
         for index in self.study.histories:
             for f, traj in zip(self.flights, mc.sample_trajectories(self.spec, self.flights, self.samples, index)):
-                out.append({"sample": index, "parameter": f.parameter, "side": f.side,
-                            **flown(traj, FLIGHT_KEYS, HISTORY_POINTS)})
+                out.append(
+                    {
+                        "sample": index,
+                        "parameter": f.parameter,
+                        "side": f.side,
+                        **flown(traj, FLIGHT_KEYS, HISTORY_POINTS),
+                    }
+                )
         return out
 
     def statistics(self, parts: list[mc.Landings]) -> mc.DispersedFootprint:
         s = self.study
-        return mc.statistics(self.spec, self.flights, self.mirror, mc.Landings.join(parts), self.nominal(),
-                             levels=tuple(s.confidence),
-                             sites=[(site.name, site.latitude_deg, site.longitude_deg) for site in s.sites])
+        return mc.statistics(
+            self.spec,
+            self.flights,
+            self.mirror,
+            mc.Landings.join(parts),
+            self.nominal(),
+            levels=tuple(s.confidence),
+            sites=[(site.name, site.latitude_deg, site.longitude_deg) for site in s.sites],
+        )
 
 
 def fly_chunk(study: DispersionStudy, chunk: tuple[int, int], on_progress=None) -> mc.Landings:
@@ -258,18 +292,41 @@ def store(study: DispersionStudy, answer: tuple[mc.DispersedFootprint, dict], na
     return Stored(result={"dispersion": to_dict(study, stats, CLOUD_SAMPLES_STORED, info)})
 
 
-def to_dict(study: DispersionStudy, stats: mc.DispersedFootprint, cloud_samples: int | None = CLOUD_SAMPLES_STORED,
-            info: dict | None = None) -> dict:
+def to_dict(
+    study: DispersionStudy,
+    stats: mc.DispersedFootprint,
+    cloud_samples: int | None = CLOUD_SAMPLES_STORED,
+    info: dict | None = None,
+) -> dict:
     """A dispersion's JSON (the job's result, the CLI's --json): the statistics, each cloud thinned to its first
     `cloud_samples` samples, the study's design, seed and trajectories, how it ran, and the flights of the samples
     it asks histories of."""
-    return plain(stats.to_dict(cloud_points=cloud_samples) | {
-        "design": study.design, "seed": study.seed, "trajectories": study.samples * study.flights_per_sample(),
-        "run": info or {}, "histories": _plan(study).histories()})
+    return plain(
+        stats.to_dict(cloud_points=cloud_samples)
+        | {
+            "design": study.design,
+            "seed": study.seed,
+            "trajectories": study.samples * study.flights_per_sample(),
+            "run": info or {},
+            "histories": _plan(study).histories(),
+        }
+    )
 
 
-SITE_COLUMNS = ("name", "latitude_deg", "longitude_deg", "probability", "interval_low", "interval_high",
-                "interval_level", "samples_reaching", "samples", "inside_nominal", "downrange_nmi", "crossrange_nmi")
+SITE_COLUMNS = (
+    "name",
+    "latitude_deg",
+    "longitude_deg",
+    "probability",
+    "interval_low",
+    "interval_high",
+    "interval_level",
+    "samples_reaching",
+    "samples",
+    "inside_nominal",
+    "downrange_nmi",
+    "crossrange_nmi",
+)
 
 
 def sites_csv(result: dict) -> str:

@@ -5,12 +5,12 @@ the core generator in footprint.core.footprints. The case's own bank law is repl
 """
 
 from dataclasses import asdict
-from typing import Annotated, ClassVar, Literal, Union
+from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
 from footprint.contracts import stored_form
+from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
 from footprint.contracts.case import Case, Strict, bounded, door_limit, synchronous, validated
 from footprint.contracts.records import flown, plain
 from footprint.contracts.work import Stored, Work
@@ -39,16 +39,19 @@ class _Study(Strict):
         limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP, MAX_POINTS_SYNC)
         (field, n), sides = self.settings(), 2 if self.mirror else 1
         if n * sides > limit:
-            raise ValueError(f"{field}: {n} settings x {sides} sides = {n * sides} footprint points is "
-                             f"outside the allowed range 1 to {limit}{where}")
+            raise ValueError(
+                f"{field}: {n} settings x {sides} sides = {n * sides} footprint points is "
+                f"outside the allowed range 1 to {limit}{where}"
+            )
         return self
 
     def default_name(self) -> str:
         """The footprint's name unless one is given: vehicle, method, entry speed and flight-path angle, in a job
         name's bound (a long vehicle name is cut)."""
         e = self.case.entry
-        return fitted(self.case.vehicle.label(), f"{self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg",
-                      JOB_NAME_CHARS)
+        return fitted(
+            self.case.vehicle.label(), f"{self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg", JOB_NAME_CHARS
+        )
 
 
 class SingleParameterStudy(_Study):
@@ -56,14 +59,20 @@ class SingleParameterStudy(_Study):
 
     method: Literal["single_parameter"]
     SETTINGS: ClassVar[str] = "bank0_deg"
-    bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
-                                                      max_length=181)
+    bank0_deg: list[bounded(0, 180, "deg")] = Field(
+        default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
+    )
     limit_deg: bounded(0, 180, "deg") | None = None
     min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
 
     def to_params(self):
-        return {"bank0_deg": self.bank0_deg, "limit_deg": self.limit_deg, "min_range": self.min_range,
-                "mirror": self.mirror, "contours_fps": tuple(self.contours_fps)}
+        return {
+            "bank0_deg": self.bank0_deg,
+            "limit_deg": self.limit_deg,
+            "min_range": self.min_range,
+            "mirror": self.mirror,
+            "contours_fps": tuple(self.contours_fps),
+        }
 
 
 class ConstantBankStudy(_Study):
@@ -87,8 +96,9 @@ class TwoParameterStudy(_Study):
 
     method: Literal["two_parameter"]
     bank_gain: list[bounded(0, 10)] = Field(default=[0.5, 0.67, 1.0], min_length=1, max_length=20)  # K, deg/deg
-    sigma_f_deg: list[bounded(-180, 180, "deg")] = Field(default=[float(s) for s in range(90, -46, -15)],
-                                                         min_length=1, max_length=181)
+    sigma_f_deg: list[bounded(-180, 180, "deg")] = Field(
+        default=[float(s) for s in range(90, -46, -15)], min_length=1, max_length=181
+    )
     limit_deg: bounded(0, 180, "deg") = 75.0
 
     def settings(self) -> tuple[str, int]:
@@ -114,8 +124,9 @@ class TemperatureLimitedStudy(_Study):
     SETTINGS: ClassVar[str] = "bank0_deg"
     limit_R: bounded(500, 10_000, "degR")
     tolerance_R: bounded(0, 100, "degR") = 5.0  # TTOL of Section II.4
-    bank0_deg: list[bounded(0, 180, "deg")] = Field(default=[float(b) for b in range(0, 151, 15)], min_length=1,
-                                                      max_length=181)
+    bank0_deg: list[bounded(0, 180, "deg")] = Field(
+        default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
+    )
 
     @model_validator(mode="after")
     def _heating(self):
@@ -126,8 +137,12 @@ class TemperatureLimitedStudy(_Study):
         return self
 
     def to_params(self):
-        return {"limit_R": self.limit_R, "tolerance_R": self.tolerance_R, "bank0_deg": tuple(self.bank0_deg),
-                "mirror": self.mirror}
+        return {
+            "limit_R": self.limit_R,
+            "tolerance_R": self.tolerance_R,
+            "bank0_deg": tuple(self.bank0_deg),
+            "mirror": self.mirror,
+        }
 
 
 class CollocationStudy(_Study):
@@ -149,8 +164,9 @@ class CollocationStudy(_Study):
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo):
         if synchronous(info):  # a minute of NLP solves is a job, not a request the API process answers itself
-            raise ValueError("method: 'collocation' is solved as a job, not in a synchronous request; submit it with "
-                             "POST /api/jobs")
+            raise ValueError(
+                "method: 'collocation' is solved as a job, not in a synchronous request; submit it with POST /api/jobs"
+            )
         if self.limit_R is not None and self.case.heating is None:
             raise ValueError("case.heating: a temperature limit needs a heating model")
         if self.contours_fps:
@@ -160,14 +176,26 @@ class CollocationStudy(_Study):
         return self
 
     def to_params(self):
-        return {"points_per_half": self.points_per_half, "limit_R": self.limit_R,
-                "max_load_factor": self.max_load_factor, "fine": self.fine,
-                "intervals": self.intervals, "mirror": self.mirror}
+        return {
+            "points_per_half": self.points_per_half,
+            "limit_R": self.limit_R,
+            "max_load_factor": self.max_load_factor,
+            "fine": self.fine,
+            "intervals": self.intervals,
+            "mirror": self.mirror,
+        }
 
 
-FootprintStudy = Annotated[Union[SingleParameterStudy, ConstantBankStudy, StagedStudy, TwoParameterStudy,
-                                 ConstantAltitudeStudy, TemperatureLimitedStudy, CollocationStudy],
-                           Field(discriminator="method")]
+FootprintStudy = Annotated[
+    SingleParameterStudy
+    | ConstantBankStudy
+    | StagedStudy
+    | TwoParameterStudy
+    | ConstantAltitudeStudy
+    | TemperatureLimitedStudy
+    | CollocationStudy,
+    Field(discriminator="method"),
+]
 
 REQUEST = FootprintStudy  # the kind's request type (the OpenAPI document declares it)
 ADAPTER = TypeAdapter(REQUEST)
@@ -175,7 +203,6 @@ ADAPTER = TypeAdapter(REQUEST)
 
 def parse_request(data, ctx: dict | None = None) -> _Study:
     return validated(ADAPTER, data, _Study, ctx)
-
 
 
 def fly(study: _Study, part=None, on_progress=None):
@@ -186,8 +213,18 @@ def fly(study: _Study, part=None, on_progress=None):
     return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
 
 
-POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
-                "side", "parameter", "stop_reason", "mirrored")  # a stored footprint point
+POINT_FIELDS = (
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "latitude_deg",
+    "longitude_deg",
+    "heading_deg",
+    "side",
+    "parameter",
+    "stop_reason",
+    "mirrored",
+)  # a stored footprint point
 
 
 def ground_track(spec) -> dict:
@@ -206,20 +243,30 @@ def ground_track_at(study: dict, reference: dict) -> list[dict]:
 
     dst = Reference(reference["latitude_deg"], reference["longitude_deg"], reference["heading_deg"])
     track = ground_track(at_geometry(parse_request(study).case.to_spec(), dst, rotating=True))
-    return [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
-            for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])]
+    return [
+        {"latitude_deg": a, "longitude_deg": o, "time_s": t}
+        for a, o, t in zip(track["latitude_deg"], track["longitude_deg"], track["time_s"])
+    ]
 
 
 def record(fp, *, vehicle: str, entry: dict, study: dict, track: dict | None, name: str) -> dict:
     """A flown footprint as the row data the job store writes (summary, points, interior, ground track); `entry`: the
     case's altitude_ft, velocity_fps and gamma_deg; `study`: its study as stored (plain data)."""
-    return {"name": name, "vehicle": vehicle, "method": fp.method, "study": study,
-            "entry": {**{k: float(fp.entry[k]) for k in ("latitude_deg", "longitude_deg", "heading_deg")}, **entry},
-            "area_nmi2": float(fp.area_nmi2), "max_crossrange_nmi": float(fp.max_crossrange_nmi),
-            "max_downrange_nmi": float(fp.max_downrange_nmi), "min_downrange_nmi": float(fp.min_downrange_nmi),
-            "trajectories": int(fp.trajectories),
-            "points": [_point(p) for p in fp.points], "interior": [_point(p) for p in fp.interior],
-            "ground_track": track}
+    return {
+        "name": name,
+        "vehicle": vehicle,
+        "method": fp.method,
+        "study": study,
+        "entry": {**{k: float(fp.entry[k]) for k in ("latitude_deg", "longitude_deg", "heading_deg")}, **entry},
+        "area_nmi2": float(fp.area_nmi2),
+        "max_crossrange_nmi": float(fp.max_crossrange_nmi),
+        "max_downrange_nmi": float(fp.max_downrange_nmi),
+        "min_downrange_nmi": float(fp.min_downrange_nmi),
+        "trajectories": int(fp.trajectories),
+        "points": [_point(p) for p in fp.points],
+        "interior": [_point(p) for p in fp.interior],
+        "ground_track": track,
+    }
 
 
 def _point(p) -> dict:
@@ -231,9 +278,19 @@ def store(study: _Study, fp, name: str | None) -> Stored:
     """A footprint job's rows: the footprint and its zero-bank ground track."""
     e = study.case.entry
     entry = {"velocity_fps": e.velocity_fps, "gamma_deg": e.gamma_deg, "altitude_ft": e.altitude_ft}
-    return Stored(result={}, footprints=[record(fp, vehicle=study.case.vehicle.label(), entry=entry,
-                                                study=stored_form(study), track=ground_track(study.case.to_spec()),
-                                                name=name or study.default_name())])
+    return Stored(
+        result={},
+        footprints=[
+            record(
+                fp,
+                vehicle=study.case.vehicle.label(),
+                entry=entry,
+                study=stored_form(study),
+                track=ground_track(study.case.to_spec()),
+                name=name or study.default_name(),
+            )
+        ],
+    )
 
 
 WORK = Work(run_part=fly, store=store, default_name=_Study.default_name, part_unit="footprint")

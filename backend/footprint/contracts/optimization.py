@@ -38,22 +38,35 @@ from footprint.contracts.case import (
     VelocityNode,
     bounded,
     check_increasing,
-    validated,
     table_abscissa,
+    validated,
 )
+from footprint.contracts.records import FLIGHT_KEYS, flown, plain
+from footprint.contracts.work import Stored, Work
 from footprint.core import collocation as col
 from footprint.core import constrained
 from footprint.core import optimize as opt
 from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
-from footprint.contracts.records import FLIGHT_KEYS, flown, plain
-from footprint.contracts.work import Stored, Work
 from footprint.core.errors import InputError, NoOptimum
 from footprint.core.trajectory import simulate
 
-QUANTITIES = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
-              "final_gamma_deg", "final_heading_deg", "flight_time_s", "max_temperature_R",
-              "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "pullout_altitude_ft", "final_energy_ft",
-              "heat_load_btu_ft2", "max_load_factor")
+QUANTITIES = (
+    "crossrange_nmi",
+    "downrange_nmi",
+    "final_latitude_deg",
+    "final_longitude_deg",
+    "final_velocity_fps",
+    "final_gamma_deg",
+    "final_heading_deg",
+    "flight_time_s",
+    "max_temperature_R",
+    "max_heat_rate_btu_ft2_s",
+    "max_dynamic_pressure_psf",
+    "pullout_altitude_ft",
+    "final_energy_ft",
+    "heat_load_btu_ft2",
+    "max_load_factor",
+)
 Quantity = Literal[QUANTITIES]
 SCIPY_METHODS = ("Nelder-Mead", "Powell", "SLSQP", "COBYLA")
 METHODS = ("creep_pattern", "collocation") + SCIPY_METHODS
@@ -146,9 +159,11 @@ class _SearchTable(Strict):
     def _nodes(self):
         name, x = table_abscissa(self, tuple(self.ABSCISSAE), default=(None, None))
         if self.count is not None and (name is None or len(x) != 2):
-            raise ValueError(f"count {self.count} needs the first and last node as the node field, e.g. "
-                             f"{next(iter(self.ABSCISSAE))}: [first, last]"
-                             + ("" if name is None else f" (got {len(x)} values in {name})"))
+            raise ValueError(
+                f"count {self.count} needs the first and last node as the node field, e.g. "
+                f"{next(iter(self.ABSCISSAE))}: [first, last]"
+                + ("" if name is None else f" (got {len(x)} values in {name})")
+            )
         if name is not None:
             check_increasing(x, name)
         lo, hi = self.bounds_deg if self.bounds_deg is not None else (-np.inf, np.inf)
@@ -156,8 +171,9 @@ class _SearchTable(Strict):
             raise ValueError(f"bounds_deg lower bound {lo:g} is not below its upper bound {hi:g}")
         n = len(self.nodes()[1])
         if self.initial_deg is not None and len(self.initial_deg) not in (1, n):
-            raise ValueError(f"initial_deg has {len(self.initial_deg)} values for {n} nodes: give one per node or "
-                             "a single value")
+            raise ValueError(
+                f"initial_deg has {len(self.initial_deg)} values for {n} nodes: give one per node or a single value"
+            )
         if self.bounds_deg is not None:
             self.check_start(self.bounds_deg, "bounds_deg")
         return self
@@ -178,13 +194,19 @@ class _SearchTable(Strict):
         """The core table; start_deg(abscissa, nodes, bounds) gives the start when initial_deg is not given."""
         abscissa, nodes = self.nodes()
         start = self.initial_deg if self.initial_deg is not None else start_deg(abscissa, nodes, bounds_deg)
-        return constrained.ControlTable(abscissa, nodes, tuple(bounds_deg),
-                                        tuple(float(v) for v in np.broadcast_to(start, len(nodes))))
+        return constrained.ControlTable(
+            abscissa, nodes, tuple(bounds_deg), tuple(float(v) for v in np.broadcast_to(start, len(nodes)))
+        )
 
 
 class BankSearchTable(_SearchTable):
-    ABSCISSAE: ClassVar[dict] = {"zeta_deg": "zeta", "heading_deg": "heading", "time_s": "time",
-                                 "velocity_fps": "velocity", "energy_ft": "energy"}
+    ABSCISSAE: ClassVar[dict] = {
+        "zeta_deg": "zeta",
+        "heading_deg": "heading",
+        "time_s": "time",
+        "velocity_fps": "velocity",
+        "energy_ft": "energy",
+    }
     DEFAULT_NODES: ClassVar[tuple] = ("zeta_deg", opt.BANK_TABLE_HEADINGS_DEG)
     zeta_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     heading_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
@@ -192,8 +214,9 @@ class BankSearchTable(_SearchTable):
     velocity_fps: list[VelocityNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     bounds_deg: tuple[Bank, Bank] = opt.BANK_BOUNDS_DEG
-    initial_deg: Annotated[list[Bank], BeforeValidator(_one_or_list)] | None = Field(default=None,
-                                                                                     max_length=SEARCH_MAX_NODES)
+    initial_deg: Annotated[list[Bank], BeforeValidator(_one_or_list)] | None = Field(
+        default=None, max_length=SEARCH_MAX_NODES
+    )
 
     def to_core(self) -> constrained.ControlTable:
         return self._core(self.bounds_deg, _bank_start_deg)
@@ -214,13 +237,16 @@ class AlphaSearchTable(_SearchTable):
     energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     bounds_deg: tuple[AlphaBound, AlphaBound] | None = None  # default: the vehicle's valid alpha range
     initial_deg: Annotated[list[AlphaBound], BeforeValidator(_one_or_list)] | None = Field(
-        default=None, max_length=SEARCH_MAX_NODES)
+        default=None, max_length=SEARCH_MAX_NODES
+    )
 
     def to_core(self, vehicle) -> constrained.ControlTable:
         """Bounds default to the vehicle's alpha range; the start to its (L/D)max alpha (Mach 20, 200,000 ft)."""
         alpha_ld_deg = ld_max(vehicle, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)[1]
-        return self._core(self.bounds_deg or alpha_range_deg(vehicle),
-                          lambda _abscissa, _nodes, bounds: float(np.clip(alpha_ld_deg, *bounds)))
+        return self._core(
+            self.bounds_deg or alpha_range_deg(vehicle),
+            lambda _abscissa, _nodes, bounds: float(np.clip(alpha_ld_deg, *bounds)),
+        )
 
 
 class OptimizationStudy(Strict):
@@ -240,23 +266,30 @@ class OptimizationStudy(Strict):
         if self.controls not in (["bank"], ["bank", "alpha"]):
             raise ValueError(f"controls: ['bank'] or ['bank', 'alpha'] (got {self.controls})")
         if self.alpha_table is not None and self.controls != ["bank", "alpha"]:
-            raise ValueError(f"alpha_table: the alpha table is searched with controls ['bank', 'alpha'] "
-                             f"(got {self.controls})")
+            raise ValueError(
+                f"alpha_table: the alpha table is searched with controls ['bank', 'alpha'] (got {self.controls})"
+            )
         return self
 
     @model_validator(mode="after")
     def _method(self):
         if self.method == "collocation":
             if self.bank_table is not None or self.alpha_table is not None:
-                raise ValueError("bank_table, alpha_table: the collocation optimizes alpha(t) and bank(t) themselves; "
-                                 "bound them in 'collocation'")
+                raise ValueError(
+                    "bank_table, alpha_table: the collocation optimizes alpha(t) and bank(t) themselves; "
+                    "bound them in 'collocation'"
+                )
             if self.case.stop.altitude_ft is None:
                 raise ValueError("case.stop.altitude_ft: the collocation ends at a stop altitude; give one")
-            bad = [q for q in [c.quantity for c in self.constraints] + [q for q, _ in self.payoff.objective()]
-                   if q not in COLLOCATION_QUANTITIES]
+            bad = [
+                q
+                for q in [c.quantity for c in self.constraints] + [q for q, _ in self.payoff.objective()]
+                if q not in COLLOCATION_QUANTITIES
+            ]
             if bad:
-                raise ValueError(f"{bad[0]}: not available to the collocation; allowed: "
-                                 f"{', '.join(COLLOCATION_QUANTITIES)}")
+                raise ValueError(
+                    f"{bad[0]}: not available to the collocation; allowed: {', '.join(COLLOCATION_QUANTITIES)}"
+                )
         else:
             if self.collocation is not None:
                 raise ValueError(f"collocation: options for method 'collocation' (the method is {self.method!r})")
@@ -267,8 +300,10 @@ class OptimizationStudy(Strict):
     @model_validator(mode="after")
     def _heating(self):
         uses_heat = {c.quantity for c in self.constraints} | {q for q, _ in self.payoff.objective()}
-        if uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2"} \
-                and self.case.heating is None:
+        if (
+            uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2"}
+            and self.case.heating is None
+        ):
             raise ValueError("case.heating: a temperature or heat-rate payoff or constraint needs a heating model")
         return self
 
@@ -276,8 +311,10 @@ class OptimizationStudy(Strict):
     def _scales(self):
         for i, c in enumerate(self.constraints):
             if self.scaling() == "tolerance" and c.scale is None and c.band() == 0.0:
-                raise ValueError(f"constraints.{i}.tolerance: constraint_scaling 'tolerance' divides by it: give a "
-                                 "tolerance > 0 or a scale")
+                raise ValueError(
+                    f"constraints.{i}.tolerance: constraint_scaling 'tolerance' divides by it: give a "
+                    "tolerance > 0 or a scale"
+                )
         return self
 
     @model_validator(mode="after")
@@ -290,8 +327,10 @@ class OptimizationStudy(Strict):
             return self  # the case's own error is reported when it is flown
         bounds = self.alpha_table.bounds_deg
         if bounds is not None and not lo <= bounds[0] < bounds[1] <= hi:
-            raise ValueError(f"alpha_table: bounds_deg {bounds[0]:g} to {bounds[1]:g} must lie within the vehicle's "
-                             f"alpha range {lo:g} to {hi:g} deg")
+            raise ValueError(
+                f"alpha_table: bounds_deg {bounds[0]:g} to {bounds[1]:g} must lie within the vehicle's "
+                f"alpha range {lo:g} to {hi:g} deg"
+            )
         try:
             self.alpha_table.check_start(bounds or (lo, hi), "bounds_deg" if bounds else "the vehicle's alpha range")
         except ValueError as exc:
@@ -316,7 +355,6 @@ def parse_request(data, ctx: dict | None = None) -> OptimizationStudy:
     return validated(ADAPTER, data, OptimizationStudy, ctx)
 
 
-
 def _bank_alpha(study: OptimizationStudy) -> bool:
     return study.controls == ["bank", "alpha"]
 
@@ -326,35 +364,63 @@ def tables_of(study: OptimizationStudy, vehicle) -> tuple:
     bank = (study.bank_table or BankSearchTable()).to_core()
     if not _bank_alpha(study):
         return bank, None
-    return bank, (constrained.section_iii_alpha_table() if study.alpha_table is None
-                  else study.alpha_table.to_core(vehicle))
+    return bank, (
+        constrained.section_iii_alpha_table() if study.alpha_table is None else study.alpha_table.to_core(vehicle)
+    )
 
 
 def problem_of(study: OptimizationStudy) -> opt.Problem:
     spec = study.case.to_spec()
     if study.bank_table is not None or _bank_alpha(study):
         bank, alpha = tables_of(study, spec.vehicle)
-        return constrained.control_problem(spec, payoff=study.payoff.quantity, goal=study.payoff.goal,
-                                           controls="bank_alpha" if _bank_alpha(study) else "bank",
-                                           constraints=study.core_constraints(), bank_table=bank, alpha_table=alpha)
+        return constrained.control_problem(
+            spec,
+            payoff=study.payoff.quantity,
+            goal=study.payoff.goal,
+            controls="bank_alpha" if _bank_alpha(study) else "bank",
+            constraints=study.core_constraints(),
+            bank_table=bank,
+            alpha_table=alpha,
+        )
     base = opt.cross_range_problem(spec)  # the report's bank table, every flight taken as it ends (as before)
-    return opt.Problem(lower=base.lower, upper=base.upper, initial=base.initial, payoff=study.payoff.quantity,
-                       goal=study.payoff.goal, constraints=study.core_constraints(), base=base.base,
-                       controls=base.controls, names=base.names)
+    return opt.Problem(
+        lower=base.lower,
+        upper=base.upper,
+        initial=base.initial,
+        payoff=study.payoff.quantity,
+        goal=study.payoff.goal,
+        constraints=study.core_constraints(),
+        base=base.base,
+        controls=base.controls,
+        names=base.names,
+    )
 
 
 def collocation_problem(study: OptimizationStudy) -> col.Problem:
     """The study as an optimal-control problem: constraints exactly (equals within +- tolerance/2 only when a
     tolerance is given), the case's control laws flown as the first guess."""
     o = study.collocation or CollocationOptions()
-    constraints = tuple(opt.Constraint(c.quantity, kind, float(getattr(c, kind)), c.tolerance or 0.0)
-                        for c in study.constraints
-                        for kind in ("equals", "at_most", "at_least") if getattr(c, kind) is not None)
-    return col.Problem(base=study.case.to_spec(), objective=study.payoff.objective(), goal=study.payoff.goal,
-                       constraints=constraints, alpha_bounds_deg=o.alpha_bounds_deg, bank_bounds_deg=o.bank_bounds_deg,
-                       alpha_rate_deg_s=o.alpha_rate_deg_s, bank_rate_deg_s=o.bank_rate_deg_s, intervals=o.intervals,
-                       degree=o.degree, max_intervals=o.max_intervals, max_iterations=o.max_iterations,
-                       max_seconds=o.max_seconds)
+    constraints = tuple(
+        opt.Constraint(c.quantity, kind, float(getattr(c, kind)), c.tolerance or 0.0)
+        for c in study.constraints
+        for kind in ("equals", "at_most", "at_least")
+        if getattr(c, kind) is not None
+    )
+    return col.Problem(
+        base=study.case.to_spec(),
+        objective=study.payoff.objective(),
+        goal=study.payoff.goal,
+        constraints=constraints,
+        alpha_bounds_deg=o.alpha_bounds_deg,
+        bank_bounds_deg=o.bank_bounds_deg,
+        alpha_rate_deg_s=o.alpha_rate_deg_s,
+        bank_rate_deg_s=o.bank_rate_deg_s,
+        intervals=o.intervals,
+        degree=o.degree,
+        max_intervals=o.max_intervals,
+        max_iterations=o.max_iterations,
+        max_seconds=o.max_seconds,
+    )
 
 
 def fly_optimum(study, result: opt.Result | col.Result):
@@ -376,10 +442,15 @@ def optimum(study: OptimizationStudy, part=None, on_progress=None) -> opt.Result
     if study.method != "creep_pattern":
         return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories, on_progress=on_progress)
     bank, alpha = tables_of(study, problem.base.vehicle)
-    search = constrained.search_options("bank_alpha" if alpha else "bank", constrained=bool(study.constraints),
-                                        velocities_fps=alpha.nodes if alpha else (), bank_nodes=bank.nodes)
-    return opt.optimize(problem, "creep_pattern", max_evaluations=study.max_trajectories, on_progress=on_progress,
-                        **search)
+    search = constrained.search_options(
+        "bank_alpha" if alpha else "bank",
+        constrained=bool(study.constraints),
+        velocities_fps=alpha.nodes if alpha else (),
+        bank_nodes=bank.nodes,
+    )
+    return opt.optimize(
+        problem, "creep_pattern", max_evaluations=study.max_trajectories, on_progress=on_progress, **search
+    )
 
 
 def store(study: OptimizationStudy, result: opt.Result | col.Result, name: str | None) -> Stored:
@@ -388,8 +459,9 @@ def store(study: OptimizationStudy, result: opt.Result | col.Result, name: str |
     fails the job with its one line (status and largest violation)."""
     if isinstance(result, col.Result) and not result.ok:
         raise NoOptimum(result.one_line())
-    return Stored(result={"optimization": {**plain(result.to_dict()),
-                                           "flight": flown(fly_optimum(study, result), FLIGHT_KEYS)}})
+    return Stored(
+        result={"optimization": {**plain(result.to_dict()), "flight": flown(fly_optimum(study, result), FLIGHT_KEYS)}}
+    )
 
 
 WORK = Work(run_part=optimum, store=store, part_unit="optimization")

@@ -85,18 +85,24 @@ class ReachOrbit(Strict):
         if by_ra and (self.right_ascension_deg is None or self.greenwich_sidereal_deg is None):
             raise ValueError("right_ascension_deg needs greenwich_sidereal_deg (and the other way round)")
         if by_ra and self.node_longitude_deg is not None:
-            raise ValueError("give node_longitude_deg or right_ascension_deg with greenwich_sidereal_deg, "
-                             "not both")
+            raise ValueError("give node_longitude_deg or right_ascension_deg with greenwich_sidereal_deg, not both")
         return self
 
     def to_orbit(self) -> CircularOrbit:
         alt = self.altitude_ft if self.altitude_ft is not None else self.altitude_nmi * c.FT_PER_NMI
-        kw = dict(inclination_deg=self.inclination_deg, altitude_ft=alt, mu_ft3_s2=self.mu_ft3_s2,
-                  radius_ft=self.radius_ft, rotation_rate_deg_s=self.rotation_rate_deg_s, j2=self.j2,
-                  nodal_regression=self.nodal_regression)
+        kw = dict(
+            inclination_deg=self.inclination_deg,
+            altitude_ft=alt,
+            mu_ft3_s2=self.mu_ft3_s2,
+            radius_ft=self.radius_ft,
+            rotation_rate_deg_s=self.rotation_rate_deg_s,
+            j2=self.j2,
+            nodal_regression=self.nodal_regression,
+        )
         if self.right_ascension_deg is not None:
-            return CircularOrbit.from_right_ascension(right_ascension_deg=self.right_ascension_deg,
-                                                      greenwich_sidereal_deg=self.greenwich_sidereal_deg, **kw)
+            return CircularOrbit.from_right_ascension(
+                right_ascension_deg=self.right_ascension_deg, greenwich_sidereal_deg=self.greenwich_sidereal_deg, **kw
+            )
         return CircularOrbit(node_longitude_deg=self.node_longitude_deg or 0.0, **kw)
 
 
@@ -148,8 +154,10 @@ class ReachRequest(Strict):
         revs, _ = self.revolutions.span(self.orbit.to_orbit())
         placements = len(revs) * len(np.arange(0.0, 360.0 - 1e-9, self.u_step_deg))
         if placements > MAX_PLACEMENTS:
-            raise ValueError(f"revolutions and u_step_deg: {placements:,} deorbit points is outside the allowed "
-                             f"range 1 to {MAX_PLACEMENTS:,}; use fewer revolutions or a larger u_step_deg")
+            raise ValueError(
+                f"revolutions and u_step_deg: {placements:,} deorbit points is outside the allowed "
+                f"range 1 to {MAX_PLACEMENTS:,}; use fewer revolutions or a larger u_step_deg"
+            )
         fp = self.footprint
         if fp.points:
             points = len(fp.points) * (2 if fp.mirror else 1)
@@ -158,8 +166,10 @@ class ReachRequest(Strict):
         limit, where = door_limit(info, MAX_WORK, MAX_WORK, MAX_WORK_SYNC)
         if placements * len(self.sites) * points > limit:
             work = placements * len(self.sites) * points
-            raise ValueError(f"sites: sites x deorbit points x footprint points = {work:.3g} is outside the allowed "
-                             f"range (at most {limit:.0e}{where})")
+            raise ValueError(
+                f"sites: sites x deorbit points x footprint points = {work:.3g} is outside the allowed "
+                f"range (at most {limit:.0e}{where})"
+            )
         return self
 
 
@@ -172,7 +182,6 @@ def parse_request(data, ctx: dict | None = None) -> ReachRequest:
     return validated(ADAPTER, data, ReachRequest, ctx)
 
 
-
 def footprint_polygon(req: ReachRequest):
     """(down-range nmi, cross-range nmi, flight time s) of the closed boundary, and a description."""
     fp = req.footprint
@@ -180,8 +189,13 @@ def footprint_polygon(req: ReachRequest):
         study = fp.study
         flown = fly_study(study)
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in flown.points]
-        info = {"source": "study", "method": study.method, "trajectories": flown.trajectories,
-                "reference": flown.entry, "planet_rotating": study.case.planet.rotating}
+        info = {
+            "source": "study",
+            "method": study.method,
+            "trajectories": flown.trajectories,
+            "reference": flown.entry,
+            "planet_rotating": study.case.planet.rotating,
+        }
     else:
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in fp.points]
         if fp.mirror:
@@ -189,8 +203,12 @@ def footprint_polygon(req: ReachRequest):
         info = {"source": "points"}
     pts = close_half_along_axis(pts)
     arr = np.array(pts, float)
-    info |= {"points": len(pts), "max_downrange_nmi": float(arr[:, 0].max()),
-             "min_downrange_nmi": float(arr[:, 0].min()), "max_crossrange_nmi": float(np.abs(arr[:, 1]).max())}
+    info |= {
+        "points": len(pts),
+        "max_downrange_nmi": float(arr[:, 0].max()),
+        "min_downrange_nmi": float(arr[:, 0].min()),
+        "max_crossrange_nmi": float(np.abs(arr[:, 1]).max()),
+    }
     return arr[:, 0], arr[:, 1], arr[:, 2], info
 
 
@@ -202,45 +220,78 @@ def analysis(req: ReachRequest, part=None, on_progress=None) -> dict:
     down, cross, flight_time, info = footprint_polygon(req)
     notes = []
     if info.get("planet_rotating") and req.earth_rotation == "approximate":
-        notes.append("the footprint study was flown on a rotating earth and earth_rotation is 'approximate': the "
-                     "rotation is counted twice (Section IV.3 shifts footprints flown on a non-rotating earth); "
-                     "fly the study with planet.rotating false, or use earth_rotation 'none'")
+        notes.append(
+            "the footprint study was flown on a rotating earth and earth_rotation is 'approximate': the "
+            "rotation is counted twice (Section IV.3 shifts footprints flown on a non-rotating earth); "
+            "fly the study with planet.rotating false, or use earth_rotation 'none'"
+        )
     if req.earth_rotation == "approximate" and not np.any(flight_time):
         notes.append("every flight_time_s is 0: the earth-rotation shift moves nothing")
     t0 = time.perf_counter()
-    result = reach(down, cross, flight_time, [s.latitude_deg for s in req.sites], [s.longitude_deg for s in req.sites],
-                   orbit, revs, u_step_deg=req.u_step_deg, earth_rotation=req.earth_rotation,
-                   entry_offset_nmi=req.entry_offset_nmi, time_span_s=span_end_s, on_progress=on_progress)
+    result = reach(
+        down,
+        cross,
+        flight_time,
+        [s.latitude_deg for s in req.sites],
+        [s.longitude_deg for s in req.sites],
+        orbit,
+        revs,
+        u_step_deg=req.u_step_deg,
+        earth_rotation=req.earth_rotation,
+        entry_offset_nmi=req.entry_offset_nmi,
+        time_span_s=span_end_s,
+        on_progress=on_progress,
+    )
     seconds = time.perf_counter() - t0
     names = [s.name for s in req.sites]
-    windows = [w.to_dict() | {"site": names[w.site], "u_width_deg": w.u_end_deg - w.u_start_deg,
-                              "deorbit_points": _deorbit_points(orbit, w, req.u_step_deg)}
-               for w in result.windows]
+    windows = [
+        w.to_dict()
+        | {
+            "site": names[w.site],
+            "u_width_deg": w.u_end_deg - w.u_start_deg,
+            "deorbit_points": _deorbit_points(orbit, w, req.u_step_deg),
+        }
+        for w in result.windows
+    ]
     sites = []
     for i, s in enumerate(req.sites):
         mine = [w for w in result.windows if w.site == i]
         column = result.margin_nmi[..., i]
         best = float(np.nanmax(column)) if np.isfinite(column).any() else None
-        sites.append({
-            "name": s.name, "latitude_deg": s.latitude_deg, "longitude_deg": s.longitude_deg,
-            "reachable": bool(mine),
-            "passes": len(result.passes(i)),  # windows joined across the node
-            "windows": len(mine),
-            "revolutions": sorted({w.revolution for w in mine}),
-            "coverage_u_deg": sum(w.samples for w in mine) * req.u_step_deg,
-            "best_margin_nmi": best,  # negative: how far short the nearest placement falls
-            "first_deorbit_time_s": mine[0].deorbit_time_start_s if mine else None,
-        })
+        sites.append(
+            {
+                "name": s.name,
+                "latitude_deg": s.latitude_deg,
+                "longitude_deg": s.longitude_deg,
+                "reachable": bool(mine),
+                "passes": len(result.passes(i)),  # windows joined across the node
+                "windows": len(mine),
+                "revolutions": sorted({w.revolution for w in mine}),
+                "coverage_u_deg": sum(w.samples for w in mine) * req.u_step_deg,
+                "best_margin_nmi": best,  # negative: how far short the nearest placement falls
+                "first_deorbit_time_s": mine[0].deorbit_time_start_s if mine else None,
+            }
+        )
     return {
-        "orbit": {"inclination_deg": orbit.inclination_deg, "altitude_ft": orbit.altitude_ft,
-                  "period_s": orbit.period_s, "node_longitude_deg": orbit.node_longitude_deg,
-                  "node_step_deg_per_revolution": orbit.node_step_deg,
-                  "nodal_regression_deg_per_day": orbit.node_rate_deg_s * 86_400.0},
+        "orbit": {
+            "inclination_deg": orbit.inclination_deg,
+            "altitude_ft": orbit.altitude_ft,
+            "period_s": orbit.period_s,
+            "node_longitude_deg": orbit.node_longitude_deg,
+            "node_step_deg_per_revolution": orbit.node_step_deg,
+            "nodal_regression_deg_per_day": orbit.node_rate_deg_s * 86_400.0,
+        },
         "footprint": info,
-        "analysis": {"revolutions": [int(revs[0]), int(revs[-1])], "time_span_end_s": span_end_s,
-                     "u_step_deg": req.u_step_deg, "placements": int(result.inside.shape[0] * result.inside.shape[1]),
-                     "earth_rotation": req.earth_rotation, "entry_offset_nmi": req.entry_offset_nmi,
-                     "heading": "inertial azimuth of the orbit (the orbit plane's trace)", "seconds": seconds},
+        "analysis": {
+            "revolutions": [int(revs[0]), int(revs[-1])],
+            "time_span_end_s": span_end_s,
+            "u_step_deg": req.u_step_deg,
+            "placements": int(result.inside.shape[0] * result.inside.shape[1]),
+            "earth_rotation": req.earth_rotation,
+            "entry_offset_nmi": req.entry_offset_nmi,
+            "heading": "inertial azimuth of the orbit (the orbit plane's trace)",
+            "seconds": seconds,
+        },
         "sites": sites,
         "windows": windows,
         "notes": notes,
@@ -264,8 +315,17 @@ def store(req: ReachRequest, result: dict, name: str | None) -> Stored:
 WORK = Work(run_part=analysis, store=store, part_unit="analysis")
 
 
-WINDOW_COLUMNS = ("site", "revolution", "u_start_deg", "u_end_deg", "u_width_deg", "samples", "max_margin_nmi",
-                  "deorbit_time_start_s", "deorbit_time_end_s")
+WINDOW_COLUMNS = (
+    "site",
+    "revolution",
+    "u_start_deg",
+    "u_end_deg",
+    "u_width_deg",
+    "samples",
+    "max_margin_nmi",
+    "deorbit_time_start_s",
+    "deorbit_time_end_s",
+)
 
 
 def write_windows_csv(result: dict, path) -> None:

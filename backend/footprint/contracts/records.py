@@ -6,8 +6,18 @@ import math
 import numpy as np
 
 MAX_TRACK_POINTS = 500  # a stored ground track or flight
-FLIGHT_KEYS = ("time_s", "latitude_deg", "longitude_deg", "altitude_ft", "velocity_fps", "alpha_deg", "bank_deg",
-               "downrange_nmi", "crossrange_nmi", "temperature_R")  # a flight's stored histories (with heating)
+FLIGHT_KEYS = (
+    "time_s",
+    "latitude_deg",
+    "longitude_deg",
+    "altitude_ft",
+    "velocity_fps",
+    "alpha_deg",
+    "bank_deg",
+    "downrange_nmi",
+    "crossrange_nmi",
+    "temperature_R",
+)  # a flight's stored histories (with heating)
 
 
 def plain(value):
@@ -29,6 +39,7 @@ def strict_json(value, **dumps) -> str:
     """RFC 8259 JSON of `value` (plain(): NaN and infinities as null, as the service writes them); anything else
     unknown as its float or its text. allow_nan=False: a non-finite number that escaped plain() is an error, never
     the `NaN` a JSON parser refuses."""
+
     def other(o):
         return plain(float(o)) if hasattr(o, "__float__") else str(o)
 

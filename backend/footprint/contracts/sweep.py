@@ -28,18 +28,25 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
-from pydantic import (BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model,
-                      model_validator)
+from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model, model_validator
 
 from footprint.contracts import parse
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
-from footprint.contracts.case import (Case, EntryCase, Strict, VehicleCase, bounded, door_limit, error_line,
-                                     model_fields, validated)
-from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy
+from footprint.contracts.case import (
+    Case,
+    EntryCase,
+    Strict,
+    VehicleCase,
+    bounded,
+    door_limit,
+    error_line,
+    model_fields,
+    validated,
+)
+from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, ground_track, record
 from footprint.contracts.footprint import fly as fly_study
-from footprint.contracts.footprint import ground_track, record
 from footprint.contracts.records import csv_cell
 from footprint.contracts.work import RunInfo, Stored, Work
 
@@ -55,8 +62,9 @@ SweepEntry = create_model("SweepEntry", __base__=Strict, **model_fields(EntryCas
 
 # The base case: the case contract less the vehicle (the sweep's list), the bank law (the method's)
 # and the swept entry fields.
-SweepBase = create_model("SweepBase", __base__=Strict,
-                         **model_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...)))
+SweepBase = create_model(
+    "SweepBase", __base__=Strict, **model_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...))
+)
 
 
 def _vehicle_ref(value):
@@ -80,16 +88,22 @@ class _Sweep(Strict):
     def _grid(self, info: ValidationInfo):
         labels = [v.label() for v in self.vehicles]
         if len(set(labels)) < len(labels):
-            raise ValueError(f"vehicles: two vehicles share the label {_first_duplicate(labels)!r}; "
-                             "give each a distinct 'name'")
-        for what, values in (("entry_velocity_fps", self.entry_velocity_fps),
-                             ("entry_gamma_deg", self.entry_gamma_deg), ("contours_fps", self.contours_fps)):
+            raise ValueError(
+                f"vehicles: two vehicles share the label {_first_duplicate(labels)!r}; give each a distinct 'name'"
+            )
+        for what, values in (
+            ("entry_velocity_fps", self.entry_velocity_fps),
+            ("entry_gamma_deg", self.entry_gamma_deg),
+            ("contours_fps", self.contours_fps),
+        ):
             if len(set(values)) < len(values):
                 raise ValueError(f"{what}: {_first_duplicate(values):g} is listed twice")
         limit, where = door_limit(info, MAX_FOOTPRINTS, MAX_FOOTPRINTS_HTTP)
         if self.size > limit:
-            raise ValueError(f"vehicles: the sweep has {self.size} footprints (vehicles x entry_velocity_fps x "
-                             f"entry_gamma_deg); allowed{where}: 1 to {limit}")
+            raise ValueError(
+                f"vehicles: the sweep has {self.size} footprints (vehicles x entry_velocity_fps x "
+                f"entry_gamma_deg); allowed{where}: 1 to {limit}"
+            )
         try:  # every footprint flies the same settings: the first one's points bound them all
             parse("footprint", self.jobs()[0]["study"], info.context)
         except ValidationError as exc:
@@ -114,10 +128,20 @@ class _Sweep(Strict):
 
     def jobs(self) -> list[dict]:
         """One job per footprint, in sweep order (vehicle, velocity, angle): plain data, small to ship."""
-        return [{"key": (veh.label(), float(v), float(g)),
-                 "study": {"case": self.case_dict(veh, v, g), "method": self.method, **self.method_params(),
-                           "contours_fps": list(self.contours_fps)}}
-                for veh in self.vehicles for v in self.entry_velocity_fps for g in self.entry_gamma_deg]
+        return [
+            {
+                "key": (veh.label(), float(v), float(g)),
+                "study": {
+                    "case": self.case_dict(veh, v, g),
+                    "method": self.method,
+                    **self.method_params(),
+                    "contours_fps": list(self.contours_fps),
+                },
+            }
+            for veh in self.vehicles
+            for v in self.entry_velocity_fps
+            for g in self.entry_gamma_deg
+        ]
 
     @property
     def size(self) -> int:
@@ -133,11 +157,13 @@ def _first_duplicate(values):
 
 
 # One sweep model per method: the shared fields plus that method's parameters from the study contract.
-SingleParameterSweep = create_model("SingleParameterSweep", __base__=_Sweep,
-                                    **model_fields(SingleParameterStudy, exclude=("case",)))
-ConstantAltitudeSweep = create_model("ConstantAltitudeSweep", __base__=_Sweep,
-                                     **model_fields(ConstantAltitudeStudy, exclude=("case",)))
-Sweep = Annotated[Union[SingleParameterSweep, ConstantAltitudeSweep], Field(discriminator="method")]
+SingleParameterSweep = create_model(
+    "SingleParameterSweep", __base__=_Sweep, **model_fields(SingleParameterStudy, exclude=("case",))
+)
+ConstantAltitudeSweep = create_model(
+    "ConstantAltitudeSweep", __base__=_Sweep, **model_fields(ConstantAltitudeStudy, exclude=("case",))
+)
+Sweep = Annotated[SingleParameterSweep | ConstantAltitudeSweep, Field(discriminator="method")]
 
 REQUEST = Sweep  # the kind's request type (the OpenAPI document declares it)
 ADAPTER = TypeAdapter(REQUEST)
@@ -147,7 +173,6 @@ def parse_request(data, ctx: dict | None = None) -> _Sweep:
     """Validate a sweep (dict or model); its vehicles are built as they are parsed (an inline definition is checked
     by the core here, not in 40 tasks later). Raises pydantic's ValidationError (`error_line` makes it one line)."""
     return validated(ADAPTER, data, _Sweep, ctx)
-
 
 
 # ------------------------------------------------------------------------------------------ worker
@@ -177,14 +202,22 @@ def fly_footprint(sweep: "_Sweep", job: dict, on_progress=None) -> FootprintRun:
     """A part: one footprint of the sweep (`job`: one of sweep.jobs(); on_progress as the core's footprints take it:
     a True answer stops it). Never raises: a failure in the core comes back as a run with `error` set."""
     vehicle, velocity_fps, gamma_deg = job["key"]
-    run = FootprintRun(vehicle=vehicle, entry_velocity_fps=velocity_fps, entry_gamma_deg=gamma_deg,
-                       method=job["study"]["method"], study=job["study"], worker=f"pid {os.getpid()}")
+    run = FootprintRun(
+        vehicle=vehicle,
+        entry_velocity_fps=velocity_fps,
+        entry_gamma_deg=gamma_deg,
+        method=job["study"]["method"],
+        study=job["study"],
+        worker=f"pid {os.getpid()}",
+    )
     t0 = time.perf_counter()
     try:
         study = parse("footprint", job["study"])
         run.footprint = fly_study(study, on_progress=on_progress)
         first = run.footprint.points[0]  # the straight, wings-level flight: the footprint's pull-out
-        run.pullout = {k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")}
+        run.pullout = {
+            k: getattr(first, f"pullout_{k}") for k in ("altitude_ft", "downrange_nmi", "velocity_fps", "time_s")
+        }
         run.trajectories = run.footprint.trajectories
         run.ground_track = ground_track(study.case.to_spec())
     except Exception as exc:  # noqa: BLE001 -- any failure of one footprint is that footprint's row
@@ -194,35 +227,101 @@ def fly_footprint(sweep: "_Sweep", job: dict, on_progress=None) -> FootprintRun:
 
 
 def combine(sweep: "_Sweep", runs: list[FootprintRun], info: RunInfo) -> "SweepResult":
-    return SweepResult(sweep=sweep, runs={run.key: run for run in runs}, tasks=info.tasks, workers=info.workers,
-                       seconds=info.seconds, startup_seconds=info.startup_seconds, warm_seconds=info.warm_seconds)
+    return SweepResult(
+        sweep=sweep,
+        runs={run.key: run for run in runs},
+        tasks=info.tasks,
+        workers=info.workers,
+        seconds=info.seconds,
+        startup_seconds=info.startup_seconds,
+        warm_seconds=info.warm_seconds,
+    )
 
 
 def store(sweep: "_Sweep", result: "SweepResult", name: str | None) -> Stored:
     """A sweep job's rows: each footprint flown (named for the sweep, its vehicle and entry), and the sweep's
     summary with the errors of those that failed."""
     flown_runs = [r for r in result.runs.values() if r.footprint is not None]
-    errors = [{"vehicle": r.vehicle, "entry_velocity_fps": r.entry_velocity_fps, "entry_gamma_deg": r.entry_gamma_deg,
-               "error": r.error} for r in result.runs.values() if r.footprint is None]
-    footprints = [record(r.footprint, vehicle=r.vehicle, study=r.study, track=r.ground_track,
-                         entry={"velocity_fps": r.entry_velocity_fps, "gamma_deg": r.entry_gamma_deg,
-                                "altitude_ft": sweep.base.entry.altitude_ft},
-                         name=fitted(f"{sweep.name} {r.vehicle}", f"{r.entry_velocity_fps:g} fps "
-                                     f"{r.entry_gamma_deg:g} deg", FOOTPRINT_NAME_CHARS))
-                  for r in flown_runs]
-    return Stored(result={"sweep": {"name": sweep.name, "footprints": len(flown_runs), "errors": errors}},
-                  footprints=footprints)
+    errors = [
+        {
+            "vehicle": r.vehicle,
+            "entry_velocity_fps": r.entry_velocity_fps,
+            "entry_gamma_deg": r.entry_gamma_deg,
+            "error": r.error,
+        }
+        for r in result.runs.values()
+        if r.footprint is None
+    ]
+    footprints = [
+        record(
+            r.footprint,
+            vehicle=r.vehicle,
+            study=r.study,
+            track=r.ground_track,
+            entry={
+                "velocity_fps": r.entry_velocity_fps,
+                "gamma_deg": r.entry_gamma_deg,
+                "altitude_ft": sweep.base.entry.altitude_ft,
+            },
+            name=fitted(
+                f"{sweep.name} {r.vehicle}",
+                f"{r.entry_velocity_fps:g} fps {r.entry_gamma_deg:g} deg",
+                FOOTPRINT_NAME_CHARS,
+            ),
+        )
+        for r in flown_runs
+    ]
+    return Stored(
+        result={"sweep": {"name": sweep.name, "footprints": len(flown_runs), "errors": errors}}, footprints=footprints
+    )
 
 
 # ------------------------------------------------------------------------------------------ result
-POINT_COLUMNS = ("sweep", "vehicle", "entry_velocity_fps", "entry_gamma_deg", "method", "point", "on_boundary",
-                 "parameter", "side", "velocity_contour_fps", "downrange_nmi", "crossrange_nmi", "flight_time_s",
-                 "altitude_ft", "latitude_deg", "longitude_deg", "pullout_altitude_ft", "pullout_downrange_nmi",
-                 "turn_deg", "stop_reason", "mirrored", "error")
-SUMMARY_COLUMNS = ("sweep", "vehicle", "entry_velocity_fps", "entry_gamma_deg", "method", "points",
-                   "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi", "area_nmi2",
-                   "pullout_altitude_ft", "pullout_downrange_nmi", "pullout_velocity_fps", "skip_outs",
-                   "unfinished", "trajectories", "seconds", "worker", "error")
+POINT_COLUMNS = (
+    "sweep",
+    "vehicle",
+    "entry_velocity_fps",
+    "entry_gamma_deg",
+    "method",
+    "point",
+    "on_boundary",
+    "parameter",
+    "side",
+    "velocity_contour_fps",
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "altitude_ft",
+    "latitude_deg",
+    "longitude_deg",
+    "pullout_altitude_ft",
+    "pullout_downrange_nmi",
+    "turn_deg",
+    "stop_reason",
+    "mirrored",
+    "error",
+)
+SUMMARY_COLUMNS = (
+    "sweep",
+    "vehicle",
+    "entry_velocity_fps",
+    "entry_gamma_deg",
+    "method",
+    "points",
+    "max_crossrange_nmi",
+    "max_downrange_nmi",
+    "min_downrange_nmi",
+    "area_nmi2",
+    "pullout_altitude_ft",
+    "pullout_downrange_nmi",
+    "pullout_velocity_fps",
+    "skip_outs",
+    "unfinished",
+    "trajectories",
+    "seconds",
+    "worker",
+    "error",
+)
 
 
 @dataclass
@@ -255,8 +354,13 @@ class SweepResult:
         iso-velocity crossings (`velocity_contour_fps` set). A failed footprint is one row with its error."""
         rows = []
         for run in self.runs.values():
-            key = {"sweep": self.sweep.name, "vehicle": run.vehicle, "entry_velocity_fps": run.entry_velocity_fps,
-                   "entry_gamma_deg": run.entry_gamma_deg, "method": run.method}
+            key = {
+                "sweep": self.sweep.name,
+                "vehicle": run.vehicle,
+                "entry_velocity_fps": run.entry_velocity_fps,
+                "entry_gamma_deg": run.entry_gamma_deg,
+                "method": run.method,
+            }
             if run.footprint is None:
                 rows.append(key | {"error": run.error})
                 continue
@@ -264,37 +368,77 @@ class SweepResult:
             boundary = [(i, True, p) for i, p in enumerate(fp.points)]
             interior = [(None, False, p) for p in getattr(fp, "interior", ())]
             for i, on_boundary, p in boundary + interior:
-                common = key | {"point": i, "on_boundary": on_boundary,
-                                "parameter": json.dumps(p.parameter, sort_keys=True), "side": p.side,
-                                "pullout_altitude_ft": p.pullout_altitude_ft,
-                                "pullout_downrange_nmi": p.pullout_downrange_nmi, "turn_deg": p.turn_deg,
-                                "mirrored": p.mirrored}
+                common = key | {
+                    "point": i,
+                    "on_boundary": on_boundary,
+                    "parameter": json.dumps(p.parameter, sort_keys=True),
+                    "side": p.side,
+                    "pullout_altitude_ft": p.pullout_altitude_ft,
+                    "pullout_downrange_nmi": p.pullout_downrange_nmi,
+                    "turn_deg": p.turn_deg,
+                    "mirrored": p.mirrored,
+                }
                 for c in p.contours:
-                    rows.append(common | {"velocity_contour_fps": c["velocity_fps"],
-                                          **{k: c[k] for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s",
-                                                               "altitude_ft", "latitude_deg", "longitude_deg")}})
-                rows.append(common | {"downrange_nmi": p.downrange_nmi, "crossrange_nmi": p.crossrange_nmi,
-                                      "flight_time_s": p.flight_time_s, "altitude_ft": p.final_altitude_ft,
-                                      "latitude_deg": p.latitude_deg, "longitude_deg": p.longitude_deg,
-                                      "stop_reason": p.stop_reason})
+                    rows.append(
+                        common
+                        | {
+                            "velocity_contour_fps": c["velocity_fps"],
+                            **{
+                                k: c[k]
+                                for k in (
+                                    "downrange_nmi",
+                                    "crossrange_nmi",
+                                    "flight_time_s",
+                                    "altitude_ft",
+                                    "latitude_deg",
+                                    "longitude_deg",
+                                )
+                            },
+                        }
+                    )
+                rows.append(
+                    common
+                    | {
+                        "downrange_nmi": p.downrange_nmi,
+                        "crossrange_nmi": p.crossrange_nmi,
+                        "flight_time_s": p.flight_time_s,
+                        "altitude_ft": p.final_altitude_ft,
+                        "latitude_deg": p.latitude_deg,
+                        "longitude_deg": p.longitude_deg,
+                        "stop_reason": p.stop_reason,
+                    }
+                )
         return rows
 
     def summary_rows(self) -> list[dict]:
         rows = []
         for run in self.runs.values():
             fp, po = run.footprint, run.pullout or {}
-            row = {"sweep": self.sweep.name, "vehicle": run.vehicle, "entry_velocity_fps": run.entry_velocity_fps,
-                   "entry_gamma_deg": run.entry_gamma_deg, "method": run.method,
-                   "pullout_altitude_ft": po.get("altitude_ft"), "pullout_downrange_nmi": po.get("downrange_nmi"),
-                   "pullout_velocity_fps": po.get("velocity_fps"), "trajectories": run.trajectories,
-                   "seconds": round(run.seconds, 4), "worker": run.worker, "error": run.error}
+            row = {
+                "sweep": self.sweep.name,
+                "vehicle": run.vehicle,
+                "entry_velocity_fps": run.entry_velocity_fps,
+                "entry_gamma_deg": run.entry_gamma_deg,
+                "method": run.method,
+                "pullout_altitude_ft": po.get("altitude_ft"),
+                "pullout_downrange_nmi": po.get("downrange_nmi"),
+                "pullout_velocity_fps": po.get("velocity_fps"),
+                "trajectories": run.trajectories,
+                "seconds": round(run.seconds, 4),
+                "worker": run.worker,
+                "error": run.error,
+            }
             if fp is not None:
                 flown = list(fp.points) + list(getattr(fp, "interior", ()))
-                row |= {"points": len(fp.points), "max_crossrange_nmi": fp.max_crossrange_nmi,
-                        "max_downrange_nmi": fp.max_downrange_nmi, "min_downrange_nmi": fp.min_downrange_nmi,
-                        "area_nmi2": fp.area_nmi2,
-                        "skip_outs": sum(p.stop_reason == "skip_out" for p in flown),
-                        "unfinished": sum(p.stop_reason in UNFINISHED for p in flown)}
+                row |= {
+                    "points": len(fp.points),
+                    "max_crossrange_nmi": fp.max_crossrange_nmi,
+                    "max_downrange_nmi": fp.max_downrange_nmi,
+                    "min_downrange_nmi": fp.min_downrange_nmi,
+                    "area_nmi2": fp.area_nmi2,
+                    "skip_outs": sum(p.stop_reason == "skip_out" for p in flown),
+                    "unfinished": sum(p.stop_reason in UNFINISHED for p in flown),
+                }
             rows.append(row)
         return rows
 
@@ -302,8 +446,10 @@ class SweepResult:
         """points.csv, summary.csv and sweep.json in `folder`; figures/ too when footprint.pictures.figures exists."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        written = [_write_csv(folder / "points.csv", POINT_COLUMNS, self.point_rows()),
-                   _write_csv(folder / "summary.csv", SUMMARY_COLUMNS, self.summary_rows())]
+        written = [
+            _write_csv(folder / "points.csv", POINT_COLUMNS, self.point_rows()),
+            _write_csv(folder / "summary.csv", SUMMARY_COLUMNS, self.summary_rows()),
+        ]
         (folder / "sweep.json").write_text(json.dumps(self.sweep.model_dump(), indent=1))
         written.append(folder / "sweep.json")
         if figures:
@@ -327,8 +473,10 @@ class SweepResult:
         for veh, by_velocity in by_vehicle.items():
             for v, family in by_velocity.items():
                 path = folder / f"{_file_part(veh)}_V{v:.0f}_footprints.png"
-                fig.save(fig.footprints_figure(family, f"{name}: {veh}, V = {v:,.0f} ft/s "
-                                                       f"({self.sweep.velocity_frame})"), path)
+                fig.save(
+                    fig.footprints_figure(family, f"{name}: {veh}, V = {v:,.0f} ft/s ({self.sweep.velocity_frame})"),
+                    path,
+                )
                 written.append(path)
             rows = [r for r in self.summary_rows() if r["vehicle"] == veh and r["pullout_altitude_ft"] is not None]
             if rows:
@@ -355,8 +503,9 @@ def _figures_module():
             warnings.warn(f"figures skipped: {exc}", stacklevel=3)
             return f"figures skipped: {exc}"
         return "figures skipped: footprint.pictures.figures is not installed"
-    missing = [f for f in ("footprints_figure", "contours_figure", "pullout_carpet_figure", "save")
-               if not hasattr(fig, f)]
+    missing = [
+        f for f in ("footprints_figure", "contours_figure", "pullout_carpet_figure", "save") if not hasattr(fig, f)
+    ]
     if missing:
         return f"figures skipped: footprint.pictures.figures has no {', '.join(missing)}"
     return fig
@@ -373,8 +522,6 @@ def _write_csv(path: Path, columns, rows) -> Path:
         for row in rows:
             w.writerow({k: csv_cell(v) for k, v in row.items()})
     return path
-
-
 
 
 WORK = Work(split=_Sweep.jobs, run_part=fly_footprint, combine=combine, store=store, part_unit="footprint")

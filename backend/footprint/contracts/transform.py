@@ -89,16 +89,22 @@ class Place(Strict):
     def _one_direction(self):
         orbit = ("node_longitude_deg", "argument_of_latitude_deg")
         if any(getattr(self, k) is not None for k in orbit):
-            given = [k for k in ("latitude_deg", "longitude_deg", "heading_deg", "ascending") if k in self.model_fields_set]
+            given = [
+                k for k in ("latitude_deg", "longitude_deg", "heading_deg", "ascending") if k in self.model_fields_set
+            ]
             missing = [k for k in orbit + ("inclination_deg",) if getattr(self, k) is None]
             if given or missing:
-                raise ValueError("an orbit's point is node_longitude_deg (-360 to 360 deg), inclination_deg (0 to "
-                                 "180 deg) and argument_of_latitude_deg (-360 to 360 deg) "
-                                 + (f"(missing {', '.join(missing)})" if missing else f"without {', '.join(given)}"))
+                raise ValueError(
+                    "an orbit's point is node_longitude_deg (-360 to 360 deg), inclination_deg (0 to "
+                    "180 deg) and argument_of_latitude_deg (-360 to 360 deg) "
+                    + (f"(missing {', '.join(missing)})" if missing else f"without {', '.join(given)}")
+                )
             return self
         if self.latitude_deg is None or self.longitude_deg is None:
-            raise ValueError("give latitude_deg (-90 to 90 deg) and longitude_deg (-360 to 360 deg), or an orbit's "
-                             "node_longitude_deg, inclination_deg and argument_of_latitude_deg")
+            raise ValueError(
+                "give latitude_deg (-90 to 90 deg) and longitude_deg (-360 to 360 deg), or an orbit's "
+                "node_longitude_deg, inclination_deg and argument_of_latitude_deg"
+            )
         if (self.heading_deg is None) == (self.inclination_deg is None):
             raise ValueError("give exactly one of heading_deg (-360 to 360 deg) or inclination_deg (0 to 180 deg)")
         if self.heading_deg is not None and "ascending" in self.model_fields_set:
@@ -143,16 +149,22 @@ class TransformRequest(Strict):
             missing = [i for i, p in enumerate(self.points) if p.flight_time_s is None]
             if missing:
                 at = ", ".join(map(str, missing[:5])) + (f" and {len(missing) - 5} more" if len(missing) > 5 else "")
-                raise ValueError(f"points.{missing[0]}.flight_time_s: required for every point with earth_rotation "
-                                 f"'approximate' (the shift is omega_p t, 0 to {MAX_FLIGHT_TIME_S:g} s); "
-                                 f"missing at points {at}")
+                raise ValueError(
+                    f"points.{missing[0]}.flight_time_s: required for every point with earth_rotation "
+                    f"'approximate' (the shift is omega_p t, 0 to {MAX_FLIGHT_TIME_S:g} s); "
+                    f"missing at points {at}"
+                )
         if self.earth_rotation == "exact":
             if self.study is None:
-                raise ValueError("study: required with earth_rotation 'exact' (a footprint study to fly again on the "
-                                 "rotating earth from the destination)")
+                raise ValueError(
+                    "study: required with earth_rotation 'exact' (a footprint study to fly again on the "
+                    "rotating earth from the destination)"
+                )
             if self.study.method == "collocation":  # a minute of NLP solves is a job, not a synchronous request
-                raise ValueError("study.method: 'collocation' is not re-solved by a transform; submit a footprint job "
-                                 "with the destination's entry instead")
+                raise ValueError(
+                    "study.method: 'collocation' is not re-solved by a transform; submit a footprint job "
+                    "with the destination's entry instead"
+                )
         elif self.study is not None:
             raise ValueError(f"study: only used with earth_rotation 'exact' (got '{self.earth_rotation}')")
         return self
@@ -166,7 +178,6 @@ def parse_request(data, ctx: dict | None = None) -> TransformRequest:
     return validated(ADAPTER, data, TransformRequest, ctx)
 
 
-
 def transform(req: TransformRequest, part=None, on_progress=None) -> dict:
     """Carry out a transform request; raises InputError for a user's mistake the contract cannot see."""
     src, dst0 = req.from_.reference("from"), req.to.reference("to")
@@ -177,8 +188,12 @@ def transform(req: TransformRequest, part=None, on_progress=None) -> dict:
         points = _exact_points(req, dst)
     else:
         points = _moved_points(req, src, dst0, dst)
-    return {"points": points, "reference": _reference_dict(dst), "earth_rotation": req.earth_rotation,
-            "points_in": len(req.points)}
+    return {
+        "points": points,
+        "reference": _reference_dict(dst),
+        "earth_rotation": req.earth_rotation,
+        "points_in": len(req.points),
+    }
 
 
 def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: Reference) -> list[dict]:
@@ -216,20 +231,41 @@ def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
     study = req.study
     spec = study.case.to_spec()
     fp = fly_at(spec, study.method, study.to_params(), dst, rotating=True)
-    return [{"latitude_deg": p.latitude_deg, "longitude_deg": float(wrap_longitude(p.longitude_deg)),
-             "flight_time_s": p.flight_time_s, "downrange_nmi": p.downrange_nmi, "crossrange_nmi": p.crossrange_nmi,
-             "mirrored": p.mirrored, "side": p.side, "parameter": p.parameter, "on_boundary": p in fp.points}
-            for p in all_points(fp)]
+    return [
+        {
+            "latitude_deg": p.latitude_deg,
+            "longitude_deg": float(wrap_longitude(p.longitude_deg)),
+            "flight_time_s": p.flight_time_s,
+            "downrange_nmi": p.downrange_nmi,
+            "crossrange_nmi": p.crossrange_nmi,
+            "mirrored": p.mirrored,
+            "side": p.side,
+            "parameter": p.parameter,
+            "on_boundary": p in fp.points,
+        }
+        for p in all_points(fp)
+    ]
 
 
 def _reference_dict(ref: Reference) -> dict:
-    return {"latitude_deg": ref.latitude_deg, "longitude_deg": float(wrap_longitude(ref.longitude_deg)),
-            "heading_deg": ref.heading_deg,
-            "inclination_deg": float(inclination_for_heading(ref.latitude_deg, ref.heading_deg))}
+    return {
+        "latitude_deg": ref.latitude_deg,
+        "longitude_deg": float(wrap_longitude(ref.longitude_deg)),
+        "heading_deg": ref.heading_deg,
+        "inclination_deg": float(inclination_for_heading(ref.latitude_deg, ref.heading_deg)),
+    }
 
 
-CSV_COLUMNS = ("latitude_deg", "longitude_deg", "flight_time_s", "downrange_nmi", "crossrange_nmi", "mirrored",
-               "side", "parameter")
+CSV_COLUMNS = (
+    "latitude_deg",
+    "longitude_deg",
+    "flight_time_s",
+    "downrange_nmi",
+    "crossrange_nmi",
+    "mirrored",
+    "side",
+    "parameter",
+)
 
 
 def write_csv(result: dict, path) -> Path:
@@ -243,8 +279,6 @@ def write_csv(result: dict, path) -> Path:
         for p in result["points"]:
             w.writerow([csv_cell(p.get(c)) for c in columns])
     return path
-
-
 
 
 WORK = Work(run_part=transform, part_unit="transform")  # answered at once, never a job

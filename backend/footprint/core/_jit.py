@@ -25,6 +25,7 @@ FASTMATH = {"contract", "arcp", "nsz"}
 # atomic increment and decrement at each call: in the integrator's right-hand side (dynamics.evaluate and what it
 # calls) 40 % of the time of a trajectory (bench/bench_sample.py). The arithmetic is the same.
 
+
 def python_function(f):
     """The plain Python function behind a compiled one (for callers that pass symbolic values)."""
     return getattr(f, "py_func", f)

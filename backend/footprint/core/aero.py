@@ -323,9 +323,7 @@ def _alpha_range(first, second):
 
 
 def _assemble(form, alpha_min, alpha_max, seg1, seg2, mach_nodes, alt_nodes, grids):
-    segments = [seg1, seg2] + [
-        _table_segment(mach_nodes, [0.0], alt_nodes, g[:, None, :]) for g in grids
-    ]
+    segments = [seg1, seg2] + [_table_segment(mach_nodes, [0.0], alt_nodes, g[:, None, :]) for g in grids]
     offsets = np.cumsum([HEADER_SIZE] + [s.size for s in segments[:-1]])
     header = np.array([form, alpha_min, alpha_max, *offsets], dtype=np.float64)
     blob = np.ascontiguousarray(np.concatenate([header] + segments))
@@ -342,12 +340,16 @@ def pack_tables(form, first, second):
     first = tuple(np.asarray(x, dtype=np.float64) for x in first)
     second = tuple(np.asarray(x, dtype=np.float64) for x in second)
     alpha_min, alpha_max = _alpha_range(first, second)
-    mach_nodes, alt_nodes, grids, cd_positive = _control_grids_tables(
-        form, first, second, alpha_min, alpha_max
-    )
+    mach_nodes, alt_nodes, grids, cd_positive = _control_grids_tables(form, first, second, alpha_min, alpha_max)
     blob = _assemble(
-        form, alpha_min, alpha_max, _table_segment(*first), _table_segment(*second),
-        mach_nodes, alt_nodes, grids,
+        form,
+        alpha_min,
+        alpha_max,
+        _table_segment(*first),
+        _table_segment(*second),
+        mach_nodes,
+        alt_nodes,
+        grids,
     )
     return blob, cd_positive
 
@@ -479,13 +481,18 @@ def _within_force_range(where, values) -> None:
     """A force coefficient's magnitude at most MAX_FORCE_COEFFICIENT: a C_D of 1e308 overflowed the forces to inf."""
     worst = float(np.max(np.abs(values)))
     if not worst <= MAX_FORCE_COEFFICIENT:
-        raise InputError(where, f"reaches {worst:.4g}: a force coefficient must stay within "
-                                f"-{MAX_FORCE_COEFFICIENT:g}..{MAX_FORCE_COEFFICIENT:g}")
+        raise InputError(
+            where,
+            f"reaches {worst:.4g}: a force coefficient must stay within "
+            f"-{MAX_FORCE_COEFFICIENT:g}..{MAX_FORCE_COEFFICIENT:g}",
+        )
 
 
 def _polynomial_blob(cl, cd, alpha_range, where):
     """`where`: the definition's path; its .cl and .cd name the coefficient that is refused."""
-    alpha = np.linspace(*alpha_range, 721)  # the polynomial's values over the range it is flown in (every 0.25 deg at most)
+    alpha = np.linspace(
+        *alpha_range, 721
+    )  # the polynomial's values over the range it is flown in (every 0.25 deg at most)
     for coefficients, name in ((cl, "cl"), (cd, "cd")):
         _within_force_range(f"{where}.{name}", np.polyval(coefficients[::-1], alpha))
     cd_where = f"{where}.cd"
@@ -529,8 +536,9 @@ def _wing_loading(d, field_):
     has_ws = d.get("wing_loading_psf") is not None
     has_wa = d.get("weight_lb") is not None or d.get("reference_area_ft2") is not None
     if has_ws and has_wa:
-        raise InputError(f"{field_}.wing_loading_psf",
-                         "give wing_loading_psf or weight_lb and reference_area_ft2, not both")
+        raise InputError(
+            f"{field_}.wing_loading_psf", "give wing_loading_psf or weight_lb and reference_area_ft2, not both"
+        )
     if has_ws:
         ws = _number(d["wing_loading_psf"], f"{field_}.wing_loading_psf")
         where = f"{field_}.wing_loading_psf"
@@ -544,8 +552,9 @@ def _wing_loading(d, field_):
         ws = weight / area
         where = f"{field_}.weight_lb"
     else:
-        raise InputError(f"{field_}.wing_loading_psf",
-                         "missing: give wing_loading_psf or weight_lb and reference_area_ft2")
+        raise InputError(
+            f"{field_}.wing_loading_psf", "missing: give wing_loading_psf or weight_lb and reference_area_ft2"
+        )
     if not lo <= ws <= hi:
         raise InputError(where, f"wing loading {ws:g} psf is outside the allowed range {lo:g} to {hi:g} psf")
     return ws
@@ -564,8 +573,9 @@ def vehicle_from_definition(d: dict, field: str = "vehicle") -> Vehicle:
     if "aero" not in d:
         raise InputError(f"{field}.aero", "missing: give 'constant', 'polynomial' or 'tables'")
     blob = _aero_blob(d["aero"], f"{field}.aero")
-    return Vehicle(id=str(d.get("id", "custom")), name=name, wing_loading_psf=ws, blob=blob,
-                   provenance="user-defined vehicle")
+    return Vehicle(
+        id=str(d.get("id", "custom")), name=name, wing_loading_psf=ws, blob=blob, provenance="user-defined vehicle"
+    )
 
 
 def builtin_vehicle_ids() -> list[str]:
@@ -573,13 +583,17 @@ def builtin_vehicle_ids() -> list[str]:
     return [i for i in _BUILTIN_ORDER if i in ids] + sorted(ids - set(_BUILTIN_ORDER))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _load_builtin(vehicle_id: str) -> Vehicle:
     d = json.loads((DATA_DIR / f"{vehicle_id}.json").read_text(encoding="utf-8"))
     blob = _aero_blob(d["aero"], f"vehicle.builtin[{vehicle_id}].aero")
     return Vehicle(
-        id=d["id"], name=d["name"], wing_loading_psf=float(d["wing_loading_psf"]), blob=blob,
-        provenance=d["provenance"], readings=tuple(d["readings"]),
+        id=d["id"],
+        name=d["name"],
+        wing_loading_psf=float(d["wing_loading_psf"]),
+        blob=blob,
+        provenance=d["provenance"],
+        readings=tuple(d["readings"]),
         reported_ld_max=None if d.get("reported_ld_max") is None else float(d["reported_ld_max"]),
         note=d.get("note", ""),
     )
@@ -589,8 +603,9 @@ def builtin_vehicle(vehicle_id: str) -> Vehicle:
     """A built-in vehicle (cached: the blob is shared and read-only)."""
     ids = builtin_vehicle_ids()
     if vehicle_id not in ids:
-        raise InputError("vehicle.builtin",
-                         f"unknown vehicle {_show(vehicle_id)} (the built-in vehicles are {', '.join(ids)})")
+        raise InputError(
+            "vehicle.builtin", f"unknown vehicle {_show(vehicle_id)} (the built-in vehicles are {', '.join(ids)})"
+        )
     return _load_builtin(vehicle_id)
 
 
@@ -621,11 +636,18 @@ def vehicle_summaries() -> list[dict]:
         ld, alpha = ld_max(v, mach, altitude_ft)
         alpha_cl = float(alpha_cl_max_deg(v.blob, mach, altitude_ft))
         cl_max, _ = coefficients(v.blob, mach, alpha_cl, altitude_ft)
-        rows.append({
-            "id": v.id, "name": v.name, "wing_loading_psf": v.wing_loading_psf,
-            "reported_ld_max": v.reported_ld_max,
-            "ld_max_m20_200kft": round(ld, 4), "alpha_ld_max_deg": round(alpha, 2),
-            "cl_max": round(float(cl_max), 4), "alpha_cl_max_deg": round(alpha_cl, 2),
-            "alpha_range_deg": list(alpha_range_deg(v)), "note": v.note,
-        })
+        rows.append(
+            {
+                "id": v.id,
+                "name": v.name,
+                "wing_loading_psf": v.wing_loading_psf,
+                "reported_ld_max": v.reported_ld_max,
+                "ld_max_m20_200kft": round(ld, 4),
+                "alpha_ld_max_deg": round(alpha, 2),
+                "cl_max": round(float(cl_max), 4),
+                "alpha_cl_max_deg": round(alpha_cl, 2),
+                "alpha_range_deg": list(alpha_range_deg(v)),
+                "note": v.note,
+            }
+        )
     return rows

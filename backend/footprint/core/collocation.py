@@ -40,15 +40,37 @@ from footprint.core.optimize import Constraint
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
 from footprint.core.trajectory import Dispersion, FlightSpec, Trajectory, initial_state, pack_parameters, simulate
 
-TERMINAL = ("crossrange_nmi", "downrange_nmi", "final_latitude_deg", "final_longitude_deg", "final_velocity_fps",
-            "final_gamma_deg", "final_heading_deg", "flight_time_s", "final_energy_ft", "heat_load_btu_ft2")
+TERMINAL = (
+    "crossrange_nmi",
+    "downrange_nmi",
+    "final_latitude_deg",
+    "final_longitude_deg",
+    "final_velocity_fps",
+    "final_gamma_deg",
+    "final_heading_deg",
+    "flight_time_s",
+    "final_energy_ft",
+    "heat_load_btu_ft2",
+)
 PATH = ("max_temperature_R", "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "max_load_factor")
 QUANTITIES = TERMINAL + PATH
 # a typical size of each quantity: objective and constraints enter the NLP divided by it
-SCALE = {"crossrange_nmi": 1e3, "downrange_nmi": 1e3, "final_latitude_deg": 10.0, "final_longitude_deg": 10.0,
-         "final_velocity_fps": 1e3, "final_gamma_deg": 1.0, "final_heading_deg": 10.0, "flight_time_s": 1e3,
-         "final_energy_ft": 1e5, "heat_load_btu_ft2": 1e5, "max_temperature_R": 1e3,
-         "max_heat_rate_btu_ft2_s": 100.0, "max_dynamic_pressure_psf": 100.0, "max_load_factor": 1.0}
+SCALE = {
+    "crossrange_nmi": 1e3,
+    "downrange_nmi": 1e3,
+    "final_latitude_deg": 10.0,
+    "final_longitude_deg": 10.0,
+    "final_velocity_fps": 1e3,
+    "final_gamma_deg": 1.0,
+    "final_heading_deg": 10.0,
+    "flight_time_s": 1e3,
+    "final_energy_ft": 1e5,
+    "heat_load_btu_ft2": 1e5,
+    "max_temperature_R": 1e3,
+    "max_heat_rate_btu_ft2_s": 100.0,
+    "max_dynamic_pressure_psf": 100.0,
+    "max_load_factor": 1.0,
+}
 AGREE_DEG = 0.01  # issue 12: flown final latitude and longitude within 0.01 deg of the NLP's
 AGREE_DOWNRANGE_REL = 1e-3  # and down-range within 0.1 %
 # state scales: r = R_e + H_SCALE x0, V = V_SCALE x3 (angles in rad); time T_SCALE; alpha, bank in these degrees
@@ -69,8 +91,12 @@ POLISH_WEIGHT = 1e-2  # the polish's share of smoothing_weight
 # (on the L/D 1.89 tables it ran out of 3,000 iterations, 230 s, for 1.2 nmi of cross-range)
 POLISH_MAX_ITERATIONS = 300
 ITERATIONS_HALF_WAY = 50  # a progress estimate: typical iterations of a stage (Betts 20-50, the L/D 1.89 50-120)
-STATUS_OF_IPOPT = {"Solve_Succeeded": "optimal", "Solved_To_Acceptable_Level": "optimal",
-                   "Infeasible_Problem_Detected": "infeasible", "User_Requested_Stop": "stopped"}
+STATUS_OF_IPOPT = {
+    "Solve_Succeeded": "optimal",
+    "Solved_To_Acceptable_Level": "optimal",
+    "Infeasible_Problem_Detected": "infeasible",
+    "User_Requested_Stop": "stopped",
+}
 
 
 def _jit_options():
@@ -84,10 +110,14 @@ def _jit_options():
         return None
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint" / f"casadi-{ca.__version__}"
     (root / "build").mkdir(parents=True, exist_ok=True)
-    command = " ".join(shlex.quote(a) for a in (sys.executable, str(Path(__file__).with_name("_cc_cache.py")),
-                                                f"--cache={root}"))
-    return {"jit": True, "compiler": "shell",
-            "jit_options": {"compiler": command, "flags": ["-O1"], "verbose": False, "directory": f"{root / 'build'}/"}}
+    command = " ".join(
+        shlex.quote(a) for a in (sys.executable, str(Path(__file__).with_name("_cc_cache.py")), f"--cache={root}")
+    )
+    return {
+        "jit": True,
+        "compiler": "shell",
+        "jit_options": {"compiler": command, "flags": ["-O1"], "verbose": False, "directory": f"{root / 'build'}/"},
+    }
 
 
 def _map_threads(compiled):
@@ -137,6 +167,7 @@ def iteration_progress(on_progress, share=(0.0, 1.0), what=""):
         fraction = (stage + iteration / (iteration + ITERATIONS_HALF_WAY)) / stages
         note = f"{what}IPOPT iteration {iteration}" + (f", stage {stage + 1} of {stages}" if stages > 1 else "")
         return on_progress(lo + (hi - lo) * fraction, note)
+
     return on_iteration
 
 
@@ -220,24 +251,38 @@ class Result:
 
     def to_dict(self) -> dict:
         arrays = {k: v.tolist() for k, v in self.history.items()}
-        return {"method": "collocation", "status": self.status, "message": self.message,
-                "feasible": self.ok, "objective": self.objective, "summary": self.summary,
-                "controls": {k: v.tolist() for k, v in self.controls.items()}, "history": arrays,
-                "refly": self.refly, "agreement": self.agreement, "max_violation": self.max_violation,
-                "iterations": self.iterations, "seconds": self.seconds, "intervals": self.intervals}
+        return {
+            "method": "collocation",
+            "status": self.status,
+            "message": self.message,
+            "feasible": self.ok,
+            "objective": self.objective,
+            "summary": self.summary,
+            "controls": {k: v.tolist() for k, v in self.controls.items()},
+            "history": arrays,
+            "refly": self.refly,
+            "agreement": self.agreement,
+            "max_violation": self.max_violation,
+            "iterations": self.iterations,
+            "seconds": self.seconds,
+            "intervals": self.intervals,
+        }
 
 
 # ----------------------------------------------------------------------------------------------- guesses
 def spherical_state(x, y, z, vx, vy, vz):
     """(r, lon, lat_c, V, gamma, psi) of an earth-fixed cartesian state (core.frames conventions)."""
     v, gamma, psi = flight_angles(x, y, z, vx, vy, vz)
-    return np.array([math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), v,
-                     gamma, psi])
+    return np.array(
+        [math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), v, gamma, psi]
+    )
 
 
-NO_OPTIMUM_ADVICE = ("to change: a bank law in the case that flies near the answer (the first guess), a wider "
-                     "tolerance on a constraint, more collocation.max_iterations or max_seconds, or a target within "
-                     "the vehicle's reach")
+NO_OPTIMUM_ADVICE = (
+    "to change: a bank law in the case that flies near the answer (the first guess), a wider "
+    "tolerance on a constraint, more collocation.max_iterations or max_seconds, or a target within "
+    "the vehicle's reach"
+)
 GUESS_BISECTIONS = 24  # constant-bank flights to land the first guess at a down-range target (to ~1e-6 of the range)
 
 
@@ -247,8 +292,10 @@ def first_guess(problem: Problem) -> Guess:
     wings-level flight of the L/D 1.89 page defaults (14,869 nmi for a 4,000 nmi target) IPOPT ran 1,400 iterations
     without an optimum; from the banked one it converges (issue 25 item 3)."""
     spec = problem.base
-    target = next((k.target for k in problem.constraints
-                   if k.quantity == "downrange_nmi" and k.kind in ("equals", "at_most")), None)
+    target = next(
+        (k.target for k in problem.constraints if k.quantity == "downrange_nmi" and k.kind in ("equals", "at_most")),
+        None,
+    )
     flown = simulate(spec)
     if target is None or int(spec.ctrl[C_BANK_LAW]) != BANK_ZERO or flown.summary["downrange_nmi"] <= target:
         return guess_from_trajectory(spec, flown)
@@ -271,21 +318,35 @@ def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
     pl = spec.planet
     rows = []
     for lat, lon, alt in zip(h["latitude_deg"], h["longitude_deg"], h["altitude_ft"]):
-        x, y, z = ecef_from_geodetic(math.radians(lat), math.radians(lon), alt, pl.radius_ft, pl.polar_radius_ft,
-                                     pl.oblate)
+        x, y, z = ecef_from_geodetic(
+            math.radians(lat), math.radians(lon), alt, pl.radius_ft, pl.polar_radius_ft, pl.oblate
+        )
         rows.append((math.sqrt(x * x + y * y + z * z), math.atan2(z, math.hypot(x, y))))
     r, lat_c = np.array(rows).T
     t = np.asarray(h["time_s"], float)
     keep = np.concatenate(([True], np.diff(t) > 0))  # event rows repeat their time
-    states = np.column_stack([r, np.unwrap(np.radians(h["longitude_deg"])), lat_c, h["velocity_fps"],
-                              np.radians(h["gamma_deg"]), np.unwrap(np.radians(h["heading_deg"]))])[keep]
+    states = np.column_stack(
+        [
+            r,
+            np.unwrap(np.radians(h["longitude_deg"])),
+            lat_c,
+            h["velocity_fps"],
+            np.radians(h["gamma_deg"]),
+            np.unwrap(np.radians(h["heading_deg"])),
+        ]
+    )[keep]
     s0 = spherical_state(*initial_state(spec, p))
     states[:, 1] += s0[1] - states[0, 1]  # the unwrapped longitude and heading continue from the entry's
     states[:, 5] += s0[5] - states[0, 5]
     states[0] = s0  # exactly the entry state
     controls = np.column_stack([h["alpha_deg"], h["bank_deg"]])[keep]
-    return Guess(tau=t[keep] / t[-1], states=states, controls=controls, final_time_s=float(t[-1]),
-                 downrange_nmi=float(trajectory.summary["downrange_nmi"]))
+    return Guess(
+        tau=t[keep] / t[-1],
+        states=states,
+        controls=controls,
+        final_time_s=float(t[-1]),
+        downrange_nmi=float(trajectory.summary["downrange_nmi"]),
+    )
 
 
 # ------------------------------------------------------------------------------------------ transcription
@@ -340,7 +401,7 @@ class Transcription:
         dbig = np.zeros((m + 1, m))
         for k in range(n):
             for j in range(d):
-                dbig[k * d:k * d + d + 1, k * d + j] = dmat[j]
+                dbig[k * d : k * d + d + 1, k * d + j] = dmat[j]
         point = self._point_function()
         u_all = ca.horzcat(us[:, 0], ca.mtimes(us, ca.sparsify(ca.DM(lin))))  # controls at every point, entry included
         rates, path = point.map(m + 1, *_map_threads(self.compiled))(xs, u_all, smoothing)
@@ -353,8 +414,14 @@ class Transcription:
         def add(name, expr, lo, hi):
             expr = ca.vec(expr)
             g.append(expr)
-            self._groups.append((name, expr.shape[0], np.broadcast_to(lo, expr.shape[0]).astype(float),
-                                 np.broadcast_to(hi, expr.shape[0]).astype(float)))
+            self._groups.append(
+                (
+                    name,
+                    expr.shape[0],
+                    np.broadcast_to(lo, expr.shape[0]).astype(float),
+                    np.broadcast_to(hi, expr.shape[0]).astype(float),
+                )
+            )
 
         add("collocation defects", defects, 0.0, 0.0)
         # altitude: a floor at the stop altitude along the way, equal to it at the end
@@ -379,8 +446,12 @@ class Transcription:
             if rate is not None:
                 scale = ALPHA_SCALE_DEG if i == 0 else BANK_SCALE_DEG
                 du = (us[i, 1:] - us[i, :-1]) * scale
-                add(("alpha" if i == 0 else "bank") + " rate", ca.horzcat(du - rate * h * t_f, -du - rate * h * t_f),
-                    -np.inf, 0.0)
+                add(
+                    ("alpha" if i == 0 else "bank") + " rate",
+                    ca.horzcat(du - rate * h * t_f, -du - rate * h * t_f),
+                    -np.inf,
+                    0.0,
+                )
         objective = sum(weights[i] * final[q] / SCALE[q] for i, (q, _) in enumerate(pr.objective))
         f = -objective if pr.goal == "max" else objective
         f = f + regularization * ca.sumsqr(us[:, 1:] - us[:, :-1]) * n
@@ -390,11 +461,18 @@ class Transcription:
         self._bounds(ns, m, n)
         self._outputs = ca.Function("outputs", [w, par], [xs, us, t_f, path])
         self._iterations = _Iterations(w.shape[0], self._g.shape[0], par.shape[0])
-        opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": pr.tolerance,
-                "iteration_callback": self._iterations,
-                "ipopt.max_iter": pr.max_iterations, "ipopt.max_wall_time": pr.max_seconds,
-                "ipopt.mu_strategy": "adaptive",
-                "ipopt.linear_solver": "mumps", "expand": not self.compiled}
+        opts = {
+            "ipopt.print_level": 0,
+            "print_time": False,
+            "ipopt.sb": "yes",
+            "ipopt.tol": pr.tolerance,
+            "iteration_callback": self._iterations,
+            "ipopt.max_iter": pr.max_iterations,
+            "ipopt.max_wall_time": pr.max_seconds,
+            "ipopt.mu_strategy": "adaptive",
+            "ipopt.linear_solver": "mumps",
+            "expand": not self.compiled,
+        }
         self._nlp, self._opts = {"x": w, "f": f, "g": self._g, "p": par}, opts
         self.solver = ca.nlpsol("collocation", "ipopt", self._nlp, opts)
         self._warm_solvers = {}
@@ -403,16 +481,18 @@ class Transcription:
     # -- pieces ------------------------------------------------------------------------------------------
     def _needs_heat_load(self):
         pr = self.problem
-        return any(q == "heat_load_btu_ft2" for q, _ in pr.objective) or \
-            any(con.quantity == "heat_load_btu_ft2" for con in pr.constraints)
+        return any(q == "heat_load_btu_ft2" for q, _ in pr.objective) or any(
+            con.quantity == "heat_load_btu_ft2" for con in pr.constraints
+        )
 
     def _point_function(self):
         """(scaled state, scaled controls) -> (scaled rates, path quantities [altitude, T margin, q, qbar, n])."""
         xs = ca.SX.sym("x", self.ns)
         us = ca.SX.sym("u", 2)
         smoothing = ca.SX.sym("smoothing")
-        state = ca.vertcat(self.problem.base.planet.radius_ft + H_SCALE_FT * xs[0],
-                           xs[1], xs[2], V_SCALE_FPS * xs[3], xs[4], xs[5])
+        state = ca.vertcat(
+            self.problem.base.planet.radius_ft + H_SCALE_FT * xs[0], xs[1], xs[2], V_SCALE_FPS * xs[3], xs[4], xs[5]
+        )
         alpha, bank = ALPHA_SCALE_DEG * us[0], BANK_SCALE_DEG * us[1]
         pt = self.model.point(state, alpha, bank, smoothing)
         r = pt["rates"]
@@ -456,10 +536,17 @@ class Transcription:
         across_ref = -ca.sin(theta_ref) * a_p + ca.cos(theta_ref) * a_d
         down = MEAN_RADIUS_NMI * (theta_ref + ca.atan2(across_ref, along_ref))
         cross = MEAN_RADIUS_NMI * ca.atan2(ca.dot(pt, ca.DM(pole)), ca.sqrt(a_p * a_p + a_d * a_d))
-        out = {"crossrange_nmi": cross, "downrange_nmi": down, "final_latitude_deg": lat * (180 / np.pi),
-               "final_longitude_deg": lon * (180 / np.pi), "final_velocity_fps": v,
-               "final_gamma_deg": gam * (180 / np.pi), "final_heading_deg": psi * (180 / np.pi),
-               "flight_time_s": t_f, "final_energy_ft": alt + 0.5 * v * v / c.G0_FT_S2}
+        out = {
+            "crossrange_nmi": cross,
+            "downrange_nmi": down,
+            "final_latitude_deg": lat * (180 / np.pi),
+            "final_longitude_deg": lon * (180 / np.pi),
+            "final_velocity_fps": v,
+            "final_gamma_deg": gam * (180 / np.pi),
+            "final_heading_deg": psi * (180 / np.pi),
+            "flight_time_s": t_f,
+            "final_energy_ft": alt + 0.5 * v * v / c.G0_FT_S2,
+        }
         if self.nq:
             out["heat_load_btu_ft2"] = xf[6] * SCALE["heat_load_btu_ft2"]
         return out
@@ -468,10 +555,18 @@ class Transcription:
         pr = self.problem
         lo_a, hi_a = self.alpha_bounds_deg()
         lo_b, hi_b = pr.bank_bounds_deg
-        x_lo = np.tile(np.array([-0.5, -np.inf, -np.pi / 2 + 1e-3, 1e-3, -np.pi / 2 + 1e-3, -np.inf] + [-np.inf] * self.nq)
-                       [:, None], (1, m + 1))
-        x_hi = np.tile(np.array([np.inf, np.inf, np.pi / 2 - 1e-3, np.inf, np.pi / 2 - 1e-3, np.inf] + [np.inf] * self.nq)
-                       [:, None], (1, m + 1))
+        x_lo = np.tile(
+            np.array([-0.5, -np.inf, -np.pi / 2 + 1e-3, 1e-3, -np.pi / 2 + 1e-3, -np.inf] + [-np.inf] * self.nq)[
+                :, None
+            ],
+            (1, m + 1),
+        )
+        x_hi = np.tile(
+            np.array([np.inf, np.inf, np.pi / 2 - 1e-3, np.inf, np.pi / 2 - 1e-3, np.inf] + [np.inf] * self.nq)[
+                :, None
+            ],
+            (1, m + 1),
+        )
         x_first = self._scaled_entry()
         x_lo[:, 0] = x_hi[:, 0] = x_first
         u_lo = np.tile(np.array([lo_a / ALPHA_SCALE_DEG, lo_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
@@ -486,33 +581,53 @@ class Transcription:
             return lo, hi
         a, b = self.problem.alpha_bounds_deg
         if b <= lo or a >= hi:
-            raise CollocationError(f"alpha_bounds_deg {a:g} to {b:g}: outside the vehicle's alpha range {lo:g} to "
-                                   f"{hi:g} deg")
+            raise CollocationError(
+                f"alpha_bounds_deg {a:g} to {b:g}: outside the vehicle's alpha range {lo:g} to {hi:g} deg"
+            )
         return max(a, lo), min(b, hi)
 
     def _scaled_entry(self):
         s = self.x0
-        return np.array([(s[0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[1], s[2], s[3] / V_SCALE_FPS,
-                         s[4], s[5]] + [0.0] * self.nq)
+        return np.array(
+            [(s[0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[1], s[2], s[3] / V_SCALE_FPS, s[4], s[5]]
+            + [0.0] * self.nq
+        )
 
     def _scaled_guess(self, guess: Guess):
         s, u, q = guess.at(self.tau)
-        xs = np.column_stack([(s[:, 0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[:, 1], s[:, 2],
-                              s[:, 3] / V_SCALE_FPS, s[:, 4], s[:, 5]])
+        xs = np.column_stack(
+            [
+                (s[:, 0] - self.problem.base.planet.radius_ft) / H_SCALE_FT,
+                s[:, 1],
+                s[:, 2],
+                s[:, 3] / V_SCALE_FPS,
+                s[:, 4],
+                s[:, 5],
+            ]
+        )
         if self.nq:
             xs = np.column_stack([xs, (q if q is not None else np.zeros(len(self.tau))) / SCALE["heat_load_btu_ft2"]])
         xs[0] = self._scaled_entry()
-        nodes = self.tau[::self.d]
+        nodes = self.tau[:: self.d]
         _, un, _ = guess.at(nodes)
         lo_a, hi_a = self.alpha_bounds_deg()
         lo_b, hi_b = self.problem.bank_bounds_deg
-        us = np.column_stack([np.clip(un[:, 0], lo_a, hi_a) / ALPHA_SCALE_DEG,
-                              np.clip(un[:, 1], lo_b, hi_b) / BANK_SCALE_DEG])
+        us = np.column_stack(
+            [np.clip(un[:, 0], lo_a, hi_a) / ALPHA_SCALE_DEG, np.clip(un[:, 1], lo_b, hi_b) / BANK_SCALE_DEG]
+        )
         return np.concatenate([xs.T.ravel(order="F"), us.T.ravel(order="F"), [guess.final_time_s / T_SCALE_S]])
 
     # -- solving -----------------------------------------------------------------------------------------
-    def solve(self, guess: Guess, *, weights=None, constraint_targets=None, warm: dict | None = None,
-              stages=None, on_iteration=None) -> Result:
+    def solve(
+        self,
+        guess: Guess,
+        *,
+        weights=None,
+        constraint_targets=None,
+        warm: dict | None = None,
+        stages=None,
+        on_iteration=None,
+    ) -> Result:
         """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
 
         weights: one per objective term (default: the problem's); constraint_targets: {quantity: (lo, hi)} to
@@ -526,8 +641,8 @@ class Transcription:
         for name, size, _, _ in self._groups:
             if constraint_targets and name in constraint_targets:
                 lo, hi = constraint_targets[name]
-                lbg[offset:offset + size] = lo / SCALE[name]
-                ubg[offset:offset + size] = hi / SCALE[name]
+                lbg[offset : offset + size] = lo / SCALE[name]
+                ubg[offset : offset + size] = hi / SCALE[name]
             offset += size
         if stages is None:
             stages = SMOOTHING_STAGES if warm is None else SMOOTHING_STAGES[-1:]
@@ -562,13 +677,18 @@ class Transcription:
             seconds += time.perf_counter() - t0
             stats = solver.stats()
             iterations += int(stats["iter_count"])
-            warm = {"x": np.asarray(sol["x"]).ravel(), "lam_x": np.asarray(sol["lam_x"]).ravel(),
-                    "lam_g": np.asarray(sol["lam_g"]).ravel()}
+            warm = {
+                "x": np.asarray(sol["x"]).ravel(),
+                "lam_x": np.asarray(sol["lam_x"]).ravel(),
+                "lam_g": np.asarray(sol["lam_g"]).ravel(),
+            }
             if STATUS_OF_IPOPT.get(stats["return_status"]) != "optimal":
                 # said in the message; the re-flight measures what the wider corners cost (not after a stop)
                 if kept is not None and stats["return_status"] != "User_Requested_Stop":
-                    note = (f"; the stage at corners {smoothing:g} (rate weight {reg:g}) ended "
-                            f"{stats['return_status']}: the optimum of the stage before is kept")
+                    note = (
+                        f"; the stage at corners {smoothing:g} (rate weight {reg:g}) ended "
+                        f"{stats['return_status']}: the optimum of the stage before is kept"
+                    )
                     warm, par, stats = kept
                 break  # a later stage cannot mend a stage that ended without an optimum
             kept = (warm, par, stats)
@@ -588,10 +708,18 @@ class Transcription:
         """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push),
         one solver per iteration limit (0.2 s to build once the first is)."""
         if iterations not in self._warm_solvers:
-            opts = dict(self._opts, **{"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6,
-                                       "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
-                                       "ipopt.warm_start_slack_bound_push": 1e-9, "ipopt.mu_strategy": "monotone",
-                                       "ipopt.max_iter": iterations})
+            opts = dict(
+                self._opts,
+                **{
+                    "ipopt.warm_start_init_point": "yes",
+                    "ipopt.mu_init": 1e-6,
+                    "ipopt.warm_start_bound_push": 1e-9,
+                    "ipopt.warm_start_mult_bound_push": 1e-9,
+                    "ipopt.warm_start_slack_bound_push": 1e-9,
+                    "ipopt.mu_strategy": "monotone",
+                    "ipopt.max_iter": iterations,
+                },
+            )
             self._warm_solvers[iterations] = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
         return self._warm_solvers[iterations]
 
@@ -599,7 +727,7 @@ class Transcription:
         """The largest violation, named; and the worst terminal constraint's in its unit where that is another."""
         offset, worst, name, terminal = 0, -1.0, "", (0.0, "")
         for gname, size, _, _ in self._groups:
-            v = viol[offset:offset + size].max(initial=0.0)
+            v = viol[offset : offset + size].max(initial=0.0)
             if v > worst:
                 worst, name = v, gname
             if gname in TERMINAL and v * SCALE[gname] > terminal[0]:
@@ -618,15 +746,24 @@ class Transcription:
         r = pr.base.planet.radius_ft + H_SCALE_FT * xs[0]
         v, gam, psi = V_SCALE_FPS * xs[3], xs[4], xs[5]
         times = self.tau * t_f
-        node_t = times[::self.d]
+        node_t = times[:: self.d]
         alpha_n, bank_n = us[0] * ALPHA_SCALE_DEG, us[1] * BANK_SCALE_DEG
         alpha_c = np.interp(times, node_t, alpha_n)
         bank_c = np.interp(times, node_t, bank_n)
         lat_gd = np.array([float(geodetic(self.model.planet, r_i, lat_i)[0]) for r_i, lat_i in zip(r, xs[2])])
-        history = {"time_s": times, "altitude_ft": path[0], "velocity_fps": v, "gamma_deg": np.degrees(gam),
-                   "heading_deg": np.degrees(psi), "latitude_deg": np.degrees(lat_gd),
-                   "longitude_deg": np.degrees(xs[1]), "alpha_deg": alpha_c, "bank_deg": bank_c,
-                   "dynamic_pressure_psf": path[1], "load_factor": path[2]}
+        history = {
+            "time_s": times,
+            "altitude_ft": path[0],
+            "velocity_fps": v,
+            "gamma_deg": np.degrees(gam),
+            "heading_deg": np.degrees(psi),
+            "latitude_deg": np.degrees(lat_gd),
+            "longitude_deg": np.degrees(xs[1]),
+            "alpha_deg": alpha_c,
+            "bank_deg": bank_c,
+            "dynamic_pressure_psf": path[1],
+            "load_factor": path[2],
+        }
         summary = dict(final)
         summary["final_altitude_ft"] = float(path[0, -1])
         summary["max_dynamic_pressure_psf"] = float(path[1].max())
@@ -638,14 +775,29 @@ class Transcription:
             summary["max_heat_rate_btu_ft2_s"] = float(np.max(q))
             summary["max_temperature_R"] = float(np.max(temp)) if np.all(np.isfinite(temp)) else None
         objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[:-3]))
-        after = Guess(tau=self.tau.copy(), states=np.column_stack([r, xs[1], xs[2], v, gam, psi]),
-                           controls=np.column_stack([alpha_c, bank_c]), final_time_s=t_f,
-                           downrange_nmi=final["downrange_nmi"],
-                           heat_load=None if not self.nq else xs[6] * SCALE["heat_load_btu_ft2"])
-        res = Result(status=status, message=message, objective=float(objective), summary=summary, history=history,
-                     controls={"time_s": node_t, "alpha_deg": alpha_n, "bank_deg": bank_n}, refly=None,
-                     agreement=None, max_violation=max_violation, iterations=iterations, seconds=seconds,
-                     intervals=self.n, guess=after)
+        after = Guess(
+            tau=self.tau.copy(),
+            states=np.column_stack([r, xs[1], xs[2], v, gam, psi]),
+            controls=np.column_stack([alpha_c, bank_c]),
+            final_time_s=t_f,
+            downrange_nmi=final["downrange_nmi"],
+            heat_load=None if not self.nq else xs[6] * SCALE["heat_load_btu_ft2"],
+        )
+        res = Result(
+            status=status,
+            message=message,
+            objective=float(objective),
+            summary=summary,
+            history=history,
+            controls={"time_s": node_t, "alpha_deg": alpha_n, "bank_deg": bank_n},
+            refly=None,
+            agreement=None,
+            max_violation=max_violation,
+            iterations=iterations,
+            seconds=seconds,
+            intervals=self.n,
+            guess=after,
+        )
         return res
 
 
@@ -659,8 +811,10 @@ def _band(con: Constraint):
 
 def _check(pr: Problem):
     if pr.base.dispersion != Dispersion():
-        raise CollocationError("dispersion: the collocation's model (core.model_casadi) flies the nominal vehicle and "
-                               "atmosphere; fly a dispersed spec with trajectory.simulate")
+        raise CollocationError(
+            "dispersion: the collocation's model (core.model_casadi) flies the nominal vehicle and "
+            "atmosphere; fly a dispersed spec with trajectory.simulate"
+        )
     if pr.base.stop.altitude_ft is None:
         raise CollocationError("stop.altitude_ft: the collocation ends at a stop altitude; give one")
     names = [q for q, _ in pr.objective] + [con.quantity for con in pr.constraints]
@@ -679,9 +833,15 @@ def _check(pr: Problem):
 def control_tables_spec(base: FlightSpec, controls: dict) -> FlightSpec:
     """The base flight with the optimum's alpha and bank as tables against time from entry (what `fly` takes)."""
     t = np.asarray(controls["time_s"], float)
-    ctrl = pack_controls(bank_law="table", bank_table=(t, controls["bank_deg"]), bank_variable="time",
-                         bank_start="entry", alpha_law="table", alpha_table=(t, controls["alpha_deg"]),
-                         alpha_table_abscissa="time")
+    ctrl = pack_controls(
+        bank_law="table",
+        bank_table=(t, controls["bank_deg"]),
+        bank_variable="time",
+        bank_start="entry",
+        alpha_law="table",
+        alpha_table=(t, controls["alpha_deg"]),
+        alpha_table_abscissa="time",
+    )
     return replace(base, ctrl=ctrl)
 
 
@@ -691,11 +851,26 @@ def refly(problem: Problem, result: Result) -> Trajectory:
     s, n = trajectory.summary, result.summary
     d_lon = float(wrap_longitude(s["final_longitude_deg"] - n["final_longitude_deg"]))
     down = n["downrange_nmi"]
-    result.refly = {k: s[k] for k in ("downrange_nmi", "crossrange_nmi", "final_latitude_deg", "final_longitude_deg",
-                                      "final_velocity_fps", "final_gamma_deg", "final_heading_deg", "flight_time_s",
-                                      "final_altitude_ft", "final_energy_ft", "max_temperature_R",
-                                      "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2", "max_dynamic_pressure_psf",
-                                      "stop_reason")}
+    result.refly = {
+        k: s[k]
+        for k in (
+            "downrange_nmi",
+            "crossrange_nmi",
+            "final_latitude_deg",
+            "final_longitude_deg",
+            "final_velocity_fps",
+            "final_gamma_deg",
+            "final_heading_deg",
+            "flight_time_s",
+            "final_altitude_ft",
+            "final_energy_ft",
+            "max_temperature_R",
+            "max_heat_rate_btu_ft2_s",
+            "heat_load_btu_ft2",
+            "max_dynamic_pressure_psf",
+            "stop_reason",
+        )
+    }
     result.agreement = {
         "latitude_deg": abs(s["final_latitude_deg"] - n["final_latitude_deg"]),
         "longitude_deg": abs(d_lon),
@@ -712,8 +887,12 @@ def refly(problem: Problem, result: Result) -> Trajectory:
 
 def agrees(result: Result) -> bool:
     a = result.agreement
-    return a is not None and a["latitude_deg"] <= AGREE_DEG and a["longitude_deg"] <= AGREE_DEG \
+    return (
+        a is not None
+        and a["latitude_deg"] <= AGREE_DEG
+        and a["longitude_deg"] <= AGREE_DEG
         and a["downrange_rel"] <= AGREE_DOWNRANGE_REL
+    )
 
 
 def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Result:
@@ -723,7 +902,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Res
         guess = first_guess(problem)
     n, total_s, total_it, mesh = problem.intervals, 0.0, 0, 0
     while True:  # the k-th mesh reports within [1 - 2^-k, 1 - 2^-(k+1)] (how many there will be is not known)
-        share, mesh = (1.0 - 0.5 ** mesh, 1.0 - 0.5 ** (mesh + 1)), mesh + 1
+        share, mesh = (1.0 - 0.5**mesh, 1.0 - 0.5 ** (mesh + 1)), mesh + 1
         report = None if on_progress is None else iteration_progress(on_progress, share, f"{n} intervals: ")
         result = Transcription(problem, n).solve(guess, on_iteration=report)
         total_s, total_it = total_s + result.seconds, total_it + result.iterations
@@ -734,7 +913,8 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Res
     result.seconds, result.iterations = total_s, total_it
     if result.ok and not agrees(result):  # said, not hidden: the mesh stopped at max_intervals
         a = result.agreement
-        result.message += (f"; at {result.intervals} intervals the re-flight still differs by {a['latitude_deg']:.3g} deg "
-                           f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range")
+        result.message += (
+            f"; at {result.intervals} intervals the re-flight still differs by {a['latitude_deg']:.3g} deg "
+            f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range"
+        )
     return result
-

@@ -31,10 +31,18 @@ FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
 OBJECTIVE = (("downrange_nmi", 0.0), ("crossrange_nmi", 1.0))  # weighted by each solve
 
 
-def collocation_footprint(spec: FlightSpec, points_per_half: int = 11, limit_R: float | None = None,
-                          max_load_factor: float | None = None, mirror: bool = True, fine: bool = False,
-                          intervals: int = 100, alpha_bounds_deg=None, bank_bounds_deg=(-180.0, 180.0),
-                          on_progress=None) -> Footprint:
+def collocation_footprint(
+    spec: FlightSpec,
+    points_per_half: int = 11,
+    limit_R: float | None = None,
+    max_load_factor: float | None = None,
+    mirror: bool = True,
+    fine: bool = False,
+    intervals: int = 100,
+    alpha_bounds_deg=None,
+    bank_bounds_deg=(-180.0, 180.0),
+    on_progress=None,
+) -> Footprint:
     """The true optimal footprint of `spec` (its vehicle, planet, entry, stop altitude and heating model).
 
     points_per_half down-ranges between the extremes, each half solved (the right half reflected instead only
@@ -42,17 +50,29 @@ def collocation_footprint(spec: FlightSpec, points_per_half: int = 11, limit_R: 
     along the path and max_load_factor the load (g); fine adds the narrow table corners
     (collocation.SMOOTHING_STAGES) to every point: the re-flight comes closer, at about three times the cost.
     on_progress(fraction, note) after every IPOPT iteration (True stops: NoOptimum)."""
-    constraints = (Constraint("downrange_nmi", "at_least", -FREE_NMI),
-                   Constraint("crossrange_nmi", "at_least", -FREE_NMI))
+    constraints = (
+        Constraint("downrange_nmi", "at_least", -FREE_NMI),
+        Constraint("crossrange_nmi", "at_least", -FREE_NMI),
+    )
     if limit_R is not None:
         constraints += (Constraint("max_temperature_R", "at_most", float(limit_R)),)
     if max_load_factor is not None:
         constraints += (Constraint("max_load_factor", "at_most", float(max_load_factor)),)
-    problem = col.Problem(base=spec, objective=OBJECTIVE, constraints=constraints, polish=False,
-                          intervals=intervals, alpha_bounds_deg=alpha_bounds_deg, bank_bounds_deg=bank_bounds_deg)
-    walk = _Walk(problem, col.SMOOTHING_STAGES if fine else col.SMOOTHING_STAGES[:1],
-                 total=4 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
-                 on_progress=on_progress)
+    problem = col.Problem(
+        base=spec,
+        objective=OBJECTIVE,
+        constraints=constraints,
+        polish=False,
+        intervals=intervals,
+        alpha_bounds_deg=alpha_bounds_deg,
+        bank_bounds_deg=bank_bounds_deg,
+    )
+    walk = _Walk(
+        problem,
+        col.SMOOTHING_STAGES if fine else col.SMOOTHING_STAGES[:1],
+        total=4 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
+        on_progress=on_progress,
+    )
     left = walk.first(col.guess_from_trajectory(spec, simulate(spec)), (0.0, 1.0), "the maximum cross-range")
     far = walk.step(left, (1.0, 0.0), "axis")
     # the minimum down-range by way of the support direction 135 deg: 35-45 + 42-59 IPOPT iterations, 300 in
@@ -77,9 +97,13 @@ def collocation_footprint(spec: FlightSpec, points_per_half: int = 11, limit_R: 
     # the boundary as the other methods order it: farthest point, left half inwards, right half out
     boundary = [_point(far, "axis")] + left_half[::-1] + right_half
     e = spec.entry
-    fp = Footprint(method="collocation", points=boundary, area_nmi2=area_nmi2(boundary), trajectories=walk.solves,
-                   entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg,
-                          "heading_deg": e.heading_deg})
+    fp = Footprint(
+        method="collocation",
+        points=boundary,
+        area_nmi2=area_nmi2(boundary),
+        trajectories=walk.solves,
+        entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg},
+    )
     if walk.failed:
         fp.asymmetry = {"failed": walk.failed}
     return fp
@@ -95,9 +119,15 @@ class _Walk:
 
     def _solve(self, guess, **options):
         """One solve, its iterations reported as this solve's share of the footprint."""
-        report = None if self.on_progress is None else col.iteration_progress(
-            self.on_progress, (self.solves / self.total, (self.solves + 1) / self.total),
-            f"solve {self.solves + 1} of {self.total}: ")
+        report = (
+            None
+            if self.on_progress is None
+            else col.iteration_progress(
+                self.on_progress,
+                (self.solves / self.total, (self.solves + 1) / self.total),
+                f"solve {self.solves + 1} of {self.total}: ",
+            )
+        )
         result = self.transcription.solve(guess, on_iteration=report, **options)
         if result.status == "stopped":
             raise col.NoOptimum(f"collocation footprint: stopped at solve {self.solves + 1} of {self.total}")
@@ -120,8 +150,9 @@ class _Walk:
         result = seed[0]
         down = (-FREE_NMI, math.inf) if downrange_nmi is None else (downrange_nmi, downrange_nmi)
         targets = {"downrange_nmi": down, "crossrange_nmi": crossrange_nmi}
-        solved = self._solve(result.guess, weights=weights, warm=result.solver_state, constraint_targets=targets,
-                             stages=self.stages[-1:])
+        solved = self._solve(
+            result.guess, weights=weights, warm=result.solver_state, constraint_targets=targets, stages=self.stages[-1:]
+        )
         if solved is None and point:
             self.failed.append({"side": side, "downrange_nmi": downrange_nmi, "weights": list(weights)})
         return solved
@@ -156,8 +187,11 @@ def _mirrored_guess(problem, result):
 def _point(solved, side, downrange_nmi=None):
     result, trajectory = solved
     a = result.agreement
-    parameter = {"downrange_target_nmi": downrange_nmi, "iterations": result.iterations,
-                 "nlp_downrange_nmi": result.summary["downrange_nmi"],
-                 "nlp_crossrange_nmi": result.summary["crossrange_nmi"],
-                 "agreement_deg": max(a["latitude_deg"], a["longitude_deg"])}
+    parameter = {
+        "downrange_target_nmi": downrange_nmi,
+        "iterations": result.iterations,
+        "nlp_downrange_nmi": result.summary["downrange_nmi"],
+        "nlp_crossrange_nmi": result.summary["crossrange_nmi"],
+        "agreement_deg": max(a["latitude_deg"], a["longitude_deg"]),
+    }
     return point_of_trajectory(parameter, side, trajectory)

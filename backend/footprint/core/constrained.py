@@ -60,16 +60,18 @@ SEARCH_MAX_STEPS = 20_000
 
 
 # ------------------------------------------------------------------------------------------------- controls
-def with_alpha_table(spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
-                     law=ALPHA_TABLE_VELOCITY) -> FlightSpec:
+def with_alpha_table(
+    spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, law=ALPHA_TABLE_VELOCITY
+) -> FlightSpec:
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
     flight (law ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY: the nodes are times in s / energy heights in ft;
     ALPHA_MAX_LD_FLOOR: (L/D)max, never below the table); the rest of the control laws kept."""
     return replace(spec, ctrl=replace_alpha_table(spec.ctrl, alpha_deg, velocities_fps, law))
 
 
-def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
-                        law=ALPHA_TABLE_VELOCITY) -> FlightSpec:
+def bank_alpha_controls(
+    spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, law=ALPHA_TABLE_VELOCITY
+) -> FlightSpec:
     """params = 8 bank-table angles (deg, at zeta -15..90) then the alpha-table angles (deg, at velocities_fps;
     at times in s when law is ALPHA_TABLE_TIME)."""
     n = len(BANK_TABLE_HEADINGS_DEG)
@@ -77,8 +79,13 @@ def bank_alpha_controls(spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VEL
 
 
 # a searched table's parameter names: "<angle>_deg_at_<label>_<node>"
-NODE_LABELS = {"zeta": "zeta", "heading": "heading_deg", "time": "time_s", "velocity": "velocity_fps",
-               "energy": "energy_ft"}
+NODE_LABELS = {
+    "zeta": "zeta",
+    "heading": "heading_deg",
+    "time": "time_s",
+    "velocity": "velocity_fps",
+    "energy": "energy_ft",
+}
 
 
 @dataclass(frozen=True)
@@ -99,12 +106,14 @@ class ControlTable:
 REPORT_BANK_TABLE = ControlTable("zeta", BANK_TABLE_HEADINGS_DEG, BANK_BOUNDS_DEG, tuple(nominal_bank_deg(1.0)))
 
 
-def section_iii_alpha_table(velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, times_s=None,
-                            bounds_deg=ALPHA_BOUNDS_DEG) -> ControlTable:
+def section_iii_alpha_table(
+    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, times_s=None, bounds_deg=ALPHA_BOUNDS_DEG
+) -> ControlTable:
     """Section III's alpha table: against velocity (or time when times_s is given), from (L/D)max of lod-1.89."""
     nodes = tuple(velocities_fps if times_s is None else times_s)
-    return ControlTable("velocity" if times_s is None else "time", nodes, tuple(bounds_deg),
-                        (ALPHA_MAX_LD_HYPERSONIC_DEG,) * len(nodes))
+    return ControlTable(
+        "velocity" if times_s is None else "time", nodes, tuple(bounds_deg), (ALPHA_MAX_LD_HYPERSONIC_DEG,) * len(nodes)
+    )
 
 
 @dataclass(frozen=True)
@@ -137,10 +146,20 @@ def downrange_target(downrange_nmi, tolerance_nmi=TTOL_DOWNRANGE_NMI) -> Constra
     return Constraint("downrange_nmi", "equals", float(downrange_nmi), tolerance_nmi)
 
 
-def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank",
-                    initial=None, alpha_bounds_deg=ALPHA_BOUNDS_DEG,
-                    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, alpha_times_s=None,
-                    bank_table: ControlTable = REPORT_BANK_TABLE, alpha_table: ControlTable | None = None) -> Problem:
+def control_problem(
+    spec: FlightSpec,
+    *,
+    payoff="crossrange_nmi",
+    goal="max",
+    constraints=(),
+    controls="bank",
+    initial=None,
+    alpha_bounds_deg=ALPHA_BOUNDS_DEG,
+    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
+    alpha_times_s=None,
+    bank_table: ControlTable = REPORT_BANK_TABLE,
+    alpha_table: ControlTable | None = None,
+) -> Problem:
     """A Problem over the bank table ("bank") or bank and alpha tables ("bank_alpha"): the report's eight bank
     points vs zeta unless bank_table says otherwise; the alpha table against velocity at velocities_fps, or
     against time at alpha_times_s when given, within alpha_bounds_deg, unless alpha_table says otherwise.
@@ -160,16 +179,28 @@ def control_problem(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", co
         upper += (t.bounds_deg[1],) * len(t.nodes)
         default += tuple(t.initial_deg)
         names += t.names(angle)
-    return Problem(lower=np.array(lower), upper=np.array(upper), initial=default if initial is None else initial,
-                   payoff=payoff, goal=goal, constraints=tuple(constraints), base=spec, controls=fly, names=names,
-                   evaluate=_Flight(spec, fly, payoff))
+    return Problem(
+        lower=np.array(lower),
+        upper=np.array(upper),
+        initial=default if initial is None else initial,
+        payoff=payoff,
+        goal=goal,
+        constraints=tuple(constraints),
+        base=spec,
+        controls=fly,
+        names=names,
+        evaluate=_Flight(spec, fly, payoff),
+    )
 
 
 def accepted_stops(spec: FlightSpec) -> tuple:
     """The stop reasons of a flight that ended where the spec asks: at its stop altitude, velocity or time."""
     st = spec.stop
-    return tuple(r for r, v in (("altitude", st.altitude_ft), ("velocity", st.velocity_fps), ("time", st.time_s))
-                 if v is not None)
+    return tuple(
+        r
+        for r, v in (("altitude", st.altitude_ft), ("velocity", st.velocity_fps), ("time", st.time_s))
+        if v is not None
+    )
 
 
 @dataclass(frozen=True)
@@ -186,8 +217,9 @@ class _Flight:
         return s if s["stop_reason"] in accepted_stops(self.base) else dict(s, **{self.payoff: None})
 
 
-def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
-                   bank_nodes=BANK_TABLE_HEADINGS_DEG) -> dict:
+def search_options(
+    controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, bank_nodes=BANK_TABLE_HEADINGS_DEG
+) -> dict:
     """Creep/pattern settings: the bank-table ones (optimize.py), with alpha steps in their own degrees
     (velocities_fps, bank_nodes: the tables' nodes, whatever their abscissa)."""
     base = dict(CONSTRAINED_CROSS_RANGE_SEARCH if constrained else CROSS_RANGE_SEARCH)
@@ -198,11 +230,19 @@ def search_options(controls="bank", constrained=True, velocities_fps=ALPHA_TABLE
     return base
 
 
-def solve(spec: FlightSpec, *, payoff="crossrange_nmi", goal="max", constraints=(), controls="bank", initial=None,
-          max_evaluations=1_500, **options):
+def solve(
+    spec: FlightSpec,
+    *,
+    payoff="crossrange_nmi",
+    goal="max",
+    constraints=(),
+    controls="bank",
+    initial=None,
+    max_evaluations=1_500,
+    **options,
+):
     """One point: build the problem and run the report's creep + pattern search with the penalty stages."""
-    pr = control_problem(spec, payoff=payoff, goal=goal, constraints=constraints, controls=controls,
-                         initial=initial)
+    pr = control_problem(spec, payoff=payoff, goal=goal, constraints=constraints, controls=controls, initial=initial)
     opts = search_options(controls, constrained=bool(constraints))
     opts.update(options)
     return creep_pattern_feasible(pr, max_evaluations=max_evaluations, **opts)
@@ -225,12 +265,18 @@ class OptimalPoint:
 
     def to_dict(self):
         s = self.result.summary
-        return {"label": self.label, "target_downrange_nmi": self.target_downrange_nmi,
-                "downrange_nmi": s["downrange_nmi"], "crossrange_nmi": s["crossrange_nmi"],
-                "max_temperature_R": s.get("max_temperature_R"), "feasible": self.result.feasible,
-                "max_violation": self.result.max_violation, "trajectories": self.result.trajectories,
-                "seconds": self.result.seconds,
-                "parameters": {n: float(v) for n, v in zip(self.result.names, self.result.params)}}
+        return {
+            "label": self.label,
+            "target_downrange_nmi": self.target_downrange_nmi,
+            "downrange_nmi": s["downrange_nmi"],
+            "crossrange_nmi": s["crossrange_nmi"],
+            "max_temperature_R": s.get("max_temperature_R"),
+            "feasible": self.result.feasible,
+            "max_violation": self.result.max_violation,
+            "trajectories": self.result.trajectories,
+            "seconds": self.result.seconds,
+            "parameters": {n: float(v) for n, v in zip(self.result.names, self.result.params)},
+        }
 
 
 @dataclass
@@ -245,9 +291,13 @@ class OptimalFootprint:
         return next(p for p in self.points if p.label == label)
 
     def to_dict(self):
-        return {"controls": self.controls, "trajectories": self.trajectories,
-                "seconds": self.seconds, "constraints": [c.__dict__ for c in self.constraints],
-                "points": [p.to_dict() for p in self.points]}
+        return {
+            "controls": self.controls,
+            "trajectories": self.trajectories,
+            "seconds": self.seconds,
+            "constraints": [c.__dict__ for c in self.constraints],
+            "points": [p.to_dict() for p in self.points],
+        }
 
 
 def _solve_task(task):
@@ -255,9 +305,20 @@ def _solve_task(task):
     return OptimalPoint(label, target, solve(spec, **kw))
 
 
-def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), controls="bank", *,
-                      max_crossrange=True, max_downrange=True, min_downrange=False, map_tasks=map,
-                      max_evaluations=1_500, initial=None, **options) -> OptimalFootprint:
+def optimal_footprint(
+    spec: FlightSpec,
+    downranges_nmi=(),
+    constraints=(),
+    controls="bank",
+    *,
+    max_crossrange=True,
+    max_downrange=True,
+    min_downrange=False,
+    map_tasks=map,
+    max_evaluations=1_500,
+    initial=None,
+    **options,
+) -> OptimalFootprint:
     """Section II.5 / Fig. 12, 21 (and Fig. 29 with a temperature constraint): maximum cross-range at each
     prescribed down-range (TTOL 50 nmi), the unconstrained maximum cross-range, the maximum down-range and,
     when asked, the minimum down-range, all subject to `constraints` (e.g. temperature_limit(2_550)).
@@ -273,39 +334,81 @@ def optimal_footprint(spec: FlightSpec, downranges_nmi=(), constraints=(), contr
     if max_crossrange:
         tasks.append(("max_crossrange", None, spec, dict(common, constraints=cons, initial=initial)))
     for d in downranges_nmi:
-        tasks.append((f"downrange_{d:g}", float(d), spec,
-                      dict(common, constraints=cons + (downrange_target(d),), initial=initial)))
-    extra = None if controls == "bank" else (initial[nb:] if initial is not None
-                                              else np.full(len(ALPHA_TABLE_VELOCITIES_FPS),
-                                                           ALPHA_MAX_LD_HYPERSONIC_DEG))
+        tasks.append(
+            (
+                f"downrange_{d:g}",
+                float(d),
+                spec,
+                dict(common, constraints=cons + (downrange_target(d),), initial=initial),
+            )
+        )
+    extra = (
+        None
+        if controls == "bank"
+        else (
+            initial[nb:]
+            if initial is not None
+            else np.full(len(ALPHA_TABLE_VELOCITIES_FPS), ALPHA_MAX_LD_HYPERSONIC_DEG)
+        )
+    )
     if max_downrange:  # start wings level: the longest glide of the bank table
         x0 = np.zeros(nb) if extra is None else np.concatenate((np.zeros(nb), extra))
-        tasks.append(("max_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="max",
-                                                        constraints=cons, initial=x0)))
+        tasks.append(
+            (
+                "max_downrange",
+                None,
+                spec,
+                dict(common, payoff="downrange_nmi", goal="max", constraints=cons, initial=x0),
+            )
+        )
     if min_downrange:  # start steeply banked: the shortest of the bank table
         x0 = np.full(nb, 150.0) if extra is None else np.concatenate((np.full(nb, 150.0), extra))
-        tasks.append(("min_downrange", None, spec, dict(common, payoff="downrange_nmi", goal="min",
-                                                        constraints=cons, initial=x0)))
+        tasks.append(
+            (
+                "min_downrange",
+                None,
+                spec,
+                dict(common, payoff="downrange_nmi", goal="min", constraints=cons, initial=x0),
+            )
+        )
     t0 = time.perf_counter()
     points = list(map_tasks(_solve_task, tasks))
-    return OptimalFootprint(points=points, trajectories=sum(p.result.trajectories for p in points),
-                            seconds=time.perf_counter() - t0, controls=controls, constraints=cons)
+    return OptimalFootprint(
+        points=points,
+        trajectories=sum(p.result.trajectories for p in points),
+        seconds=time.perf_counter() - t0,
+        controls=controls,
+        constraints=cons,
+    )
 
 
-def max_crossrange_vs_temperature(spec: FlightSpec, limits_R, *, map_tasks=map, max_evaluations=1_500,
-                                  initial=None, **options):
+def max_crossrange_vs_temperature(
+    spec: FlightSpec, limits_R, *, map_tasks=map, max_evaluations=1_500, initial=None, **options
+):
     """Fig. 22: the maximum cross-range with bank and alpha tables under each RET limit (None: unconstrained,
     bank only at (L/D)max alpha, as Fig. 20's unconstrained case), one task per limit run by map_tasks (as in
     optimal_footprint). Returns [(limit, Result)]."""
     tasks = []
     for lim in limits_R:
         if lim is None or (isinstance(lim, float) and math.isinf(lim)):
-            tasks.append(("unconstrained", None, spec, dict(controls="bank", max_evaluations=max_evaluations,
-                                                           **options)))
+            tasks.append(
+                ("unconstrained", None, spec, dict(controls="bank", max_evaluations=max_evaluations, **options))
+            )
         else:
-            tasks.append((f"ret_{lim:g}", None, spec, dict(controls="bank_alpha", constraints=(temperature_limit(lim),),
-                                                         max_evaluations=max_evaluations, initial=initial,
-                                                         **options)))
+            tasks.append(
+                (
+                    f"ret_{lim:g}",
+                    None,
+                    spec,
+                    dict(
+                        controls="bank_alpha",
+                        constraints=(temperature_limit(lim),),
+                        max_evaluations=max_evaluations,
+                        initial=initial,
+                        **options,
+                    ),
+                )
+            )
     points = list(map_tasks(_solve_task, tasks))
     return [(lim, p.result) for lim, p in zip(limits_R, points)]
 
@@ -336,9 +439,11 @@ class LimitedPoint:
     flights: int
 
 
-def coolest_floor(spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bounds_deg=ALPHA_BOUNDS_DEG,
-                  bank0_deg=0.0) -> LimitedPoint:
+def coolest_floor(
+    spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bounds_deg=ALPHA_BOUNDS_DEG, bank0_deg=0.0
+) -> LimitedPoint:
     """The smallest alpha floor (deg) whose flight ends at the stop altitude with max RET <= limit + tolerance."""
+
     def fly(floor_deg):
         return simulate_summary(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS))
 
@@ -379,8 +484,9 @@ class LimitedFootprint:
         return self.footprint.trajectories
 
 
-def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *,
-                                  tolerance_R=TTOL_TEMPERATURE_R, mirror=False) -> LimitedFootprint:
+def temperature_limited_footprint(
+    spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *, tolerance_R=TTOL_TEMPERATURE_R, mirror=False
+) -> LimitedFootprint:
     """The simple heating-constrained footprint: single-parameter bank settings phi0 = bank0_deg, each with the
     coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side). The grid is
     halved REFINE_HALVINGS times around its max cross-range setting (the floor varies with phi0 there). With
@@ -388,8 +494,15 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
     t0 = time.perf_counter()
 
     def search(settings, right=False):
-        return [coolest_floor(with_bank(spec, "single_parameter", bank_gain=b / SIGMA0_DEG, right=right),
-                              limit_R, tolerance_R, bank0_deg=float(b)) for b in settings]
+        return [
+            coolest_floor(
+                with_bank(spec, "single_parameter", bank_gain=b / SIGMA0_DEG, right=right),
+                limit_R,
+                tolerance_R,
+                bank0_deg=float(b),
+            )
+            for b in settings
+        ]
 
     left = search(bank0_deg)
     for _ in range(REFINE_HALVINGS):  # the grid halved around its max cross-range setting
@@ -400,20 +513,33 @@ def temperature_limited_footprint(spec: FlightSpec, limit_R, bank0_deg=tuple(ran
         between = {0.5 * (kept[i].bank0_deg + kept[j].bank0_deg) for j in (i - 1, i + 1) if 0 <= j < len(kept)}
         left = sorted(left + search(sorted(between)), key=lambda p: p.bank0_deg)
     right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
-    family = [({"bank0_deg": p.bank0_deg, "bank_gain": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
-               lambda s, to_right, p=p, q=q: with_alpha_floor(
-                   with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
-                   q.floor_deg if to_right else p.floor_deg),
-               p.bank0_deg == 0.0)
-              for p, q in zip(left, right) if p.floor_deg is not None and q.floor_deg is not None]
+    family = [
+        (
+            {"bank0_deg": p.bank0_deg, "bank_gain": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
+            lambda s, to_right, p=p, q=q: with_alpha_floor(
+                with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
+                q.floor_deg if to_right else p.floor_deg,
+            ),
+            p.bank0_deg == 0.0,
+        )
+        for p, q in zip(left, right)
+        if p.floor_deg is not None and q.floor_deg is not None
+    ]
     if not family:  # the user's limit, not a solver's failure
-        raise InputError("limit_R", f"{limit_R:g} degR cannot be met: no bank setting of bank0_deg is held to it, "
-                                    "even with the coolest alpha floor; raise the limit or change the entry")
+        raise InputError(
+            "limit_R",
+            f"{limit_R:g} degR cannot be met: no bank setting of bank0_deg is held to it, "
+            "even with the coolest alpha floor; raise the limit or change the entry",
+        )
     fp = footprint_of_family("temperature_limited", spec, family, mirror)
     if right is not left:  # a flown right point names its own floor
         floors = {q.bank0_deg: q.floor_deg for q in right}
-        fp.points = [replace(pt, parameter=dict(pt.parameter, alpha_floor_deg=floors[pt.parameter["bank0_deg"]]))
-                     if pt.side == "right" else pt for pt in fp.points]
+        fp.points = [
+            replace(pt, parameter=dict(pt.parameter, alpha_floor_deg=floors[pt.parameter["bank0_deg"]]))
+            if pt.side == "right"
+            else pt
+            for pt in fp.points
+        ]
         fp.trajectories += sum(q.flights for q in right)
     fp.trajectories += sum(p.flights for p in left)
     return LimitedFootprint(fp, left, time.perf_counter() - t0)

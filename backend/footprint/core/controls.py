@@ -61,8 +61,13 @@ VAR_HEADING = 1  # heading sigma, deg
 VAR_TIME = 2  # s from entry (bank table only)
 VAR_VELOCITY = 3  # earth-relative speed, ft/s (bank table only)
 VAR_ENERGY = 4  # energy height h + V^2/(2 g0), ft (bank table only)
-BANK_VARIABLES = {"zeta": VAR_ZETA, "heading": VAR_HEADING, "time": VAR_TIME, "velocity": VAR_VELOCITY,
-                  "energy": VAR_ENERGY}
+BANK_VARIABLES = {
+    "zeta": VAR_ZETA,
+    "heading": VAR_HEADING,
+    "time": VAR_TIME,
+    "velocity": VAR_VELOCITY,
+    "energy": VAR_ENERGY,
+}
 # --- when the bank law takes over (before it the bank is zero) ---
 START_ENTRY = 0
 START_PULLOUT = 1
@@ -93,10 +98,28 @@ NO_LIMIT = 1.0e9
 LEFT, RIGHT = 1.0, -1.0  # C_SIDE values
 
 
-def pack_controls(*, bank_law, bank_deg=0.0, bank_gain=0.0, side=LEFT, bank_limit_deg=None, sigma_f_deg=0.0,
-                  turn_deg=90.0, bank_variable="zeta", mirror=False, bank_start="pullout", bank_start_altitude_ft=0.0,
-                  alpha_law="max_ld", alpha_deg=0.0, gamma_deg=0.0, alpha_before="max_ld", bank_table=None,
-                  alpha_table=None, alpha_table_abscissa="velocity", hold_time_constant_s=10.0):
+def pack_controls(
+    *,
+    bank_law,
+    bank_deg=0.0,
+    bank_gain=0.0,
+    side=LEFT,
+    bank_limit_deg=None,
+    sigma_f_deg=0.0,
+    turn_deg=90.0,
+    bank_variable="zeta",
+    mirror=False,
+    bank_start="pullout",
+    bank_start_altitude_ft=0.0,
+    alpha_law="max_ld",
+    alpha_deg=0.0,
+    gamma_deg=0.0,
+    alpha_before="max_ld",
+    bank_table=None,
+    alpha_table=None,
+    alpha_table_abscissa="velocity",
+    hold_time_constant_s=10.0,
+):
     """Build the ctrl array from plain values (validated by the caller)."""
     ctrl = np.zeros(C_SIZE)
     ctrl[C_BANK_LAW] = BANK_LAWS[bank_law]
@@ -146,23 +169,33 @@ def _table(ctrl, slot):
         return None
     o = int(ctrl[slot])
     n = int(ctrl[o])
-    return ctrl[o + 1: o + 1 + n].copy(), ctrl[o + 1 + n: o + 1 + 2 * n].copy()
+    return ctrl[o + 1 : o + 1 + n].copy(), ctrl[o + 1 + n : o + 1 + 2 * n].copy()
 
 
 def unpack_controls(ctrl) -> dict:
     """The keyword arguments of pack_controls that rebuild ctrl (its inverse)."""
     alpha_law, abscissa = alpha_law_name(ctrl[C_ALPHA_LAW])
-    return {"bank_law": _name_of(BANK_LAWS, ctrl[C_BANK_LAW]), "bank_deg": float(ctrl[C_BANK_DEG]),
-            "bank_gain": float(ctrl[C_BANK_GAIN]), "side": float(ctrl[C_SIDE]),
-            "bank_limit_deg": None if ctrl[C_BANK_LIMIT] == NO_LIMIT else float(ctrl[C_BANK_LIMIT]),
-            "sigma_f_deg": float(ctrl[C_SIGMA_F]), "turn_deg": float(ctrl[C_TURN]),
-            "bank_variable": _name_of(BANK_VARIABLES, ctrl[C_BANK_VAR]), "mirror": ctrl[C_MIRROR] != 0.0,
-            "bank_start": _name_of(BANK_STARTS, ctrl[C_START]), "bank_start_altitude_ft": float(ctrl[C_START_ALT]),
-            "alpha_law": alpha_law, "alpha_deg": float(ctrl[C_ALPHA_DEG]),
-            "gamma_deg": float(ctrl[C_GAMMA_DEG]),
-            "alpha_before": _name_of(ALPHA_LAWS, ctrl[C_ALPHA_BEFORE]), "bank_table": _table(ctrl, C_BANK_TABLE),
-            "alpha_table": _table(ctrl, C_ALPHA_TABLE), "alpha_table_abscissa": abscissa,
-            "hold_time_constant_s": float(ctrl[C_TAU])}
+    return {
+        "bank_law": _name_of(BANK_LAWS, ctrl[C_BANK_LAW]),
+        "bank_deg": float(ctrl[C_BANK_DEG]),
+        "bank_gain": float(ctrl[C_BANK_GAIN]),
+        "side": float(ctrl[C_SIDE]),
+        "bank_limit_deg": None if ctrl[C_BANK_LIMIT] == NO_LIMIT else float(ctrl[C_BANK_LIMIT]),
+        "sigma_f_deg": float(ctrl[C_SIGMA_F]),
+        "turn_deg": float(ctrl[C_TURN]),
+        "bank_variable": _name_of(BANK_VARIABLES, ctrl[C_BANK_VAR]),
+        "mirror": ctrl[C_MIRROR] != 0.0,
+        "bank_start": _name_of(BANK_STARTS, ctrl[C_START]),
+        "bank_start_altitude_ft": float(ctrl[C_START_ALT]),
+        "alpha_law": alpha_law,
+        "alpha_deg": float(ctrl[C_ALPHA_DEG]),
+        "gamma_deg": float(ctrl[C_GAMMA_DEG]),
+        "alpha_before": _name_of(ALPHA_LAWS, ctrl[C_ALPHA_BEFORE]),
+        "bank_table": _table(ctrl, C_BANK_TABLE),
+        "alpha_table": _table(ctrl, C_ALPHA_TABLE),
+        "alpha_table_abscissa": abscissa,
+        "hold_time_constant_s": float(ctrl[C_TAU]),
+    }
 
 
 def replace_controls(ctrl, **changes):
@@ -171,16 +204,25 @@ def replace_controls(ctrl, **changes):
 
 
 # The variants the footprint, optimization and heating methods fly, all through replace_controls.
-def replace_bank_law(ctrl, law, *, bank_deg=0.0, bank_gain=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0,
-                     right=False):
+def replace_bank_law(
+    ctrl, law, *, bank_deg=0.0, bank_gain=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0, right=False
+):
     """ctrl with its bank law replaced, steering on zeta (the procedure for any inclination, Section II.6); the
     alpha law, the bank start and the tables kept. right: the right-hand version of the law (a negative bank
     for the constant and staged laws, a turn to the right for constant altitude, the mirrored rule otherwise)."""
     signed = law in ("constant", "staged")
-    return replace_controls(ctrl, bank_law=law, bank_deg=-bank_deg if right and signed else bank_deg,
-                            bank_gain=bank_gain, side=RIGHT if right and law == "constant_altitude" else LEFT,
-                            bank_limit_deg=limit_deg, sigma_f_deg=sigma_f_deg, turn_deg=turn_deg,
-                            bank_variable="zeta", mirror=right and not signed and law != "constant_altitude")
+    return replace_controls(
+        ctrl,
+        bank_law=law,
+        bank_deg=-bank_deg if right and signed else bank_deg,
+        bank_gain=bank_gain,
+        side=RIGHT if right and law == "constant_altitude" else LEFT,
+        bank_limit_deg=limit_deg,
+        sigma_f_deg=sigma_f_deg,
+        turn_deg=turn_deg,
+        bank_variable="zeta",
+        mirror=right and not signed and law != "constant_altitude",
+    )
 
 
 def replace_alpha_law(ctrl, law):
@@ -191,8 +233,9 @@ def replace_alpha_law(ctrl, law):
 def replace_bank_table(ctrl, bank_deg, nodes, variable="zeta"):
     """ctrl flying bank = linear interpolation in (variable, bank) (Section II.5, Fig. 2: in zeta), nodes in the
     unit of BANK_VARIABLES[variable], held at the table's ends, no limit, left-hand; the rest kept."""
-    return replace_controls(ctrl, bank_law="table", bank_limit_deg=None, bank_variable=variable, mirror=False,
-                            bank_table=(nodes, bank_deg))
+    return replace_controls(
+        ctrl, bank_law="table", bank_limit_deg=None, bank_variable=variable, mirror=False, bank_table=(nodes, bank_deg)
+    )
 
 
 def replace_alpha_table(ctrl, alpha_deg, nodes, law=ALPHA_TABLE_VELOCITY):

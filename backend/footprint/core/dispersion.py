@@ -52,8 +52,11 @@ class Normal:
     std: float
 
     def problem(self) -> str | None:
-        return None if self.std > 0.0 and math.isfinite(self.mean) else f"mean {self.mean!r}, std {self.std!r}: " \
-            "need a finite mean and std > 0"
+        return (
+            None
+            if self.std > 0.0 and math.isfinite(self.mean)
+            else f"mean {self.mean!r}, std {self.std!r}: need a finite mean and std > 0"
+        )
 
     def ppf(self, u):
         return stats.norm.ppf(u, loc=self.mean, scale=self.std)
@@ -65,8 +68,11 @@ class Uniform:
     high: float
 
     def problem(self) -> str | None:
-        return None if math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high else \
-            f"low {self.low!r}, high {self.high!r}: need finite low < high"
+        return (
+            None
+            if math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high
+            else f"low {self.low!r}, high {self.high!r}: need finite low < high"
+        )
 
     def ppf(self, u):
         return self.low + (self.high - self.low) * u
@@ -83,8 +89,10 @@ class TruncatedNormal:
 
     def problem(self) -> str | None:
         if not (self.std > 0.0 and math.isfinite(self.mean) and self.low < self.high):
-            return f"mean {self.mean!r}, std {self.std!r}, low {self.low!r}, high {self.high!r}: need a finite " \
+            return (
+                f"mean {self.mean!r}, std {self.std!r}, low {self.low!r}, high {self.high!r}: need a finite "
                 "mean, std > 0 and low < high"
+            )
         return None
 
     def ppf(self, u):
@@ -142,8 +150,11 @@ class Samples:
     def __getitem__(self, rows: slice) -> Samples:
         if not isinstance(rows, slice):
             raise TypeError("index Samples with a slice (a chunk); sample_spec takes one sample")
-        return Samples(len(range(self.n)[rows]), {k: v[rows] for k, v in self.values.items()},
-                       None if self.density_delta is None else self.density_delta[rows])
+        return Samples(
+            len(range(self.n)[rows]),
+            {k: v[rows] for k, v in self.values.items()},
+            None if self.density_delta is None else self.density_delta[rows],
+        )
 
 
 def unit_points(n: int, dimensions: int, seed: int, method: str = "sobol") -> np.ndarray:
@@ -160,8 +171,13 @@ def unit_points(n: int, dimensions: int, seed: int, method: str = "sobol") -> np
     return np.clip(u, UNIT_MARGIN, 1.0 - UNIT_MARGIN)
 
 
-def draw(distributions: dict[str, Distribution], n: int, seed: int, method: str = "sobol",
-         density: GaussMarkovDensity | None = None) -> Samples:
+def draw(
+    distributions: dict[str, Distribution],
+    n: int,
+    seed: int,
+    method: str = "sobol",
+    density: GaussMarkovDensity | None = None,
+) -> Samples:
     """n sample inputs (module docstring): `distributions` maps INPUTS names to Normal, Uniform or TruncatedNormal;
     `density` draws the density profiles. Deterministic for the same arguments."""
     _check(distributions, n, method, density)
@@ -173,9 +189,12 @@ def draw(distributions: dict[str, Distribution], n: int, seed: int, method: str 
     values = {name: np.asarray(distributions[name].ppf(u[:, j]), dtype=float) for j, name in enumerate(names)}
     for name in POSITIVE_INPUTS:
         if name in values and not np.all(values[name] > 0.0):
-            raise InputError(f"distributions.{name}", f"{distributions[name]!r} draws {np.min(values[name]):g}; "
-                             "every value must be > 0 (a TruncatedNormal keeps it so)")
-    delta = None if density is None else density.profiles(stats.norm.ppf(u[:, len(names):]))
+            raise InputError(
+                f"distributions.{name}",
+                f"{distributions[name]!r} draws {np.min(values[name]):g}; "
+                "every value must be > 0 (a TruncatedNormal keeps it so)",
+            )
+    delta = None if density is None else density.profiles(stats.norm.ppf(u[:, len(names) :]))
     return Samples(int(n), values, delta)
 
 
@@ -203,10 +222,11 @@ def sample_spec(base: FlightSpec, samples: Samples, i: int) -> FlightSpec:
     if "wing_loading_psf" in v:
         spec = replace(spec, vehicle=replace(spec.vehicle, wing_loading_psf=v["wing_loading_psf"]))
     d = base.dispersion
-    dispersion = Dispersion(cl_multiplier=v.get("cl_multiplier", d.cl_multiplier),
-                            cd_multiplier=v.get("cd_multiplier", d.cd_multiplier),
-                            density_delta=d.density_delta if samples.density_delta is None
-                            else samples.density_delta[i])
+    dispersion = Dispersion(
+        cl_multiplier=v.get("cl_multiplier", d.cl_multiplier),
+        cd_multiplier=v.get("cd_multiplier", d.cd_multiplier),
+        density_delta=d.density_delta if samples.density_delta is None else samples.density_delta[i],
+    )
     return replace(spec, dispersion=dispersion)
 
 

@@ -4,18 +4,34 @@ the methods (footprints: Sections II.5-II.7; constrained: the temperature-limite
 the true optimal boundary), which build on footprints, so none of them imports another in a circle."""
 
 from footprint.core.constrained import temperature_limited_footprint
-from footprint.core.footprints import Footprint, constant_altitude, constant_bank, constant_bank_family, \
-    single_parameter, single_parameter_family, staged, two_parameter
+from footprint.core.footprints import (
+    Footprint,
+    constant_altitude,
+    constant_bank,
+    constant_bank_family,
+    single_parameter,
+    single_parameter_family,
+    staged,
+    two_parameter,
+)
 from footprint.core.trajectory import FlightSpec
 
-METHODS = {"single_parameter": single_parameter, "constant_bank": constant_bank, "staged": staged,
-           "two_parameter": two_parameter, "constant_altitude": constant_altitude}
+METHODS = {
+    "single_parameter": single_parameter,
+    "constant_bank": constant_bank,
+    "staged": staged,
+    "two_parameter": two_parameter,
+    "constant_altitude": constant_altitude,
+}
 
 
 # the methods whose control settings are fixed laws, as families [(parameter, make(spec, right) -> spec, on_axis)]
 # (the others search or optimize each point's controls for the spec they fly: a dispersed world would change them)
-FAMILIES = {"single_parameter": single_parameter_family, "constant_bank": constant_bank_family,
-            "staged": lambda **params: constant_bank_family(staged=True, **params)}
+FAMILIES = {
+    "single_parameter": single_parameter_family,
+    "constant_bank": constant_bank_family,
+    "staged": lambda **params: constant_bank_family(staged=True, **params),
+}
 
 
 def control_family(method: str, **params) -> tuple[list, bool]:

@@ -14,7 +14,13 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
-from footprint.core.sphere import MEAN_RADIUS_NMI, close_half_along_axis, great_circle_frame, unit_vectors, wrap_longitude
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
+    close_half_along_axis,
+    great_circle_frame,
+    unit_vectors,
+    wrap_longitude,
+)
 from footprint.core.trajectory import FlightSpec, simulate
 
 SIGMA0_DEG = 90.0  # Section II.6 a: the initial heading (remaining heading change) of the procedure
@@ -98,8 +104,9 @@ def with_alpha(spec: FlightSpec, law) -> FlightSpec:
 
 
 # ------------------------------------------------------------------------------------------ the methods
-def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift",
-                     mirror=True, contours_fps=()):
+def single_parameter(
+    spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift", mirror=True, contours_fps=()
+):
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
     family = single_parameter_family(bank0_deg, limit_deg, min_range)
@@ -108,31 +115,55 @@ def single_parameter(spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, m
 
 def single_parameter_family(bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift") -> list:
     """single_parameter's control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
-    return [({"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
-             lambda s, right, b=b: with_bank(s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg,
-                                             right=right),
-             b == 0)
-            for b in bank0_deg] + _min_range(min_range)
+    return [
+        (
+            {"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
+            lambda s, right, b=b: with_bank(
+                s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg, right=right
+            ),
+            b == 0,
+        )
+        for b in bank0_deg
+    ] + _min_range(min_range)
 
 
-def constant_bank(spec, bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
-                  min_range="zero_lift", mirror=True, contours_fps=()):
+def constant_bank(
+    spec,
+    bank_deg=(0, 15, 30, 45, 60, 75, 90),
+    staged=False,
+    turn_deg=90.0,
+    min_range="zero_lift",
+    mirror=True,
+    contours_fps=(),
+):
     """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
     family = constant_bank_family(bank_deg, staged, turn_deg, min_range)
     return footprint_of_family("staged" if staged else "constant", spec, family, mirror, contours_fps)
 
 
-def constant_bank_family(bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0,
-                         min_range="zero_lift") -> list:
+def constant_bank_family(
+    bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0, min_range="zero_lift"
+) -> list:
     """constant_bank's (and staged's) control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
     law = "staged" if staged else "constant"
-    return [({"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
-             lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right), b == 0)
-            for b in bank_deg] + _min_range(min_range)
+    return [
+        (
+            {"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
+            lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right),
+            b == 0,
+        )
+        for b in bank_deg
+    ] + _min_range(min_range)
 
 
-def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, -46, -15)), limit_deg=75.0,
-                  mirror=True, contours_fps=()):
+def two_parameter(
+    spec,
+    bank_gain=(0.5, 0.67, 1.0),
+    sigma_f_deg=tuple(range(90, -46, -15)),
+    limit_deg=75.0,
+    mirror=True,
+    contours_fps=(),
+):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited to 75 deg; one set per K, sigma_f varied.
 
     The footprint's boundary is the outer boundary of all sets (the report's "fairing through the outer
@@ -140,22 +171,33 @@ def two_parameter(spec, bank_gain=(0.5, 0.67, 1.0), sigma_f_deg=tuple(range(90, 
     """
     sets, flights = {}, []
     for gain in bank_gain:
-        family = [({"bank_gain": float(gain), "sigma_f_deg": float(sf)},
-                   lambda s, right, gain=gain, sf=sf: with_bank(s, "two_parameter", bank_gain=gain, limit_deg=limit_deg,
-                                                                sigma_f_deg=sf, right=right),
-                   sf >= SIGMA0_DEG)
-                  for sf in sigma_f_deg]
+        family = [
+            (
+                {"bank_gain": float(gain), "sigma_f_deg": float(sf)},
+                lambda s, right, gain=gain, sf=sf: with_bank(
+                    s, "two_parameter", bank_gain=gain, limit_deg=limit_deg, sigma_f_deg=sf, right=right
+                ),
+                sf >= SIGMA0_DEG,
+            )
+            for sf in sigma_f_deg
+        ]
         f = _fly(spec, family, mirror, contours_fps)
         sets[f"bank_gain={gain:g}"] = f.axis + f.left
         flights.append(f)
-    pairs = [(l, r) for f in flights for l, r in zip(f.left, f.right or [None] * len(f.left))]
+    pairs = [(lp, rp) for f in flights for lp, rp in zip(f.left, f.right or [None] * len(f.left))]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])
     on_hull = set(hull)  # the chain's vertices are the points' own (down, cross) floats
-    outer = sorted((lr for lr in pairs if (lr[0].downrange_nmi, lr[0].crossrange_nmi) in on_hull),
-                   key=lambda lr: -lr[0].downrange_nmi)
-    merged = _Flights(axis=flights[0].axis, left=[l for l, _ in outer],
-                      right=[r for _, r in outer] if mirror else [], flown=sum(f.flown for f in flights),
-                      asymmetry=_worst([f.asymmetry for f in flights]))
+    outer = sorted(
+        (lr for lr in pairs if (lr[0].downrange_nmi, lr[0].crossrange_nmi) in on_hull),
+        key=lambda lr: -lr[0].downrange_nmi,
+    )
+    merged = _Flights(
+        axis=flights[0].axis,
+        left=[lp for lp, _ in outer],
+        right=[r for _, r in outer] if mirror else [],
+        flown=sum(f.flown for f in flights),
+        asymmetry=_worst([f.asymmetry for f in flights]),
+    )
     fp = _assemble("two_parameter", spec, merged)
     fp.sets, fp.outer_boundary = sets, hull
     return fp
@@ -175,10 +217,17 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
         turns = [float(t) for t in turn_deg if 0.0 < t < widest]
     straight = with_bank(with_alpha(spec, "level_flight"), "zero")
     family = [({"turn_deg": 0.0}, lambda s, right: straight, True)]
-    family += [({"turn_deg": t}, lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right),
-                False) for t in turns]
-    family.append(({"turn_deg": widest, "until": "wings_level"},
-                   lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right), False))
+    family += [
+        ({"turn_deg": t}, lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right), False)
+        for t in turns
+    ]
+    family.append(
+        (
+            {"turn_deg": widest, "until": "wings_level"},
+            lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right),
+            False,
+        )
+    )
     fp = footprint_of_family("constant_altitude", spec, family, mirror, contours_fps)
     fp.trajectories += 1  # the widest turn, flown first to find its size
     return fp
@@ -210,29 +259,48 @@ def velocity_crossings(traj, velocities_fps) -> tuple:
             continue
         i = below[0]
         w = (v[i - 1] - vc) / (v[i - 1] - v[i])
-        at = {k: float(h[k][i - 1] + w * (h[k][i] - h[k][i - 1]))
-              for k in ("downrange_nmi", "crossrange_nmi", "time_s", "altitude_ft", "latitude_deg")}
+        at = {
+            k: float(h[k][i - 1] + w * (h[k][i] - h[k][i - 1]))
+            for k in ("downrange_nmi", "crossrange_nmi", "time_s", "altitude_ft", "latitude_deg")
+        }
         dlon = wrap_longitude(h["longitude_deg"][i] - h["longitude_deg"][i - 1])
         at["longitude_deg"] = float(wrap_longitude(h["longitude_deg"][i - 1] + w * dlon))
-        out.append({"velocity_fps": float(vc), "downrange_nmi": at["downrange_nmi"],
-                    "crossrange_nmi": at["crossrange_nmi"], "flight_time_s": at["time_s"],
-                    "altitude_ft": at["altitude_ft"], "latitude_deg": at["latitude_deg"],
-                    "longitude_deg": at["longitude_deg"]})
+        out.append(
+            {
+                "velocity_fps": float(vc),
+                "downrange_nmi": at["downrange_nmi"],
+                "crossrange_nmi": at["crossrange_nmi"],
+                "flight_time_s": at["time_s"],
+                "altitude_ft": at["altitude_ft"],
+                "latitude_deg": at["latitude_deg"],
+                "longitude_deg": at["longitude_deg"],
+            }
+        )
     return tuple(out)
 
 
 def point_of_trajectory(parameter, side, traj, contours_fps=()) -> FootprintPoint:
     """The footprint point where a flown trajectory ends."""
     s = traj.summary
-    return FootprintPoint(parameter=parameter, side=side, downrange_nmi=s["downrange_nmi"],
-                          crossrange_nmi=s["crossrange_nmi"], flight_time_s=s["flight_time_s"],
-                          latitude_deg=s["final_latitude_deg"], longitude_deg=s["final_longitude_deg"],
-                          heading_deg=s["final_heading_deg"], final_velocity_fps=s["final_velocity_fps"],
-                          final_altitude_ft=s["final_altitude_ft"], pullout_altitude_ft=s["pullout_altitude_ft"],
-                          stop_reason=s["stop_reason"], pullout_downrange_nmi=s["pullout_downrange_nmi"],
-                          pullout_velocity_fps=s["pullout_velocity_fps"], pullout_time_s=s["pullout_time_s"],
-                          turn_deg=s["turn_deg"],
-                          contours=velocity_crossings(traj, contours_fps) if contours_fps else ())
+    return FootprintPoint(
+        parameter=parameter,
+        side=side,
+        downrange_nmi=s["downrange_nmi"],
+        crossrange_nmi=s["crossrange_nmi"],
+        flight_time_s=s["flight_time_s"],
+        latitude_deg=s["final_latitude_deg"],
+        longitude_deg=s["final_longitude_deg"],
+        heading_deg=s["final_heading_deg"],
+        final_velocity_fps=s["final_velocity_fps"],
+        final_altitude_ft=s["final_altitude_ft"],
+        pullout_altitude_ft=s["pullout_altitude_ft"],
+        stop_reason=s["stop_reason"],
+        pullout_downrange_nmi=s["pullout_downrange_nmi"],
+        pullout_velocity_fps=s["pullout_velocity_fps"],
+        pullout_time_s=s["pullout_time_s"],
+        turn_deg=s["turn_deg"],
+        contours=velocity_crossings(traj, contours_fps) if contours_fps else (),
+    )
 
 
 @dataclass
@@ -265,8 +333,10 @@ def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
             flown += 1
     asym = None
     if right and not exact:  # how far the flown halves are from mirror images
-        asym = {"crossrange_nmi": max(abs(l.crossrange_nmi + r.crossrange_nmi) for l, r in zip(left, right)),
-                "downrange_nmi": max(abs(l.downrange_nmi - r.downrange_nmi) for l, r in zip(left, right))}
+        asym = {
+            "crossrange_nmi": max(abs(lp.crossrange_nmi + rp.crossrange_nmi) for lp, rp in zip(left, right)),
+            "downrange_nmi": max(abs(lp.downrange_nmi - rp.downrange_nmi) for lp, rp in zip(left, right)),
+        }
     return _Flights(axis, left, right, flown, asym)
 
 
@@ -295,10 +365,15 @@ def _assemble(method, spec, f: _Flights) -> Footprint:
     outside = [p for p in back if not _inside(p, boundary if f.right else _with_axis(boundary))]
     boundary = front + f.left + outside + f.right[::-1]
     e = spec.entry
-    return Footprint(method=method, points=boundary, area_nmi2=area_nmi2(boundary), trajectories=f.flown,
-                     entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg,
-                            "heading_deg": e.heading_deg},
-                     interior=[p for p in back if p not in outside], asymmetry=f.asymmetry)
+    return Footprint(
+        method=method,
+        points=boundary,
+        area_nmi2=area_nmi2(boundary),
+        trajectories=f.flown,
+        entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg},
+        interior=[p for p in back if p not in outside],
+        asymmetry=f.asymmetry,
+    )
 
 
 def _with_axis(half):
@@ -336,15 +411,26 @@ def reflect(spec, p: FootprintPoint) -> FootprintPoint:
     for c in p.contours:
         clat, clon, _ = _reflect(n, c["latitude_deg"], c["longitude_deg"], 0.0)
         contours.append(c | {"crossrange_nmi": -c["crossrange_nmi"], "latitude_deg": clat, "longitude_deg": clon})
-    return replace(p, side="right", crossrange_nmi=-p.crossrange_nmi, latitude_deg=lat, longitude_deg=lon,
-                   heading_deg=hdg, contours=tuple(contours), mirrored=True)
+    return replace(
+        p,
+        side="right",
+        crossrange_nmi=-p.crossrange_nmi,
+        latitude_deg=lat,
+        longitude_deg=lon,
+        heading_deg=hdg,
+        contours=tuple(contours),
+        mirrored=True,
+    )
 
 
 def _reflect(n, latitude_deg, longitude_deg, heading_deg):
     """A point and a heading there, reflected in the plane with unit normal n."""
+
     def horizon(lat, lon):
-        return (np.array([-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)]),
-                np.array([-math.sin(lon), math.cos(lon), 0.0]))
+        return (
+            np.array([-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)]),
+            np.array([-math.sin(lon), math.cos(lon), 0.0]),
+        )
 
     u = unit_vectors(latitude_deg, longitude_deg)
     north, east = horizon(math.radians(latitude_deg), math.radians(longitude_deg))
@@ -370,7 +456,7 @@ def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
         db = b1 - b0
         mean_sin = (math.cos(b0) - math.cos(b1)) / db if abs(db) > 1e-12 else math.sin(0.5 * (b0 + b1))
         total += (d1 - d0) / radius_nmi * mean_sin
-    return abs(total) * radius_nmi ** 2
+    return abs(total) * radius_nmi**2
 
 
 def crossrange_at_nmi(points, downrange_nmi):

@@ -80,8 +80,12 @@ def fay_riddell_cold_wall_btu_ft2_s(density_slug_ft3, velocity_fps, nose_radius_
     """Cold-wall stagnation heat rate (Btu/(ft^2 s)), Fay-Riddell in the Detra-Kemp-Riddell closed form."""
     rho = np.maximum(np.asarray(density_slug_ft3, dtype=float), 0.0)
     v = np.abs(np.asarray(velocity_fps, dtype=float))
-    return DKR_Q_BTU_FT2_S / np.sqrt(nose_radius_ft) * np.sqrt(rho / DKR_RHO_SL_SLUG_FT3) \
+    return (
+        DKR_Q_BTU_FT2_S
+        / np.sqrt(nose_radius_ft)
+        * np.sqrt(rho / DKR_RHO_SL_SLUG_FT3)
         * (v / DKR_V_FPS) ** DKR_V_EXPONENT
+    )
 
 
 def fay_riddell_coefficient_lbm_ft2_s(density_slug_ft3, velocity_fps, temperature_inf_R, nose_radius_ft):
@@ -115,8 +119,7 @@ def wall_equilibrium_R(coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissiv
 
 
 @njit
-def thin_skin_R(time_s, coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissivity, capacity_btu_ft2_R,
-                initial_R):
+def thin_skin_R(time_s, coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissivity, capacity_btu_ft2_R, initial_R):
     """Skin temperature (degR) from C dT/dt = h (H_AW - c_p T) - 4.75e-13 eps T^4 (thin skin, insulated back).
 
     Trapezoidal rule (A-stable, 2nd order) on sub-steps of at most SKIN_SUBSTEP_S, h and H_AW linear in time
@@ -164,16 +167,22 @@ class ReferenceHeating:
 
     def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R, time_s=None):
         """(heat_rate_btu_ft2_s, temperature_R) along the histories: q of eq. (6) at the wall temperature."""
-        h_fr = fay_riddell_coefficient_lbm_ft2_s(density_slug_ft3, velocity_fps, temperature_inf_R,
-                                                 self.reference_radius_ft)
+        h_fr = fay_riddell_coefficient_lbm_ft2_s(
+            density_slug_ft3, velocity_fps, temperature_inf_R, self.reference_radius_ft
+        )
         h = h_fr * np.interp(np.asarray(alpha_deg, dtype=float), self.ratio_alpha_deg, self.ratio)  # eq. (5)
         h_aw = total_enthalpy_btu_lbm(velocity_fps, temperature_inf_R)
         if self.skin_heat_capacity_btu_ft2_R > 0.0:
             if time_s is None:
                 raise ValueError("a thin-skin temperature needs the time history (time_s)")
-            t_w = thin_skin_R(np.asarray(time_s, dtype=float), np.ascontiguousarray(h, dtype=float),
-                              np.ascontiguousarray(h_aw, dtype=float), float(self.emissivity),
-                              float(self.skin_heat_capacity_btu_ft2_R), SKIN_INITIAL_R)
+            t_w = thin_skin_R(
+                np.asarray(time_s, dtype=float),
+                np.ascontiguousarray(h, dtype=float),
+                np.ascontiguousarray(h_aw, dtype=float),
+                float(self.emissivity),
+                float(self.skin_heat_capacity_btu_ft2_R),
+                SKIN_INITIAL_R,
+            )
         else:
             t_w = wall_equilibrium_R(h, h_aw, self.emissivity)  # eqs. (6)-(7)
         q = h * (h_aw - CP_AIR_BTU_LBM_R * t_w)  # eq. (6)
@@ -204,8 +213,7 @@ class CorrelationHeating:
         return q, t
 
 
-def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None,
-                       density_factor=None):
+def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None, density_factor=None):
     """(heat_rate_btu_ft2_s, temperature_R) along a flown history; atmosphere_args = (model id, rho0, H, T).
     density_factor: the dispersed density over the model's along the history (atmosphere.density_factor_table);
     None: the model's density."""
@@ -215,14 +223,22 @@ def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_a
     return model.evaluate(density, velocity_fps, alpha_deg, atm["temperature_R"], time_s)
 
 
-def calibrate_reference_radius_ft(altitude_ft, velocity_fps, alpha_deg, atmosphere_args,
-                                  target_R=REPORT_PEAK_RET_R, emissivity=EMISSIVITY_DEFAULT,
-                                  skin_heat_capacity_btu_ft2_R=0.0, time_s=None):
+def calibrate_reference_radius_ft(
+    altitude_ft,
+    velocity_fps,
+    alpha_deg,
+    atmosphere_args,
+    target_R=REPORT_PEAK_RET_R,
+    emissivity=EMISSIVITY_DEFAULT,
+    skin_heat_capacity_btu_ft2_R=0.0,
+    time_s=None,
+):
     """The reference radius (ft) that makes the peak temperature along one flown history equal target_R
     (bisection; a thin skin needs time_s).
 
     Heating does not act on the motion, so one flight serves every trial radius. The peak falls
     monotonically as the radius grows (h_F&R ~ R^-1/2)."""
+
     def peak(radius_ft):
         model = ReferenceHeating(radius_ft, emissivity, skin_heat_capacity_btu_ft2_R=skin_heat_capacity_btu_ft2_R)
         _, t = trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s)

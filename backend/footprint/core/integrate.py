@@ -121,8 +121,11 @@ def _event_values(t, s, res, p, ctrl, mode, g):
     if mode[M_BANK_ACTIVE] == 0.0 and int(ctrl[C_START]) == START_ALTITUDE:
         g[E_BANK_START] = ctrl[C_START_ALT] - alt
     law = int(ctrl[C_BANK_LAW])
-    if (law == BANK_STAGED or law == BANK_CONSTANT_ALTITUDE) and mode[M_BANK_ACTIVE] != 0.0 \
-            and mode[M_BANK_DONE] == 0.0:
+    if (
+        (law == BANK_STAGED or law == BANK_CONSTANT_ALTITUDE)
+        and mode[M_BANK_ACTIVE] != 0.0
+        and mode[M_BANK_DONE] == 0.0
+    ):
         g[E_TURN_DONE] = abs(wrap_deg(steer - mode[M_REF_ANGLE])) - ctrl[C_TURN]
         if law == BANK_CONSTANT_ALTITUDE:
             # App. C data set 2: the turn also ends when the wings come level (no lift left to turn with)
@@ -256,7 +259,7 @@ def integrate(s0, p, aero, ctrl, mode, max_steps):
             err += (e / scale[i]) ** 2
         err = math.sqrt(err / 6.0)
         if not (err <= 1.0):  # also catches NaN
-            h *= max(0.2, 0.9 * err ** -0.2) if err == err else 0.2
+            h *= max(0.2, 0.9 * err**-0.2) if err == err else 0.2
             continue
 
         _event_values(t + h, y1, res1, p, ctrl, mode, g1)
@@ -318,5 +321,5 @@ def integrate(s0, p, aero, ctrl, mode, max_steps):
             g0[j] = g1[j]
         rows = _record(rows, n, t, s, res1)
         n += 1
-        h = min(h * min(5.0, max(0.2, 0.9 * err ** -0.2)), h_max) if err > 0.0 else min(5.0 * h, h_max)
+        h = min(h * min(5.0, max(0.2, 0.9 * err**-0.2)), h_max) if err > 0.0 else min(5.0 * h, h_max)
     return rows[:n], stop, n_rhs

@@ -25,8 +25,8 @@ import casadi as ca
 import numpy as np
 
 from footprint.core import constants as c
-from footprint.core.aero import FORM_LIFT_DRAG, FORM_NORMAL_AXIAL, FORM_POLYNOMIAL
 from footprint.core._jit import python_function
+from footprint.core.aero import FORM_LIFT_DRAG, FORM_NORMAL_AXIAL, FORM_POLYNOMIAL
 from footprint.core.atmosphere import (
     ARDC_GAS_CONSTANT_FT2_S2_R,
     EXPONENTIAL,
@@ -70,8 +70,16 @@ class PlanetModel:
 
 def planet_model(spec: FlightSpec) -> PlanetModel:
     pl = spec.planet
-    return PlanetModel(pl.radius_ft, pl.polar_radius_ft, pl.mu_ft3_s2, pl.j, pl.h, pl.k,
-                       np.radians(pl.rotation_rate_deg_s) if pl.rotating else 0.0, pl.oblate)
+    return PlanetModel(
+        pl.radius_ft,
+        pl.polar_radius_ft,
+        pl.mu_ft3_s2,
+        pl.j,
+        pl.h,
+        pl.k,
+        np.radians(pl.rotation_rate_deg_s) if pl.rotating else 0.0,
+        pl.oblate,
+    )
 
 
 def geodetic(pm: PlanetModel, r, lat_c):
@@ -111,8 +119,9 @@ class Atmosphere:
         pl = spec.planet
         self.model = MODEL_IDS[pl.atmosphere]
         self.rho0, self.scale_ft = pl.rho0_slug_ft3, pl.scale_height_ft
-        self.temperature_R = pl.temperature_R if pl.temperature_R is not None \
-            else isothermal_temperature_R(pl.scale_height_ft)
+        self.temperature_R = (
+            pl.temperature_R if pl.temperature_R is not None else isothermal_temperature_R(pl.scale_height_ft)
+        )
         if self.model != EXPONENTIAL:
             tab = atmosphere_table(self.model, ATMOSPHERE_GRID_FT)
             grid = [ATMOSPHERE_GRID_FT]
@@ -123,12 +132,13 @@ class Atmosphere:
     def __call__(self, altitude_ft):
         if self.model == EXPONENTIAL:  # rho = rho0 exp(-h/H), isothermal (core.atmosphere)
             gas = ARDC_GAS_CONSTANT_FT2_S2_R
-            return (self.rho0 * ca.exp(-altitude_ft / self.scale_ft), self.temperature_R,
-                    np.sqrt(c.GAMMA_AIR * gas * self.temperature_R))
+            return (
+                self.rho0 * ca.exp(-altitude_ft / self.scale_ft),
+                self.temperature_R,
+                np.sqrt(c.GAMMA_AIR * gas * self.temperature_R),
+            )
         h = _clamped(altitude_ft, ATMOSPHERE_GRID_FT[0], ATMOSPHERE_GRID_FT[-1])
         return ca.exp(self._ln_rho(h)), self._t(h), self._a(h)
-
-
 
 
 def _ramp(z, eps):
@@ -180,8 +190,8 @@ def _table_function(blob, offset):
     o = int(offset)
     n_m, n_a, n_h = (int(blob[o + i]) for i in range(3))
     s = o + 3
-    axes = [blob[s:s + n_m], blob[s + n_m:s + n_m + n_a], blob[s + n_m + n_a:s + n_m + n_a + n_h]]
-    values = blob[s + n_m + n_a + n_h:s + n_m + n_a + n_h + n_m * n_a * n_h].reshape(n_m, n_a, n_h)
+    axes = [blob[s : s + n_m], blob[s + n_m : s + n_m + n_a], blob[s + n_m + n_a : s + n_m + n_a + n_h]]
+    values = blob[s + n_m + n_a + n_h : s + n_m + n_a + n_h + n_m * n_a * n_h].reshape(n_m, n_a, n_h)
     return smooth_table(axes, values)
 
 
@@ -192,7 +202,7 @@ class Aerodynamics:
         self.form = int(blob[0])
         self.alpha_range_deg = (float(blob[1]), float(blob[2]))
         if self.form == FORM_POLYNOMIAL:
-            self._poly = [blob[int(o) + 1:int(o) + 1 + int(blob[int(o)])].copy() for o in (blob[3], blob[4])]
+            self._poly = [blob[int(o) + 1 : int(o) + 1 + int(blob[int(o)])].copy() for o in (blob[3], blob[4])]
         else:
             self._first = _table_function(blob, blob[3])
             self._second = _table_function(blob, blob[4])
@@ -217,16 +227,22 @@ class Heating:
         self.model = model
         if isinstance(model, ReferenceHeating):
             if model.skin_heat_capacity_btu_ft2_R > 0.0:
-                raise ValueError("heating.skin_heat_capacity_btu_ft2_R: the collocation solves radiation-equilibrium "
-                                 "temperatures only (0)")
+                raise ValueError(
+                    "heating.skin_heat_capacity_btu_ft2_R: the collocation solves radiation-equilibrium "
+                    "temperatures only (0)"
+                )
             self._ratio = smooth_table([model.ratio_alpha_deg], model.ratio)  # Table 1, eq. (5)
 
     def coefficient(self, rho, v, t_inf, alpha_deg, smoothing):
         """(h lbm/(ft^2 s), H_AW Btu/lbm) of eqs. (5)-(6): Fay-Riddell (Detra-Kemp-Riddell form) times Table 1."""
         m = self.model
         h0 = CP_AIR_BTU_LBM_R * t_inf + 0.5 * v * v / FT2_S2_PER_BTU_LBM
-        q_cw = DKR_Q_BTU_FT2_S / np.sqrt(m.reference_radius_ft) * ca.sqrt(rho / DKR_RHO_SL_SLUG_FT3) \
+        q_cw = (
+            DKR_Q_BTU_FT2_S
+            / np.sqrt(m.reference_radius_ft)
+            * ca.sqrt(rho / DKR_RHO_SL_SLUG_FT3)
             * (v / DKR_V_FPS) ** DKR_V_EXPONENT
+        )
         # core.heating sets h = 0 where H_0 <= the cold-wall enthalpy (below ~2,200 ft/s); a floor of 1 Btu/lbm
         # keeps the NLP's derivatives finite there instead (the stop altitudes lie above that speed)
         drive = ca.fmax(h0 - CP_AIR_BTU_LBM_R * DKR_COLD_WALL_R, 1.0)
@@ -257,8 +273,10 @@ class Heating:
         """q (Btu/(ft^2 s)) of the correlation model (the reference model's q depends on the wall temperature,
         which the NLP does not carry: it constrains max_temperature_R instead)."""
         if isinstance(self.model, ReferenceHeating):
-            raise ValueError("max_heat_rate_btu_ft2_s / heat_load_btu_ft2: with the reference heating model the "
-                             "collocation constrains max_temperature_R; use a correlation model for heat rates")
+            raise ValueError(
+                "max_heat_rate_btu_ft2_s / heat_load_btu_ft2: with the reference heating model the "
+                "collocation constrains max_temperature_R; use a correlation model for heat rates"
+            )
         return self.correlation_rate(rho, v, alpha_deg)
 
 
@@ -308,6 +326,14 @@ class FlightModel:
             (lift * ca.cos(bank) + a_up * cg - a_east * sg * sp - a_north * sg * cp) / v + v * cg / r,  # dgamma/dt
             (-lift * ca.sin(bank) + a_east * cp - a_north * sp) / (v * cg) + v * cg * sp * s / (cs * r),  # dpsi/dt
         )
-        return {"rates": rates, "altitude_ft": alt, "rho": rho, "t_inf": t_inf,
-                "mach": mach, "q_psf": qbar, "cl": cl, "cd": cd,
-                "load_factor": qbar * ca.sqrt(cl * cl + cd * cd) / self.spec.vehicle.wing_loading_psf}
+        return {
+            "rates": rates,
+            "altitude_ft": alt,
+            "rho": rho,
+            "t_inf": t_inf,
+            "mach": mach,
+            "q_psf": qbar,
+            "cl": cl,
+            "cd": cd,
+            "load_factor": qbar * ca.sqrt(cl * cl + cd * cd) / self.spec.vehicle.wing_loading_psf,
+        }

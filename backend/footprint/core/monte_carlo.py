@@ -37,12 +37,27 @@ from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossran
 from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
 
 # what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
-KEPT = ("final_latitude_deg", "final_longitude_deg", "downrange_nmi", "crossrange_nmi", "flight_time_s",
-        "max_temperature_R", "heat_load_btu_ft2", "max_load_factor", "max_dynamic_pressure_psf")
+KEPT = (
+    "final_latitude_deg",
+    "final_longitude_deg",
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "max_temperature_R",
+    "heat_load_btu_ft2",
+    "max_load_factor",
+    "max_dynamic_pressure_psf",
+)
 LAT, LON, OWN_DOWN, OWN_CROSS, TIME, TEMPERATURE, HEAT_LOAD = range(7)
-OUTCOME_NAMES = {"altitude": "hit the stop altitude early", "velocity": "slowed to the stop velocity early",
-                 "time": "ran out of time", "skip_out": "skipped out", "max_steps": "too many steps",
-                 "step_underflow": "step underflow", "none": "did not end"}
+OUTCOME_NAMES = {
+    "altitude": "hit the stop altitude early",
+    "velocity": "slowed to the stop velocity early",
+    "time": "ran out of time",
+    "skip_out": "skipped out",
+    "max_steps": "too many steps",
+    "step_underflow": "step underflow",
+    "none": "did not end",
+}
 SIGMAS = (1.0, 3.0)  # the ellipses drawn
 OUTCOME_SAMPLES_LISTED = 20  # of each flight's samples that did not land, the first named (to fly again in full)
 ELLIPSE_POINTS = 73  # closed: the first point repeated
@@ -90,12 +105,12 @@ class Landings:
     @staticmethod
     def join(parts: list[Landings]) -> Landings:
         parts = sorted(parts, key=lambda p: p.first)
-        return Landings(parts[0].first, np.concatenate([p.values for p in parts]),
-                        np.concatenate([p.stops for p in parts]))
+        return Landings(
+            parts[0].first, np.concatenate([p.values for p in parts]), np.concatenate([p.stops for p in parts])
+        )
 
 
-def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0,
-                on_progress=None) -> Landings:
+def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0, on_progress=None) -> Landings:
     """Every flight of every sample (the summary path: trajectory.simulate_summary); a chunk of a run.
     on_progress(fraction, note) before each sample (True stops: errors.Stopped)."""
     values = np.full((len(samples), len(family), len(KEPT)), np.nan)
@@ -124,8 +139,9 @@ def nominal_ranges(base: FlightSpec, landings: Landings, radius_nmi=MEAN_RADIUS_
     nearest its own flight's (which grows past half a circumference)."""
     e = base.entry
     v = landings.values
-    down, cross = downrange_crossrange_nmi(v[..., LAT], v[..., LON], e.latitude_deg, e.longitude_deg, e.heading_deg,
-                                           radius_nmi)
+    down, cross = downrange_crossrange_nmi(
+        v[..., LAT], v[..., LON], e.latitude_deg, e.longitude_deg, e.heading_deg, radius_nmi
+    )
     turn = 2.0 * math.pi * radius_nmi
     return down + turn * np.round((v[..., OWN_DOWN] - down) / turn), cross
 
@@ -152,7 +168,7 @@ def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.nda
         if not mirror and x:  # a half footprint: closed along the axis (sphere.close_half_along_axis)
             x, y = [x[0]] + x + [x[-1]], [0.0] + y + [0.0]
         if len(x) >= 3:
-            px[i, :len(x)], py[i, :len(y)], counts[i] = x, y, len(x)
+            px[i, : len(x)], py[i, : len(y)], counts[i] = x, y, len(x)
     return px, py, counts
 
 
@@ -249,14 +265,32 @@ class DispersedFootprint:
     def to_dict(self, cloud_points: int | None = None) -> dict:
         """JSON-ready; each cloud thinned to its first `cloud_points` samples (None: all)."""
         keep = slice(None) if cloud_points is None else slice(0, cloud_points)
-        return {"samples": self.samples, "entry": self.entry, "outcomes": self.outcomes, "nominal": self.nominal,
-                "nominal_boundary": self.nominal_boundary, "flights": self.flights, "confidence": self.confidence, "sites": self.sites,
-                "clouds": {k: [[None if not math.isfinite(x) else float(x) for x in row]
-                               for row in np.asarray(v)[keep].T] for k, v in self.clouds.items()}}
+        return {
+            "samples": self.samples,
+            "entry": self.entry,
+            "outcomes": self.outcomes,
+            "nominal": self.nominal,
+            "nominal_boundary": self.nominal_boundary,
+            "flights": self.flights,
+            "confidence": self.confidence,
+            "sites": self.sites,
+            "clouds": {
+                k: [[None if not math.isfinite(x) else float(x) for x in row] for row in np.asarray(v)[keep].T]
+                for k, v in self.clouds.items()
+            },
+        }
 
 
-def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: Landings, nominal: Landings,
-               levels=(0.99,), sites=(), grid_nodes=GRID_NODES) -> DispersedFootprint:
+def statistics(
+    base: FlightSpec,
+    family: list[Flight],
+    mirror: bool,
+    landings: Landings,
+    nominal: Landings,
+    levels=(0.99,),
+    sites=(),
+    grid_nodes=GRID_NODES,
+) -> DispersedFootprint:
     """What the run says (module docstring). sites: (name, latitude_deg, longitude_deg) each."""
     e = base.entry
     n = landings.values.shape[0]
@@ -269,12 +303,22 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
     lat, lon = np.where(landed, landings.values[..., LAT], np.nan), np.where(landed, landings.values[..., LON], np.nan)
     nom_down, nom_cross = nominal_ranges(base, nominal)
     px, py, counts = polygons(family, mirror, down, cross, landed)
-    flight_stats = [_flight(base, f, down[:, j], cross[:, j], landings.stops[:, j], landed[:, j],
-                            landings.values[:, j]) for j, f in enumerate(family)]
-    nom = [{"parameter": f.parameter, "side": f.side, "downrange_nmi": float(nom_down[0, j]),
-            "crossrange_nmi": float(nom_cross[0, j]), "latitude_deg": float(nominal.values[0, j, LAT]),
+    flight_stats = [
+        _flight(base, f, down[:, j], cross[:, j], landings.stops[:, j], landed[:, j], landings.values[:, j])
+        for j, f in enumerate(family)
+    ]
+    nom = [
+        {
+            "parameter": f.parameter,
+            "side": f.side,
+            "downrange_nmi": float(nom_down[0, j]),
+            "crossrange_nmi": float(nom_cross[0, j]),
+            "latitude_deg": float(nominal.values[0, j, LAT]),
             "longitude_deg": float(nominal.values[0, j, LON]),
-            "stop_reason": STOP_REASONS[int(nominal.stops[0, j])]} for j, f in enumerate(family)]
+            "stop_reason": STOP_REASONS[int(nominal.stops[0, j])],
+        }
+        for j, f in enumerate(family)
+    ]
     npx, npy, ncounts = polygons(family, mirror, nom_down, nom_cross, np.isin(nominal.stops, endings))
     reasons = {}
     for code, count in zip(*np.unique(landings.stops, return_counts=True)):
@@ -283,24 +327,39 @@ def statistics(base: FlightSpec, family: list[Flight], mirror: bool, landings: L
     m = int(ncounts[0])
     bx, by = npx[0, :m], npy[0, :m]
     blat, blon = latlon_from_ranges(bx, by, e.latitude_deg, e.longitude_deg, e.heading_deg)
-    boundary = {"downrange_nmi": bx.tolist(), "crossrange_nmi": by.tolist(), "latitude_deg": blat.tolist(),
-                "longitude_deg": blon.tolist(), "outline": _outline(base, bx, by)}
+    boundary = {
+        "downrange_nmi": bx.tolist(),
+        "crossrange_nmi": by.tolist(),
+        "latitude_deg": blat.tolist(),
+        "longitude_deg": blon.tolist(),
+        "outline": _outline(base, bx, by),
+    }
     return DispersedFootprint(
-        samples=n, flights=flight_stats, nominal=nom, nominal_boundary=boundary,
+        samples=n,
+        flights=flight_stats,
+        nominal=nom,
+        nominal_boundary=boundary,
         confidence=[_confidence(base, px, py, counts, p, n, grid_nodes) for p in levels],
         sites=[_site(base, px, py, counts, npx, npy, ncounts, name, la, lo) for name, la, lo in sites],
         outcomes={"flights": int(landings.stops.size), **reasons},
         clouds={"downrange_nmi": down, "crossrange_nmi": cross, "latitude_deg": lat, "longitude_deg": lon},
-        entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg})
+        entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg},
+    )
 
 
 def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
     k = int(landed.sum())
     ended = np.unique(stops[~landed])
-    out = {"parameter": f.parameter, "side": f.side, "landed": k,
-           "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(np.sum(stops[~landed] == c)) for c in ended},
-           "outcome_samples": {OUTCOME_NAMES[STOP_REASONS[c]]: np.flatnonzero(~landed & (stops == c))[
-               :OUTCOME_SAMPLES_LISTED].tolist() for c in ended}}
+    out = {
+        "parameter": f.parameter,
+        "side": f.side,
+        "landed": k,
+        "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(np.sum(stops[~landed] == c)) for c in ended},
+        "outcome_samples": {
+            OUTCOME_NAMES[STOP_REASONS[c]]: np.flatnonzero(~landed & (stops == c))[:OUTCOME_SAMPLES_LISTED].tolist()
+            for c in ended
+        },
+    }
     if k >= 2:
         xy = np.stack([down[landed], cross[landed]])
         mean, cov = xy.mean(axis=1), np.cov(xy)
@@ -309,17 +368,30 @@ def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
         for s in SIGMAS:
             ex, ey = ellipse(mean, cov, s)
             elat, elon = latlon_from_ranges(ex, ey, e.latitude_deg, e.longitude_deg, e.heading_deg)
-            ellipses[f"{s:g}"] = {"downrange_nmi": ex.tolist(), "crossrange_nmi": ey.tolist(),
-                                   "latitude_deg": elat.tolist(), "longitude_deg": elon.tolist()}
-        out |= {"mean_downrange_nmi": float(mean[0]), "mean_crossrange_nmi": float(mean[1]),
-                "covariance_nmi2": cov.tolist(), "ellipses": ellipses}
+            ellipses[f"{s:g}"] = {
+                "downrange_nmi": ex.tolist(),
+                "crossrange_nmi": ey.tolist(),
+                "latitude_deg": elat.tolist(),
+                "longitude_deg": elon.tolist(),
+            }
+        out |= {
+            "mean_downrange_nmi": float(mean[0]),
+            "mean_crossrange_nmi": float(mean[1]),
+            "covariance_nmi2": cov.tolist(),
+            "ellipses": ellipses,
+        }
     for key, col in (("max_temperature_R", TEMPERATURE), ("heat_load_btu_ft2", HEAT_LOAD)):
         x = values[landed, col]
         x = x[np.isfinite(x)]
         if x.size:
-            out[key] = {"mean": float(x.mean()), "std": float(x.std(ddof=1)) if x.size > 1 else 0.0,
-                        "min": float(x.min()), "p50": float(np.percentile(x, 50)),
-                        "p99": float(np.percentile(x, 99)), "max": float(x.max())}
+            out[key] = {
+                "mean": float(x.mean()),
+                "std": float(x.std(ddof=1)) if x.size > 1 else 0.0,
+                "min": float(x.min()),
+                "p50": float(np.percentile(x, 50)),
+                "p99": float(np.percentile(x, 99)),
+                "max": float(x.max()),
+            }
     return out
 
 
@@ -349,9 +421,16 @@ def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
             continue
         lat, lon = latlon_from_ranges(line[:, 0], line[:, 1], e.latitude_deg, e.longitude_deg, e.heading_deg)
         area = 0.5 * abs(np.dot(line[:-1, 0], line[1:, 1]) - np.dot(line[1:, 0], line[:-1, 1]))
-        out["rings"].append({"downrange_nmi": line[:, 0].tolist(), "crossrange_nmi": line[:, 1].tolist(),
-                             "latitude_deg": lat.tolist(), "longitude_deg": lon.tolist(), "area_nmi2": float(area),
-                             "outline": _outline(base, line[:-1, 0], line[:-1, 1])})
+        out["rings"].append(
+            {
+                "downrange_nmi": line[:, 0].tolist(),
+                "crossrange_nmi": line[:, 1].tolist(),
+                "latitude_deg": lat.tolist(),
+                "longitude_deg": lon.tolist(),
+                "area_nmi2": float(area),
+                "outline": _outline(base, line[:-1, 0], line[:-1, 1]),
+            }
+        )
     out["rings"].sort(key=lambda r: -r["area_nmi2"])
     return out
 
@@ -378,7 +457,15 @@ def _site(base, px, py, counts, npx, npy, ncounts, name, latitude_deg, longitude
         reached |= on_branch
     k, n = int(reached.sum()), px.shape[0]
     low, high = clopper_pearson(k, n)
-    return {"name": name, "latitude_deg": latitude_deg, "longitude_deg": longitude_deg,
-            "downrange_nmi": best[1], "crossrange_nmi": float(c), "probability": k / n,
-            "interval": [low, high], "interval_level": CONFIDENCE_INTERVAL, "samples_reaching": k,
-            "inside_nominal": nominal}
+    return {
+        "name": name,
+        "latitude_deg": latitude_deg,
+        "longitude_deg": longitude_deg,
+        "downrange_nmi": best[1],
+        "crossrange_nmi": float(c),
+        "probability": k / n,
+        "interval": [low, high],
+        "interval_level": CONFIDENCE_INTERVAL,
+        "samples_reaching": k,
+        "inside_nominal": nominal,
+    }

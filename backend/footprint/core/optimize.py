@@ -98,8 +98,9 @@ class Problem:
         if self.goal not in ("max", "min"):
             bad.append(f"goal {self.goal!r} not in ('max', 'min')")
         if not (self.lower.shape == self.upper.shape == self.initial.shape):
-            bad.append(f"bounds and initial differ in shape: {self.lower.shape}, {self.upper.shape}, "
-                       f"{self.initial.shape}")
+            bad.append(
+                f"bounds and initial differ in shape: {self.lower.shape}, {self.upper.shape}, {self.initial.shape}"
+            )
         elif np.any(self.lower > self.upper):
             bad.append("a lower bound exceeds its upper bound")
         if self.evaluate is None and (self.base is None or self.controls is None):
@@ -152,12 +153,20 @@ class Result:
     names: tuple = ()
 
     def to_dict(self):
-        return {"method": self.method, "summary": self.summary,
-                "parameters": {n: float(v) for n, v in zip(self.names or range(len(self.params)), self.params)},
-                "payoff": self.payoff, "augmented_payoff": self.augmented_payoff, "feasible": self.feasible,
-                "max_violation": self.max_violation, "violations": self.violations,
-                "history": self.history, "trajectories": self.trajectories, "seconds": self.seconds,
-                "converged": self.converged}
+        return {
+            "method": self.method,
+            "summary": self.summary,
+            "parameters": {n: float(v) for n, v in zip(self.names or range(len(self.params)), self.params)},
+            "payoff": self.payoff,
+            "augmented_payoff": self.augmented_payoff,
+            "feasible": self.feasible,
+            "max_violation": self.max_violation,
+            "violations": self.violations,
+            "history": self.history,
+            "trajectories": self.trajectories,
+            "seconds": self.seconds,
+            "converged": self.converged,
+        }
 
 
 class _Evaluator:
@@ -185,8 +194,15 @@ class _Evaluator:
         if j < self.best_j:
             self.best_x, self.best_j, self.best_summary = x.copy(), j, s
         phi = self.best_summary.get(self.problem.payoff) if self.best_summary else None
-        self.history.append({"iteration": self.n, "phase": self.phase, "payoff": phi,
-                             "augmented": self._sense(self.best_j), "trajectories": self.n})
+        self.history.append(
+            {
+                "iteration": self.n,
+                "phase": self.phase,
+                "payoff": phi,
+                "augmented": self._sense(self.best_j),
+                "trajectories": self.n,
+            }
+        )
         return j
 
     def summary(self, x):
@@ -204,18 +220,39 @@ class _Evaluator:
             raise ValueError(f"max_evaluations {self.max_evaluations}: nothing was flown (at least 1)")
         viol = {c.quantity: c.violation(s.get(c.quantity)) for c in pr.constraints}
         worst = max(viol.values(), default=0.0)
-        return Result(params=self.best_x, summary=s, payoff=s.get(pr.payoff), augmented_payoff=self._sense(self.best_j),
-                      feasible=worst == 0.0, max_violation=worst, violations=viol, history=self.history,
-                      trajectories=self.n, seconds=time.perf_counter() - t0, converged=converged, method=method,
-                      names=pr.names)
+        return Result(
+            params=self.best_x,
+            summary=s,
+            payoff=s.get(pr.payoff),
+            augmented_payoff=self._sense(self.best_j),
+            feasible=worst == 0.0,
+            max_violation=worst,
+            violations=viol,
+            history=self.history,
+            trajectories=self.n,
+            seconds=time.perf_counter() - t0,
+            converged=converged,
+            method=method,
+            names=pr.names,
+        )
 
 
 class _Budget(Exception):
     pass
 
 
-def creep_pattern(problem: Problem, *, step=None, min_step=None, grow=2.0, shrink=0.5, pattern_growth=2.0,
-                  max_evaluations=300, ftol=0.0, progress=None) -> Result:
+def creep_pattern(
+    problem: Problem,
+    *,
+    step=None,
+    min_step=None,
+    grow=2.0,
+    shrink=0.5,
+    pattern_growth=2.0,
+    max_evaluations=300,
+    ftol=0.0,
+    progress=None,
+) -> Result:
     """Adaptive creeping search followed by a pattern search, repeated (Section II.4).
 
     step: initial perturbation per parameter (default a tenth of each bound range); min_step: converged
@@ -280,8 +317,18 @@ def creep_pattern(problem: Problem, *, step=None, min_step=None, grow=2.0, shrin
     return ev.result(t0, converged, "creep_pattern")
 
 
-def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0, weight_factor=100.0, rounds=4,
-                           restarts=0, max_evaluations=300, on_progress=None, **options) -> Result:
+def creep_pattern_feasible(
+    problem: Problem,
+    *,
+    soft_start=1.0,
+    soft_factor=10.0,
+    weight_factor=100.0,
+    rounds=4,
+    restarts=0,
+    max_evaluations=300,
+    on_progress=None,
+    **options,
+) -> Result:
     """creep_pattern in stages that differ only in the penalty weights, each starting from the last optimum,
     all within one trajectory budget:
 
@@ -306,14 +353,16 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
     def report(n) -> bool:  # n: this stage's flights
         nonlocal stopped
         if on_progress is not None and not stopped:
-            stopped = bool(on_progress((flown + n) / max_evaluations,
-                                       f"trajectory {flown + n} of at most {max_evaluations}"))
+            stopped = bool(
+                on_progress((flown + n) / max_evaluations, f"trajectory {flown + n} of at most {max_evaluations}")
+            )
         return stopped
 
     def stage(scale, opts):
         nonlocal flown
-        pr = replace(problem, initial=x,
-                     constraints=tuple(replace(c, weight=c.weight * scale) for c in problem.constraints))
+        pr = replace(
+            problem, initial=x, constraints=tuple(replace(c, weight=c.weight * scale) for c in problem.constraints)
+        )
         r2 = creep_pattern(pr, max_evaluations=max_evaluations - flown, progress=report, **opts)
         for e in r2.history:
             history.append(dict(e, iteration=e["iteration"] + flown, trajectories=e["trajectories"] + flown))
@@ -325,7 +374,9 @@ def creep_pattern_feasible(problem: Problem, *, soft_start=1.0, soft_factor=10.0
         scale = min(scale, 1.0)
         if (flown >= max_evaluations or stopped) and r is not None:
             break
-        r = stage(scale, options if r is None else dict(options, step=0.5 * np.asarray(options.get("step", 0.1 * span))))
+        r = stage(
+            scale, options if r is None else dict(options, step=0.5 * np.asarray(options.get("step", 0.1 * span)))
+        )
         x = r.params
         if scale >= 1.0:
             break
@@ -359,8 +410,7 @@ def optimize(problem: Problem, method="creep_pattern", **options) -> Result:
     return optimize_scipy(problem, method, **options)
 
 
-def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000, on_progress=None,
-                   **options) -> Result:
+def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000, on_progress=None, **options) -> Result:
     """The same problem by a scipy optimizer, for a side-by-side comparison (STYLE: two routes).
 
     Nelder-Mead (or any derivative-free method) minimizes the same phi* within the bounds; SLSQP is given
@@ -375,8 +425,11 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
 
     pr = problem
     t0 = time.perf_counter()
-    progress = None if on_progress is None else (
-        lambda n: on_progress(n / max_evaluations, f"trajectory {n} of at most {max_evaluations}"))
+    progress = (
+        None
+        if on_progress is None
+        else (lambda n: on_progress(n / max_evaluations, f"trajectory {n} of at most {max_evaluations}"))
+    )
     ev = _Evaluator(pr, max_evaluations, progress)
     bounds = Bounds(pr.lower, pr.upper)
     ev.phase = method
@@ -421,8 +474,9 @@ def nominal_bank_deg(bank_gain=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds
     return np.clip(bank_gain * np.asarray(headings_deg, dtype=float), *bounds)
 
 
-def cross_range_problem(spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL_DOWNRANGE_NMI, initial=None,
-                        bounds=BANK_BOUNDS_DEG) -> Problem:
+def cross_range_problem(
+    spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL_DOWNRANGE_NMI, initial=None, bounds=BANK_BOUNDS_DEG
+) -> Problem:
     """Section II.5-II.6: maximize cross-range with the eight-point bank table vs zeta, alpha as the spec
     has it ((L/D)max), the bank from the spec's start (pull-out); down-range held to `downrange_nmi`
     within +-tolerance/2 when given.
@@ -432,10 +486,17 @@ def cross_range_problem(spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL
     past 180 deg the bank wraps round to the negative side.
     """
     n = len(BANK_TABLE_HEADINGS_DEG)
-    cons = () if downrange_nmi is None else (Constraint("downrange_nmi", "equals", float(downrange_nmi),
-                                                        tolerance_nmi),)
-    return Problem(lower=np.full(n, bounds[0]), upper=np.full(n, bounds[1]),
-                   initial=nominal_bank_deg(1.0) if initial is None else initial,
-                   payoff="crossrange_nmi", goal="max", constraints=cons, base=spec,
-                   controls=lambda s, x: with_bank_table(s, x),
-                   names=tuple(f"bank_deg_at_zeta_{h}" for h in BANK_TABLE_HEADINGS_DEG))
+    cons = (
+        () if downrange_nmi is None else (Constraint("downrange_nmi", "equals", float(downrange_nmi), tolerance_nmi),)
+    )
+    return Problem(
+        lower=np.full(n, bounds[0]),
+        upper=np.full(n, bounds[1]),
+        initial=nominal_bank_deg(1.0) if initial is None else initial,
+        payoff="crossrange_nmi",
+        goal="max",
+        constraints=cons,
+        base=spec,
+        controls=lambda s, x: with_bank_table(s, x),
+        names=tuple(f"bank_deg_at_zeta_{h}" for h in BANK_TABLE_HEADINGS_DEG),
+    )

@@ -52,11 +52,14 @@ class CircularOrbit:
     nodal_regression: bool = True
 
     @classmethod
-    def from_right_ascension(cls, inclination_deg, altitude_ft, right_ascension_deg, greenwich_sidereal_deg,
-                             **kwargs):
+    def from_right_ascension(cls, inclination_deg, altitude_ft, right_ascension_deg, greenwich_sidereal_deg, **kwargs):
         """The node's earth-fixed longitude is its right ascension less the Greenwich sidereal angle."""
-        return cls(inclination_deg=inclination_deg, altitude_ft=altitude_ft,
-                   node_longitude_deg=wrap_longitude(right_ascension_deg - greenwich_sidereal_deg), **kwargs)
+        return cls(
+            inclination_deg=inclination_deg,
+            altitude_ft=altitude_ft,
+            node_longitude_deg=wrap_longitude(right_ascension_deg - greenwich_sidereal_deg),
+            **kwargs,
+        )
 
     @property
     def semi_major_axis_ft(self) -> float:
@@ -65,7 +68,7 @@ class CircularOrbit:
     @property
     def period_s(self) -> float:
         """Kepler's third law, T = 2 pi sqrt(a^3 / mu)."""
-        return 2.0 * math.pi * math.sqrt(self.semi_major_axis_ft ** 3 / self.mu_ft3_s2)
+        return 2.0 * math.pi * math.sqrt(self.semi_major_axis_ft**3 / self.mu_ft3_s2)
 
     @property
     def mean_motion_deg_s(self) -> float:
@@ -77,7 +80,7 @@ class CircularOrbit:
         if not self.nodal_regression:
             return 0.0
         ratio = self.radius_ft / self.semi_major_axis_ft
-        return -1.5 * self.j2 * self.mean_motion_deg_s * ratio ** 2 * math.cos(math.radians(self.inclination_deg))
+        return -1.5 * self.j2 * self.mean_motion_deg_s * ratio**2 * math.cos(math.radians(self.inclination_deg))
 
     @property
     def node_drift_deg_s(self) -> float:
@@ -156,8 +159,9 @@ def frames(orbit: CircularOrbit, revolution, u_deg, entry_offset_nmi=0.0, radius
     return p0, d0, n, time_s(orbit, revolution, u_entry)
 
 
-def deorbit_reference(orbit: CircularOrbit, revolution: int, u_deg: float, entry_offset_nmi: float = 0.0,
-                      radius_nmi=MEAN_RADIUS_NMI) -> Reference:
+def deorbit_reference(
+    orbit: CircularOrbit, revolution: int, u_deg: float, entry_offset_nmi: float = 0.0, radius_nmi=MEAN_RADIUS_NMI
+) -> Reference:
     """The initial point and heading of the footprint's initial great circle, placed at a deorbit point.
 
     The point is under the satellite at (revolution, u), or `entry_offset_nmi` further along the orbit
@@ -165,5 +169,6 @@ def deorbit_reference(orbit: CircularOrbit, revolution: int, u_deg: float, entry
     """
     du = math.degrees(entry_offset_nmi / radius_nmi)
     lat, lon = position(orbit, revolution, u_deg + du)
-    return Reference(latitude_deg=float(lat), longitude_deg=float(lon),
-                     heading_deg=float(inertial_heading_deg(orbit, u_deg + du)))
+    return Reference(
+        latitude_deg=float(lat), longitude_deg=float(lon), heading_deg=float(inertial_heading_deg(orbit, u_deg + du))
+    )

@@ -42,13 +42,21 @@ class Outline:
     pole: str | None
 
     def to_dict(self) -> dict:
-        return {"latitude_deg": self.latitude_deg.tolist(), "longitude_deg": self.longitude_deg.tolist(),
-                "area": [[ring.tolist() for ring in polygon] for polygon in self.area], "pole": self.pole}
+        return {
+            "latitude_deg": self.latitude_deg.tolist(),
+            "longitude_deg": self.longitude_deg.tolist(),
+            "area": [[ring.tolist() for ring in polygon] for polygon in self.area],
+            "pole": self.pole,
+        }
 
     @classmethod
     def from_dict(cls, o: dict) -> "Outline":
-        return cls(np.asarray(o["latitude_deg"], float), np.asarray(o["longitude_deg"], float),
-                   tuple(tuple(np.asarray(r, float) for r in polygon) for polygon in o["area"]), o["pole"])
+        return cls(
+            np.asarray(o["latitude_deg"], float),
+            np.asarray(o["longitude_deg"], float),
+            tuple(tuple(np.asarray(r, float) for r in polygon) for polygon in o["area"]),
+            o["pole"],
+        )
 
     def shifted(self, lon_deg: float) -> "Outline":
         """The boundary's line on another copy of the map (the area stays on its one copy)."""
@@ -57,8 +65,10 @@ class Outline:
 
 def _closed(downrange_nmi, crossrange_nmi):
     """The chart polygon with its first point repeated last."""
-    return (np.append(np.asarray(downrange_nmi, float), downrange_nmi[0]),
-            np.append(np.asarray(crossrange_nmi, float), crossrange_nmi[0]))
+    return (
+        np.append(np.asarray(downrange_nmi, float), downrange_nmi[0]),
+        np.append(np.asarray(crossrange_nmi, float), crossrange_nmi[0]),
+    )
 
 
 def sampled_ring(downrange_nmi, crossrange_nmi, pieces):
@@ -115,8 +125,12 @@ def _edge_position(x, y) -> float:
     return 3.0 + (90.0 - y) / 180.0  # arcs start and end on the east or west edge only
 
 
-CORNERS = ((1.0, (WINDOW_DEG[1], -90.0)), (2.0, (WINDOW_DEG[1], 90.0)), (3.0, (WINDOW_DEG[0], 90.0)),
-           (4.0, (WINDOW_DEG[0], -90.0)))
+CORNERS = (
+    (1.0, (WINDOW_DEG[1], -90.0)),
+    (2.0, (WINDOW_DEG[1], 90.0)),
+    (3.0, (WINDOW_DEG[0], 90.0)),
+    (4.0, (WINDOW_DEG[0], -90.0)),
+)
 
 
 def window_area(latitude_deg, longitude_deg):

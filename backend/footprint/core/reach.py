@@ -75,8 +75,12 @@ class Reach:
         last = len(self.u_deg) - 1
         for w in (w for w in self.windows if w.site == site):
             prev = out[-1][-1] if out else None
-            if (prev is not None and prev.revolution + 1 == w.revolution and prev.u_end_deg == self.u_deg[last]
-                    and w.u_start_deg == self.u_deg[0]):
+            if (
+                prev is not None
+                and prev.revolution + 1 == w.revolution
+                and prev.u_end_deg == self.u_deg[last]
+                and w.u_start_deg == self.u_deg[0]
+            ):
                 out[-1].append(w)
             else:
                 out.append([w])
@@ -100,8 +104,11 @@ def vertices_in_chart(p0, d0, n, down_rad, cross_rad, shift_rad):
 
     p0, d0, n: (G, 3) placement frames; down_rad, cross_rad, shift_rad: (P,), shift positive west."""
     cc = np.cos(cross_rad)
-    v = ((cc * np.cos(down_rad))[None, :, None] * p0[:, None, :] + (cc * np.sin(down_rad))[None, :, None]
-         * d0[:, None, :] + np.sin(cross_rad)[None, :, None] * n[:, None, :])  # placed points (G, P, 3)
+    v = (
+        (cc * np.cos(down_rad))[None, :, None] * p0[:, None, :]
+        + (cc * np.sin(down_rad))[None, :, None] * d0[:, None, :]
+        + np.sin(cross_rad)[None, :, None] * n[:, None, :]
+    )  # placed points (G, P, 3)
     cphi, sphi = np.cos(shift_rad), np.sin(shift_rad)  # turn about the polar axis by -shift (west)
     x = v[..., 0] * cphi + v[..., 1] * sphi
     y = -v[..., 0] * sphi + v[..., 1] * cphi
@@ -153,21 +160,42 @@ def margins(p0, d0, n, down_nmi, cross_nmi, flight_time_s, sites_unit, shift_deg
     return best * radius_nmi, inside
 
 
-def placement_margins(reference: Reference, down_nmi, cross_nmi, flight_time_s, sites_latitude_deg,
-                      sites_longitude_deg, shift_deg_s=0.0, radius_nmi=MEAN_RADIUS_NMI):
+def placement_margins(
+    reference: Reference,
+    down_nmi,
+    cross_nmi,
+    flight_time_s,
+    sites_latitude_deg,
+    sites_longitude_deg,
+    shift_deg_s=0.0,
+    radius_nmi=MEAN_RADIUS_NMI,
+):
     """One placement: the footprint about `reference` (its entry point); margins (S,) nmi and inside (S,)."""
     p0, d0, n = great_circle_frame(reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
-    sites = unit_vectors(np.atleast_1d(np.asarray(sites_latitude_deg, float)),
-                         np.atleast_1d(np.asarray(sites_longitude_deg, float)))
-    m, inside = margins(p0[None], d0[None], n[None], down_nmi, cross_nmi, flight_time_s, sites, shift_deg_s,
-                        radius_nmi)
+    sites = unit_vectors(
+        np.atleast_1d(np.asarray(sites_latitude_deg, float)), np.atleast_1d(np.asarray(sites_longitude_deg, float))
+    )
+    m, inside = margins(p0[None], d0[None], n[None], down_nmi, cross_nmi, flight_time_s, sites, shift_deg_s, radius_nmi)
     return m[0], inside[0]
 
 
 # ---------------------------------------------------------------------------------------- the analysis
-def reach(footprint_down_nmi, footprint_cross_nmi, flight_time_s, sites_lat, sites_lon, orbit: CircularOrbit,
-          revolutions, u_step_deg=1.0, earth_rotation="approximate", entry_offset_nmi=0.0, time_span_s=None,
-          radius_nmi=MEAN_RADIUS_NMI, chunk_elements=CHUNK_ELEMENTS, on_progress=None) -> Reach:
+def reach(
+    footprint_down_nmi,
+    footprint_cross_nmi,
+    flight_time_s,
+    sites_lat,
+    sites_lon,
+    orbit: CircularOrbit,
+    revolutions,
+    u_step_deg=1.0,
+    earth_rotation="approximate",
+    entry_offset_nmi=0.0,
+    time_span_s=None,
+    radius_nmi=MEAN_RADIUS_NMI,
+    chunk_elements=CHUNK_ELEMENTS,
+    on_progress=None,
+) -> Reach:
     """Place the footprint at every deorbit point (revolution, u on a grid of u_step_deg from the node) and
     decide which sites it covers.
 
@@ -195,16 +223,23 @@ def reach(footprint_down_nmi, footprint_cross_nmi, flight_time_s, sites_lat, sit
         if on_progress is not None and on_progress(a / g_total, f"placement {a:,} of {g_total:,}"):
             raise Stopped(f"stopped at placement {a:,} of {g_total:,}")
         b = min(g_total, a + step)
-        margin[a:b], inside[a:b] = margins(p0[a:b], d0[a:b], n[a:b], down, footprint_cross_nmi, flight_time_s,
-                                           sites, shift, radius_nmi)
+        margin[a:b], inside[a:b] = margins(
+            p0[a:b], d0[a:b], n[a:b], down, footprint_cross_nmi, flight_time_s, sites, shift, radius_nmi
+        )
     margin = margin.reshape(len(revs), len(u), s_total)
     inside = inside.reshape(len(revs), len(u), s_total)
     if time_span_s is not None:
         late = t_deorbit > time_span_s + 1e-9
         margin[late] = np.nan
         inside[late] = False
-    return Reach(revolutions=revs, u_deg=u, deorbit_time_s=t_deorbit, margin_nmi=margin, inside=inside,
-                 windows=windows(revs, u, t_deorbit, margin, inside))
+    return Reach(
+        revolutions=revs,
+        u_deg=u,
+        deorbit_time_s=t_deorbit,
+        margin_nmi=margin,
+        inside=inside,
+        windows=windows(revs, u, t_deorbit, margin, inside),
+    )
 
 
 def windows(revs, u, t_deorbit, margin, inside) -> list[Window]:
@@ -225,16 +260,25 @@ def windows(revs, u, t_deorbit, margin, inside) -> list[Window]:
     idx[0::2], idx[1::2] = base + starts, base + stops
     best = np.maximum.reduceat(flat, idx)[0::2]
     order = np.lexsort((starts, rs, ss))
-    return [Window(site=int(ss[i]), revolution=int(revs[rs[i]]), u_start_deg=float(u[starts[i]]),
-                   u_end_deg=float(u[stops[i] - 1]), samples=int(stops[i] - starts[i]),
-                   max_margin_nmi=float(best[i]), deorbit_time_start_s=float(t_deorbit[rs[i], starts[i]]),
-                   deorbit_time_end_s=float(t_deorbit[rs[i], stops[i] - 1]))
-            for i in order]
+    return [
+        Window(
+            site=int(ss[i]),
+            revolution=int(revs[rs[i]]),
+            u_start_deg=float(u[starts[i]]),
+            u_end_deg=float(u[stops[i] - 1]),
+            samples=int(stops[i] - starts[i]),
+            max_margin_nmi=float(best[i]),
+            deorbit_time_start_s=float(t_deorbit[rs[i], starts[i]]),
+            deorbit_time_end_s=float(t_deorbit[rs[i], stops[i] - 1]),
+        )
+        for i in order
+    ]
 
 
 # --------------------------------------------------------------------------- a plain-Python reference
-def margins_reference(frames_list, down_nmi, cross_nmi, flight_time_s, sites_latlon_deg, shift_deg_s=0.0,
-                      radius_nmi=MEAN_RADIUS_NMI):
+def margins_reference(
+    frames_list, down_nmi, cross_nmi, flight_time_s, sites_latlon_deg, shift_deg_s=0.0, radius_nmi=MEAN_RADIUS_NMI
+):
     """The same margins by a plain Python loop over placements, sites, branches and edges (math only).
 
     frames_list: [(p0, d0, n)] 3-sequences; sites_latlon_deg: [(lat, lon)]. Returns a list of rows of
@@ -244,8 +288,10 @@ def margins_reference(frames_list, down_nmi, cross_nmi, flight_time_s, sites_lat
     for lat, lon in sites_latlon_deg:
         la, lo = math.radians(lat), math.radians(lon)
         sites.append((math.cos(la) * math.cos(lo), math.cos(la) * math.sin(lo), math.sin(la)))
-    poly = [(d / radius_nmi, c / radius_nmi, math.radians(shift_deg_s * t))
-            for d, c, t in zip(down_nmi, cross_nmi, flight_time_s)]
+    poly = [
+        (d / radius_nmi, c / radius_nmi, math.radians(shift_deg_s * t))
+        for d, c, t in zip(down_nmi, cross_nmi, flight_time_s)
+    ]
     eps = ON_BOUNDARY_NMI / radius_nmi
     rows = []
     for p0, d0, n in frames_list:

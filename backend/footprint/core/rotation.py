@@ -71,8 +71,12 @@ def distance_nmi(lat1_deg, lon1_deg, lat2_deg, lon2_deg, radius_nmi=MEAN_RADIUS_
 def at_geometry(spec: FlightSpec, dst: Reference, rotating=None, velocity_frame=None) -> FlightSpec:
     """The same case with its entry latitude, longitude and heading replaced (and, when given, the planet's
     rotation and the frame of the entry speed, flight-path angle and heading)."""
-    entry = replace(spec.entry, latitude_deg=float(dst.latitude_deg), longitude_deg=float(dst.longitude_deg),
-                    heading_deg=float(dst.heading_deg))
+    entry = replace(
+        spec.entry,
+        latitude_deg=float(dst.latitude_deg),
+        longitude_deg=float(dst.longitude_deg),
+        heading_deg=float(dst.heading_deg),
+    )
     if velocity_frame is not None:
         if velocity_frame not in VELOCITY_FRAMES:
             raise ValueError(f"velocity_frame {velocity_frame!r}: one of {VELOCITY_FRAMES}")
@@ -81,8 +85,9 @@ def at_geometry(spec: FlightSpec, dst: Reference, rotating=None, velocity_frame=
     return replace(spec, entry=entry, planet=planet)
 
 
-def fly_at(spec: FlightSpec, method: str, params: dict, dst: Reference, rotating=True,
-           velocity_frame=None) -> Footprint:
+def fly_at(
+    spec: FlightSpec, method: str, params: dict, dst: Reference, rotating=True, velocity_frame=None
+) -> Footprint:
     """The exact alternative: the footprint flown again from the new geometry (on the rotating earth)."""
     return footprint(at_geometry(spec, dst, rotating, velocity_frame), method, **params)
 
@@ -101,8 +106,9 @@ def point_key(p: FootprintPoint):
     return control_key(p.side, p.parameter)
 
 
-def approximate_points(fp: Footprint, dst: Reference, step_downrange_nmi=0.0,
-                       omega_deg_s=OMEGA_EARTH_DEG_S, points=None):
+def approximate_points(
+    fp: Footprint, dst: Reference, step_downrange_nmi=0.0, omega_deg_s=OMEGA_EARTH_DEG_S, points=None
+):
     """The report's way: each point of a non-rotating footprint moved to dst (plus the step) and shifted
     west by omega_p t with its own flight time (Section IV.3). Returns (latitude_deg, longitude_deg)."""
     pts = all_points(fp) if points is None else points
@@ -137,17 +143,31 @@ class Comparison:
         return sum(r["error_nmi"] for r in self.rows) / len(self.rows)
 
     def to_dict(self):
-        return {"destination": vars(self.destination), "velocity_frame": self.velocity_frame,
-                "max_error_nmi": self.max_error_nmi, "mean_error_nmi": self.mean_error_nmi,
-                "unmatched": self.unmatched, "flight_time_nonrotating_s": list(self.flight_time_nonrotating_s),
-                "flight_time_exact_s": list(self.flight_time_exact_s),
-                "downrange_extent_nmi": self.downrange_extent_nmi, "move_error_nmi": self.move_error_nmi,
-                "rows": self.rows}
+        return {
+            "destination": vars(self.destination),
+            "velocity_frame": self.velocity_frame,
+            "max_error_nmi": self.max_error_nmi,
+            "mean_error_nmi": self.mean_error_nmi,
+            "unmatched": self.unmatched,
+            "flight_time_nonrotating_s": list(self.flight_time_nonrotating_s),
+            "flight_time_exact_s": list(self.flight_time_exact_s),
+            "downrange_extent_nmi": self.downrange_extent_nmi,
+            "move_error_nmi": self.move_error_nmi,
+            "rows": self.rows,
+        }
 
 
-def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Reference, step_downrange_nmi=0.0,
-                         velocity_frame="inertial", omega_deg_s=None, nonrotating: Footprint | None = None,
-                         with_move_error=True) -> Comparison:
+def approximate_vs_exact(
+    spec: FlightSpec,
+    method: str,
+    params: dict,
+    dst: Reference,
+    step_downrange_nmi=0.0,
+    velocity_frame="inertial",
+    omega_deg_s=None,
+    nonrotating: Footprint | None = None,
+    with_move_error=True,
+) -> Comparison:
     """Fly `method` on a non-rotating earth from the spec's own entry (or take `nonrotating`), move it to
     dst (+ step) and shift it by omega_p t; fly it again on the rotating earth from dst (+ step); compare.
 
@@ -170,17 +190,30 @@ def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Refer
     down_a, cross_a = ranges_near(alat, alon, start, [p.downrange_nmi for p in pa])
     rows = []
     for i, (a, e) in enumerate(zip(pa, pe)):
-        rows.append({"side": a.side, "parameter": a.parameter,
-                     "flight_time_nonrotating_s": a.flight_time_s, "flight_time_exact_s": e.flight_time_s,
-                     "approximate_latitude_deg": float(alat[i]), "approximate_longitude_deg": float(alon[i]),
-                     "exact_latitude_deg": e.latitude_deg, "exact_longitude_deg": e.longitude_deg,
-                     "approximate_downrange_nmi": float(down_a[i]), "approximate_crossrange_nmi": float(cross_a[i]),
-                     "exact_downrange_nmi": e.downrange_nmi, "exact_crossrange_nmi": e.crossrange_nmi,
-                     "error_nmi": float(err[i])})
+        rows.append(
+            {
+                "side": a.side,
+                "parameter": a.parameter,
+                "flight_time_nonrotating_s": a.flight_time_s,
+                "flight_time_exact_s": e.flight_time_s,
+                "approximate_latitude_deg": float(alat[i]),
+                "approximate_longitude_deg": float(alon[i]),
+                "exact_latitude_deg": e.latitude_deg,
+                "exact_longitude_deg": e.longitude_deg,
+                "approximate_downrange_nmi": float(down_a[i]),
+                "approximate_crossrange_nmi": float(cross_a[i]),
+                "exact_downrange_nmi": e.downrange_nmi,
+                "exact_crossrange_nmi": e.crossrange_nmi,
+                "error_nmi": float(err[i]),
+            }
+        )
 
     # a move keeps each point's ranges: the non-rotating footprint's extent is its own
-    extent = {"nonrotating": _extent([p.downrange_nmi for p in pa]), "approximate": _extent(down_a),
-              "exact": _extent([p.downrange_nmi for p in pe])}
+    extent = {
+        "nonrotating": _extent([p.downrange_nmi for p in pa]),
+        "approximate": _extent(down_a),
+        "exact": _extent([p.downrange_nmi for p in pe]),
+    }
 
     move_error = None
     if with_move_error:
@@ -188,8 +221,13 @@ def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Refer
         there = {point_key(p): p for p in all_points(flat)}
         both = [k for k in keys if k in there]
         src_pts = [ours[k] for k in both]
-        mlat2, mlon2 = move([p.latitude_deg for p in src_pts], [p.longitude_deg for p in src_pts],
-                            Reference(**base.entry), dst, step_downrange_nmi)
+        mlat2, mlon2 = move(
+            [p.latitude_deg for p in src_pts],
+            [p.longitude_deg for p in src_pts],
+            Reference(**base.entry),
+            dst,
+            step_downrange_nmi,
+        )
         e2 = distance_nmi(mlat2, mlon2, [there[k].latitude_deg for k in both], [there[k].longitude_deg for k in both])
         move_error = {"max_nmi": float(np.max(e2)), "mean_nmi": float(np.mean(e2))}
 
@@ -197,10 +235,18 @@ def approximate_vs_exact(spec: FlightSpec, method: str, params: dict, dst: Refer
         t = [p.flight_time_s for p in pts]
         return (min(t), max(t))
 
-    return Comparison(destination=start, velocity_frame=velocity_frame or spec.entry.velocity_frame, rows=rows,
-                      unmatched=len(ours) + len(theirs) - 2 * len(keys),
-                      flight_time_nonrotating_s=times(all_points(base)), flight_time_exact_s=times(all_points(exact)),
-                      downrange_extent_nmi=extent, move_error_nmi=move_error, nonrotating=base, exact=exact)
+    return Comparison(
+        destination=start,
+        velocity_frame=velocity_frame or spec.entry.velocity_frame,
+        rows=rows,
+        unmatched=len(ours) + len(theirs) - 2 * len(keys),
+        flight_time_nonrotating_s=times(all_points(base)),
+        flight_time_exact_s=times(all_points(exact)),
+        downrange_extent_nmi=extent,
+        move_error_nmi=move_error,
+        nonrotating=base,
+        exact=exact,
+    )
 
 
 def ranges_near(lat, lon, ref: Reference, near_downrange_nmi):
@@ -226,6 +272,10 @@ def shift_error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) 
     pairs = [(a, flown[k]) for s, a in zip(stored, shifted) if (k := control_key(s["side"], s["parameter"])) in flown]
     if not pairs:
         return {"max": None, "mean": None, "points": 0}
-    d = distance_nmi([a["latitude_deg"] for a, _ in pairs], [a["longitude_deg"] for a, _ in pairs],
-                     [e["latitude_deg"] for _, e in pairs], [e["longitude_deg"] for _, e in pairs])
+    d = distance_nmi(
+        [a["latitude_deg"] for a, _ in pairs],
+        [a["longitude_deg"] for a, _ in pairs],
+        [e["latitude_deg"] for _, e in pairs],
+        [e["longitude_deg"] for _, e in pairs],
+    )
     return {"max": float(d.max()), "mean": float(d.mean()), "points": len(pairs)}

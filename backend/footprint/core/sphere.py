@@ -63,8 +63,9 @@ def unwrap_longitude(longitude_deg, reference_deg=None) -> np.ndarray:
 def unit_vectors(latitude_deg, longitude_deg):
     """Unit vectors (..., 3) of points given by latitude and longitude (deg; broadcast together): x towards
     latitude 0, longitude 0, z towards the north pole."""
-    lat, lon = np.broadcast_arrays(np.radians(np.asarray(latitude_deg, float)),
-                                   np.radians(np.asarray(longitude_deg, float)))
+    lat, lon = np.broadcast_arrays(
+        np.radians(np.asarray(latitude_deg, float)), np.radians(np.asarray(longitude_deg, float))
+    )
     return np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)  # spherical to xyz
 
 
@@ -104,8 +105,9 @@ def great_circle(ref: Reference, downrange_deg):
 
 
 # ------------------------------------------------------------------------------- eqs. (8)-(15): ranges
-def latlon_from_ranges(downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_deg, heading0_deg,
-                       radius_nmi=MEAN_RADIUS_NMI):
+def latlon_from_ranges(
+    downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_deg, heading0_deg, radius_nmi=MEAN_RADIUS_NMI
+):
     """Inverse of downrange_crossrange_nmi in closed form (the report iterates, eqs. 12-15):
     P = cos(c) (cos(d) p0 + sin(d) d0) + sin(c) n with d, c the ranges as angles. Returns (lat, lon) deg."""
     p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
@@ -114,8 +116,16 @@ def latlon_from_ranges(downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_
     return latlon_of(np.cos(b) * (np.cos(a) * p0 + np.sin(a) * d0) + np.sin(b) * n)
 
 
-def downrange_crossrange_nmi(latitude_deg, longitude_deg, latitude0_deg, longitude0_deg, heading0_deg,
-                             radius_nmi=MEAN_RADIUS_NMI, unwrap=False, frame=None):
+def downrange_crossrange_nmi(
+    latitude_deg,
+    longitude_deg,
+    latitude0_deg,
+    longitude0_deg,
+    heading0_deg,
+    radius_nmi=MEAN_RADIUS_NMI,
+    unwrap=False,
+    frame=None,
+):
     """Down-range and cross-range (nmi) of points about the great circle through the initial point
     (eqs. 8-11 in closed form, see the module docstring).
 
@@ -155,8 +165,9 @@ def rotation(src: Reference, dst: Reference, step_downrange_nmi=0.0, radius_nmi=
     return frame(dst) @ step @ frame(src).T  # R = F_to . S(step) . F_from^T
 
 
-def move(latitude_deg, longitude_deg, src: Reference, dst: Reference, step_downrange_nmi=0.0,
-         radius_nmi=MEAN_RADIUS_NMI):
+def move(
+    latitude_deg, longitude_deg, src: Reference, dst: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI
+):
     """Re-node, re-incline and step around the orbit in one: (lat, lon) in degrees, arrays of any shape."""
     u = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
     v = u @ rotation(src, dst, step_downrange_nmi, radius_nmi).T
@@ -186,8 +197,11 @@ def heading_for_inclination(latitude_deg, inclination_deg, ascending=True):
     lat, inc = np.radians(latitude_deg), np.radians(inclination_deg)
     s = np.cos(inc) / np.cos(lat)
     if np.any(np.abs(s) > 1.0 + 1e-12):
-        raise InputError("inclination_deg", f"an orbit of inclination {inclination_deg} deg never reaches "
-                                            f"latitude {latitude_deg} deg (it reaches +-{min(inclination_deg, 180 - inclination_deg)} deg)")
+        raise InputError(
+            "inclination_deg",
+            f"an orbit of inclination {inclination_deg} deg never reaches "
+            f"latitude {latitude_deg} deg (it reaches +-{min(inclination_deg, 180 - inclination_deg)} deg)",
+        )
     az = np.degrees(np.arcsin(np.clip(s, -1.0, 1.0)))
     return az if ascending else 180.0 - az
 

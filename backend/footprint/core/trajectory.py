@@ -16,12 +16,14 @@ from footprint.core import constants as c
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
 from footprint.core.atmosphere import DENSITY_NODE_COUNT, MODEL_IDS, density_factor_table, isothermal_temperature_R
+from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
 from footprint.core.dynamics import (
     M_BANK_ACTIVE,
+    M_BANK_DONE,
+    M_HOLD_ALT,
     M_PULLED_OUT,
     M_PULLOUT_ALT,
     M_PULLOUT_T,
-    M_BANK_DONE,
     M_REF_ANGLE,
     M_SIZE,
     M_TURN_DONE_DEG,
@@ -51,17 +53,34 @@ from footprint.core.dynamics import (
     P_STOP_TIME,
     P_STOP_VEL,
     P_WS,
-    M_HOLD_ALT,
     energy_height_ft,
     steering_angles,
 )
-from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
 from footprint.core.errors import InputError
-from footprint.core.frames import ecef_from_geodetic, flight_angles, geodetic_from_ecef, horizon_basis, \
-    velocity_from_angles
+from footprint.core.frames import (
+    ecef_from_geodetic,
+    flight_angles,
+    geodetic_from_ecef,
+    horizon_basis,
+    velocity_from_angles,
+)
 from footprint.core.heating import CorrelationHeating, ReferenceHeating, trajectory_heating
 from footprint.core.integrate import (
-    R_ALPHA, R_ALT, R_BANK, R_CD, R_CL, R_MACH, R_Q, R_SIN_GAMMA, R_T, R_V, R_X, R_Y, R_Z, STOP_REASONS, integrate,
+    R_ALPHA,
+    R_ALT,
+    R_BANK,
+    R_CD,
+    R_CL,
+    R_MACH,
+    R_Q,
+    R_SIN_GAMMA,
+    R_T,
+    R_V,
+    R_X,
+    R_Y,
+    R_Z,
+    STOP_REASONS,
+    integrate,
 )
 from footprint.core.sphere import downrange_crossrange_nmi, great_circle_frame
 
@@ -126,11 +145,15 @@ class Dispersion:
         if self.density_delta is not None:
             delta = np.asarray(self.density_delta, dtype=float)
             if delta.shape != (DENSITY_NODE_COUNT,):
-                raise InputError("dispersion.density_delta", f"{delta.shape} values; need {DENSITY_NODE_COUNT}, "
-                                 "one per node of atmosphere.DENSITY_NODES_FT")
+                raise InputError(
+                    "dispersion.density_delta",
+                    f"{delta.shape} values; need {DENSITY_NODE_COUNT}, one per node of atmosphere.DENSITY_NODES_FT",
+                )
             if not np.all(np.isfinite(delta) & (delta > -1.0)):
-                raise InputError("dispersion.density_delta", f"min {np.min(delta)!r}: every delta must be finite "
-                                 "and > -1 (a positive density)")
+                raise InputError(
+                    "dispersion.density_delta",
+                    f"min {np.min(delta)!r}: every delta must be finite and > -1 (a positive density)",
+                )
             object.__setattr__(self, "density_delta", tuple(delta.tolist()))
 
 
@@ -185,17 +208,17 @@ def pack_parameters(spec: FlightSpec) -> np.ndarray:
     p[P_CL_MULTIPLIER], p[P_CD_MULTIPLIER] = d.cl_multiplier, d.cd_multiplier
     if d.density_delta is not None:
         p[P_DENSITY_DISPERSED] = 1.0
-        p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT] = d.density_delta
+        p[P_DENSITY_DELTA : P_DENSITY_DELTA + DENSITY_NODE_COUNT] = d.density_delta
     return p
 
 
 def initial_state(spec: FlightSpec, p: np.ndarray) -> np.ndarray:
     """Earth-fixed state at entry; an inertial entry velocity loses the earth's rotation omega x r."""
     e, oblate = spec.entry, p[P_OBLATE] != 0.0
-    x, y, z = ecef_from_geodetic(math.radians(e.latitude_deg), math.radians(e.longitude_deg), e.altitude_ft,
-                                 p[P_RE], p[P_RP], oblate)
-    vx, vy, vz = velocity_from_angles(x, y, z, e.velocity_fps, math.radians(e.gamma_deg),
-                                      math.radians(e.heading_deg))
+    x, y, z = ecef_from_geodetic(
+        math.radians(e.latitude_deg), math.radians(e.longitude_deg), e.altitude_ft, p[P_RE], p[P_RP], oblate
+    )
+    vx, vy, vz = velocity_from_angles(x, y, z, e.velocity_fps, math.radians(e.gamma_deg), math.radians(e.heading_deg))
     if e.velocity_frame == "inertial":
         w = p[P_OMEGA]
         vx, vy = vx + w * y, vy - w * x  # v_rel = v_inertial - omega x r, omega along +z
@@ -207,7 +230,7 @@ def _set_left_pole(p, s0, heading_deg):
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(s0[0], s0[1], s0[2])
     hdg = math.radians(heading_deg)
     d = np.array([nx, ny, nz]) * math.cos(hdg) + np.array([ex, ey, ez]) * math.sin(hdg)
-    p[P_POLE_X:P_POLE_X + 3] = np.cross([ux, uy, uz], d)
+    p[P_POLE_X : P_POLE_X + 3] = np.cross([ux, uy, uz], d)
 
 
 def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
@@ -219,8 +242,11 @@ def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
         mode[M_PULLED_OUT], mode[M_PULLOUT_T], mode[M_PULLOUT_ALT] = 1.0, 0.0, spec.entry.altitude_ft
         mode[M_HOLD_ALT] = spec.entry.altitude_ft
     start = int(ctrl[C_START])
-    if start == START_ENTRY or (start == START_ALTITUDE and spec.entry.altitude_ft <= ctrl[C_START_ALT]) \
-            or (mode[M_PULLED_OUT] and start != START_ALTITUDE):
+    if (
+        start == START_ENTRY
+        or (start == START_ALTITUDE and spec.entry.altitude_ft <= ctrl[C_START_ALT])
+        or (mode[M_PULLED_OUT] and start != START_ALTITUDE)
+    ):
         mode[M_BANK_ACTIVE] = 1.0
         mode[M_REF_ANGLE] = steering_angle_deg(ctrl, zeta, heading)
     return mode
@@ -317,8 +343,9 @@ def _track(spec, p, rows, frame=None) -> _Track:
     lat, lon, heading = _geodetic_history(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     lat, lon = np.degrees(lat), np.degrees(lon)
     e = spec.entry
-    down, cross = downrange_crossrange_nmi(lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True,
-                                           frame=frame)
+    down, cross = downrange_crossrange_nmi(
+        lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True, frame=frame
+    )
     gamma = np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1)))
     return _Track(lat, lon, np.degrees(heading), gamma, down, cross)
 
@@ -383,9 +410,16 @@ def _heating(spec, p, rows):
         return None
     factor = None
     if p[P_DENSITY_DISPERSED] != 0.0:
-        factor = density_factor_table(p[P_DENSITY_DELTA:P_DENSITY_DELTA + DENSITY_NODE_COUNT], rows[:, R_ALT])
-    return trajectory_heating(spec.heating, rows[:, R_ALT], rows[:, R_V], rows[:, R_ALPHA],
-                              (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]), rows[:, R_T], density_factor=factor)
+        factor = density_factor_table(p[P_DENSITY_DELTA : P_DENSITY_DELTA + DENSITY_NODE_COUNT], rows[:, R_ALT])
+    return trajectory_heating(
+        spec.heating,
+        rows[:, R_ALT],
+        rows[:, R_V],
+        rows[:, R_ALPHA],
+        (p[P_ATM], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T]),
+        rows[:, R_T],
+        density_factor=factor,
+    )
 
 
 def _summary(spec, f: _Flight, track: _Track, at_pullout: int, heating) -> dict:
@@ -417,8 +451,9 @@ def _summary(spec, f: _Flight, track: _Track, at_pullout: int, heating) -> dict:
         "turn_deg": float(mode[M_TURN_DONE_DEG]) if mode[M_BANK_DONE] != 0.0 else None,  # staged, constant altitude
         "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
         # load factor sqrt(L^2 + D^2) / W = q sqrt(CL^2 + CD^2) / (W/S)
-        "max_load_factor": float(np.max(rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD]))
-                                 / spec.vehicle.wing_loading_psf),
+        "max_load_factor": float(
+            np.max(rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD])) / spec.vehicle.wing_loading_psf
+        ),
         "final_energy_ft": float(energy_height_ft(rows[-1, R_ALT], rows[-1, R_V], c.G0_FT_S2)),
         "heat_load_btu_ft2": heat_load,
         "max_heat_rate_btu_ft2_s": max_heat_rate,

@@ -26,8 +26,16 @@ PNG_DPI = 150
 LABEL_OFFSET_PT = 7.0  # how far a point's label sits from its marker
 SITE_MARGIN = 0.05  # a dispersion figure draws the sites within this fraction of the landings' extent
 # line style and marker pairs that stay distinct when printed in black and white
-LINE_STYLES = [("-", "o"), ("--", "s"), ("-.", "^"), (":", "D"), ((0, (8, 3)), "v"),
-               ((0, (5, 2, 1, 2, 1, 2)), "x"), ((0, (1, 1)), "P"), ((0, (10, 2, 2, 2)), "*")]
+LINE_STYLES = [
+    ("-", "o"),
+    ("--", "s"),
+    ("-.", "^"),
+    (":", "D"),
+    ((0, (8, 3)), "v"),
+    ((0, (5, 2, 1, 2, 1, 2)), "x"),
+    ((0, (1, 1)), "P"),
+    ((0, (10, 2, 2, 2)), "*"),
+]
 
 
 # ------------------------------------------------------------------------------------------ footprints
@@ -74,20 +82,51 @@ def dispersion_figure(result, title=None, ax=None) -> Figure:
     fig, ax = _axes(ax, figsize=(9.0, 6.5))
     ax.axhline(0.0, color="0.85", lw=0.8, zorder=0)
     b = result.nominal_boundary
-    ax.plot(b["downrange_nmi"] + b["downrange_nmi"][:1], b["crossrange_nmi"] + b["crossrange_nmi"][:1], "k-",
-            lw=1.2, label="nominal footprint", gid="nominal")
+    ax.plot(
+        b["downrange_nmi"] + b["downrange_nmi"][:1],
+        b["crossrange_nmi"] + b["crossrange_nmi"][:1],
+        "k-",
+        lw=1.2,
+        label="nominal footprint",
+        gid="nominal",
+    )
     down, cross = result.clouds["downrange_nmi"], result.clouds["crossrange_nmi"]
-    ax.plot(down.ravel(), cross.ravel(), ".", color="0.55", ms=1.0, alpha=0.5, ls="none", gid="clouds",
-            label=f"landings of {result.samples:,} samples", rasterized=True)
+    ax.plot(
+        down.ravel(),
+        cross.ravel(),
+        ".",
+        color="0.55",
+        ms=1.0,
+        alpha=0.5,
+        ls="none",
+        gid="clouds",
+        label=f"landings of {result.samples:,} samples",
+        rasterized=True,
+    )
     for i, f in enumerate(result.flights):
         if "3" in f.get("ellipses", {}):
             e = f["ellipses"]["3"]
-            ax.plot(e["downrange_nmi"], e["crossrange_nmi"], "-", color="tab:blue", lw=0.9, gid="ellipse",
-                    label=r"3$\sigma$ ellipses" if i == 0 else None)
+            ax.plot(
+                e["downrange_nmi"],
+                e["crossrange_nmi"],
+                "-",
+                color="tab:blue",
+                lw=0.9,
+                gid="ellipse",
+                label=r"3$\sigma$ ellipses" if i == 0 else None,
+            )
     for c, ls, color in zip(result.confidence, cycle(["--", "-.", ":"]), cycle(["tab:orange", "tab:red", "purple"])):
         for j, ring in enumerate(c["rings"]):  # above the nominal boundary, which the p = 0.5 ring lies near
-            ax.plot(ring["downrange_nmi"], ring["crossrange_nmi"], ls=ls, color=color, lw=1.5, gid="confidence",
-                    zorder=3, label=f"reached with probability $\\geq$ {c['level']:g}" if j == 0 else None)
+            ax.plot(
+                ring["downrange_nmi"],
+                ring["crossrange_nmi"],
+                ls=ls,
+                color=color,
+                lw=1.5,
+                gid="confidence",
+                zorder=3,
+                label=f"reached with probability $\\geq$ {c['level']:g}" if j == 0 else None,
+            )
     x = np.concatenate([np.ravel(down), b["downrange_nmi"]])
     y = np.concatenate([np.ravel(cross), b["crossrange_nmi"]])
     x_lo, x_hi, y_lo, y_hi = np.nanmin(x), np.nanmax(x), np.nanmin(y), np.nanmax(y)
@@ -104,15 +143,31 @@ def dispersion_figure(result, title=None, ax=None) -> Figure:
         ux, uy = (d - x_mid) / (x_hi - x_lo), (c - y_mid) / (y_hi - y_lo)  # outward from the middle
         n = max((ux * ux + uy * uy) ** 0.5, 1e-9)
         ox, oy = LABEL_OFFSET_PT * ux / n, LABEL_OFFSET_PT * uy / n
-        ax.annotate(name, (d, c), textcoords="offset points", xytext=(ox, oy), fontsize="x-small", zorder=4,
-                    ha="left" if ox > 2 else "right" if ox < -2 else "center",
-                    va="bottom" if oy > 2 else "top" if oy < -2 else "center", gid="site_label")
+        ax.annotate(
+            name,
+            (d, c),
+            textcoords="offset points",
+            xytext=(ox, oy),
+            fontsize="x-small",
+            zorder=4,
+            ha="left" if ox > 2 else "right" if ox < -2 else "center",
+            va="bottom" if oy > 2 else "top" if oy < -2 else "center",
+            gid="site_label",
+        )
     ax.legend(fontsize="small", loc="best")
     _range_axes(ax, title)
     if beyond:
-        ax.annotate(fill("Beyond the landings, not drawn: " + ", ".join(beyond), 130), (0.5, 0.0),
-                    xycoords="axes fraction", xytext=(0, -30), textcoords="offset points", ha="center", va="top",
-                    fontsize="x-small", gid="caption")
+        ax.annotate(
+            fill("Beyond the landings, not drawn: " + ", ".join(beyond), 130),
+            (0.5, 0.0),
+            xycoords="axes fraction",
+            xytext=(0, -30),
+            textcoords="offset points",
+            ha="center",
+            va="top",
+            fontsize="x-small",
+            gid="caption",
+        )
     return fig
 
 
@@ -157,10 +212,12 @@ def histories_figure(trajectories: dict[str, Trajectory], title=None) -> Figure:
     """Altitude-velocity (Figs. 17, 18), altitude and bank against time, and the ground track."""
     fig = Figure(figsize=(10.0, 7.5), layout="constrained")
     axes = fig.subplots(2, 2)
-    panels = [("velocity_fps", 1e-3, "Velocity (1000 ft/s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
-              ("time_s", 1.0, "Time (s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
-              ("time_s", 1.0, "Time (s)", "bank_deg", 1.0, "Bank angle (deg)"),
-              ("downrange_nmi", 1.0, DOWNRANGE_LABEL, "crossrange_nmi", 1.0, CROSSRANGE_LABEL)]
+    panels = [
+        ("velocity_fps", 1e-3, "Velocity (1000 ft/s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
+        ("time_s", 1.0, "Time (s)", "altitude_ft", 1e-3, "Altitude (1000 ft)"),
+        ("time_s", 1.0, "Time (s)", "bank_deg", 1.0, "Bank angle (deg)"),
+        ("downrange_nmi", 1.0, DOWNRANGE_LABEL, "crossrange_nmi", 1.0, CROSSRANGE_LABEL),
+    ]
     for ax, (xk, xs, xl, yk, ys, yl) in zip(axes.flat, panels):
         for (name, t), (ls, _) in zip(trajectories.items(), cycle(LINE_STYLES)):
             ax.plot(t.history[xk] * xs, t.history[yk] * ys, ls=ls, lw=1.1, label=name)
@@ -201,13 +258,18 @@ def pullout_carpet_figure(rows, title=None) -> Figure:
     with_range = any(r.get("pullout_downrange_nmi") is not None for r in rows)
     fig = Figure(figsize=(11.0 if with_range else 6.5, 5.0), layout="constrained")
     axes = fig.subplots(1, 2 if with_range else 1, squeeze=False)[0]
-    panels = [("pullout_altitude_ft", 1e-3, "Pull-out altitude (1000 ft)"),
-              ("pullout_downrange_nmi", 1.0, "Down-range to pull-out (n.mi.)")][:len(axes)]
+    panels = [
+        ("pullout_altitude_ft", 1e-3, "Pull-out altitude (1000 ft)"),
+        ("pullout_downrange_nmi", 1.0, "Down-range to pull-out (n.mi.)"),
+    ][: len(axes)]
     velocities = sorted({r["entry_velocity_fps"] for r in rows})
     for ax, (key, scale, label) in zip(axes, panels):
         for v, (ls, marker) in zip(velocities, cycle(LINE_STYLES)):
-            pts = sorted((r["entry_gamma_deg"], r[key] * scale) for r in rows
-                         if r["entry_velocity_fps"] == v and r.get(key) is not None)
+            pts = sorted(
+                (r["entry_gamma_deg"], r[key] * scale)
+                for r in rows
+                if r["entry_velocity_fps"] == v and r.get(key) is not None
+            )
             if pts:
                 ax.plot(*zip(*pts), ls=ls, marker=marker, ms=4, lw=1.2, label=f"{v:,.0f} ft/s")
         ax.set_xlabel(r"Entry flight-path angle $\gamma_e$ (deg)")
@@ -222,8 +284,13 @@ def pullout_carpet_figure(rows, title=None) -> Figure:
 
 # ------------------------------------------------------------------------------------------------ files
 # the searched tables' abscissae (constrained.NODE_LABELS) as axis labels
-NODE_AXES = {"zeta": "Remaining heading change ζ (deg)", "heading_deg": "Heading σ (deg)", "time_s": "Time (s)",
-             "velocity_fps": "Earth-relative velocity (ft/s)", "energy_ft": "Energy height h + V²/2g₀ (ft)"}
+NODE_AXES = {
+    "zeta": "Remaining heading change ζ (deg)",
+    "heading_deg": "Heading σ (deg)",
+    "time_s": "Time (s)",
+    "velocity_fps": "Earth-relative velocity (ft/s)",
+    "energy_ft": "Energy height h + V²/2g₀ (ft)",
+}
 
 
 def optimization_figure(result, title=None) -> Figure:
@@ -245,8 +312,11 @@ def optimization_figure(result, title=None) -> Figure:
         ax.set_xlabel(NODE_AXES[label])
         ax.set_ylabel(f"{'Bank angle' if angle == 'bank' else 'Angle of attack'} (deg)")
         ax.grid(alpha=0.3)
-    fig.suptitle(title or f"{result.method}: payoff {result.payoff:,.1f}, {result.trajectories} trajectories"
-                 + ("" if result.feasible else " (infeasible)"))
+    fig.suptitle(
+        title
+        or f"{result.method}: payoff {result.payoff:,.1f}, {result.trajectories} trajectories"
+        + ("" if result.feasible else " (infeasible)")
+    )
     return fig
 
 
@@ -254,7 +324,11 @@ def collocation_figure(result, title=None) -> Figure:
     """A true optimum (core.collocation): altitude, alpha and bank, and (with heating) the temperature against
     time, the NLP's points beside the re-flight's end (the dashed line marks the flown final time)."""
     h = result.history
-    panels = [("altitude_ft", "Altitude (ft)"), ("alpha_deg", "Angle of attack (deg)"), ("bank_deg", "Bank angle (deg)")]
+    panels = [
+        ("altitude_ft", "Altitude (ft)"),
+        ("alpha_deg", "Angle of attack (deg)"),
+        ("bank_deg", "Bank angle (deg)"),
+    ]
     if "temperature_R" in h and np.all(np.isfinite(h["temperature_R"])):
         panels.append(("temperature_R", "Radiation-equilibrium temperature (degR)"))
     elif "heat_rate_btu_ft2_s" in h:
@@ -268,13 +342,23 @@ def collocation_figure(result, title=None) -> Figure:
         ax.set_xlabel("Time (s)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    for ax in axes[len(panels):]:
+    for ax in axes[len(panels) :]:
         ax.set_visible(False)
     s, a = result.summary, result.agreement
-    agree = "" if a is None else (f"; re-flown: {a['latitude_deg']:.4f} deg lat, {a['longitude_deg']:.4f} deg lon, "
-                                  f"{100 * a['downrange_rel']:.3f} % down-range")
-    fig.suptitle(title or f"collocation {result.status}: down-range {s['downrange_nmi']:,.1f} nmi, cross-range "
-                 f"{s['crossrange_nmi']:,.1f} nmi, {s['flight_time_s']:,.0f} s{agree}", fontsize=9)
+    agree = (
+        ""
+        if a is None
+        else (
+            f"; re-flown: {a['latitude_deg']:.4f} deg lat, {a['longitude_deg']:.4f} deg lon, "
+            f"{100 * a['downrange_rel']:.3f} % down-range"
+        )
+    )
+    fig.suptitle(
+        title
+        or f"collocation {result.status}: down-range {s['downrange_nmi']:,.1f} nmi, cross-range "
+        f"{s['crossrange_nmi']:,.1f} nmi, {s['flight_time_s']:,.0f} s{agree}",
+        fontsize=9,
+    )
     fig.tight_layout()
     return fig
 
@@ -373,20 +457,38 @@ def _label_points(ax, fp: Footprint):
             ux, uy = (p.downrange_nmi - d_mid) / d_span, p.crossrange_nmi / c_span
             n = max((ux * ux + uy * uy) ** 0.5, 1e-9)
             ox, oy = LABEL_OFFSET_PT * ux / n, LABEL_OFFSET_PT * uy / n
-        ax.annotate(label, (p.downrange_nmi, p.crossrange_nmi), xytext=(ox, oy),
-                    textcoords="offset points", fontsize=7.5,
-                    ha="left" if ox > 2 else "right" if ox < -2 else "center",
-                    va="bottom" if oy > 2 else "top" if oy < -2 else "center")
+        ax.annotate(
+            label,
+            (p.downrange_nmi, p.crossrange_nmi),
+            xytext=(ox, oy),
+            textcoords="offset points",
+            fontsize=7.5,
+            ha="left" if ox > 2 else "right" if ox < -2 else "center",
+            va="bottom" if oy > 2 else "top" if oy < -2 else "center",
+        )
 
 
 def _caption(ax, fp: Footprint):
     reflected, inside = sum(p.mirrored for p in fp.points), len(_interior(fp))
     work = f"{fp.trajectories} trajectories"
     if fp.method == "collocation":
-        work = (f"{fp.trajectories} IPOPT solves, re-flown within "
-                f"{max(p.parameter['agreement_deg'] for p in fp.points):.2g}°")
-    text = (f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {work}"
-            + (f"  ·  {reflected} points reflected" if reflected else "")
-            + (f"  ·  {inside} inside (×)" if inside else ""))
-    ax.annotate(text, (0.5, 0.0), xycoords="axes fraction", xytext=(0, -30), textcoords="offset points",
-                ha="center", va="top", fontsize="small", gid="caption")
+        work = (
+            f"{fp.trajectories} IPOPT solves, re-flown within "
+            f"{max(p.parameter['agreement_deg'] for p in fp.points):.2g}°"
+        )
+    text = (
+        f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {work}"
+        + (f"  ·  {reflected} points reflected" if reflected else "")
+        + (f"  ·  {inside} inside (×)" if inside else "")
+    )
+    ax.annotate(
+        text,
+        (0.5, 0.0),
+        xycoords="axes fraction",
+        xytext=(0, -30),
+        textcoords="offset points",
+        ha="center",
+        va="top",
+        fontsize="small",
+        gid="caption",
+    )

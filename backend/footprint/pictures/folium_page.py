@@ -30,10 +30,17 @@ import numpy as np
 from pydantic import BaseModel, Field, TypeAdapter
 
 from footprint.contracts.case import bounded
-from footprint.csp import inline_script_hashes, js_string, standalone_policy, with_policy_meta
 from footprint.core.errors import InputError
-from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
-    unit_vectors, unwrap_longitude
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
+    Reference,
+    downrange_crossrange_nmi,
+    great_circle,
+    latlon_of,
+    unit_vectors,
+    unwrap_longitude,
+)
+from footprint.csp import inline_script_hashes, js_string, standalone_policy, with_policy_meta
 
 FRONTEND_DIR = Path(__file__).resolve().parents[3] / "frontend"  # the page's folder in the repository
 WORLD_COPIES_DEG = (-360.0, 0.0, 360.0)
@@ -43,13 +50,15 @@ COLOR = "#1f6fbf"
 LABELS_ID = "footprint-labels"
 # footprintLabel(i): a new tooltip element showing label i of the JSON block as text (one element per layer:
 # a DOM node has one parent); its newlines break lines, as Leaflet's tooltips do not wrap.
-LABEL_JS = ("function footprintLabel(i) {\n"
-            "  footprintLabel.all = footprintLabel.all || JSON.parse(document.getElementById(%s).textContent);\n"
-            "  const div = document.createElement('div');\n"
-            "  div.style.whiteSpace = 'pre';\n"
-            "  div.textContent = footprintLabel.all[i];\n"
-            "  return div;\n"
-            "}" % js_string(LABELS_ID))
+LABEL_JS = (
+    "function footprintLabel(i) {\n"
+    "  footprintLabel.all = footprintLabel.all || JSON.parse(document.getElementById(%s).textContent);\n"
+    "  const div = document.createElement('div');\n"
+    "  div.style.whiteSpace = 'pre';\n"
+    "  div.textContent = footprintLabel.all[i];\n"
+    "  return div;\n"
+    "}" % js_string(LABELS_ID)
+)
 
 
 # ------------------------------------------------------------------------- the footprint file, checked
@@ -92,8 +101,11 @@ def map_footprint(footprint) -> dict:
     pydantic's ValidationError naming a bad field)."""
     points = footprint.get("points") if isinstance(footprint, dict) else None
     if not isinstance(points, list) or len(points) < 3 or not footprint.get("entry"):
-        raise InputError("points", "a footprint needs 'entry' and at least 3 boundary 'points' "
-                                   "(as `footprint footprint` prints it or GET /api/footprints/{id} returns it)")
+        raise InputError(
+            "points",
+            "a footprint needs 'entry' and at least 3 boundary 'points' "
+            "(as `footprint footprint` prints it or GET /api/footprints/{id} returns it)",
+        )
     return _MAP_FOOTPRINT.validate_python(footprint).model_dump(exclude_none=True)
 
 
@@ -168,8 +180,11 @@ def unwrap_ring(latitude_deg, longitude_deg, entry: dict) -> np.ndarray:
     """A footprint ring's longitudes made continuous and placed where its point nearest the entry lies within
     180 deg of the entry (its first point is often the far zero-bank point, 180 deg or more away)."""
     lon = unwrap_longitude(longitude_deg, float(longitude_deg[0]))
-    nearest = int(np.argmax(unit_vectors(latitude_deg, longitude_deg)
-                            @ unit_vectors(entry["latitude_deg"], entry["longitude_deg"])))
+    nearest = int(
+        np.argmax(
+            unit_vectors(latitude_deg, longitude_deg) @ unit_vectors(entry["latitude_deg"], entry["longitude_deg"])
+        )
+    )
     return lon + 360.0 * np.round((entry["longitude_deg"] - lon[nearest]) / 360.0)
 
 
@@ -182,9 +197,14 @@ def _area(points: list[dict], entry: dict, first_lon_deg: float):
     if all(p.get("downrange_nmi") is not None and p.get("crossrange_nmi") is not None for p in points):
         down, cross = [p["downrange_nmi"] for p in points], [p["crossrange_nmi"] for p in points]
     else:  # a file without ranges: the chart's, continued round the ring (one branch of it is as good)
-        down, cross = downrange_crossrange_nmi([p["latitude_deg"] for p in points],
-                                               [p["longitude_deg"] for p in points], ref.latitude_deg,
-                                               ref.longitude_deg, ref.heading_deg, unwrap=True)
+        down, cross = downrange_crossrange_nmi(
+            [p["latitude_deg"] for p in points],
+            [p["longitude_deg"] for p in points],
+            ref.latitude_deg,
+            ref.longitude_deg,
+            ref.heading_deg,
+            unwrap=True,
+        )
     o = outline(down, cross, ref)
     shift = 360.0 * round((first_lon_deg - o.longitude_deg[0]) / 360.0)
     return o.shifted(shift)
@@ -199,15 +219,23 @@ def _initial_great_circle(entry: dict, downrange_deg: float) -> list[tuple[float
 
 def _hover(point: dict) -> str:
     """A boundary point's label, plain text (shown as a text node)."""
+
     def num(key, unit, digits=0):
         v = point.get(key)
         return "–" if v is None else f"{v:,.{digits}f} {unit}"
 
     parameter = point.get("parameter") or {}
-    control = ", ".join(f"{k} {v:g}" if isinstance(v, (int, float)) else f"{k} {v}"
-                        for k, v in parameter.items() if v is not None) if isinstance(parameter, dict) else str(parameter)
-    return (f"down-range {num('downrange_nmi', 'nmi')}\ncross-range {num('crossrange_nmi', 'nmi')}\n"
-            f"flight time {num('flight_time_s', 's')}\ncontrol {control or '–'}")
+    control = (
+        ", ".join(
+            f"{k} {v:g}" if isinstance(v, (int, float)) else f"{k} {v}" for k, v in parameter.items() if v is not None
+        )
+        if isinstance(parameter, dict)
+        else str(parameter)
+    )
+    return (
+        f"down-range {num('downrange_nmi', 'nmi')}\ncross-range {num('crossrange_nmi', 'nmi')}\n"
+        f"flight time {num('flight_time_s', 's')}\ncontrol {control or '–'}"
+    )
 
 
 class _Labels:
@@ -233,8 +261,7 @@ class _Labels:
         """The JSON data block (not run: no CSP hash needed; <, >, & escaped so no text closes the element) and
         the script that reads it."""
         texts = "[" + ",".join(js_string(t) for t in self.texts) + "]"
-        return (f'<script type="application/json" id="{LABELS_ID}">{texts}</script>\n'
-                f"<script>{LABEL_JS}</script>")
+        return f'<script type="application/json" id="{LABELS_ID}">{texts}</script>\n<script>{LABEL_JS}</script>'
 
 
 def footprint_map(footprint: dict, title: str | None = None):
@@ -243,7 +270,11 @@ def footprint_map(footprint: dict, title: str | None = None):
 
     footprint = map_footprint(footprint)
     points, entry = footprint["points"], footprint["entry"]
-    name = title or footprint.get("name") or f"{footprint.get('vehicle', '')} {footprint.get('method', '')}".strip().replace("_", " ")
+    name = (
+        title
+        or footprint.get("name")
+        or f"{footprint.get('vehicle', '')} {footprint.get('method', '')}".strip().replace("_", " ")
+    )
     lat = np.array([p["latitude_deg"] for p in points], float)
     lon = unwrap_ring(lat, np.array([p["longitude_deg"] for p in points], float), entry)
     area = _area(points, entry, lon[0])
@@ -255,20 +286,28 @@ def footprint_map(footprint: dict, title: str | None = None):
     track_lon = unwrap_longitude([t[1] for t in track], entry["longitude_deg"])
 
     labels = _Labels()
-    m = folium.Map(location=[float(lat.mean()), float(lon.mean())], zoom_start=2, tiles=None, crs="EPSG4326",
-                   control_scale=False, prefer_canvas=False)
+    m = folium.Map(
+        location=[float(lat.mean()), float(lon.mean())],
+        zoom_start=2,
+        tiles=None,
+        crs="EPSG4326",
+        control_scale=False,
+        prefer_canvas=False,
+    )
     m.default_js, m.default_css = [], []  # no CDN: Leaflet goes inline below
     js, css = leaflet_assets()
     m.get_root().header.add_child(folium.Element(f"<style>{css}</style>\n<script>{js}</script>"), name="leaflet_inline")
-    m.get_root().header.add_child(folium.Element(
-        "<style>.leaflet-container{background:#dce8f1}</style>"), name="ocean")
+    m.get_root().header.add_child(folium.Element("<style>.leaflet-container{background:#dce8f1}</style>"), name="ocean")
 
     world = countries_geojson()
     for offset in WORLD_COPIES_DEG:
         shifted = _shift(world, offset)
-        folium.GeoJson(shifted, name="Natural Earth 1:110m" if offset == 0 else None, control=False,
-                       style_function=lambda _: {"fillColor": "#ece8dc", "fillOpacity": 1.0, "color": "#8a9aa8",
-                                                 "weight": 0.6}).add_to(m)
+        folium.GeoJson(
+            shifted,
+            name="Natural Earth 1:110m" if offset == 0 else None,
+            control=False,
+            style_function=lambda _: {"fillColor": "#ece8dc", "fillOpacity": 1.0, "color": "#8a9aa8", "weight": 0.6},
+        ).add_to(m)
     lines = [[(-90.0, x), (90.0, x)] for x in np.arange(-540.0, 540.1, GRATICULE_DEG)]
     lines += [[(y, -540.0), (y, 540.0)] for y in np.arange(-90.0, 90.1, GRATICULE_DEG)]
     folium.PolyLine(lines, color="#b9c6d2", weight=0.6).add_to(m)
@@ -278,27 +317,71 @@ def footprint_map(footprint: dict, title: str | None = None):
         if span.max() + offset < -540 or span.min() + offset > 540:
             continue
         for piece in area.area:  # the footprint on this copy of the map (a pole's cap or a hole included)
-            labels.bind(folium.Polygon([[(float(y), float(x) + offset) for x, y in ring] for ring in piece],
-                                       stroke=False, fill=True, fill_color=COLOR, fill_opacity=0.22, smooth_factor=0,
-                                       no_clip=True), name).add_to(m)
+            labels.bind(
+                folium.Polygon(
+                    [[(float(y), float(x) + offset) for x, y in ring] for ring in piece],
+                    stroke=False,
+                    fill=True,
+                    fill_color=COLOR,
+                    fill_opacity=0.22,
+                    smooth_factor=0,
+                    no_clip=True,
+                ),
+                name,
+            ).add_to(m)
         edge_lat, edge_lon = np.append(area.latitude_deg, area.latitude_deg[0]), area.longitude_deg + offset
-        folium.PolyLine(list(zip(edge_lat.tolist(), np.append(edge_lon, edge_lon[0]).tolist())), color=COLOR,
-                        weight=2, smooth_factor=0, no_clip=True).add_to(m)
-        labels.bind(folium.PolyLine([(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR,
-                                    weight=1.5, dash_array="6 5"), "ground track").add_to(m)
-        labels.bind(folium.CircleMarker([entry["latitude_deg"], entry["longitude_deg"] + offset], radius=6,
-                                        color="#ffffff", weight=2, fill=True, fill_color=COLOR, fill_opacity=1.0),
-                    f"entry, heading {float(entry['heading_deg']):.1f} deg").add_to(m)
+        folium.PolyLine(
+            list(zip(edge_lat.tolist(), np.append(edge_lon, edge_lon[0]).tolist())),
+            color=COLOR,
+            weight=2,
+            smooth_factor=0,
+            no_clip=True,
+        ).add_to(m)
+        labels.bind(
+            folium.PolyLine(
+                [(t[0], float(x) + offset) for t, x in zip(track, track_lon)], color=COLOR, weight=1.5, dash_array="6 5"
+            ),
+            "ground track",
+        ).add_to(m)
+        labels.bind(
+            folium.CircleMarker(
+                [entry["latitude_deg"], entry["longitude_deg"] + offset],
+                radius=6,
+                color="#ffffff",
+                weight=2,
+                fill=True,
+                fill_color=COLOR,
+                fill_opacity=1.0,
+            ),
+            f"entry, heading {float(entry['heading_deg']):.1f} deg",
+        ).add_to(m)
         for p, x in zip(points, lon):
-            labels.bind(folium.CircleMarker([p["latitude_deg"], float(x) + offset], radius=4, color=COLOR,
-                                            weight=1.5, fill=True, fill_color="#ffffff" if p.get("mirrored") else COLOR,
-                                            fill_opacity=1.0), _hover(p)).add_to(m)
-    m.fit_bounds([[float(area.latitude_deg.min()), float(area.longitude_deg.min())],
-                  [float(area.latitude_deg.max()), float(area.longitude_deg.max())]], padding=(30, 30))
-    m.get_root().html.add_child(folium.Element(
-        f'<div style="position:fixed;top:10px;left:54px;z-index:1000;background:rgba(255,255,255,.92);'
-        f'padding:5px 9px;border-radius:4px;font:13px sans-serif;box-shadow:0 1px 4px rgba(0,0,0,.3)">'
-        f'<b>{escape(name)}</b> · cylindrical equidistant · Natural Earth (public domain)</div>'))
+            labels.bind(
+                folium.CircleMarker(
+                    [p["latitude_deg"], float(x) + offset],
+                    radius=4,
+                    color=COLOR,
+                    weight=1.5,
+                    fill=True,
+                    fill_color="#ffffff" if p.get("mirrored") else COLOR,
+                    fill_opacity=1.0,
+                ),
+                _hover(p),
+            ).add_to(m)
+    m.fit_bounds(
+        [
+            [float(area.latitude_deg.min()), float(area.longitude_deg.min())],
+            [float(area.latitude_deg.max()), float(area.longitude_deg.max())],
+        ],
+        padding=(30, 30),
+    )
+    m.get_root().html.add_child(
+        folium.Element(
+            f'<div style="position:fixed;top:10px;left:54px;z-index:1000;background:rgba(255,255,255,.92);'
+            f'padding:5px 9px;border-radius:4px;font:13px sans-serif;box-shadow:0 1px 4px rgba(0,0,0,.3)">'
+            f"<b>{escape(name)}</b> · cylindrical equidistant · Natural Earth (public domain)</div>"
+        )
+    )
     m.get_root().header.add_child(folium.Element(labels.block()), name="labels")
     return m
 
@@ -310,9 +393,13 @@ def _shift(collection: dict, offset_deg: float) -> dict:
     def move(c):
         return [move(x) for x in c] if isinstance(c[0], list) else [c[0] + offset_deg, c[1]]
 
-    return {"type": "FeatureCollection",
-            "features": [{**f, "geometry": {**f["geometry"], "coordinates": move(f["geometry"]["coordinates"])}}
-                         for f in collection["features"]]}
+    return {
+        "type": "FeatureCollection",
+        "features": [
+            {**f, "geometry": {**f["geometry"], "coordinates": move(f["geometry"]["coordinates"])}}
+            for f in collection["features"]
+        ],
+    }
 
 
 def footprint_map_html(footprint: dict, title: str | None = None) -> str:

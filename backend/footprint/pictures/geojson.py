@@ -13,8 +13,11 @@ DIGITS = 6  # decimals of a coordinate: 0.1 m
 
 def area(points: list[dict], entry: dict) -> Outline:
     """The outline of a footprint's boundary points (their flown down-range and cross-range about the entry)."""
-    return outline([p["downrange_nmi"] for p in points], [p["crossrange_nmi"] for p in points],
-                   Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"]))
+    return outline(
+        [p["downrange_nmi"] for p in points],
+        [p["crossrange_nmi"] for p in points],
+        Reference(entry["latitude_deg"], entry["longitude_deg"], entry["heading_deg"]),
+    )
 
 
 def polygon(o: Outline) -> dict:
@@ -48,7 +51,10 @@ def line(lat_deg, lon_deg) -> dict:
 
 
 def _point(p: dict) -> dict:
-    return {"type": "Point", "coordinates": [round(float(wrap_longitude(p["longitude_deg"])), DIGITS), round(p["latitude_deg"], DIGITS)]}
+    return {
+        "type": "Point",
+        "coordinates": [round(float(wrap_longitude(p["longitude_deg"])), DIGITS), round(p["latitude_deg"], DIGITS)],
+    }
 
 
 def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
@@ -56,20 +62,34 @@ def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
     where already made), entry, track, points."""
     pts, track, entry = item["points"], item["ground_track"], item["entry"]
     features = [
-        {"type": "Feature", "geometry": polygon(outline_ or area(pts, entry)),
-         "properties": {"kind": "footprint", "id": item["id"], "name": item["name"], "vehicle": item["vehicle"],
-                        "method": item["method"], "area_nmi2": item["area_nmi2"],
-                        "max_crossrange_nmi": item["max_crossrange_nmi"],
-                        "max_downrange_nmi": item["max_downrange_nmi"]}},
-        {"type": "Feature", "geometry": _point(entry),
-         "properties": {"kind": "entry", **entry}},
+        {
+            "type": "Feature",
+            "geometry": polygon(outline_ or area(pts, entry)),
+            "properties": {
+                "kind": "footprint",
+                "id": item["id"],
+                "name": item["name"],
+                "vehicle": item["vehicle"],
+                "method": item["method"],
+                "area_nmi2": item["area_nmi2"],
+                "max_crossrange_nmi": item["max_crossrange_nmi"],
+                "max_downrange_nmi": item["max_downrange_nmi"],
+            },
+        },
+        {"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}},
     ]
     if len(track) >= 2:
-        features.append({"type": "Feature",
-                         "geometry": line([t["latitude_deg"] for t in track], [t["longitude_deg"] for t in track]),
-                         "properties": {"kind": "ground_track", "flight_time_s": track[-1]["time_s"]}})
-    features += [{"type": "Feature", "geometry": _point(p),
-                  "properties": {"kind": "point", "index": i, **p}} for i, p in enumerate(pts)]
+        features.append(
+            {
+                "type": "Feature",
+                "geometry": line([t["latitude_deg"] for t in track], [t["longitude_deg"] for t in track]),
+                "properties": {"kind": "ground_track", "flight_time_s": track[-1]["time_s"]},
+            }
+        )
+    features += [
+        {"type": "Feature", "geometry": _point(p), "properties": {"kind": "point", "index": i, **p}}
+        for i, p in enumerate(pts)
+    ]
     return {"type": "FeatureCollection", "features": features}
 
 
@@ -89,20 +109,43 @@ def dispersion_collection(result: dict) -> dict:
     confidence footprint (one feature per piece), each flight's 1 and 3 sigma ellipses, the entry and each site
     with its probability. The landing clouds stay in the JSON (up to 10^5 points a flight)."""
     entry, samples = result["entry"], result["samples"]
-    features = [{"type": "Feature", "geometry": polygon(_ring(result["nominal_boundary"], entry)),
-                 "properties": {"kind": "nominal_footprint", "samples": samples}},
-                {"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}}]
+    features = [
+        {
+            "type": "Feature",
+            "geometry": polygon(_ring(result["nominal_boundary"], entry)),
+            "properties": {"kind": "nominal_footprint", "samples": samples},
+        },
+        {"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}},
+    ]
     for c in result["confidence"]:
-        features += [{"type": "Feature", "geometry": polygon(_ring(ring, entry)),
-                      "properties": {"kind": "confidence_footprint", "level": c["level"], "piece": i,
-                                     "area_nmi2": ring["area_nmi2"], "samples": samples}}
-                     for i, ring in enumerate(c["rings"])]
+        features += [
+            {
+                "type": "Feature",
+                "geometry": polygon(_ring(ring, entry)),
+                "properties": {
+                    "kind": "confidence_footprint",
+                    "level": c["level"],
+                    "piece": i,
+                    "area_nmi2": ring["area_nmi2"],
+                    "samples": samples,
+                },
+            }
+            for i, ring in enumerate(c["rings"])
+        ]
     for f in result["flights"]:
-        about = {k: f[k] for k in ("parameter", "side", "landed", "mean_downrange_nmi", "mean_crossrange_nmi")
-                 if k in f}
-        features += [{"type": "Feature", "geometry": polygon(_ring(shape, entry)),
-                      "properties": {"kind": "ellipse", "sigma": float(sigma), **about}}
-                     for sigma, shape in f.get("ellipses", {}).items()]
-    features += [{"type": "Feature", "geometry": _point(s),
-                  "properties": {"kind": "site", "samples": samples, **s}} for s in result["sites"]]
+        about = {
+            k: f[k] for k in ("parameter", "side", "landed", "mean_downrange_nmi", "mean_crossrange_nmi") if k in f
+        }
+        features += [
+            {
+                "type": "Feature",
+                "geometry": polygon(_ring(shape, entry)),
+                "properties": {"kind": "ellipse", "sigma": float(sigma), **about},
+            }
+            for sigma, shape in f.get("ellipses", {}).items()
+        ]
+    features += [
+        {"type": "Feature", "geometry": _point(s), "properties": {"kind": "site", "samples": samples, **s}}
+        for s in result["sites"]
+    ]
     return {"type": "FeatureCollection", "features": features}

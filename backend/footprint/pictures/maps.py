@@ -19,8 +19,15 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.path import Path as PolygonPath
 
-from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, great_circle, latlon_of, \
-    unit_vectors, wrap_longitude
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
+    Reference,
+    downrange_crossrange_nmi,
+    great_circle,
+    latlon_of,
+    unit_vectors,
+    wrap_longitude,
+)
 
 GRATICULE_DEG = 30.0  # the graticule's spacing, meridians and parallels
 SAMPLE_DEG = 0.5  # lines are densified along great circles to at most this arc between samples
@@ -47,10 +54,16 @@ class MapLayer:
     downrange_hint_nmi: np.ndarray | None = None  # the points' down-ranges, for footprints past 180 deg
 
 
-def footprint_layer(latitude_deg, longitude_deg, reference: Reference | None = None, downrange_nmi=None,
-                    **style) -> MapLayer:
-    return MapLayer(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float), reference=reference,
-                    downrange_hint_nmi=None if downrange_nmi is None else np.asarray(downrange_nmi, float), **style)
+def footprint_layer(
+    latitude_deg, longitude_deg, reference: Reference | None = None, downrange_nmi=None, **style
+) -> MapLayer:
+    return MapLayer(
+        np.asarray(latitude_deg, float),
+        np.asarray(longitude_deg, float),
+        reference=reference,
+        downrange_hint_nmi=None if downrange_nmi is None else np.asarray(downrange_nmi, float),
+        **style,
+    )
 
 
 # ----------------------------------------------------------------------- sampling (the sphere: core.sphere)
@@ -108,8 +121,8 @@ class Cylindrical:
                 lat_edge = lat[i - 1] + f * (lat[i] - lat[i - 1])
                 xs.append(np.array([edge, np.nan, -edge]))
                 ys.append(np.array([lat_edge, np.nan, lat_edge]))
-            xs.append(lon[i:i + 1])
-            ys.append(lat[i:i + 1])
+            xs.append(lon[i : i + 1])
+            ys.append(lat[i : i + 1])
         return np.concatenate(xs), np.concatenate(ys)
 
     def points(self, lat_deg, lon_deg):
@@ -206,8 +219,14 @@ class Orthographic:
         ax.set_ylim(-1.04, 1.04)
         ax.set_aspect("equal")
         ax.set_axis_off()
-        ax.text(0.0, -1.1, f"centre {_lat_label(self.center[0])}, {_lon_label(self.center[1])}",
-                ha="center", va="top", fontsize="small")
+        ax.text(
+            0.0,
+            -1.1,
+            f"centre {_lat_label(self.center[0])}, {_lon_label(self.center[1])}",
+            ha="center",
+            va="top",
+            fontsize="small",
+        )
 
 
 def _lon_label(x):
@@ -230,8 +249,16 @@ def draw_map(ax, projection, layers: list[MapLayer], title=None, legend="lower l
             _shade(ax, projection, layer)
         v = densify(layer.latitude_deg, layer.longitude_deg, closed=layer.closed)
         x, y = projection.lines(v)
-        ax.plot(x, y, color=layer.color, ls=layer.linestyle, lw=layer.linewidth, zorder=5,
-                label=layer.label or None, gid="footprint")
+        ax.plot(
+            x,
+            y,
+            color=layer.color,
+            ls=layer.linestyle,
+            lw=layer.linewidth,
+            zorder=5,
+            label=layer.label or None,
+            gid="footprint",
+        )
         if layer.marker:
             keep = projection.visible(layer.latitude_deg, layer.longitude_deg)
             px, py = projection.points(layer.latitude_deg[keep], layer.longitude_deg[keep])
@@ -258,8 +285,13 @@ def _direction_arrow(ax, projection, ref):
         lat, lon = latlon_of(v)
         (x0, x1), (y0, y1) = projection.points(lat[[0, -1]], lon[[0, -1]])
         if abs(x1 - x0) < 90.0:  # not across the date line
-            ax.annotate("", xy=(x1, y1), xytext=(x0, y0), zorder=7,
-                        arrowprops={"arrowstyle": "-|>", "color": "k", "lw": 1.0, "mutation_scale": 11})
+            ax.annotate(
+                "",
+                xy=(x1, y1),
+                xytext=(x0, y0),
+                zorder=7,
+                arrowprops={"arrowstyle": "-|>", "color": "k", "lw": 1.0, "mutation_scale": 11},
+            )
 
 
 def _shade(ax, projection, layer: MapLayer):
@@ -319,8 +351,9 @@ def auto_extent(layers: list[MapLayer], margin_deg=10.0, step_deg=10.0):
 def map_figure(layers: list[MapLayer], projection="cylindrical", center=None, extent=None, title=None) -> Figure:
     """One map. projection: "cylindrical" (extent (lon0, lon1, lat0, lat1), "auto", or the world) or
     "orthographic" (centre (lat, lon) in deg; default: the first layer's footprint centre)."""
-    return panels_figure([{"projection": projection, "layers": layers, "center": center, "extent": extent,
-                           "title": title}], ncols=1)
+    return panels_figure(
+        [{"projection": projection, "layers": layers, "center": center, "extent": extent, "title": title}], ncols=1
+    )
 
 
 def panels_figure(panels: list[dict], ncols=1, title=None, panel_size=(7.0, 3.8)) -> Figure:
@@ -332,9 +365,14 @@ def panels_figure(panels: list[dict], ncols=1, title=None, panel_size=(7.0, 3.8)
     fig = Figure(figsize=(w * ncols, h * nrows + (0.4 if title else 0.0)), layout="constrained")
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False)).ravel()
     for ax, panel in zip(axes, panels):
-        draw_map(ax, make_projection(panel), panel["layers"], title=panel.get("title"),
-                 legend=panel.get("legend", "lower left"))
-    for ax in axes[len(panels):]:
+        draw_map(
+            ax,
+            make_projection(panel),
+            panel["layers"],
+            title=panel.get("title"),
+            legend=panel.get("legend", "lower left"),
+        )
+    for ax in axes[len(panels) :]:
         ax.set_axis_off()
     if title:
         fig.suptitle(title)

@@ -1,5 +1,6 @@
 """create_app(settings): the FastAPI app. On start: migrations applied, the Dask cluster up, pending jobs
-resubmitted, the built-in vehicle summaries computed; the API under /api, the docs at /docs, the map page (frontend/) at /."""
+resubmitted, the built-in vehicle summaries computed; the API under /api, the docs at /docs, the map page
+(frontend/) at /."""
 
 import logging
 import re
@@ -41,11 +42,17 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     async def lifespan(app: FastAPI):
         log.info("migrating the database")
         await run_in_threadpool(migrate, db, settings.migrations_dir)
-        log.info("starting the job engine (%s)", f"the Dask scheduler {settings.dask_scheduler}"
-                 if settings.dask_scheduler else f"a local cluster of {settings.dask_workers} workers")
+        log.info(
+            "starting the job engine (%s)",
+            f"the Dask scheduler {settings.dask_scheduler}"
+            if settings.dask_scheduler
+            else f"a local cluster of {settings.dask_workers} workers",
+        )
         await run_in_threadpool(app.state.jobs.start)
-        log.info("loading the flight kernels (numba): a first start compiles them, about a minute; later ones "
-                 "load them from its cache in seconds")
+        log.info(
+            "loading the flight kernels (numba): a first start compiles them, about a minute; later ones "
+            "load them from its cache in seconds"
+        )
         t0 = time.perf_counter()
         await run_in_threadpool(vehicles.warm_builtins)  # before ready: the first /api/vehicles answers at once
         log.info("ready (the flight kernels took %.0f s)", time.perf_counter() - t0)
@@ -55,34 +62,60 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
             await run_in_threadpool(app.state.jobs.close)
             db.dispose()
 
-    app = FastAPI(title="Footprint", version=footprint.__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
-                  description="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036): jobs, "
-                              "footprints, trajectories, geometry, landing sites. See docs/api.md.")
+    app = FastAPI(
+        title="Footprint",
+        version=footprint.__version__,
+        lifespan=lifespan,
+        docs_url=None,
+        redoc_url=None,
+        description="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036): jobs, "
+        "footprints, trajectories, geometry, landing sites. See docs/api.md.",
+    )
     app.state.settings, app.state.dialect = settings, db.dialect.name
     app.state.sessions = make_sessions(db)
     app.state.read_sessions = make_sessions(db, reads_only=True)
-    app.state.jobs = JobEngine(sessions=app.state.sessions, settings=settings) if runs_jobs else \
-        RemoteJobs(settings=settings)
+    app.state.jobs = (
+        JobEngine(sessions=app.state.sessions, settings=settings) if runs_jobs else RemoteJobs(settings=settings)
+    )
     app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
     errors.document(app, schemas.contract_bodies())
-    routers = [module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)]
+    routers = [
+        module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)
+    ]
     for router in routers:
         app.include_router(router, prefix="/api")
     _api_docs(app, settings.tile_url)
-    app.state.api_paths = errors.ApiPaths([(r.path, r.methods) for r in app.routes if isinstance(r, Route)] +
-                                          [("/api" + r.path, r.methods) for router in routers for r in router.routes])
-    app.add_middleware(GuardMiddleware, paths=app.state.api_paths, token=settings.api_token, max_body_bytes=MAX_BODY_BYTES,
-                       origins=settings.cors_origin_list, hosts=settings.host_names)
+    app.state.api_paths = errors.ApiPaths(
+        [(r.path, r.methods) for r in app.routes if isinstance(r, Route)]
+        + [("/api" + r.path, r.methods) for router in routers for r in router.routes]
+    )
+    app.add_middleware(
+        GuardMiddleware,
+        paths=app.state.api_paths,
+        token=settings.api_token,
+        max_body_bytes=MAX_BODY_BYTES,
+        origins=settings.cors_origin_list,
+        hosts=settings.host_names,
+    )
     if settings.cors_origin_list:
-        app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origin_list, allow_credentials=False,
-                           allow_methods=["*"], allow_headers=["*"])
-    app.add_middleware(errors.Unexpected)  # outermost of ours: whatever escapes the others is a 500 on a kept connection
+        app.add_middleware(
+            CORSMiddleware,
+            allow_origins=settings.cors_origin_list,
+            allow_credentials=False,
+            allow_methods=["*"],
+            allow_headers=["*"],
+        )
+    app.add_middleware(
+        errors.Unexpected
+    )  # outermost of ours: whatever escapes the others is a 500 on a kept connection
     if settings.frontend_dir.is_dir():
         app.mount("/", page.PageFiles(directory=settings.frontend_dir, html=True), name="frontend")
     # outside Starlette's own outermost layer, so that its 500s carry the headers too
     build = app.build_middleware_stack
-    app.build_middleware_stack = lambda: SecurityHeadersMiddleware(build(), content_policy=page_policy(settings.tile_url))
+    app.build_middleware_stack = lambda: SecurityHeadersMiddleware(
+        build(), content_policy=page_policy(settings.tile_url)
+    )
     return app
 
 
@@ -93,18 +126,26 @@ def _api_docs(app: FastAPI, tile_url: str) -> None:
 
     @app.get("/docs", include_in_schema=False)
     def swagger_ui() -> HTMLResponse:
-        page = get_swagger_ui_html(openapi_url=app.openapi_url, title="Footprint API",
-                                   swagger_js_url="/vendor/swagger-ui/swagger-ui-bundle.js",
-                                   swagger_css_url="/vendor/swagger-ui/swagger-ui.css", swagger_favicon_url="data:,")
+        page = get_swagger_ui_html(
+            openapi_url=app.openapi_url,
+            title="Footprint API",
+            swagger_js_url="/vendor/swagger-ui/swagger-ui-bundle.js",
+            swagger_css_url="/vendor/swagger-ui/swagger-ui.css",
+            swagger_favicon_url="data:,",
+        )
         # FastAPI's inline SwaggerUIBundle(...) set-up, allowed by its hash: it holds no user text
         page.headers["Content-Security-Policy"] = page_policy(tile_url, inline_script_hashes(page.body.decode()))
         return page
 
     @app.get("/redoc", include_in_schema=False)
     def redoc() -> HTMLResponse:
-        return get_redoc_html(openapi_url=app.openapi_url, title="Footprint API",
-                              redoc_js_url="/vendor/redoc/redoc.standalone.js", redoc_favicon_url="data:,",
-                              with_google_fonts=False)
+        return get_redoc_html(
+            openapi_url=app.openapi_url,
+            title="Footprint API",
+            redoc_js_url="/vendor/redoc/redoc.standalone.js",
+            redoc_favicon_url="data:,",
+            with_google_fonts=False,
+        )
 
 
 class SecurityHeadersMiddleware:
@@ -153,12 +194,20 @@ def _asks(scope: Scope, flag: str) -> bool:
 
 class GuardMiddleware:
     """Before any route runs: a Host this service does not serve (421), a path and query or headers over their caps
-    (414, 431: uvicorn's h11 holds a complete request of any size), a path under /api that no route has (404) or a method its routes do not answer (405,
-    never the page's static files), the bearer token on writes (401; reads stay open), the body limit (413) and the NUL
-    character in any text (service.nul)."""
+    (414, 431: uvicorn's h11 holds a complete request of any size), a path under /api that no route has (404) or a
+    method its routes do not answer (405, never the page's static files), the bearer token on writes (401; reads stay
+    open), the body limit (413) and the NUL character in any text (service.nul)."""
 
-    def __init__(self, app: ASGIApp, *, paths: errors.ApiPaths, token: str, max_body_bytes: int,
-                 hosts: frozenset[str], origins=()):
+    def __init__(
+        self,
+        app: ASGIApp,
+        *,
+        paths: errors.ApiPaths,
+        token: str,
+        max_body_bytes: int,
+        hosts: frozenset[str],
+        origins=(),
+    ):
         self.app, self.paths, self.token, self.max_body_bytes = app, paths, token, max_body_bytes
         self.origins = set(origins)  # FOOTPRINT_CORS_ORIGINS: other origins whose pages may write
         self.hosts = hosts  # Settings.host_names
@@ -173,8 +222,15 @@ class GuardMiddleware:
             return
         host = dict(scope["headers"]).get(b"host", b"").decode("latin-1")
         if "*" not in self.hosts and host_name(host) not in self.hosts:
-            await _reply(scope, receive, send, errors.MisdirectedHost(
-                f"Host: {host[:100]!r} is not served here (FOOTPRINT_ALLOWED_HOSTS lists the names besides localhost)"))
+            await _reply(
+                scope,
+                receive,
+                send,
+                errors.MisdirectedHost(
+                    f"Host: {host[:100]!r} is not served here "
+                    "(FOOTPRINT_ALLOWED_HOSTS lists the names besides localhost)"
+                ),
+            )
             return
         if scope["path"].startswith("/api/"):
             methods = self.paths.allowed(scope["path"])
@@ -185,13 +241,26 @@ class GuardMiddleware:
                 await _reply(scope, receive, send, errors.MethodNotAllowed(methods))
                 return
         if scope["method"] in WRITE_METHODS and not self._same_site(scope):
-            await _reply(scope, receive, send, errors.CrossSiteWrite(
-                "cross-site write refused: the request's Origin is not this service's (FOOTPRINT_CORS_ORIGINS lists "
-                "the others allowed)"))
+            await _reply(
+                scope,
+                receive,
+                send,
+                errors.CrossSiteWrite(
+                    "cross-site write refused: the request's Origin is not this service's "
+                    "(FOOTPRINT_CORS_ORIGINS lists the others allowed)"
+                ),
+            )
             return
         if self.token and _stores(scope) and not self._authorized(scope):
-            await _reply(scope, receive, send, errors.Unauthorized(
-                "missing or wrong bearer token: writes need the header 'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"))
+            await _reply(
+                scope,
+                receive,
+                send,
+                errors.Unauthorized(
+                    "missing or wrong bearer token: writes need the header "
+                    "'Authorization: Bearer <FOOTPRINT_API_TOKEN>'"
+                ),
+            )
             return
         declared = dict(scope["headers"]).get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_body_bytes:
@@ -207,8 +276,12 @@ class GuardMiddleware:
                 await _reply(scope, receive, send, _too_large(None, self.max_body_bytes))
                 return
             receive = _replay(body)
-        refused = nul.refusal(scope["path"], scope["query_string"], body,
-                              dict(scope["headers"]).get(b"content-type", b"").decode("latin-1"))
+        refused = nul.refusal(
+            scope["path"],
+            scope["query_string"],
+            body,
+            dict(scope["headers"]).get(b"content-type", b"").decode("latin-1"),
+        )
         if refused is not None:
             await _reply(scope, receive, send, refused)
             return
@@ -253,8 +326,9 @@ def _oversized(scope: Scope) -> Exception | None:
         return errors.UrlTooLong(f"url: the path and query are limited to {MAX_URL_BYTES:,} bytes (got {url:,})")
     headers = sum(len(name) + len(value) + 4 for name, value in scope["headers"])  # "name: value\r\n"
     if headers > MAX_HEADER_BYTES:
-        return errors.HeadersTooLarge(f"headers: a request's headers are limited to {MAX_HEADER_BYTES:,} bytes "
-                                      f"(got {headers:,})")
+        return errors.HeadersTooLarge(
+            f"headers: a request's headers are limited to {MAX_HEADER_BYTES:,} bytes (got {headers:,})"
+        )
     return None
 
 
@@ -262,7 +336,7 @@ def host_name(host: str) -> str:
     """A Host header's name without its port, lower case: "[::1]:8000" -> "[::1]", "LocalHost:80" -> "localhost"."""
     host = host.strip().lower()
     if host.startswith("["):
-        return host[:host.find("]") + 1] if "]" in host else host
+        return host[: host.find("]") + 1] if "]" in host else host
     return host.rsplit(":", 1)[0] if host.count(":") == 1 else host
 
 

@@ -18,7 +18,9 @@ def sessions(request: Request) -> sessionmaker[Session]:
     return request.app.state.read_sessions if request.method in ("GET", "HEAD") else request.app.state.sessions
 
 
-async def cached(request: Request, key: tuple, shows: str, build: Callable[[Session], read_cache.Serialized]) -> Response:
+async def cached(
+    request: Request, key: tuple, shows: str, build: Callable[[Session], read_cache.Serialized]
+) -> Response:
     """A GET answered from this process's read cache while the stored `shows` (db.models.REVISIONS) are unchanged;
     `build` serializes it from the database otherwise (in the transaction that read the revision, after it: a
     response is never older than the revision it is kept for). A hit runs on the event loop (one indexed row read:

@@ -83,13 +83,20 @@ class ErrorBody(BaseModel):
     field: str | None = None  # a 422's offending field, its dotted path in the request
 
 
-ERRORS = {422: "a field out of range or inconsistent, named in `field`", 400: "a body that cannot be read",
-          404: "no such id",
-          401: "a write without the bearer token (when FOOTPRINT_API_TOKEN is set)",
-          413: "a body over the limit", 409: "a clash with stored state", 503: "a part the service needs is missing",
-          403: "a write from a page of another origin", 415: "a body of a type the route does not read",
-          421: "a Host this service does not serve (FOOTPRINT_ALLOWED_HOSTS)", 414: "a path and query over the limit",
-          431: "headers over the limit"}
+ERRORS = {
+    422: "a field out of range or inconsistent, named in `field`",
+    400: "a body that cannot be read",
+    404: "no such id",
+    401: "a write without the bearer token (when FOOTPRINT_API_TOKEN is set)",
+    413: "a body over the limit",
+    409: "a clash with stored state",
+    503: "a part the service needs is missing",
+    403: "a write from a page of another origin",
+    415: "a body of a type the route does not read",
+    421: "a Host this service does not serve (FOOTPRINT_ALLOWED_HOSTS)",
+    414: "a path and query over the limit",
+    431: "headers over the limit",
+}
 WRITES = {"post", "put", "patch", "delete"}
 
 
@@ -177,22 +184,36 @@ def document(app: FastAPI, bodies: dict) -> None:
         replaced = set()
         for (method, path), kind in bodies.items():
             op = spec["paths"][path][method]
-            replaced.add(op.get("requestBody", {}).get("content", {}).get("application/json", {}).get("schema", {})
-                         .get("$ref", "").rsplit("/", 1)[-1])
-            op["requestBody"] = {"required": True,
-                                 "content": {"application/json": {"schema": _component(schemas, kind)}}}
+            replaced.add(
+                op.get("requestBody", {})
+                .get("content", {})
+                .get("application/json", {})
+                .get("schema", {})
+                .get("$ref", "")
+                .rsplit("/", 1)[-1]
+            )
+            op["requestBody"] = {
+                "required": True,
+                "content": {"application/json": {"schema": _component(schemas, kind)}},
+            }
         for name in replaced - {""}:  # the route's own reading of the body (e.g. its kind) is not the document's
             if f'"#/components/schemas/{name}"' not in json.dumps(spec):
                 schemas.pop(name, None)
         for path, operations in spec["paths"].items():
             for method, op in operations.items():
                 responses = op.setdefault("responses", {})
-                codes = {"414", "421", "422", "431"} | ({"404"} if "{" in path else set()) | ({"401", "403", "413"} if method in WRITES else set())
+                codes = (
+                    {"414", "421", "422", "431"}
+                    | ({"404"} if "{" in path else set())
+                    | ({"401", "403", "413"} if method in WRITES else set())
+                )
                 codes |= {"400"} if "requestBody" in op else set()
                 codes |= {c for c in ("409", "415", "503") if c in responses}
                 for code in codes:
-                    responses[code] = {"description": ERRORS[int(code)],
-                                       "content": {"application/json": {"schema": ref}}}
+                    responses[code] = {
+                        "description": ERRORS[int(code)],
+                        "content": {"application/json": {"schema": ref}},
+                    }
         for unused in ("HTTPValidationError", "ValidationError"):
             schemas.pop(unused, None)
         app.openapi_schema = spec

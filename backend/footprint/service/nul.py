@@ -26,7 +26,7 @@ def refusal(path: str, query: bytes, body: bytes | None, content_type: str) -> E
     if not body:
         return None
     if b"\x00" in body:  # raw: a CSV (or any non-JSON) body; its line, as the CSV's other errors name it
-        line = body[:body.index(b"\x00")].count(b"\n") + 1
+        line = body[: body.index(b"\x00")].count(b"\n") + 1
         field = f"line {line}" if "csv" in content_type else "body"
         return RequestInvalid(f"{field}: {WHY}", field)
     if JSON_NUL.search(body):

@@ -27,8 +27,9 @@ def serve(settings: Settings) -> None:
     jobs.start()
     try:
         os.environ.update(environment(settings.model_copy(update={"dask_scheduler": jobs.client.scheduler.address})))
-        config = server.config(settings, "footprint.service.processes:api_process", factory=True,
-                               workers=settings.api_processes)
+        config = server.config(
+            settings, "footprint.service.processes:api_process", factory=True, workers=settings.api_processes
+        )
         Multiprocess(config, sockets=[config.bind_socket()]).run()  # what uvicorn.run(workers=N) does
     finally:
         jobs.close()

@@ -31,8 +31,9 @@ class Serialized:
 def serialized(body: bytes, media_type: str, headers: dict[str, str] | None = None) -> Serialized:
     """A response body with its strong ETag (a hash of the bytes: the same content keeps its tag across
     revisions and processes)."""
-    return Serialized(body, media_type, f'"{hashlib.blake2b(body, digest_size=16).hexdigest()}"',
-                      tuple((headers or {}).items()))
+    return Serialized(
+        body, media_type, f'"{hashlib.blake2b(body, digest_size=16).hexdigest()}"', tuple((headers or {}).items())
+    )
 
 
 @functools.cache

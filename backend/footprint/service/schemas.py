@@ -1,6 +1,7 @@
 """Request and response models of the REST API (docs/api.md). Cases and studies are not redefined here: a
 job's study, a trajectory's case, a transform or a reach request are parsed by their contract modules
-(footprint.contracts.case, .studies, .optimization, .sweeps, .mapping, .reach); landing sites reuse footprint.contracts.reach.Site."""
+(footprint.contracts.case, .footprint, .optimization, .sweep, .transform, .reach); landing sites reuse
+footprint.contracts.reach.Site."""
 
 from typing import Annotated, Any, Literal, Union
 
@@ -10,7 +11,6 @@ from footprint import contracts
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
 from footprint.contracts.case import model_fields
 from footprint.contracts.reach import Site
-
 
 
 def _job_kind(kind: str) -> str:
@@ -25,13 +25,16 @@ def _kinds_schema(schema: dict) -> None:
     schema["enum"] = list(contracts.job_kinds())  # the document's kinds: those registered when it is made
 
 
-JobKind = Annotated[str, StringConstraints(max_length=40), AfterValidator(_job_kind),
-                    Field(json_schema_extra=_kinds_schema)]
+JobKind = Annotated[
+    str, StringConstraints(max_length=40), AfterValidator(_job_kind), Field(json_schema_extra=_kinds_schema)
+]
 JobStatus = Literal["queued", "running", "succeeded", "failed", "cancelled"]
 VEHICLE_ID_PATTERN = rf"^[A-Za-z0-9][A-Za-z0-9_.-]{{0,{VEHICLE_ID_CHARS - 1}}}$"
 # a job's or a footprint's id, as db.queries makes them (str(uuid.uuid4())): anything else is a 422, never a lookup
 # (or a read-cache key: 2,000 ids of 90,000 characters kept 177 MB, issue 24 item 4)
-StoredId = Annotated[str, StringConstraints(max_length=36, pattern=r"^[0-9a-fA-F]{8}(-[0-9a-fA-F]{4}){3}-[0-9a-fA-F]{12}$")]
+StoredId = Annotated[
+    str, StringConstraints(max_length=36, pattern=r"^[0-9a-fA-F]{8}(-[0-9a-fA-F]{4}){3}-[0-9a-fA-F]{12}$")
+]
 
 
 class _Strict(BaseModel):
@@ -48,28 +51,41 @@ class JobCreate(_Strict):
 
 
 def _typed_job(kind: str) -> type[BaseModel]:
-    return create_model(f"{kind.capitalize()}Job", __base__=_Strict, kind=(Literal[kind], ...),
-                        study=(contracts.module(kind).REQUEST, ...),
-                        name=(str | None, Field(default=None, max_length=JOB_NAME_CHARS)))
+    return create_model(
+        f"{kind.capitalize()}Job",
+        __base__=_Strict,
+        kind=(Literal[kind], ...),
+        study=(contracts.module(kind).REQUEST, ...),
+        name=(str | None, Field(default=None, max_length=JOB_NAME_CHARS)),
+    )
 
 
 def contract_bodies() -> dict:
     """The bodies that are a contract's request, as the OpenAPI document declares them (service.errors.document):
     POST /api/jobs one typed study per kind of job registered now, discriminated on "kind"."""
-    jobs = Annotated[Union[tuple(_typed_job(k) for k in contracts.job_kinds())], Field(discriminator="kind")]
-    return {("post", "/api/jobs"): jobs, ("post", "/api/trajectories"): contracts.module("case").REQUEST,
-            ("post", "/api/transform"): contracts.module("transform").REQUEST,
-            ("post", "/api/reach"): contracts.module("reach").REQUEST}
+    models = tuple(_typed_job(k) for k in contracts.job_kinds())
+    jobs = Annotated[Union[models], Field(discriminator="kind")]  # noqa: UP007 (a union of a computed tuple)
+    return {
+        ("post", "/api/jobs"): jobs,
+        ("post", "/api/trajectories"): contracts.module("case").REQUEST,
+        ("post", "/api/transform"): contracts.module("transform").REQUEST,
+        ("post", "/api/reach"): contracts.module("reach").REQUEST,
+    }
 
 
 # POST /api/footprints/{id}/transform: a transform request less what the stored footprint gives (its points, its
 # entry as "from", its study)
-FootprintTransform = create_model("FootprintTransform", __base__=_Strict, **model_fields(
-    contracts.module("transform").REQUEST, exclude=("points", "from_", "study")))
+FootprintTransform = create_model(
+    "FootprintTransform",
+    __base__=_Strict,
+    **model_fields(contracts.module("transform").REQUEST, exclude=("points", "from_", "study")),
+)
 
 
 class FootprintRename(_Strict):
-    name: str = Field(min_length=1, max_length=FOOTPRINT_NAME_CHARS, pattern=r"^[^\x00-\x1f]*[^\s\x00-\x1f][^\x00-\x1f]*$")  # printable, not blank
+    name: str = Field(
+        min_length=1, max_length=FOOTPRINT_NAME_CHARS, pattern=r"^[^\x00-\x1f]*[^\s\x00-\x1f][^\x00-\x1f]*$"
+    )  # printable, not blank
 
 
 class JobCreated(BaseModel):
@@ -193,6 +209,7 @@ class OutlineRead(BaseModel):
     """The boundary on the cylindrical map (core.outline): its line in latitude and continuous longitude (deg), the
     footprint on its left; its area within -180..180 deg as polygons of [longitude, latitude] rings (outer ring
     counter-clockwise, holes clockwise, as a GeoJSON MultiPolygon's coordinates); the poles it holds."""
+
     latitude_deg: list[float]
     longitude_deg: list[float]
     area: list[list[list[tuple[float, float]]]]
@@ -225,6 +242,7 @@ class MovedPoint(BaseModel):
 
 class PlaceRead(BaseModel):
     """The destination's initial point and heading after the step: the origin of the moved ranges."""
+
     latitude_deg: float
     longitude_deg: float
     heading_deg: float

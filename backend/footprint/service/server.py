@@ -71,8 +71,10 @@ class DeadlineProtocol(H11Protocol):
         if self.cycle is None or not self.cycle.response_started or self.cycle.response_complete:
             setting = "FOOTPRINT_HEADER_TIMEOUT_S" if part == "headers" else "FOOTPRINT_BODY_TIMEOUT_S"
             body = json.dumps({"detail": f"request {part} not received within {seconds:g} s ({setting})"}).encode()
-            self.transport.write(b"HTTP/1.1 408 Request Timeout\r\ncontent-type: application/json\r\n"
-                                 b"connection: close\r\ncontent-length: %d\r\n\r\n%s" % (len(body), body))
+            self.transport.write(
+                b"HTTP/1.1 408 Request Timeout\r\ncontent-type: application/json\r\n"
+                b"connection: close\r\ncontent-length: %d\r\n\r\n%s" % (len(body), body)
+            )
         if self.cycle is not None and not self.cycle.response_complete:
             self.cycle.disconnected = True  # the app waiting on the body reads a disconnect and stops
             self.cycle.message_event.set()
@@ -82,10 +84,18 @@ class DeadlineProtocol(H11Protocol):
 def config(settings: Settings, app, **options) -> uvicorn.Config:
     """The one uvicorn configuration of the service: host, port, the deadlines, and h11's buffer for a request line and
     headers still arriving (past it: 400; GuardMiddleware answers a complete but oversized one with 414 or 431)."""
-    made = _Config(app, **{"host": settings.host, "port": settings.port, "log_level": "info",
-                           "http": "footprint.service.server:DeadlineProtocol",  # by name: --api-processes pickles it
-                           "h11_max_incomplete_event_size": MAX_HEADER_BYTES + MAX_URL_BYTES,
-                           "timeout_worker_healthcheck": HEALTHCHECK_TIMEOUT_S} | options)
+    made = _Config(
+        app,
+        **{
+            "host": settings.host,
+            "port": settings.port,
+            "log_level": "info",
+            "http": "footprint.service.server:DeadlineProtocol",  # by name: --api-processes pickles it
+            "h11_max_incomplete_event_size": MAX_HEADER_BYTES + MAX_URL_BYTES,
+            "timeout_worker_healthcheck": HEALTHCHECK_TIMEOUT_S,
+        }
+        | options,
+    )
     made.header_timeout_s, made.body_timeout_s = settings.header_timeout_s, settings.body_timeout_s
     return made
 

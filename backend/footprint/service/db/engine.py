@@ -14,13 +14,19 @@ POSTGRES_CONNECT_TIMEOUT_S = 5  # a new connection to an unreachable server fail
 def make_engine(database_url: str) -> Engine:
     """An engine for SQLite (a file, foreign keys on, write transactions serialized) or Postgres."""
     if database_url.startswith("sqlite"):
-        engine = create_engine(database_url, connect_args={"check_same_thread": False,
-                                                          "timeout": SQLITE_BUSY_TIMEOUT_S})
+        engine = create_engine(
+            database_url, connect_args={"check_same_thread": False, "timeout": SQLITE_BUSY_TIMEOUT_S}
+        )
         _sqlite_pragmas(engine)
         return engine
     # request + job threads; a bounded connect: a cached read checks its revision on the event loop (deps.cached)
-    return create_engine(database_url, pool_pre_ping=True, pool_size=10, max_overflow=40,
-                         connect_args={"connect_timeout": POSTGRES_CONNECT_TIMEOUT_S})
+    return create_engine(
+        database_url,
+        pool_pre_ping=True,
+        pool_size=10,
+        max_overflow=40,
+        connect_args={"connect_timeout": POSTGRES_CONNECT_TIMEOUT_S},
+    )
 
 
 def _sqlite_pragmas(engine: Engine) -> None:

@@ -1,19 +1,41 @@
 """SQLAlchemy 2 typed declarative models: vehicles, jobs and their results, footprints with their points and
 ground tracks, landing sites. Constraint names follow one convention so SQLite and Postgres agree."""
 
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from typing import Any
 
-from sqlalchemy import JSON, BigInteger, Boolean, DateTime, Float, ForeignKey, Index, Integer, MetaData, String, Text, \
-    UniqueConstraint
+from sqlalchemy import (
+    JSON,
+    BigInteger,
+    Boolean,
+    DateTime,
+    Float,
+    ForeignKey,
+    Index,
+    Integer,
+    MetaData,
+    String,
+    Text,
+    UniqueConstraint,
+)
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, relationship
 
-from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, PROGRESS_NOTE_CHARS, SITE_NAME_CHARS, \
-    VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
+from footprint.contracts.bounds import (
+    FOOTPRINT_NAME_CHARS,
+    JOB_NAME_CHARS,
+    PROGRESS_NOTE_CHARS,
+    SITE_NAME_CHARS,
+    VEHICLE_ID_CHARS,
+    VEHICLE_NAME_CHARS,
+)
 
-NAMING = {"ix": "ix_%(column_0_label)s", "uq": "uq_%(table_name)s_%(column_0_name)s",
-          "ck": "ck_%(table_name)s_%(constraint_name)s",
-          "fk": "fk_%(table_name)s_%(column_0_name)s_%(referred_table_name)s", "pk": "pk_%(table_name)s"}
+NAMING = {
+    "ix": "ix_%(column_0_label)s",
+    "uq": "uq_%(table_name)s_%(column_0_name)s",
+    "ck": "ck_%(table_name)s_%(constraint_name)s",
+    "fk": "fk_%(table_name)s_%(column_0_name)s_%(referred_table_name)s",
+    "pk": "pk_%(table_name)s",
+}
 
 JOB_STATUSES = ("queued", "running", "succeeded", "failed", "cancelled")
 PENDING = ("queued", "running")
@@ -21,7 +43,7 @@ MAX_INTEGER = 2_147_483_647  # an Integer column's largest value (Postgres int4)
 
 
 def utc_now() -> datetime:
-    return datetime.now(timezone.utc)
+    return datetime.now(UTC)
 
 
 class Base(DeclarativeBase):
@@ -60,7 +82,9 @@ class Job(Base):
     name: Mapped[str | None] = mapped_column(String(JOB_NAME_CHARS))
     status: Mapped[str] = mapped_column(String(16), index=True)
     progress: Mapped[float] = mapped_column(Float, default=0.0)
-    progress_note: Mapped[str | None] = mapped_column(String(PROGRESS_NOTE_CHARS))  # what a running job is doing (IPOPT's iteration)
+    progress_note: Mapped[str | None] = mapped_column(
+        String(PROGRESS_NOTE_CHARS)
+    )  # what a running job is doing (IPOPT's iteration)
     error: Mapped[str | None] = mapped_column(Text)
     study: Mapped[dict[str, Any]]
     attempts: Mapped[int] = mapped_column(Integer, default=0)  # submissions to the cluster (restarts add one)
@@ -144,7 +168,9 @@ class Site(Base):
     name: Mapped[str] = mapped_column(String(SITE_NAME_CHARS))
     latitude_deg: Mapped[float] = mapped_column(Float)
     longitude_deg: Mapped[float] = mapped_column(Float)
-    last_reach: Mapped[dict[str, Any] | None]  # the verdict of the last reach stored for it (POST /api/reach?store_verdicts=true)
+    last_reach: Mapped[
+        dict[str, Any] | None
+    ]  # the verdict of the last reach stored for it (POST /api/reach?store_verdicts=true)
     created_at: Mapped[datetime] = mapped_column(default=utc_now)
 
 

@@ -2,18 +2,39 @@
 (`with sessions.begin() as s:`), except `finish_job`, which is the one transaction of a job's results."""
 
 import uuid
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 
 from sqlalchemy import delete, func, select, text, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from footprint.contracts.bounds import PROGRESS_NOTE_CHARS
-from footprint.service.db.models import PENDING, REVISIONS, Footprint, FootprintPoint, Job, JobResult, Revision, \
-    Site, Trajectory, Vehicle, utc_now
+from footprint.service.db.models import (
+    PENDING,
+    REVISIONS,
+    Footprint,
+    FootprintPoint,
+    Job,
+    JobResult,
+    Revision,
+    Site,
+    Trajectory,
+    Vehicle,
+    utc_now,
+)
 
-POINT_FIELDS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg", "heading_deg",
-                "side", "parameter", "stop_reason", "mirrored")
+POINT_FIELDS = (
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "latitude_deg",
+    "longitude_deg",
+    "heading_deg",
+    "side",
+    "parameter",
+    "stop_reason",
+    "mirrored",
+)
 SUMMARY_FIELDS = ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi", "trajectories")
 ENTRY_FIELDS = ("latitude_deg", "longitude_deg", "heading_deg", "velocity_fps", "gamma_deg", "altitude_ft")
 
@@ -39,8 +60,16 @@ def _changed(session: Session, name: str) -> None:
 # --------------------------------------------------------------------------------------------- jobs
 def create_job(session: Session, *, kind: str, study: dict, name: str | None) -> Job:
     """A queued job."""
-    job = Job(id=str(uuid.uuid4()), kind=kind, name=name, status="queued", progress=0.0, study=study,
-              attempts=0, created_at=utc_now())
+    job = Job(
+        id=str(uuid.uuid4()),
+        kind=kind,
+        name=name,
+        status="queued",
+        progress=0.0,
+        study=study,
+        attempts=0,
+        created_at=utc_now(),
+    )
     session.add(job)
     session.flush()
     return job
@@ -53,11 +82,11 @@ def get_job(session: Session, *, job_id: str) -> Job | None:
 
 def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: int, offset: int):
     """(jobs newest first, total count) under the filters."""
-    where = [c for c in (Job.status == status if status else None, Job.kind == kind if kind else None)
-             if c is not None]
+    where = [c for c in (Job.status == status if status else None, Job.kind == kind if kind else None) if c is not None]
     total = session.scalar(select(func.count()).select_from(Job).where(*where))
-    rows = session.scalars(select(Job).where(*where).order_by(Job.created_at.desc(), Job.id)
-                           .limit(limit).offset(offset)).all()
+    rows = session.scalars(
+        select(Job).where(*where).order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
+    ).all()
     return list(rows), int(total)
 
 
@@ -78,20 +107,29 @@ def start_job(session: Session, *, job_id: str) -> Job | None:
 
 def mark_running(session: Session, *, job_id: str) -> None:
     """A worker has started the job's first task."""
-    session.execute(update(Job).where(Job.id == job_id, Job.status.in_(PENDING))
-                    .values(status="running", started_at=func.coalesce(Job.started_at, utc_now())))
+    session.execute(
+        update(Job)
+        .where(Job.id == job_id, Job.status.in_(PENDING))
+        .values(status="running", started_at=func.coalesce(Job.started_at, utc_now()))
+    )
 
 
 def set_progress(session: Session, *, job_id: str, progress: float, note: str | None = None) -> None:
     """Record the progress (0-1) of a running job, and what it is doing."""
-    session.execute(update(Job).where(Job.id == job_id, Job.status == "running")
-                    .values(progress=progress, progress_note=None if note is None else note[:PROGRESS_NOTE_CHARS]))
+    session.execute(
+        update(Job)
+        .where(Job.id == job_id, Job.status == "running")
+        .values(progress=progress, progress_note=None if note is None else note[:PROGRESS_NOTE_CHARS])
+    )
 
 
 def fail_job(session: Session, *, job_id: str, error: str) -> None:
     """End a pending job as failed with a one-line error."""
-    session.execute(update(Job).where(Job.id == job_id, Job.status.in_(PENDING))
-                    .values(status="failed", error=error, finished_at=utc_now()))
+    session.execute(
+        update(Job)
+        .where(Job.id == job_id, Job.status.in_(PENDING))
+        .values(status="failed", error=error, finished_at=utc_now())
+    )
 
 
 def cancel_job(session: Session, *, job_id: str) -> Job | None:
@@ -155,15 +193,31 @@ def rename_footprint(session: Session, *, footprint_id: str, name: str) -> Footp
 
 
 def _footprint_row(job_id: str, seq: int, record: dict) -> Footprint:
-    fp = Footprint(id=str(uuid.uuid4()), job_id=job_id, seq=seq, name=record["name"], vehicle=record["vehicle"],
-                   method=record["method"], study=record["study"], created_at=utc_now(),
-                   **{k: record[k] for k in SUMMARY_FIELDS},
-                   **{f"entry_{k}": record["entry"][k] for k in ENTRY_FIELDS})
-    fp.points = [FootprintPoint(interior=interior, seq=i, **{k: p[k] for k in POINT_FIELDS})
-                 for interior, key in ((False, "points"), (True, "interior")) for i, p in enumerate(record[key])]
+    fp = Footprint(
+        id=str(uuid.uuid4()),
+        job_id=job_id,
+        seq=seq,
+        name=record["name"],
+        vehicle=record["vehicle"],
+        method=record["method"],
+        study=record["study"],
+        created_at=utc_now(),
+        **{k: record[k] for k in SUMMARY_FIELDS},
+        **{f"entry_{k}": record["entry"][k] for k in ENTRY_FIELDS},
+    )
+    fp.points = [
+        FootprintPoint(interior=interior, seq=i, **{k: p[k] for k in POINT_FIELDS})
+        for interior, key in ((False, "points"), (True, "interior"))
+        for i, p in enumerate(record[key])
+    ]
     track = record["ground_track"]
-    fp.ground_track = Trajectory(kind="zero_bank", summary=track["summary"], time_s=track["time_s"],
-                                 latitude_deg=track["latitude_deg"], longitude_deg=track["longitude_deg"])
+    fp.ground_track = Trajectory(
+        kind="zero_bank",
+        summary=track["summary"],
+        time_s=track["time_s"],
+        latitude_deg=track["latitude_deg"],
+        longitude_deg=track["longitude_deg"],
+    )
     return fp
 
 
@@ -172,9 +226,13 @@ def list_footprints(session: Session, *, job_id: str | None, limit: int, offset:
     """(footprints newest first, in job order within a job; total count)."""
     where = [Footprint.job_id == job_id] if job_id else []
     total = session.scalar(select(func.count()).select_from(Footprint).where(*where))
-    rows = session.scalars(select(Footprint).where(*where)
-                           .order_by(Footprint.created_at.desc(), Footprint.job_id, Footprint.seq)
-                           .limit(limit).offset(offset)).all()
+    rows = session.scalars(
+        select(Footprint)
+        .where(*where)
+        .order_by(Footprint.created_at.desc(), Footprint.job_id, Footprint.seq)
+        .limit(limit)
+        .offset(offset)
+    ).all()
     return list(rows), int(total)
 
 
@@ -190,9 +248,13 @@ def get_footprint(session: Session, *, footprint_id: str) -> Footprint | None:
 
 def footprint_points(session: Session, *, footprint_id: str, interior: bool) -> list[FootprintPoint]:
     """The boundary (in order) or the interior points."""
-    return list(session.scalars(select(FootprintPoint).where(FootprintPoint.footprint_id == footprint_id,
-                                                             FootprintPoint.interior == interior)
-                                .order_by(FootprintPoint.seq)))
+    return list(
+        session.scalars(
+            select(FootprintPoint)
+            .where(FootprintPoint.footprint_id == footprint_id, FootprintPoint.interior == interior)
+            .order_by(FootprintPoint.seq)
+        )
+    )
 
 
 def ground_track(session: Session, *, footprint_id: str) -> Trajectory | None:
@@ -212,10 +274,10 @@ def delete_footprint(session: Session, *, footprint_id: str) -> bool:
 
 def count_rows(session: Session, *, job_id: str) -> dict:
     """How many result rows a job has (job_results, footprints): each must be written once."""
-    return {"job_results": session.scalar(select(func.count()).select_from(JobResult)
-                                          .where(JobResult.job_id == job_id)),
-            "footprints": session.scalar(select(func.count()).select_from(Footprint)
-                                         .where(Footprint.job_id == job_id))}
+    return {
+        "job_results": session.scalar(select(func.count()).select_from(JobResult).where(JobResult.job_id == job_id)),
+        "footprints": session.scalar(select(func.count()).select_from(Footprint).where(Footprint.job_id == job_id)),
+    }
 
 
 # ----------------------------------------------------------------------------------------- vehicles
@@ -231,8 +293,7 @@ def get_vehicle(session: Session, *, vehicle_id: str) -> Vehicle | None:
 
 def create_vehicle(session: Session, *, vehicle_id: str, description: str, definition: dict, summary: dict) -> Vehicle:
     """Store a custom vehicle with its list item's numbers (the caller checks the id is free)."""
-    row = Vehicle(id=vehicle_id, description=description, definition=definition, summary=summary,
-                  created_at=utc_now())
+    row = Vehicle(id=vehicle_id, description=description, definition=definition, summary=summary, created_at=utc_now())
     session.add(row)
     session.flush()
     _changed(session, "vehicles")
@@ -295,5 +356,5 @@ def iso(moment: datetime | None) -> str | None:
     if moment is None:
         return None
     if moment.tzinfo is not None:
-        moment = moment.astimezone(timezone.utc)
+        moment = moment.astimezone(UTC)
     return moment.replace(tzinfo=None).isoformat(timespec="milliseconds") + "Z"

@@ -85,8 +85,9 @@ class ClusterLink:
         from footprint.parallel import start_client
 
         s = self._settings
-        client, close = start_client(workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False,
-                                     niceness=s.worker_niceness)
+        client, close = start_client(
+            workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False, niceness=s.worker_niceness
+        )
         self._stack.callback(close)
         return client
 
@@ -115,11 +116,19 @@ class ClusterLink:
             with self._lock:
                 self._workerless_since = None if workers else (self._workerless_since or time.monotonic())
             expected = self.expected_workers()
-            now = {"ok": self.client.status == "running" and workers >= max(expected, 1),
-                   "scheduler": info.get("address", ""), "workers": workers, "expected_workers": expected}
+            now = {
+                "ok": self.client.status == "running" and workers >= max(expected, 1),
+                "scheduler": info.get("address", ""),
+                "workers": workers,
+                "expected_workers": expected,
+            }
         except Exception as exc:  # noqa: BLE001 -- health reports, never raises
-            now = {"ok": False, "scheduler": self._settings.dask_scheduler or "local", "workers": 0,
-                   "error": one_line(exc)}
+            now = {
+                "ok": False,
+                "scheduler": self._settings.dask_scheduler or "local",
+                "workers": 0,
+                "error": one_line(exc),
+            }
         with self._lock:
             self._status, self._asking = (time.monotonic(), now), False
         return dict(now)
@@ -311,8 +320,9 @@ class JobEngine(ClusterLink):
             request = request or contracts.parse(kind, study)
             parts = list(work.split(request))
             t0 = time.perf_counter()
-            outputs = self._compute(job_id, parallel.submit_parts(self.client, kind, request, parts,
-                                                                  prefix=f"{kind}-{job_id}"))
+            outputs = self._compute(
+                job_id, parallel.submit_parts(self.client, kind, request, parts, prefix=f"{kind}-{job_id}")
+            )
             if outputs is None:
                 return
             info = RunInfo(tasks=len(parts), workers=self.expected_workers(), seconds=time.perf_counter() - t0)
@@ -358,17 +368,21 @@ class JobEngine(ClusterLink):
                     return None
                 if self.workerless_s() > self._settings.no_workers_limit_s:  # a queue it cannot run
                     self.stop(futures)
-                    raise NoWorkers("the Dask scheduler has had no worker for "
-                                    f"{self._settings.no_workers_limit_s:g} s (FOOTPRINT_NO_WORKERS_LIMIT_S): start "
-                                    "workers on it and submit the job again")
+                    raise NoWorkers(
+                        "the Dask scheduler has had no worker for "
+                        f"{self._settings.no_workers_limit_s:g} s (FOOTPRINT_NO_WORKERS_LIMIT_S): start "
+                        "workers on it and submit the job again"
+                    )
                 if starts and not running:  # "queued" until a worker really runs it
                     with self._sessions.begin() as session:
                         q.mark_running(session, job_id=job_id)
                     running = True
                 if starts and time.monotonic() - min(starts) > self._settings.job_time_limit_s:
                     self.stop(futures)
-                    raise JobTimeLimit(f"the job ran past its time limit of {self._settings.job_time_limit_s:g} s "
-                                       "(FOOTPRINT_JOB_TIME_LIMIT_S) and was stopped")
+                    raise JobTimeLimit(
+                        f"the job ran past its time limit of {self._settings.job_time_limit_s:g} s "
+                        "(FOOTPRINT_JOB_TIME_LIMIT_S) and was stopped"
+                    )
                 finished = [f for f in pending if f.done()]
                 pending = [f for f in pending if not f.done()]
                 for fut in finished:
@@ -429,4 +443,3 @@ async def _replace_workers(cluster, names: list[str]) -> None:
             except Exception as exc:  # noqa: BLE001 -- a nanny already gone: its replacement starts all the same
                 log.info("closing a lost nanny: %s", one_line(exc))
     await cluster._correct_state()
-

@@ -15,10 +15,14 @@ from footprint.service.schemas import StoredId
 router = APIRouter(tags=["jobs"])
 
 
-@router.get("/jobs/{job_id}/dispersion", response_class=Response,
-            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}})
-def get_dispersion(job_id: StoredId, request: Request,
-                   format: Literal["geojson", "csv"] = Query("geojson")) -> Response:
+@router.get(
+    "/jobs/{job_id}/dispersion",
+    response_class=Response,
+    responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}},
+)
+def get_dispersion(
+    job_id: StoredId, request: Request, format: Literal["geojson", "csv"] = Query("geojson")
+) -> Response:
     """A succeeded dispersion job's result for a GIS or a spreadsheet: GeoJSON of the nominal and confidence
     footprints, the 1 and 3 sigma ellipses, the entry and the sites with their probability; or CSV of the sites."""
     with deps.sessions(request).begin() as session:
@@ -26,10 +30,16 @@ def get_dispersion(job_id: StoredId, request: Request,
         if job is None:
             raise NotFound(f"no job {job_id!r}")
         if job.kind != "dispersion" or job.status != "succeeded":
-            raise NotFound(f"job {job_id!r} is a {job.kind} job" if job.kind != "dispersion" else
-                           f"job {job_id!r} is {job.status}: its dispersion is there once it has succeeded")
+            raise NotFound(
+                f"job {job_id!r} is a {job.kind} job"
+                if job.kind != "dispersion"
+                else f"job {job_id!r} is {job.status}: its dispersion is there once it has succeeded"
+            )
         result = q.job_result(session, job_id=job_id)["dispersion"]
     if format == "csv":
-        return Response(dispersion.sites_csv(result), media_type="text/csv", headers={
-            "Content-Disposition": f'attachment; filename="dispersion-{job_id}-sites.csv"'})
+        return Response(
+            dispersion.sites_csv(result),
+            media_type="text/csv",
+            headers={"Content-Disposition": f'attachment; filename="dispersion-{job_id}-sites.csv"'},
+        )
     return Response(json.dumps(geojson.dispersion_collection(result)), media_type="application/geo+json")

@@ -10,25 +10,50 @@ from fastapi.responses import HTMLResponse
 
 from footprint.contracts.footprint import ground_track_at
 from footprint.contracts.records import csv_cell
+from footprint.core.errors import InputError
+from footprint.core.rotation import shift_error_nmi
 from footprint.pictures import geojson
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
-from footprint.core.errors import InputError
-from footprint.core.rotation import shift_error_nmi
 from footprint.service.errors import NotFound, Unavailable
-from footprint.service.schemas import (FootprintList, FootprintRead, FootprintRename, FootprintSummary,
-                                       FootprintTransform, FootprintTransformRead, StoredId)
+from footprint.service.schemas import (
+    FootprintList,
+    FootprintRead,
+    FootprintRename,
+    FootprintSummary,
+    FootprintTransform,
+    FootprintTransformRead,
+    StoredId,
+)
 
 router = APIRouter(tags=["footprints"])
-CSV_COLUMNS = ("index", "downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg",
-               "heading_deg", "side", "parameter", "stop_reason", "mirrored")
+CSV_COLUMNS = (
+    "index",
+    "downrange_nmi",
+    "crossrange_nmi",
+    "flight_time_s",
+    "latitude_deg",
+    "longitude_deg",
+    "heading_deg",
+    "side",
+    "parameter",
+    "stop_reason",
+    "mirrored",
+)
 
 
 def _summary(fp) -> dict:
-    return {"id": fp.id, "name": fp.name, "job_id": fp.job_id, "vehicle": fp.vehicle, "method": fp.method,
-            "entry": {k: getattr(fp, f"entry_{k}") for k in q.ENTRY_FIELDS},
-            **{k: getattr(fp, k) for k in q.SUMMARY_FIELDS}, "created_at": q.iso(fp.created_at)}
+    return {
+        "id": fp.id,
+        "name": fp.name,
+        "job_id": fp.job_id,
+        "vehicle": fp.vehicle,
+        "method": fp.method,
+        "entry": {k: getattr(fp, f"entry_{k}") for k in q.ENTRY_FIELDS},
+        **{k: getattr(fp, k) for k in q.SUMMARY_FIELDS},
+        "created_at": q.iso(fp.created_at),
+    }
 
 
 def _point(p) -> dict:
@@ -49,16 +74,25 @@ def _stored(session, footprint_id: str) -> tuple[dict, dict]:
     item = _summary(fp) | {
         "points": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=False)],
         "interior": [_point(p) for p in q.footprint_points(session, footprint_id=footprint_id, interior=True)],
-        "ground_track": [] if track is None else
-        [{"latitude_deg": a, "longitude_deg": o, "time_s": t}
-         for a, o, t in zip(track.latitude_deg, track.longitude_deg, track.time_s)]}
+        "ground_track": []
+        if track is None
+        else [
+            {"latitude_deg": a, "longitude_deg": o, "time_s": t}
+            for a, o, t in zip(track.latitude_deg, track.longitude_deg, track.time_s)
+        ],
+    }
     return item, fp.study
 
 
 @router.get("/footprints", response_model=FootprintList, responses=read_cache.NOT_MODIFIED)
-async def list_footprints(request: Request, job_id: StoredId | None = None, limit: int = Query(50, ge=1, le=500),
-                          offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> Response:
+async def list_footprints(
+    request: Request,
+    job_id: StoredId | None = None,
+    limit: int = Query(50, ge=1, le=500),
+    offset: int = Query(0, ge=0, le=MAX_INTEGER),
+) -> Response:
     """Stored footprints, newest first (with an ETag: If-None-Match answers 304 while none changed)."""
+
     def build(session):
         rows, total = q.list_footprints(session, job_id=job_id, limit=limit, offset=offset)
         return read_cache.as_json(FootprintList, {"items": [_summary(r) for r in rows], "total": total})
@@ -66,23 +100,30 @@ async def list_footprints(request: Request, job_id: StoredId | None = None, limi
     return await deps.cached(request, ("list", job_id, limit, offset), "footprints", build)
 
 
-@router.get("/footprints/{footprint_id}", response_model=FootprintRead,
-            responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}, **read_cache.NOT_MODIFIED})
-async def get_footprint(footprint_id: StoredId, request: Request,
-                        format: Literal["json", "geojson", "csv"] = Query("json")) -> Response:
+@router.get(
+    "/footprints/{footprint_id}",
+    response_model=FootprintRead,
+    responses={200: {"content": {"application/geo+json": {}, "text/csv": {}}}, **read_cache.NOT_MODIFIED},
+)
+async def get_footprint(
+    footprint_id: StoredId, request: Request, format: Literal["json", "geojson", "csv"] = Query("json")
+) -> Response:
     """A footprint with its boundary (closed), interior points and ground track; or GeoJSON, or CSV (with an ETag:
     If-None-Match answers 304 while it is unchanged)."""
+
     def build(session):
         item, _ = _stored(session, footprint_id)
         if format == "geojson":
-            return read_cache.serialized(json.dumps(geojson.feature_collection(item)).encode(),
-                                         "application/geo+json")
+            return read_cache.serialized(json.dumps(geojson.feature_collection(item)).encode(), "application/geo+json")
         if format == "csv":
             return read_cache.serialized(
-                _csv(item["points"]).encode(), "text/csv",
-                {"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'})
-        return read_cache.as_json(FootprintRead,
-                                  item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()})
+                _csv(item["points"]).encode(),
+                "text/csv",
+                {"Content-Disposition": f'attachment; filename="footprint-{footprint_id}.csv"'},
+            )
+        return read_cache.as_json(
+            FootprintRead, item | {"outline": geojson.area(item["points"], item["entry"]).to_dict()}
+        )
 
     return await deps.cached(request, ("item", footprint_id, format), "footprints", build)
 
@@ -129,8 +170,9 @@ def delete_footprint(footprint_id: StoredId, request: Request) -> Response:
     return Response(status_code=204)
 
 
-@router.post("/footprints/{footprint_id}/transform", response_model=FootprintTransformRead,
-             response_model_exclude_unset=True)
+@router.post(
+    "/footprints/{footprint_id}/transform", response_model=FootprintTransformRead, response_model_exclude_unset=True
+)
 def transform_footprint(footprint_id: StoredId, request: Request, body: FootprintTransform) -> dict:
     """Move the footprint's boundary (and its ground track) from its entry to another place (Section IV); the
     moved boundary's outline and GeoJSON geometry; with "exact", the track flown again and how far the report's
@@ -140,8 +182,15 @@ def transform_footprint(footprint_id: StoredId, request: Request, body: Footprin
     origin = {k: item["entry"][k] for k in ("latitude_deg", "longitude_deg", "heading_deg")}
     common = {"from": origin, **body}
     exact = body.get("earth_rotation") == "exact"
-    points = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
-               "flight_time_s": p["flight_time_s"], "downrange_nmi": p["downrange_nmi"]} for p in item["points"]]
+    points = [
+        {
+            "latitude_deg": p["latitude_deg"],
+            "longitude_deg": p["longitude_deg"],
+            "flight_time_s": p["flight_time_s"],
+            "downrange_nmi": p["downrange_nmi"],
+        }
+        for p in item["points"]
+    ]
     result = deps.answer_now(request, "transform", common | ({"study": study} if exact else {"points": points}))
     boundary = [p for p in result["points"] if p.get("on_boundary", True)]
     area = geojson.area(boundary, result["reference"])
@@ -151,12 +200,19 @@ def transform_footprint(footprint_id: StoredId, request: Request, body: Footprin
         shifted = deps.answer_now(request, "transform", common | {"points": points, "earth_rotation": "approximate"})
         result["approximate_error_nmi"] = shift_error_nmi(item["points"], shifted["points"], boundary)
     elif item["ground_track"]:
-        track = [{"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"],
-                  "flight_time_s": t["time_s"]} for t in item["ground_track"]]
+        track = [
+            {"latitude_deg": t["latitude_deg"], "longitude_deg": t["longitude_deg"], "flight_time_s": t["time_s"]}
+            for t in item["ground_track"]
+        ]
         moved = deps.answer_now(request, "transform", common | {"points": track, "mirror": False})
-        result["ground_track"] = [{"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"],
-                                   "time_s": p.get("flight_time_s")} for p in moved["points"]]
-    moved_item = item | {"points": boundary, "ground_track": result.get("ground_track", []),
-                         "entry": item["entry"] | result["reference"]}
+        result["ground_track"] = [
+            {"latitude_deg": p["latitude_deg"], "longitude_deg": p["longitude_deg"], "time_s": p.get("flight_time_s")}
+            for p in moved["points"]
+        ]
+    moved_item = item | {
+        "points": boundary,
+        "ground_track": result.get("ground_track", []),
+        "entry": item["entry"] | result["reference"],
+    }
     result["geojson"] = geojson.feature_collection(moved_item, area)  # the same GeoJSON as the stored footprint's
     return result

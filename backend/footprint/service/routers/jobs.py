@@ -19,10 +19,18 @@ EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
 
 
 def summary(job) -> dict:
-    return {"id": job.id, "kind": job.kind, "name": job.name, "status": job.status, "progress": job.progress,
-            "progress_note": job.progress_note,
-            "error": job.error, "created_at": q.iso(job.created_at), "started_at": q.iso(job.started_at),
-            "finished_at": q.iso(job.finished_at)}
+    return {
+        "id": job.id,
+        "kind": job.kind,
+        "name": job.name,
+        "status": job.status,
+        "progress": job.progress,
+        "progress_note": job.progress_note,
+        "error": job.error,
+        "created_at": q.iso(job.created_at),
+        "started_at": q.iso(job.started_at),
+        "finished_at": q.iso(job.finished_at),
+    }
 
 
 def _read(session, job) -> dict:
@@ -33,8 +41,12 @@ def _read(session, job) -> dict:
     return summary(job) | {"study": job.study, "result": result}
 
 
-@router.post("/jobs", response_model=JobCreated, status_code=202,
-             responses={202: {"headers": {"Location": {"description": "the job's URL", "schema": {"type": "string"}}}}})
+@router.post(
+    "/jobs",
+    response_model=JobCreated,
+    status_code=202,
+    responses={202: {"headers": {"Location": {"description": "the job's URL", "schema": {"type": "string"}}}}},
+)
 def create_job(body: JobCreate, request: Request, response: Response) -> dict:
     """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
     as the Location header) to poll or follow."""
@@ -49,9 +61,13 @@ def create_job(body: JobCreate, request: Request, response: Response) -> dict:
 
 
 @router.get("/jobs", response_model=JobList)
-def list_jobs(request: Request, status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
-              kind: JobKind | None = Query(None),
-              limit: int = Query(50, ge=1, le=500), offset: int = Query(0, ge=0, le=MAX_INTEGER)) -> dict:
+def list_jobs(
+    request: Request,
+    status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
+    kind: JobKind | None = Query(None),
+    limit: int = Query(50, ge=1, le=500),
+    offset: int = Query(0, ge=0, le=MAX_INTEGER),
+) -> dict:
     """Jobs newest first, filtered by status and kind."""
     with deps.sessions(request).begin() as session:
         jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
@@ -85,12 +101,16 @@ def cancel_job(job_id: StoredId, request: Request) -> dict:
 def _state(request: Request, job_id: str) -> dict | None:
     with deps.sessions(request).begin() as session:
         job = q.get_job(session, job_id=job_id)
-        return None if job is None else {"id": job.id, "status": job.status, "progress": job.progress,
-                                         "progress_note": job.progress_note}
+        return (
+            None
+            if job is None
+            else {"id": job.id, "status": job.status, "progress": job.progress, "progress_note": job.progress_note}
+        )
 
 
-@router.get("/jobs/{job_id}/events", response_class=StreamingResponse,
-            responses={200: {"content": {"text/event-stream": {}}}})
+@router.get(
+    "/jobs/{job_id}/events", response_class=StreamingResponse, responses={200: {"content": {"text/event-stream": {}}}}
+)
 async def job_events(job_id: StoredId, request: Request) -> StreamingResponse:
     """`event: progress` on every change of status or progress; `event: end` once the job is terminal."""
     if await run_in_threadpool(_state, request, job_id) is None:
@@ -113,8 +133,9 @@ async def job_events(job_id: StoredId, request: Request) -> StreamingResponse:
                 return
             await asyncio.sleep(EVENT_POLL_S)
 
-    return StreamingResponse(stream(), media_type="text/event-stream",
-                             headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"})
+    return StreamingResponse(
+        stream(), media_type="text/event-stream", headers={"Cache-Control": "no-cache", "X-Accel-Buffering": "no"}
+    )
 
 
 def _event(name: str, data: dict) -> str:

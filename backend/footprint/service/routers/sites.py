@@ -10,11 +10,11 @@ from pydantic import ValidationError
 
 from footprint.contracts.case import error_line
 from footprint.contracts.reach import Site
+from footprint.contracts.records import plain
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
 from footprint.service.errors import NotFound, RequestInvalid, UnsupportedMediaType
-from footprint.contracts.records import plain
 from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 
 router = APIRouter(tags=["sites"])
@@ -24,8 +24,13 @@ SiteId = Annotated[int, Path(le=MAX_INTEGER)]  # the route's :int takes any digi
 
 
 def _read(row) -> dict:
-    return {"id": row.id, "name": row.name, "latitude_deg": row.latitude_deg, "longitude_deg": row.longitude_deg,
-            "last_reach": row.last_reach}
+    return {
+        "id": row.id,
+        "name": row.name,
+        "latitude_deg": row.latitude_deg,
+        "longitude_deg": row.longitude_deg,
+        "last_reach": row.last_reach,
+    }
 
 
 def _site(row) -> dict:
@@ -47,8 +52,13 @@ def create_site(site: Site, request: Request) -> dict:
         return _read(q.create_sites(session, sites=[site.model_dump()])[0])
 
 
-@router.post("/sites/csv", response_model=SitesCreated, status_code=201, responses={415: {}},
-             openapi_extra={"requestBody": {"content": {"text/csv": {"schema": {"type": "string"}}}}})
+@router.post(
+    "/sites/csv",
+    response_model=SitesCreated,
+    status_code=201,
+    responses={415: {}},
+    openapi_extra={"requestBody": {"content": {"text/csv": {"schema": {"type": "string"}}}}},
+)
 async def upload_sites(request: Request) -> dict:
     """Store the sites of a text/csv body with the header name,latitude_deg,longitude_deg (all or none). Other
     types are refused (415): a text/plain POST is a "simple" request another site's page may send."""
@@ -68,8 +78,11 @@ def _parse_csv(body: bytes) -> list[dict]:
         raise RequestInvalid(f"body: not UTF-8 text ({exc.reason} at byte {exc.start})", "body") from None
     reader = csv.DictReader(io.StringIO(text))
     if reader.fieldnames is None or set(CSV_COLUMNS) - {f.strip() for f in reader.fieldnames}:
-        raise RequestInvalid(f"line 1: the header must name the columns {','.join(CSV_COLUMNS)} "
-                             f"(got {','.join(reader.fieldnames or [])!r})", "line 1")
+        raise RequestInvalid(
+            f"line 1: the header must name the columns {','.join(CSV_COLUMNS)} "
+            f"(got {','.join(reader.fieldnames or [])!r})",
+            "line 1",
+        )
     sites = []
     for row in reader:
         line = reader.line_num
@@ -115,9 +128,13 @@ def delete_site(site_id: SiteId, request: Request) -> Response:
 
 
 @router.post("/reach", response_model=ReachRead)
-def reach(request: Request, body: dict[str, Any] = Body(..., description="footprint.contracts.reach request"),
-          store_verdicts: bool = Query(False, description="keep each stored site's verdict with it (stored sites "
-                                                          "only: the request gives no sites)")) -> dict:
+def reach(
+    request: Request,
+    body: dict[str, Any] = Body(..., description="footprint.contracts.reach request"),
+    store_verdicts: bool = Query(
+        False, description="keep each stored site's verdict with it (stored sites only: the request gives no sites)"
+    ),
+) -> dict:
     """Which sites the footprint reaches from which deorbit points (the stored sites when none are given); with
     store_verdicts, each stored site keeps its verdict (shown again after a reload)."""
     ids = None
@@ -128,7 +145,9 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
         if not body["sites"]:
             raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
     elif store_verdicts:
-        raise RequestInvalid("store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts")
+        raise RequestInvalid(
+            "store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts"
+        )
     req = deps.parse_body(request, "reach", body, synchronous=True)
     result = plain(deps.answer_now(request, "reach", req))
     if store_verdicts:
@@ -140,6 +159,7 @@ def reach(request: Request, body: dict[str, Any] = Body(..., description="footpr
 def _verdict(site: dict, req, result: dict) -> dict:
     """What a site keeps of a reach: its verdict, and of what footprint and orbit."""
     return {k: site[k] for k in ("reachable", "windows", "first_deorbit_time_s", "best_margin_nmi")} | {
-        "footprint": req.description or "footprint", "orbit": {k: result["orbit"][k] for k in
-                                                                ("inclination_deg", "node_longitude_deg")},
-        "checked_at": q.iso(q.utc_now())}
+        "footprint": req.description or "footprint",
+        "orbit": {k: result["orbit"][k] for k in ("inclination_deg", "node_longitude_deg")},
+        "checked_at": q.iso(q.utc_now()),
+    }

@@ -4,8 +4,8 @@ from typing import Any
 
 from fastapi import APIRouter, Body, Request
 
-from footprint.service import deps
 from footprint.contracts.records import decimated, plain
+from footprint.service import deps
 from footprint.service.schemas import TrajectoryRead
 
 router = APIRouter(tags=["trajectories"])

@@ -6,8 +6,16 @@ from fastapi import APIRouter, Request, Response
 from pydantic import ValidationError
 
 from footprint.contracts.case import VehicleCase
-from footprint.core.aero import SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_cl_max_deg, builtin_vehicle, \
-    builtin_vehicle_ids, coefficients, ld_max, vehicle_summaries
+from footprint.core.aero import (
+    SUMMARY_ALTITUDE_FT,
+    SUMMARY_MACH,
+    alpha_cl_max_deg,
+    builtin_vehicle,
+    builtin_vehicle_ids,
+    coefficients,
+    ld_max,
+    vehicle_summaries,
+)
 from footprint.core.errors import InputError
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
@@ -41,11 +49,18 @@ class BuiltinSummaries:
 
     @staticmethod
     def _compute() -> tuple[dict[str, dict], dict[str, dict]]:
-        items = {r["id"]: {"id": r["id"], "builtin": True,
-                           "description": r["name"] + (f" ({r['note']})" if r["note"] else ""),
-                           "wing_loading_psf": r["wing_loading_psf"], "ld_max": r["ld_max_m20_200kft"],
-                           "alpha_ld_max_deg": r["alpha_ld_max_deg"], "reported_ld_max": r["reported_ld_max"]}
-                 for r in vehicle_summaries()}
+        items = {
+            r["id"]: {
+                "id": r["id"],
+                "builtin": True,
+                "description": r["name"] + (f" ({r['note']})" if r["note"] else ""),
+                "wing_loading_psf": r["wing_loading_psf"],
+                "ld_max": r["ld_max_m20_200kft"],
+                "alpha_ld_max_deg": r["alpha_ld_max_deg"],
+                "reported_ld_max": r["reported_ld_max"],
+            }
+            for r in vehicle_summaries()
+        }
         return items, {vid: _aero(builtin_vehicle(vid)) for vid in items}
 
 
@@ -73,8 +88,11 @@ def _finite(x: float) -> float | None:
 def _summary(vehicle) -> dict:
     """A vehicle's list item numbers: wing loading, (L/D)max and its alpha at Mach 20, 200,000 ft."""
     ld, alpha = ld_max(vehicle, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)
-    return {"wing_loading_psf": vehicle.wing_loading_psf, "ld_max": _finite(round(ld, 4)),
-            "alpha_ld_max_deg": _finite(round(alpha, 2))}
+    return {
+        "wing_loading_psf": vehicle.wing_loading_psf,
+        "ld_max": _finite(round(ld, 4)),
+        "alpha_ld_max_deg": _finite(round(alpha, 2)),
+    }
 
 
 def _custom_item(row) -> dict:
@@ -87,18 +105,19 @@ def _aero(vehicle) -> dict:
     rows = {"ld_max": [], "alpha_ld_max_deg": [], "cl_max": []}
     for mach in AERO_MACH:
         ld, alpha = ld_max(vehicle, mach, SUMMARY_ALTITUDE_FT)
-        cl_max, _ = coefficients(vehicle.blob, mach, float(alpha_cl_max_deg(vehicle.blob, mach, SUMMARY_ALTITUDE_FT)),
-                                 SUMMARY_ALTITUDE_FT)
+        cl_max, _ = coefficients(
+            vehicle.blob, mach, float(alpha_cl_max_deg(vehicle.blob, mach, SUMMARY_ALTITUDE_FT)), SUMMARY_ALTITUDE_FT
+        )
         rows["ld_max"].append(_finite(round(ld, 4)))
         rows["alpha_ld_max_deg"].append(_finite(round(alpha, 2)))
         rows["cl_max"].append(_finite(round(float(cl_max), 4)))
     return {"altitude_ft": SUMMARY_ALTITUDE_FT, "mach": list(AERO_MACH), **rows}
 
 
-@router.get("/vehicles", response_model=list[VehicleItem],
-            responses=read_cache.NOT_MODIFIED)
+@router.get("/vehicles", response_model=list[VehicleItem], responses=read_cache.NOT_MODIFIED)
 async def list_vehicles(request: Request) -> Response:
     """Built-in vehicles, then the stored custom ones (with an ETag: If-None-Match answers 304 while none changed)."""
+
     def build(session):
         items = list(_builtins().values()) + [_custom_item(r) for r in q.list_vehicles(session)]
         return read_cache.as_json(list[VehicleItem], items)
@@ -136,8 +155,9 @@ def create_vehicle(body: VehicleCreate, request: Request) -> dict:
     with deps.sessions(request).begin() as session:
         if q.get_vehicle(session, vehicle_id=body.id) is not None:
             raise Conflict(f"id: a vehicle {body.id!r} is stored already")
-        row = q.create_vehicle(session, vehicle_id=body.id, description=body.description, definition=definition,
-                               summary=_summary(vehicle))
+        row = q.create_vehicle(
+            session, vehicle_id=body.id, description=body.description, definition=definition, summary=_summary(vehicle)
+        )
     return _custom_item(row) | {"definition": definition, "aero": _aero(vehicle)}
 
 
