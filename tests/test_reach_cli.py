@@ -14,7 +14,7 @@ from pydantic import ValidationError
 
 from footprint import parallel
 from footprint.contracts import parse
-from footprint.contracts.case import error_line
+from footprint.contracts.messages import error_line
 from footprint.core.orbits import CircularOrbit, position
 
 run_reach = partial(parallel.run, "reach")

@@ -8,7 +8,7 @@ import typer
 from pydantic import ValidationError
 
 from footprint import contracts, parallel
-from footprint.contracts.case import error_line, printable
+from footprint.contracts.messages import error_line, printable
 from footprint.contracts.records import strict_json
 from footprint.core.errors import InputError, NoOptimum
 

@@ -16,13 +16,15 @@ import signal
 import time
 import uuid
 from collections import OrderedDict
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from types import ModuleType
 from typing import Any
 
 from footprint import contracts
-from footprint.contracts.work import RunInfo
+from footprint.contracts.work import OnProgress, RunInfo, Work
 
+Progress = Callable[[int, int], None]  # progress(parts done, parts) after each part
 PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (the job engine subscribes)
 PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
 PARSED_KEPT = 4  # requests a worker keeps parsed (one job's parts share one parse)
@@ -36,14 +38,14 @@ WARM_CASE = {
 # ----------------------------------------------------------------------------------------------- the runner
 def run(
     kind: str,
-    request,
-    progress: Callable[[int, int], None] | None = None,
+    request: Any,
+    progress: Progress | None = None,
     *,
-    on_progress=None,
-    client=None,
+    on_progress: OnProgress | None = None,
+    client: Any = None,
     workers: int | None = None,
     scheduler: str | None = None,
-):
+) -> Any:
     """The kind's answer (its contract's WORK.combine) for a request (a dict or a parsed model): in this process,
     or on Dask when a `client`, a count of local `workers` or a `scheduler` address is given. progress(done, total)
     after each part; on_progress(fraction, note) inside a part run in this process (True from it stops the part).
@@ -74,7 +76,9 @@ def run(
     )
 
 
-def _run_here(work, request, parts: Sequence, progress, on_progress) -> tuple[list, RunInfo]:
+def _run_here(
+    work: Work, request: Any, parts: Sequence[Any], progress: Progress | None, on_progress: OnProgress | None
+) -> tuple[list[Any], RunInfo]:
     t0 = time.perf_counter()
     outputs = []
     for done, part in enumerate(parts, 1):
@@ -84,7 +88,7 @@ def _run_here(work, request, parts: Sequence, progress, on_progress) -> tuple[li
     return outputs, RunInfo(tasks=len(parts), seconds=time.perf_counter() - t0)
 
 
-def submit_parts(client, kind: str, request, parts: Sequence, *, prefix: str) -> list:
+def submit_parts(client: Any, kind: str, request: Any, parts: Sequence[Any], *, prefix: str) -> list[Any]:
     """One Dask task per part, keyed "<prefix>-<token>-<i>" (each run's keys its own): its future, in part order."""
     module_name, data = contracts.MODULES[kind], json.dumps(contracts.stored_form(request))
     token = uuid.uuid4().hex[:8]
@@ -94,12 +98,12 @@ def submit_parts(client, kind: str, request, parts: Sequence, *, prefix: str) ->
     ]
 
 
-def gather(client, futures: list, progress: Callable[[int, int], None] | None = None) -> list:
+def gather(client: Any, futures: list[Any], progress: Progress | None = None) -> list[Any]:
     """The futures' results in their order, taken as they complete (each released once read)."""
     from distributed import as_completed
 
     index = {f.key: i for i, f in enumerate(futures)}
-    outputs: list = [None] * len(futures)
+    outputs: list[Any] = [None] * len(futures)
     if progress:
         progress(0, len(futures))
     for done, fut in enumerate(as_completed(futures), 1):
@@ -114,13 +118,13 @@ def gather(client, futures: list, progress: Callable[[int, int], None] | None = 
 _PARSED: OrderedDict[tuple[str, str], Any] = OrderedDict()
 
 
-def part_task(module_name: str, data: str, part):
+def part_task(module_name: str, data: str, part: Any) -> Any:
     """A Dask task: one part of a request (the contract module's WORK.run_part), its progress reported."""
     module = importlib.import_module(module_name)
     return module.WORK.run_part(parsed(module, data), part, progress_reporter())
 
 
-def parsed(module, data: str):
+def parsed(module: ModuleType, data: str) -> Any:
     """The request of `data` (JSON), parsed by its contract module once in this process."""
     key = (module.__name__, data)
     if key in _PARSED:
@@ -132,7 +136,7 @@ def parsed(module, data: str):
     return _PARSED[key]
 
 
-def progress_reporter():
+def progress_reporter() -> OnProgress | None:
     """on_progress(fraction, note) for the core's long loops, sent as a Dask event of this task (its key), at
     most every PROGRESS_EVERY_S; None outside a Dask worker. Returns True once the task is cancelled (the engine's
     cancel and time limit cancel its future: the worker marks the running task), which stops the loop at its next
@@ -158,7 +162,7 @@ def progress_reporter():
     return on_progress
 
 
-def running_keys(dask_worker) -> list[str]:
+def running_keys(dask_worker: Any) -> list[str]:
     """The keys this worker's threads run now, cancelled ones included (client.run(running_keys))."""
     return [str(task.key) for task in dask_worker.state.executing]
 
@@ -180,7 +184,7 @@ def default_workers() -> int:
 
 def start_client(
     *, workers: int | None = None, scheduler: str | None = None, set_as_default: bool = True, niceness: int = 0
-):
+) -> tuple[Any, Callable[[], None]]:
     """(client, close): a client of `scheduler` ("tcp://host:port"), or of a new LocalCluster of `workers` processes
     (default: the cores), one thread each, no dashboard (its HTTP routes on any free port), each at `niceness` (the
     service's readers go first). close() shuts them from any thread (their context managers bind a context variable
@@ -204,7 +208,7 @@ def start_client(
     if niceness:
         client.register_plugin(_worker_plugin(Niceness, niceness))
 
-    def close():
+    def close() -> None:
         client.close()
         cluster.close()
 
@@ -212,7 +216,7 @@ def start_client(
 
 
 @contextmanager
-def dask_client(client=None, *, workers: int | None = None, scheduler: str | None = None):
+def dask_client(client: Any = None, *, workers: int | None = None, scheduler: str | None = None) -> Iterator[Any]:
     """The client to submit to: the one given, else start_client's, closed on exit."""
     if client is not None:
         yield client
@@ -224,18 +228,19 @@ def dask_client(client=None, *, workers: int | None = None, scheduler: str | Non
         close()
 
 
-def client_map(client):
+def client_map(client: Any) -> Callable[..., list[Any]]:
     """A callable with builtin map's signature that runs func on the client's workers, one task per item, and
     returns the results in order. func must be picklable (defined at module level); pure=False: each item is
     run, none taken for another's result by its arguments' hash."""
 
-    def map_tasks(func, *iterables):
-        return client.gather(client.map(func, *iterables, pure=False))
+    def map_tasks(func: Callable[..., Any], *iterables: Any) -> list[Any]:
+        results: list[Any] = client.gather(client.map(func, *iterables, pure=False))
+        return results
 
     return map_tasks
 
 
-def worker_count(client) -> int:
+def worker_count(client: Any) -> int:
     """How many workers the client's scheduler has now."""
     return len(client.scheduler_info(n_workers=-1)["workers"])
 
@@ -252,7 +257,7 @@ class Niceness:
     def __init__(self, niceness: int):
         self.niceness = niceness
 
-    def setup(self, worker) -> None:
+    def setup(self, worker: Any) -> None:
         for tid in _threads():
             try:
                 os.setpriority(os.PRIO_PROCESS, tid, max(self.niceness, os.getpriority(os.PRIO_PROCESS, tid)))
@@ -268,11 +273,11 @@ class ParentStops:
     name = "footprint-parent-stops"
     idempotent = True
 
-    def setup(self, worker) -> None:
+    def setup(self, worker: Any) -> None:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _worker_plugin(behaviour: type, *args):
+def _worker_plugin(behaviour: type, *args: Any) -> Any:
     """A distributed WorkerPlugin (each worker, and every one that replaces a worker later) doing `behaviour`'s setup
     (made here: Dask is imported only when a cluster starts)."""
     from distributed.diagnostics.plugin import WorkerPlugin

@@ -14,8 +14,8 @@ from scipy import stats
 
 from footprint import contracts, parallel
 from footprint.api import disperse as run
-from footprint.contracts.case import error_line
 from footprint.contracts.dispersion import Plan, parse_request
+from footprint.contracts.messages import error_line
 from footprint.core import monte_carlo as mc
 from footprint.core.errors import InputError
 from footprint.core.footprint_methods import footprint

@@ -173,7 +173,8 @@ def test_every_footprint_method_has_its_point_count_checked():
     from pydantic import ValidationError
 
     from footprint import contracts
-    from footprint.contracts.case import HTTP, context, error_line
+    from footprint.contracts.doors import HTTP, context
+    from footprint.contracts.messages import error_line
 
     heated = CASE | {"heating": {"model": "reference"}}
     http = context(HTTP)

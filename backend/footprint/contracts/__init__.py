@@ -28,7 +28,7 @@ def module(kind: str) -> ModuleType:
     return importlib.import_module(MODULES[kind])
 
 
-def parse(kind: str, data, ctx: dict | None = None):
+def parse(kind: str, data: Any, ctx: dict[str, Any] | None = None) -> Any:
     """A request of this kind from a dict (a parsed request passes through); ctx from case.context()."""
     return module(kind).parse_request(data, ctx)
 
@@ -38,7 +38,8 @@ def job_kinds() -> tuple[str, ...]:
     return tuple(kind for kind in MODULES if module(kind).WORK.store is not None)
 
 
-def stored_form(request: Any) -> dict:
+def stored_form(request: Any) -> dict[str, Any]:
     """A parsed request as the job store and the workers read it: JSON, by alias, what was given (stored vehicles
     resolved)."""
-    return request.model_dump(mode="json", by_alias=True, exclude_unset=True)
+    form: dict[str, Any] = request.model_dump(mode="json", by_alias=True, exclude_unset=True)
+    return form

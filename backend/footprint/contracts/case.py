@@ -6,24 +6,21 @@ every number is bounded, and a value out of range is reported as "field: value i
 
 import functools
 import json
-import re
 from dataclasses import replace
 from typing import Annotated, Any, Literal
 
 from pydantic import (
-    AfterValidator,
-    BaseModel,
-    BeforeValidator,
     ConfigDict,
     Field,
     PrivateAttr,
     TypeAdapter,
-    ValidationError,
     ValidationInfo,
     model_validator,
 )
 
 from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
+from footprint.contracts.doors import validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.work import Work
 from footprint.core import constants as c
 from footprint.core.aero import builtin_vehicle, vehicle_from_definition
@@ -31,71 +28,6 @@ from footprint.core.controls import pack_controls
 from footprint.core.errors import InputError
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
-
-
-def bounded(lo: float, hi: float, unit: str = "", kind: type = float):
-    """A float (or `kind`, e.g. int) in [lo, hi]; the error names the range and the unit. JSON's true and false are
-    not numbers here (pydantic would read false as 0)."""
-
-    def check(v):
-        if not lo <= v <= hi:
-            raise ValueError(f"{v:g} is outside the allowed range {lo:g} to {hi:g}{' ' + unit if unit else ''}")
-        return v
-
-    return Annotated[
-        kind, BeforeValidator(_not_bool), AfterValidator(check), Field(json_schema_extra={"minimum": lo, "maximum": hi})
-    ]
-
-
-def _not_bool(v):
-    if isinstance(v, bool):
-        raise ValueError(f"{str(v).lower()} is not a number")
-    return v
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-def model_fields(model, exclude=(), **replace) -> dict:
-    """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
-    out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}
-    return out | replace
-
-
-# ------------------------------------------------------------------------------------ doors and their limits
-# A request is validated with a context: the door it came through ("python" for the CLI and the Python API, "http"
-# for the service's jobs, which share its workers and bound the work more tightly, "http-sync" for the requests the
-# API process answers itself, bounded to seconds) and, over HTTP, the stored vehicles.
-HTTP = "http"
-HTTP_SYNC = "http-sync"
-
-
-def context(door: str = "python", vehicles=None) -> dict:
-    """The validation context of a door; `vehicles(id) -> definition | None` resolves {"stored": id}."""
-    return {"door": door, "vehicles": vehicles}
-
-
-def door_limit(info: ValidationInfo, python: float, http: float, sync: float | None = None) -> tuple[float, str]:
-    """The limit that applies through the request's door (`sync`: a synchronous request's, default http's), and
-    how to say it."""
-    door = (info.context or {}).get("door")
-    if door == HTTP_SYNC and sync is not None:
-        return sync, " in a synchronous request (a job may ask for more: POST /api/jobs)"
-    if door in (HTTP, HTTP_SYNC):
-        return http, " over HTTP"
-    return python, ""
-
-
-def synchronous(info: ValidationInfo) -> bool:
-    """The request is answered by the API process itself, not a worker."""
-    return (info.context or {}).get("door") == HTTP_SYNC
-
-
-def validated(adapter: TypeAdapter, data, model: type, ctx: dict | None = None):
-    """One request of a kind: a model passes through; a dict is validated (pydantic's ValidationError names the
-    field, an InputError from the core too)."""
-    return data if isinstance(data, model) else adapter.validate_python(data, context=ctx or context())
 
 
 # ----------------------------------------------------------------------------------------- vehicle
@@ -110,9 +42,9 @@ class VehicleCase(Strict):
     stored: str | None = Field(default=None, max_length=VEHICLE_ID_CHARS)  # replaced by its definition as it is parsed
     builtin: str | None = None
     name: str | None = Field(default=None, max_length=VEHICLE_NAME_CHARS)  # a footprint's `vehicle`
-    wing_loading_psf: bounded(1, 2000, "lb/ft^2") | None = None
-    weight_lb: bounded(1, 1e7, "lb") | None = None
-    reference_area_ft2: bounded(0.01, 1e5, "ft^2") | None = None
+    wing_loading_psf: Annotated[float, Range(1, 2000, "lb/ft^2")] | None = None
+    weight_lb: Annotated[float, Range(1, 1e7, "lb")] | None = None
+    reference_area_ft2: Annotated[float, Range(0.01, 1e5, "ft^2")] | None = None
     aero: dict[str, Any] | None = None
 
     @model_validator(mode="before")
@@ -183,22 +115,22 @@ def _wing_loading(d, default):
 # ------------------------------------------------------------------------------------------ planet
 class AtmosphereCase(Strict):
     model: Literal["ardc1959", "us1976", "exponential"] = "ardc1959"
-    rho0_slug_ft3: bounded(1e-12, 1.0, "slug/ft^3") = 0.0027
-    scale_height_ft: bounded(1_000, 1_000_000, "ft") = 23_800.0
-    temperature_R: bounded(50, 10_000, "degR") | None = None
+    rho0_slug_ft3: Annotated[float, Range(1e-12, 1.0, "slug/ft^3")] = 0.0027
+    scale_height_ft: Annotated[float, Range(1_000, 1_000_000, "ft")] = 23_800.0
+    temperature_R: Annotated[float, Range(50, 10_000, "degR")] | None = None
 
 
 class PlanetCase(Strict):
     rotating: bool = True
     oblate: bool = True
     atmosphere: AtmosphereCase = AtmosphereCase()
-    radius_ft: bounded(1e5, 1e9, "ft") = c.RADIUS_EQUATORIAL_FT
-    polar_radius_ft: bounded(1e5, 1e9, "ft") | None = None
-    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = c.MU_EARTH_FT3_S2
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = c.OMEGA_EARTH_DEG_S
-    j: bounded(-0.1, 0.1) = c.J_ZONAL
-    h: bounded(-0.1, 0.1) = c.H_ZONAL
-    k: bounded(-0.1, 0.1) = c.K_ZONAL
+    radius_ft: Annotated[float, Range(1e5, 1e9, "ft")] = c.RADIUS_EQUATORIAL_FT
+    polar_radius_ft: Annotated[float, Range(1e5, 1e9, "ft")] | None = None
+    mu_ft3_s2: Annotated[float, Range(1e10, 1e22, "ft^3/s^2")] = c.MU_EARTH_FT3_S2
+    rotation_rate_deg_s: Annotated[float, Range(-0.1, 0.1, "deg/s")] = c.OMEGA_EARTH_DEG_S
+    j: Annotated[float, Range(-0.1, 0.1)] = c.J_ZONAL
+    h: Annotated[float, Range(-0.1, 0.1)] = c.H_ZONAL
+    k: Annotated[float, Range(-0.1, 0.1)] = c.K_ZONAL
 
     @model_validator(mode="after")
     def _polar(self):
@@ -233,13 +165,13 @@ SENSIBLE_ATMOSPHERE_FT = 295_000.0  # Section II.7: "the beginning of the sensib
 
 
 class EntryCase(Strict):
-    altitude_ft: bounded(1_000, 3_000_000, "ft")
-    velocity_fps: bounded(1_000, 40_000, "ft/s")
+    altitude_ft: Annotated[float, Range(1_000, 3_000_000, "ft")]
+    velocity_fps: Annotated[float, Range(1_000, 40_000, "ft/s")]
     velocity_frame: Literal["relative", "inertial"] = "relative"
-    gamma_deg: bounded(-90, 10, "deg")
-    heading_deg: bounded(-360, 360, "deg") = 90.0
-    latitude_deg: bounded(-90, 90, "deg") = 0.0
-    longitude_deg: bounded(-360, 360, "deg") = 0.0
+    gamma_deg: Annotated[float, Range(-90, 10, "deg")]
+    heading_deg: Annotated[float, Range(-360, 360, "deg")] = 90.0
+    latitude_deg: Annotated[float, Range(-90, 90, "deg")] = 0.0
+    longitude_deg: Annotated[float, Range(-360, 360, "deg")] = 0.0
 
     @model_validator(mode="after")
     def _enters(self):
@@ -255,7 +187,7 @@ class EntryCase(Strict):
 
 
 # ---------------------------------------------------------------------------------------- controls
-Bank = bounded(-180, 180, "deg")
+Bank = Annotated[float, Range(-180, 180, "deg")]
 
 
 class BankZero(Strict):
@@ -270,16 +202,16 @@ class BankConstant(Strict):
 class BankStaged(Strict):
     law: Literal["staged"]
     bank_deg: Bank
-    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
+    turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
 
 
 class BankTwoParameter(Strict):
     """Section II.6, Figs. 5-7: phi_B = K (zeta - sigma_f), K the bank gain (deg of bank per deg of heading)."""
 
     law: Literal["two_parameter"]
-    bank_gain: bounded(-10, 10)
-    sigma_f_deg: bounded(-180, 180, "deg") = 0.0
-    limit_deg: bounded(0, 180, "deg") | None = 75.0
+    bank_gain: Annotated[float, Range(-10, 10)]
+    sigma_f_deg: Annotated[float, Range(-180, 180, "deg")] = 0.0
+    limit_deg: Annotated[float, Range(0, 180, "deg")] | None = 75.0
     variable: Literal["zeta", "heading"] = "zeta"
 
 
@@ -287,17 +219,17 @@ class BankSingleParameter(Strict):
     """Section II.6 a-d: phi_B = K zeta, K the bank gain (negative: the right-hand law)."""
 
     law: Literal["single_parameter"]
-    bank_gain: bounded(-10, 10)
-    limit_deg: bounded(0, 180, "deg") | None = None
+    bank_gain: Annotated[float, Range(-10, 10)]
+    limit_deg: Annotated[float, Range(0, 180, "deg")] | None = None
     variable: Literal["zeta", "heading"] = "zeta"
 
 
 TABLE_MAX_NODES = 512  # a collocation optimum re-flown as tables carries one node per mesh point
 # the control tables' abscissae, one unit each (cases and optimization studies)
-HeadingNode = bounded(-180, 180, "deg")
-TimeNode = bounded(0, 100_000, "s")
-VelocityNode = bounded(0, 40_000, "ft/s")
-EnergyNode = bounded(0, 1e8, "ft")  # energy height h + V^2/(2 g0)
+HeadingNode = Annotated[float, Range(-180, 180, "deg")]
+TimeNode = Annotated[float, Range(0, 100_000, "s")]
+VelocityNode = Annotated[float, Range(0, 40_000, "ft/s")]
+EnergyNode = Annotated[float, Range(0, 1e8, "ft")]  # energy height h + V^2/(2 g0)
 
 
 class BankTable(Strict):
@@ -343,7 +275,7 @@ class BankZeroLift(Strict):
 
 class BankConstantAltitude(Strict):
     law: Literal["constant_altitude"]
-    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
+    turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
     side: Literal["left", "right"] = "left"
 
 
@@ -359,7 +291,7 @@ BankCase = Annotated[
     Field(discriminator="law"),
 ]
 
-Alpha = bounded(-30, 90, "deg")
+Alpha = Annotated[float, Range(-30, 90, "deg")]
 
 
 class AlphaMaxLD(Strict):
@@ -401,7 +333,7 @@ class AlphaLevelFlight(Strict):
 
 class AlphaGammaHold(Strict):
     law: Literal["gamma_hold"]
-    gamma_deg: bounded(-10, 10, "deg")
+    gamma_deg: Annotated[float, Range(-10, 10, "deg")]
     before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
 
 
@@ -422,14 +354,14 @@ def check_increasing(x, name):
 
 
 class BankStartAltitude(Strict):
-    altitude_ft: bounded(1_000, 3_000_000, "ft")
+    altitude_ft: Annotated[float, Range(1_000, 3_000_000, "ft")]
 
 
 class StopCase(Strict):
-    altitude_ft: bounded(0, 3_000_000, "ft") | None = 50_000.0
-    velocity_fps: bounded(0, 40_000, "ft/s") | None = None
-    time_s: bounded(1, 100_000, "s") | None = None
-    max_altitude_ft: bounded(10_000, 100_000_000, "ft") = 10_000_000.0  # see trajectory.Stop
+    altitude_ft: Annotated[float, Range(0, 3_000_000, "ft")] | None = 50_000.0
+    velocity_fps: Annotated[float, Range(0, 40_000, "ft/s")] | None = None
+    time_s: Annotated[float, Range(1, 100_000, "s")] | None = None
+    max_altitude_ft: Annotated[float, Range(10_000, 100_000_000, "ft")] = 10_000_000.0  # see trajectory.Stop
 
 
 # ----------------------------------------------------------------------------------------- heating
@@ -437,10 +369,10 @@ class HeatingReference(Strict):
     """AFWAL-TR-82-3036 Section III: Fay-Riddell h_F&R times Table 1's h/h_F&R(alpha), eqs. (5)-(7)."""
 
     model: Literal["reference"]
-    reference_radius_ft: bounded(0.01, 100, "ft") = REFERENCE_RADIUS_FT  # calibrated to 2,670 degR
-    emissivity: bounded(0.01, 1) = EMISSIVITY_DEFAULT
+    reference_radius_ft: Annotated[float, Range(0.01, 100, "ft")] = REFERENCE_RADIUS_FT  # calibrated to 2,670 degR
+    emissivity: Annotated[float, Range(0.01, 1)] = EMISSIVITY_DEFAULT
     # 0: radiation-equilibrium temperature, eq. (7); > 0: a thin skin's lagging temperature (core/heating.py)
-    skin_heat_capacity_btu_ft2_R: bounded(0, 100, "Btu/(ft^2 degR)") = 0.0
+    skin_heat_capacity_btu_ft2_R: Annotated[float, Range(0, 100, "Btu/(ft^2 degR)")] = 0.0
 
     def to_model(self):
         return ReferenceHeating(
@@ -454,11 +386,13 @@ class HeatingCorrelation(Strict):
     """q_btu_ft2_s = coefficient * rho_slug_ft3^density_exponent * V_fps^velocity_exponent * f(alpha_deg)."""
 
     model: Literal["correlation"]
-    coefficient: bounded(0, 1e12)  # Btu/(ft^2 s) for rho in slug/ft^3 and V in ft/s
-    density_exponent: bounded(0, 2) = 0.5
-    velocity_exponent: bounded(0, 10) = 3.0
-    alpha_polynomial_deg: list[bounded(-1e6, 1e6)] = Field(default=[1.0], min_length=1, max_length=8)
-    emissivity: bounded(0.01, 1) | None = None  # with it, eq. (7) gives a radiation-equilibrium temperature
+    coefficient: Annotated[float, Range(0, 1e12)]  # Btu/(ft^2 s) for rho in slug/ft^3 and V in ft/s
+    density_exponent: Annotated[float, Range(0, 2)] = 0.5
+    velocity_exponent: Annotated[float, Range(0, 10)] = 3.0
+    alpha_polynomial_deg: list[Annotated[float, Range(-1e6, 1e6)]] = Field(default=[1.0], min_length=1, max_length=8)
+    emissivity: Annotated[float, Range(0.01, 1)] | None = (
+        None  # with it, eq. (7) gives a radiation-equilibrium temperature
+    )
 
     def to_model(self):
         return CorrelationHeating(
@@ -474,8 +408,8 @@ HeatingCase = Annotated[HeatingReference | HeatingCorrelation, Field(discriminat
 
 
 class IntegratorCase(Strict):
-    rtol: bounded(1e-13, 1e-4) = 1e-9
-    max_step_s: bounded(0.01, 1000, "s") = 50.0
+    rtol: Annotated[float, Range(1e-13, 1e-4)] = 1e-9
+    max_step_s: Annotated[float, Range(0.01, 1000, "s")] = 50.0
 
 
 class Case(Strict):
@@ -566,99 +500,6 @@ class Case(Strict):
             abscissa, x = a.abscissa()
             kw.update(alpha_table=(x, a.alpha_deg), alpha_table_abscissa=abscissa)
         return pack_controls(**kw)
-
-
-def error_line(exc: ValidationError | InputError) -> str:
-    """One line naming the field(s) and the allowed range."""
-    if isinstance(exc, InputError):
-        return clip(printable(str(exc)), ERROR_MESSAGE_CHARS)
-    parts, errs = [], exc.errors()
-    for err in errs[:MAX_ERROR_FIELDS]:
-        loc = []
-        for i, x in enumerate(err["loc"]):
-            after = err["loc"][i - 1] if i else None
-            study = after in ("study", "footprint")  # a job's study, a dispersion's footprint study
-            if isinstance(x, str) and (
-                (after in (None, "bank", "alpha", "heating") or study)
-                and x in _LAW_TAGS
-                or (study and x in _STUDY_TAGS)
-            ):
-                continue  # a discriminated union's tag (a law, a study's method), not a field
-            loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
-        msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
-        if err["type"] in (
-            "union_tag_invalid",
-            "union_tag_not_found",
-        ):  # a law's or a study's tag: name it, not the input
-            ctx = err.get("ctx", {})
-            tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
-            loc.append(tag)
-            if "tag" in ctx:
-                msg = f"{ctx['tag']!r} is not one of {allowed}"
-            else:
-                msg = "missing" + (f"; one of {allowed}" if allowed else "")
-            if (
-                tag == "method"
-                and err["type"] == "union_tag_not_found"
-                and isinstance(err.get("input"), dict)
-                and "vehicle" in err["input"]
-            ):
-                msg += " (this looks like a case: a study holds it as 'case' and names its 'method')"
-        elif err["type"] not in ("missing", "value_error") and "input" in err:
-            msg += f" (got {_short(err['input'])})"
-        if loc and _FIELD_FIRST.match(msg):  # a model validator's message names the field below its location
-            parts.append(f"{'.'.join(loc)}.{msg}")
-        else:
-            parts.append(f"{'.'.join(loc)}: {msg}" if loc else msg)
-    if len(errs) > MAX_ERROR_FIELDS:
-        parts[-1] += f" (and {len(errs) - MAX_ERROR_FIELDS:,} more fields with errors)"
-    return "; ".join(parts)
-
-
-_FIELD_FIRST = re.compile(r"^[A-Za-z_][\w.]*: ")
-
-
-# what of a bad request an error line echoes: never the whole of a 200 kB value
-ECHO_CHARS = 80  # an input value or a key
-ERROR_MESSAGE_CHARS = 500  # one field's message
-MAX_ERROR_FIELDS = 20  # fields named in one line; the rest counted
-
-
-def printable(text: str) -> str:
-    """Text that stays on its line: a line break, NUL, ESC or other character that does not print (a lone surrogate
-    too) written as Python writes it in a string literal ("a\\nb"); a client's key or value may hold any of them."""
-    return text if text.isprintable() else "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in text)
-
-
-def clip(text: str, limit: int) -> str:
-    """Text cut at limit characters ("..." marks the cut)."""
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _short(value, limit=ECHO_CHARS) -> str:
-    """A user's input as it lands in a one-line error: repr, cut at limit characters."""
-    return clip(repr(value), limit)
-
-
-_LAW_TAGS = {
-    "zero",
-    "constant",
-    "staged",
-    "two_parameter",
-    "single_parameter",
-    "table",
-    "zero_lift",
-    "constant_altitude",
-    "max_ld",
-    "cl_max",
-    "level_flight",
-    "gamma_hold",
-    "constant_bank",
-    "reference",
-    "correlation",
-    "temperature_limited",
-}
-_STUDY_TAGS = {"collocation"}  # a study's method that is also a field name (the optimization's "collocation")
 
 
 REQUEST = Case  # the kind's request type (the OpenAPI document declares it)

@@ -25,7 +25,8 @@ from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Strict, bounded, door_limit, synchronous, validated
+from footprint.contracts.doors import door_limit, synchronous, validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
@@ -67,7 +68,7 @@ class UniformSpread(Strict):
 
 class TruncatedNormalSpread(Strict):
     std: Spread
-    sigmas: bounded(0.1, 10) = 3.0
+    sigmas: Annotated[float, Range(0.1, 10)] = 3.0
     bias: float = 0.0
 
 
@@ -115,8 +116,10 @@ class VehicleDispersion(Strict):
 
 
 class DensityDispersion(Strict):
-    std: bounded(0, disp.DENSITY_STD_MAX) | list[bounded(0, disp.DENSITY_STD_MAX)]  # a fraction of the density
-    correlation_length_ft: bounded(1_000, 1_000_000, "ft") = disp.CORRELATION_LENGTH_DEFAULT_FT
+    std: (
+        Annotated[float, Range(0, disp.DENSITY_STD_MAX)] | list[Annotated[float, Range(0, disp.DENSITY_STD_MAX)]]
+    )  # a fraction of the density
+    correlation_length_ft: Annotated[float, Range(1_000, 1_000_000, "ft")] = disp.CORRELATION_LENGTH_DEFAULT_FT
 
     @model_validator(mode="after")
     def _nodes(self):
@@ -136,7 +139,7 @@ class DispersionStudy(Strict):
     entry: EntryDispersion = EntryDispersion()
     vehicle: VehicleDispersion = VehicleDispersion()
     density: DensityDispersion | None = None
-    confidence: list[bounded(0.01, 0.999)] = Field(default=[0.99], min_length=1, max_length=5)
+    confidence: list[Annotated[float, Range(0.01, 0.999)]] = Field(default=[0.99], min_length=1, max_length=5)
     sites: list[Site] = Field(default=[], max_length=1_000)
     chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies (default ~1,000 flights)
     histories: list[int] = Field(default=[], max_length=MAX_HISTORY_SAMPLES)  # samples flown again in full

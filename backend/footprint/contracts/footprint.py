@@ -11,11 +11,13 @@ from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts import stored_form
 from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
-from footprint.contracts.case import Case, Strict, bounded, door_limit, synchronous, validated
+from footprint.contracts.case import Case
+from footprint.contracts.doors import door_limit, synchronous, validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import flown, plain
 from footprint.contracts.work import Stored, Work
 
-BankDeg = bounded(-180, 180, "deg")
+BankDeg = Annotated[float, Range(-180, 180, "deg")]
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
 MAX_POINTS_HTTP = 200  # over HTTP, where the workers are shared
 MAX_POINTS_SYNC = 100  # flown in the API process itself (a reach or an exact transform): about a second
@@ -24,7 +26,9 @@ MAX_POINTS_SYNC = 100  # flown in the API process itself (a reach or an exact tr
 class _Study(Strict):
     case: Case
     mirror: bool = True
-    contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)  # iso-velocity points
+    contours_fps: list[Annotated[float, Range(100, 40_000, "ft/s")]] = Field(
+        default=[], max_length=20
+    )  # iso-velocity points
     SETTINGS: ClassVar[str]  # the field whose values (one trajectory set each) make the footprint's points
 
     def to_params(self) -> dict:
@@ -59,10 +63,10 @@ class SingleParameterStudy(_Study):
 
     method: Literal["single_parameter"]
     SETTINGS: ClassVar[str] = "bank0_deg"
-    bank0_deg: list[bounded(0, 180, "deg")] = Field(
+    bank0_deg: list[Annotated[float, Range(0, 180, "deg")]] = Field(
         default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
     )
-    limit_deg: bounded(0, 180, "deg") | None = None
+    limit_deg: Annotated[float, Range(0, 180, "deg")] | None = None
     min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
 
     def to_params(self):
@@ -88,18 +92,20 @@ class StagedStudy(ConstantBankStudy):
     """Fig. 14: constant bank until the heading has changed turn_deg, then wings level."""
 
     method: Literal["staged"]
-    turn_deg: bounded(0, 179, "deg") = 90.0  # a heading change measured within (-180, 180]
+    turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
 
 
 class TwoParameterStudy(_Study):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited; one set per K."""
 
     method: Literal["two_parameter"]
-    bank_gain: list[bounded(0, 10)] = Field(default=[0.5, 0.67, 1.0], min_length=1, max_length=20)  # K, deg/deg
-    sigma_f_deg: list[bounded(-180, 180, "deg")] = Field(
+    bank_gain: list[Annotated[float, Range(0, 10)]] = Field(
+        default=[0.5, 0.67, 1.0], min_length=1, max_length=20
+    )  # K, deg/deg
+    sigma_f_deg: list[Annotated[float, Range(-180, 180, "deg")]] = Field(
         default=[float(s) for s in range(90, -46, -15)], min_length=1, max_length=181
     )
-    limit_deg: bounded(0, 180, "deg") = 75.0
+    limit_deg: Annotated[float, Range(0, 180, "deg")] = 75.0
 
     def settings(self) -> tuple[str, int]:
         return "sigma_f_deg", len(self.bank_gain) * len(self.sigma_f_deg)
@@ -109,7 +115,7 @@ class ConstantAltitudeStudy(_Study):
     """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""
 
     method: Literal["constant_altitude"]
-    turn_deg: list[bounded(0, 179, "deg")] | None = None
+    turn_deg: list[Annotated[float, Range(0, 179, "deg")]] | None = None
     steps: int = Field(default=6, ge=1, le=60)
 
     def settings(self) -> tuple[str, int]:  # the turns, or the count of steps when none are listed
@@ -122,9 +128,9 @@ class TemperatureLimitedStudy(_Study):
 
     method: Literal["temperature_limited"]
     SETTINGS: ClassVar[str] = "bank0_deg"
-    limit_R: bounded(500, 10_000, "degR")
-    tolerance_R: bounded(0, 100, "degR") = 5.0  # TTOL of Section II.4
-    bank0_deg: list[bounded(0, 180, "deg")] = Field(
+    limit_R: Annotated[float, Range(500, 10_000, "degR")]
+    tolerance_R: Annotated[float, Range(0, 100, "degR")] = 5.0  # TTOL of Section II.4
+    bank0_deg: list[Annotated[float, Range(0, 180, "deg")]] = Field(
         default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
     )
 
@@ -153,8 +159,10 @@ class CollocationStudy(_Study):
 
     method: Literal["collocation"]
     points_per_half: int = Field(default=11, ge=3, le=40)
-    limit_R: bounded(500, 10_000, "degR") | None = None
-    max_load_factor: bounded(1, 50, "g") | None = None  # without one the nearest points ride the stop altitude
+    limit_R: Annotated[float, Range(500, 10_000, "degR")] | None = None
+    max_load_factor: Annotated[float, Range(1, 50, "g")] | None = (
+        None  # without one the nearest points ride the stop altitude
+    )
     fine: bool = False  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
     intervals: int = Field(default=100, ge=20, le=400)  # collocation mesh intervals
 

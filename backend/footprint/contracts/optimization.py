@@ -33,14 +33,13 @@ from footprint.contracts.case import (
     Case,
     EnergyNode,
     HeadingNode,
-    Strict,
     TimeNode,
     VelocityNode,
-    bounded,
     check_increasing,
     table_abscissa,
-    validated,
 )
+from footprint.contracts.doors import validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import FLIGHT_KEYS, flown, plain
 from footprint.contracts.work import Stored, Work
 from footprint.core import collocation as col
@@ -73,12 +72,12 @@ METHODS = ("creep_pattern", "collocation") + SCIPY_METHODS
 DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R": opt.TTOL_TEMPERATURE_R}
 SCALINGS = ("tolerance", "none")
 SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
-AlphaBound = bounded(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")
+AlphaBound = Annotated[float, Range(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")]
 
 
 class Term(Strict):
     quantity: Quantity
-    weight: bounded(-1e9, 1e9) = 1.0
+    weight: Annotated[float, Range(-1e9, 1e9)] = 1.0
 
 
 class Payoff(Strict):
@@ -101,10 +100,10 @@ class CollocationOptions(Strict):
     max_intervals: int = Field(default=400, ge=4, le=2_000)  # mesh doubling stops here
     alpha_bounds_deg: tuple[AlphaBound, AlphaBound] | None = None  # default: the vehicle's valid alpha range
     bank_bounds_deg: tuple[Bank, Bank] = (-180.0, 180.0)
-    alpha_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
-    bank_rate_deg_s: bounded(1e-3, 1e3, "deg/s") | None = None
+    alpha_rate_deg_s: Annotated[float, Range(1e-3, 1e3, "deg/s")] | None = None
+    bank_rate_deg_s: Annotated[float, Range(1e-3, 1e3, "deg/s")] | None = None
     max_iterations: int = Field(default=3_000, ge=1, le=100_000)
-    max_seconds: bounded(1, 86_400, "s") = 600.0  # IPOPT's wall time per solve
+    max_seconds: Annotated[float, Range(1, 86_400, "s")] = 600.0  # IPOPT's wall time per solve
 
     @model_validator(mode="after")
     def _bounds(self):
@@ -119,12 +118,14 @@ class CollocationOptions(Strict):
 
 class ConstraintCase(Strict):
     quantity: Quantity
-    equals: bounded(-1e7, 1e7) | None = None
-    at_most: bounded(-1e7, 1e7) | None = None
-    at_least: bounded(-1e7, 1e7) | None = None
-    tolerance: bounded(0, 1e6) | None = None  # TTOL, the band's full width; 50 nmi / 5 degR by default
-    weight: bounded(1e-9, 1e9) = 1.0
-    scale: bounded(1e-9, 1e9) | None = None  # the quantity's unit: divides the excess (default: constraint_scaling)
+    equals: Annotated[float, Range(-1e7, 1e7)] | None = None
+    at_most: Annotated[float, Range(-1e7, 1e7)] | None = None
+    at_least: Annotated[float, Range(-1e7, 1e7)] | None = None
+    tolerance: Annotated[float, Range(0, 1e6)] | None = None  # TTOL, the band's full width; 50 nmi / 5 degR by default
+    weight: Annotated[float, Range(1e-9, 1e9)] = 1.0
+    scale: Annotated[float, Range(1e-9, 1e9)] | None = (
+        None  # the quantity's unit: divides the excess (default: constraint_scaling)
+    )
 
     @model_validator(mode="after")
     def _one_kind(self):
@@ -153,7 +154,7 @@ class _SearchTable(Strict):
 
     ABSCISSAE: ClassVar[dict]  # node field -> pack_controls' abscissa name
     DEFAULT_NODES: ClassVar[tuple]  # (node field, nodes) when no node field is given
-    count: bounded(2, SEARCH_MAX_NODES, kind=int) | None = None  # with it the node field is [first, last]
+    count: Annotated[int, Range(2, SEARCH_MAX_NODES)] | None = None  # with it the node field is [first, last]
 
     @model_validator(mode="after")
     def _nodes(self):

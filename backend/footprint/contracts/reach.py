@@ -18,13 +18,14 @@ rotation is applied here (Section IV.3 takes its flight times from non-rotating 
 import csv
 import math
 import time
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.bounds import SITE_NAME_CHARS
-from footprint.contracts.case import Strict, bounded, door_limit, validated
+from footprint.contracts.doors import door_limit, validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import fly as fly_study
 from footprint.contracts.records import csv_cell, plain
@@ -40,9 +41,9 @@ MAX_WORK_SYNC = 2e7  # the same in the API process itself: ~1.7 s (8e-8 s a unit
 
 
 class ReachPoint(Strict):
-    downrange_nmi: bounded(-21_600, 43_200, "nmi")
-    crossrange_nmi: bounded(-5_400, 5_400, "nmi")
-    flight_time_s: bounded(0, 100_000, "s") = 0.0
+    downrange_nmi: Annotated[float, Range(-21_600, 43_200, "nmi")]
+    crossrange_nmi: Annotated[float, Range(-5_400, 5_400, "nmi")]
+    flight_time_s: Annotated[float, Range(0, 100_000, "s")] = 0.0
 
 
 class ReachFootprint(Strict):
@@ -65,17 +66,17 @@ class ReachOrbit(Strict):
     """A circular orbit. The node: its earth-fixed longitude when revolution 1 crosses it at the epoch, or its
     right ascension with the Greenwich sidereal angle at the epoch."""
 
-    inclination_deg: bounded(0, 180, "deg")
-    altitude_ft: bounded(100_000, 100_000_000, "ft") | None = None
-    altitude_nmi: bounded(16, 16_000, "nmi") | None = None
-    node_longitude_deg: bounded(-360, 360, "deg") | None = None
-    right_ascension_deg: bounded(-360, 360, "deg") | None = None
-    greenwich_sidereal_deg: bounded(-360, 360, "deg") | None = None
+    inclination_deg: Annotated[float, Range(0, 180, "deg")]
+    altitude_ft: Annotated[float, Range(100_000, 100_000_000, "ft")] | None = None
+    altitude_nmi: Annotated[float, Range(16, 16_000, "nmi")] | None = None
+    node_longitude_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
+    right_ascension_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
+    greenwich_sidereal_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
     nodal_regression: bool = True
-    mu_ft3_s2: bounded(1e10, 1e22, "ft^3/s^2") = c.MU_EARTH_FT3_S2
-    radius_ft: bounded(1e5, 1e9, "ft") = c.RADIUS_EQUATORIAL_FT
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = c.OMEGA_EARTH_DEG_S
-    j2: bounded(-0.1, 0.1) = J2
+    mu_ft3_s2: Annotated[float, Range(1e10, 1e22, "ft^3/s^2")] = c.MU_EARTH_FT3_S2
+    radius_ft: Annotated[float, Range(1e5, 1e9, "ft")] = c.RADIUS_EQUATORIAL_FT
+    rotation_rate_deg_s: Annotated[float, Range(-0.1, 0.1, "deg/s")] = c.OMEGA_EARTH_DEG_S
+    j2: Annotated[float, Range(-0.1, 0.1)] = J2
 
     @model_validator(mode="after")
     def _choices(self):
@@ -108,8 +109,8 @@ class ReachOrbit(Strict):
 
 class Site(Strict):
     name: str = Field(min_length=1, max_length=SITE_NAME_CHARS)
-    latitude_deg: bounded(-90, 90, "deg")
-    longitude_deg: bounded(-360, 360, "deg")
+    latitude_deg: Annotated[float, Range(-90, 90, "deg")]
+    longitude_deg: Annotated[float, Range(-360, 360, "deg")]
 
 
 class Revolutions(Strict):
@@ -118,7 +119,7 @@ class Revolutions(Strict):
 
     first: int = Field(default=1, ge=1, le=100_000)
     last: int | None = Field(default=None, ge=1, le=100_000)
-    hours: bounded(0.01, 720, "h") | None = None
+    hours: Annotated[float, Range(0.01, 720, "h")] | None = None
 
     @model_validator(mode="after")
     def _span(self):
@@ -143,9 +144,9 @@ class ReachRequest(Strict):
     orbit: ReachOrbit
     sites: list[Site] = Field(default=[], max_length=1_000)  # the service's stored sites when none are given
     revolutions: Revolutions = Revolutions(hours=24.0)
-    u_step_deg: bounded(0.01, 30, "deg") = 1.0
+    u_step_deg: Annotated[float, Range(0.01, 30, "deg")] = 1.0
     earth_rotation: Literal["none", "approximate"] = "approximate"
-    entry_offset_nmi: bounded(0, 21_600, "nmi") = 0.0
+    entry_offset_nmi: Annotated[float, Range(0, 21_600, "nmi")] = 0.0
 
     @model_validator(mode="after")
     def _size(self, info: ValidationInfo):

@@ -34,19 +34,12 @@ from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, Valid
 
 from footprint.contracts import parse
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
-from footprint.contracts.case import (
-    Case,
-    EntryCase,
-    Strict,
-    VehicleCase,
-    bounded,
-    door_limit,
-    error_line,
-    model_fields,
-    validated,
-)
+from footprint.contracts.case import Case, EntryCase, VehicleCase
+from footprint.contracts.doors import door_limit, validated
+from footprint.contracts.fields import Range, Strict, model_fields
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, ground_track, record
 from footprint.contracts.footprint import fly as fly_study
+from footprint.contracts.messages import error_line
 from footprint.contracts.records import csv_cell
 from footprint.contracts.work import RunInfo, Stored, Work
 
@@ -79,10 +72,10 @@ class _Sweep(Strict):
     description: str = Field(default="", max_length=4000)
     base: SweepBase
     vehicles: list[VehicleRef] = Field(min_length=1, max_length=20)
-    entry_velocity_fps: list[bounded(1_000, 40_000, "ft/s")] = Field(min_length=1, max_length=100)
-    entry_gamma_deg: list[bounded(-90, 10, "deg")] = Field(min_length=1, max_length=100)
+    entry_velocity_fps: list[Annotated[float, Range(1_000, 40_000, "ft/s")]] = Field(min_length=1, max_length=100)
+    entry_gamma_deg: list[Annotated[float, Range(-90, 10, "deg")]] = Field(min_length=1, max_length=100)
     velocity_frame: Literal["inertial", "relative"] = "inertial"
-    contours_fps: list[bounded(100, 40_000, "ft/s")] = Field(default=[], max_length=20)
+    contours_fps: list[Annotated[float, Range(100, 40_000, "ft/s")]] = Field(default=[], max_length=20)
 
     @model_validator(mode="after")
     def _grid(self, info: ValidationInfo):

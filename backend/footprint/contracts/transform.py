@@ -32,12 +32,13 @@ down-range is its flown one where the request gives it (a move keeps the ranges 
 
 import csv
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_validator
 
-from footprint.contracts.case import Strict, bounded, door_limit, validated
+from footprint.contracts.doors import door_limit, validated
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.records import csv_cell
 from footprint.contracts.work import Work
@@ -65,10 +66,12 @@ ON_AXIS_NMI = 1e-6  # cross-range below which a point lies on the initial great 
 
 
 class Point(Strict):
-    latitude_deg: bounded(-90, 90, "deg")
-    longitude_deg: bounded(-360, 360, "deg")
-    flight_time_s: bounded(0, MAX_FLIGHT_TIME_S, "s") | None = None
-    downrange_nmi: bounded(-MAX_DOWNRANGE_NMI, MAX_DOWNRANGE_NMI, "nmi") | None = None  # the flown, continuous one
+    latitude_deg: Annotated[float, Range(-90, 90, "deg")]
+    longitude_deg: Annotated[float, Range(-360, 360, "deg")]
+    flight_time_s: Annotated[float, Range(0, MAX_FLIGHT_TIME_S, "s")] | None = None
+    downrange_nmi: Annotated[float, Range(-MAX_DOWNRANGE_NMI, MAX_DOWNRANGE_NMI, "nmi")] | None = (
+        None  # the flown, continuous one
+    )
 
 
 class Place(Strict):
@@ -77,13 +80,13 @@ class Place(Strict):
     argument of latitude past the ascending node (the orbit's own direction there), as the map's controls say
     it."""
 
-    latitude_deg: bounded(-90, 90, "deg") | None = None
-    longitude_deg: bounded(-360, 360, "deg") | None = None
-    heading_deg: bounded(-360, 360, "deg") | None = None
-    inclination_deg: bounded(0, 180, "deg") | None = None
+    latitude_deg: Annotated[float, Range(-90, 90, "deg")] | None = None
+    longitude_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
+    heading_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
+    inclination_deg: Annotated[float, Range(0, 180, "deg")] | None = None
     ascending: bool = True
-    node_longitude_deg: bounded(-360, 360, "deg") | None = None
-    argument_of_latitude_deg: bounded(-360, 360, "deg") | None = None
+    node_longitude_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
+    argument_of_latitude_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
 
     @model_validator(mode="after")
     def _one_direction(self):
@@ -132,10 +135,10 @@ class TransformRequest(Strict):
     points: list[Point] = Field(default=[], max_length=MAX_POINTS)
     from_: Place = Field(alias="from")
     to: Place
-    step_downrange_nmi: bounded(-MAX_STEP_NMI, MAX_STEP_NMI, "nmi") = 0.0
+    step_downrange_nmi: Annotated[float, Range(-MAX_STEP_NMI, MAX_STEP_NMI, "nmi")] = 0.0
     mirror: bool = False
     earth_rotation: Literal["none", "approximate", "exact"] = "none"
-    rotation_rate_deg_s: bounded(-0.1, 0.1, "deg/s") = OMEGA_EARTH_DEG_S  # omega_p of the shift
+    rotation_rate_deg_s: Annotated[float, Range(-0.1, 0.1, "deg/s")] = OMEGA_EARTH_DEG_S  # omega_p of the shift
     study: FootprintStudy | None = None  # "exact" flies it again
 
     @model_validator(mode="after")

@@ -5,12 +5,7 @@ one runner of every kind; it calls only these."""
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Generic, TypeVar
-
-Request = TypeVar("Request")
-Part = TypeVar("Part")
-Output = TypeVar("Output")
-Answer = TypeVar("Answer")
+from typing import Any
 
 # on_progress(fraction of the part done, note) -> True to stop: the core's long loops take it (a cancel, a time limit)
 OnProgress = Callable[[float, str], bool | None]
@@ -49,14 +44,14 @@ def _no_name(request: Any) -> str | None:
 
 
 @dataclass(frozen=True)
-class Work(Generic[Request, Part, Output, Answer]):
+class Work:
     """A kind's work. `run_part` must be a module-level function (a Dask task pickles it by name); parts are plain,
     small data. `store` is None for a kind the service answers at once (no job); `part_unit` names a part on a
     progress bar."""
 
-    run_part: Callable[[Request, Part, OnProgress | None], Output]
-    split: Callable[[Request], Sequence[Part]] = _one_part
-    combine: Callable[[Request, list[Output], RunInfo], Answer] = _only_output
-    store: Callable[[Request, Answer, str | None], Stored] | None = None
-    default_name: Callable[[Request], str | None] = _no_name
+    run_part: Callable[[Any, Any, OnProgress | None], Any]  # (request, part, on_progress) -> the part's output
+    split: Callable[[Any], Sequence[Any]] = _one_part  # request -> its parts
+    combine: Callable[[Any, list[Any], RunInfo], Any] = _only_output  # (request, outputs, info) -> the answer
+    store: Callable[[Any, Any, str | None], Stored] | None = None  # (request, answer, job name) -> the job's rows
+    default_name: Callable[[Any], str | None] = _no_name  # a job's name when none is given
     part_unit: str = "task"

@@ -25,11 +25,12 @@ import os
 import re
 from html import escape
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 from pydantic import BaseModel, Field, TypeAdapter
 
-from footprint.contracts.case import bounded
+from footprint.contracts.fields import Range
 from footprint.core.errors import InputError
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
@@ -68,18 +69,20 @@ MAX_RANGE_NMI = 250_000.0  # a flown down-range (contracts.transform's bound)
 
 
 class _MapPlace(BaseModel):
-    latitude_deg: bounded(-90, 90, "deg")
-    longitude_deg: bounded(-1080, 1080, "deg")  # an unwrapped ring's may pass +-180 (and the copies +-360)
+    latitude_deg: Annotated[float, Range(-90, 90, "deg")]
+    longitude_deg: Annotated[
+        float, Range(-1080, 1080, "deg")
+    ]  # an unwrapped ring's may pass +-180 (and the copies +-360)
 
 
 class _MapEntry(_MapPlace):
-    heading_deg: bounded(-360, 360, "deg")
+    heading_deg: Annotated[float, Range(-360, 360, "deg")]
 
 
 class _MapPoint(_MapPlace):
-    downrange_nmi: bounded(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi") | None = None
-    crossrange_nmi: bounded(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi") | None = None
-    flight_time_s: bounded(0, 1e7, "s") | None = None
+    downrange_nmi: Annotated[float, Range(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi")] | None = None
+    crossrange_nmi: Annotated[float, Range(-MAX_RANGE_NMI, MAX_RANGE_NMI, "nmi")] | None = None
+    flight_time_s: Annotated[float, Range(0, 1e7, "s")] | None = None
     parameter: dict[str, float | str | None] | None = None  # the control setting, shown on hover
     mirrored: bool = False
 

@@ -60,7 +60,7 @@ def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchrono
     from pydantic import ValidationError
 
     from footprint import contracts
-    from footprint.contracts.case import HTTP, HTTP_SYNC, context
+    from footprint.contracts.doors import HTTP, HTTP_SYNC, context
     from footprint.core.errors import InputError
     from footprint.service.db import queries as q
     from footprint.service.errors import invalid

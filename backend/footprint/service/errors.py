@@ -1,7 +1,7 @@
 """One table from exception types to HTTP status, and the one-line bodies: {"detail": "...", "field": ...}.
 
-Validation errors reuse footprint.contracts.case.error_line, so a REST user reads the same line as a CLI user, with the
-field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
+Validation errors reuse footprint.contracts.messages.error_parts, so a REST user reads the same line as a CLI user,
+with the field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
 import json
 import logging
@@ -14,7 +14,7 @@ from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import compile_path
 
-from footprint.contracts.case import ECHO_CHARS, ERROR_MESSAGE_CHARS, MAX_ERROR_FIELDS, clip, error_line
+from footprint.contracts.messages import ECHO_CHARS, ERROR_MESSAGE_CHARS, MAX_ERROR_FIELDS, clip, error_parts
 from footprint.core.errors import InputError
 
 log = logging.getLogger("footprint.service")
@@ -121,15 +121,10 @@ STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
 
 def invalid(exc: ValidationError | InputError, prefix: str = "") -> RequestInvalid:
     """A contract parser's error as a 422 naming the field in the request (`prefix` places it there)."""
-    line = error_line(exc)
-    parts = [f"{prefix}{part}" for part in line.split("; ")] if prefix else [line]
-    detail = "; ".join(parts)
-    return RequestInvalid(detail, _first_field(detail) or prefix.rstrip(".") or None)
-
-
-def _first_field(detail: str) -> str | None:
-    head, sep, _ = detail.partition(": ")
-    return head if sep and " " not in head else None
+    parts = error_parts(exc)
+    detail = "; ".join(f"{prefix}{text}" for _, text in parts)
+    field = next((f"{prefix}{field}" for field, _ in parts if field), None)
+    return RequestInvalid(detail, field or prefix.rstrip(".") or None)
 
 
 def error_body(exc: Exception) -> dict:

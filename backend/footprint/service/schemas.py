@@ -9,7 +9,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstra
 
 from footprint import contracts
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
-from footprint.contracts.case import model_fields
+from footprint.contracts.fields import model_fields
 from footprint.contracts.reach import Site
 
 

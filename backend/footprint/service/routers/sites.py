@@ -8,7 +8,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Body, Path, Query, Request, Response
 from pydantic import ValidationError
 
-from footprint.contracts.case import error_line
+from footprint.contracts.messages import error_line
 from footprint.contracts.reach import Site
 from footprint.contracts.records import plain
 from footprint.service import deps

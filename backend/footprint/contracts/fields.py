@@ -1,0 +1,47 @@
+"""The building blocks of every contract: a strict model (no unknown keys), a bounded number whose error names the
+range and its unit, and a model's fields taken over by another."""
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from annotated_types import GroupedMetadata
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field
+
+
+@dataclass(frozen=True)
+class Range(GroupedMetadata):
+    """A number in [lo, hi], as `Annotated[float, Range(0, 180, "deg")]` (or int): the error names the range and the
+    unit; JSON's true and false are not numbers here (pydantic would read false as 0); the OpenAPI document gives
+    the minimum and maximum."""
+
+    lo: float
+    hi: float
+    unit: str = ""
+
+    def check(self, v: float) -> float:
+        if not self.lo <= v <= self.hi:
+            unit = f" {self.unit}" if self.unit else ""
+            raise ValueError(f"{v:g} is outside the allowed range {self.lo:g} to {self.hi:g}{unit}")
+        return v
+
+    def __iter__(self) -> Iterator[object]:  # the metadata pydantic applies, in order
+        yield BeforeValidator(_not_bool)
+        yield AfterValidator(self.check)
+        yield Field(json_schema_extra={"minimum": self.lo, "maximum": self.hi})
+
+
+def _not_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError(f"{str(v).lower()} is not a number")
+    return v
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+def model_fields(model: type[BaseModel], exclude: tuple[str, ...] = (), **replace: Any) -> dict[str, Any]:
+    """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
+    out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}
+    return out | replace
