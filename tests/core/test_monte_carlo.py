@@ -19,6 +19,7 @@ from footprint.contracts.messages import error_line
 from footprint.core import monte_carlo as mc
 from footprint.core.errors import InputError
 from footprint.core.footprint_methods import footprint
+from footprint.core.plane import inside_polygon
 from footprint.core.sphere import downrange_crossrange_nmi, latlon_from_ranges
 from tests.authorities.report import example
 
@@ -152,7 +153,7 @@ def test_the_one_and_three_sigma_ellipses_hold_their_share_of_a_normal_cloud():
     pts = rng.multivariate_normal([1000.0, 50.0], cov, size=20_000)
     for sigmas, share in ((1.0, 1 - math.exp(-0.5)), (3.0, 1 - math.exp(-4.5))):  # chi-square, 2 degrees of freedom
         x, y = mc.ellipse(np.array([1000.0, 50.0]), cov, sigmas, points=721)
-        inside = np.mean([mc._inside_one(x[:-1], y[:-1], 720, px, py) for px, py in pts])
+        inside = np.mean([inside_polygon(x[:-1], y[:-1], 720, px, py) for px, py in pts])
         assert inside == pytest.approx(share, abs=4 * math.sqrt(share * (1 - share) / len(pts)))
 
 

@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
+from footprint.core.plane import inside_points
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
     close_half_along_axis,
@@ -384,13 +385,8 @@ def _with_axis(half):
 
 
 def _inside(p, polygon) -> bool:
-    """Even-odd rule in the (down-range, cross-range) plane; on an edge counts as inside."""
-    x, y, inside = p.downrange_nmi, p.crossrange_nmi, False
-    pts = [(q.downrange_nmi, q.crossrange_nmi) for q in polygon]
-    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
+    """Even-odd rule in the (down-range, cross-range) plane (plane.inside_polygon)."""
+    return inside_points(p.downrange_nmi, p.crossrange_nmi, [(q.downrange_nmi, q.crossrange_nmi) for q in polygon])
 
 
 def mirror_is_exact(spec: FlightSpec) -> bool:

@@ -33,6 +33,7 @@ from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.outline import outline
+from footprint.core.plane import inside_polygon
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
 
@@ -162,7 +163,9 @@ def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.nda
         tail = [j for j in right if landed[i, j]]
         x, y = list(down[i, ring + tail]), list(cross[i, ring + tail])
         base_x, base_y = np.array(x + [np.nan]), np.array(y + [np.nan])
-        outside = [j for j in back if landed[i, j] and not _inside_one(base_x, base_y, len(x), down[i, j], cross[i, j])]
+        outside = [
+            j for j in back if landed[i, j] and not inside_polygon(base_x, base_y, len(x), down[i, j], cross[i, j])
+        ]
         x = list(down[i, ring + outside]) + list(down[i, tail])
         y = list(cross[i, ring + outside]) + list(cross[i, tail])
         if not mirror and x:  # a half footprint: closed along the axis (sphere.close_half_along_axis)
@@ -173,23 +176,12 @@ def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.nda
 
 
 @njit
-def _inside_one(px, py, m, x, y):
-    """Even-odd rule, polygon px[:m], py[:m] (footprints._inside)."""
-    inside = False
-    for e in range(m):
-        x0, y0, x1, y1 = px[e], py[e], px[(e + 1) % m], py[(e + 1) % m]
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
-
-
-@njit
 def _inside_all(px, py, counts, x, y):
     """Which samples' polygons hold the point (x, y)."""
     out = np.zeros(px.shape[0], np.bool_)
     for s in range(px.shape[0]):
         if counts[s] >= 3:
-            out[s] = _inside_one(px[s], py[s], counts[s], x, y)
+            out[s] = inside_polygon(px[s], py[s], counts[s], x, y)
     return out
 
 

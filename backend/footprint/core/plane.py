@@ -1,0 +1,22 @@
+"""Plane geometry in the (down-range, cross-range) plane of a footprint: the one point-in-polygon test."""
+
+import numpy as np
+
+from footprint.core._jit import njit
+
+
+@njit
+def inside_polygon(px, py, m, x, y) -> bool:
+    """Whether (x, y) lies in the polygon px[:m], py[:m] by the even-odd rule (a ray cast along +x)."""
+    inside = False
+    for e in range(m):
+        x0, y0, x1, y1 = px[e], py[e], px[(e + 1) % m], py[(e + 1) % m]
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+def inside_points(x: float, y: float, polygon: list[tuple[float, float]]) -> bool:
+    """inside_polygon for a polygon given as (x, y) pairs."""
+    pts = np.asarray(polygon, float).reshape(-1, 2)
+    return bool(inside_polygon(np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1]), len(pts), x, y))
