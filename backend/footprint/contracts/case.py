@@ -190,22 +190,46 @@ class EntryCase(Strict):
 Bank = Annotated[float, Range(-180, 180, "deg")]
 
 
-class BankZero(Strict):
+class _BankLaw(Strict):
+    """A bank law: `controls()`, its part of the control array's settings (core.controls.pack_controls)."""
+
+    law: str
+
+    def controls(self) -> dict[str, Any]:
+        return {"bank_law": self.law}
+
+
+class _AlphaLaw(Strict):
+    """An angle-of-attack law: `controls()`, its part of the control array's settings."""
+
+    law: str
+
+    def controls(self) -> dict[str, Any]:
+        return {"alpha_law": self.law}
+
+
+class BankZero(_BankLaw):
     law: Literal["zero"]
 
 
-class BankConstant(Strict):
+class BankConstant(_BankLaw):
     law: Literal["constant"]
     bank_deg: Bank
 
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"bank_deg": self.bank_deg}
 
-class BankStaged(Strict):
+
+class BankStaged(_BankLaw):
     law: Literal["staged"]
     bank_deg: Bank
     turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
 
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"bank_deg": self.bank_deg, "turn_deg": self.turn_deg}
 
-class BankTwoParameter(Strict):
+
+class BankTwoParameter(_BankLaw):
     """Section II.6, Figs. 5-7: phi_B = K (zeta - sigma_f), K the bank gain (deg of bank per deg of heading)."""
 
     law: Literal["two_parameter"]
@@ -214,14 +238,31 @@ class BankTwoParameter(Strict):
     limit_deg: Annotated[float, Range(0, 180, "deg")] | None = 75.0
     variable: Literal["zeta", "heading"] = "zeta"
 
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {
+            "bank_gain": abs(self.bank_gain),
+            "mirror": self.bank_gain < 0,
+            "bank_limit_deg": self.limit_deg,
+            "bank_variable": self.variable,
+            "sigma_f_deg": self.sigma_f_deg,
+        }
 
-class BankSingleParameter(Strict):
+
+class BankSingleParameter(_BankLaw):
     """Section II.6 a-d: phi_B = K zeta, K the bank gain (negative: the right-hand law)."""
 
     law: Literal["single_parameter"]
     bank_gain: Annotated[float, Range(-10, 10)]
     limit_deg: Annotated[float, Range(0, 180, "deg")] | None = None
     variable: Literal["zeta", "heading"] = "zeta"
+
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {
+            "bank_gain": abs(self.bank_gain),
+            "mirror": self.bank_gain < 0,
+            "bank_limit_deg": self.limit_deg,
+            "bank_variable": self.variable,
+        }
 
 
 TABLE_MAX_NODES = 512  # a collocation optimum re-flown as tables carries one node per mesh point
@@ -232,7 +273,7 @@ VelocityNode = Annotated[float, Range(0, 40_000, "ft/s")]
 EnergyNode = Annotated[float, Range(0, 1e8, "ft")]  # energy height h + V^2/(2 g0)
 
 
-class BankTable(Strict):
+class BankTable(_BankLaw):
     """Bank (deg) tabulated against ONE abscissa, linear between nodes, held at the ends: the heading laws'
     steering angle (heading_deg with variable zeta or heading, Section II.5 Fig. 2), or time, velocity or energy."""
 
@@ -256,6 +297,14 @@ class BankTable(Strict):
         name, x = table_abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
         return (self.variable if name == "heading_deg" else name.rsplit("_", 1)[0]), x
 
+    def controls(self) -> dict[str, Any]:
+        variable, x = self.abscissa()
+        return super().controls() | {
+            "bank_table": (x, self.bank_deg),
+            "mirror": self.side == "right",
+            "bank_variable": variable,
+        }
+
 
 def table_abscissa(table, names, default=None):
     """(name, nodes) of the one abscissa field of `table` that is given; `default` when none is (else an error)."""
@@ -269,14 +318,17 @@ def table_abscissa(table, names, default=None):
     return given[0], getattr(table, given[0])
 
 
-class BankZeroLift(Strict):
+class BankZeroLift(_BankLaw):
     law: Literal["zero_lift"]
 
 
-class BankConstantAltitude(Strict):
+class BankConstantAltitude(_BankLaw):
     law: Literal["constant_altitude"]
     turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
     side: Literal["left", "right"] = "left"
+
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"turn_deg": self.turn_deg, "side": 1.0 if self.side == "left" else -1.0}
 
 
 BankCase = Annotated[
@@ -294,20 +346,23 @@ BankCase = Annotated[
 Alpha = Annotated[float, Range(-30, 90, "deg")]
 
 
-class AlphaMaxLD(Strict):
+class AlphaMaxLD(_AlphaLaw):
     law: Literal["max_ld"]
 
 
-class AlphaCLMax(Strict):
+class AlphaCLMax(_AlphaLaw):
     law: Literal["cl_max"]
 
 
-class AlphaConstant(Strict):
+class AlphaConstant(_AlphaLaw):
     law: Literal["constant"]
     alpha_deg: Alpha
 
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"alpha_deg": self.alpha_deg}
 
-class AlphaTable(Strict):
+
+class AlphaTable(_AlphaLaw):
     law: Literal["table"]
     alpha_deg: list[Alpha] = Field(min_length=2, max_length=TABLE_MAX_NODES)
     velocity_fps: list[VelocityNode] | None = None
@@ -325,16 +380,26 @@ class AlphaTable(Strict):
         name, x = table_abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
         return name.rsplit("_", 1)[0], x
 
+    def controls(self) -> dict[str, Any]:
+        abscissa, x = self.abscissa()
+        return super().controls() | {"alpha_table": (x, self.alpha_deg), "alpha_table_abscissa": abscissa}
 
-class AlphaLevelFlight(Strict):
+
+class AlphaLevelFlight(_AlphaLaw):
     law: Literal["level_flight"]
     before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
 
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"alpha_before": self.before_pullout}
 
-class AlphaGammaHold(Strict):
+
+class AlphaGammaHold(_AlphaLaw):
     law: Literal["gamma_hold"]
     gamma_deg: Annotated[float, Range(-10, 10, "deg")]
     before_pullout: Literal["max_ld", "cl_max"] = "max_ld"
+
+    def controls(self) -> dict[str, Any]:
+        return super().controls() | {"gamma_deg": self.gamma_deg, "alpha_before": self.before_pullout}
 
 
 AlphaCase = Annotated[
@@ -467,38 +532,12 @@ class Case(Strict):
         )
 
     def controls(self):
-        b, a = self.bank, self.alpha
-        kw: dict[str, Any] = {"bank_law": b.law}
-        if isinstance(b, (BankConstant, BankStaged)):
-            kw["bank_deg"] = b.bank_deg
-        if isinstance(b, BankStaged):
-            kw["turn_deg"] = b.turn_deg
-        if isinstance(b, (BankTwoParameter, BankSingleParameter)):
-            kw.update(
-                bank_gain=abs(b.bank_gain), mirror=b.bank_gain < 0, bank_limit_deg=b.limit_deg, bank_variable=b.variable
-            )
-        if isinstance(b, BankTwoParameter):
-            kw["sigma_f_deg"] = b.sigma_f_deg
-        if isinstance(b, BankTable):
-            variable, x = b.abscissa()
-            kw.update(bank_table=(x, b.bank_deg), mirror=b.side == "right", bank_variable=variable)
-        if isinstance(b, BankConstantAltitude):
-            kw.update(turn_deg=b.turn_deg, side=1.0 if b.side == "left" else -1.0)
+        kw = self.bank.controls() | self.alpha.controls()
         start = self.bank_start
         if isinstance(start, BankStartAltitude):
             kw.update(bank_start="altitude", bank_start_altitude_ft=start.altitude_ft)
         else:
             kw["bank_start"] = start
-        kw["alpha_law"] = a.law
-        if isinstance(a, AlphaConstant):
-            kw["alpha_deg"] = a.alpha_deg
-        if isinstance(a, AlphaGammaHold):
-            kw["gamma_deg"] = a.gamma_deg
-        if isinstance(a, (AlphaLevelFlight, AlphaGammaHold)):
-            kw["alpha_before"] = a.before_pullout
-        if isinstance(a, AlphaTable):
-            abscissa, x = a.abscissa()
-            kw.update(alpha_table=(x, a.alpha_deg), alpha_table_abscissa=abscissa)
         return pack_controls(**kw)
 
 
