@@ -9,6 +9,7 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from footprint.contracts.bounds import PROGRESS_NOTE_CHARS
+from footprint.contracts.footprint import POINT_FIELDS
 from footprint.service.db.models import (
     PENDING,
     REVISIONS,
@@ -23,18 +24,6 @@ from footprint.service.db.models import (
     utc_now,
 )
 
-POINT_FIELDS = (
-    "downrange_nmi",
-    "crossrange_nmi",
-    "flight_time_s",
-    "latitude_deg",
-    "longitude_deg",
-    "heading_deg",
-    "side",
-    "parameter",
-    "stop_reason",
-    "mirrored",
-)
 SUMMARY_FIELDS = ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_downrange_nmi", "trajectories")
 ENTRY_FIELDS = ("latitude_deg", "longitude_deg", "heading_deg", "velocity_fps", "gamma_deg", "altitude_ft")
 

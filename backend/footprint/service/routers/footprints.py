@@ -8,7 +8,7 @@ from typing import Literal
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
-from footprint.contracts.footprint import ground_track_at
+from footprint.contracts.footprint import POINT_FIELDS, ground_track_at
 from footprint.contracts.records import csv_cell
 from footprint.core.errors import InputError
 from footprint.core.rotation import shift_error_nmi
@@ -28,19 +28,7 @@ from footprint.service.schemas import (
 )
 
 router = APIRouter(tags=["footprints"])
-CSV_COLUMNS = (
-    "index",
-    "downrange_nmi",
-    "crossrange_nmi",
-    "flight_time_s",
-    "latitude_deg",
-    "longitude_deg",
-    "heading_deg",
-    "side",
-    "parameter",
-    "stop_reason",
-    "mirrored",
-)
+CSV_COLUMNS = ("index", *POINT_FIELDS)
 
 
 def _summary(fp) -> dict:
