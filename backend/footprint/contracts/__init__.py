@@ -29,7 +29,7 @@ def module(kind: str) -> ModuleType:
 
 
 def parse(kind: str, data: Any, ctx: dict[str, Any] | None = None) -> Any:
-    """A request of this kind from a dict (a parsed request passes through); ctx from case.context()."""
+    """A request of this kind from a dict (a parsed request passes through); ctx from doors.context()."""
     return module(kind).parse_request(data, ctx)
 
 
