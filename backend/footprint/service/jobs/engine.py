@@ -2,10 +2,11 @@
 
 One Dask client for the service's life: an in-process LocalCluster (processes, one thread each) or an external
 scheduler, through footprint.parallel.start_client (the same code path as `footprint sweep`). A small thread pool
-in the service process watches the jobs: it submits a job's tasks, records progress as they complete, and
-writes the results with the status `succeeded` in one transaction. A restart submits queued and running jobs
-again; the unique keys on the results make a second write of the same job impossible (so two service processes
-on one database may both compute a job, but only one stores it).
+in the service process watches the jobs: it submits a job's parts (its contract's WORK.split, one Dask task each
+through footprint.parallel.submit_parts), records progress as they report and complete, combines them
+(WORK.combine, WORK.store) and writes the rows with the status `succeeded` in one transaction. It names no kind.
+A restart submits queued and running jobs again; the unique keys on the results make a second write of the same
+job impossible (so two service processes on one database may both compute a job, but only one stores it).
 
 With several API processes (`footprint serve --api-processes N`) one engine runs beside them and polls the database
 for the jobs they queue (JobEngine(polls=True)); each API process keeps only a RemoteJobs: the cluster's status.
