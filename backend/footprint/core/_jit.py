@@ -51,7 +51,7 @@ else:
         return str(root / f"numba-{numba.__version__}-{digest.hexdigest()[:16]}")
 
     if not os.environ.get("NUMBA_CACHE_DIR"):
-        numba.config.CACHE_DIR = _cache_dir()
+        numba.config.CACHE_DIR = _cache_dir()  # type: ignore[attr-defined]  # numba's config is set at run time
 
     def njit(*args, allocates=True, **kwargs):
         options = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": FASTMATH}

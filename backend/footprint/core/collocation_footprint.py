@@ -50,7 +50,7 @@ def collocation_footprint(
     along the path and max_load_factor the load (g); fine adds the narrow table corners
     (collocation.SMOOTHING_STAGES) to every point: the re-flight comes closer, at about three times the cost.
     on_progress(fraction, note) after every IPOPT iteration (True stops: NoOptimum)."""
-    constraints = (
+    constraints: tuple[Constraint, ...] = (
         Constraint("downrange_nmi", "at_least", -FREE_NMI),
         Constraint("crossrange_nmi", "at_least", -FREE_NMI),
     )

@@ -27,7 +27,7 @@ from footprint.core.controls import (
     replace_alpha_table,
 )
 from footprint.core.errors import InputError
-from footprint.core.footprints import SIGMA0_DEG, footprint_of_family, mirror_is_exact, with_bank
+from footprint.core.footprints import SIGMA0_DEG, Footprint, footprint_of_family, mirror_is_exact, with_bank
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
     BANK_TABLE_HEADINGS_DEG,
@@ -475,7 +475,7 @@ def coolest_floor(
 
 @dataclass
 class LimitedFootprint:
-    footprint: object  # footprints.Footprint of the kept settings; its `trajectories` counts the searches too
+    footprint: Footprint  # the kept settings' footprint; its `trajectories` counts the searches too
     points: list[LimitedPoint]  # every bank setting, kept or not (left half)
     seconds: float
 

@@ -218,7 +218,7 @@ def sample_spec(base: FlightSpec, samples: Samples, i: int) -> FlightSpec:
     """The flight spec of sample i: the base spec with the sample's dispersed inputs."""
     v = {name: float(values[i]) for name, values in samples.values.items()}
     entry = {name: v[name] for name in ENTRY_INPUTS if name in v}
-    spec = replace(base, entry=replace(base.entry, **entry)) if entry else base
+    spec = replace(base, entry=replace(base.entry, **entry)) if entry else base  # type: ignore[arg-type]
     if "wing_loading_psf" in v:
         spec = replace(spec, vehicle=replace(spec.vehicle, wing_loading_psf=v["wing_loading_psf"]))
     d = base.dispersion

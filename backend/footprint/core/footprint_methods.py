@@ -3,6 +3,8 @@ the service and the data-base sweeps look a study's method up in. It sits above 
 the methods (footprints: Sections II.5-II.7; constrained: the temperature-limited footprint; collocation_footprint:
 the true optimal boundary), which build on footprints, so none of them imports another in a circle."""
 
+from collections.abc import Callable
+
 from footprint.core.constrained import temperature_limited_footprint
 from footprint.core.footprints import (
     Footprint,
@@ -16,7 +18,7 @@ from footprint.core.footprints import (
 )
 from footprint.core.trajectory import FlightSpec
 
-METHODS = {
+METHODS: dict[str, Callable[..., Footprint]] = {
     "single_parameter": single_parameter,
     "constant_bank": constant_bank,
     "staged": staged,
@@ -27,7 +29,7 @@ METHODS = {
 
 # the methods whose control settings are fixed laws, as families [(parameter, make(spec, right) -> spec, on_axis)]
 # (the others search or optimize each point's controls for the spec they fly: a dispersed world would change them)
-FAMILIES = {
+FAMILIES: dict[str, Callable[..., list]] = {
     "single_parameter": single_parameter_family,
     "constant_bank": constant_bank_family,
     "staged": lambda **params: constant_bank_family(staged=True, **params),

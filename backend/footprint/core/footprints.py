@@ -316,7 +316,10 @@ class _Flights:
 def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
     """Fly a family [(parameter, make(spec, right) -> spec, on_axis)]: the left half, and the right half
     by reflection where that is exact, else flown."""
-    axis, left, right, flown = [], [], [], 0
+    axis: list[FootprintPoint] = []
+    left: list[FootprintPoint] = []
+    right: list[FootprintPoint] = []
+    flown = 0
     exact = mirror_is_exact(spec)
     for parameter, make, on_axis in family:
         pt = point_of_trajectory(parameter, "axis" if on_axis else "left", simulate(make(spec, False)), contours_fps)

@@ -182,7 +182,7 @@ def _joined(arcs: list[np.ndarray]):
     unused, polygons, north, south = set(range(len(arcs))), [], False, False
     while unused:
         first = current = min(unused)
-        ring = []
+        ring: list[tuple[float, ...]] = []
         while True:
             unused.discard(current)
             ring.extend(map(tuple, arcs[current]))
