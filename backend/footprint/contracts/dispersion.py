@@ -96,6 +96,7 @@ class Distribution(Strict):
             mid = nominal + self.uniform.bias
             return disp.Uniform(mid - self.uniform.half_width, mid + self.uniform.half_width)
         t = self.truncated_normal
+        assert t is not None  # _one: exactly one of the three is given
         mid = nominal + t.bias
         return disp.TruncatedNormal(mid, t.std, mid - t.sigmas * t.std, mid + t.sigmas * t.std)
 

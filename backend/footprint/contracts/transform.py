@@ -116,10 +116,12 @@ class Place(Strict):
 
     def reference(self, where: str) -> Reference:
         if self.node_longitude_deg is not None:  # from the ascending node along the orbit, u as an arc of R'
+            assert self.inclination_deg is not None and self.argument_of_latitude_deg is not None  # _one_direction
             from footprint.core.rotation import stepped_reference
 
             node = Reference(0.0, self.node_longitude_deg, float(heading_for_inclination(0.0, self.inclination_deg)))
             return stepped_reference(node, np.radians(self.argument_of_latitude_deg) * MEAN_RADIUS_NMI)
+        assert self.latitude_deg is not None and self.longitude_deg is not None  # _one_direction: a place is given
         if self.heading_deg is not None:
             return Reference(self.latitude_deg, self.longitude_deg, self.heading_deg)
         try:
@@ -232,6 +234,7 @@ def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
     from footprint.core.rotation import all_points, fly_at
 
     study = req.study
+    assert study is not None  # an exact transform carries its study (the request's check)
     spec = study.case.to_spec()
     fp = fly_at(spec, study.method, study.to_params(), dst, rotating=True)
     return [
