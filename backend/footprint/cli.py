@@ -2,6 +2,7 @@
 
 import json
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 import typer
@@ -69,6 +70,20 @@ def _dask_options(workers: int | None, scheduler: str | None, default: int) -> d
         return {"scheduler": scheduler}
     count = default if workers is None else workers
     return {"workers": count} if count else {}
+
+
+@contextmanager
+def _parts_bar(unit: str):
+    """A progress bar on stderr over a run's parts, moved by the runner's progress(done, total)."""
+    from tqdm import tqdm
+
+    with tqdm(unit=unit, file=sys.stderr, mininterval=0.5) as bar:
+
+        def progress(done: int, total: int) -> None:
+            bar.total = total
+            bar.update(done - bar.n)
+
+        yield progress
 
 
 def _answer(result: dict, as_json: bool, lines) -> None:
@@ -180,8 +195,6 @@ def sweep(
     Exit status 1 when some footprints failed (their rows carry the error), 2 for a bad sweep file."""
     from contextlib import ExitStack
 
-    from tqdm import tqdm
-
     from footprint.parallel import dask_client
 
     _writable(out, "--out")
@@ -196,8 +209,7 @@ def sweep(
             client = stack.enter_context(dask_client(workers=workers, scheduler=scheduler))
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
-        bar = stack.enter_context(tqdm(total=sw.size, unit="footprint", file=sys.stderr, mininterval=0.5))
-        result = parallel.run("sweep", sw, lambda done, total: bar.update(done - bar.n), client=client)
+        result = parallel.run("sweep", sw, stack.enter_context(_parts_bar("footprint")), client=client)
     written = result.write(folder)
     _print_sweep_summary(result)
     figures = sum(p.suffix in (".png", ".svg") for p in written)
@@ -245,16 +257,14 @@ def disperse(
     probability p, each site's probability with its 95 % interval, and every flight that did not land, counted."""
     from contextlib import ExitStack
 
-    from tqdm import tqdm
-
     for path, option in ((figure, "--figure"), (geojson_out, "--geojson"), (csv_out, "--csv")):
         _writable(path, option)
     study = _request("dispersion", study_file)
     dask = _dask_options(workers, scheduler, parallel.default_workers())
     with ExitStack() as stack:
-        bar = stack.enter_context(tqdm(total=len(study.chunks()), unit="chunk", file=sys.stderr, mininterval=0.5))
+        progress = stack.enter_context(_parts_bar("chunk"))
         try:
-            stats, info = parallel.run("dispersion", study, lambda done, total: bar.update(done - bar.n), **dask)
+            stats, info = parallel.run("dispersion", study, progress, **dask)
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
     if figure is not None:
@@ -424,7 +434,6 @@ def run_(
 ):
     """Run any kind of job with the one runner, as the service's job engine does, and print what its job stores:
     {"result": ..., "footprints": [...]} as JSON. A progress bar over its parts on stderr."""
-    from tqdm import tqdm
 
     kinds = contracts.job_kinds()
     if kind not in kinds:
@@ -432,9 +441,9 @@ def run_(
     request = _request(kind, request_file)
     dask = _dask_options(workers, scheduler, 0)
     work = contracts.module(kind).WORK
-    with tqdm(total=len(work.split(request)), unit=work.part_unit, file=sys.stderr, mininterval=0.5) as bar:
+    with _parts_bar(work.part_unit) as progress:
         try:
-            answer = parallel.run(kind, request, lambda done, total: bar.update(done - bar.n), **dask)
+            answer = parallel.run(kind, request, progress, **dask)
         except OSError as exc:  # no scheduler there
             _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
     try:

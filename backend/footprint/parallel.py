@@ -81,6 +81,8 @@ def _run_here(
 ) -> tuple[list[Any], RunInfo]:
     t0 = time.perf_counter()
     outputs = []
+    if progress:
+        progress(0, len(parts))
     for done, part in enumerate(parts, 1):
         outputs.append(work.run_part(request, part, on_progress))
         if progress:
