@@ -7,7 +7,8 @@ from footprint.core._jit import njit
 
 @njit
 def inside_polygon(px, py, m, x, y) -> bool:
-    """Whether (x, y) lies in the polygon px[:m], py[:m] by the even-odd rule (a ray cast along +x)."""
+    """Whether (x, y) lies in the polygon px[:m], py[:m] by the even-odd rule: a ray cast along +x crosses the
+    boundary an odd number of times (Shimrat, "Algorithm 112: Position of point relative to polygon", CACM 1962)."""
     inside = False
     for e in range(m):
         x0, y0, x1, y1 = px[e], py[e], px[(e + 1) % m], py[(e + 1) % m]
