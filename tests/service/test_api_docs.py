@@ -141,3 +141,26 @@ def test_an_unknown_vehicle_names_its_field_once(api):
     )
     assert r.status_code == 422
     assert r.json()["detail"].count("vehicle.builtin") == 1 and "lod-1.89" in r.json()["detail"], r.text
+
+
+def test_every_json_body_is_read_by_the_framework_as_its_contract_model():
+    """Issue 26: the document is generated from the routes, not patched in; each route's body is the contract's
+    model (no dict[str, Any]), parsed once by FastAPI with the door's context (deps.job_door, deps.sync_door)."""
+    from typing import get_args
+
+    from footprint.contracts.case import Case
+    from footprint.contracts.reach import ReachRequest
+    from footprint.contracts.transform import TransformRequest
+    from footprint.service.routers import geometry, jobs, sites, trajectories
+
+    def body_type(router, path: str):
+        (route,) = [r for r in router.routes if r.path == path and "POST" in r.methods]
+        return route.body_field.field_info.annotation
+
+    assert body_type(trajectories.router, "/trajectories") is Case
+    assert body_type(geometry.router, "/transform") is TransformRequest
+    assert body_type(sites.router, "/reach") is ReachRequest
+    job_models = get_args(body_type(jobs.submit_router(), "/jobs"))
+    kinds = {get_args(m.model_fields["kind"].annotation)[0]: m.model_fields["study"].annotation for m in job_models}
+    assert set(kinds) == {"footprint", "optimize", "sweep", "reach", "dispersion"}
+    assert kinds["reach"] is ReachRequest

@@ -19,7 +19,7 @@ from pydantic import (
 )
 
 from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
-from footprint.contracts.doors import validated
+from footprint.contracts.doors import context_of, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.work import Work
 from footprint.core import constants as c
@@ -54,7 +54,7 @@ class VehicleCase(Strict):
             return data
         if set(data) != {"stored"}:
             raise ValueError("stored: a stored vehicle is given by its id alone")
-        lookup = (info.context or {}).get("vehicles")
+        lookup = context_of(info).get("vehicles")
         if lookup is None:
             raise ValueError(
                 "stored: stored vehicles live in the service (POST /api/vehicles); give 'builtin' or 'aero' here"

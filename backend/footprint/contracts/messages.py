@@ -3,7 +3,8 @@ echo of the client's text printable and clipped; the fields as data (error_parts
 
 import functools
 import re
-from typing import get_args
+from collections.abc import Sequence
+from typing import Any, get_args
 
 from pydantic import ValidationError
 
@@ -20,8 +21,12 @@ def error_parts(exc: ValidationError | InputError) -> list[tuple[str | None, str
     whole); the last part counts the fields past MAX_ERROR_FIELDS."""
     if isinstance(exc, InputError):
         return [(exc.field, clip(printable(str(exc)), ERROR_MESSAGE_CHARS))]
+    return errors_parts(exc.errors())
+
+
+def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
+    """error_parts of pydantic's errors (ValidationError.errors(), or the framework's for a body)."""
     parts: list[tuple[str | None, str]] = []
-    errs = exc.errors()
     tags = union_tags()
     for err in errs[:MAX_ERROR_FIELDS]:
         loc = []

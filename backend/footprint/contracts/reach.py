@@ -24,7 +24,7 @@ import numpy as np
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.bounds import SITE_NAME_CHARS
-from footprint.contracts.doors import door_limit, validated
+from footprint.contracts.doors import context_of, door_limit, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import fly as fly_study
@@ -147,6 +147,17 @@ class ReachRequest(Strict):
     u_step_deg: Annotated[float, Range(0.01, 30, "deg")] = 1.0
     earth_rotation: Literal["none", "approximate"] = "approximate"
     entry_offset_nmi: Annotated[float, Range(0, 21_600, "nmi")] = 0.0
+
+    @model_validator(mode="before")
+    @classmethod
+    def _stored_sites(cls, data, info: ValidationInfo):
+        stored = context_of(info).get("sites")
+        if stored is None or not isinstance(data, dict) or data.get("sites"):
+            return data
+        sites = stored()
+        if not sites:
+            raise ValueError("sites: none given and none stored (POST /api/sites)")
+        return {**data, "sites": sites}
 
     @model_validator(mode="after")
     def _size(self, info: ValidationInfo):

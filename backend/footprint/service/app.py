@@ -20,7 +20,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
 from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
-from footprint.service import deps, errors, nul, page, read_cache, schemas
+from footprint.service import deps, errors, nul, page, read_cache
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine, RemoteJobs
 from footprint.service.routers import dispersion, footprints, geometry, health, jobs, sites, trajectories, vehicles
@@ -79,10 +79,10 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     )
     app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
-    errors.document(app, schemas.contract_bodies())
+    errors.document(app)
     routers = [
         module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)
-    ]
+    ] + [jobs.submit_router()]
     for router in routers:
         app.include_router(router, prefix="/api")
     _api_docs(app, settings.tile_url)

@@ -53,25 +53,49 @@ def engine(request: Request) -> JobEngine:
     return request.app.state.jobs
 
 
-def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchronous: bool = False):
-    """A request of a contract kind (footprint.contracts), parsed once here with the HTTP door's limits (a job's, or
-    with `synchronous` the tighter ones of work this process does itself) and the stored vehicles; a mistake is a
-    422 naming the field (below `prefix` in the body)."""
-    from pydantic import ValidationError
-
-    from footprint import contracts
-    from footprint.contracts.doors import HTTP, HTTP_SYNC, context
-    from footprint.core.errors import InputError
-    from footprint.service.db import queries as q
-    from footprint.service.errors import invalid
-
+def _stored_vehicle(request: Request) -> Callable[[str], dict | None]:
     def stored(vehicle_id: str) -> dict | None:
         with sessions(request).begin() as session:
             row = q.get_vehicle(session, vehicle_id=vehicle_id)
             return None if row is None else row.definition
 
+    return stored
+
+
+def body_context(request: Request, *, synchronous: bool, sites=None) -> dict:
+    """The validation context of a body that came through the service (footprint.contracts.doors.context)."""
+    from footprint.contracts.doors import HTTP, HTTP_SYNC, context
+
+    return context(HTTP_SYNC if synchronous else HTTP, _stored_vehicle(request), sites)
+
+
+async def job_door(request: Request) -> None:
+    """A job's body is validated with the HTTP door's limits and the stored vehicles (a route's dependency: it runs
+    in the request's task before FastAPI reads the body, footprint.contracts.doors.enter)."""
+    from footprint.contracts.doors import enter
+
+    enter(body_context(request, synchronous=False))
+
+
+async def sync_door(request: Request) -> None:
+    """A body this process answers itself: the synchronous door's tighter limits, and the stored vehicles."""
+    from footprint.contracts.doors import enter
+
+    enter(body_context(request, synchronous=True))
+
+
+def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchronous: bool = False):
+    """A request of a contract kind (footprint.contracts) that a route assembles (not its body: FastAPI parses
+    that), parsed here with the HTTP door's limits (a job's, or with `synchronous` the tighter ones of work this
+    process does itself) and the stored vehicles; a mistake is a 422 naming the field (below `prefix`)."""
+    from pydantic import ValidationError
+
+    from footprint import contracts
+    from footprint.core.errors import InputError
+    from footprint.service.errors import invalid
+
     try:
-        return contracts.parse(kind, data, context(HTTP_SYNC if synchronous else HTTP, stored))
+        return contracts.parse(kind, data, body_context(request, synchronous=synchronous))
     except (ValidationError, InputError) as exc:
         raise invalid(exc, prefix) from None
 

@@ -3,7 +3,6 @@
 Validation errors reuse footprint.contracts.messages.error_parts, so a REST user reads the same line as a CLI user,
 with the field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
-import json
 import logging
 from collections.abc import Iterable
 
@@ -14,7 +13,14 @@ from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import compile_path
 
-from footprint.contracts.messages import ECHO_CHARS, ERROR_MESSAGE_CHARS, MAX_ERROR_FIELDS, clip, error_parts
+from footprint.contracts.messages import (
+    ECHO_CHARS,
+    ERROR_MESSAGE_CHARS,
+    MAX_ERROR_FIELDS,
+    clip,
+    error_parts,
+    errors_parts,
+)
 from footprint.core.errors import InputError
 
 log = logging.getLogger("footprint.service")
@@ -127,20 +133,32 @@ def invalid(exc: ValidationError | InputError, prefix: str = "") -> RequestInval
     return RequestInvalid(detail, field or prefix.rstrip(".") or None)
 
 
-def error_body(exc: Exception) -> dict:
-    """{"detail": one line, "field": the offending field for a 422}."""
+def error_body(exc: Exception, request: Request | None = None) -> dict:
+    """{"detail": one line, "field": the offending field for a 422} (`request`: the one FastAPI's checks refused)."""
     if isinstance(exc, RequestInvalid):
         return {"detail": exc.detail, "field": exc.field}
     if isinstance(exc, (InputError, ValidationError)):
         inv = invalid(exc)
         return {"detail": inv.detail, "field": inv.field}
     if isinstance(exc, RequestValidationError):
-        return _request_validation_body(exc)
+        return _request_validation_body(exc, _tagged_body(request))
     return {"detail": clip(str(exc), ERROR_MESSAGE_CHARS)}
 
 
-def _request_validation_body(exc: RequestValidationError) -> dict:
-    """FastAPI's own checks (path and query parameters, JSON syntax) in the same one-line form."""
+def _tagged_body(request: Request | None) -> bool:
+    """The request's route reads a discriminated union (POST /api/jobs: one model per kind)."""
+    field = getattr(request.scope.get("route") if request else None, "body_field", None)
+    return getattr(getattr(field, "field_info", None), "discriminator", None) is not None
+
+
+def _request_validation_body(exc: RequestValidationError, tagged: bool) -> dict:
+    """FastAPI's checks in the same one-line form: a body's by the contracts' error_parts (the kind of a `tagged`
+    body, first in the location, is pydantic's tag, not a field), the path's and query's, JSON syntax."""
+    body = [e for e in exc.errors() if e.get("loc", ())[:1] == ("body",) and e.get("type") != "json_invalid"]
+    if body and len(body) == len(exc.errors()) and (body[0]["loc"], body[0]["type"]) != (("body",), "missing"):
+        errs = [e | {"loc": e["loc"][2 if tagged and len(e["loc"]) > 1 else 1 :]} for e in body]
+        parts = [(f, t) if f else ("body", f"body: {t}") for f, t in errors_parts(errs)]  # the body as a whole
+        return {"detail": "; ".join(text for _, text in parts), "field": next((f for f, _ in parts if f), None)}
     parts, field, errs = [], None, exc.errors()
     for err in errs[:MAX_ERROR_FIELDS]:
         loc = [clip(str(x), ECHO_CHARS) for x in err.get("loc", ()) if x not in ("body", "query", "path")]
@@ -162,11 +180,10 @@ def status_of(exc: Exception) -> int:
     return 500
 
 
-def document(app: FastAPI, bodies: dict) -> None:
-    """Declare the typed request bodies that routes parse themselves (`bodies`: (method, path) -> a contract's
-    request type) and ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation
-    schema, which the service never sends), 400 where a body is read, 404 under a path with an id, 401 and 413 on
-    writes, and the 409 and 503 that routes declare themselves."""
+def document(app: FastAPI) -> None:
+    """Declare ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation schema,
+    which the service never sends), 400 where a body is read, 404 under a path with an id, 401 and 413 on writes,
+    and the 409 and 503 that routes declare themselves."""
     plain = app.openapi
 
     def openapi() -> dict:
@@ -176,24 +193,6 @@ def document(app: FastAPI, bodies: dict) -> None:
         ref = {"$ref": "#/components/schemas/ErrorBody"}
         schemas = spec.setdefault("components", {}).setdefault("schemas", {})
         schemas["ErrorBody"] = ErrorBody.model_json_schema()
-        replaced = set()
-        for (method, path), kind in bodies.items():
-            op = spec["paths"][path][method]
-            replaced.add(
-                op.get("requestBody", {})
-                .get("content", {})
-                .get("application/json", {})
-                .get("schema", {})
-                .get("$ref", "")
-                .rsplit("/", 1)[-1]
-            )
-            op["requestBody"] = {
-                "required": True,
-                "content": {"application/json": {"schema": _component(schemas, kind)}},
-            }
-        for name in replaced - {""}:  # the route's own reading of the body (e.g. its kind) is not the document's
-            if f'"#/components/schemas/{name}"' not in json.dumps(spec):
-                schemas.pop(name, None)
         for path, operations in spec["paths"].items():
             for method, op in operations.items():
                 responses = op.setdefault("responses", {})
@@ -217,23 +216,12 @@ def document(app: FastAPI, bodies: dict) -> None:
     app.openapi = openapi
 
 
-def _component(schemas: dict, kind) -> dict:
-    """The JSON schema of a type, its definitions added to the document's components (a model FastAPI has declared
-    already keeps FastAPI's rendering of it: model names are unique in the package)."""
-    from pydantic import TypeAdapter
-
-    schema = TypeAdapter(kind).json_schema(ref_template="#/components/schemas/{model}")
-    for name, definition in schema.pop("$defs", {}).items():
-        schemas.setdefault(name, definition)
-    return schema
-
-
-def error_response(exc: Exception) -> JSONResponse:
+def error_response(exc: Exception, request: Request | None = None) -> JSONResponse:
     """The one-line body with the exception's status (and the headers that go with a 401 or a 405)."""
     headers = {"WWW-Authenticate": "Bearer"} if isinstance(exc, Unauthorized) else None
     if isinstance(exc, MethodNotAllowed):
         headers = {"Allow": ", ".join(exc.allowed)}
-    return JSONResponse(error_body(exc), status_code=status_of(exc), headers=headers)
+    return JSONResponse(error_body(exc, request), status_code=status_of(exc), headers=headers)
 
 
 HTTP_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE", "OPTIONS", "TRACE")
@@ -259,8 +247,8 @@ class ApiPaths:
 def install(app: FastAPI) -> None:
     """Answer every exception type of the table with its status and a one-line body."""
 
-    async def handle(_request: Request, exc: Exception) -> JSONResponse:
-        return error_response(exc)
+    async def handle(request: Request, exc: Exception) -> JSONResponse:
+        return error_response(exc, request)
 
     async def http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
         methods = app.state.api_paths.allowed(request.url.path) if exc.status_code == 405 else []

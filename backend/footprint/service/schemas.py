@@ -41,15 +41,6 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
-class JobCreate(_Strict):
-    """What the router reads before the study: its kind. The study is parsed by the kind's contract (the OpenAPI
-    document declares the typed union, service.openapi)."""
-
-    kind: JobKind
-    study: dict[str, Any]
-    name: str | None = Field(default=None, max_length=JOB_NAME_CHARS)
-
-
 def _typed_job(kind: str) -> type[BaseModel]:
     return create_model(
         f"{kind.capitalize()}Job",
@@ -60,17 +51,10 @@ def _typed_job(kind: str) -> type[BaseModel]:
     )
 
 
-def contract_bodies() -> dict:
-    """The bodies that are a contract's request, as the OpenAPI document declares them (service.errors.document):
-    POST /api/jobs one typed study per kind of job registered now, discriminated on "kind"."""
+def job_create() -> Any:
+    """POST /api/jobs's body: one typed study per kind of job registered now, discriminated on "kind"."""
     models = tuple(_typed_job(k) for k in contracts.job_kinds())
-    jobs = Annotated[Union[models], Field(discriminator="kind")]  # noqa: UP007 (a union of a computed tuple)
-    return {
-        ("post", "/api/jobs"): jobs,
-        ("post", "/api/trajectories"): contracts.module("case").REQUEST,
-        ("post", "/api/transform"): contracts.module("transform").REQUEST,
-        ("post", "/api/reach"): contracts.module("reach").REQUEST,
-    }
+    return Annotated[Union[models], Field(discriminator="kind")]  # noqa: UP007 (a union of a computed tuple)
 
 
 # POST /api/footprints/{id}/transform: a transform request less what the stored footprint gives (its points, its

@@ -3,7 +3,7 @@
 import asyncio
 import json
 
-from fastapi import APIRouter, Query, Request, Response
+from fastapi import APIRouter, Depends, Query, Request, Response
 from fastapi.responses import StreamingResponse
 from starlette.concurrency import run_in_threadpool
 
@@ -12,7 +12,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import NotFound
-from footprint.service.schemas import JobCreate, JobCreated, JobKind, JobList, JobRead, StoredId
+from footprint.service.schemas import JobCreated, JobKind, JobList, JobRead, StoredId, job_create
 
 router = APIRouter(tags=["jobs"])
 EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
@@ -41,23 +41,33 @@ def _read(session, job) -> dict:
     return summary(job) | {"study": job.study, "result": result}
 
 
-@router.post(
-    "/jobs",
-    response_model=JobCreated,
-    status_code=202,
-    responses={202: {"headers": {"Location": {"description": "the job's URL", "schema": {"type": "string"}}}}},
-)
-def create_job(body: JobCreate, request: Request, response: Response) -> dict:
-    """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
-    as the Location header) to poll or follow."""
-    study = deps.parse_body(request, body.kind, body.study, "study.")
-    name = body.name or contracts.module(body.kind).WORK.default_name(study)
-    with deps.sessions(request).begin() as session:
-        job = q.create_job(session, kind=body.kind, study=contracts.stored_form(study), name=name)
-        job_id = job.id
-    deps.engine(request).submit(job_id=job_id, request=study)
-    response.headers["Location"] = url = f"/api/jobs/{job_id}"
-    return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
+def submit_router() -> APIRouter:
+    """POST /api/jobs for the kinds of job registered when the app is made: its body is one of their typed studies,
+    validated by FastAPI with the HTTP door's context (deps.job_door)."""
+    body_type = job_create()
+
+    def create_job(body: body_type, request: Request, response: Response) -> dict:  # type: ignore[valid-type]
+        """Check the study for its kind, store a queued job and hand it to the engine; 202 with the job's URL (also
+        as the Location header) to poll or follow."""
+        name = body.name or contracts.module(body.kind).WORK.default_name(body.study)
+        with deps.sessions(request).begin() as session:
+            job = q.create_job(session, kind=body.kind, study=contracts.stored_form(body.study), name=name)
+            job_id = job.id
+        deps.engine(request).submit(job_id=job_id, request=body.study)
+        response.headers["Location"] = url = f"/api/jobs/{job_id}"
+        return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
+
+    submit = APIRouter(tags=["jobs"])
+    submit.add_api_route(
+        "/jobs",
+        create_job,
+        methods=["POST"],
+        response_model=JobCreated,
+        status_code=202,
+        dependencies=[Depends(deps.job_door)],
+        responses={202: {"headers": {"Location": {"description": "the job's URL", "schema": {"type": "string"}}}}},
+    )
+    return submit
 
 
 @router.get("/jobs", response_model=JobList)

@@ -3,13 +3,15 @@ when the request gives none."""
 
 import csv
 import io
-from typing import Annotated, Any
+from typing import Annotated
 
-from fastapi import APIRouter, Body, Path, Query, Request, Response
+from fastapi import APIRouter, Depends, Path, Query, Request, Response
 from pydantic import ValidationError
+from starlette.concurrency import run_in_threadpool
 
+from footprint.contracts.doors import enter
 from footprint.contracts.messages import error_line
-from footprint.contracts.reach import Site
+from footprint.contracts.reach import ReachRequest, Site
 from footprint.contracts.records import plain
 from footprint.service import deps
 from footprint.service.db import queries as q
@@ -127,32 +129,49 @@ def delete_site(site_id: SiteId, request: Request) -> Response:
     return Response(status_code=204)
 
 
+class StoredSites:
+    """The stored landing sites, for a reach that names none (`used`: it named none, and got these)."""
+
+    def __init__(self, rows: list) -> None:
+        self.ids, self.sites, self.used = [r.id for r in rows], [_site(r) for r in rows], False
+
+    def __call__(self) -> list[dict]:
+        self.used = True
+        return self.sites
+
+
+async def reach_door(request: Request) -> StoredSites:
+    """The synchronous door, with the stored sites for a reach that gives none (read off the event loop)."""
+
+    def read() -> StoredSites:
+        with deps.sessions(request).begin() as session:
+            return StoredSites(q.list_sites(session))
+
+    stored = await run_in_threadpool(read)
+    enter(deps.body_context(request, synchronous=True, sites=stored))
+    return stored
+
+
 @router.post("/reach", response_model=ReachRead)
 def reach(
     request: Request,
-    body: dict[str, Any] = Body(..., description="footprint.contracts.reach request"),
+    body: ReachRequest,
+    stored: Annotated[StoredSites, Depends(reach_door)],
     store_verdicts: bool = Query(
         False, description="keep each stored site's verdict with it (stored sites only: the request gives no sites)"
     ),
 ) -> dict:
     """Which sites the footprint reaches from which deorbit points (the stored sites when none are given); with
     store_verdicts, each stored site keeps its verdict (shown again after a reload)."""
-    ids = None
-    if not body.get("sites"):
-        with deps.sessions(request).begin() as session:
-            rows = q.list_sites(session)
-            body["sites"], ids = [_site(r) for r in rows], [r.id for r in rows]
-        if not body["sites"]:
-            raise RequestInvalid("sites: none given and none stored (POST /api/sites)", "sites")
-    elif store_verdicts:
+    if store_verdicts and not stored.used:
         raise RequestInvalid(
             "store_verdicts: only for the stored sites (give no 'sites' in the body)", "store_verdicts"
         )
-    req = deps.parse_body(request, "reach", body, synchronous=True)
-    result = plain(deps.answer_now(request, "reach", req))
+    result = plain(deps.answer_now(request, "reach", body))
     if store_verdicts:
+        verdicts = {i: _verdict(s, body, result) for i, s in zip(stored.ids, result["sites"])}
         with deps.sessions(request).begin() as session:
-            q.store_verdicts(session, verdicts={i: _verdict(s, req, result) for i, s in zip(ids, result["sites"])})
+            q.store_verdicts(session, verdicts=verdicts)
     return result
 
 
