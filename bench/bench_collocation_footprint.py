@@ -51,7 +51,7 @@ def fly(name, **change):
 def limit_2600():
     """Fig. 22's other limit, the true footprint alone (the report gives only its curve)."""
     (_, true), seconds = timed(lambda: fly("footprint_lod189_collocation_2550R.json", limit_R=2600))
-    agreement = [p.parameter["agreement_deg"] for p in true.points]
+    agreement = [p.parameter.agreement_deg for p in true.points]
     out = {
         "points": len(true.points),
         "solves": true.trajectories,
@@ -73,9 +73,9 @@ def compare(true_study, single_study, limit_R=None):
     (_, single), single_s = timed(lambda: fly(single_study))
     spec = study.case.to_spec()
     grid = [
-        p.parameter["downrange_target_nmi"]
+        p.parameter.downrange_target_nmi
         for p in true.points
-        if p.side == "left" and p.parameter["downrange_target_nmi"] is not None
+        if p.side == "left" and p.parameter.downrange_target_nmi is not None
     ]
     with dask_client(workers=WORKERS) as client:
         workers = worker_count(client)
@@ -89,14 +89,14 @@ def compare(true_study, single_study, limit_R=None):
         )
     rows = []
     for p in sorted((p for p in true.points if p.side == "left"), key=lambda p: p.downrange_nmi):
-        target = p.parameter["downrange_target_nmi"]
+        target = p.parameter.downrange_target_nmi
         cp = next((q for q in search.points if q.target_downrange_nmi == target), None) if target else None
         sp = crossrange_at_nmi(single.points, p.downrange_nmi)
         rows.append(
             {
                 "downrange_nmi": round(p.downrange_nmi, 1),
                 "true_crossrange_nmi": round(p.crossrange_nmi, 1),
-                "agreement_deg": round(p.parameter["agreement_deg"], 4),
+                "agreement_deg": round(p.parameter.agreement_deg, 4),
                 "creep_pattern_crossrange_nmi": None
                 if cp is None or not cp.result.feasible
                 else round(cp.crossrange_nmi, 1),
@@ -104,8 +104,8 @@ def compare(true_study, single_study, limit_R=None):
                 "single_parameter_crossrange_nmi": None if sp is None else round(sp, 1),
             }
         )
-    agreement = [p.parameter["agreement_deg"] for p in true.points]
-    iterations = sum(p.parameter["iterations"] for p in true.points)
+    agreement = [p.parameter.agreement_deg for p in true.points]
+    iterations = sum(p.parameter.iterations for p in true.points)
     return true, true_s, single, single_s, search, workers, rows, agreement, iterations
 
 

@@ -11,6 +11,7 @@ from matplotlib.colors import to_rgb
 
 from footprint.contracts import parse
 from footprint.core import footprints as F
+from footprint.core.setting import ControlSetting
 from footprint.core.trajectory import Trajectory
 from footprint.pictures import figures as G
 from tests.authorities.report import table2_entry, table2_stop
@@ -22,7 +23,7 @@ MIN_FILE_BYTES = 5_000  # a drawn footprint, not an empty canvas
 
 def pt(d, c, side="left", parameter=None, mirrored=False, contours=()):
     return F.FootprintPoint(
-        parameter=parameter or {},
+        parameter=ControlSetting.of(parameter or {}),
         side=side,
         downrange_nmi=d,
         crossrange_nmi=c,
@@ -179,7 +180,7 @@ def test_drawing_into_a_given_axes_returns_its_figure():
     ],
 )
 def test_parameter_labels_as_the_report_names_them(parameter, label):
-    assert G.parameter_label(parameter) == label
+    assert G.parameter_label(ControlSetting(**parameter)) == label
 
 
 # ------------------------------------------------------------------------------------ several footprints
@@ -198,7 +199,7 @@ def test_overlay_has_one_curve_per_footprint_legend_from_keys_and_distinct_style
 
 def test_two_parameter_sets_each_a_curve_and_the_outer_boundary_heaviest():
     fp = hand_footprint()
-    fp.sets = {"bank_gain=0.5": fp.points[:2], "bank_gain=1": [fp.points[0], fp.points[2]]}
+    fp.sets = {0.5: fp.points[:2], 1.0: [fp.points[0], fp.points[2]]}
     fp.outer_boundary = [(900.0, 0.0), (900.0, 600.0), (2500.0, 900.0), (3000.0, 0.0)]
     ax = G.two_parameter_figure(fp).axes[0]
     sets, (outer,) = lines(ax, "set"), lines(ax, "outer_boundary")

@@ -15,6 +15,7 @@ from footprint.contracts import parse
 from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS
 from footprint.core import footprint_methods as M
 from footprint.core.footprint_methods import footprint
+from footprint.core.setting import ControlSetting
 from tests.authorities.report import REPORT
 
 
@@ -180,7 +181,7 @@ def test_the_point_table_has_one_row_per_point_with_the_declared_columns(small, 
             if (r["vehicle"], float(r["entry_velocity_fps"]), float(r["entry_gamma_deg"])) == (veh, v, g)
         ]
         assert [float(r["downrange_nmi"]) for r in mine] == [p.downrange_nmi for p in points]  # exact round trip
-        assert [json.loads(r["parameter"]) for r in mine] == [p.parameter for p in points]
+        assert [ControlSetting.of(json.loads(r["parameter"])) for r in mine] == [p.parameter for p in points]
         assert all(r["error"] == "" and r["velocity_contour_fps"] == "" for r in mine)
         # every (L/D)max point pulls out where the zero-bank reference did; the C_L-max one elsewhere
         for r in mine:
@@ -347,6 +348,6 @@ def test_max_crossrange_first_grows_with_steeper_entry(medium_25800):
 def test_the_cl_max_point_has_the_shortest_downrange(medium_25800):
     for fp in medium_25800.footprints.values():
         flown = list(fp.points) + list(fp.interior)
-        cl_max = [p for p in flown if p.parameter.get("min_range") == "cl_max"]
+        cl_max = [p for p in flown if p.parameter.min_range == "cl_max"]
         assert len(cl_max) == 1
         assert cl_max[0].downrange_nmi == min(p.downrange_nmi for p in flown)

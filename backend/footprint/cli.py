@@ -12,6 +12,7 @@ from footprint import contracts, parallel
 from footprint.contracts.messages import error_line, printable
 from footprint.contracts.records import strict_json
 from footprint.core.errors import InputError, NoOptimum
+from footprint.core.setting import ControlSetting
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Landing footprints of lifting entry vehicles (AFWAL-TR-82-3036)."
@@ -293,11 +294,7 @@ def _dispersion_lines(r: dict) -> list[str]:
     ]
     out.append(f"  {'setting':<28} {'landed':>7} {'mean D nmi':>10} {'mean X nmi':>10} {'sd D':>7} {'sd X':>7}")
     for f in r["flights"]:
-        name = f"{f['side']} " + ", ".join(
-            f"{k} {v:g}" if isinstance(v, (int, float)) else str(v)
-            for k, v in f["parameter"].items()
-            if k != "bank_gain"
-        )
+        name = f"{f['side']} {ControlSetting.of(f['parameter']).words()}"
         if "covariance_nmi2" in f:
             (a, _), (_, d) = f["covariance_nmi2"]
             out.append(

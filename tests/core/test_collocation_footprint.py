@@ -70,10 +70,10 @@ def test_each_point_is_the_re_flight_of_its_optimum(shuttle):
     assert optimal.method == "collocation" and optimal.asymmetry is None  # no solve failed
     assert len(optimal.points) == 1 + 2 * 5  # farthest; per half the nearest, 3 down-ranges, the free maximum
     for p in optimal.points:
-        assert p.parameter["agreement_deg"] <= 0.01, p
-        assert abs(p.downrange_nmi - p.parameter["nlp_downrange_nmi"]) <= 1e-3 * p.downrange_nmi + 0.5
-        if p.parameter["downrange_target_nmi"] is not None:  # the NLP met its down-range exactly
-            assert p.parameter["nlp_downrange_nmi"] == pytest.approx(p.parameter["downrange_target_nmi"], abs=1e-3)
+        assert p.parameter.agreement_deg <= 0.01, p
+        assert abs(p.downrange_nmi - p.parameter.nlp_downrange_nmi) <= 1e-3 * p.downrange_nmi + 0.5
+        if p.parameter.downrange_target_nmi is not None:  # the NLP met its down-range exactly
+            assert p.parameter.nlp_downrange_nmi == pytest.approx(p.parameter.downrange_target_nmi, abs=1e-3)
 
 
 def test_on_a_non_rotating_sphere_the_solved_halves_are_mirror_images(shuttle):

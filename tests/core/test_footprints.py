@@ -7,6 +7,7 @@ import pytest
 
 from footprint.contracts import parse
 from footprint.core import footprints as F
+from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
 from tests.authorities.report import REPORT, table2_entry, table2_stop
@@ -22,7 +23,7 @@ def spec(vehicle="lod-1.89", entry=None, **case):
 
 def pt(d, c):
     return F.FootprintPoint(
-        parameter={},
+        parameter=ControlSetting(),
         side="left",
         downrange_nmi=d,
         crossrange_nmi=c,
@@ -118,8 +119,8 @@ def test_single_parameter_starts_the_bank_at_phi0_and_the_zero_lift_point_flies_
 def test_the_footprint_boundary_runs_down_the_left_half_and_back_up_the_right():
     fp = F.single_parameter(spec("lod-2.2"), bank0_deg=range(0, 91, 15))
     assert [p.side for p in fp.points] == ["axis"] + ["left"] * 6 + ["axis"] + ["right"] * 6
-    assert fp.points[0].parameter == {"bank0_deg": 0.0, "bank_gain": 0.0}
-    assert fp.points[7].parameter == {"min_range": "zero_lift"} and fp.interior == []
+    assert fp.points[0].parameter == ControlSetting(bank0_deg=0.0, bank_gain=0.0)
+    assert fp.points[7].parameter == ControlSetting(min_range="zero_lift") and fp.interior == []
     assert all(p.crossrange_nmi > 0 for p in fp.points[1:7])
     assert fp.trajectories == 1 + 2 * 6 + 1 and sum(p.mirrored for p in fp.points) == 0  # rotating: all flown
 
@@ -127,7 +128,7 @@ def test_the_footprint_boundary_runs_down_the_left_half_and_back_up_the_right():
 def test_a_zero_lift_point_inside_the_banked_points_is_kept_off_the_boundary():
     # with 150 deg of bank (lift pointing down) lod-2.2 lands at 1,387 nmi, short of zero lift's 1,506 nmi
     fp = F.single_parameter(spec("lod-2.2"))
-    assert [p.parameter for p in fp.interior] == [{"min_range": "zero_lift"}]
+    assert [p.parameter for p in fp.interior] == [ControlSetting(min_range="zero_lift")]
     assert fp.min_downrange_nmi < fp.interior[0].downrange_nmi
     assert len(fp.points) == 1 + 2 * 10
 
@@ -139,7 +140,7 @@ def test_constant_altitude_turns_end_when_the_wings_come_level():
     s = spec("lod-2.6", entry=APPENDIX_C_ENTRY, stop={"altitude_ft": None, "velocity_fps": 2_000})
     fp = F.constant_altitude(s, steps=6, mirror=False)
     widest = fp.points[-1]
-    assert widest.parameter["until"] == "wings_level"
+    assert widest.parameter.until == "wings_level"
     turns = [p.turn_deg for p in fp.points[1:]]
     assert turns[:-1] == pytest.approx([widest.turn_deg * i / 6 for i in range(1, 6)], rel=1e-6)
     cross = {p.turn_deg: p.crossrange_nmi for p in fp.points[1:]}

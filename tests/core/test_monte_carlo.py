@@ -41,7 +41,7 @@ def test_without_dispersion_every_sample_lands_on_the_nominal_point_to_the_bit()
         mirror=True,
     )  # simulate's histories
     flown = {
-        (p.side, p.parameter.get("bank0_deg", p.parameter.get("min_range"))): p
+        (p.side, p.parameter.bank0_deg if p.parameter.min_range is None else p.parameter.min_range): p
         for p in nominal.points + nominal.interior
     }
     clouds = result.clouds

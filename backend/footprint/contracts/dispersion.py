@@ -258,7 +258,7 @@ class Plan:
                 out.append(
                     {
                         "sample": index,
-                        "parameter": f.parameter,
+                        "parameter": f.parameter.as_dict(),
                         "side": f.side,
                         **flown(traj, FLIGHT_KEYS, HISTORY_POINTS),
                     }

@@ -4,7 +4,6 @@ One pydantic model per method (discriminated on "method"); `to_params()` gives t
 the core generator in footprint.core.footprints. The case's own bank law is replaced by the method's.
 """
 
-from dataclasses import asdict
 from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
@@ -278,7 +277,7 @@ def record(fp, *, vehicle: str, entry: dict, study: dict, track: dict | None, na
 
 
 def _point(p) -> dict:
-    d = asdict(p)
+    d = p.to_dict()
     return {k: plain(d[k]) for k in POINT_FIELDS}
 
 

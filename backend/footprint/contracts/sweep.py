@@ -364,7 +364,7 @@ class SweepResult:
                 common = key | {
                     "point": i,
                     "on_boundary": on_boundary,
-                    "parameter": json.dumps(p.parameter, sort_keys=True),
+                    "parameter": json.dumps(p.parameter.as_dict(), sort_keys=True),
                     "side": p.side,
                     "pullout_altitude_ft": p.pullout_altitude_ft,
                     "pullout_downrange_nmi": p.pullout_downrange_nmi,

@@ -246,7 +246,7 @@ def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
             "crossrange_nmi": p.crossrange_nmi,
             "mirrored": p.mirrored,
             "side": p.side,
-            "parameter": p.parameter,
+            "parameter": p.parameter.as_dict(),
             "on_boundary": p in fp.points,
         }
         for p in all_points(fp)

@@ -25,6 +25,7 @@ import numpy as np
 from footprint.core import collocation as col
 from footprint.core.footprints import Footprint, area_nmi2, mirror_is_exact, point_of_trajectory, reflect
 from footprint.core.optimize import Constraint
+from footprint.core.setting import ControlSetting
 from footprint.core.trajectory import FlightSpec, simulate
 
 FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
@@ -187,11 +188,11 @@ def _mirrored_guess(problem, result):
 def _point(solved, side, downrange_nmi=None):
     result, trajectory = solved
     a = result.agreement
-    parameter = {
-        "downrange_target_nmi": downrange_nmi,
-        "iterations": result.iterations,
-        "nlp_downrange_nmi": result.summary["downrange_nmi"],
-        "nlp_crossrange_nmi": result.summary["crossrange_nmi"],
-        "agreement_deg": max(a["latitude_deg"], a["longitude_deg"]),
-    }
+    parameter = ControlSetting(
+        downrange_target_nmi=downrange_nmi,
+        iterations=result.iterations,
+        nlp_downrange_nmi=result.summary["downrange_nmi"],
+        nlp_crossrange_nmi=result.summary["crossrange_nmi"],
+        agreement_deg=max(a["latitude_deg"], a["longitude_deg"]),
+    )
     return point_of_trajectory(parameter, side, trajectory)

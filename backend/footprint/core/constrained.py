@@ -41,6 +41,7 @@ from footprint.core.optimize import (
     nominal_bank_deg,
     with_bank_table,
 )
+from footprint.core.setting import ControlSetting
 from footprint.core.trajectory import FlightSpec, simulate_summary
 
 # Section III: the alpha table's abscissa, earth-relative velocity (ft/s), ascending as table_interp needs;
@@ -515,7 +516,7 @@ def temperature_limited_footprint(
     right = search([p.bank0_deg for p in left], True) if mirror and not mirror_is_exact(spec) else left
     family = [
         (
-            {"bank0_deg": p.bank0_deg, "bank_gain": p.bank0_deg / SIGMA0_DEG, "alpha_floor_deg": p.floor_deg},
+            ControlSetting(bank0_deg=p.bank0_deg, bank_gain=p.bank0_deg / SIGMA0_DEG, alpha_floor_deg=p.floor_deg),
             lambda s, to_right, p=p, q=q: with_alpha_floor(
                 with_bank(s, "single_parameter", bank_gain=p.bank0_deg / SIGMA0_DEG, right=to_right),
                 q.floor_deg if to_right else p.floor_deg,
@@ -535,7 +536,7 @@ def temperature_limited_footprint(
     if right is not left:  # a flown right point names its own floor
         floors = {q.bank0_deg: q.floor_deg for q in right}
         fp.points = [
-            replace(pt, parameter=dict(pt.parameter, alpha_floor_deg=floors[pt.parameter["bank0_deg"]]))
+            replace(pt, parameter=replace(pt.parameter, alpha_floor_deg=floors[pt.parameter.bank0_deg]))
             if pt.side == "right"
             else pt
             for pt in fp.points

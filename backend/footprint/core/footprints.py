@@ -15,6 +15,7 @@ import numpy as np
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
 from footprint.core.plane import inside_points
+from footprint.core.setting import ControlSetting
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
     close_half_along_axis,
@@ -30,9 +31,9 @@ WIDEST_TURN_DEG = 179.0  # constant-altitude turns: further round only comes bac
 
 @dataclass(frozen=True)
 class FootprintPoint:
-    """One trajectory's end point. `parameter` names the control setting that produced it."""
+    """One trajectory's end point. `parameter` is the control setting that produced it."""
 
-    parameter: dict
+    parameter: ControlSetting
     side: str  # "left", "right" or "axis" (on the initial great circle by symmetry: zero bank, zero lift)
     downrange_nmi: float
     crossrange_nmi: float
@@ -51,6 +52,9 @@ class FootprintPoint:
     contours: tuple = ()  # where the flight passed each requested velocity (Appendix C iso-velocity contours)
     mirrored: bool = False  # True: reflected from the left half, not flown
 
+    def to_dict(self) -> dict:
+        return asdict(self) | {"parameter": self.parameter.as_dict()}
+
 
 @dataclass
 class Footprint:
@@ -59,7 +63,7 @@ class Footprint:
     area_nmi2: float
     trajectories: int  # flown, not reflected
     entry: dict  # latitude_deg, longitude_deg, heading_deg of the initial point (the ranges' origin)
-    sets: dict[str, list[FootprintPoint]] = field(default_factory=dict)  # two_parameter: one set per K
+    sets: dict[float, list[FootprintPoint]] = field(default_factory=dict)  # two_parameter: one set per K
     interior: list[FootprintPoint] = field(default_factory=list)  # flown, inside the boundary
     outer_boundary: list[tuple[float, float]] = field(default_factory=list)  # (down, cross) nmi, left half
     asymmetry: dict | None = None  # flown halves: largest departure from mirror images, nmi
@@ -79,15 +83,15 @@ class Footprint:
     def to_dict(self):
         return {
             "method": self.method,
-            "points": [asdict(p) for p in self.points],
+            "points": [p.to_dict() for p in self.points],
             "area_nmi2": self.area_nmi2,
             "max_crossrange_nmi": self.max_crossrange_nmi,
             "max_downrange_nmi": self.max_downrange_nmi,
             "min_downrange_nmi": self.min_downrange_nmi,
             "trajectories": self.trajectories,
             "entry": self.entry,
-            "sets": {k: [asdict(p) for p in v] for k, v in self.sets.items()},
-            "interior": [asdict(p) for p in self.interior],
+            "sets": {f"bank_gain={k:g}": [p.to_dict() for p in v] for k, v in self.sets.items()},
+            "interior": [p.to_dict() for p in self.interior],
             "outer_boundary": [list(b) for b in self.outer_boundary],
             "asymmetry": self.asymmetry,
         }
@@ -118,7 +122,7 @@ def single_parameter_family(bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, 
     """single_parameter's control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
     return [
         (
-            {"bank0_deg": float(b), "bank_gain": b / SIGMA0_DEG},
+            ControlSetting(bank0_deg=float(b), bank_gain=b / SIGMA0_DEG),
             lambda s, right, b=b: with_bank(
                 s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg, right=right
             ),
@@ -149,7 +153,7 @@ def constant_bank_family(
     law = "staged" if staged else "constant"
     return [
         (
-            {"bank_deg": float(b)} | ({"turn_deg": turn_deg} if staged else {}),
+            ControlSetting(bank_deg=float(b), turn_deg=turn_deg if staged else None),
             lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right),
             b == 0,
         )
@@ -174,7 +178,7 @@ def two_parameter(
     for gain in bank_gain:
         family = [
             (
-                {"bank_gain": float(gain), "sigma_f_deg": float(sf)},
+                ControlSetting(bank_gain=float(gain), sigma_f_deg=float(sf)),
                 lambda s, right, gain=gain, sf=sf: with_bank(
                     s, "two_parameter", bank_gain=gain, limit_deg=limit_deg, sigma_f_deg=sf, right=right
                 ),
@@ -183,7 +187,7 @@ def two_parameter(
             for sf in sigma_f_deg
         ]
         f = _fly(spec, family, mirror, contours_fps)
-        sets[f"bank_gain={gain:g}"] = f.axis + f.left
+        sets[float(gain)] = f.axis + f.left
         flights.append(f)
     pairs = [(lp, rp) for f in flights for lp, rp in zip(f.left, f.right or [None] * len(f.left))]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])
@@ -217,14 +221,18 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
     else:
         turns = [float(t) for t in turn_deg if 0.0 < t < widest]
     straight = with_bank(with_alpha(spec, "level_flight"), "zero")
-    family = [({"turn_deg": 0.0}, lambda s, right: straight, True)]
+    family = [(ControlSetting(turn_deg=0.0), lambda s, right: straight, True)]
     family += [
-        ({"turn_deg": t}, lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right), False)
+        (
+            ControlSetting(turn_deg=t),
+            lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right),
+            False,
+        )
         for t in turns
     ]
     family.append(
         (
-            {"turn_deg": widest, "until": "wings_level"},
+            ControlSetting(turn_deg=widest, until="wings_level"),
             lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right),
             False,
         )
@@ -244,8 +252,8 @@ def _min_range(kind):
     if kind is None:
         return []
     if kind == "zero_lift":
-        return [({"min_range": "zero_lift"}, lambda s, right: with_bank(s, "zero_lift"), True)]
-    return [({"min_range": "cl_max"}, lambda s, right: with_alpha(with_bank(s, "zero"), "cl_max"), True)]
+        return [(ControlSetting(min_range="zero_lift"), lambda s, right: with_bank(s, "zero_lift"), True)]
+    return [(ControlSetting(min_range="cl_max"), lambda s, right: with_alpha(with_bank(s, "zero"), "cl_max"), True)]
 
 
 def velocity_crossings(traj, velocities_fps) -> tuple:
@@ -363,8 +371,8 @@ def _assemble(method, spec, f: _Flights) -> Footprint:
 
     The minimum-range point (zero lift, C_L max) joins the boundary only where it lies outside the
     footprint the banked points draw; where steep banks land shorter it is kept in `interior`."""
-    front = [p for p in f.axis if p.parameter.get("min_range") is None][:1]
-    back = [p for p in f.axis if p.parameter.get("min_range") is not None]
+    front = [p for p in f.axis if p.parameter.min_range is None][:1]
+    back = [p for p in f.axis if p.parameter.min_range is not None]
     boundary = front + f.left + f.right[::-1]
     outside = [p for p in back if not _inside(p, boundary if f.right else _with_axis(boundary))]
     boundary = front + f.left + outside + f.right[::-1]

@@ -34,6 +34,7 @@ from footprint.core.errors import Stopped
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.outline import outline
 from footprint.core.plane import inside_polygon
+from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
 
@@ -70,14 +71,14 @@ CONFIDENCE_INTERVAL = 0.95  # of a site's probability
 class Flight:
     """One control setting on one side: make(spec, right) is the spec it flies (a family member's)."""
 
-    parameter: dict
+    parameter: ControlSetting
     side: str  # "axis", "left", "right"
     make: object
     right: bool
 
     @property
     def min_range(self) -> bool:
-        return self.parameter.get("min_range") is not None
+        return self.parameter.min_range is not None
 
 
 def flights(family: list, mirror: bool) -> list[Flight]:
@@ -301,7 +302,7 @@ def statistics(
     ]
     nom = [
         {
-            "parameter": f.parameter,
+            "parameter": f.parameter.as_dict(),
             "side": f.side,
             "downrange_nmi": float(nom_down[0, j]),
             "crossrange_nmi": float(nom_cross[0, j]),
@@ -343,7 +344,7 @@ def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
     k = int(landed.sum())
     ended = np.unique(stops[~landed])
     out = {
-        "parameter": f.parameter,
+        "parameter": f.parameter.as_dict(),
         "side": f.side,
         "landed": k,
         "outcomes": {OUTCOME_NAMES[STOP_REASONS[c]]: int(np.sum(stops[~landed] == c)) for c in ended},

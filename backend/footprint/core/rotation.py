@@ -24,6 +24,7 @@ import numpy as np
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import Footprint, FootprintPoint
+from footprint.core.setting import ControlSetting
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
     Reference,
@@ -97,9 +98,10 @@ def all_points(fp: Footprint) -> list[FootprintPoint]:
     return list(fp.points) + list(fp.interior)
 
 
-def control_key(side: str, parameter: dict):
-    """What names a footprint point across two flights of one study: its side and control parameters."""
-    return side, tuple(sorted(parameter.items()))
+def control_key(side: str, parameter: ControlSetting | dict):
+    """What names a footprint point across two flights of one study: its side and control setting (a stored one
+    too)."""
+    return side, ControlSetting.of(parameter).key()
 
 
 def point_key(p: FootprintPoint):
@@ -193,7 +195,7 @@ def approximate_vs_exact(
         rows.append(
             {
                 "side": a.side,
-                "parameter": a.parameter,
+                "parameter": a.parameter.as_dict(),
                 "flight_time_nonrotating_s": a.flight_time_s,
                 "flight_time_exact_s": e.flight_time_s,
                 "approximate_latitude_deg": float(alat[i]),

@@ -18,6 +18,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.ticker import StrMethodFormatter  # noqa: E402
 
 from footprint.core.footprints import Footprint, FootprintPoint  # noqa: E402
+from footprint.core.setting import ControlSetting  # noqa: E402
 from footprint.core.trajectory import Trajectory  # noqa: E402
 
 DOWNRANGE_LABEL = "Down-range (n.mi.)"
@@ -179,8 +180,8 @@ def _probability(p: float) -> str:
 def two_parameter_figure(fp: Footprint, title=None) -> Figure:
     """Fig. 7: one curve per K set (sigma_f varied along it), the faired outer boundary heavier."""
     fig, ax = _axes(None)
-    for (name, pts), (ls, marker) in zip(fp.sets.items(), cycle(LINE_STYLES[1:])):
-        ax.plot(*_xy(pts), ls=ls, marker=marker, ms=4, lw=1.0, label=name.replace("bank_gain=", "K = "), gid="set")
+    for (gain, pts), (ls, marker) in zip(fp.sets.items(), cycle(LINE_STYLES[1:])):
+        ax.plot(*_xy(pts), ls=ls, marker=marker, ms=4, lw=1.0, label=f"K = {gain:g}", gid="set")
     if fp.outer_boundary:
         d, c = zip(*fp.outer_boundary)
         ax.plot(d, c, "k-", lw=2.4, label="outer boundary", gid="outer_boundary", zorder=3)
@@ -424,22 +425,23 @@ def _range_axes(ax, title):
         ax.set_title(title)
 
 
-def parameter_label(parameter: dict) -> str:
+def parameter_label(setting: ControlSetting) -> str:
     """A point's control setting as the report writes it: phi0, K and sigma_f, phi, or the turn; none for a
     collocation footprint's point (its controls are tables of 101 nodes)."""
-    if "agreement_deg" in parameter:
+    s = setting
+    if s.collocated:
         return ""
-    if "min_range" in parameter:
-        return "zero lift" if parameter["min_range"] == "zero_lift" else r"$C_{L\,max}$"
-    if "sigma_f_deg" in parameter:
-        return rf"K={parameter['bank_gain']:.3g}, $\sigma_f$={parameter['sigma_f_deg']:.3g}°"
-    if "bank0_deg" in parameter:
-        return rf"$\phi_0$={parameter['bank0_deg']:.3g}°"
-    if "bank_deg" in parameter:
-        return rf"$\phi$={parameter['bank_deg']:.3g}°"
-    if "turn_deg" in parameter:
-        return rf"$\Delta\sigma$={parameter['turn_deg']:.3g}°" + (" (max)" if "until" in parameter else "")
-    return ", ".join(f"{k}={v}" for k, v in parameter.items())
+    if s.min_range is not None:
+        return "zero lift" if s.min_range == "zero_lift" else r"$C_{L\,max}$"
+    if s.sigma_f_deg is not None:
+        return rf"K={s.bank_gain:.3g}, $\sigma_f$={s.sigma_f_deg:.3g}°"
+    if s.bank0_deg is not None:
+        return rf"$\phi_0$={s.bank0_deg:.3g}°"
+    if s.bank_deg is not None:
+        return rf"$\phi$={s.bank_deg:.3g}°"
+    if s.turn_deg is not None:
+        return rf"$\Delta\sigma$={s.turn_deg:.3g}°" + (" (max)" if s.until else "")
+    return s.words()
 
 
 def _label_points(ax, fp: Footprint):
@@ -451,7 +453,7 @@ def _label_points(ax, fp: Footprint):
         label = parameter_label(p.parameter)
         if p.side == "right" or not label:
             continue
-        if "min_range" in p.parameter:  # below the axis, clear of the steepest-bank point beside it
+        if p.parameter.min_range is not None:  # below the axis, clear of the steepest-bank point beside it
             ox, oy = 0.5 * LABEL_OFFSET_PT, -LABEL_OFFSET_PT
         else:
             ux, uy = (p.downrange_nmi - d_mid) / d_span, p.crossrange_nmi / c_span
@@ -474,7 +476,7 @@ def _caption(ax, fp: Footprint):
     if fp.method == "collocation":
         work = (
             f"{fp.trajectories} IPOPT solves, re-flown within "
-            f"{max(p.parameter['agreement_deg'] for p in fp.points):.2g}°"
+            f"{max(p.parameter.agreement_deg or 0.0 for p in fp.points):.2g}°"
         )
     text = (
         f"{fp.method.replace('_', ' ')}  ·  area {fp.area_nmi2:,.0f} nmi²  ·  {work}"
