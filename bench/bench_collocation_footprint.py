@@ -45,7 +45,7 @@ def timed(fn):
 
 def fly(name, **change):
     study = parse("footprint", {**json.loads((EXAMPLES / name).read_text()), **change})
-    return study, footprint(study.case.to_spec(), study.method, **study.to_params())
+    return study, footprint(study.case.to_spec(), study.to_settings())
 
 
 def limit_2600():

@@ -17,6 +17,7 @@ from bench_trajectory import scipy_flight
 
 from footprint.contracts import parse
 from footprint.core.footprints import single_parameter, with_bank
+from footprint.core.method_settings import SingleParameter
 
 HERE = Path(__file__).resolve().parent
 CASE = json.loads((HERE.parent / "examples" / "table2_lod22.json").read_text())
@@ -31,10 +32,10 @@ def by_scipy(spec):
 
 def main():
     spec = parse("case", CASE).to_spec()
-    half = single_parameter(spec, bank0_deg=BANK0_DEG, mirror=False)
-    whole = single_parameter(spec, bank0_deg=BANK0_DEG, mirror=True)
-    ms_half = median_ms(lambda: single_parameter(spec, bank0_deg=BANK0_DEG, mirror=False), 50)
-    ms_whole = median_ms(lambda: single_parameter(spec, bank0_deg=BANK0_DEG, mirror=True), 30)
+    half = single_parameter(spec, SingleParameter(bank0_deg=BANK0_DEG, mirror=False))
+    whole = single_parameter(spec, SingleParameter(bank0_deg=BANK0_DEG, mirror=True))
+    ms_half = median_ms(lambda: single_parameter(spec, SingleParameter(bank0_deg=BANK0_DEG, mirror=False)), 50)
+    ms_whole = median_ms(lambda: single_parameter(spec, SingleParameter(bank0_deg=BANK0_DEG, mirror=True)), 30)
     ms_scipy = median_ms(lambda: by_scipy(spec), 3)
     result = {
         "footprint_13_trajectories_ms": round(ms_half, 2),

@@ -15,6 +15,7 @@ from _timing import REPORT, save_result, table2_entry, table2_stop  # noqa: E402
 
 from footprint.contracts import parse
 from footprint.core import constrained as C
+from footprint.core.method_settings import TemperatureLimited
 from footprint.parallel import client_map, dask_client
 
 CASE = {
@@ -30,8 +31,10 @@ MAX_EVALUATIONS = 3_000
 
 def main():
     spec = parse("case", CASE).to_spec()
-    C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process
-    simple = C.temperature_limited_footprint(spec, LIMIT_R)
+    C.temperature_limited_footprint(
+        spec, TemperatureLimited(limit_R=LIMIT_R, bank0_deg=(0.0,))
+    )  # compile in this process
+    simple = C.temperature_limited_footprint(spec, TemperatureLimited(limit_R=LIMIT_R))
     with dask_client(workers=2) as client:
         opt = C.optimal_footprint(
             spec,

@@ -19,6 +19,7 @@ from footprint.contracts import parse
 from footprint.core import constrained as C
 from footprint.core.controls import pack_controls
 from footprint.core.heating import REFERENCE_RADIUS_FT
+from footprint.core.method_settings import TemperatureLimited
 from footprint.core.trajectory import simulate
 from footprint.parallel import client_map, dask_client
 from footprint.pictures.figures import CROSSRANGE_LABEL, DOWNRANGE_LABEL, save
@@ -86,8 +87,10 @@ def main():
         [(p.label, round(p.downrange_nmi), round(p.crossrange_nmi), p.result.feasible) for p in hot.points],
         flush=True,
     )
-    C.temperature_limited_footprint(spec, LIMIT_R, bank0_deg=(0.0,))  # compile in this process: time the method
-    simple = C.temperature_limited_footprint(spec, LIMIT_R)
+    C.temperature_limited_footprint(
+        spec, TemperatureLimited(limit_R=LIMIT_R, bank0_deg=(0.0,))
+    )  # compile in this process: time the method
+    simple = C.temperature_limited_footprint(spec, TemperatureLimited(limit_R=LIMIT_R))
     print("simple", simple.trajectories, [(p.bank0_deg, p.floor_deg) for p in simple.points], flush=True)
     # the unconstrained Fig. 22 point replaces the footprint's own max cross-range point when better (same problem)
     results = {

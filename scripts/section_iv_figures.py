@@ -52,7 +52,7 @@ def study(vehicle, velocity_fps=24_480, mirror_half=True):
 
 
 def fly(st):
-    return footprint(st.case.to_spec(), st.method, **st.to_params())
+    return footprint(st.case.to_spec(), st.to_settings())
 
 
 def whole_by_mirror(half):
@@ -192,13 +192,13 @@ CASES = {"east (heading 90°)": 90.0, "west (heading −90°)": -90.0, "inclinat
 
 def comparisons(velocity_fps, frames):
     st = study("lod-1.89", velocity_fps)
-    spec, params = st.case.to_spec(), st.to_params()
+    spec, settings = st.case.to_spec(), st.to_settings()
     base = fly(st)
     out = {}
     for frame in frames:
         for name, h in CASES.items():
             out[(frame, name)] = approximate_vs_exact(
-                spec, st.method, params, Reference(0.0, 0.0, h), velocity_frame=frame, nonrotating=base
+                spec, settings, Reference(0.0, 0.0, h), velocity_frame=frame, nonrotating=base
             )
     return out
 

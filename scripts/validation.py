@@ -21,6 +21,7 @@ from footprint.core import constrained as C
 from footprint.core.aero import builtin_vehicle, ld_max
 from footprint.core.footprints import constant_altitude, single_parameter, staged, two_parameter
 from footprint.core.heating import REFERENCE_RADIUS_FT
+from footprint.core.method_settings import ConstantAltitude, SingleParameter, Staged, TwoParameter
 from footprint.core.trajectory import initial_state, pack_parameters
 from footprint.parallel import client_map, dask_client
 
@@ -178,9 +179,9 @@ def section_ii(r: Report, figs: dict):
 
     for vid in ("lod-1.89", "lod-2.2"):
         s = table2_spec(vid)
-        single = single_parameter(s, mirror=False)
-        dense = single_parameter(s, bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False)
-        stg, two = staged(s, mirror=False), two_parameter(s, mirror=False)
+        single = single_parameter(s, SingleParameter(mirror=False))
+        dense = single_parameter(s, SingleParameter(bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False))
+        stg, two = staged(s, Staged(mirror=False)), two_parameter(s, TwoParameter(mirror=False))
         pts = sorted((p.downrange_nmi, p.crossrange_nmi) for p in dense.points)
         d, cross = np.array(pts).T
         others = [(p.downrange_nmi, p.crossrange_nmi) for p in stg.points] + two.outer_boundary
@@ -201,8 +202,10 @@ def section_ii(r: Report, figs: dict):
             },
             f"{vid}: single parameter vs staged and two parameter (Figs. 9, 14)",
         )
-    at_295 = single_parameter(table2_spec("lod-2.2", bank_start={"altitude_ft": 295_000}), mirror=False)
-    at_po = single_parameter(table2_spec("lod-2.2"), mirror=False)
+    at_295 = single_parameter(
+        table2_spec("lod-2.2", bank_start={"altitude_ft": 295_000}), SingleParameter(mirror=False)
+    )
+    at_po = single_parameter(table2_spec("lod-2.2"), SingleParameter(mirror=False))
     r.add(
         "lod-2.2: max cross-range, bank from 295,000 ft vs from pull-out",
         "graphical (Fig. 13)",
@@ -218,7 +221,7 @@ def section_ii(r: Report, figs: dict):
 
 
 def appendix_c(r: Report, figs: dict):
-    sp = single_parameter(appendix_c_spec(), min_range="cl_max")
+    sp = single_parameter(appendix_c_spec(), SingleParameter(min_range="cl_max"))
     ca = constant_altitude(appendix_c_spec())
     single, turns = rep("appc.max_crossrange_single_parameter_nmi"), rep("appc.max_crossrange_constant_altitude_nmi")
     r.add(
@@ -236,8 +239,8 @@ def appendix_c(r: Report, figs: dict):
         "Medium L/D, 70 psf, V_i 25,800 ft/s, γ −15°: Appendix C data sets 1 and 2",
     )
     for g in (-5.0, -10.0, -20.0, -25.0):
-        sp_g = single_parameter(appendix_c_spec(g), min_range="cl_max", mirror=False)
-        ca_g = constant_altitude(appendix_c_spec(g), mirror=False)
+        sp_g = single_parameter(appendix_c_spec(g), SingleParameter(min_range="cl_max", mirror=False))
+        ca_g = constant_altitude(appendix_c_spec(g), ConstantAltitude(mirror=False))
         r.add(
             f"… γ {g:g}°: single parameter / constant altitude",
             "graphical",

@@ -11,6 +11,7 @@ from matplotlib.colors import to_rgb
 
 from footprint.contracts import parse
 from footprint.core import footprints as F
+from footprint.core import method_settings as S
 from footprint.core.setting import ControlSetting
 from footprint.core.trajectory import Trajectory
 from footprint.pictures import figures as G
@@ -99,7 +100,9 @@ def down_cross(points):
 def table2_footprint():
     """One real single-parameter footprint (Fig. 12's L/D 1.89 vehicle, Table 2 entry), with two contours."""
     spec = parse("case", TABLE2_CASE).to_spec()
-    return F.single_parameter(spec, bank0_deg=(0, 30, 60, 90, 120, 150), contours_fps=(6000.0, 10000.0))
+    return F.single_parameter(
+        spec, S.SingleParameter(bank0_deg=(0, 30, 60, 90, 120, 150), contours_fps=(6000.0, 10000.0))
+    )
 
 
 # ---------------------------------------------------------------------------------------- one footprint

@@ -15,6 +15,7 @@ from footprint.contracts import parse
 from footprint.contracts.sweep import POINT_COLUMNS, SUMMARY_COLUMNS
 from footprint.core import footprint_methods as M
 from footprint.core.footprint_methods import footprint
+from footprint.core.method_settings import SingleParameter
 from footprint.core.setting import ControlSetting
 from tests.authorities.report import REPORT
 
@@ -48,7 +49,7 @@ def sweep_dict(**changes):
     } | changes
 
 
-def serial_footprint(vehicle, velocity_fps, gamma_deg, method="single_parameter", **params):
+def serial_footprint(vehicle, velocity_fps, gamma_deg, **params):
     """The independent path: a case written out by hand, flown in this process by the core alone."""
     case = {
         "vehicle": vehicle,
@@ -62,7 +63,7 @@ def serial_footprint(vehicle, velocity_fps, gamma_deg, method="single_parameter"
         },
         "stop": {"altitude_ft": None, "velocity_fps": 2_000},
     }
-    return footprint(parse("case", case).to_spec(), method, **params)
+    return footprint(parse("case", case).to_spec(), SingleParameter(**params))
 
 
 @pytest.fixture(scope="module")
@@ -124,10 +125,10 @@ def test_the_same_code_path_through_a_scheduler_address(client, small, same_numb
 def test_a_failing_footprint_is_a_row_and_the_others_survive(tmp_path, monkeypatch):
     real = M.footprint
 
-    def flaky(spec, method, **params):
+    def flaky(spec, settings, **kw):
         if spec.entry.gamma_deg == -10.0 and spec.entry.velocity_fps == 25_800.0:
             raise FloatingPointError("integrator blew up")
-        return real(spec, method, **params)
+        return real(spec, settings, **kw)
 
     monkeypatch.setattr(M, "footprint", flaky)  # threads in this process see it (processes=False)
     with (

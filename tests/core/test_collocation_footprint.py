@@ -22,7 +22,7 @@ LOD189 = json.loads((ROOT / "examples" / "footprint_lod189_collocation.json").re
 
 def fly(study, on_progress=None):
     study = parse("footprint", study)
-    return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
+    return footprint(study.case.to_spec(), study.to_settings(), on_progress=on_progress)
 
 
 SHUTTLE = {"case": BETTS_CASE, "method": "collocation", "points_per_half": 3, "mirror": False, "max_load_factor": 3}

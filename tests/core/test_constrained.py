@@ -5,6 +5,7 @@ import pytest
 
 from footprint.contracts import parse
 from footprint.core import constrained as C
+from footprint.core import method_settings as S
 from footprint.core.constants import G0_FT_S2
 from footprint.core.heating import CALIBRATION_BANK_DEG, ReferenceHeating
 from footprint.core.optimize import Problem, creep_pattern_feasible
@@ -195,7 +196,7 @@ def test_the_coolest_floor_meets_the_limit_and_a_lower_one_does_not(single_param
 
 @pytest.fixture(scope="module")
 def limited_2550():
-    return C.temperature_limited_footprint(lod189(), LIMIT_R)
+    return C.temperature_limited_footprint(lod189(), S.TemperatureLimited(limit_R=LIMIT_R))
 
 
 def test_every_kept_point_meets_the_limit_and_every_dropped_one_cannot(limited_2550):
@@ -210,7 +211,9 @@ def test_every_kept_point_meets_the_limit_and_every_dropped_one_cannot(limited_2
 
 def test_the_limit_doubles_the_minimum_downrange_as_the_report_says(limited_2550):
     """Section III: under 2,550 degR the minimum down-range about doubles (1,000 -> 2,000 nmi)."""
-    free = C.temperature_limited_footprint(lod189(), 1e9).footprint  # no limit: the plain footprint
+    free = C.temperature_limited_footprint(
+        lod189(), S.TemperatureLimited(limit_R=1e9)
+    ).footprint  # no limit: the plain footprint
     ratio = limited_2550.footprint.min_downrange_nmi / free.min_downrange_nmi
     report = REPORT["sec3.min_downrange_2550_nmi"].value / REPORT["sec3.min_downrange_nmi"].value  # 2
     assert abs(ratio - report) < 0.5

@@ -2,10 +2,23 @@
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import footprint
 from footprint.core.aero import builtin_vehicle, coefficients
-from footprint.core.controls import pack_controls, replace_controls, unpack_controls
+from footprint.core.controls import (
+    ALPHA_LAWS,
+    ALPHA_TABLE_BY_ABSCISSA,
+    BANK_LAWS,
+    BANK_STARTS,
+    BANK_VARIABLES,
+    LEFT,
+    RIGHT,
+    pack_controls,
+    replace_controls,
+    unpack_controls,
+)
 from tests.authorities.report import table2_entry, table2_stop
 
 ENTRY = table2_entry()
@@ -198,3 +211,52 @@ def test_unpack_controls_inverts_pack_controls(kw):
     assert np.array_equal(moved.pop("bank_table"), [[0.0, 1_000.0], [5.0, 80.0]])
     kept.pop("bank_table")
     assert pack_controls(**moved).tolist() == pack_controls(**kept).tolist()  # every other law and table kept
+
+
+CHANGES = st.fixed_dictionaries(
+    {},
+    optional={
+        "bank_law": st.sampled_from(sorted(BANK_LAWS)),
+        "bank_deg": st.floats(-180, 180),
+        "bank_gain": st.floats(0, 10),
+        "side": st.sampled_from([LEFT, RIGHT]),
+        "bank_limit_deg": st.none() | st.floats(0, 180),
+        "sigma_f_deg": st.floats(-180, 180),
+        "turn_deg": st.floats(0, 179),
+        "bank_variable": st.sampled_from(sorted(BANK_VARIABLES)),
+        "mirror": st.booleans(),
+        "bank_start": st.sampled_from(sorted(BANK_STARTS)),
+        "alpha_law": st.sampled_from(sorted(ALPHA_LAWS)),
+        "alpha_table_abscissa": st.sampled_from(sorted(ALPHA_TABLE_BY_ABSCISSA)),
+        "alpha_deg": st.floats(0, 60),
+        "hold_time_constant_s": st.floats(0.1, 100),
+    },
+)
+
+
+@given(
+    base=st.sampled_from(
+        [
+            {"bank_law": "zero"},
+            {
+                "bank_law": "table",
+                "bank_table": ([0.0, 90.0], [10.0, 60.0]),
+                "alpha_law": "table",
+                "alpha_table": ([1e3, 2e4], [30.0, 15.0]),
+                "alpha_table_abscissa": "time",
+            },
+        ]
+    ),
+    changes=CHANGES,
+)
+def test_replacing_some_controls_writes_what_the_full_repack_writes(base, changes):
+    """replace_controls writes the changed slots in place (issue 26: it decoded and re-encoded the whole array for
+    every flight); the second route is the full round trip through unpack_controls and pack_controls."""
+    ctrl = pack_controls(**base)
+    assert replace_controls(ctrl, **changes).tolist() == pack_controls(**(unpack_controls(ctrl) | changes)).tolist()
+    assert ctrl.tolist() == pack_controls(**base).tolist()  # the original is untouched
+
+
+def test_replacing_a_control_that_does_not_exist_is_refused():
+    with pytest.raises(TypeError):
+        replace_controls(pack_controls(bank_law="zero"), bank_angle=10.0)

@@ -7,6 +7,7 @@ import pytest
 
 from footprint.contracts import parse
 from footprint.core import footprints as F
+from footprint.core import method_settings as S
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI
 from footprint.core.trajectory import simulate
@@ -53,7 +54,7 @@ def test_area_of_a_small_triangle_is_the_plane_area():
 
 def test_a_half_footprint_has_half_the_area_of_the_whole():
     full = F.single_parameter(spec(planet={"rotating": False, "oblate": False}))
-    half = F.single_parameter(spec(planet={"rotating": False, "oblate": False}), mirror=False)
+    half = F.single_parameter(spec(planet={"rotating": False, "oblate": False}), S.SingleParameter(mirror=False))
     assert full.area_nmi2 == pytest.approx(2 * half.area_nmi2, rel=1e-12)
 
 
@@ -91,14 +92,14 @@ def test_reflected_half_equals_the_flown_right_half_on_a_sphere_without_rotation
 
 def test_rotating_equatorial_halves_are_mirror_images_but_for_the_odd_zonal_term():
     # rotation about the polar axis is symmetric about the equator's plane; only H (J3) is not
-    with_j3 = F.single_parameter(spec(), bank0_deg=(45, 90))
-    without = F.single_parameter(spec(planet={"h": 0.0}), bank0_deg=(45, 90))
+    with_j3 = F.single_parameter(spec(), S.SingleParameter(bank0_deg=(45, 90)))
+    without = F.single_parameter(spec(planet={"h": 0.0}), S.SingleParameter(bank0_deg=(45, 90)))
     assert with_j3.asymmetry["crossrange_nmi"] < 0.2 and with_j3.trajectories == 2 * 2 + 1  # both halves flown
     assert without.asymmetry["crossrange_nmi"] < 5e-3
 
 
 def test_an_inclined_entry_on_the_rotating_earth_has_unequal_halves():
-    fp = F.single_parameter(spec(entry={**TABLE2_ENTRY, "heading_deg": 60.0}), bank0_deg=(0, 60, 90))
+    fp = F.single_parameter(spec(entry={**TABLE2_ENTRY, "heading_deg": 60.0}), S.SingleParameter(bank0_deg=(0, 60, 90)))
     assert all(not p.mirrored for p in fp.points)
     assert fp.asymmetry["crossrange_nmi"] > 100.0  # the earth turns under the two halves differently
 
@@ -117,7 +118,7 @@ def test_single_parameter_starts_the_bank_at_phi0_and_the_zero_lift_point_flies_
 
 
 def test_the_footprint_boundary_runs_down_the_left_half_and_back_up_the_right():
-    fp = F.single_parameter(spec("lod-2.2"), bank0_deg=range(0, 91, 15))
+    fp = F.single_parameter(spec("lod-2.2"), S.SingleParameter(bank0_deg=range(0, 91, 15)))
     assert [p.side for p in fp.points] == ["axis"] + ["left"] * 6 + ["axis"] + ["right"] * 6
     assert fp.points[0].parameter == ControlSetting(bank0_deg=0.0, bank_gain=0.0)
     assert fp.points[7].parameter == ControlSetting(min_range="zero_lift") and fp.interior == []
@@ -138,7 +139,7 @@ APPENDIX_C_ENTRY = {"altitude_ft": 300_000, "velocity_fps": 22_000, "velocity_fr
 
 def test_constant_altitude_turns_end_when_the_wings_come_level():
     s = spec("lod-2.6", entry=APPENDIX_C_ENTRY, stop={"altitude_ft": None, "velocity_fps": 2_000})
-    fp = F.constant_altitude(s, steps=6, mirror=False)
+    fp = F.constant_altitude(s, S.ConstantAltitude(steps=6, mirror=False))
     widest = fp.points[-1]
     assert widest.parameter.until == "wings_level"
     turns = [p.turn_deg for p in fp.points[1:]]
@@ -156,7 +157,9 @@ def test_constant_altitude_turns_end_when_the_wings_come_level():
 
 def test_velocity_contours_come_in_time_order():
     s = spec(stop={"altitude_ft": None, "velocity_fps": 2_000})
-    fp = F.single_parameter(s, bank0_deg=(45,), min_range=None, mirror=False, contours_fps=(10_000, 6_000))
+    fp = F.single_parameter(
+        s, S.SingleParameter(bank0_deg=(45,), min_range=None, mirror=False, contours_fps=(10_000, 6_000))
+    )
     for p in fp.points:
         v = [c["velocity_fps"] for c in p.contours]
         t = [c["flight_time_s"] for c in p.contours]
@@ -182,11 +185,11 @@ def test_single_parameter_reaches_what_the_staged_and_two_parameter_sets_reach(v
     # the report's yardstick for "closely" is the 5 % of the linearized control. The dense family is the
     # single-parameter control itself, sampled finer than the footprint's 15 deg steps.
     s = spec(vehicle)
-    single = F.single_parameter(s, bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False)
+    single = F.single_parameter(s, S.SingleParameter(bank0_deg=np.arange(0.0, 150.1, 2.5), mirror=False))
     pts = sorted((p.downrange_nmi, p.crossrange_nmi) for p in single.points)
     d, c = np.array(pts).T
-    others = [(p.downrange_nmi, p.crossrange_nmi) for p in F.staged(s, mirror=False).points]
-    others += F.two_parameter(s, mirror=False).outer_boundary
+    others = [(p.downrange_nmi, p.crossrange_nmi) for p in F.staged(s, S.Staged(mirror=False)).points]
+    others += F.two_parameter(s, S.TwoParameter(mirror=False)).outer_boundary
     excess = [co - np.interp(do, d, c) for do, co in others if d.min() <= do <= d.max()]
     assert max(excess) < 0.05 * single.max_crossrange_nmi
 
@@ -206,8 +209,8 @@ def test_appendix_c_medium_vehicle_loses_most_of_its_cross_range_in_constant_alt
             "stop": {"altitude_ft": None, "velocity_fps": REPORT["appc.stop_velocity_fps"].value},
         },
     ).to_spec()
-    single = F.single_parameter(s, min_range="cl_max", mirror=False)
-    turns = F.constant_altitude(s, mirror=False)
+    single = F.single_parameter(s, S.SingleParameter(min_range="cl_max", mirror=False))
+    turns = F.constant_altitude(s, S.ConstantAltitude(mirror=False))
     assert single.max_crossrange_nmi == pytest.approx(
         REPORT["appc.max_crossrange_single_parameter_nmi"].value, rel=0.10
     )

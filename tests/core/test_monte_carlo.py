@@ -19,6 +19,7 @@ from footprint.contracts.messages import error_line
 from footprint.core import monte_carlo as mc
 from footprint.core.errors import InputError
 from footprint.core.footprint_methods import footprint
+from footprint.core.method_settings import SingleParameter
 from footprint.core.plane import inside_polygon
 from footprint.core.sphere import downrange_crossrange_nmi, latlon_from_ranges
 from tests.authorities.report import example
@@ -35,10 +36,7 @@ def test_without_dispersion_every_sample_lands_on_the_nominal_point_to_the_bit()
     result, _ = run(study(samples=6, seed=3))
     nominal = footprint(
         parse_request(study()).footprint.case.to_spec(),
-        "single_parameter",
-        bank0_deg=SMALL["bank0_deg"],
-        min_range="zero_lift",
-        mirror=True,
+        SingleParameter(bank0_deg=tuple(SMALL["bank0_deg"]), min_range="zero_lift", mirror=True),
     )  # simulate's histories
     flown = {
         (p.side, p.parameter.bank0_deg if p.parameter.min_range is None else p.parameter.min_range): p

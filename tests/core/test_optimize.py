@@ -5,6 +5,7 @@ import pytest
 
 from footprint.contracts import parse
 from footprint.core import footprints as F
+from footprint.core import method_settings as S
 from footprint.core import optimize as O
 from tests.authorities.report import REPORT, table2_entry, table2_stop
 
@@ -132,7 +133,9 @@ def test_an_unreachable_constraint_is_reported_infeasible():
 
 # ------------------------------------------------------------------------------ Section II.5, L/D 1.89
 def test_unconstrained_cross_range_beats_the_single_parameter_control(lod189):
-    sp = F.single_parameter(lod189, bank0_deg=tuple(np.arange(60.0, 90.1, 1.0)), mirror=False, min_range=None)
+    sp = F.single_parameter(
+        lod189, S.SingleParameter(bank0_deg=tuple(np.arange(60.0, 90.1, 1.0)), mirror=False, min_range=None)
+    )
     best_sp = sp.max_crossrange_nmi  # 2,024 nmi near 75 deg
     r = O.optimize(O.cross_range_problem(lod189), max_evaluations=300, **O.CROSS_RANGE_SEARCH)
     assert r.feasible and r.converged
@@ -164,7 +167,9 @@ def test_downrange_constrained_optimum_lands_in_the_band(lod189):
 
 def test_soft_start_beats_the_single_parameter_control_at_3000_nmi(lod189):
     # unit weights from the start stall at 1,658 nmi here, below the single-parameter control
-    sp = F.single_parameter(lod189, bank0_deg=tuple(np.arange(95.0, 105.1, 0.5)), mirror=False, min_range=None)
+    sp = F.single_parameter(
+        lod189, S.SingleParameter(bank0_deg=tuple(np.arange(95.0, 105.1, 0.5)), mirror=False, min_range=None)
+    )
     r = O.optimize(
         O.cross_range_problem(lod189, downrange_nmi=3000.0), max_evaluations=1_200, **O.CONSTRAINED_CROSS_RANGE_SEARCH
     )

@@ -480,10 +480,11 @@ def test_first_order_shift_against_the_footprint_flown_on_the_rotating_earth(hea
     With the inertial entry state kept (the approximation's premise) the flown footprint does the same, and
     the shifted points land within 300 nmi of the flown ones (4-5 % of the L/D 1.89 footprint's 6,200 nmi
     length; docs/maps.md has the whole footprints)."""
+    from footprint.core.method_settings import SingleParameter
     from footprint.core.rotation import approximate_vs_exact
 
-    params = {"bank0_deg": (0.0, 45.0, 90.0, 135.0), "min_range": "zero_lift", "mirror": True}
-    c = approximate_vs_exact(l189_spec(), "single_parameter", params, Reference(0.0, 0.0, heading_deg))
+    settings = SingleParameter(bank0_deg=(0.0, 45.0, 90.0, 135.0), min_range="zero_lift", mirror=True)
+    c = approximate_vs_exact(l189_spec(), settings, Reference(0.0, 0.0, heading_deg))
     assert c.unmatched == 0 and len(c.rows) == 8  # front, 3 left, zero lift, 3 right
     assert c.max_error_nmi < 300.0
     assert c.move_error_nmi["max_nmi"] < 1.0  # on the equator moving east or west is a symmetry

@@ -178,7 +178,7 @@ class DispersionStudy(Strict):
     def flights_per_sample(self) -> int:
         from footprint.core.footprint_methods import control_family
 
-        return len(mc.flights(*control_family(self.footprint.method, **self.footprint.to_params())))
+        return len(mc.flights(*control_family(self.footprint.to_settings())))
 
     def distributions(self, spec) -> dict[str, disp.Distribution]:
         """The core's distributions of the dispersed inputs, about the nominal spec's values."""
@@ -222,7 +222,7 @@ class Plan:
 
         self.study = study
         self.spec = study.footprint.case.to_spec()
-        family, self.mirror = control_family(study.footprint.method, **study.footprint.to_params())
+        family, self.mirror = control_family(study.footprint.to_settings())
         self.flights = mc.flights(family, self.mirror)
 
     @functools.cached_property

@@ -1,9 +1,11 @@
 """The footprint study contract: {"case": CASE, "method": ..., method parameters..., "mirror": true}.
 
-One pydantic model per method (discriminated on "method"); `to_params()` gives the keyword arguments of
-the core generator in footprint.core.footprints. The case's own bank law is replaced by the method's.
+One pydantic model per method (discriminated on "method"); `to_settings()` gives the core's settings record of the
+method (footprint.core.method_settings, whose defaults these take). The case's own bank law is replaced by the
+method's.
 """
 
+from dataclasses import fields
 from typing import Annotated, ClassVar, Literal
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
@@ -15,6 +17,17 @@ from footprint.contracts.doors import door_limit, synchronous, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import flown, plain
 from footprint.contracts.work import Stored, Work
+from footprint.core.method_settings import (
+    Collocation,
+    ConstantAltitude,
+    ConstantBank,
+    MethodSettings,
+    MinRange,
+    SingleParameter,
+    Staged,
+    TemperatureLimited,
+    TwoParameter,
+)
 
 BankDeg = Annotated[float, Range(-180, 180, "deg")]
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
@@ -29,9 +42,12 @@ class _Study(Strict):
         default=[], max_length=20
     )  # iso-velocity points
     SETTINGS: ClassVar[str]  # the field whose values (one trajectory set each) make the footprint's points
+    CORE: ClassVar[type]  # the core's settings record of the method
 
-    def to_params(self) -> dict:
-        return self.model_dump(exclude={"case", "method"}, exclude_none=True)
+    def to_settings(self) -> MethodSettings:
+        """The core's settings of the method: the fields the record has (a list as a tuple)."""
+        values = {f.name: getattr(self, f.name) for f in fields(self.CORE) if f.name in type(self).model_fields}
+        return self.CORE(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
 
     def settings(self) -> tuple[str, int]:
         """(the field that sets them, how many parameter settings the study flies on each side)."""
@@ -62,20 +78,12 @@ class SingleParameterStudy(_Study):
 
     method: Literal["single_parameter"]
     SETTINGS: ClassVar[str] = "bank0_deg"
+    CORE: ClassVar[type] = SingleParameter
     bank0_deg: list[Annotated[float, Range(0, 180, "deg")]] = Field(
-        default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
+        default=list(SingleParameter.bank0_deg), min_length=1, max_length=181
     )
-    limit_deg: Annotated[float, Range(0, 180, "deg")] | None = None
-    min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
-
-    def to_params(self):
-        return {
-            "bank0_deg": self.bank0_deg,
-            "limit_deg": self.limit_deg,
-            "min_range": self.min_range,
-            "mirror": self.mirror,
-            "contours_fps": tuple(self.contours_fps),
-        }
+    limit_deg: Annotated[float, Range(0, 180, "deg")] | None = SingleParameter.limit_deg
+    min_range: MinRange | None = SingleParameter.min_range
 
 
 class ConstantBankStudy(_Study):
@@ -83,28 +91,31 @@ class ConstantBankStudy(_Study):
 
     method: Literal["constant_bank"]
     SETTINGS: ClassVar[str] = "bank_deg"
-    bank_deg: list[BankDeg] = Field(default=[0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0], min_length=1, max_length=181)
-    min_range: Literal["zero_lift", "cl_max"] | None = "zero_lift"
+    CORE: ClassVar[type] = ConstantBank
+    bank_deg: list[BankDeg] = Field(default=list(ConstantBank.bank_deg), min_length=1, max_length=181)
+    min_range: MinRange | None = ConstantBank.min_range
 
 
 class StagedStudy(ConstantBankStudy):
     """Fig. 14: constant bank until the heading has changed turn_deg, then wings level."""
 
     method: Literal["staged"]
-    turn_deg: Annotated[float, Range(0, 179, "deg")] = 90.0  # a heading change measured within (-180, 180]
+    CORE: ClassVar[type] = Staged
+    turn_deg: Annotated[float, Range(0, 179, "deg")] = Staged.turn_deg  # a heading change within (-180, 180]
 
 
 class TwoParameterStudy(_Study):
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited; one set per K."""
 
     method: Literal["two_parameter"]
+    CORE: ClassVar[type] = TwoParameter
     bank_gain: list[Annotated[float, Range(0, 10)]] = Field(
-        default=[0.5, 0.67, 1.0], min_length=1, max_length=20
+        default=list(TwoParameter.bank_gain), min_length=1, max_length=20
     )  # K, deg/deg
     sigma_f_deg: list[Annotated[float, Range(-180, 180, "deg")]] = Field(
-        default=[float(s) for s in range(90, -46, -15)], min_length=1, max_length=181
+        default=list(TwoParameter.sigma_f_deg), min_length=1, max_length=181
     )
-    limit_deg: Annotated[float, Range(0, 180, "deg")] = 75.0
+    limit_deg: Annotated[float, Range(0, 180, "deg")] = TwoParameter.limit_deg
 
     def settings(self) -> tuple[str, int]:
         return "sigma_f_deg", len(self.bank_gain) * len(self.sigma_f_deg)
@@ -114,8 +125,9 @@ class ConstantAltitudeStudy(_Study):
     """Fig. 19 / Appendix C data set 2: bank to hold the pull-out altitude until turn_deg, then wings level."""
 
     method: Literal["constant_altitude"]
-    turn_deg: list[Annotated[float, Range(0, 179, "deg")]] | None = None
-    steps: int = Field(default=6, ge=1, le=60)
+    CORE: ClassVar[type] = ConstantAltitude
+    turn_deg: list[Annotated[float, Range(0, 179, "deg")]] | None = ConstantAltitude.turn_deg
+    steps: int = Field(default=ConstantAltitude.steps, ge=1, le=60)
 
     def settings(self) -> tuple[str, int]:  # the turns, or the count of steps when none are listed
         return ("steps", self.steps) if self.turn_deg is None else ("turn_deg", len(self.turn_deg))
@@ -127,10 +139,11 @@ class TemperatureLimitedStudy(_Study):
 
     method: Literal["temperature_limited"]
     SETTINGS: ClassVar[str] = "bank0_deg"
+    CORE: ClassVar[type] = TemperatureLimited
     limit_R: Annotated[float, Range(500, 10_000, "degR")]
-    tolerance_R: Annotated[float, Range(0, 100, "degR")] = 5.0  # TTOL of Section II.4
+    tolerance_R: Annotated[float, Range(0, 100, "degR")] = TemperatureLimited.tolerance_R  # TTOL, Section II.4
     bank0_deg: list[Annotated[float, Range(0, 180, "deg")]] = Field(
-        default=[float(b) for b in range(0, 151, 15)], min_length=1, max_length=181
+        default=list(TemperatureLimited.bank0_deg), min_length=1, max_length=181
     )
 
     @model_validator(mode="after")
@@ -141,14 +154,6 @@ class TemperatureLimitedStudy(_Study):
             raise ValueError("contours_fps: not available with method 'temperature_limited'")
         return self
 
-    def to_params(self):
-        return {
-            "limit_R": self.limit_R,
-            "tolerance_R": self.tolerance_R,
-            "bank0_deg": tuple(self.bank0_deg),
-            "mirror": self.mirror,
-        }
-
 
 class CollocationStudy(_Study):
     """Beyond the report (issue 12): the true reachable boundary, cross-range maximized by direct collocation at
@@ -157,13 +162,13 @@ class CollocationStudy(_Study):
     the load."""
 
     method: Literal["collocation"]
-    points_per_half: int = Field(default=11, ge=3, le=40)
-    limit_R: Annotated[float, Range(500, 10_000, "degR")] | None = None
-    max_load_factor: Annotated[float, Range(1, 50, "g")] | None = (
-        None  # without one the nearest points ride the stop altitude
-    )
-    fine: bool = False  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
-    intervals: int = Field(default=100, ge=20, le=400)  # collocation mesh intervals
+    CORE: ClassVar[type] = Collocation
+    points_per_half: int = Field(default=Collocation.points_per_half, ge=3, le=40)
+    limit_R: Annotated[float, Range(500, 10_000, "degR")] | None = Collocation.limit_R
+    # without a load limit the nearest points ride the stop altitude
+    max_load_factor: Annotated[float, Range(1, 50, "g")] | None = Collocation.max_load_factor
+    fine: bool = Collocation.fine  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
+    intervals: int = Field(default=Collocation.intervals, ge=20, le=400)  # collocation mesh intervals
 
     def settings(self) -> tuple[str, int]:
         return "points_per_half", self.points_per_half + 1
@@ -181,16 +186,6 @@ class CollocationStudy(_Study):
         if self.case.stop.altitude_ft is None:
             raise ValueError("case.stop.altitude_ft: a collocation footprint ends at a stop altitude; give one")
         return self
-
-    def to_params(self):
-        return {
-            "points_per_half": self.points_per_half,
-            "limit_R": self.limit_R,
-            "max_load_factor": self.max_load_factor,
-            "fine": self.fine,
-            "intervals": self.intervals,
-            "mirror": self.mirror,
-        }
 
 
 FootprintStudy = Annotated[
@@ -217,7 +212,7 @@ def fly(study: _Study, part=None, on_progress=None):
     method reports (the collocation's IPOPT iterations)."""
     from footprint.core.footprint_methods import footprint
 
-    return footprint(study.case.to_spec(), study.method, on_progress=on_progress, **study.to_params())
+    return footprint(study.case.to_spec(), study.to_settings(), on_progress=on_progress)
 
 
 POINT_FIELDS = (

@@ -236,7 +236,7 @@ def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
     study = req.study
     assert study is not None  # an exact transform carries its study (the request's check)
     spec = study.case.to_spec()
-    fp = fly_at(spec, study.method, study.to_params(), dst, rotating=True)
+    fp = fly_at(spec, study.to_settings(), dst, rotating=True)
     return [
         {
             "latitude_deg": p.latitude_deg,

@@ -24,6 +24,7 @@ import numpy as np
 
 from footprint.core import collocation as col
 from footprint.core.footprints import Footprint, area_nmi2, mirror_is_exact, point_of_trajectory, reflect
+from footprint.core.method_settings import Collocation
 from footprint.core.optimize import Constraint
 from footprint.core.setting import ControlSetting
 from footprint.core.trajectory import FlightSpec, simulate
@@ -32,18 +33,7 @@ FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
 OBJECTIVE = (("downrange_nmi", 0.0), ("crossrange_nmi", 1.0))  # weighted by each solve
 
 
-def collocation_footprint(
-    spec: FlightSpec,
-    points_per_half: int = 11,
-    limit_R: float | None = None,
-    max_load_factor: float | None = None,
-    mirror: bool = True,
-    fine: bool = False,
-    intervals: int = 100,
-    alpha_bounds_deg=None,
-    bank_bounds_deg=(-180.0, 180.0),
-    on_progress=None,
-) -> Footprint:
+def collocation_footprint(spec: FlightSpec, s: Collocation = Collocation(), on_progress=None) -> Footprint:
     """The true optimal footprint of `spec` (its vehicle, planet, entry, stop altitude and heating model).
 
     points_per_half down-ranges between the extremes, each half solved (the right half reflected instead only
@@ -51,6 +41,7 @@ def collocation_footprint(
     along the path and max_load_factor the load (g); fine adds the narrow table corners
     (collocation.SMOOTHING_STAGES) to every point: the re-flight comes closer, at about three times the cost.
     on_progress(fraction, note) after every IPOPT iteration (True stops: NoOptimum)."""
+    points_per_half, limit_R, max_load_factor, mirror = s.points_per_half, s.limit_R, s.max_load_factor, s.mirror
     constraints: tuple[Constraint, ...] = (
         Constraint("downrange_nmi", "at_least", -FREE_NMI),
         Constraint("crossrange_nmi", "at_least", -FREE_NMI),
@@ -64,13 +55,13 @@ def collocation_footprint(
         objective=OBJECTIVE,
         constraints=constraints,
         polish=False,
-        intervals=intervals,
-        alpha_bounds_deg=alpha_bounds_deg,
-        bank_bounds_deg=bank_bounds_deg,
+        intervals=s.intervals,
+        alpha_bounds_deg=s.alpha_bounds_deg,
+        bank_bounds_deg=s.bank_bounds_deg,
     )
     walk = _Walk(
         problem,
-        col.SMOOTHING_STAGES if fine else col.SMOOTHING_STAGES[:1],
+        col.SMOOTHING_STAGES if s.fine else col.SMOOTHING_STAGES[:1],
         total=4 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
         on_progress=on_progress,
     )

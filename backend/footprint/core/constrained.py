@@ -28,6 +28,7 @@ from footprint.core.controls import (
 )
 from footprint.core.errors import InputError
 from footprint.core.footprints import SIGMA0_DEG, Footprint, footprint_of_family, mirror_is_exact, with_bank
+from footprint.core.method_settings import TemperatureLimited
 from footprint.core.optimize import (
     BANK_BOUNDS_DEG,
     BANK_TABLE_HEADINGS_DEG,
@@ -485,14 +486,13 @@ class LimitedFootprint:
         return self.footprint.trajectories
 
 
-def temperature_limited_footprint(
-    spec: FlightSpec, limit_R, bank0_deg=tuple(range(0, 151, 15)), *, tolerance_R=TTOL_TEMPERATURE_R, mirror=False
-) -> LimitedFootprint:
+def temperature_limited_footprint(spec: FlightSpec, s: TemperatureLimited) -> LimitedFootprint:
     """The simple heating-constrained footprint: single-parameter bank settings phi0 = bank0_deg, each with the
     coolest-needed alpha floor; settings no floor can cool are left out (they bound the near side). The grid is
     halved REFINE_HALVINGS times around its max cross-range setting (the floor varies with phi0 there). With
     mirror on a rotating earth the right half is searched and flown for itself."""
     t0 = time.perf_counter()
+    limit_R, tolerance_R, mirror = s.limit_R, s.tolerance_R, s.mirror
 
     def search(settings, right=False):
         return [
@@ -505,7 +505,7 @@ def temperature_limited_footprint(
             for b in settings
         ]
 
-    left = search(bank0_deg)
+    left = search(s.bank0_deg)
     for _ in range(REFINE_HALVINGS):  # the grid halved around its max cross-range setting
         kept = sorted((p for p in left if p.floor_deg is not None), key=lambda p: p.bank0_deg)
         if len(kept) < 2:

@@ -121,26 +121,11 @@ def pack_controls(
     hold_time_constant_s=10.0,
 ):
     """Build the ctrl array from plain values (validated by the caller)."""
+    arguments = locals()  # each slot has one writer, _slot_value, shared with replace_controls
     ctrl = np.zeros(C_SIZE)
-    ctrl[C_BANK_LAW] = BANK_LAWS[bank_law]
-    ctrl[C_BANK_DEG] = bank_deg
-    ctrl[C_BANK_GAIN] = bank_gain
-    ctrl[C_SIDE] = side
-    ctrl[C_BANK_LIMIT] = NO_LIMIT if bank_limit_deg is None else bank_limit_deg
-    ctrl[C_SIGMA_F] = sigma_f_deg
-    ctrl[C_TURN] = turn_deg
-    ctrl[C_BANK_VAR] = BANK_VARIABLES[bank_variable]
-    ctrl[C_MIRROR] = 1.0 if mirror else 0.0
-    ctrl[C_START] = BANK_STARTS[bank_start]
-    ctrl[C_START_ALT] = bank_start_altitude_ft
-    law = ALPHA_LAWS[alpha_law]
-    if alpha_law == "table":
-        law = ALPHA_TABLE_BY_ABSCISSA[alpha_table_abscissa]
-    ctrl[C_ALPHA_LAW] = law
-    ctrl[C_ALPHA_DEG] = alpha_deg
-    ctrl[C_GAMMA_DEG] = gamma_deg
-    ctrl[C_ALPHA_BEFORE] = ALPHA_LAWS[alpha_before]
-    ctrl[C_TAU] = hold_time_constant_s
+    for name, slot in SLOTS.items():
+        ctrl[slot] = _slot_value(name, arguments[name])
+    ctrl[C_ALPHA_LAW] = _alpha_code(alpha_law, alpha_table_abscissa)
     parts = [ctrl]
     offset = C_SIZE
     for slot, table in ((C_BANK_TABLE, bank_table), (C_ALPHA_TABLE, alpha_table)):
@@ -152,6 +137,43 @@ def pack_controls(
         parts.append(np.concatenate(([len(x)], x, y)))
         offset += 1 + 2 * len(x)
     return np.concatenate(parts)
+
+
+SLOTS = {  # pack_controls' scalar arguments -> their slot (the laws' codes, the tables' offsets aside)
+    "bank_law": C_BANK_LAW,
+    "bank_deg": C_BANK_DEG,
+    "bank_gain": C_BANK_GAIN,
+    "side": C_SIDE,
+    "bank_limit_deg": C_BANK_LIMIT,
+    "sigma_f_deg": C_SIGMA_F,
+    "turn_deg": C_TURN,
+    "bank_variable": C_BANK_VAR,
+    "mirror": C_MIRROR,
+    "bank_start": C_START,
+    "bank_start_altitude_ft": C_START_ALT,
+    "alpha_deg": C_ALPHA_DEG,
+    "gamma_deg": C_GAMMA_DEG,
+    "alpha_before": C_ALPHA_BEFORE,
+    "hold_time_constant_s": C_TAU,
+}
+_CODES = {"bank_law": BANK_LAWS, "bank_variable": BANK_VARIABLES, "bank_start": BANK_STARTS, "alpha_before": ALPHA_LAWS}
+_TABLES = {"bank_table", "alpha_table"}
+_ALPHA = {"alpha_law", "alpha_table_abscissa"}
+
+
+def _slot_value(name: str, value) -> float:
+    """An argument of pack_controls as its slot holds it."""
+    if name in _CODES:
+        return float(_CODES[name][value])
+    if name == "bank_limit_deg":
+        return NO_LIMIT if value is None else float(value)
+    if name == "mirror":
+        return 1.0 if value else 0.0
+    return float(value)
+
+
+def _alpha_code(law: str, abscissa: str) -> float:
+    return float(ALPHA_TABLE_BY_ABSCISSA[abscissa] if law == "table" else ALPHA_LAWS[law])
 
 
 def _name_of(names: dict, code) -> str:
@@ -199,8 +221,20 @@ def unpack_controls(ctrl) -> dict:
 
 
 def replace_controls(ctrl, **changes):
-    """ctrl with some of pack_controls' arguments changed (e.g. a new bank table), the rest kept."""
-    return pack_controls(**(unpack_controls(ctrl) | changes))
+    """ctrl with some of pack_controls' arguments changed, the rest kept: the changed slots written into a copy (a
+    footprint's every flight changes a law's parameter); a new table packs the array again."""
+    unknown = changes.keys() - SLOTS.keys() - _TABLES - _ALPHA
+    if unknown:
+        raise TypeError(f"replace_controls: no control {', '.join(sorted(unknown))}")
+    if changes.keys() & _TABLES:
+        return pack_controls(**(unpack_controls(ctrl) | changes))
+    out = ctrl.copy()
+    for name in changes.keys() & SLOTS.keys():
+        out[SLOTS[name]] = _slot_value(name, changes[name])
+    if changes.keys() & _ALPHA:
+        law, abscissa = alpha_law_name(ctrl[C_ALPHA_LAW])
+        out[C_ALPHA_LAW] = _alpha_code(changes.get("alpha_law", law), changes.get("alpha_table_abscissa", abscissa))
+    return out
 
 
 # The variants the footprint, optimization and heating methods fly, all through replace_controls.

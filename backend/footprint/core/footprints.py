@@ -9,11 +9,13 @@ the footprint says how far the two halves are from mirror images.
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
+from footprint.core.method_settings import ConstantAltitude, ConstantBank, SingleParameter, Staged, TwoParameter
 from footprint.core.plane import inside_points
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import (
@@ -25,6 +27,8 @@ from footprint.core.sphere import (
 )
 from footprint.core.trajectory import FlightSpec, simulate
 
+# a method's control settings: (the setting, make(spec, right) -> the spec it flies, whether it lands on the axis)
+Family = list[tuple[ControlSetting, Callable[..., FlightSpec], bool]]
 SIGMA0_DEG = 90.0  # Section II.6 a: the initial heading (remaining heading change) of the procedure
 WIDEST_TURN_DEG = 179.0  # constant-altitude turns: further round only comes back (and 180 is where |wrap| folds)
 
@@ -109,84 +113,66 @@ def with_alpha(spec: FlightSpec, law) -> FlightSpec:
 
 
 # ------------------------------------------------------------------------------------------ the methods
-def single_parameter(
-    spec, bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift", mirror=True, contours_fps=()
-):
+def single_parameter(spec: FlightSpec, s: SingleParameter = SingleParameter()) -> "Footprint":
     """Section II.6 a-d: phi_B = K zeta with K = phi0 / 90 deg, phi0 stepped 0-150 deg, plus one
     minimum-down-range point: zero lift (Section II.6 d) or C_L max at zero bank (Appendix C data set 1)."""
-    family = single_parameter_family(bank0_deg, limit_deg, min_range)
-    return footprint_of_family("single_parameter", spec, family, mirror, contours_fps)
+    return footprint_of_family("single_parameter", spec, single_parameter_family(s), s.mirror, s.contours_fps)
 
 
-def single_parameter_family(bank0_deg=tuple(range(0, 151, 15)), limit_deg=None, min_range="zero_lift") -> list:
+def single_parameter_family(s: SingleParameter) -> Family:
     """single_parameter's control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
+    limit_deg = s.limit_deg
     return [
         (
             ControlSetting(bank0_deg=float(b), bank_gain=b / SIGMA0_DEG),
-            lambda s, right, b=b: with_bank(
-                s, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg, right=right
+            lambda sp, right, b=b: with_bank(
+                sp, "single_parameter", bank_gain=b / SIGMA0_DEG, limit_deg=limit_deg, right=right
             ),
             b == 0,
         )
-        for b in bank0_deg
-    ] + _min_range(min_range)
+        for b in s.bank0_deg
+    ] + _min_range(s.min_range)
 
 
-def constant_bank(
-    spec,
-    bank_deg=(0, 15, 30, 45, 60, 75, 90),
-    staged=False,
-    turn_deg=90.0,
-    min_range="zero_lift",
-    mirror=True,
-    contours_fps=(),
-):
-    """Fig. 14: constant bank (`staged`: until the heading has changed turn_deg, then wings level)."""
-    family = constant_bank_family(bank_deg, staged, turn_deg, min_range)
-    return footprint_of_family("staged" if staged else "constant", spec, family, mirror, contours_fps)
+def constant_bank(spec: FlightSpec, s: ConstantBank = ConstantBank()) -> "Footprint":
+    """Fig. 14: constant bank (Staged: until the heading has changed turn_deg, then wings level)."""
+    method = "staged" if isinstance(s, Staged) else "constant"
+    return footprint_of_family(method, spec, constant_bank_family(s), s.mirror, s.contours_fps)
 
 
-def constant_bank_family(
-    bank_deg=(0, 15, 30, 45, 60, 75, 90), staged=False, turn_deg=90.0, min_range="zero_lift"
-) -> list:
+def constant_bank_family(s: ConstantBank) -> Family:
     """constant_bank's (and staged's) control settings [(parameter, make(spec, right) -> spec, on_axis)]."""
-    law = "staged" if staged else "constant"
+    staged = isinstance(s, Staged)
+    law, turn_deg = ("staged", s.turn_deg) if isinstance(s, Staged) else ("constant", 90.0)
     return [
         (
             ControlSetting(bank_deg=float(b), turn_deg=turn_deg if staged else None),
-            lambda s, right, b=b: with_bank(s, law, bank_deg=b, turn_deg=turn_deg, right=right),
+            lambda sp, right, b=b: with_bank(sp, law, bank_deg=b, turn_deg=turn_deg, right=right),
             b == 0,
         )
-        for b in bank_deg
-    ] + _min_range(min_range)
+        for b in s.bank_deg
+    ] + _min_range(s.min_range)
 
 
-def two_parameter(
-    spec,
-    bank_gain=(0.5, 0.67, 1.0),
-    sigma_f_deg=tuple(range(90, -46, -15)),
-    limit_deg=75.0,
-    mirror=True,
-    contours_fps=(),
-):
+def two_parameter(spec: FlightSpec, s: TwoParameter = TwoParameter()) -> "Footprint":
     """Figs. 5-7: phi_B = K (zeta - sigma_f), limited to 75 deg; one set per K, sigma_f varied.
 
     The footprint's boundary is the outer boundary of all sets (the report's "fairing through the outer
     boundary of the parametric data", as the upper convex chain); each set is kept in `sets`.
     """
-    sets, flights = {}, []
-    for gain in bank_gain:
+    sets, flights, mirror, limit_deg = {}, [], s.mirror, s.limit_deg
+    for gain in s.bank_gain:
         family = [
             (
                 ControlSetting(bank_gain=float(gain), sigma_f_deg=float(sf)),
-                lambda s, right, gain=gain, sf=sf: with_bank(
-                    s, "two_parameter", bank_gain=gain, limit_deg=limit_deg, sigma_f_deg=sf, right=right
+                lambda sp, right, gain=gain, sf=sf: with_bank(
+                    sp, "two_parameter", bank_gain=gain, limit_deg=limit_deg, sigma_f_deg=sf, right=right
                 ),
                 sf >= SIGMA0_DEG,
             )
-            for sf in sigma_f_deg
+            for sf in s.sigma_f_deg
         ]
-        f = _fly(spec, family, mirror, contours_fps)
+        f = _fly(spec, family, mirror, s.contours_fps)
         sets[float(gain)] = f.axis + f.left
         flights.append(f)
     pairs = [(lp, rp) for f in flights for lp, rp in zip(f.left, f.right or [None] * len(f.left))]
@@ -208,7 +194,7 @@ def two_parameter(
     return fp
 
 
-def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()):
+def constant_altitude(spec: FlightSpec, s: ConstantAltitude = ConstantAltitude()) -> "Footprint":
     """Fig. 19 / Appendix C data set 2: after pull-out hold the pull-out altitude. The straight point
     holds it with alpha until (L/D)max is reached; turning points fly (L/D)max and bank to hold altitude
     until the heading has changed turn_deg, then wings level, holding the altitude with alpha until
@@ -216,16 +202,16 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
     line of Fig. 19), or 179 deg. Without turn_deg the turns are `steps` equal
     parts of the widest one."""
     widest = simulate(with_bank(spec, "constant_altitude", turn_deg=WIDEST_TURN_DEG)).summary["turn_deg"] or 0.0
-    if turn_deg is None:
-        turns = [widest * i / steps for i in range(1, steps)]
+    if s.turn_deg is None:
+        turns = [widest * i / s.steps for i in range(1, s.steps)]
     else:
-        turns = [float(t) for t in turn_deg if 0.0 < t < widest]
+        turns = [float(t) for t in s.turn_deg if 0.0 < t < widest]
     straight = with_bank(with_alpha(spec, "level_flight"), "zero")
-    family = [(ControlSetting(turn_deg=0.0), lambda s, right: straight, True)]
+    family: Family = [(ControlSetting(turn_deg=0.0), lambda sp, right: straight, True)]
     family += [
         (
             ControlSetting(turn_deg=t),
-            lambda s, right, t=t: with_bank(s, "constant_altitude", turn_deg=t, right=right),
+            lambda sp, right, t=t: with_bank(sp, "constant_altitude", turn_deg=t, right=right),
             False,
         )
         for t in turns
@@ -233,18 +219,18 @@ def constant_altitude(spec, turn_deg=None, steps=6, mirror=True, contours_fps=()
     family.append(
         (
             ControlSetting(turn_deg=widest, until="wings_level"),
-            lambda s, right: with_bank(s, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right),
+            lambda sp, right: with_bank(sp, "constant_altitude", turn_deg=WIDEST_TURN_DEG, right=right),
             False,
         )
     )
-    fp = footprint_of_family("constant_altitude", spec, family, mirror, contours_fps)
+    fp = footprint_of_family("constant_altitude", spec, family, s.mirror, s.contours_fps)
     fp.trajectories += 1  # the widest turn, flown first to find its size
     return fp
 
 
-def staged(spec, **params):
+def staged(spec: FlightSpec, s: Staged = Staged()) -> "Footprint":
     """Fig. 14: constant bank until the heading has changed turn_deg (90 deg), then wings level."""
-    return constant_bank(spec, staged=True, **params)
+    return constant_bank(spec, s)
 
 
 # ------------------------------------------------------------------------------------------ machinery
@@ -252,8 +238,8 @@ def _min_range(kind):
     if kind is None:
         return []
     if kind == "zero_lift":
-        return [(ControlSetting(min_range="zero_lift"), lambda s, right: with_bank(s, "zero_lift"), True)]
-    return [(ControlSetting(min_range="cl_max"), lambda s, right: with_alpha(with_bank(s, "zero"), "cl_max"), True)]
+        return [(ControlSetting(min_range="zero_lift"), lambda sp, right: with_bank(sp, "zero_lift"), True)]
+    return [(ControlSetting(min_range="cl_max"), lambda sp, right: with_alpha(with_bank(sp, "zero"), "cl_max"), True)]
 
 
 def velocity_crossings(traj, velocities_fps) -> tuple:

@@ -13,7 +13,7 @@ premise, a trajectory fixed in space with the earth turning under it); "relative
 numbers, which adds or removes omega r cos(latitude) sin(heading) of inertial speed (1,552 ft/s east at the
 equator at the Table 2 altitude) and so changes the flight itself, not just where it lands.
 
-Pure numerics: a FlightSpec, a method name and its parameters in, plain dataclasses out.
+Pure numerics: a FlightSpec and a method's settings in, plain dataclasses out.
 """
 
 import math
@@ -24,6 +24,7 @@ import numpy as np
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.footprint_methods import footprint
 from footprint.core.footprints import Footprint, FootprintPoint
+from footprint.core.method_settings import MethodSettings
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import (
     MEAN_RADIUS_NMI,
@@ -86,11 +87,9 @@ def at_geometry(spec: FlightSpec, dst: Reference, rotating=None, velocity_frame=
     return replace(spec, entry=entry, planet=planet)
 
 
-def fly_at(
-    spec: FlightSpec, method: str, params: dict, dst: Reference, rotating=True, velocity_frame=None
-) -> Footprint:
+def fly_at(spec: FlightSpec, settings: MethodSettings, dst: Reference, rotating=True, velocity_frame=None) -> Footprint:
     """The exact alternative: the footprint flown again from the new geometry (on the rotating earth)."""
-    return footprint(at_geometry(spec, dst, rotating, velocity_frame), method, **params)
+    return footprint(at_geometry(spec, dst, rotating, velocity_frame), settings)
 
 
 def all_points(fp: Footprint) -> list[FootprintPoint]:
@@ -161,8 +160,7 @@ class Comparison:
 
 def approximate_vs_exact(
     spec: FlightSpec,
-    method: str,
-    params: dict,
+    settings: MethodSettings,
     dst: Reference,
     step_downrange_nmi=0.0,
     velocity_frame="inertial",
@@ -170,17 +168,17 @@ def approximate_vs_exact(
     nonrotating: Footprint | None = None,
     with_move_error=True,
 ) -> Comparison:
-    """Fly `method` on a non-rotating earth from the spec's own entry (or take `nonrotating`), move it to
-    dst (+ step) and shift it by omega_p t; fly it again on the rotating earth from dst (+ step); compare.
+    """Fly the method of `settings` on a non-rotating earth from the spec's own entry (or take `nonrotating`), move
+    it to dst (+ step) and shift it by omega_p t; fly it again on the rotating earth from dst (+ step); compare.
 
     `with_move_error` also flies the non-rotating footprint at dst: its difference from the moved one is
     what the move itself costs on this planet (the oblate earth is not symmetric under rotations of the
     sphere), so that the rotation's share of the error can be read off.
     """
-    base = nonrotating or footprint(replace(spec, planet=replace(spec.planet, rotating=False)), method, **params)
+    base = nonrotating or footprint(replace(spec, planet=replace(spec.planet, rotating=False)), settings)
     omega = spec.planet.rotation_rate_deg_s if omega_deg_s is None else omega_deg_s
     start = stepped_reference(dst, step_downrange_nmi)
-    exact = fly_at(spec, method, params, start, rotating=True, velocity_frame=velocity_frame)
+    exact = fly_at(spec, settings, start, rotating=True, velocity_frame=velocity_frame)
 
     ours = {point_key(p): p for p in all_points(base)}
     theirs = {point_key(p): p for p in all_points(exact)}
@@ -219,7 +217,7 @@ def approximate_vs_exact(
 
     move_error = None
     if with_move_error:
-        flat = fly_at(spec, method, params, start, rotating=False)
+        flat = fly_at(spec, settings, start, rotating=False)
         there = {point_key(p): p for p in all_points(flat)}
         both = [k for k in keys if k in there]
         src_pts = [ours[k] for k in both]
