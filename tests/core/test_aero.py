@@ -9,7 +9,11 @@ import math
 
 import numpy as np
 import pytest
+from pydantic import ValidationError
 
+from footprint.contracts import parse
+from footprint.contracts.messages import error_parts
+from footprint.contracts.vehicle import user_vehicle
 from footprint.core import aero
 from footprint.core._jit import NO_JIT, njit
 from footprint.core.aero import (
@@ -22,14 +26,15 @@ from footprint.core.aero import (
     coefficients,
     ld_max,
     lookup,
-    vehicle_from_definition,
     vehicle_summaries,
 )
 from footprint.core.errors import InputError
-from tests.authorities.report import REPORT
+from tests.authorities.report import REPORT, table2_entry
 
 IDS = ["lod-1.89", "lod-2.2", "lod-2.6", "low-lod", "high-lod"]
 AT_MACH_ALTITUDE = (REPORT["vehicle.ld_max_mach"].value, REPORT["vehicle.ld_max_altitude_ft"].value)  # (L/D)max
+
+ENTRY = table2_entry()
 
 
 def blob(vid):
@@ -304,7 +309,7 @@ def test_rotation_preserves_resultant(vid):
 
 def test_polynomial_vehicle_closed_form():
     # CL = 0.02 a, CD = 0.05 + 0.0005 a^2: (L/D)max = 0.02 / (2 sqrt(0.05 * 0.0005)) = 2 at a = sqrt(100) = 10 deg
-    v = vehicle_from_definition(
+    v = user_vehicle(
         {"name": "poly", "wing_loading_psf": 55, "aero": {"polynomial": {"cl": [0.0, 0.02], "cd": [0.05, 0.0, 0.0005]}}}
     )
     assert v.wing_loading_psf == 55.0 and v.blob[0] == 2 and (v.blob[1], v.blob[2]) == (0.0, 60.0)
@@ -316,7 +321,7 @@ def test_polynomial_vehicle_closed_form():
         assert ld == pytest.approx(2.0, abs=1e-12) and alpha == pytest.approx(10.0, abs=1e-9)
         assert alpha_cl_max_deg(v.blob, mach, h) == pytest.approx(60.0)
         assert alpha_zero_lift_deg(v.blob, mach, h) == pytest.approx(0.0)
-    w = vehicle_from_definition(
+    w = user_vehicle(
         {
             "wing_loading_psf": 55,
             "aero": {"polynomial": {"cl": [-0.1, 0.02], "cd": [0.05, 0.0, 0.0005], "alpha_range_deg": [-10, 30]}},
@@ -328,7 +333,7 @@ def test_polynomial_vehicle_closed_form():
 
 
 def test_constant_vehicle_and_weight_over_area():
-    v = vehicle_from_definition(
+    v = user_vehicle(
         {"name": "brick", "weight_lb": 10_000, "reference_area_ft2": 200, "aero": {"constant": {"cl": 0.5, "cd": 0.25}}}
     )
     assert v.wing_loading_psf == 50.0 and v.name == "brick"
@@ -342,7 +347,7 @@ def test_user_tables_equal_builtin():
     import json
 
     d = json.loads((aero.DATA_DIR / "lod-2.6.json").read_text())
-    v = vehicle_from_definition({"name": "mine", "wing_loading_psf": 40, "aero": d["aero"]})
+    v = user_vehicle({"name": "mine", "wing_loading_psf": 40, "aero": d["aero"]})
     assert np.array_equal(v.blob, blob("lod-2.6"))
 
 
@@ -372,7 +377,7 @@ def _tables(**change):
 
 
 def test_small_user_table():
-    v = vehicle_from_definition(_tables())
+    v = user_vehicle(_tables())
     assert coefficients(v.blob, 6.0, 10.0, 1e5) == pytest.approx((0.275, 0.185), abs=1e-15)
     assert (v.blob[1], v.blob[2]) == (0.0, 20.0)
 
@@ -400,10 +405,13 @@ BAD = [
     ),
     (_tables(form="body"), "vehicle.aero.tables.form"),
     (_tables(first__mach=[10.0, 2.0]), "vehicle.aero.tables.first.mach"),
-    (_tables(first__alpha_deg=[0.0, "20"]), "vehicle.aero.tables.first.alpha_deg[1]"),
+    (_tables(first__alpha_deg=[0.0, "twenty"]), "vehicle.aero.tables.first.alpha_deg.1"),
     (_tables(second__altitude_ft=[0.0, 0.0]), "vehicle.aero.tables.second.altitude_ft"),
     (_tables(second__values=[[[0.05], [0.3]]]), "vehicle.aero.tables.second.values"),
-    (_tables(first__values=[[[0.0], [0.6]], [[0.0], [float("inf")]]]), "vehicle.aero.tables.first.values"),
+    (_tables(first__values=[[[0.0], [0.6]], [[0.0], [float("inf")]]]), "vehicle.aero.tables.first.values.1.1.0"),
+    (_tables(first__values=[[[0.0], [0.6]], [[0.0], [1e308]]]), "vehicle.aero.tables.first.values.1.1.0"),
+    ({"wing_loading_psf": 50, "aero": {"polynomial": {"cl": [0.1, 1e3], "cd": [0.1]}}}, "vehicle.aero.polynomial.cl"),
+    ({"builtin": "lod-2.2", "aero": GOOD_POLY}, "vehicle.aero"),
     (_tables(second__values=[[[-0.05, -0.07], [0.0, -0.3]]]), "vehicle.aero.tables.second.values"),
     (_tables(second__alpha_deg=[30.0, 40.0]), "vehicle.aero.tables.second.alpha_deg"),
 ]
@@ -411,15 +419,17 @@ BAD = [
 
 @pytest.mark.parametrize("definition,field", BAD)
 def test_invalid_definitions_name_the_field(definition, field):
-    with pytest.raises(InputError) as e:
-        vehicle_from_definition(definition)
-    assert e.value.field == field
+    """The contract checks a definition's shape and bounds, the core what only the numbers show (a drag nowhere
+    positive, a polynomial past the force range): both name the field in the case."""
+    with pytest.raises(ValidationError) as e:
+        parse("case", {"vehicle": definition, "entry": ENTRY})
+    assert error_parts(e.value)[0][0] == field, error_parts(e.value)
 
 
-def test_field_prefix():
+def test_the_core_names_the_field_below_the_one_it_is_given():
     with pytest.raises(InputError) as e:
-        vehicle_from_definition({"wing_loading_psf": 0, "aero": GOOD_POLY}, field="cases[3].vehicle")
-    assert e.value.field == "cases[3].vehicle.wing_loading_psf" and "0" in e.value.message
+        aero.vehicle_from_definition({"polynomial": {"cl": [0.1], "cd": [-0.1]}}, 50.0, field="cases[3].vehicle")
+    assert e.value.field == "cases[3].vehicle.aero.polynomial.cd" and "nowhere positive" in e.value.message
 
 
 # ------------------------------------------------------------------------------ control grids and inversion

@@ -25,7 +25,8 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from footprint.core.aero import builtin_vehicle, lookup, vehicle_from_definition
+from footprint.contracts.vehicle import user_vehicle
+from footprint.core.aero import builtin_vehicle, lookup
 from footprint.core.atmosphere import ARDC_BASE_ALTITUDE_FT, ARDC_EARTH_RADIUS_FT, atmosphere_table
 from footprint.core.collocation import SMOOTHING_STAGES
 from footprint.core.constants import G0_FT_S2
@@ -52,7 +53,7 @@ from footprint.core.model_casadi import (
 from footprint.core.trajectory import Entry, FlightSpec, Planet, pack_parameters
 
 LOD189 = builtin_vehicle("lod-1.89")
-POLYNOMIAL_VEHICLE = vehicle_from_definition(
+POLYNOMIAL_VEHICLE = user_vehicle(
     {
         "name": "polynomial test vehicle",
         "wing_loading_psf": 60.0,

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import footprint
+from footprint.contracts.vehicle import user_vehicle
 from footprint.core import constants as c
-from footprint.core.aero import vehicle_from_definition
 from footprint.core.controls import pack_controls
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, simulate
 from tests.authorities.report import table2_entry, table2_stop
@@ -29,9 +29,7 @@ def case(vehicle="lod-2.2", bank=None, planet=None, **kw):
 
 def vacuum_orbit(rotating):
     """A constant-aero vehicle in an atmosphere of zero density, on an eccentric orbit for 5,000 s."""
-    vehicle = vehicle_from_definition(
-        {"name": "probe", "wing_loading_psf": 40, "aero": {"constant": {"cl": 0.3, "cd": 0.1}}}
-    )
+    vehicle = user_vehicle({"name": "probe", "wing_loading_psf": 40, "aero": {"constant": {"cl": 0.3, "cd": 0.1}}})
     planet = Planet(rotating=rotating, atmosphere="exponential", rho0_slug_ft3=0.0)
     return FlightSpec(
         vehicle=vehicle,

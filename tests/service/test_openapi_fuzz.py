@@ -22,8 +22,14 @@ EXAMPLES = 12  # per operation; the default suite's runs are derandomized (the s
 # of every field, the largest reach among them) takes minutes, so the default suite fuzzes them without it and
 # `-m slow` runs it
 HEAVY = ["POST /api/jobs", "POST /api/reach", "POST /api/transform"]
+NO_NUL = SchemathesisConfig.from_dict({"generation": {"allow-x00": False}})
 QUICK = SchemathesisConfig.from_dict(
-    {"operations": [{"include-name": name, "phases": {"coverage": {"enabled": False}}} for name in HEAVY]}
+    {
+        # the NUL character is refused at the edge in every text, with a 422 naming the field (service.nul, by
+        # design: Postgres stores none; tests/service/test_bad_input.py): not part of the data an operation accepts
+        "generation": {"allow-x00": False},
+        "operations": [{"include-name": name, "phases": {"coverage": {"enabled": False}}} for name in HEAVY],
+    }
 )
 CONTRACT_BODIES = {
     ("POST", "/api/jobs"),
@@ -55,7 +61,7 @@ def api_schema(app):
 
 @pytest.fixture(scope="module")
 def full_schema(app):
-    return schemathesis.openapi.from_asgi("/openapi.json", app)
+    return schemathesis.openapi.from_asgi("/openapi.json", app, config=NO_NUL)
 
 
 schema = schemathesis.pytest.from_fixture("api_schema")

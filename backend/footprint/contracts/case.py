@@ -4,112 +4,23 @@ Each model converts itself into the core's plain types (`to_spec`). Every quanti
 every number is bounded, and a value out of range is reported as "field: value is outside ...".
 """
 
-import functools
-import json
-from dataclasses import replace
 from typing import Annotated, Any, Literal
 
 from pydantic import (
-    ConfigDict,
     Field,
     PrivateAttr,
     TypeAdapter,
-    ValidationInfo,
     model_validator,
 )
 
-from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
-from footprint.contracts.doors import context_of, validated
+from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Strict
+from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import Work
 from footprint.core import constants as c
-from footprint.core.aero import builtin_vehicle, vehicle_from_definition
 from footprint.core.controls import pack_controls
-from footprint.core.errors import InputError
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
-
-
-# ----------------------------------------------------------------------------------------- vehicle
-class VehicleCase(Strict):
-    """A built-in vehicle (with an optional wing-loading change), an inline aero definition, or (over HTTP) a vehicle
-    stored in the service, {"stored": id}."""
-
-    model_config = ConfigDict(
-        extra="forbid",
-        json_schema_extra={"anyOf": [{"required": ["builtin"]}, {"required": ["aero"]}, {"required": ["stored"]}]},
-    )
-    stored: str | None = Field(default=None, max_length=VEHICLE_ID_CHARS)  # replaced by its definition as it is parsed
-    builtin: str | None = None
-    name: str | None = Field(default=None, max_length=VEHICLE_NAME_CHARS)  # a footprint's `vehicle`
-    wing_loading_psf: Annotated[float, Range(1, 2000, "lb/ft^2")] | None = None
-    weight_lb: Annotated[float, Range(1, 1e7, "lb")] | None = None
-    reference_area_ft2: Annotated[float, Range(0.01, 1e5, "ft^2")] | None = None
-    aero: dict[str, Any] | None = None
-
-    @model_validator(mode="before")
-    @classmethod
-    def _stored(cls, data, info: ValidationInfo):
-        if not isinstance(data, dict) or "stored" not in data:
-            return data
-        if set(data) != {"stored"}:
-            raise ValueError("stored: a stored vehicle is given by its id alone")
-        lookup = context_of(info).get("vehicles")
-        if lookup is None:
-            raise ValueError(
-                "stored: stored vehicles live in the service (POST /api/vehicles); give 'builtin' or 'aero' here"
-            )
-        definition = lookup(str(data["stored"]))
-        if definition is None:
-            raise ValueError(f"stored: no stored vehicle {data['stored']!r} (GET /api/vehicles lists them)")
-        return definition
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        if self.builtin is None and self.aero is None:
-            raise ValueError("give either 'builtin' (a built-in vehicle id) or 'aero' with a wing loading")
-        try:  # the core's checks of an id or of inline tables, here, where the request is parsed (built once: cached)
-            self.to_vehicle()
-        except InputError as exc:
-            below = exc.field.removeprefix("vehicle").lstrip(".")
-            raise ValueError(f"{below}: {exc.message}" if below else exc.message) from None
-        return self
-
-    def to_vehicle(self):
-        if self.builtin is not None:
-            v = builtin_vehicle(self.builtin)
-            d = self.model_dump(exclude_none=True, exclude={"builtin"})
-            return replace(v, wing_loading_psf=_wing_loading(d, v.wing_loading_psf))
-        return _inline_vehicle(self.model_dump_json(exclude_none=True))
-
-    def label(self) -> str:
-        """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""
-        if self.name:
-            return self.name
-        if self.builtin is None:
-            return "inline"
-        if self.wing_loading_psf is not None:
-            return f"{self.builtin}@{self.wing_loading_psf:g}psf"
-        if self.weight_lb is not None and self.reference_area_ft2 is not None:
-            return f"{self.builtin}@{self.weight_lb / self.reference_area_ft2:g}psf"
-        return self.builtin
-
-
-@functools.lru_cache(maxsize=32)
-def _inline_vehicle(definition_json: str):
-    """An inline aero definition packed once per process (packing its tables takes up to a second; a sweep's
-    footprints share one)."""
-    return vehicle_from_definition(json.loads(definition_json), field="vehicle")
-
-
-def _wing_loading(d, default):
-    if "wing_loading_psf" in d:
-        return d["wing_loading_psf"]
-    if "weight_lb" in d and "reference_area_ft2" in d:
-        return d["weight_lb"] / d["reference_area_ft2"]
-    if "weight_lb" in d or "reference_area_ft2" in d:
-        raise InputError("vehicle", "give weight_lb and reference_area_ft2 together, or wing_loading_psf")
-    return default
 
 
 # ------------------------------------------------------------------------------------------ planet

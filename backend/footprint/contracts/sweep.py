@@ -34,13 +34,14 @@ from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, Valid
 
 from footprint.contracts import parse
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, fitted
-from footprint.contracts.case import Case, EntryCase, VehicleCase
+from footprint.contracts.case import Case, EntryCase
 from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict, model_fields
 from footprint.contracts.footprint import ConstantAltitudeStudy, SingleParameterStudy, ground_track, record
 from footprint.contracts.footprint import fly as fly_study
 from footprint.contracts.messages import error_line
 from footprint.contracts.records import csv_cell
+from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import RunInfo, Stored, Work
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120

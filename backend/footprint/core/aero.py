@@ -46,7 +46,6 @@ with T = {"mach": [...], "alpha_deg": [...], "altitude_ft": [...], "values": [ma
 import functools
 import json
 import math
-import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -410,68 +409,18 @@ def _show(value, limit=80):
 MAX_FORCE_COEFFICIENT = 100.0  # |C_L|, |C_D|, |C_N|, |C_A|: physical ones are O(1) (Appendix B's stay below 3)
 
 
-def _number(value, where):
-    try:
-        finite = not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
-    except OverflowError:  # an integer past a float's range (JSON numbers may have any number of digits)
-        finite = False
-    if not finite:
-        raise InputError(where, f"{_show(value)} is not a finite number")
-    return float(value)
-
-
-def _number_list(value, where, min_len=1, max_len=MAX_AXIS_NODES):
-    if not isinstance(value, (list, tuple)) or not (min_len <= len(value) <= max_len):
-        raise InputError(where, f"{_show(value)} must be a list of {min_len} to {max_len} finite numbers")
-    return [_number(v, f"{where}[{i}]") for i, v in enumerate(value)]
-
-
-def _mapping(value, where):
-    if not isinstance(value, dict):
-        raise InputError(where, f"{_show(value)} must be an object")
-    return value
-
-
-def _axis(tab, key, where, lo, hi):
-    values = _number_list(tab.get(key), f"{where}.{key}")
-    for v in values:
-        if not lo <= v <= hi:
-            raise InputError(f"{where}.{key}", f"{v} is outside the allowed range {lo} to {hi}")
-    if any(b <= a for a, b in zip(values, values[1:])):
-        raise InputError(f"{where}.{key}", f"{_show(values)} must be strictly increasing")
-    return np.array(values)
-
-
-def _table(tab, where):
-    tab = _mapping(tab, where)
-    mach = _axis(tab, "mach", where, 0.0, 100.0)
-    alpha = _axis(tab, "alpha_deg", where, -ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG)
-    alt = _axis(tab, "altitude_ft", where, -1.0e5, 1.0e7)
-    shape = (mach.size, alpha.size, alt.size)
-    try:
-        values = np.array(tab.get("values"), dtype=np.float64)
-    except (TypeError, ValueError, OverflowError):  # OverflowError: an integer past a float's range
-        values = None
-    if values is None or values.shape != shape:
-        got = "not a regular nested list of numbers" if values is None else f"shape {values.shape}"
-        raise InputError(f"{where}.values", f"{got}; must be [mach][alpha][altitude] of shape {shape}")
-    if not np.isfinite(values).all():
-        raise InputError(f"{where}.values", "must hold finite numbers only")
-    _within_force_range(f"{where}.values", values)
-    return mach, alpha, alt, values
+def _table(tab):
+    """A table's axes and values as arrays (its shape and bounds checked by the contract, contracts.vehicle)."""
+    axes = (np.array(tab[k], dtype=np.float64) for k in ("mach", "alpha_deg", "altitude_ft"))
+    return (*axes, np.array(tab["values"], dtype=np.float64))
 
 
 def _tables_blob(tables, where):
-    tables = _mapping(tables, where)
-    form = tables.get("form")
-    if form not in FORM_NAMES:
-        raise InputError(f"{where}.form", f"{_show(form)} must be one of {sorted(FORM_NAMES)}")
-    first = _table(tables.get("first"), f"{where}.first")
-    second = _table(tables.get("second"), f"{where}.second")
+    first, second = _table(tables["first"]), _table(tables["second"])
     (a1, b1), (a2, b2) = ((t[1][0], t[1][-1]) for t in (first, second))
     if first[1].size > 1 and second[1].size > 1 and min(b1, b2) <= max(a1, a2):
         raise InputError(f"{where}.second.alpha_deg", f"alpha range {a2}..{b2} does not overlap {a1}..{b1}")
-    blob, cd_positive = pack_tables(FORM_NAMES[form], first, second)
+    blob, cd_positive = pack_tables(FORM_NAMES[tables["form"]], first, second)
     if not cd_positive:
         raise InputError(f"{where}.second.values", "CD is nowhere positive over the alpha range")
     return blob
@@ -503,78 +452,29 @@ def _polynomial_blob(cl, cd, alpha_range, where):
     return blob
 
 
-def _aero_blob(spec, where):
-    spec = _mapping(spec, where)
-    kinds = [k for k in ("constant", "polynomial", "tables") if k in spec]
-    if len(kinds) != 1 or len(spec) != 1:
-        raise InputError(where, f"keys {sorted(spec)}: give exactly one of 'constant', 'polynomial', 'tables'")
-    kind = kinds[0]
-    w = f"{where}.{kind}"
-    body = _mapping(spec[kind], w)
+def _aero_blob(aero, where):
+    """The blob of an aero definition (one of "constant", "polynomial", "tables"; see the module docstring)."""
+    (kind, body), w = next(iter(aero.items())), f"{where}.{next(iter(aero))}"
     if kind == "tables":
         return _tables_blob(body, w)
     if kind == "constant":
-        cl = _number(body.get("cl"), f"{w}.cl")
-        cd = _number(body.get("cd"), f"{w}.cd")
-        if cd <= 0.0:
-            raise InputError(f"{w}.cd", f"{cd} must be > 0")
-        return _polynomial_blob([cl], [cd], DEFAULT_ALPHA_RANGE_DEG, w)
-    cl = _number_list(body.get("cl"), f"{w}.cl", max_len=MAX_POLY_TERMS)
-    cd = _number_list(body.get("cd"), f"{w}.cd", max_len=MAX_POLY_TERMS)
-    alpha_range = DEFAULT_ALPHA_RANGE_DEG
-    if body.get("alpha_range_deg") is not None:
-        where_range = f"{w}.alpha_range_deg"
-        alpha_range = tuple(_number_list(body["alpha_range_deg"], where_range, 2, 2))
-        lo, hi = alpha_range
-        if not -ALPHA_LIMIT_DEG <= lo < hi <= ALPHA_LIMIT_DEG:
-            raise InputError(where_range, f"{list(alpha_range)} must satisfy -90 <= lo < hi <= 90 deg")
-    return _polynomial_blob(cl, cd, alpha_range, w)
-
-
-def _wing_loading(d, field_):
-    lo, hi = WING_LOADING_RANGE_PSF
-    has_ws = d.get("wing_loading_psf") is not None
-    has_wa = d.get("weight_lb") is not None or d.get("reference_area_ft2") is not None
-    if has_ws and has_wa:
-        raise InputError(
-            f"{field_}.wing_loading_psf", "give wing_loading_psf or weight_lb and reference_area_ft2, not both"
-        )
-    if has_ws:
-        ws = _number(d["wing_loading_psf"], f"{field_}.wing_loading_psf")
-        where = f"{field_}.wing_loading_psf"
-    elif has_wa:
-        weight = _number(d.get("weight_lb"), f"{field_}.weight_lb")
-        area = _number(d.get("reference_area_ft2"), f"{field_}.reference_area_ft2")
-        if weight <= 0.0:
-            raise InputError(f"{field_}.weight_lb", f"{weight} must be > 0")
-        if area <= 0.0:
-            raise InputError(f"{field_}.reference_area_ft2", f"{area} must be > 0")
-        ws = weight / area
-        where = f"{field_}.weight_lb"
-    else:
-        raise InputError(
-            f"{field_}.wing_loading_psf", "missing: give wing_loading_psf or weight_lb and reference_area_ft2"
-        )
-    if not lo <= ws <= hi:
-        raise InputError(where, f"wing loading {ws:g} psf is outside the allowed range {lo:g} to {hi:g} psf")
-    return ws
+        return _polynomial_blob([float(body["cl"])], [float(body["cd"])], DEFAULT_ALPHA_RANGE_DEG, w)
+    alpha_range = tuple(body.get("alpha_range_deg") or DEFAULT_ALPHA_RANGE_DEG)
+    return _polynomial_blob([float(x) for x in body["cl"]], [float(x) for x in body["cd"]], alpha_range, w)
 
 
 # --- public API -----------------------------------------------------------------------------------
 
 
-def vehicle_from_definition(d: dict, field: str = "vehicle") -> Vehicle:
-    """A user vehicle from its definition (see the module docstring); InputError names the offending field."""
-    d = _mapping(d, field)
-    name = d.get("name", "custom vehicle")
-    if not isinstance(name, str) or not name.strip() or len(name) > 200:
-        raise InputError(f"{field}.name", f"{_show(name)} must be a non-empty string of at most 200 characters")
-    ws = _wing_loading(d, field)
-    if "aero" not in d:
-        raise InputError(f"{field}.aero", "missing: give 'constant', 'polynomial' or 'tables'")
-    blob = _aero_blob(d["aero"], f"{field}.aero")
+def vehicle_from_definition(
+    aero: dict, wing_loading_psf: float, name: str = "custom vehicle", field: str = "vehicle"
+) -> Vehicle:
+    """A user vehicle from its aero definition, as contracts.vehicle checked it; InputError (naming the field below
+    `field`) for what only the numbers show: a drag nowhere positive, a force past the range, tables whose alpha
+    ranges do not overlap."""
+    blob = _aero_blob(aero, f"{field}.aero")
     return Vehicle(
-        id=str(d.get("id", "custom")), name=name, wing_loading_psf=ws, blob=blob, provenance="user-defined vehicle"
+        id="custom", name=name, wing_loading_psf=wing_loading_psf, blob=blob, provenance="user-defined vehicle"
     )
 
 

@@ -11,6 +11,7 @@ from footprint import contracts
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
 from footprint.contracts.fields import model_fields
 from footprint.contracts.reach import Site
+from footprint.contracts.vehicle import VehicleCase
 
 
 def _job_kind(kind: str) -> str:
@@ -105,7 +106,7 @@ class JobList(BaseModel):
 class VehicleCreate(_Strict):
     id: str = Field(pattern=VEHICLE_ID_PATTERN)
     description: str = Field(default="", max_length=4_000)
-    vehicle: dict[str, Any]  # the case contract's vehicle (footprint.contracts.case.VehicleCase)
+    vehicle: VehicleCase  # a case's vehicle: its definition, checked (and packed) as it is read
 
 
 class VehicleItem(BaseModel):

@@ -3,9 +3,8 @@
 import threading
 
 from fastapi import APIRouter, Request, Response
-from pydantic import ValidationError
 
-from footprint.contracts.case import VehicleCase
+from footprint.contracts.vehicle import user_vehicle
 from footprint.core.aero import (
     SUMMARY_ALTITUDE_FT,
     SUMMARY_MACH,
@@ -16,10 +15,9 @@ from footprint.core.aero import (
     ld_max,
     vehicle_summaries,
 )
-from footprint.core.errors import InputError
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
-from footprint.service.errors import Conflict, NotFound, invalid
+from footprint.service.errors import Conflict, NotFound
 from footprint.service.schemas import VehicleCreate, VehicleDetail, VehicleItem
 
 router = APIRouter(tags=["vehicles"])
@@ -77,8 +75,8 @@ def _builtins() -> dict[str, dict]:
 
 
 def _custom_vehicle(definition: dict):
-    """The core's vehicle of a stored definition (inline tables packed once per process: contracts.case)."""
-    return VehicleCase.model_validate(definition).to_vehicle()
+    """The core's vehicle of a stored definition (inline tables packed once per process: contracts.vehicle)."""
+    return user_vehicle(definition)
 
 
 def _finite(x: float) -> float | None:
@@ -143,14 +141,8 @@ def create_vehicle(body: VehicleCreate, request: Request) -> dict:
     """Store a custom vehicle (tables, polynomial or constant CL/CD, plus its wing loading)."""
     if body.id in builtin_vehicle_ids():
         raise Conflict(f"id: {body.id!r} is a built-in vehicle; choose another id")
-    try:
-        case = VehicleCase.model_validate(body.vehicle)
-        vehicle = case.to_vehicle()
-    except ValidationError as exc:
-        raise invalid(exc, "vehicle.") from None
-    except InputError as exc:
-        raise invalid(exc) from None
-    definition = case.model_dump(exclude_none=True)
+    vehicle = body.vehicle.to_vehicle()  # packed once, as the body was read (contracts.vehicle: cached)
+    definition = body.vehicle.model_dump(exclude_none=True)
     definition.setdefault("name", body.id)
     with deps.sessions(request).begin() as session:
         if q.get_vehicle(session, vehicle_id=body.id) is not None:
