@@ -14,7 +14,7 @@ import sys
 import tempfile
 
 
-def main(args):
+def main(args: list[str]) -> int:
     folder = args.pop(0).removeprefix("--cache=")
     compiler = os.environ.get("CC", "gcc")
     source = next(a for a in args if a.endswith(".c"))

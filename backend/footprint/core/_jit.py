@@ -12,7 +12,9 @@ that compiled code reads, so they are left out of the hash.
 import hashlib
 import os
 import re
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any, TypeVar, overload
 
 NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # LLVM fast-math flags that keep IEEE NaN and infinity semantics (events use NaN for "inactive"):
@@ -26,14 +28,14 @@ FASTMATH = {"contract", "arcp", "nsz"}
 # calls) 40 % of the time of a trajectory (bench/bench_sample.py). The arithmetic is the same.
 
 
-def python_function(f):
+def python_function(f: Any) -> Any:
     """The plain Python function behind a compiled one (for callers that pass symbolic values)."""
     return getattr(f, "py_func", f)
 
 
 if NO_JIT:
 
-    def njit(*args, allocates=True, **kwargs):
+    def _njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Any:
         if len(args) == 1 and callable(args[0]) and not kwargs:
             return args[0]
         return lambda f: f
@@ -53,11 +55,25 @@ else:
     if not os.environ.get("NUMBA_CACHE_DIR"):
         numba.config.CACHE_DIR = _cache_dir()  # type: ignore[attr-defined]  # numba's config is set at run time
 
-    def njit(*args, allocates=True, **kwargs):
-        options = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": FASTMATH}
+    def _njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Any:
+        options: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": FASTMATH}
         if not allocates:
             options["_nrt"] = False
         options.update(kwargs)
         if len(args) == 1 and callable(args[0]):
             return numba.njit(**options)(args[0])
         return numba.njit(*args, **options)
+
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+# njit(f) is typed as f itself, njit(signature or options) as a decorator that keeps the function's type: callers are
+# checked against a kernel's annotations (a numba dispatcher is called as the function it compiles). One definition
+# over the two _njit above, which mypy could not overload each.
+@overload
+def njit(f: _F, /) -> _F: ...
+@overload
+def njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Callable[[_F], _F]: ...
+def njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Any:
+    return _njit(*args, allocates=allocates, **kwargs)

@@ -30,6 +30,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core._jit import njit
 from footprint.core.constants import FT_PER_M, G0_FT_S2, GAMMA_AIR
@@ -94,7 +95,13 @@ def isothermal_temperature_R(scale_height_ft: float) -> float:
     return G0_FT_S2 * scale_height_ft / ARDC_GAS_CONSTANT_FT2_S2_R
 
 
-def _layer_bases(base_km, gradient_k_per_km, t0_r, p0_psf, gas_constant):
+def _layer_bases(
+    base_km: NDArray[np.float64],
+    gradient_k_per_km: NDArray[np.float64],
+    t0_r: float,
+    p0_psf: float,
+    gas_constant: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Base altitudes (ft'), gradients (deg R/ft'), base T (deg R), base p (psf) and the exponents g0/(R L)."""
     base_ft = np.asarray(base_km, dtype=np.float64) * FT_PER_KM
     gradient_r_per_ft = np.asarray(gradient_k_per_km, dtype=np.float64) * R_PER_K / FT_PER_KM
@@ -137,7 +144,9 @@ def _layer_bases(base_km, gradient_k_per_km, t0_r, p0_psf, gas_constant):
 )
 
 
-def _read_us1976_table(path: Path):
+def _read_us1976_table(
+    path: Path,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Altitude (ft), ln density (slug/ft^3), ln pressure (psf), kinetic temperature (deg R) from the CSV."""
     lines = [line for line in path.read_text().splitlines() if line.strip() and not line.startswith("#")]
     columns = lines[0].split(",")
@@ -162,7 +171,7 @@ def _read_us1976_table(path: Path):
 
 
 @njit
-def _ardc1959(altitude_ft):
+def _ardc1959(altitude_ft: float) -> tuple[float, float, float, float]:
     """1959 ARDC at geometric altitude (ft): (rho slug/ft^3, p psf, T_M deg R, a ft/s)."""
     r0 = ARDC_EARTH_RADIUS_FT
     gas = ARDC_GAS_CONSTANT_FT2_S2_R
@@ -185,7 +194,7 @@ def _ardc1959(altitude_ft):
 
 
 @njit
-def _us1976(altitude_ft):
+def _us1976(altitude_ft: float) -> tuple[float, float, float, float]:
     """U.S. Standard Atmosphere 1976 at geometric altitude (ft): (rho slug/ft^3, p psf, T deg R, a ft/s)."""
     gas = US1976_GAS_CONSTANT_FT2_S2_R
     if altitude_ft < US1976_TABLE_START_FT:
@@ -235,7 +244,9 @@ def _us1976(altitude_ft):
 
 
 @njit
-def atmosphere(model, altitude_ft, rho0_slug_ft3, scale_height_ft, temperature_R):
+def atmosphere(
+    model: int, altitude_ft: float, rho0_slug_ft3: float, scale_height_ft: float, temperature_R: float
+) -> tuple[float, float, float, float]:
     """Return (density_slug_ft3, pressure_psf, temperature_R, speed_of_sound_fps) at GEOMETRIC altitude (ft).
 
     `model` is ARDC1959 (0), US1976 (1) or EXPONENTIAL (2); any other value gives NaNs.
@@ -258,27 +269,32 @@ def atmosphere(model, altitude_ft, rho0_slug_ft3, scale_height_ft, temperature_R
 
 
 @njit(allocates=False)
-def density_factor(delta, start, altitude_ft):
+def density_factor(delta: NDArray[np.float64], start: int, altitude_ft: float) -> float:
     """1 + delta(h): delta = delta[start:start + DENSITY_NODE_COUNT] at DENSITY_NODES_FT, linear between the nodes,
     held below the first and above the last (and at a NaN altitude, the first)."""
     x = altitude_ft / DENSITY_NODE_SPACING_FT
-    if not x > 0.0:
-        return 1.0 + delta[start]
     last = DENSITY_NODE_COUNT - 1
-    if x >= last:
-        return 1.0 + delta[start + last]
-    i = int(x)
-    w = x - i
-    return 1.0 + (delta[start + i] + w * (delta[start + i + 1] - delta[start + i]))
+    delta_h: float  # one return of a typed value (numpy types an array's item as Any)
+    if not x > 0.0:
+        delta_h = delta[start]
+    elif x >= last:
+        delta_h = delta[start + last]
+    else:
+        i = int(x)
+        w = x - i
+        delta_h = delta[start + i] + w * (delta[start + i + 1] - delta[start + i])
+    return 1.0 + delta_h
 
 
 @njit
-def _density_factor_fill(delta, altitudes_ft, out):
+def _density_factor_fill(
+    delta: NDArray[np.float64], altitudes_ft: NDArray[np.float64], out: NDArray[np.float64]
+) -> None:
     for k in range(altitudes_ft.shape[0]):
         out[k] = density_factor(delta, 0, altitudes_ft[k])
 
 
-def density_factor_table(delta, altitudes_ft) -> np.ndarray:
+def density_factor_table(delta: ArrayLike, altitudes_ft: ArrayLike) -> NDArray[np.float64]:
     """density_factor at many altitudes (ft): an array shaped like `altitudes_ft`; `delta` at DENSITY_NODES_FT."""
     delta = np.ascontiguousarray(delta, dtype=np.float64)
     if delta.shape != (DENSITY_NODE_COUNT,):
@@ -291,18 +307,28 @@ def density_factor_table(delta, altitudes_ft) -> np.ndarray:
 
 
 @njit
-def _atmosphere_fill(model, altitudes_ft, rho0, scale_height, temperature, rho, p, t, a):
+def _atmosphere_fill(
+    model: int,
+    altitudes_ft: NDArray[np.float64],
+    rho0: float,
+    scale_height: float,
+    temperature: float,
+    rho: NDArray[np.float64],
+    p: NDArray[np.float64],
+    t: NDArray[np.float64],
+    a: NDArray[np.float64],
+) -> None:
     for k in range(altitudes_ft.shape[0]):
         rho[k], p[k], t[k], a[k] = atmosphere(model, altitudes_ft[k], rho0, scale_height, temperature)
 
 
 def atmosphere_table(
-    model,
-    altitudes_ft,
+    model: int | str,
+    altitudes_ft: ArrayLike,
     rho0_slug_ft3: float = EXPONENTIAL_RHO0_DEFAULT_SLUG_FT3,
     scale_height_ft: float = EXPONENTIAL_SCALE_HEIGHT_DEFAULT_FT,
     temperature_R: float | None = None,
-) -> dict[str, np.ndarray]:
+) -> dict[str, NDArray[np.float64]]:
     """The atmosphere at many geometric altitudes (ft), for tests and plots.
 
     `model` is an id (ARDC1959, US1976, EXPONENTIAL) or a name of MODEL_IDS. For EXPONENTIAL,

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import casadi as ca
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core import constants as c
 from footprint.core.controls import BANK_ZERO, C_BANK_LAW, pack_controls, replace_bank_law
@@ -235,8 +236,8 @@ class Result:
     iterations: int
     seconds: float
     intervals: int
-    guess: Guess = field(repr=False, default=None)
-    solver_state: dict = field(repr=False, default=None)  # x, lam_x, lam_g for a warm start
+    guess: Guess | None = field(repr=False, default=None)
+    solver_state: dict | None = field(repr=False, default=None)  # x, lam_x, lam_g for a warm start
 
     @property
     def ok(self) -> bool:
@@ -409,7 +410,8 @@ class Transcription:
         t_f = ts * T_SCALE_S
         h = 1.0 / n
         defects = ca.mtimes(xs, ca.sparsify(ca.DM(dbig))) - h * t_f * rates
-        g, self._groups = [], []
+        g: list[ca.MX] = []
+        self._groups: list[tuple[str, int, NDArray[np.float64], NDArray[np.float64]]] = []
 
         def add(name, expr, lo, hi):
             expr = ca.vec(expr)
@@ -429,7 +431,7 @@ class Transcription:
         stop_ft = spec.stop.altitude_ft
         add("altitude above the stop altitude", (alt[1:-1] - stop_ft) / H_SCALE_FT, 0.0, np.inf)
         add("final altitude", (alt[-1] - stop_ft) / H_SCALE_FT, 0.0, 0.0)
-        self._path_rows = {}
+        self._path_rows: dict[str, object] = {}
         for con in pr.constraints:
             if con.quantity in PATH:
                 expr = self._path_expression(con.quantity, con.target, path, smoothing)
@@ -461,7 +463,7 @@ class Transcription:
         self._bounds(ns, m, n)
         self._outputs = ca.Function("outputs", [w, par], [xs, us, t_f, path])
         self._iterations = _Iterations(w.shape[0], self._g.shape[0], par.shape[0])
-        opts = {
+        opts: dict[str, bool | int | float | str | ca.Function] = {
             "ipopt.print_level": 0,
             "print_time": False,
             "ipopt.sb": "yes",
@@ -475,7 +477,7 @@ class Transcription:
         }
         self._nlp, self._opts = {"x": w, "f": f, "g": self._g, "p": par}, opts
         self.solver = ca.nlpsol("collocation", "ipopt", self._nlp, opts)
-        self._warm_solvers = {}
+        self._warm_solvers: dict[int, ca.Function] = {}
         self._violation = ca.Function("g", [w, par], [self._g])
 
     # -- pieces ------------------------------------------------------------------------------------------
@@ -666,6 +668,8 @@ class Transcription:
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
             if use_warm:
+                # use_warm: a caller's warm start, or (smoothed tables) the stage before's solution
+                assert warm is not None
                 args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
                 polish = stage == len(stages)  # the entry after the stages
                 solver = self._warm(min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polish else pr.max_iterations)
@@ -693,6 +697,7 @@ class Transcription:
                 break  # a later stage cannot mend a stage that ended without an optimum
             kept = (warm, par, stats)
         listener.report = None
+        assert warm is not None  # the plan has a stage at least, and every stage sets warm
         x = warm["x"]
         gval = np.asarray(self._violation(x, par)).ravel()
         viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
@@ -739,8 +744,8 @@ class Transcription:
         return line + (f"; {terminal[1]} by {terminal[0]:.4g}" if terminal[1] else "")
 
     def _result(self, x, par, status, message, max_violation, iterations, seconds) -> Result:
-        xs, us, t_f, path = (np.asarray(v) for v in self._outputs(x, par))
-        t_f = float(t_f.item())
+        xs, us, t_f_array, path = (np.asarray(v) for v in self._outputs(x, par))
+        t_f = float(t_f_array.item())
         final = dict(zip(self._final_names, np.asarray(self._final(x, par)).ravel().tolist()))
         pr = self.problem
         r = pr.base.planet.radius_ft + H_SCALE_FT * xs[0]
@@ -909,10 +914,12 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Res
         refly(problem, result)
         if not result.ok or agrees(result) or 2 * n > problem.max_intervals:
             break
+        assert result.guess is not None  # a solved result carries its solution (Transcription._result)
         guess, n = result.guess, 2 * n
     result.seconds, result.iterations = total_s, total_it
     if result.ok and not agrees(result):  # said, not hidden: the mesh stopped at max_intervals
         a = result.agreement
+        assert a is not None  # refly recorded it
         result.message += (
             f"; at {result.intervals} intervals the re-flight still differs by {a['latitude_deg']:.3g} deg "
             f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range"

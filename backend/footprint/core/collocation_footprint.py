@@ -19,21 +19,34 @@ is left out and counted in Footprint.asymmetry["failed"], never replaced by a gu
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core import collocation as col
-from footprint.core.footprints import Footprint, area_nmi2, mirror_is_exact, point_of_trajectory, reflect
+from footprint.core.footprints import (
+    Footprint,
+    FootprintPoint,
+    area_nmi2,
+    mirror_is_exact,
+    point_of_trajectory,
+    reflect,
+)
 from footprint.core.method_settings import Collocation
 from footprint.core.optimize import Constraint
 from footprint.core.setting import ControlSetting
-from footprint.core.trajectory import FlightSpec, simulate
+from footprint.core.trajectory import FlightSpec, Trajectory, simulate
 
 FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
 OBJECTIVE = (("downrange_nmi", 0.0), ("crossrange_nmi", 1.0))  # weighted by each solve
+_Solved = tuple[col.Result, Trajectory]  # a solve that ended optimal, and the re-flight of its controls
 
 
-def collocation_footprint(spec: FlightSpec, s: Collocation = Collocation(), on_progress=None) -> Footprint:
+def collocation_footprint(
+    spec: FlightSpec, s: Collocation = Collocation(), on_progress: Callable[[float, str], bool | None] | None = None
+) -> Footprint:
     """The true optimal footprint of `spec` (its vehicle, planet, entry, stop altitude and heating model).
 
     points_per_half down-ranges between the extremes, each half solved (the right half reflected instead only
@@ -104,12 +117,20 @@ def collocation_footprint(spec: FlightSpec, s: Collocation = Collocation(), on_p
 class _Walk:
     """The solves of one footprint on one transcription, counted and reported."""
 
-    def __init__(self, problem, stages, total, on_progress):
+    def __init__(
+        self,
+        problem: col.Problem,
+        stages: tuple[float, ...],
+        total: int,
+        on_progress: Callable[[float, str], bool | None] | None,
+    ) -> None:
         self.problem, self.stages, self.total, self.on_progress = problem, stages, total, on_progress
         self.transcription = col.Transcription(problem)
-        self.solves, self.failed, self.last = 0, [], None
+        self.solves = 0
+        self.failed: list[dict[str, Any]] = []
+        self.last: col.Result | None = None
 
-    def _solve(self, guess, **options):
+    def _solve(self, guess: col.Guess, **options: Any) -> _Solved | None:
         """One solve, its iterations reported as this solve's share of the footprint."""
         report = (
             None
@@ -128,18 +149,28 @@ class _Walk:
             return None
         return result, col.refly(self.problem, result)
 
-    def first(self, guess, weights, what):
+    def first(self, guess: col.Guess, weights: tuple[float, float], what: str) -> _Solved:
         """A cold solve (each stage of the tables' corners); no optimum here ends the footprint, saying why."""
         solved = self._solve(guess, weights=weights, stages=self.stages)
         if solved is None:
+            assert self.last is not None  # _solve keeps every result it returns None for
             raise col.NoOptimum(f"collocation footprint: {what}: {self.last.one_line()}")
         return solved
 
-    def step(self, seed, weights, side, downrange_nmi=None, crossrange_nmi=(-FREE_NMI, math.inf), point=True):
+    def step(
+        self,
+        seed: _Solved,
+        weights: tuple[float, float],
+        side: str,
+        downrange_nmi: float | None = None,
+        crossrange_nmi: tuple[float, float] = (-FREE_NMI, math.inf),
+        point: bool = True,
+    ) -> _Solved | None:
         """A neighbour, warm-started from `seed` (result, trajectory), its down-range held where given and its
         cross-range within a band; None where it ends without an optimum (a boundary point's failure is
         listed)."""
         result = seed[0]
+        assert result.guess is not None  # a solved result carries its solution (collocation.Transcription._result)
         down = (-FREE_NMI, math.inf) if downrange_nmi is None else (downrange_nmi, downrange_nmi)
         targets = {"downrange_nmi": down, "crossrange_nmi": crossrange_nmi}
         solved = self._solve(
@@ -149,12 +180,12 @@ class _Walk:
             self.failed.append({"side": side, "downrange_nmi": downrange_nmi, "weights": list(weights)})
         return solved
 
-    def half(self, seed, grid, sign):
+    def half(self, seed: _Solved, grid: NDArray[np.float64], sign: float) -> list[tuple[float | None, _Solved]]:
         """One half's solves at the grid's down-ranges, walked out from the free optimum both ways:
         [(down-range held or None, (result, trajectory))] by down-range."""
         side = "left" if sign > 0 else "right"
         d_free = seed[1].summary["downrange_nmi"]
-        solved = {d_free: seed}  # the half's maximum cross-range is a boundary point too
+        solved: dict[float, _Solved] = {d_free: seed}  # the half's maximum cross-range is a boundary point too
         for targets in (sorted(d for d in grid if d >= d_free), sorted((d for d in grid if d < d_free), reverse=True)):
             at = seed
             for d in targets:
@@ -164,21 +195,22 @@ class _Walk:
         return [(None if d == d_free else d, solved[d]) for d in sorted(solved)]
 
 
-def _direction(xi_deg):
+def _direction(xi_deg: float) -> tuple[float, float]:
     """The objective weights (down-range, cross-range) of the support direction xi_deg."""
     xi = math.radians(xi_deg)
     return (round(math.cos(xi), 12), round(math.sin(xi), 12))
 
 
-def _mirrored_guess(problem, result):
+def _mirrored_guess(problem: col.Problem, result: col.Result) -> col.Guess:
     """The right half's first guess: the left optimum's controls with the bank reversed, flown."""
     controls = dict(result.controls, bank_deg=-np.asarray(result.controls["bank_deg"]))
     return col.guess_from_trajectory(problem.base, simulate(col.control_tables_spec(problem.base, controls)))
 
 
-def _point(solved, side, downrange_nmi=None):
+def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> FootprintPoint:
     result, trajectory = solved
     a = result.agreement
+    assert a is not None  # collocation.refly recorded it
     parameter = ControlSetting(
         downrange_target_nmi=downrange_nmi,
         iterations=result.iterations,

@@ -16,9 +16,12 @@ Pure core: numpy and the standard library only.
 
 import math
 import time
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.controls import (
     ALPHA_MAX_LD_FLOOR,
@@ -38,6 +41,7 @@ from footprint.core.optimize import (
     TTOL_TEMPERATURE_R,
     Constraint,
     Problem,
+    Result,
     creep_pattern_feasible,
     nominal_bank_deg,
     with_bank_table,
@@ -59,11 +63,15 @@ CONTROLS = ("bank", "bank_alpha")
 # integrator steps allowed per searched flight: a normal Table 2 flight takes 100-600 steps; some steep-bank,
 # high-alpha corners chatter to the 200,000-step default (0.5 s each). Such a flight ends "max_steps".
 SEARCH_MAX_STEPS = 20_000
+_Task = tuple[str, float | None, FlightSpec, dict[str, Any]]  # (label, target down-range, spec, solve's options)
 
 
 # ------------------------------------------------------------------------------------------------- controls
 def with_alpha_table(
-    spec: FlightSpec, alpha_deg, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, law=ALPHA_TABLE_VELOCITY
+    spec: FlightSpec,
+    alpha_deg: ArrayLike,
+    velocities_fps: Sequence[float] = ALPHA_TABLE_VELOCITIES_FPS,
+    law: int = ALPHA_TABLE_VELOCITY,
 ) -> FlightSpec:
     """The spec flying alpha = linear interpolation in (V, alpha), held at the table's ends, over the whole
     flight (law ALPHA_TABLE_TIME / ALPHA_TABLE_ENERGY: the nodes are times in s / energy heights in ft;
@@ -72,7 +80,10 @@ def with_alpha_table(
 
 
 def bank_alpha_controls(
-    spec: FlightSpec, params, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, law=ALPHA_TABLE_VELOCITY
+    spec: FlightSpec,
+    params: NDArray[np.float64],
+    velocities_fps: Sequence[float] = ALPHA_TABLE_VELOCITIES_FPS,
+    law: int = ALPHA_TABLE_VELOCITY,
 ) -> FlightSpec:
     """params = 8 bank-table angles (deg, at zeta -15..90) then the alpha-table angles (deg, at velocities_fps;
     at times in s when law is ALPHA_TABLE_TIME)."""
@@ -96,11 +107,11 @@ class ControlTable:
     in the abscissa's unit (deg, s, ft/s, ft), and the bounds and starting value of the angle at each node (deg)."""
 
     abscissa: str  # bank: zeta | heading | time | velocity | energy; alpha: velocity | time | energy
-    nodes: tuple
-    bounds_deg: tuple  # (lower, upper), the same at every node
-    initial_deg: tuple  # one per node
+    nodes: tuple[float, ...]
+    bounds_deg: tuple[float, ...]  # (lower, upper), the same at every node
+    initial_deg: tuple[float, ...]  # one per node
 
-    def names(self, angle) -> tuple:
+    def names(self, angle: str) -> tuple[str, ...]:
         return tuple(f"{angle}_deg_at_{NODE_LABELS[self.abscissa]}_{x:.10g}" for x in self.nodes)
 
 
@@ -109,7 +120,9 @@ REPORT_BANK_TABLE = ControlTable("zeta", BANK_TABLE_HEADINGS_DEG, BANK_BOUNDS_DE
 
 
 def section_iii_alpha_table(
-    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, times_s=None, bounds_deg=ALPHA_BOUNDS_DEG
+    velocities_fps: Sequence[float] = ALPHA_TABLE_VELOCITIES_FPS,
+    times_s: Sequence[float] | None = None,
+    bounds_deg: tuple[float, float] = ALPHA_BOUNDS_DEG,
 ) -> ControlTable:
     """Section III's alpha table: against velocity (or time when times_s is given), from (L/D)max of lod-1.89."""
     nodes = tuple(velocities_fps if times_s is None else times_s)
@@ -126,7 +139,7 @@ class TableControls:
     bank: ControlTable
     alpha: ControlTable | None = None
 
-    def __call__(self, spec, params):
+    def __call__(self, spec: FlightSpec, params: NDArray[np.float64]) -> FlightSpec:
         nb = len(self.bank.nodes)
         spec = with_bank_table(spec, params[:nb], self.bank.nodes, self.bank.abscissa)
         if self.alpha is None:
@@ -134,31 +147,31 @@ class TableControls:
         return with_alpha_table(spec, params[nb:], self.alpha.nodes, law=ALPHA_TABLE_BY_ABSCISSA[self.alpha.abscissa])
 
     @property
-    def tables(self) -> tuple:
+    def tables(self) -> tuple[ControlTable, ...]:
         return (self.bank,) if self.alpha is None else (self.bank, self.alpha)
 
 
 # ------------------------------------------------------------------------------------------------- problems
-def temperature_limit(max_temperature_R, tolerance_R=TTOL_TEMPERATURE_R) -> Constraint:
+def temperature_limit(max_temperature_R: float, tolerance_R: float = TTOL_TEMPERATURE_R) -> Constraint:
     """Section III: the radiation-equilibrium temperature held at most `max_temperature_R` (TTOL 5 degR)."""
     return Constraint("max_temperature_R", "at_most", float(max_temperature_R), tolerance_R)
 
 
-def downrange_target(downrange_nmi, tolerance_nmi=TTOL_DOWNRANGE_NMI) -> Constraint:
+def downrange_target(downrange_nmi: float, tolerance_nmi: float = TTOL_DOWNRANGE_NMI) -> Constraint:
     return Constraint("downrange_nmi", "equals", float(downrange_nmi), tolerance_nmi)
 
 
 def control_problem(
     spec: FlightSpec,
     *,
-    payoff="crossrange_nmi",
-    goal="max",
-    constraints=(),
-    controls="bank",
-    initial=None,
-    alpha_bounds_deg=ALPHA_BOUNDS_DEG,
-    velocities_fps=ALPHA_TABLE_VELOCITIES_FPS,
-    alpha_times_s=None,
+    payoff: str = "crossrange_nmi",
+    goal: str = "max",
+    constraints: Iterable[Constraint] = (),
+    controls: str = "bank",
+    initial: ArrayLike | None = None,
+    alpha_bounds_deg: tuple[float, float] = ALPHA_BOUNDS_DEG,
+    velocities_fps: Sequence[float] = ALPHA_TABLE_VELOCITIES_FPS,
+    alpha_times_s: Sequence[float] | None = None,
     bank_table: ControlTable = REPORT_BANK_TABLE,
     alpha_table: ControlTable | None = None,
 ) -> Problem:
@@ -175,7 +188,10 @@ def control_problem(
     if controls == "bank_alpha" and alpha_table is None:
         alpha_table = section_iii_alpha_table(velocities_fps, alpha_times_s, alpha_bounds_deg)
     fly = TableControls(bank_table, alpha_table)
-    lower, upper, default, names = (), (), (), ()
+    lower: tuple[float, ...] = ()
+    upper: tuple[float, ...] = ()
+    default: tuple[float, ...] = ()
+    names: tuple[str, ...] = ()
     for t, angle in zip(fly.tables, ("bank", "alpha")):
         lower += (t.bounds_deg[0],) * len(t.nodes)
         upper += (t.bounds_deg[1],) * len(t.nodes)
@@ -184,7 +200,7 @@ def control_problem(
     return Problem(
         lower=np.array(lower),
         upper=np.array(upper),
-        initial=default if initial is None else initial,
+        initial=np.asarray(default if initial is None else initial, dtype=np.float64),
         payoff=payoff,
         goal=goal,
         constraints=tuple(constraints),
@@ -195,7 +211,7 @@ def control_problem(
     )
 
 
-def accepted_stops(spec: FlightSpec) -> tuple:
+def accepted_stops(spec: FlightSpec) -> tuple[str, ...]:
     """The stop reasons of a flight that ended where the spec asks: at its stop altitude, velocity or time."""
     st = spec.stop
     return tuple(
@@ -211,20 +227,25 @@ class _Flight:
     default time stop) has no payoff, so the search never takes a truncated flight for a short one."""
 
     base: FlightSpec
-    controls: object
+    controls: Callable[[FlightSpec, NDArray[np.float64]], FlightSpec]
     payoff: str
 
-    def __call__(self, params):
+    def __call__(self, params: NDArray[np.float64]) -> dict[str, Any]:
         s = simulate_summary(replace(self.controls(self.base, params), max_steps=SEARCH_MAX_STEPS))
         return s if s["stop_reason"] in accepted_stops(self.base) else dict(s, **{self.payoff: None})
 
 
 def search_options(
-    controls="bank", constrained=True, velocities_fps=ALPHA_TABLE_VELOCITIES_FPS, bank_nodes=BANK_TABLE_HEADINGS_DEG
-) -> dict:
+    controls: str = "bank",
+    constrained: bool = True,
+    velocities_fps: Sequence[float] = ALPHA_TABLE_VELOCITIES_FPS,
+    bank_nodes: Sequence[float] = BANK_TABLE_HEADINGS_DEG,
+) -> dict[str, float | NDArray[np.float64]]:
     """Creep/pattern settings: the bank-table ones (optimize.py), with alpha steps in their own degrees
     (velocities_fps, bank_nodes: the tables' nodes, whatever their abscissa)."""
-    base = dict(CONSTRAINED_CROSS_RANGE_SEARCH if constrained else CROSS_RANGE_SEARCH)
+    base: dict[str, float | NDArray[np.float64]] = dict(
+        CONSTRAINED_CROSS_RANGE_SEARCH if constrained else CROSS_RANGE_SEARCH
+    )
     if controls == "bank_alpha":
         nb, na = len(bank_nodes), len(velocities_fps)
         base["step"] = np.concatenate((np.full(nb, base["step"]), np.full(na, ALPHA_STEP_DEG)))
@@ -235,17 +256,17 @@ def search_options(
 def solve(
     spec: FlightSpec,
     *,
-    payoff="crossrange_nmi",
-    goal="max",
-    constraints=(),
-    controls="bank",
-    initial=None,
-    max_evaluations=1_500,
-    **options,
-):
+    payoff: str = "crossrange_nmi",
+    goal: str = "max",
+    constraints: Iterable[Constraint] = (),
+    controls: str = "bank",
+    initial: ArrayLike | None = None,
+    max_evaluations: int = 1_500,
+    **options: Any,
+) -> Result:
     """One point: build the problem and run the report's creep + pattern search with the penalty stages."""
     pr = control_problem(spec, payoff=payoff, goal=goal, constraints=constraints, controls=controls, initial=initial)
-    opts = search_options(controls, constrained=bool(constraints))
+    opts: dict[str, Any] = search_options(controls, constrained=bool(constraints))  # creep_pattern's keywords
     opts.update(options)
     return creep_pattern_feasible(pr, max_evaluations=max_evaluations, **opts)
 
@@ -255,17 +276,19 @@ def solve(
 class OptimalPoint:
     label: str  # "max_crossrange", "max_downrange", "min_downrange" or "downrange_<nmi>"
     target_downrange_nmi: float | None
-    result: object  # optimize.Result
+    result: Result
 
     @property
-    def downrange_nmi(self):
-        return self.result.summary["downrange_nmi"]
+    def downrange_nmi(self) -> float | None:
+        value: float | None = self.result.summary["downrange_nmi"]  # None: the payoff of a flight _Flight refused
+        return value
 
     @property
-    def crossrange_nmi(self):
-        return self.result.summary["crossrange_nmi"]
+    def crossrange_nmi(self) -> float | None:
+        value: float | None = self.result.summary["crossrange_nmi"]
+        return value
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         s = self.result.summary
         return {
             "label": self.label,
@@ -287,12 +310,12 @@ class OptimalFootprint:
     trajectories: int
     seconds: float  # wall clock
     controls: str
-    constraints: tuple = field(default_factory=tuple)
+    constraints: tuple[Constraint, ...] = field(default_factory=tuple)
 
-    def point(self, label):
+    def point(self, label: str) -> OptimalPoint:
         return next(p for p in self.points if p.label == label)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         return {
             "controls": self.controls,
             "trajectories": self.trajectories,
@@ -302,24 +325,24 @@ class OptimalFootprint:
         }
 
 
-def _solve_task(task):
+def _solve_task(task: _Task) -> OptimalPoint:
     label, target, spec, kw = task
     return OptimalPoint(label, target, solve(spec, **kw))
 
 
 def optimal_footprint(
     spec: FlightSpec,
-    downranges_nmi=(),
-    constraints=(),
-    controls="bank",
+    downranges_nmi: Iterable[float] = (),
+    constraints: Iterable[Constraint] = (),
+    controls: str = "bank",
     *,
-    max_crossrange=True,
-    max_downrange=True,
-    min_downrange=False,
-    map_tasks=map,
-    max_evaluations=1_500,
-    initial=None,
-    **options,
+    max_crossrange: bool = True,
+    max_downrange: bool = True,
+    min_downrange: bool = False,
+    map_tasks: Callable[[Callable[[_Task], OptimalPoint], list[_Task]], Iterable[OptimalPoint]] = map,
+    max_evaluations: int = 1_500,
+    initial: Sequence[float] | NDArray[np.float64] | None = None,
+    **options: Any,
 ) -> OptimalFootprint:
     """Section II.5 / Fig. 12, 21 (and Fig. 29 with a temperature constraint): maximum cross-range at each
     prescribed down-range (TTOL 50 nmi), the unconstrained maximum cross-range, the maximum down-range and,
@@ -332,7 +355,7 @@ def optimal_footprint(
     cons = tuple(constraints)
     nb = len(BANK_TABLE_HEADINGS_DEG)
     common = dict(controls=controls, max_evaluations=max_evaluations, **options)
-    tasks = []
+    tasks: list[_Task] = []
     if max_crossrange:
         tasks.append(("max_crossrange", None, spec, dict(common, constraints=cons, initial=initial)))
     for d in downranges_nmi:
@@ -385,12 +408,18 @@ def optimal_footprint(
 
 
 def max_crossrange_vs_temperature(
-    spec: FlightSpec, limits_R, *, map_tasks=map, max_evaluations=1_500, initial=None, **options
-):
+    spec: FlightSpec,
+    limits_R: Sequence[float | None],
+    *,
+    map_tasks: Callable[[Callable[[_Task], OptimalPoint], list[_Task]], Iterable[OptimalPoint]] = map,
+    max_evaluations: int = 1_500,
+    initial: ArrayLike | None = None,
+    **options: Any,
+) -> list[tuple[float | None, Result]]:
     """Fig. 22: the maximum cross-range with bank and alpha tables under each RET limit (None: unconstrained,
     bank only at (L/D)max alpha, as Fig. 20's unconstrained case), one task per limit run by map_tasks (as in
     optimal_footprint). Returns [(limit, Result)]."""
-    tasks = []
+    tasks: list[_Task] = []
     for lim in limits_R:
         if lim is None or (isinstance(lim, float) and math.isinf(lim)):
             tasks.append(
@@ -428,7 +457,7 @@ FLOOR_BISECTIONS = 5  # 2.5 deg / 2^5 = 0.08 deg
 REFINE_HALVINGS = 2  # bank settings added between the max cross-range setting and its neighbours, twice
 
 
-def with_alpha_floor(spec: FlightSpec, floor_deg) -> FlightSpec:
+def with_alpha_floor(spec: FlightSpec, floor_deg: float) -> FlightSpec:
     """The spec flying alpha = max((L/D)max, floor), the floor 0 below 12,000 ft/s, floor_deg above 16,000."""
     return with_alpha_table(spec, (0.0, float(floor_deg)), FLOOR_VELOCITIES_FPS, law=ALPHA_MAX_LD_FLOOR)
 
@@ -437,19 +466,23 @@ def with_alpha_floor(spec: FlightSpec, floor_deg) -> FlightSpec:
 class LimitedPoint:
     bank0_deg: float
     floor_deg: float | None  # None: no floor in the bounds meets the limit (the point is left out)
-    summary: dict  # the kept flight's summary, or the coolest flight's when none meets the limit
+    summary: dict[str, Any]  # the kept flight's summary, or the coolest flight's when none meets the limit
     flights: int
 
 
 def coolest_floor(
-    spec: FlightSpec, limit_R, tolerance_R=TTOL_TEMPERATURE_R, bounds_deg=ALPHA_BOUNDS_DEG, bank0_deg=0.0
+    spec: FlightSpec,
+    limit_R: float,
+    tolerance_R: float = TTOL_TEMPERATURE_R,
+    bounds_deg: tuple[float, float] = ALPHA_BOUNDS_DEG,
+    bank0_deg: float = 0.0,
 ) -> LimitedPoint:
     """The smallest alpha floor (deg) whose flight ends at the stop altitude with max RET <= limit + tolerance."""
 
-    def fly(floor_deg):
+    def fly(floor_deg: float) -> dict[str, Any]:
         return simulate_summary(replace(with_alpha_floor(spec, floor_deg), max_steps=SEARCH_MAX_STEPS))
 
-    def ok(s):
+    def ok(s: dict[str, Any]) -> bool:
         return s["stop_reason"] in accepted_stops(spec) and s["max_temperature_R"] <= limit_R + tolerance_R
 
     hot = bounds_deg[0]
@@ -482,7 +515,7 @@ class LimitedFootprint:
     seconds: float
 
     @property
-    def trajectories(self):
+    def trajectories(self) -> int:
         return self.footprint.trajectories
 
 
@@ -494,7 +527,7 @@ def temperature_limited_footprint(spec: FlightSpec, s: TemperatureLimited) -> Li
     t0 = time.perf_counter()
     limit_R, tolerance_R, mirror = s.limit_R, s.tolerance_R, s.mirror
 
-    def search(settings, right=False):
+    def search(settings: Iterable[float], right: bool = False) -> list[LimitedPoint]:
         return [
             coolest_floor(
                 with_bank(spec, "single_parameter", bank_gain=b / SIGMA0_DEG, right=right),
@@ -534,7 +567,8 @@ def temperature_limited_footprint(spec: FlightSpec, s: TemperatureLimited) -> Li
         )
     fp = footprint_of_family("temperature_limited", spec, family, mirror)
     if right is not left:  # a flown right point names its own floor
-        floors = {q.bank0_deg: q.floor_deg for q in right}
+        # keyed as a point's ControlSetting.bank0_deg (float | None) is looked up: every point here has one
+        floors: dict[float | None, float | None] = {q.bank0_deg: q.floor_deg for q in right}
         fp.points = [
             replace(pt, parameter=replace(pt.parameter, alpha_floor_deg=floors[pt.parameter.bank0_deg]))
             if pt.side == "right"

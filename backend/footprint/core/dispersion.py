@@ -23,8 +23,10 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy import stats
 from scipy.stats import qmc
 
@@ -58,8 +60,9 @@ class Normal:
             else f"mean {self.mean!r}, std {self.std!r}: need a finite mean and std > 0"
         )
 
-    def ppf(self, u):
-        return stats.norm.ppf(u, loc=self.mean, scale=self.std)
+    def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
+        x: NDArray[np.float64] = stats.norm.ppf(u, loc=self.mean, scale=self.std)
+        return x
 
 
 @dataclass(frozen=True)
@@ -74,7 +77,7 @@ class Uniform:
             else f"low {self.low!r}, high {self.high!r}: need finite low < high"
         )
 
-    def ppf(self, u):
+    def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
         return self.low + (self.high - self.low) * u
 
 
@@ -95,9 +98,10 @@ class TruncatedNormal:
             )
         return None
 
-    def ppf(self, u):
+    def ppf(self, u: NDArray[np.float64]) -> NDArray[np.float64]:
         a, b = (self.low - self.mean) / self.std, (self.high - self.mean) / self.std
-        return stats.truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std)
+        x: NDArray[np.float64] = stats.truncnorm.ppf(u, a, b, loc=self.mean, scale=self.std)
+        return x
 
 
 Distribution = Normal | Uniform | TruncatedNormal
@@ -111,7 +115,7 @@ class GaussMarkovDensity:
     z standard normal, delta = std x; held at DELTA_FLOOR or above."""
 
     # After the small-scale perturbation model of NASA's GRAM (Justus et al., GRAM-95, NASA TM-4715, 1995).
-    std: float | tuple | np.ndarray
+    std: float | tuple[float, ...] | NDArray[np.float64]
     correlation_length_ft: float = CORRELATION_LENGTH_DEFAULT_FT
 
     def problem(self) -> str | None:
@@ -124,7 +128,7 @@ class GaussMarkovDensity:
             return f"correlation_length_ft {self.correlation_length_ft!r} must be a finite number > 0 ft"
         return None
 
-    def profiles(self, z: np.ndarray) -> np.ndarray:
+    def profiles(self, z: NDArray[np.float64]) -> NDArray[np.float64]:
         """delta (n, DENSITY_NODE_COUNT) from standard normals z of the same shape."""
         phi = math.exp(-DENSITY_NODE_SPACING_FT / self.correlation_length_ft)
         x = np.empty_like(z)
@@ -141,8 +145,8 @@ class Samples:
     None. `samples[i:j]` is a chunk."""
 
     n: int
-    values: dict
-    density_delta: np.ndarray | None
+    values: dict[str, NDArray[np.float64]]
+    density_delta: NDArray[np.float64] | None
 
     def __len__(self) -> int:
         return self.n
@@ -157,13 +161,13 @@ class Samples:
         )
 
 
-def unit_points(n: int, dimensions: int, seed: int, method: str = "sobol") -> np.ndarray:
+def unit_points(n: int, dimensions: int, seed: int, method: str = "sobol") -> NDArray[np.float64]:
     """n points (n, dimensions) of the open unit cube: scrambled Sobol', Latin hypercube or pseudo-random."""
     rng = np.random.default_rng(seed)
     if method == "sobol":
         with warnings.catch_warnings():  # scipy warns when n is not a power of two (see the module docstring)
             warnings.simplefilter("ignore", UserWarning)
-            u = qmc.Sobol(dimensions, scramble=True, seed=rng).random(n)
+            u: NDArray[np.float64] = qmc.Sobol(dimensions, scramble=True, seed=rng).random(n)
     elif method == "lhs":
         u = qmc.LatinHypercube(dimensions, seed=rng).random(n)
     else:
@@ -198,7 +202,7 @@ def draw(
     return Samples(int(n), values, delta)
 
 
-def _check(distributions, n, method, density):
+def _check(distributions: dict[str, Distribution], n: int, method: str, density: GaussMarkovDensity | None) -> None:
     if not (isinstance(n, (int, np.integer)) and n >= 1):
         raise InputError("n", f"{n!r} must be a whole number >= 1")
     if method not in METHODS:
@@ -230,6 +234,6 @@ def sample_spec(base: FlightSpec, samples: Samples, i: int) -> FlightSpec:
     return replace(spec, dispersion=dispersion)
 
 
-def summaries(base: FlightSpec, samples: Samples) -> list[dict]:
+def summaries(base: FlightSpec, samples: Samples) -> list[dict[str, Any]]:
     """The summary (trajectory.simulate_summary) of every sample, in order: one chunk of a Monte Carlo run."""
     return [simulate_summary(sample_spec(base, samples, i)) for i in range(len(samples))]

@@ -11,6 +11,9 @@ are in) in a small float64 array `mode`, changed only at located events.
 
 import math
 
+import numpy as np
+from numpy.typing import NDArray
+
 from footprint.core import aero as _aero
 from footprint.core._jit import njit
 from footprint.core.atmosphere import DENSITY_NODE_COUNT, atmosphere, density_factor
@@ -101,13 +104,13 @@ EV_RHO_SLUG_FT3 = 14
 
 
 @njit
-def energy_height_ft(altitude_ft, speed_fps, g0_ft_s2):
+def energy_height_ft(altitude_ft: float, speed_fps: float, g0_ft_s2: float) -> float:
     """Specific energy over g0, h + V^2/(2 g0) (ft): the energy abscissa of the control tables."""
     return altitude_ft + 0.5 * speed_fps * speed_fps / g0_ft_s2
 
 
 @njit(allocates=False)
-def holds_with_alpha(ctrl, mode):
+def holds_with_alpha(ctrl: NDArray[np.float64], mode: NDArray[np.float64]) -> bool:
     """True while alpha, not (L/D)max, flies the commanded path: level flight or gamma hold after pull-out
     (Section II.7), and the constant-altitude law after its turn (App. C data set 2: the straight flight
     after roll-out holds the altitude with alpha until (L/D)max is reached)."""
@@ -120,7 +123,9 @@ def holds_with_alpha(ctrl, mode):
 
 
 @njit(allocates=False)
-def steering_angles(x, y, z, vx, vy, vz, p):
+def steering_angles(
+    x: float, y: float, z: float, vx: float, vy: float, vz: float, p: NDArray[np.float64]
+) -> tuple[float, float]:
     """(zeta, heading) in degrees: remaining heading change and azimuth of the horizontal velocity."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x, y, z)
     vu = vx * ux + vy * uy + vz * uz
@@ -137,7 +142,9 @@ def steering_angles(x, y, z, vx, vy, vz, p):
 
 
 @njit(allocates=False)
-def flown_coefficients(aero, p, mach, alpha_deg, altitude_ft):
+def flown_coefficients(
+    aero: NDArray[np.float64], p: NDArray[np.float64], mach: float, alpha_deg: float, altitude_ft: float
+) -> tuple[float, float]:
     """(CL, CD) of the vehicle flown: the aero table's times the dispersion multipliers (exactly 1.0 undispersed).
     Multiplying the whole curves leaves the alphas of (L/D)max, CL max and zero lift those of the tables."""
     cl, cd = _aero.coefficients(aero, mach, alpha_deg, altitude_ft)
@@ -145,7 +152,14 @@ def flown_coefficients(aero, p, mach, alpha_deg, altitude_ft):
 
 
 @njit(allocates=False)
-def evaluate(t, s, p, aero, ctrl, mode):
+def evaluate(
+    t: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+) -> tuple[float, ...]:
     """Accelerations and every derived quantity at one state, in the slots EV_* above."""
     x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
     omega = p[P_OMEGA]
@@ -248,7 +262,15 @@ def evaluate(t, s, p, aero, ctrl, mode):
 
 
 @njit(allocates=False)
-def rhs(t, s, p, aero, ctrl, mode, out):
+def rhs(
+    t: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
     """ds/dt into `out`: eqs. (1)-(3)."""
     res = evaluate(t, s, p, aero, ctrl, mode)
     out[0] = s[3]

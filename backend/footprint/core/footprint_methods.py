@@ -7,6 +7,7 @@ from collections.abc import Callable
 
 from footprint.core.constrained import temperature_limited_footprint
 from footprint.core.footprints import (
+    Family,
     Footprint,
     constant_altitude,
     constant_bank,
@@ -39,19 +40,21 @@ METHODS: dict[type, Callable[..., Footprint]] = {
 
 # the methods whose control settings are fixed laws, as families [(parameter, make(spec, right) -> spec, on_axis)]
 # (the others search or optimize each point's controls for the spec they fly: a dispersed world would change them)
-FAMILIES: dict[type, Callable[..., list]] = {
+FAMILIES: dict[type, Callable[..., Family]] = {
     SingleParameter: single_parameter_family,
     ConstantBank: constant_bank_family,
     Staged: constant_bank_family,
 }
 
 
-def control_family(settings: MethodSettings) -> tuple[list, bool]:
+def control_family(settings: MethodSettings) -> tuple[Family, bool]:
     """(the family of control settings a method flies with these settings, whether it flies both halves)."""
     return FAMILIES[type(settings)](settings), settings.mirror
 
 
-def footprint(spec: FlightSpec, settings: MethodSettings, on_progress=None) -> Footprint:
+def footprint(
+    spec: FlightSpec, settings: MethodSettings, on_progress: Callable[[float, str], bool | None] | None = None
+) -> Footprint:
     """The footprint of `spec` by the method `settings` name; on_progress(fraction, note) where the method is long
     enough to report (the collocation's IPOPT iterations)."""
     if isinstance(settings, TemperatureLimited):

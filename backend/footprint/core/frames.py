@@ -14,7 +14,9 @@ from footprint.core._jit import njit
 
 
 @njit
-def geodetic_from_ecef(x_ft, y_ft, z_ft, re_ft, rp_ft, oblate, iterations=2):
+def geodetic_from_ecef(
+    x_ft: float, y_ft: float, z_ft: float, re_ft: float, rp_ft: float, oblate: bool, iterations: int = 2
+) -> tuple[float, float, float]:
     """(geodetic latitude rad, longitude rad, altitude ft). Spherical: geocentric latitude, r - R_e.
 
     One iteration is good to 1e-9 rad and 1e-8 ft up to 3,000,000 ft (enough for the equations of motion);
@@ -41,7 +43,7 @@ def geodetic_from_ecef(x_ft, y_ft, z_ft, re_ft, rp_ft, oblate, iterations=2):
 
 
 @njit
-def altitude_ft(x_ft, y_ft, z_ft, re_ft, rp_ft, oblate):
+def altitude_ft(x_ft: float, y_ft: float, z_ft: float, re_ft: float, rp_ft: float, oblate: bool) -> float:
     """Geodetic altitude only: one Bowring step written with normalized vectors instead of trigonometry.
 
     Same accuracy as geodetic_from_ecef with one iteration (1e-8 ft to 3,000,000 ft), a quarter of the cost;
@@ -65,7 +67,9 @@ def altitude_ft(x_ft, y_ft, z_ft, re_ft, rp_ft, oblate):
 
 
 @njit
-def ecef_from_geodetic(lat_rad, lon_rad, altitude_ft, re_ft, rp_ft, oblate):
+def ecef_from_geodetic(
+    lat_rad: float, lon_rad: float, altitude_ft: float, re_ft: float, rp_ft: float, oblate: bool
+) -> tuple[float, float, float]:
     """Inverse of geodetic_from_ecef (closed form)."""
     sl, cl = math.sin(lat_rad), math.cos(lat_rad)
     if not oblate:
@@ -81,7 +85,9 @@ def ecef_from_geodetic(lat_rad, lon_rad, altitude_ft, re_ft, rp_ft, oblate):
 
 
 @njit
-def horizon_basis(x_ft, y_ft, z_ft):
+def horizon_basis(
+    x_ft: float, y_ft: float, z_ft: float
+) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Unit vectors up, north, east of the local geocentric horizon (App. A, X_g north, Z_g down)."""
     r = math.sqrt(x_ft * x_ft + y_ft * y_ft + z_ft * z_ft)
     ux, uy, uz = x_ft / r, y_ft / r, z_ft / r
@@ -98,7 +104,7 @@ def horizon_basis(x_ft, y_ft, z_ft):
 
 
 @njit
-def flight_angles(x_ft, y_ft, z_ft, vx, vy, vz):
+def flight_angles(x_ft: float, y_ft: float, z_ft: float, vx: float, vy: float, vz: float) -> tuple[float, float, float]:
     """(speed ft/s, flight-path angle rad, heading rad in [0, 2 pi)) of an earth-fixed velocity."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x_ft, y_ft, z_ft)
     v = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -113,7 +119,9 @@ def flight_angles(x_ft, y_ft, z_ft, vx, vy, vz):
 
 
 @njit
-def velocity_from_angles(x_ft, y_ft, z_ft, speed_fps, gamma_rad, heading_rad):
+def velocity_from_angles(
+    x_ft: float, y_ft: float, z_ft: float, speed_fps: float, gamma_rad: float, heading_rad: float
+) -> tuple[float, float, float]:
     """Earth-fixed velocity from speed, flight-path angle and heading in the geocentric horizon."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(x_ft, y_ft, z_ft)
     vu = speed_fps * math.sin(gamma_rad)

@@ -13,7 +13,7 @@ from footprint.core._jit import njit
 
 
 @njit
-def zonal_down_north(g0, s, q, j, h, k):
+def zonal_down_north(g0: float, s: float, q: float, j: float, h: float, k: float) -> tuple[float, float]:
     """(g_Zg, g_Xg / cos(phi_L)): App. A eq. (A10), downward and northward over cos(latitude), at
     g0 = mu/r^2, s = sin(phi_L) (geocentric), q = R_e/r. Plain arithmetic, so the collocation's CasADi model
     (core.model_casadi) calls the same lines through `zonal_down_north.py_func`."""
@@ -34,7 +34,9 @@ def zonal_down_north(g0, s, q, j, h, k):
 
 
 @njit
-def gravity_ecef(x_ft, y_ft, z_ft, mu_ft3_s2, re_ft, j, h, k, oblate):
+def gravity_ecef(
+    x_ft: float, y_ft: float, z_ft: float, mu_ft3_s2: float, re_ft: float, j: float, h: float, k: float, oblate: bool
+) -> tuple[float, float, float]:
     """Gravitational acceleration (ft/s^2) at an earth-fixed position; z along the north pole."""
     r2 = x_ft * x_ft + y_ft * y_ft + z_ft * z_ft
     r = math.sqrt(r2)

@@ -36,6 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core._jit import njit
 from footprint.core.atmosphere import atmosphere_table
@@ -51,8 +52,8 @@ DKR_V_EXPONENT = 3.15  # Detra-Kemp-Riddell velocity exponent
 DKR_RHO_SL_SLUG_FT3 = 0.0023769  # Detra-Kemp-Riddell sea-level density
 DKR_COLD_WALL_R = 540.0  # Detra-Kemp-Riddell cold wall, 300 K
 # Table 1 of AFWAL-TR-82-3036: h/h_F&R against alpha (deg). The repeated .23 at 30 and 40 deg is as printed.
-TABLE1_ALPHA_DEG = np.array([0.0, 20.0, 25.0, 30.0, 40.0, 45.0, 50.0])
-TABLE1_RATIO = np.array([0.17, 0.175, 0.20, 0.23, 0.23, 0.26, 0.30])
+TABLE1_ALPHA_DEG: NDArray[np.float64] = np.array([0.0, 20.0, 25.0, 30.0, 40.0, 45.0, 50.0])
+TABLE1_RATIO: NDArray[np.float64] = np.array([0.17, 0.175, 0.20, 0.23, 0.23, 0.26, 0.30])
 # Calibrated effective reference radius of h_F&R (ft). The calibration flight is Section III.1's: the unconstrained
 # maximum cross-range of the L/D 1.89 vehicle (Table 2 entry, (L/D)max alpha, zero bank to pull-out, stop at
 # 50,000 ft), flying the optimal 8-point bank table vs zeta = -15..90 deg (creep + pattern, 2,044.5 nmi,
@@ -65,30 +66,35 @@ SKIN_SUBSTEP_S = 0.5  # s: trapezoidal sub-steps of the thin-skin equation betwe
 SKIN_INITIAL_R = 530.0  # degR: skin temperature at entry (a cold-soaked structure)
 
 
-def table1_ratio(alpha_deg):
+def table1_ratio(alpha_deg: ArrayLike) -> NDArray[np.float64]:
     """h/h_F&R of Table 1 (eq. 5): linear in alpha (deg), held at the ends."""
-    return np.interp(np.asarray(alpha_deg, dtype=float), TABLE1_ALPHA_DEG, TABLE1_RATIO)
+    return np.interp(np.asarray(alpha_deg, dtype=np.float64), TABLE1_ALPHA_DEG, TABLE1_RATIO)
 
 
-def total_enthalpy_btu_lbm(velocity_fps, temperature_inf_R):
+def total_enthalpy_btu_lbm(velocity_fps: ArrayLike, temperature_inf_R: ArrayLike) -> NDArray[np.float64]:
     """H_0 = c_p T_inf + V^2/2 (Btu/lbm)."""
-    v = np.asarray(velocity_fps, dtype=float)
-    return CP_AIR_BTU_LBM_R * np.asarray(temperature_inf_R, dtype=float) + 0.5 * v * v / FT2_S2_PER_BTU_LBM
+    v = np.asarray(velocity_fps, dtype=np.float64)
+    return CP_AIR_BTU_LBM_R * np.asarray(temperature_inf_R, dtype=np.float64) + 0.5 * v * v / FT2_S2_PER_BTU_LBM
 
 
-def fay_riddell_cold_wall_btu_ft2_s(density_slug_ft3, velocity_fps, nose_radius_ft):
+def fay_riddell_cold_wall_btu_ft2_s(
+    density_slug_ft3: ArrayLike, velocity_fps: ArrayLike, nose_radius_ft: float
+) -> NDArray[np.float64]:
     """Cold-wall stagnation heat rate (Btu/(ft^2 s)), Fay-Riddell in the Detra-Kemp-Riddell closed form."""
-    rho = np.maximum(np.asarray(density_slug_ft3, dtype=float), 0.0)
-    v = np.abs(np.asarray(velocity_fps, dtype=float))
-    return (
+    rho = np.maximum(np.asarray(density_slug_ft3, dtype=np.float64), 0.0)
+    v = np.abs(np.asarray(velocity_fps, dtype=np.float64))
+    q_cw: NDArray[np.float64] = (  # typed: numpy types np.sqrt of a float as Any
         DKR_Q_BTU_FT2_S
         / np.sqrt(nose_radius_ft)
         * np.sqrt(rho / DKR_RHO_SL_SLUG_FT3)
         * (v / DKR_V_FPS) ** DKR_V_EXPONENT
     )
+    return q_cw
 
 
-def fay_riddell_coefficient_lbm_ft2_s(density_slug_ft3, velocity_fps, temperature_inf_R, nose_radius_ft):
+def fay_riddell_coefficient_lbm_ft2_s(
+    density_slug_ft3: ArrayLike, velocity_fps: ArrayLike, temperature_inf_R: ArrayLike, nose_radius_ft: float
+) -> NDArray[np.float64]:
     """h_F&R = q_cw / (H_0 - H_W,cold) (lbm/(ft^2 s)); zero where H_0 does not exceed the cold-wall enthalpy."""
     q_cw = fay_riddell_cold_wall_btu_ft2_s(density_slug_ft3, velocity_fps, nose_radius_ft)
     drive = total_enthalpy_btu_lbm(velocity_fps, temperature_inf_R) - CP_AIR_BTU_LBM_R * DKR_COLD_WALL_R
@@ -96,16 +102,18 @@ def fay_riddell_coefficient_lbm_ft2_s(density_slug_ft3, velocity_fps, temperatur
         return np.where(drive > 0.0, q_cw / np.where(drive > 0.0, drive, 1.0), 0.0)
 
 
-def radiation_equilibrium_R(heat_rate_btu_ft2_s, emissivity):
+def radiation_equilibrium_R(heat_rate_btu_ft2_s: ArrayLike, emissivity: float) -> NDArray[np.float64]:
     """Eq. (7): T = [q / (4.75e-13 eps)]^0.25 (degR), for a heat rate that does not depend on T."""
-    q = np.maximum(np.asarray(heat_rate_btu_ft2_s, dtype=float), 0.0)
+    q = np.maximum(np.asarray(heat_rate_btu_ft2_s, dtype=np.float64), 0.0)
     return (q / (SIGMA_REPORT_BTU_FT2_S_R4 * emissivity)) ** 0.25
 
 
-def wall_equilibrium_R(coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissivity, iterations=60):
+def wall_equilibrium_R(
+    coefficient_lbm_ft2_s: ArrayLike, recovery_enthalpy_btu_lbm: ArrayLike, emissivity: float, iterations: int = 60
+) -> NDArray[np.float64]:
     """Eqs. (6)-(7) together: the T with h (H_AW - c_p T) = 4.75e-13 eps T^4 (degR), vectorized Newton."""
-    h = np.maximum(np.asarray(coefficient_lbm_ft2_s, dtype=float), 0.0)
-    haw = np.maximum(np.asarray(recovery_enthalpy_btu_lbm, dtype=float), 0.0)
+    h = np.maximum(np.asarray(coefficient_lbm_ft2_s, dtype=np.float64), 0.0)
+    haw = np.maximum(np.asarray(recovery_enthalpy_btu_lbm, dtype=np.float64), 0.0)
     es = SIGMA_REPORT_BTU_FT2_S_R4 * emissivity
     t = np.minimum((h * haw / es) ** 0.25, haw / CP_AIR_BTU_LBM_R)  # both bound the root from above
     for _ in range(iterations):
@@ -119,7 +127,14 @@ def wall_equilibrium_R(coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissiv
 
 
 @njit
-def thin_skin_R(time_s, coefficient_lbm_ft2_s, recovery_enthalpy_btu_lbm, emissivity, capacity_btu_ft2_R, initial_R):
+def thin_skin_R(
+    time_s: NDArray[np.float64],
+    coefficient_lbm_ft2_s: NDArray[np.float64],
+    recovery_enthalpy_btu_lbm: NDArray[np.float64],
+    emissivity: float,
+    capacity_btu_ft2_R: float,
+    initial_R: float,
+) -> NDArray[np.float64]:
     """Skin temperature (degR) from C dT/dt = h (H_AW - c_p T) - 4.75e-13 eps T^4 (thin skin, insulated back).
 
     Trapezoidal rule (A-stable, 2nd order) on sub-steps of at most SKIN_SUBSTEP_S, h and H_AW linear in time
@@ -161,24 +176,31 @@ class ReferenceHeating:
 
     reference_radius_ft: float = REFERENCE_RADIUS_FT
     emissivity: float = EMISSIVITY_DEFAULT
-    ratio_alpha_deg: tuple = tuple(TABLE1_ALPHA_DEG)
-    ratio: tuple = tuple(TABLE1_RATIO)
+    ratio_alpha_deg: tuple[float, ...] = tuple(TABLE1_ALPHA_DEG)
+    ratio: tuple[float, ...] = tuple(TABLE1_RATIO)
     skin_heat_capacity_btu_ft2_R: float = 0.0  # 0: RET of eq. (7); > 0: thin-skin temperature (needs time_s)
 
-    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R, time_s=None):
+    def evaluate(
+        self,
+        density_slug_ft3: ArrayLike,
+        velocity_fps: ArrayLike,
+        alpha_deg: ArrayLike,
+        temperature_inf_R: ArrayLike,
+        time_s: ArrayLike | None = None,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(heat_rate_btu_ft2_s, temperature_R) along the histories: q of eq. (6) at the wall temperature."""
         h_fr = fay_riddell_coefficient_lbm_ft2_s(
             density_slug_ft3, velocity_fps, temperature_inf_R, self.reference_radius_ft
         )
-        h = h_fr * np.interp(np.asarray(alpha_deg, dtype=float), self.ratio_alpha_deg, self.ratio)  # eq. (5)
+        h = h_fr * np.interp(np.asarray(alpha_deg, dtype=np.float64), self.ratio_alpha_deg, self.ratio)  # eq. (5)
         h_aw = total_enthalpy_btu_lbm(velocity_fps, temperature_inf_R)
         if self.skin_heat_capacity_btu_ft2_R > 0.0:
             if time_s is None:
                 raise ValueError("a thin-skin temperature needs the time history (time_s)")
             t_w = thin_skin_R(
-                np.asarray(time_s, dtype=float),
-                np.ascontiguousarray(h, dtype=float),
-                np.ascontiguousarray(h_aw, dtype=float),
+                np.asarray(time_s, dtype=np.float64),
+                np.ascontiguousarray(h, dtype=np.float64),
+                np.ascontiguousarray(h_aw, dtype=np.float64),
                 float(self.emissivity),
                 float(self.skin_heat_capacity_btu_ft2_R),
                 SKIN_INITIAL_R,
@@ -201,19 +223,34 @@ class CorrelationHeating:
     coefficient: float
     density_exponent: float = 0.5
     velocity_exponent: float = 3.0
-    alpha_polynomial: tuple = (1.0,)  # ascending powers of alpha in degrees
+    alpha_polynomial: tuple[float, ...] = (1.0,)  # ascending powers of alpha in degrees
     emissivity: float | None = None
 
-    def evaluate(self, density_slug_ft3, velocity_fps, alpha_deg, temperature_inf_R=None, time_s=None):
-        rho = np.maximum(np.asarray(density_slug_ft3, dtype=float), 0.0)
-        v = np.abs(np.asarray(velocity_fps, dtype=float))
-        f = np.polynomial.polynomial.polyval(np.asarray(alpha_deg, dtype=float), np.asarray(self.alpha_polynomial))
+    def evaluate(
+        self,
+        density_slug_ft3: ArrayLike,
+        velocity_fps: ArrayLike,
+        alpha_deg: ArrayLike,
+        temperature_inf_R: ArrayLike | None = None,
+        time_s: ArrayLike | None = None,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        rho = np.maximum(np.asarray(density_slug_ft3, dtype=np.float64), 0.0)
+        v = np.abs(np.asarray(velocity_fps, dtype=np.float64))
+        f = np.polynomial.polynomial.polyval(np.asarray(alpha_deg, dtype=np.float64), np.asarray(self.alpha_polynomial))
         q = self.coefficient * rho**self.density_exponent * v**self.velocity_exponent * f
         t = radiation_equilibrium_R(q, self.emissivity) if self.emissivity is not None else np.full_like(q, np.nan)
         return q, t
 
 
-def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s=None, density_factor=None):
+def trajectory_heating(
+    model: ReferenceHeating | CorrelationHeating,
+    altitude_ft: ArrayLike,
+    velocity_fps: ArrayLike,
+    alpha_deg: ArrayLike,
+    atmosphere_args: tuple[float, float, float, float],
+    time_s: ArrayLike | None = None,
+    density_factor: NDArray[np.float64] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(heat_rate_btu_ft2_s, temperature_R) along a flown history; atmosphere_args = (model id, rho0, H, T).
     density_factor: the dispersed density over the model's along the history (atmosphere.density_factor_table);
     None: the model's density."""
@@ -224,22 +261,22 @@ def trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_a
 
 
 def calibrate_reference_radius_ft(
-    altitude_ft,
-    velocity_fps,
-    alpha_deg,
-    atmosphere_args,
-    target_R=REPORT_PEAK_RET_R,
-    emissivity=EMISSIVITY_DEFAULT,
-    skin_heat_capacity_btu_ft2_R=0.0,
-    time_s=None,
-):
+    altitude_ft: ArrayLike,
+    velocity_fps: ArrayLike,
+    alpha_deg: ArrayLike,
+    atmosphere_args: tuple[float, float, float, float],
+    target_R: float = REPORT_PEAK_RET_R,
+    emissivity: float = EMISSIVITY_DEFAULT,
+    skin_heat_capacity_btu_ft2_R: float = 0.0,
+    time_s: ArrayLike | None = None,
+) -> float:
     """The reference radius (ft) that makes the peak temperature along one flown history equal target_R
     (bisection; a thin skin needs time_s).
 
     Heating does not act on the motion, so one flight serves every trial radius. The peak falls
     monotonically as the radius grows (h_F&R ~ R^-1/2)."""
 
-    def peak(radius_ft):
+    def peak(radius_ft: float) -> float:
         model = ReferenceHeating(radius_ft, emissivity, skin_heat_capacity_btu_ft2_R=skin_heat_capacity_btu_ft2_R)
         _, t = trajectory_heating(model, altitude_ft, velocity_fps, alpha_deg, atmosphere_args, time_s)
         return float(np.max(t))

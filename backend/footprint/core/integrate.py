@@ -13,6 +13,7 @@ or stop the flight. Nothing here raises: a flight ends with a stop code.
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core._jit import njit
 from footprint.core.controls import (
@@ -102,7 +103,15 @@ D5, D6, D7 = 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0, 69997
 
 
 @njit(allocates=False)
-def _derivative(t, s, p, aero, ctrl, mode, out):
+def _derivative(
+    t: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> tuple[float, ...]:
     res = evaluate(t, s, p, aero, ctrl, mode)
     out[0], out[1], out[2] = s[3], s[4], s[5]
     out[3], out[4], out[5] = res[EV_AX], res[EV_AY], res[EV_AZ]
@@ -110,7 +119,15 @@ def _derivative(t, s, p, aero, ctrl, mode, out):
 
 
 @njit(allocates=False)
-def _event_values(t, s, res, p, ctrl, mode, g):
+def _event_values(
+    t: float,
+    s: NDArray[np.float64],
+    res: tuple[float, ...],
+    p: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    g: NDArray[np.float64],
+) -> None:
     """Event functions; NaN where an event cannot happen in the present mode."""
     for i in range(N_EVENTS):
         g[i] = np.nan
@@ -141,7 +158,9 @@ def _event_values(t, s, res, p, ctrl, mode, g):
 
 
 @njit(allocates=False)
-def _apply_event(event, t, res, ctrl, mode):
+def _apply_event(
+    event: int, t: float, res: tuple[float, ...], ctrl: NDArray[np.float64], mode: NDArray[np.float64]
+) -> int:
     """Change the mode for a located event; return the stop code (STOP_NONE to go on)."""
     if event == E_PULLOUT:
         mode[M_PULLED_OUT] = 1.0
@@ -171,7 +190,15 @@ def _apply_event(event, t, res, ctrl, mode):
 
 
 @njit(allocates=False)
-def _dense(theta, y0, r2, r3, r4, r5, out):
+def _dense(
+    theta: float,
+    y0: NDArray[np.float64],
+    r2: NDArray[np.float64],
+    r3: NDArray[np.float64],
+    r4: NDArray[np.float64],
+    r5: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
     """DOPRI5 continuous extension at theta in [0, 1] of the last step."""
     t1 = 1.0 - theta
     for i in range(6):
@@ -179,7 +206,9 @@ def _dense(theta, y0, r2, r3, r4, r5, out):
 
 
 @njit
-def _record(rows, n, t, s, res):
+def _record(
+    rows: NDArray[np.float64], n: int, t: float, s: NDArray[np.float64], res: tuple[float, ...]
+) -> NDArray[np.float64]:
     if n == rows.shape[0]:
         bigger = np.empty((2 * n, N_COLS))
         bigger[:n] = rows
@@ -200,7 +229,14 @@ def _record(rows, n, t, s, res):
 
 
 @njit
-def integrate(s0, p, aero, ctrl, mode, max_steps):
+def integrate(
+    s0: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    max_steps: int,
+) -> tuple[NDArray[np.float64], int, int]:
     """Fly from s0 at t = 0 until a stop event. Returns (rows[:n], stop_code, n_rhs)."""
     rtol = p[P_RTOL]
     h_max = p[P_MAX_STEP]

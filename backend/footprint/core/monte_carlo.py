@@ -23,9 +23,12 @@ landing's down-range on the branch nearest its own flight's (so past half a circ
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy import stats
 
 from footprint.core._jit import njit
@@ -36,7 +39,7 @@ from footprint.core.outline import outline
 from footprint.core.plane import inside_polygon
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
-from footprint.core.trajectory import FlightSpec, simulate, simulate_summary
+from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
 
 # what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
 KEPT = (
@@ -73,7 +76,7 @@ class Flight:
 
     parameter: ControlSetting
     side: str  # "axis", "left", "right"
-    make: object
+    make: Callable[[FlightSpec, bool], FlightSpec]
     right: bool
 
     @property
@@ -81,10 +84,10 @@ class Flight:
         return self.parameter.min_range is not None
 
 
-def flights(family: list, mirror: bool) -> list[Flight]:
+def flights(family: list[tuple[ControlSetting, Callable[..., FlightSpec], bool]], mirror: bool) -> list[Flight]:
     """The flights of a family [(parameter, make, on_axis)]: the axis settings once, the others on the left and,
     with mirror, on the right (flown: a dispersed entry leaves no plane of symmetry)."""
-    out = []
+    out: list[Flight] = []
     for parameter, make, on_axis in family:
         if on_axis:
             out.append(Flight(parameter, "axis", make, False))
@@ -101,8 +104,8 @@ class Landings:
     into integrate.STOP_REASONS. `first`: the index of the first sample in the run."""
 
     first: int
-    values: np.ndarray
-    stops: np.ndarray
+    values: NDArray[np.float64]
+    stops: NDArray[np.int8]
 
     @staticmethod
     def join(parts: list[Landings]) -> Landings:
@@ -112,7 +115,13 @@ class Landings:
         )
 
 
-def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first: int = 0, on_progress=None) -> Landings:
+def fly_samples(
+    base: FlightSpec,
+    family: list[Flight],
+    samples: Samples,
+    first: int = 0,
+    on_progress: Callable[[float, str], bool | None] | None = None,
+) -> Landings:
     """Every flight of every sample (the summary path: trajectory.simulate_summary); a chunk of a run.
     on_progress(fraction, note) before each sample (True stops: errors.Stopped)."""
     values = np.full((len(samples), len(family), len(KEPT)), np.nan)
@@ -128,7 +137,7 @@ def fly_samples(base: FlightSpec, family: list[Flight], samples: Samples, first:
     return Landings(first, values, stops)
 
 
-def sample_trajectories(base: FlightSpec, family: list[Flight], samples: Samples, index: int) -> list:
+def sample_trajectories(base: FlightSpec, family: list[Flight], samples: Samples, index: int) -> list[Trajectory]:
     """Every flight of sample `index` with its histories (trajectory.simulate): the summary path's landing point
     to the bit, and how it got there (a skip-out, a flight that hit the ground early)."""
     spec = sample_spec(base, samples, index)
@@ -136,7 +145,9 @@ def sample_trajectories(base: FlightSpec, family: list[Flight], samples: Samples
 
 
 # ------------------------------------------------------------------------------------------- geometry
-def nominal_ranges(base: FlightSpec, landings: Landings, radius_nmi=MEAN_RADIUS_NMI) -> tuple[np.ndarray, np.ndarray]:
+def nominal_ranges(
+    base: FlightSpec, landings: Landings, radius_nmi: float = MEAN_RADIUS_NMI
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(down-range, cross-range) nmi of every landing about the nominal entry, each down-range on the branch
     nearest its own flight's (which grows past half a circumference)."""
     e = base.entry
@@ -148,7 +159,9 @@ def nominal_ranges(base: FlightSpec, landings: Landings, radius_nmi=MEAN_RADIUS_
     return down + turn * np.round((v[..., OWN_DOWN] - down) / turn), cross
 
 
-def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.ndarray, landed: np.ndarray):
+def polygons(
+    family: list[Flight], mirror: bool, down: NDArray[np.float64], cross: NDArray[np.float64], landed: NDArray[np.bool_]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
     """Each sample's footprint polygon (x: down-range, y: cross-range, padded with NaN; counts): the landed
     flights in the report's boundary order, a minimum-range point only where it lies outside the others."""
     front = [j for j, f in enumerate(family) if f.side == "axis" and not f.min_range][:1]
@@ -177,7 +190,9 @@ def polygons(family: list[Flight], mirror: bool, down: np.ndarray, cross: np.nda
 
 
 @njit
-def _inside_all(px, py, counts, x, y):
+def _inside_all(
+    px: NDArray[np.float64], py: NDArray[np.float64], counts: NDArray[np.int64], x: float, y: float
+) -> NDArray[np.bool_]:
     """Which samples' polygons hold the point (x, y)."""
     out = np.zeros(px.shape[0], np.bool_)
     for s in range(px.shape[0]):
@@ -187,7 +202,17 @@ def _inside_all(px, py, counts, x, y):
 
 
 @njit
-def _coverage(px, py, counts, x0, dx, nx, y0, dy, ny):
+def _coverage(
+    px: NDArray[np.float64],
+    py: NDArray[np.float64],
+    counts: NDArray[np.int64],
+    x0: float,
+    dx: float,
+    nx: int,
+    y0: float,
+    dy: float,
+    ny: int,
+) -> NDArray[np.int64]:
     """How many samples' polygons hold each grid node (ny, nx): each polygon's scanline intervals added to a
     difference array, then summed along the rows (exact for the nodes, the even-odd rule)."""
     diff = np.zeros((ny, nx + 1), np.int64)
@@ -221,7 +246,9 @@ def _coverage(px, py, counts, x0, dx, nx, y0, dy, ny):
     return out
 
 
-def ellipse(mean: np.ndarray, covariance: np.ndarray, sigmas: float, points: int = ELLIPSE_POINTS):
+def ellipse(
+    mean: NDArray[np.float64], covariance: NDArray[np.float64], sigmas: float, points: int = ELLIPSE_POINTS
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The sigmas-sigma ellipse (down-range, cross-range) of a 2-D normal: mean + sigmas L (cos t, sin t), L L^T the
     covariance (its eigenvectors scaled by the square roots of its eigenvalues)."""
     values, vectors = np.linalg.eigh(covariance)
@@ -246,16 +273,18 @@ class DispersedFootprint:
     entry, positions in degrees."""
 
     samples: int
-    flights: list[dict]  # per flight: parameter, side, landed, outcomes, mean, covariance, ellipses, heating
-    nominal: list[dict]  # the undispersed flights: parameter, side, down/cross-range, latitude/longitude
-    nominal_boundary: dict  # the undispersed footprint's polygon: down/cross-range and latitude/longitude lists
-    confidence: list[dict]  # per level p: the rings of the region covered by >= p of the samples' footprints
-    sites: list[dict]  # per site: probability, its interval, samples reaching it, inside the nominal footprint
-    outcomes: dict  # every flight's end over the run, by what happened
-    clouds: dict  # down-range and cross-range (samples, flights), NaN where a flight did not land
-    entry: dict
+    flights: list[dict[str, Any]]  # per flight: parameter, side, landed, outcomes, mean, covariance, ellipses, heating
+    nominal: list[dict[str, Any]]  # the undispersed flights: parameter, side, down/cross-range, latitude/longitude
+    nominal_boundary: dict[str, Any]  # the undispersed footprint's polygon: down/cross-range, latitude/longitude lists
+    confidence: list[dict[str, Any]]  # per level p: the rings of the region covered by >= p of the samples' footprints
+    # per site: probability, its interval, samples reaching it, inside the nominal footprint
+    sites: list[dict[str, Any]]
+    outcomes: dict[str, int]  # every flight's end over the run, by what happened
+    # down-range and cross-range (samples, flights), NaN where a flight did not land
+    clouds: dict[str, NDArray[np.float64]]
+    entry: dict[str, float]
 
-    def to_dict(self, cloud_points: int | None = None) -> dict:
+    def to_dict(self, cloud_points: int | None = None) -> dict[str, Any]:
         """JSON-ready; each cloud thinned to its first `cloud_points` samples (None: all)."""
         keep = slice(None) if cloud_points is None else slice(0, cloud_points)
         return {
@@ -280,9 +309,9 @@ def statistics(
     mirror: bool,
     landings: Landings,
     nominal: Landings,
-    levels=(0.99,),
-    sites=(),
-    grid_nodes=GRID_NODES,
+    levels: Iterable[float] = (0.99,),
+    sites: Iterable[tuple[str, float, float]] = (),
+    grid_nodes: tuple[int, int] = GRID_NODES,
 ) -> DispersedFootprint:
     """What the run says (module docstring). sites: (name, latitude_deg, longitude_deg) each."""
     e = base.entry
@@ -313,7 +342,7 @@ def statistics(
         for j, f in enumerate(family)
     ]
     npx, npy, ncounts = polygons(family, mirror, nom_down, nom_cross, np.isin(nominal.stops, endings))
-    reasons = {}
+    reasons: dict[str, int] = {}
     for code, count in zip(*np.unique(landings.stops, return_counts=True)):
         label = "landed" if code in endings else OUTCOME_NAMES[STOP_REASONS[code]]
         reasons[label] = reasons.get(label, 0) + int(count)
@@ -340,10 +369,18 @@ def statistics(
     )
 
 
-def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
+def _flight(
+    base: FlightSpec,
+    f: Flight,
+    down: NDArray[np.float64],
+    cross: NDArray[np.float64],
+    stops: NDArray[np.int8],
+    landed: NDArray[np.bool_],
+    values: NDArray[np.float64],
+) -> dict[str, Any]:
     k = int(landed.sum())
     ended = np.unique(stops[~landed])
-    out = {
+    out: dict[str, Any] = {
         "parameter": f.parameter.as_dict(),
         "side": f.side,
         "landed": k,
@@ -357,7 +394,7 @@ def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
         xy = np.stack([down[landed], cross[landed]])
         mean, cov = xy.mean(axis=1), np.cov(xy)
         e = base.entry
-        ellipses = {}
+        ellipses: dict[str, dict[str, list[float]]] = {}
         for s in SIGMAS:
             ex, ey = ellipse(mean, cov, s)
             elat, elon = latlon_from_ranges(ex, ey, e.latitude_deg, e.longitude_deg, e.heading_deg)
@@ -388,7 +425,9 @@ def _flight(base, f: Flight, down, cross, stops, landed, values) -> dict:
     return out
 
 
-def _grid(px, py, counts, grid_nodes):
+def _grid(
+    px: NDArray[np.float64], py: NDArray[np.float64], counts: NDArray[np.int64], grid_nodes: tuple[int, int]
+) -> tuple[float, float, int, float, float, int]:
     """Node coordinates over the polygons' extent, one empty cell beyond it on every side."""
     ok = counts >= 3
     x_lo, x_hi = np.nanmin(px[ok]), np.nanmax(px[ok])
@@ -398,18 +437,28 @@ def _grid(px, py, counts, grid_nodes):
     return x_lo - dx, dx, nx, y_lo - dy, dy, ny
 
 
-def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
+def _confidence(
+    base: FlightSpec,
+    px: NDArray[np.float64],
+    py: NDArray[np.float64],
+    counts: NDArray[np.int64],
+    level: float,
+    n: int,
+    grid_nodes: tuple[int, int],
+) -> dict[str, Any]:
     """The region held by at least `level` of the n samples' footprints, as rings (down/cross-range and lat/lon)."""
     from contourpy import contour_generator
 
-    out = {"level": float(level), "rings": []}
+    out: dict[str, Any] = {"level": float(level), "rings": []}
     if not np.any(counts >= 3):
         return out
     x0, dx, nx, y0, dy, ny = _grid(px, py, counts, grid_nodes)
     held = _coverage(px, py, counts, x0, dx, nx, y0, dy, ny) / n
     x, y = x0 + dx * np.arange(nx), y0 + dy * np.arange(ny)
     e = base.entry
-    for line in contour_generator(x=x, y=y, z=held, line_type="Separate").lines(level):
+    # line_type Separate: lines() gives a list of (n, 2) arrays (contourpy types the union of every line type)
+    lines = cast(list[NDArray[np.float64]], contour_generator(x=x, y=y, z=held, line_type="Separate").lines(level))
+    for line in lines:
         if len(line) < 4:
             continue
         lat, lon = latlon_from_ranges(line[:, 0], line[:, 1], e.latitude_deg, e.longitude_deg, e.heading_deg)
@@ -428,13 +477,24 @@ def _confidence(base, px, py, counts, level, n, grid_nodes) -> dict:
     return out
 
 
-def _outline(base, down, cross) -> dict:
+def _outline(base: FlightSpec, down: NDArray[np.float64], cross: NDArray[np.float64]) -> dict[str, Any]:
     """The ring as the map draws a footprint (core.outline: edges sampled on the sphere, its area on the map)."""
     e = base.entry
     return outline(down, cross, Reference(e.latitude_deg, e.longitude_deg, e.heading_deg)).to_dict()
 
 
-def _site(base, px, py, counts, npx, npy, ncounts, name, latitude_deg, longitude_deg) -> dict:
+def _site(
+    base: FlightSpec,
+    px: NDArray[np.float64],
+    py: NDArray[np.float64],
+    counts: NDArray[np.int64],
+    npx: NDArray[np.float64],
+    npy: NDArray[np.float64],
+    ncounts: NDArray[np.int64],
+    name: str,
+    latitude_deg: float,
+    longitude_deg: float,
+) -> dict[str, Any]:
     """A site's probability: the fraction of samples whose footprint holds it on any branch of its down-range (a
     footprint reaches past half a circumference); its ranges on the branch most samples reach it by."""
     e = base.entry

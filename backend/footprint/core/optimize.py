@@ -28,10 +28,12 @@ for the comparison route) only.
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.controls import replace_bank_table
 from footprint.core.trajectory import FlightSpec, simulate_summary
@@ -62,7 +64,7 @@ class Constraint:
     weight: float = 1.0  # w_i (unit matrix in the report)
     scale: float = 1.0  # s_i, same unit as the quantity, divides the excess in the penalty (1: eq. (4))
 
-    def deviation(self, value):
+    def deviation(self, value: float | None) -> float:
         """How far psi is on the wrong side of the target (>= 0), before the band."""
         if value is None or not math.isfinite(value):
             return math.inf
@@ -72,25 +74,26 @@ class Constraint:
             return max(0.0, value - self.target)
         return max(0.0, self.target - value)
 
-    def violation(self, value):
+    def violation(self, value: float | None) -> float:
         """Excess beyond the tolerance band (0 when met)."""
         return max(0.0, self.deviation(value) - 0.5 * self.tolerance)
 
 
 @dataclass
 class Problem:
-    lower: np.ndarray
-    upper: np.ndarray
-    initial: np.ndarray
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+    initial: NDArray[np.float64]
     payoff: str = "crossrange_nmi"
     goal: str = "max"  # "max" | "min"
-    constraints: tuple = ()
+    constraints: tuple[Constraint, ...] = ()
     base: FlightSpec | None = None
-    controls: Callable | None = None  # (base spec, params) -> FlightSpec
-    evaluate: Callable | None = None  # params -> summary dict; overrides base/controls (analytic tests)
-    names: tuple = ()
+    controls: Callable[[FlightSpec, NDArray[np.float64]], FlightSpec] | None = None  # (base spec, params) -> FlightSpec
+    # params -> summary dict; overrides base/controls (analytic tests)
+    evaluate: Callable[[NDArray[np.float64]], dict[str, Any]] | None = None
+    names: tuple[str, ...] = ()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         self.lower = np.asarray(self.lower, dtype=float)
         self.upper = np.asarray(self.upper, dtype=float)
         self.initial = np.clip(np.asarray(self.initial, dtype=float), self.lower, self.upper)
@@ -108,13 +111,15 @@ class Problem:
         if bad:
             raise ValueError("; ".join(bad))
 
-    def summary(self, params) -> dict:
+    def summary(self, params: NDArray[np.float64]) -> dict[str, Any]:
         if self.evaluate is not None:
             return self.evaluate(params)
+        # __post_init__ refused a problem with neither evaluate nor both base and controls
+        assert self.base is not None and self.controls is not None
         return simulate_summary(self.controls(self.base, params))
 
 
-def penalty(constraints, summary) -> float:
+def penalty(constraints: Iterable[Constraint], summary: dict[str, Any]) -> float:
     """sum_i w_i ((dev_i - TTOL_i/2) / s_i)^2 outside the band, 0 inside (eq. (4), see the module docstring)."""
     total = 0.0
     for c in constraints:
@@ -125,9 +130,9 @@ def penalty(constraints, summary) -> float:
     return total
 
 
-def augmented(problem: Problem, summary) -> float:
+def augmented(problem: Problem, summary: dict[str, Any]) -> float:
     """phi* as a quantity to MINIMIZE: -phi + P for a maximum, phi + P for a minimum."""
-    phi = summary.get(problem.payoff)
+    phi: float | None = summary.get(problem.payoff)
     if phi is None or not math.isfinite(phi):
         return WORST
     p = penalty(problem.constraints, summary)
@@ -138,21 +143,21 @@ def augmented(problem: Problem, summary) -> float:
 
 @dataclass
 class Result:
-    params: np.ndarray
-    summary: dict
-    payoff: float
+    params: NDArray[np.float64]
+    summary: dict[str, Any]
+    payoff: float | None  # None: the best flight has none (then every flight was WORST)
     augmented_payoff: float  # phi* in the payoff's own sense (penalty subtracted for a maximum)
     feasible: bool
     max_violation: float  # largest excess beyond a tolerance band (quantity's unit), 0 when feasible
-    violations: dict  # quantity -> excess beyond its band
-    history: list  # per trajectory: iteration, phase, payoff (best so far), augmented, trajectories
+    violations: dict[str, float]  # quantity -> excess beyond its band
+    history: list[dict[str, Any]]  # per trajectory: iteration, phase, payoff (best so far), augmented, trajectories
     trajectories: int
     seconds: float
     converged: bool
     method: str
-    names: tuple = ()
+    names: tuple[str, ...] = ()
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         return {
             "method": self.method,
             "summary": self.summary,
@@ -172,14 +177,20 @@ class Result:
 class _Evaluator:
     """Flies (or evaluates) each distinct parameter vector once and keeps the best and the history."""
 
-    def __init__(self, problem: Problem, max_evaluations, progress=None):
+    def __init__(
+        self, problem: Problem, max_evaluations: int, progress: Callable[[int], bool | None] | None = None
+    ) -> None:
         self.problem, self.max_evaluations, self.progress = problem, max_evaluations, progress
-        self.cache, self.history, self.n = {}, [], 0
-        self.best_x, self.best_j, self.best_summary = None, math.inf, None
+        self.cache: dict[bytes, tuple[float, dict[str, Any]]] = {}
+        self.history: list[dict[str, Any]] = []
+        self.n = 0
+        self.best_x: NDArray[np.float64] | None = None
+        self.best_j = math.inf
+        self.best_summary: dict[str, Any] | None = None
         self.phase = "start"
 
-    def __call__(self, x):
-        x = np.clip(np.asarray(x, dtype=float), self.problem.lower, self.problem.upper)  # never leave bounds
+    def __call__(self, x: ArrayLike) -> float:
+        x = np.clip(np.asarray(x, dtype=np.float64), self.problem.lower, self.problem.upper)  # never leave bounds
         key = x.tobytes()
         if key in self.cache:
             return self.cache[key][0]
@@ -205,19 +216,20 @@ class _Evaluator:
         )
         return j
 
-    def summary(self, x):
+    def summary(self, x: ArrayLike) -> dict[str, Any]:
         """The summary of x (flown once, shared with __call__)."""
-        x = np.clip(np.asarray(x, dtype=float), self.problem.lower, self.problem.upper)
+        x = np.clip(np.asarray(x, dtype=np.float64), self.problem.lower, self.problem.upper)
         self(x)
         return self.cache[x.tobytes()][1]
 
-    def _sense(self, j):
+    def _sense(self, j: float) -> float:
         return -j if self.problem.goal == "max" else j
 
-    def result(self, t0, converged, method) -> Result:
+    def result(self, t0: float, converged: bool, method: str) -> Result:
         pr, s = self.problem, self.best_summary
         if s is None:
             raise ValueError(f"max_evaluations {self.max_evaluations}: nothing was flown (at least 1)")
+        assert self.best_x is not None  # set together with best_summary
         viol = {c.quantity: c.violation(s.get(c.quantity)) for c in pr.constraints}
         worst = max(viol.values(), default=0.0)
         return Result(
@@ -244,14 +256,14 @@ class _Budget(Exception):
 def creep_pattern(
     problem: Problem,
     *,
-    step=None,
-    min_step=None,
-    grow=2.0,
-    shrink=0.5,
-    pattern_growth=2.0,
-    max_evaluations=300,
-    ftol=0.0,
-    progress=None,
+    step: ArrayLike | None = None,
+    min_step: ArrayLike | None = None,
+    grow: float = 2.0,
+    shrink: float = 0.5,
+    pattern_growth: float = 2.0,
+    max_evaluations: int = 300,
+    ftol: float = 0.0,
+    progress: Callable[[int], bool | None] | None = None,
 ) -> Result:
     """Adaptive creeping search followed by a pattern search, repeated (Section II.4).
 
@@ -320,14 +332,14 @@ def creep_pattern(
 def creep_pattern_feasible(
     problem: Problem,
     *,
-    soft_start=1.0,
-    soft_factor=10.0,
-    weight_factor=100.0,
-    rounds=4,
-    restarts=0,
-    max_evaluations=300,
-    on_progress=None,
-    **options,
+    soft_start: float = 1.0,
+    soft_factor: float = 10.0,
+    weight_factor: float = 100.0,
+    rounds: int = 4,
+    restarts: int = 0,
+    max_evaluations: int = 300,
+    on_progress: Callable[[float, str], bool | None] | None = None,
+    **options: Any,
 ) -> Result:
     """creep_pattern in stages that differ only in the penalty weights, each starting from the last optimum,
     all within one trajectory budget:
@@ -347,10 +359,12 @@ def creep_pattern_feasible(
     t0 = time.perf_counter()
     span = np.where(problem.upper > problem.lower, problem.upper - problem.lower, 1.0)
     fine = dict(options, step=np.asarray(options.get("min_step", 1e-3 * span)) * 10.0)
-    history, flown, r, x = [], 0, None, problem.initial
+    history: list[dict[str, Any]] = []
+    flown, x = 0, problem.initial
+    r: Result | None = None
     stopped = False
 
-    def report(n) -> bool:  # n: this stage's flights
+    def report(n: int) -> bool:  # n: this stage's flights
         nonlocal stopped
         if on_progress is not None and not stopped:
             stopped = bool(
@@ -358,7 +372,7 @@ def creep_pattern_feasible(
             )
         return stopped
 
-    def stage(scale, opts):
+    def stage(scale: float, opts: dict[str, Any]) -> Result:
         nonlocal flown
         pr = replace(
             problem, initial=x, constraints=tuple(replace(c, weight=c.weight * scale) for c in problem.constraints)
@@ -381,6 +395,7 @@ def creep_pattern_feasible(
         if scale >= 1.0:
             break
         scale *= soft_factor
+    assert r is not None  # the loop's first pass flies a stage
     for _ in range(restarts):
         if flown >= max_evaluations or stopped:
             break
@@ -404,13 +419,19 @@ def creep_pattern_feasible(
     return r
 
 
-def optimize(problem: Problem, method="creep_pattern", **options) -> Result:
+def optimize(problem: Problem, method: str = "creep_pattern", **options: Any) -> Result:
     if method == "creep_pattern":
         return creep_pattern_feasible(problem, **options)
     return optimize_scipy(problem, method, **options)
 
 
-def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000, on_progress=None, **options) -> Result:
+def optimize_scipy(
+    problem: Problem,
+    method: str = "Nelder-Mead",
+    max_evaluations: int = 2000,
+    on_progress: Callable[[float, str], bool | None] | None = None,
+    **options: Any,
+) -> Result:
     """The same problem by a scipy optimizer, for a side-by-side comparison (STYLE: two routes).
 
     Nelder-Mead (or any derivative-free method) minimizes the same phi* within the bounds; SLSQP is given
@@ -440,11 +461,11 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
 
             sense = -1.0 if pr.goal == "max" else 1.0
 
-            def fun(x):
-                v = summ(x).get(pr.payoff)
+            def fun(x: NDArray[np.float64]) -> float:
+                v: float | None = summ(x).get(pr.payoff)
                 return sense * v if v is not None else WORST
 
-            cons = []
+            cons: list[dict[str, Any]] = []
             for c in pr.constraints:
                 if c.kind == "equals":
                     cons.append({"type": "eq", "fun": lambda x, c=c: (summ(x)[c.quantity] - c.target) / c.scale})
@@ -462,20 +483,30 @@ def optimize_scipy(problem: Problem, method="Nelder-Mead", max_evaluations=2000,
 
 
 # ------------------------------------------------------------------ Section II.5: the bank table problem
-def with_bank_table(spec: FlightSpec, bank_deg, nodes=BANK_TABLE_HEADINGS_DEG, variable="zeta") -> FlightSpec:
+def with_bank_table(
+    spec: FlightSpec, bank_deg: ArrayLike, nodes: Sequence[float] = BANK_TABLE_HEADINGS_DEG, variable: str = "zeta"
+) -> FlightSpec:
     """The spec flying bank = linear interpolation in (zeta, bank) (Fig. 2), or in (variable, bank) for another
     abscissa of controls.BANK_VARIABLES (nodes in its unit), held at the table's ends, no limit, left-hand; the
     rest of the control laws (alpha law and its table, bank start) kept."""
     return replace(spec, ctrl=replace_bank_table(spec.ctrl, bank_deg, nodes, variable))
 
 
-def nominal_bank_deg(bank_gain=1.0, headings_deg=BANK_TABLE_HEADINGS_DEG, bounds=BANK_BOUNDS_DEG):
+def nominal_bank_deg(
+    bank_gain: float = 1.0,
+    headings_deg: ArrayLike = BANK_TABLE_HEADINGS_DEG,
+    bounds: tuple[float, float] = BANK_BOUNDS_DEG,
+) -> NDArray[np.float64]:
     """Fig. 2's nominal schedule: the linear ramp phi_B = K zeta at the table points, within the bounds."""
     return np.clip(bank_gain * np.asarray(headings_deg, dtype=float), *bounds)
 
 
 def cross_range_problem(
-    spec: FlightSpec, downrange_nmi=None, tolerance_nmi=TTOL_DOWNRANGE_NMI, initial=None, bounds=BANK_BOUNDS_DEG
+    spec: FlightSpec,
+    downrange_nmi: float | None = None,
+    tolerance_nmi: float = TTOL_DOWNRANGE_NMI,
+    initial: ArrayLike | None = None,
+    bounds: tuple[float, float] = BANK_BOUNDS_DEG,
 ) -> Problem:
     """Section II.5-II.6: maximize cross-range with the eight-point bank table vs zeta, alpha as the spec
     has it ((L/D)max), the bank from the spec's start (pull-out); down-range held to `downrange_nmi`
@@ -492,7 +523,7 @@ def cross_range_problem(
     return Problem(
         lower=np.full(n, bounds[0]),
         upper=np.full(n, bounds[1]),
-        initial=nominal_bank_deg(1.0) if initial is None else initial,
+        initial=nominal_bank_deg(1.0) if initial is None else np.asarray(initial, dtype=np.float64),
         payoff="crossrange_nmi",
         goal="max",
         constraints=cons,

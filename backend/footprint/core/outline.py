@@ -16,8 +16,10 @@ it runs counter-clockwise on the map, and otherwise a hole in the whole map: a f
 """
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.sphere import Reference, latlon_from_ranges, unwrap_longitude
 
@@ -36,12 +38,12 @@ class Outline:
     (longitude, latitude) closed by its first point again: outer rings counter-clockwise, holes clockwise (RFC 7946
     section 3.1.6). `pole`: the poles it holds, "north", "south", "both" or None."""
 
-    latitude_deg: np.ndarray
-    longitude_deg: np.ndarray
-    area: tuple
+    latitude_deg: NDArray[np.float64]
+    longitude_deg: NDArray[np.float64]
+    area: tuple[tuple[NDArray[np.float64], ...], ...]
     pole: str | None
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "latitude_deg": self.latitude_deg.tolist(),
             "longitude_deg": self.longitude_deg.tolist(),
@@ -50,7 +52,7 @@ class Outline:
         }
 
     @classmethod
-    def from_dict(cls, o: dict) -> "Outline":
+    def from_dict(cls, o: dict[str, Any]) -> "Outline":
         return cls(
             np.asarray(o["latitude_deg"], float),
             np.asarray(o["longitude_deg"], float),
@@ -63,7 +65,9 @@ class Outline:
         return Outline(self.latitude_deg, self.longitude_deg + lon_deg, self.area, self.pole)
 
 
-def _closed(downrange_nmi, crossrange_nmi):
+def _closed(
+    downrange_nmi: NDArray[np.float64], crossrange_nmi: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The chart polygon with its first point repeated last."""
     return (
         np.append(np.asarray(downrange_nmi, float), downrange_nmi[0]),
@@ -71,7 +75,9 @@ def _closed(downrange_nmi, crossrange_nmi):
     )
 
 
-def sampled_ring(downrange_nmi, crossrange_nmi, pieces):
+def sampled_ring(
+    downrange_nmi: NDArray[np.float64], crossrange_nmi: NDArray[np.float64], pieces: NDArray[np.int_]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The closed chart polygon with edge j cut into pieces[j] equal parts, closing point included."""
     d, c = _closed(downrange_nmi, crossrange_nmi)
     t = np.concatenate([np.arange(k) / k for k in pieces])
@@ -81,7 +87,9 @@ def sampled_ring(downrange_nmi, crossrange_nmi, pieces):
     return ds, cs
 
 
-def outline(downrange_nmi, crossrange_nmi, reference: Reference, max_edge_nmi=MAX_EDGE_NMI) -> Outline:
+def outline(
+    downrange_nmi: ArrayLike, crossrange_nmi: ArrayLike, reference: Reference, max_edge_nmi: float = MAX_EDGE_NMI
+) -> Outline:
     """The outline of the boundary given by its points' flown down-range and cross-range (nmi, in order round
     the boundary) about `reference`, the entry point and heading they are measured from."""
     down, cross = np.asarray(downrange_nmi, float), np.asarray(crossrange_nmi, float)
@@ -92,7 +100,9 @@ def outline(downrange_nmi, crossrange_nmi, reference: Reference, max_edge_nmi=MA
     return Outline(lat[:-1], lon[:-1], area, POLES[north, south])
 
 
-def _ring_on_map(down, cross, reference: Reference, max_edge_nmi):
+def _ring_on_map(
+    down: NDArray[np.float64], cross: NDArray[np.float64], reference: Reference, max_edge_nmi: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The chart ring sampled and carried to latitude and continuous longitude (closing point included); an edge
     that sweeps more than MAX_EDGE_LON_DEG of longitude between samples is sampled again, finer."""
     d, c = _closed(down, cross)
@@ -111,13 +121,13 @@ def _ring_on_map(down, cross, reference: Reference, max_edge_nmi):
     return lat, lon
 
 
-def _signed_area(x, y) -> float:
+def _signed_area(x: ArrayLike, y: ArrayLike) -> float:
     """Twice the shoelace area of a closed polygon (first point not repeated): positive counter-clockwise."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     return float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-def _edge_position(x, y) -> float:
+def _edge_position(x: float, y: float) -> float:
     """Where a point on the window's edge lies going counter-clockwise round it from its south-west corner: 0-1
     the bottom (the south pole), 1-2 the east edge, 2-3 the top (the north pole), 3-4 the west edge."""
     if x >= WINDOW_DEG[1]:
@@ -133,7 +143,9 @@ CORNERS = (
 )
 
 
-def window_area(latitude_deg, longitude_deg):
+def window_area(
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike
+) -> tuple[tuple[tuple[NDArray[np.float64], ...], ...], bool, bool]:
     """The inside (on its left) of a closed ring in continuous longitude (its last point its first, +-360 deg per
     turn round the axis) on the map's copy WINDOW_DEG: (polygons, holds the north pole, holds the south pole)."""
     lo, hi = WINDOW_DEG
@@ -151,12 +163,19 @@ def window_area(latitude_deg, longitude_deg):
     return _joined(arcs)
 
 
-def _arcs(lat, lon, k, x, cuts) -> list[np.ndarray]:
+def _arcs(
+    lat: NDArray[np.float64],
+    lon: NDArray[np.float64],
+    k: NDArray[np.int_],
+    x: NDArray[np.float64],
+    cuts: NDArray[np.intp],
+) -> list[NDArray[np.float64]]:
     """The ring cut where it crosses an edge of its copy: arcs of (x, lat) within the window, each from the edge
     to the edge."""
     lo, hi = WINDOW_DEG
     width = hi - lo
-    pieces, current = [], None
+    pieces: list[NDArray[np.float64]] = []
+    current: list[tuple[float, float]] | None = None
     for n, i in enumerate(np.append(cuts, cuts[0] + len(lon) - 1)):  # from each cut to the next, round the ring
         j = i % (len(lon) - 1)
         edge = hi + width * min(k[j], k[j + 1])
@@ -176,10 +195,11 @@ def _arcs(lat, lon, k, x, cuts) -> list[np.ndarray]:
     return pieces
 
 
-def _joined(arcs: list[np.ndarray]):
+def _joined(arcs: list[NDArray[np.float64]]) -> tuple[tuple[tuple[NDArray[np.float64], ...], ...], bool, bool]:
     """Arcs that run from the window's edge to its edge, joined into rings along the edge counter-clockwise."""
     starts = np.array([_edge_position(*a[0]) for a in arcs])
-    unused, polygons, north, south = set(range(len(arcs))), [], False, False
+    unused, north, south = set(range(len(arcs))), False, False
+    polygons: list[tuple[NDArray[np.float64], ...]] = []
     while unused:
         first = current = min(unused)
         ring: list[tuple[float, ...]] = []

@@ -1,12 +1,13 @@
 """Plane geometry in the (down-range, cross-range) plane of a footprint: the one point-in-polygon test."""
 
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core._jit import njit
 
 
 @njit
-def inside_polygon(px, py, m, x, y) -> bool:
+def inside_polygon(px: NDArray[np.float64], py: NDArray[np.float64], m: int, x: float, y: float) -> bool:
     """Whether (x, y) lies in the polygon px[:m], py[:m] by the even-odd rule: a ray cast along +x crosses the
     boundary an odd number of times (Shimrat, "Algorithm 112: Position of point relative to polygon", CACM 1962)."""
     inside = False

@@ -26,9 +26,12 @@ plain-Python loop over the same geometry, kept as an independent check and as th
 """
 
 import math
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.errors import Stopped
 from footprint.core.orbits import CircularOrbit, frames, time_s
@@ -55,17 +58,17 @@ class Window:
     deorbit_time_start_s: float
     deorbit_time_end_s: float
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 
 
 @dataclass
 class Reach:
-    revolutions: np.ndarray  # (R,)
-    u_deg: np.ndarray  # (U,) deorbit arguments of latitude
-    deorbit_time_s: np.ndarray  # (R, U)
-    margin_nmi: np.ndarray  # (R, U, S); NaN where a placement lies past the time span
-    inside: np.ndarray  # (R, U, S)
+    revolutions: NDArray[np.int_]  # (R,)
+    u_deg: NDArray[np.float64]  # (U,) deorbit arguments of latitude
+    deorbit_time_s: NDArray[np.float64]  # (R, U)
+    margin_nmi: NDArray[np.float64]  # (R, U, S); NaN where a placement lies past the time span
+    inside: NDArray[np.bool_]  # (R, U, S)
     windows: list[Window] = field(default_factory=list)
 
     def passes(self, site: int) -> list[list[Window]]:
@@ -88,18 +91,25 @@ class Reach:
 
 
 # ------------------------------------------------------------------------------------------ the kernel
-def _wrap_pi(a):
+def _wrap_pi(a: NDArray[np.float64]) -> NDArray[np.float64]:
     return (a + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def _branches(dmin, dmax):
+def _branches(dmin: float, dmax: float) -> range:
     """Integers k for which a chart down-range in (-pi, pi] shifted by 2 pi k can meet [dmin, dmax] (radians)."""
     lo = math.ceil((dmin - math.pi) / (2.0 * math.pi) - 1e-12)
     hi = math.floor((dmax + math.pi) / (2.0 * math.pi) + 1e-12)
     return range(lo, hi + 1)
 
 
-def vertices_in_chart(p0, d0, n, down_rad, cross_rad, shift_rad):
+def vertices_in_chart(
+    p0: NDArray[np.float64],
+    d0: NDArray[np.float64],
+    n: NDArray[np.float64],
+    down_rad: NDArray[np.float64],
+    cross_rad: NDArray[np.float64],
+    shift_rad: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The footprint's vertices (G, P) in each placement's chart after the rotation shift (radians).
 
     p0, d0, n: (G, 3) placement frames; down_rad, cross_rad, shift_rad: (P,), shift positive west."""
@@ -119,7 +129,17 @@ def vertices_in_chart(p0, d0, n, down_rad, cross_rad, shift_rad):
     return dv, cv
 
 
-def margins(p0, d0, n, down_nmi, cross_nmi, flight_time_s, sites_unit, shift_deg_s=0.0, radius_nmi=MEAN_RADIUS_NMI):
+def margins(
+    p0: NDArray[np.float64],
+    d0: NDArray[np.float64],
+    n: NDArray[np.float64],
+    down_nmi: ArrayLike,
+    cross_nmi: ArrayLike,
+    flight_time_s: ArrayLike,
+    sites_unit: NDArray[np.float64],
+    shift_deg_s: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Signed margins (G, S) in nmi, positive inside, and inside flags, for G placements and S sites.
 
     p0, d0, n: (G, 3) earth-fixed frames of the placements (reference point, initial direction, left
@@ -162,14 +182,14 @@ def margins(p0, d0, n, down_nmi, cross_nmi, flight_time_s, sites_unit, shift_deg
 
 def placement_margins(
     reference: Reference,
-    down_nmi,
-    cross_nmi,
-    flight_time_s,
-    sites_latitude_deg,
-    sites_longitude_deg,
-    shift_deg_s=0.0,
-    radius_nmi=MEAN_RADIUS_NMI,
-):
+    down_nmi: ArrayLike,
+    cross_nmi: ArrayLike,
+    flight_time_s: ArrayLike,
+    sites_latitude_deg: ArrayLike,
+    sites_longitude_deg: ArrayLike,
+    shift_deg_s: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """One placement: the footprint about `reference` (its entry point); margins (S,) nmi and inside (S,)."""
     p0, d0, n = great_circle_frame(reference.latitude_deg, reference.longitude_deg, reference.heading_deg)
     sites = unit_vectors(
@@ -181,20 +201,20 @@ def placement_margins(
 
 # ---------------------------------------------------------------------------------------- the analysis
 def reach(
-    footprint_down_nmi,
-    footprint_cross_nmi,
-    flight_time_s,
-    sites_lat,
-    sites_lon,
+    footprint_down_nmi: ArrayLike,
+    footprint_cross_nmi: ArrayLike,
+    flight_time_s: ArrayLike,
+    sites_lat: ArrayLike,
+    sites_lon: ArrayLike,
     orbit: CircularOrbit,
-    revolutions,
-    u_step_deg=1.0,
-    earth_rotation="approximate",
-    entry_offset_nmi=0.0,
-    time_span_s=None,
-    radius_nmi=MEAN_RADIUS_NMI,
-    chunk_elements=CHUNK_ELEMENTS,
-    on_progress=None,
+    revolutions: ArrayLike,
+    u_step_deg: float = 1.0,
+    earth_rotation: str = "approximate",
+    entry_offset_nmi: float = 0.0,
+    time_span_s: float | None = None,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+    chunk_elements: int = CHUNK_ELEMENTS,
+    on_progress: Callable[[float, str], bool | None] | None = None,
 ) -> Reach:
     """Place the footprint at every deorbit point (revolution, u on a grid of u_step_deg from the node) and
     decide which sites it covers.
@@ -242,7 +262,13 @@ def reach(
     )
 
 
-def windows(revs, u, t_deorbit, margin, inside) -> list[Window]:
+def windows(
+    revs: NDArray[np.int_],
+    u: NDArray[np.float64],
+    t_deorbit: NDArray[np.float64],
+    margin: NDArray[np.float64],
+    inside: NDArray[np.bool_],
+) -> list[Window]:
     """Contiguous runs of inside along u, per revolution and site, ordered by site, then revolution, then u."""
     r_n, u_n, s_n = inside.shape
     flags = np.zeros((r_n, s_n, u_n + 2), bool)
@@ -277,14 +303,20 @@ def windows(revs, u, t_deorbit, margin, inside) -> list[Window]:
 
 # --------------------------------------------------------------------------- a plain-Python reference
 def margins_reference(
-    frames_list, down_nmi, cross_nmi, flight_time_s, sites_latlon_deg, shift_deg_s=0.0, radius_nmi=MEAN_RADIUS_NMI
-):
+    frames_list: Iterable[tuple[Sequence[float], Sequence[float], Sequence[float]]],
+    down_nmi: Iterable[float],
+    cross_nmi: Iterable[float],
+    flight_time_s: Iterable[float],
+    sites_latlon_deg: Iterable[tuple[float, float]],
+    shift_deg_s: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> list[list[tuple[float, bool]]]:
     """The same margins by a plain Python loop over placements, sites, branches and edges (math only).
 
     frames_list: [(p0, d0, n)] 3-sequences; sites_latlon_deg: [(lat, lon)]. Returns a list of rows of
     (margin_nmi, inside). The independent check of `margins` and the benchmark's baseline."""
     two_pi = 2.0 * math.pi
-    sites = []
+    sites: list[tuple[float, float, float]] = []
     for lat, lon in sites_latlon_deg:
         la, lo = math.radians(lat), math.radians(lon)
         sites.append((math.cos(la) * math.cos(lo), math.cos(la) * math.sin(lo), math.sin(la)))
@@ -293,12 +325,14 @@ def margins_reference(
         for d, c, t in zip(down_nmi, cross_nmi, flight_time_s)
     ]
     eps = ON_BOUNDARY_NMI / radius_nmi
-    rows = []
+    rows: list[list[tuple[float, bool]]] = []
     for p0, d0, n in frames_list:
-        verts = []
+        verts: list[tuple[float, float]] = []
         for d, c, phi in poly:
             cc = math.cos(c)
-            v = [cc * math.cos(d) * p0[k] + cc * math.sin(d) * d0[k] + math.sin(c) * n[k] for k in range(3)]
+            v: Sequence[float] = [
+                cc * math.cos(d) * p0[k] + cc * math.sin(d) * d0[k] + math.sin(c) * n[k] for k in range(3)
+            ]
             x = v[0] * math.cos(phi) + v[1] * math.sin(phi)  # theta_rot = theta - omega_p t
             y = -v[0] * math.sin(phi) + v[1] * math.cos(phi)
             v = (x, y, v[2])
@@ -306,7 +340,7 @@ def margins_reference(
             dd = d + ((dd - d + math.pi) % two_pi - math.pi)
             verts.append((dd, math.asin(max(-1.0, min(1.0, sum(v[k] * n[k] for k in range(3)))))))
         dmin, dmax = min(v[0] for v in verts), max(v[0] for v in verts)
-        row = []
+        row: list[tuple[float, bool]] = []
         for s in sites:
             ds = math.atan2(sum(s[k] * d0[k] for k in range(3)), sum(s[k] * p0[k] for k in range(3)))
             cs = math.asin(max(-1.0, min(1.0, sum(s[k] * n[k] for k in range(3)))))

@@ -18,8 +18,10 @@ Pure numerics: a FlightSpec and a method's settings in, plain dataclasses out.
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.footprint_methods import footprint
@@ -46,7 +48,9 @@ def reference_of(spec: FlightSpec) -> Reference:
     return Reference(e.latitude_deg, e.longitude_deg, e.heading_deg)
 
 
-def stepped_reference(ref: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI) -> Reference:
+def stepped_reference(
+    ref: Reference, step_downrange_nmi: float = 0.0, radius_nmi: float = MEAN_RADIUS_NMI
+) -> Reference:
     """The point step_downrange_nmi further along the initial great circle, with the great circle's heading
     there: where the deorbit point lands when it is stepped around the orbit (Section IV.1)."""
     if step_downrange_nmi == 0.0:
@@ -60,17 +64,26 @@ def stepped_reference(ref: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RA
     return Reference(math.degrees(lat), math.degrees(lon), math.degrees(math.atan2(d @ east, d @ north)))
 
 
-def distance_nmi(lat1_deg, lon1_deg, lat2_deg, lon2_deg, radius_nmi=MEAN_RADIUS_NMI):
+def distance_nmi(
+    lat1_deg: ArrayLike,
+    lon1_deg: ArrayLike,
+    lat2_deg: ArrayLike,
+    lon2_deg: ArrayLike,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> NDArray[np.float64]:
     """Great-circle distance on the sphere of radius R' (atan2 form: accurate at 0 and at 180 deg)."""
     p1, l1, p2, l2 = (np.radians(np.asarray(x, float)) for x in (lat1_deg, lon1_deg, lat2_deg, lon2_deg))
     dl = l2 - l1
     y = np.hypot(np.cos(p2) * np.sin(dl), np.cos(p1) * np.sin(p2) - np.sin(p1) * np.cos(p2) * np.cos(dl))
     x = np.sin(p1) * np.sin(p2) + np.cos(p1) * np.cos(p2) * np.cos(dl)
-    return radius_nmi * np.arctan2(y, x)
+    distance: NDArray[np.float64] = radius_nmi * np.arctan2(y, x)  # typed: numpy's ufuncs give Any here
+    return distance
 
 
 # -------------------------------------------------------------------------------------------- flights
-def at_geometry(spec: FlightSpec, dst: Reference, rotating=None, velocity_frame=None) -> FlightSpec:
+def at_geometry(
+    spec: FlightSpec, dst: Reference, rotating: bool | None = None, velocity_frame: str | None = None
+) -> FlightSpec:
     """The same case with its entry latitude, longitude and heading replaced (and, when given, the planet's
     rotation and the frame of the entry speed, flight-path angle and heading)."""
     entry = replace(
@@ -87,7 +100,13 @@ def at_geometry(spec: FlightSpec, dst: Reference, rotating=None, velocity_frame=
     return replace(spec, entry=entry, planet=planet)
 
 
-def fly_at(spec: FlightSpec, settings: MethodSettings, dst: Reference, rotating=True, velocity_frame=None) -> Footprint:
+def fly_at(
+    spec: FlightSpec,
+    settings: MethodSettings,
+    dst: Reference,
+    rotating: bool = True,
+    velocity_frame: str | None = None,
+) -> Footprint:
     """The exact alternative: the footprint flown again from the new geometry (on the rotating earth)."""
     return footprint(at_geometry(spec, dst, rotating, velocity_frame), settings)
 
@@ -97,19 +116,23 @@ def all_points(fp: Footprint) -> list[FootprintPoint]:
     return list(fp.points) + list(fp.interior)
 
 
-def control_key(side: str, parameter: ControlSetting | dict):
+def control_key(side: str, parameter: ControlSetting | dict[str, Any]) -> tuple[str, tuple[tuple[str, Any], ...]]:
     """What names a footprint point across two flights of one study: its side and control setting (a stored one
     too)."""
     return side, ControlSetting.of(parameter).key()
 
 
-def point_key(p: FootprintPoint):
+def point_key(p: FootprintPoint) -> tuple[str, tuple[tuple[str, Any], ...]]:
     return control_key(p.side, p.parameter)
 
 
 def approximate_points(
-    fp: Footprint, dst: Reference, step_downrange_nmi=0.0, omega_deg_s=OMEGA_EARTH_DEG_S, points=None
-):
+    fp: Footprint,
+    dst: Reference,
+    step_downrange_nmi: float = 0.0,
+    omega_deg_s: float = OMEGA_EARTH_DEG_S,
+    points: list[FootprintPoint] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The report's way: each point of a non-rotating footprint moved to dst (plus the step) and shifted
     west by omega_p t with its own flight time (Section IV.3). Returns (latitude_deg, longitude_deg)."""
     pts = all_points(fp) if points is None else points
@@ -126,24 +149,26 @@ class Comparison:
 
     destination: Reference
     velocity_frame: str
-    rows: list[dict]  # one per point flown in both: key, both positions, flight times, errors
+    rows: list[dict[str, Any]]  # one per point flown in both: key, both positions, flight times, errors
     unmatched: int  # points present in only one of the two footprints
-    flight_time_nonrotating_s: tuple  # (min, max) over the footprint's points
-    flight_time_exact_s: tuple
-    downrange_extent_nmi: dict  # max - min down-range: "nonrotating", "approximate", "exact"
-    move_error_nmi: dict | None = None  # the move alone: non-rotating footprint flown at dst vs moved
+    flight_time_nonrotating_s: tuple[float, float]  # (min, max) over the footprint's points
+    flight_time_exact_s: tuple[float, float]
+    downrange_extent_nmi: dict[str, float]  # max - min down-range: "nonrotating", "approximate", "exact"
+    move_error_nmi: dict[str, float] | None = None  # the move alone: non-rotating footprint flown at dst vs moved
     nonrotating: Footprint | None = field(default=None, repr=False)
     exact: Footprint | None = field(default=None, repr=False)
 
     @property
-    def max_error_nmi(self):
-        return max(r["error_nmi"] for r in self.rows)
+    def max_error_nmi(self) -> float:
+        largest: float = max(r["error_nmi"] for r in self.rows)  # a row's error_nmi is a float
+        return largest
 
     @property
-    def mean_error_nmi(self):
-        return sum(r["error_nmi"] for r in self.rows) / len(self.rows)
+    def mean_error_nmi(self) -> float:
+        total: float = sum(r["error_nmi"] for r in self.rows)  # a row's error_nmi is a float
+        return total / len(self.rows)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         return {
             "destination": vars(self.destination),
             "velocity_frame": self.velocity_frame,
@@ -162,11 +187,11 @@ def approximate_vs_exact(
     spec: FlightSpec,
     settings: MethodSettings,
     dst: Reference,
-    step_downrange_nmi=0.0,
-    velocity_frame="inertial",
-    omega_deg_s=None,
+    step_downrange_nmi: float = 0.0,
+    velocity_frame: str | None = "inertial",
+    omega_deg_s: float | None = None,
     nonrotating: Footprint | None = None,
-    with_move_error=True,
+    with_move_error: bool = True,
 ) -> Comparison:
     """Fly the method of `settings` on a non-rotating earth from the spec's own entry (or take `nonrotating`), move
     it to dst (+ step) and shift it by omega_p t; fly it again on the rotating earth from dst (+ step); compare.
@@ -188,7 +213,7 @@ def approximate_vs_exact(
     elat, elon = np.array([p.latitude_deg for p in pe]), np.array([p.longitude_deg for p in pe])
     err = distance_nmi(alat, alon, elat, elon)
     down_a, cross_a = ranges_near(alat, alon, start, [p.downrange_nmi for p in pa])
-    rows = []
+    rows: list[dict[str, Any]] = []
     for i, (a, e) in enumerate(zip(pa, pe)):
         rows.append(
             {
@@ -215,7 +240,7 @@ def approximate_vs_exact(
         "exact": _extent([p.downrange_nmi for p in pe]),
     }
 
-    move_error = None
+    move_error: dict[str, float] | None = None
     if with_move_error:
         flat = fly_at(spec, settings, start, rotating=False)
         there = {point_key(p): p for p in all_points(flat)}
@@ -231,7 +256,7 @@ def approximate_vs_exact(
         e2 = distance_nmi(mlat2, mlon2, [there[k].latitude_deg for k in both], [there[k].longitude_deg for k in both])
         move_error = {"max_nmi": float(np.max(e2)), "mean_nmi": float(np.mean(e2))}
 
-    def times(pts):
+    def times(pts: list[FootprintPoint]) -> tuple[float, float]:
         t = [p.flight_time_s for p in pts]
         return (min(t), max(t))
 
@@ -249,7 +274,9 @@ def approximate_vs_exact(
     )
 
 
-def ranges_near(lat, lon, ref: Reference, near_downrange_nmi):
+def ranges_near(
+    lat: ArrayLike, lon: ArrayLike, ref: Reference, near_downrange_nmi: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Down-range and cross-range about ref, the down-range unwrapped to the turn nearest a known value
     (footprints reach past half the circumference); where that value is NaN, within +-pi R'."""
     down, cross = downrange_crossrange_nmi(lat, lon, ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
@@ -259,12 +286,14 @@ def ranges_near(lat, lon, ref: Reference, near_downrange_nmi):
     return down + circumference * np.where(np.isnan(turns), 0.0, turns), cross
 
 
-def _extent(down):
+def _extent(down: ArrayLike) -> float:
     down = np.asarray(down, float)
     return float(down.max() - down.min())
 
 
-def shift_error_nmi(stored: list[dict], shifted: list[dict], exact: list[dict]) -> dict:
+def shift_error_nmi(
+    stored: list[dict[str, Any]], shifted: list[dict[str, Any]], exact: list[dict[str, Any]]
+) -> dict[str, float | None]:
     """Section IV.3's question for a footprint: the approximate shift of each stored point (`shifted`, in the stored
     points' order) against the point of the same control flown again (`exact`): the largest and mean distance on
     the sphere (nmi) over the points in both."""

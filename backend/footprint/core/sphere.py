@@ -22,9 +22,12 @@ Longitudes. `wrap_longitude` puts a longitude in [-180, 180) (about a centre, op
 numba kernel, core.controls.wrap_deg ((-180, 180]), which must stay inside the compiled code.
 """
 
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.constants import FT_PER_NMI, MEAN_RADIUS_FT, OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
@@ -33,7 +36,9 @@ MEAN_RADIUS_NMI = MEAN_RADIUS_FT / FT_PER_NMI
 
 
 # ------------------------------------------------------------------------------------------ longitudes
-def wrap_longitude(longitude_deg, center_deg=0.0, *, closed_above=False):
+def wrap_longitude(
+    longitude_deg: ArrayLike, center_deg: float = 0.0, *, closed_above: bool = False
+) -> NDArray[np.float64]:
     """Longitudes (deg, any shape) moved by whole turns into the 360 deg about center_deg:
     [center - 180, center + 180) by default, so +180 becomes -180 (the transform's, the orbits' and the
     GeoJSON's convention); with closed_above=True (center - 180, center + 180], so -180 becomes +180 (the
@@ -45,7 +50,7 @@ def wrap_longitude(longitude_deg, center_deg=0.0, *, closed_above=False):
     return wrapped
 
 
-def unwrap_longitude(longitude_deg, reference_deg=None) -> np.ndarray:
+def unwrap_longitude(longitude_deg: ArrayLike, reference_deg: float | None = None) -> NDArray[np.float64]:
     """Longitudes (deg) of a path or ring made continuous: 360 deg added or taken wherever neighbours would
     differ by more than 180 deg. Without reference_deg the first longitude stays as given (numpy.unwrap with
     a period of 360 deg); with it the first is put within 180 deg of reference_deg and each next one a step
@@ -60,7 +65,7 @@ def unwrap_longitude(longitude_deg, reference_deg=None) -> np.ndarray:
 
 
 # -------------------------------------------------------------------------------------- unit vectors
-def unit_vectors(latitude_deg, longitude_deg):
+def unit_vectors(latitude_deg: ArrayLike, longitude_deg: ArrayLike) -> NDArray[np.float64]:
     """Unit vectors (..., 3) of points given by latitude and longitude (deg; broadcast together): x towards
     latitude 0, longitude 0, z towards the north pole."""
     lat, lon = np.broadcast_arrays(
@@ -69,7 +74,7 @@ def unit_vectors(latitude_deg, longitude_deg):
     return np.stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)], axis=-1)  # spherical to xyz
 
 
-def latlon_of(v):
+def latlon_of(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(lat, lon) in degrees of unit vectors (last axis xyz); longitude in [-180, 180] (atan2: +180 where
     y is +0 and x < 0, -180 where y is -0)."""
     lat = np.degrees(np.arctan2(v[..., 2], np.hypot(v[..., 0], v[..., 1])))  # xyz to spherical, exact near the poles
@@ -77,7 +82,9 @@ def latlon_of(v):
 
 
 # ----------------------------------------------------------------------------- the initial great circle
-def great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg):
+def great_circle_frame(
+    latitude0_deg: float, longitude0_deg: float, heading0_deg: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(p0, d0, n): initial point, initial direction, left pole; unit vectors."""
     lat, lon, hdg = np.radians(latitude0_deg), np.radians(longitude0_deg), np.radians(heading0_deg)
     p0 = unit_vectors(latitude0_deg, longitude0_deg)
@@ -96,7 +103,7 @@ class Reference:
     heading_deg: float
 
 
-def great_circle(ref: Reference, downrange_deg):
+def great_circle(ref: Reference, downrange_deg: ArrayLike) -> NDArray[np.float64]:
     """Unit vectors (..., 3) on ref's initial great circle at the given down-range angles (deg) from the
     initial point: cos(a) p0 + sin(a) d0 (latlon_from_ranges at zero cross-range)."""
     p0, d0, _ = great_circle_frame(ref.latitude_deg, ref.longitude_deg, ref.heading_deg)
@@ -106,8 +113,13 @@ def great_circle(ref: Reference, downrange_deg):
 
 # ------------------------------------------------------------------------------- eqs. (8)-(15): ranges
 def latlon_from_ranges(
-    downrange_nmi, crossrange_nmi, latitude0_deg, longitude0_deg, heading0_deg, radius_nmi=MEAN_RADIUS_NMI
-):
+    downrange_nmi: ArrayLike,
+    crossrange_nmi: ArrayLike,
+    latitude0_deg: float,
+    longitude0_deg: float,
+    heading0_deg: float,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Inverse of downrange_crossrange_nmi in closed form (the report iterates, eqs. 12-15):
     P = cos(c) (cos(d) p0 + sin(d) d0) + sin(c) n with d, c the ranges as angles. Returns (lat, lon) deg."""
     p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg)
@@ -117,15 +129,15 @@ def latlon_from_ranges(
 
 
 def downrange_crossrange_nmi(
-    latitude_deg,
-    longitude_deg,
-    latitude0_deg,
-    longitude0_deg,
-    heading0_deg,
-    radius_nmi=MEAN_RADIUS_NMI,
-    unwrap=False,
-    frame=None,
-):
+    latitude_deg: ArrayLike,
+    longitude_deg: ArrayLike,
+    latitude0_deg: float,
+    longitude0_deg: float,
+    heading0_deg: float,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+    unwrap: bool = False,
+    frame: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Down-range and cross-range (nmi) of points about the great circle through the initial point
     (eqs. 8-11 in closed form, see the module docstring).
 
@@ -142,7 +154,7 @@ def downrange_crossrange_nmi(
     return radius_nmi * down, radius_nmi * cross
 
 
-def close_half_along_axis(points) -> list:
+def close_half_along_axis(points: Iterable[tuple[Any, ...]]) -> list[tuple[Any, ...]]:
     """A half footprint (every cross-range >= 0, or every one <= 0) closed along the initial great circle:
     a point of cross-range 0 added at its first and at its last down-range; any other boundary as given.
     points: tuples (down-range, cross-range, ...); an added point copies the rest of its neighbour's."""
@@ -153,35 +165,46 @@ def close_half_along_axis(points) -> list:
 
 
 # ---------------------------------------------------------------------------- Section IV: moving a footprint
-def frame(ref: Reference) -> np.ndarray:
+def frame(ref: Reference) -> NDArray[np.float64]:
     """Columns p0, d0, n: the initial point, the initial direction, the left pole."""
     return np.column_stack(great_circle_frame(ref.latitude_deg, ref.longitude_deg, ref.heading_deg))
 
 
-def rotation(src: Reference, dst: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI) -> np.ndarray:
+def rotation(
+    src: Reference, dst: Reference, step_downrange_nmi: float = 0.0, radius_nmi: float = MEAN_RADIUS_NMI
+) -> NDArray[np.float64]:
     """The 3x3 rotation that carries a footprint about src to the same place about dst, moved on by the step."""
     a = step_downrange_nmi / radius_nmi
-    step = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    step: NDArray[np.float64] = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
     return frame(dst) @ step @ frame(src).T  # R = F_to . S(step) . F_from^T
 
 
 def move(
-    latitude_deg, longitude_deg, src: Reference, dst: Reference, step_downrange_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI
-):
+    latitude_deg: ArrayLike,
+    longitude_deg: ArrayLike,
+    src: Reference,
+    dst: Reference,
+    step_downrange_nmi: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Re-node, re-incline and step around the orbit in one: (lat, lon) in degrees, arrays of any shape."""
     u = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
     v = u @ rotation(src, dst, step_downrange_nmi, radius_nmi).T
     return latlon_of(v)
 
 
-def mirror(latitude_deg, longitude_deg, ref: Reference):
+def mirror(
+    latitude_deg: ArrayLike, longitude_deg: ArrayLike, ref: Reference
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The other half of a symmetric footprint: each point reflected in the plane of the initial great circle."""
     n = frame(ref)[:, 2]
     u = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
     return latlon_of(u - 2.0 * (u @ n)[..., None] * n)  # Householder reflection in the plane normal to n
 
 
-def rotation_shift(longitude_deg, flight_time_s, omega_deg_s=OMEGA_EARTH_DEG_S):
+def rotation_shift(
+    longitude_deg: ArrayLike, flight_time_s: ArrayLike, omega_deg_s: float = OMEGA_EARTH_DEG_S
+) -> NDArray[np.float64]:
     """Section IV.3, the first-order earth-rotation shift: theta_rot = theta - omega_p t (latitude unchanged);
     longitude in [-180, 180)."""
     lon = np.asarray(longitude_deg, float) - omega_deg_s * np.asarray(flight_time_s, float)
@@ -206,6 +229,7 @@ def heading_for_inclination(latitude_deg, inclination_deg, ascending=True):
     return az if ascending else 180.0 - az
 
 
-def inclination_for_heading(latitude_deg, heading_deg):
+def inclination_for_heading(latitude_deg: float, heading_deg: float) -> float:
     """Inverse of heading_for_inclination: cos i = sin(heading) cos(latitude)."""
-    return np.degrees(np.arccos(np.sin(np.radians(heading_deg)) * np.cos(np.radians(latitude_deg))))
+    inclination_deg: float = np.degrees(np.arccos(np.sin(np.radians(heading_deg)) * np.cos(np.radians(latitude_deg))))
+    return inclination_deg

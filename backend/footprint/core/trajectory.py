@@ -7,10 +7,13 @@ longitude and down-range only the few rows the summary reads (`_track_rows`), no
 
 import csv
 import math
+import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core import constants as c
 from footprint.core._jit import njit
@@ -135,9 +138,9 @@ class Dispersion:
     # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), linear
     # between them; None: the model's density. It acts on the motion and on the heating alike (both use density).
     # Given as any sequence of numbers, kept as a tuple of floats (a Dispersion compares and hashes by value).
-    density_delta: tuple | None = None
+    density_delta: Sequence[float] | NDArray[np.float64] | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("cl_multiplier", "cd_multiplier"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
@@ -162,7 +165,7 @@ class FlightSpec:
     vehicle: Vehicle
     planet: Planet
     entry: Entry
-    ctrl: np.ndarray  # from controls.pack_controls
+    ctrl: NDArray[np.float64]  # from controls.pack_controls
     stop: Stop = field(default_factory=Stop)
     rtol: float = 1e-9
     max_step_s: float = 50.0
@@ -175,10 +178,10 @@ class FlightSpec:
 class Trajectory:
     """Time histories (numpy arrays, units in the keys) and a summary of one flight."""
 
-    summary: dict
-    history: dict
+    summary: dict[str, Any]
+    history: dict[str, NDArray[np.float64]]
 
-    def write_csv(self, path):
+    def write_csv(self, path: str | os.PathLike[str]) -> None:
         keys = list(self.history)
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
@@ -187,7 +190,7 @@ class Trajectory:
                 w.writerow([f"{v:.10g}" for v in row])
 
 
-def pack_parameters(spec: FlightSpec) -> np.ndarray:
+def pack_parameters(spec: FlightSpec) -> NDArray[np.float64]:
     pl, st = spec.planet, spec.stop
     p = np.zeros(P_SIZE)
     p[P_MU], p[P_RE], p[P_RP] = pl.mu_ft3_s2, pl.radius_ft, pl.polar_radius_ft
@@ -212,7 +215,7 @@ def pack_parameters(spec: FlightSpec) -> np.ndarray:
     return p
 
 
-def initial_state(spec: FlightSpec, p: np.ndarray) -> np.ndarray:
+def initial_state(spec: FlightSpec, p: NDArray[np.float64]) -> NDArray[np.float64]:
     """Earth-fixed state at entry; an inertial entry velocity loses the earth's rotation omega x r."""
     e, oblate = spec.entry, p[P_OBLATE] != 0.0
     x, y, z = ecef_from_geodetic(
@@ -225,7 +228,7 @@ def initial_state(spec: FlightSpec, p: np.ndarray) -> np.ndarray:
     return np.array([x, y, z, vx, vy, vz])
 
 
-def _set_left_pole(p, s0, heading_deg):
+def _set_left_pole(p: NDArray[np.float64], s0: NDArray[np.float64], heading_deg: float) -> None:
     """Left pole of the initial great circle (through the entry point along the named heading)."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(s0[0], s0[1], s0[2])
     hdg = math.radians(heading_deg)
@@ -233,10 +236,10 @@ def _set_left_pole(p, s0, heading_deg):
     p[P_POLE_X : P_POLE_X + 3] = np.cross([ux, uy, uz], d)
 
 
-def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
+def initial_mode(spec: FlightSpec, p: NDArray[np.float64], s0: NDArray[np.float64]) -> NDArray[np.float64]:
     mode = np.zeros(M_SIZE)
     ctrl = spec.ctrl
-    zeta, heading = steering_angles(*s0, p)
+    zeta, heading = steering_angles(s0[0], s0[1], s0[2], s0[3], s0[4], s0[5], p)  # mypy cannot count a *s0 before p
     _, gamma0, _ = flight_angles(*s0)
     if gamma0 >= 0.0:  # entering level or climbing: pulled out from the start
         mode[M_PULLED_OUT], mode[M_PULLOUT_T], mode[M_PULLOUT_ALT] = 1.0, 0.0, spec.entry.altitude_ft
@@ -255,11 +258,11 @@ def initial_mode(spec: FlightSpec, p, s0) -> np.ndarray:
 class _Flight(NamedTuple):
     """What the integrator returns for one spec, with the parameters it flew."""
 
-    p: np.ndarray
-    rows: np.ndarray  # integrate.R_* columns, one row per step and event
+    p: NDArray[np.float64]
+    rows: NDArray[np.float64]  # integrate.R_* columns, one row per step and event
     stop_code: int
     n_rhs: int
-    mode: np.ndarray  # the mode at the stop (pull-out time and altitude, turn done)
+    mode: NDArray[np.float64]  # the mode at the stop (pull-out time and altitude, turn done)
 
 
 def _fly(spec: FlightSpec) -> _Flight:
@@ -302,7 +305,7 @@ def simulate(spec: FlightSpec) -> Trajectory:
     return Trajectory(summary=_summary(spec, f, track, _pullout_row(f), heating), history=history)
 
 
-def simulate_summary(spec: FlightSpec) -> dict:
+def simulate_summary(spec: FlightSpec) -> dict[str, Any]:
     """simulate(spec).summary, equal to the bit, without the histories: the landing point, the pull-out and the
     maxima (heating from the altitude, velocity, alpha and time columns), for Monte Carlo samples and searches."""
     f = _fly(spec)
@@ -318,16 +321,19 @@ class _Track(NamedTuple):
     """Where a flight went, at some of its rows (every row for the histories): geodetic latitude, longitude,
     heading, flight-path angle, and down- and cross-range about the initial great circle (eqs. 8-11)."""
 
-    latitude_deg: np.ndarray
-    longitude_deg: np.ndarray
-    heading_deg: np.ndarray
-    gamma_deg: np.ndarray
-    downrange_nmi: np.ndarray  # unwrapped along the rows given: past half a circumference if they see every turn
-    crossrange_nmi: np.ndarray
+    latitude_deg: NDArray[np.float64]
+    longitude_deg: NDArray[np.float64]
+    heading_deg: NDArray[np.float64]
+    gamma_deg: NDArray[np.float64]
+    # unwrapped along the rows given: past half a circumference if they see every turn
+    downrange_nmi: NDArray[np.float64]
+    crossrange_nmi: NDArray[np.float64]
 
 
 @njit
-def _geodetic_history(rows, re_ft, rp_ft, oblate):
+def _geodetic_history(
+    rows: NDArray[np.float64], re_ft: float, rp_ft: float, oblate: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     n = rows.shape[0]
     lat, lon, heading = np.empty(n), np.empty(n), np.empty(n)
     for i in range(n):
@@ -336,7 +342,12 @@ def _geodetic_history(rows, re_ft, rp_ft, oblate):
     return lat, lon, heading
 
 
-def _track(spec, p, rows, frame=None) -> _Track:
+def _track(
+    spec: FlightSpec,
+    p: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    frame: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> _Track:
     """The track at `rows` (recorded rows, in order; frame: the initial great circle's, if at hand). Each value
     depends on its own row only, but the down-range's unwrapping on the rows before it: `_track_rows` says which
     rows keep it equal to the full history's."""
@@ -360,7 +371,13 @@ QUADRANT_RAD = math.pi / 2
 
 
 @njit
-def _track_rows(rows, i_pullout, p0, d0, pole):
+def _track_rows(
+    rows: NDArray[np.float64],
+    i_pullout: int,
+    p0: NDArray[np.float64],
+    d0: NDArray[np.float64],
+    pole: NDArray[np.float64],
+) -> NDArray[np.intp]:
     """Indices of the rows the summary's track needs: the entry, pull-out and final rows, and enough rows between
     them that numpy.unwrap over their down-range angles adds the same corrections, at the same pairs of rows, as
     over every row, so that the final down-range is the full history's to the bit.
@@ -403,7 +420,9 @@ def _pullout_row(f: _Flight) -> int:
     return int(np.searchsorted(f.rows[:, R_T], f.mode[M_PULLOUT_T])) if f.mode[M_PULLED_OUT] != 0.0 else 0
 
 
-def _heating(spec, p, rows):
+def _heating(
+    spec: FlightSpec, p: NDArray[np.float64], rows: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     """(heat_rate, temperature) along every row, or None without a heating model (Section III: evaluated on the
     histories, no effect on the motion). A dispersed density heats as it decelerates: the same factor."""
     if spec.heating is None:
@@ -422,7 +441,13 @@ def _heating(spec, p, rows):
     )
 
 
-def _summary(spec, f: _Flight, track: _Track, at_pullout: int, heating) -> dict:
+def _summary(
+    spec: FlightSpec,
+    f: _Flight,
+    track: _Track,
+    at_pullout: int,
+    heating: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> dict[str, Any]:
     """The summary of a flight from its rows and its track (whose last entry is the final row and entry
     `at_pullout` the pull-out row)."""
     rows, mode = f.rows, f.mode

@@ -1,8 +1,10 @@
 """What the routers take from the running app: the session factory, the job engine and the settings."""
 
 import hmac
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from typing import Annotated
 
+from fastapi import Depends
 from sqlalchemy.orm import Session, sessionmaker
 from starlette.concurrency import run_in_threadpool
 from starlette.requests import Request
@@ -16,6 +18,17 @@ from footprint.service.jobs.engine import JobEngine
 def sessions(request: Request) -> sessionmaker[Session]:
     """GET requests only read: their sessions begin deferred (db.engine.make_sessions)."""
     return request.app.state.read_sessions if request.method in ("GET", "HEAD") else request.app.state.sessions
+
+
+def _transaction(request: Request) -> Iterator[Session]:
+    with sessions(request).begin() as session:
+        yield session
+
+
+# a route's one transaction: begun at its first statement, committed when the route returns and before the response
+# is sent (scope "function": a client that reads next sees the write), rolled back when it raises. A route that must
+# commit before it does something else (hand a job to the engine) or computes for long keeps its own `with`.
+Transaction = Annotated[Session, Depends(_transaction, scope="function")]
 
 
 async def cached(

@@ -140,21 +140,19 @@ def footprint_map(footprint_id: StoredId, request: Request) -> HTMLResponse:
 
 
 @router.patch("/footprints/{footprint_id}", response_model=FootprintSummary)
-def rename_footprint(footprint_id: StoredId, body: FootprintRename, request: Request) -> dict:
+def rename_footprint(footprint_id: StoredId, body: FootprintRename, session: deps.Transaction) -> dict:
     """Rename a footprint; a name another footprint has gets a number, as a job's default names do."""
-    with deps.sessions(request).begin() as session:
-        fp = q.rename_footprint(session, footprint_id=footprint_id, name=body.name.strip())
-        if fp is None:
-            raise NotFound(f"no footprint {footprint_id!r}")
-        return _summary(fp)
+    fp = q.rename_footprint(session, footprint_id=footprint_id, name=body.name.strip())
+    if fp is None:
+        raise NotFound(f"no footprint {footprint_id!r}")
+    return _summary(fp)
 
 
 @router.delete("/footprints/{footprint_id}", status_code=204)
-def delete_footprint(footprint_id: StoredId, request: Request) -> Response:
+def delete_footprint(footprint_id: StoredId, session: deps.Transaction) -> Response:
     """Delete a footprint with its points and ground track."""
-    with deps.sessions(request).begin() as session:
-        if not q.delete_footprint(session, footprint_id=footprint_id):
-            raise NotFound(f"no footprint {footprint_id!r}")
+    if not q.delete_footprint(session, footprint_id=footprint_id):
+        raise NotFound(f"no footprint {footprint_id!r}")
     return Response(status_code=204)
 
 

@@ -72,26 +72,24 @@ def submit_router() -> APIRouter:
 
 @router.get("/jobs", response_model=JobList)
 def list_jobs(
-    request: Request,
+    session: deps.Transaction,
     status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
     kind: JobKind | None = Query(None),
     limit: int = Query(50, ge=1, le=500),
     offset: int = Query(0, ge=0, le=MAX_INTEGER),
 ) -> dict:
     """Jobs newest first, filtered by status and kind."""
-    with deps.sessions(request).begin() as session:
-        jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
-        return {"items": [summary(j) for j in jobs], "total": total}
+    jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
+    return {"items": [summary(j) for j in jobs], "total": total}
 
 
 @router.get("/jobs/{job_id}", response_model=JobRead)
-def get_job(job_id: StoredId, request: Request) -> dict:
+def get_job(job_id: StoredId, session: deps.Transaction) -> dict:
     """A job: status, progress, error, its study and its result links."""
-    with deps.sessions(request).begin() as session:
-        job = q.get_job(session, job_id=job_id)
-        if job is None:
-            raise NotFound(f"no job {job_id!r}")
-        return _read(session, job)
+    job = q.get_job(session, job_id=job_id)
+    if job is None:
+        raise NotFound(f"no job {job_id!r}")
+    return _read(session, job)
 
 
 @router.delete("/jobs/{job_id}", response_model=JobRead)

@@ -41,17 +41,15 @@ def _site(row) -> dict:
 
 
 @router.get("/sites", response_model=list[SiteRead])
-def list_sites(request: Request) -> list[dict]:
+def list_sites(session: deps.Transaction) -> list[dict]:
     """Every stored landing site."""
-    with deps.sessions(request).begin() as session:
-        return [_read(r) for r in q.list_sites(session)]
+    return [_read(r) for r in q.list_sites(session)]
 
 
 @router.post("/sites", response_model=SiteRead, status_code=201)
-def create_site(site: Site, request: Request) -> dict:
+def create_site(site: Site, session: deps.Transaction) -> dict:
     """Store a landing site."""
-    with deps.sessions(request).begin() as session:
-        return _read(q.create_sites(session, sites=[site.model_dump()])[0])
+    return _read(q.create_sites(session, sites=[site.model_dump()])[0])
 
 
 @router.post(
@@ -101,31 +99,28 @@ def _parse_csv(body: bytes) -> list[dict]:
 
 
 @router.get("/sites/{site_id:int}", response_model=SiteRead)
-def get_site(site_id: SiteId, request: Request) -> dict:
+def get_site(site_id: SiteId, session: deps.Transaction) -> dict:
     """One landing site."""
-    with deps.sessions(request).begin() as session:
-        row = q.get_site(session, site_id=site_id)
-        if row is None:
-            raise NotFound(f"no site {site_id}")
-        return _read(row)
+    row = q.get_site(session, site_id=site_id)
+    if row is None:
+        raise NotFound(f"no site {site_id}")
+    return _read(row)
 
 
 @router.put("/sites/{site_id:int}", response_model=SiteRead)
-def update_site(site_id: SiteId, site: Site, request: Request) -> dict:
+def update_site(site_id: SiteId, site: Site, session: deps.Transaction) -> dict:
     """Replace a landing site's name and place."""
-    with deps.sessions(request).begin() as session:
-        row = q.update_site(session, site_id=site_id, site=site.model_dump())
-        if row is None:
-            raise NotFound(f"no site {site_id}")
-        return _read(row)
+    row = q.update_site(session, site_id=site_id, site=site.model_dump())
+    if row is None:
+        raise NotFound(f"no site {site_id}")
+    return _read(row)
 
 
 @router.delete("/sites/{site_id:int}", status_code=204)
-def delete_site(site_id: SiteId, request: Request) -> Response:
+def delete_site(site_id: SiteId, session: deps.Transaction) -> Response:
     """Delete a landing site."""
-    with deps.sessions(request).begin() as session:
-        if not q.delete_site(session, site_id=site_id):
-            raise NotFound(f"no site {site_id}")
+    if not q.delete_site(session, site_id=site_id):
+        raise NotFound(f"no site {site_id}")
     return Response(status_code=204)
 
 

@@ -124,41 +124,38 @@ async def list_vehicles(request: Request) -> Response:
 
 
 @router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)
-def get_vehicle(vehicle_id: str, request: Request) -> dict:
+def get_vehicle(vehicle_id: str, session: deps.Transaction) -> dict:
     """One vehicle with its aero summary at 200,000 ft."""
     items, aero = BUILTINS.get()
     if vehicle_id in items:
         return items[vehicle_id] | {"definition": None, "aero": aero[vehicle_id]}
-    with deps.sessions(request).begin() as session:
-        row = q.get_vehicle(session, vehicle_id=vehicle_id)
+    row = q.get_vehicle(session, vehicle_id=vehicle_id)
     if row is None:
         raise NotFound(f"no vehicle {vehicle_id!r}")
     return _custom_item(row) | {"definition": row.definition, "aero": _aero(_custom_vehicle(row.definition))}
 
 
 @router.post("/vehicles", response_model=VehicleDetail, status_code=201, responses={409: {}})
-def create_vehicle(body: VehicleCreate, request: Request) -> dict:
+def create_vehicle(body: VehicleCreate, session: deps.Transaction) -> dict:
     """Store a custom vehicle (tables, polynomial or constant CL/CD, plus its wing loading)."""
     if body.id in builtin_vehicle_ids():
         raise Conflict(f"id: {body.id!r} is a built-in vehicle; choose another id")
     vehicle = body.vehicle.to_vehicle()  # packed once, as the body was read (contracts.vehicle: cached)
     definition = body.vehicle.model_dump(exclude_none=True)
     definition.setdefault("name", body.id)
-    with deps.sessions(request).begin() as session:
-        if q.get_vehicle(session, vehicle_id=body.id) is not None:
-            raise Conflict(f"id: a vehicle {body.id!r} is stored already")
-        row = q.create_vehicle(
-            session, vehicle_id=body.id, description=body.description, definition=definition, summary=_summary(vehicle)
-        )
+    if q.get_vehicle(session, vehicle_id=body.id) is not None:
+        raise Conflict(f"id: a vehicle {body.id!r} is stored already")
+    row = q.create_vehicle(
+        session, vehicle_id=body.id, description=body.description, definition=definition, summary=_summary(vehicle)
+    )
     return _custom_item(row) | {"definition": definition, "aero": _aero(vehicle)}
 
 
 @router.delete("/vehicles/{vehicle_id}", status_code=204, responses={409: {}})
-def delete_vehicle(vehicle_id: str, request: Request) -> Response:
+def delete_vehicle(vehicle_id: str, session: deps.Transaction) -> Response:
     """Delete a custom vehicle (a built-in: 409)."""
     if vehicle_id in builtin_vehicle_ids():
         raise Conflict(f"{vehicle_id!r} is a built-in vehicle and cannot be deleted")
-    with deps.sessions(request).begin() as session:
-        if not q.delete_vehicle(session, vehicle_id=vehicle_id):
-            raise NotFound(f"no vehicle {vehicle_id!r}")
+    if not q.delete_vehicle(session, vehicle_id=vehicle_id):
+        raise NotFound(f"no vehicle {vehicle_id!r}")
     return Response(status_code=204)
