@@ -316,3 +316,17 @@ def test_histories_of_a_sample_that_is_not_there_are_refused():
     with pytest.raises(ValidationError) as info:
         parse_request(study(samples=10, histories=[3, 10]))
     assert error_line(info.value).startswith("histories.1: sample 10 is outside the allowed range 0 to 9")
+
+
+def test_a_half_footprints_nominal_boundary_is_the_footprint_methods_own():
+    """One boundary rule (core.footprints.boundary_order): a dispersed half footprint's nominal ring put the zero-lift
+    point on its boundary although the footprint method, which closes a half footprint along the axis before it asks,
+    keeps it inside (1,462 nmi against the 1,421 nmi of the 150-degree point, here)."""
+    half = FOOTPRINT | {"bank0_deg": [0, 30, 60, 90, 120, 150], "mirror": False, "min_range": "zero_lift"}
+    result, _ = run(study(half, samples=2, seed=1))
+    fp = footprint(
+        parse_request(study(half)).footprint.case.to_spec(), parse_request(study(half)).footprint.to_settings()
+    )
+    assert [p.parameter.min_range for p in fp.interior] == ["zero_lift"]
+    ring = [p.downrange_nmi for p in fp.points]
+    assert result.nominal_boundary["downrange_nmi"] == pytest.approx([ring[0], *ring, ring[-1]], abs=1e-9)  # + axis

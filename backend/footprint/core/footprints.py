@@ -9,7 +9,7 @@ the footprint says how far the two halves are from mirror images.
 """
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
@@ -353,15 +353,15 @@ def footprint_of_family(method, spec, family, mirror, contours_fps=()) -> Footpr
 
 
 def _assemble(method, spec, f: _Flights) -> Footprint:
-    """Boundary: maximum down-range point, left half, minimum-range point, right half back.
-
-    The minimum-range point (zero lift, C_L max) joins the boundary only where it lies outside the
-    footprint the banked points draw; where steep banks land shorter it is kept in `interior`."""
-    front = [p for p in f.axis if p.parameter.min_range is None][:1]
-    back = [p for p in f.axis if p.parameter.min_range is not None]
-    boundary = front + f.left + f.right[::-1]
-    outside = [p for p in back if not _inside(p, boundary if f.right else _with_axis(boundary))]
-    boundary = front + f.left + outside + f.right[::-1]
+    """The footprint of a family's flights: their points in the report's boundary order (boundary_order); a
+    minimum-range point inside the footprint the banked points draw is kept in `interior`."""
+    pts = f.axis + f.left + f.right
+    na, nl = len(f.axis), len(f.left)
+    front = [i for i in range(na) if pts[i].parameter.min_range is None][:1]
+    back = [i for i in range(na) if pts[i].parameter.min_range is not None]
+    xy = [(p.downrange_nmi, p.crossrange_nmi) for p in pts]
+    order = boundary_order(xy, front, list(range(na, na + nl)), list(range(na + nl, len(pts))), back, bool(f.right))
+    boundary = [pts[i] for i in order]
     e = spec.entry
     return Footprint(
         method=method,
@@ -369,21 +369,29 @@ def _assemble(method, spec, f: _Flights) -> Footprint:
         area_nmi2=area_nmi2(boundary),
         trajectories=f.flown,
         entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg},
-        interior=[p for p in back if p not in outside],
+        interior=[pts[i] for i in back if i not in order],
         asymmetry=f.asymmetry,
     )
 
 
-def _with_axis(half):
-    """A half footprint closed along the axis (as area_nmi2 closes it)."""
-    if not half:
-        return half
-    return [replace(half[0], crossrange_nmi=0.0)] + half + [replace(half[-1], crossrange_nmi=0.0)]
-
-
-def _inside(p, polygon) -> bool:
-    """Even-odd rule in the (down-range, cross-range) plane (plane.inside_polygon)."""
-    return inside_points(p.downrange_nmi, p.crossrange_nmi, [(q.downrange_nmi, q.crossrange_nmi) for q in polygon])
+def boundary_order(
+    xy: Sequence[tuple[float, float]],
+    front: list[int],
+    left: list[int],
+    right: list[int],
+    back: list[int],
+    mirror: bool,
+) -> list[int]:
+    """The report's boundary through a family's landings (indices into xy, (down-range, cross-range) nmi each): the
+    farthest axis point, the left half inwards, the minimum-range points (zero lift, C_L max) that lie outside the
+    polygon the others draw (a half footprint's closed along the axis, as area_nmi2 closes it), the right half (paired
+    with the left, in its order) back out. The footprint methods and each dispersed sample's footprint draw it."""
+    ring = front + left + right[::-1]
+    polygon = [xy[j] for j in ring]
+    if not mirror and polygon:
+        polygon = close_half_along_axis(polygon)
+    outside = [j for j in back if len(polygon) < 3 or not inside_points(*xy[j], polygon)]
+    return front + left + outside + right[::-1]
 
 
 def mirror_is_exact(spec: FlightSpec) -> bool:

@@ -34,11 +34,18 @@ from scipy import stats
 from footprint.core._jit import njit
 from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
+from footprint.core.footprints import boundary_order
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.outline import outline
 from footprint.core.plane import inside_polygon
 from footprint.core.setting import ControlSetting
-from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, downrange_crossrange_nmi, latlon_from_ranges
+from footprint.core.sphere import (
+    MEAN_RADIUS_NMI,
+    Reference,
+    close_half_along_axis,
+    downrange_crossrange_nmi,
+    latlon_from_ranges,
+)
 from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
 
 # what a sample keeps of each flight (the histories are not kept): its columns in Landings.values
@@ -167,23 +174,18 @@ def polygons(
     front = [j for j, f in enumerate(family) if f.side == "axis" and not f.min_range][:1]
     back = [j for j, f in enumerate(family) if f.min_range]
     left = [j for j, f in enumerate(family) if f.side == "left"]
-    right = [j for j, f in enumerate(family) if f.side == "right"][::-1]
+    right = [j for j, f in enumerate(family) if f.side == "right"]
     n = down.shape[0]
     size = len(family) + 2
     px, py = np.full((n, size), np.nan), np.full((n, size), np.nan)
     counts = np.zeros(n, np.int64)
     for i in range(n):
-        ring = [j for j in front + left if landed[i, j]]
-        tail = [j for j in right if landed[i, j]]
-        x, y = list(down[i, ring + tail]), list(cross[i, ring + tail])
-        base_x, base_y = np.array(x + [np.nan]), np.array(y + [np.nan])
-        outside = [
-            j for j in back if landed[i, j] and not inside_polygon(base_x, base_y, len(x), down[i, j], cross[i, j])
-        ]
-        x = list(down[i, ring + outside]) + list(down[i, tail])
-        y = list(cross[i, ring + outside]) + list(cross[i, tail])
-        if not mirror and x:  # a half footprint: closed along the axis (sphere.close_half_along_axis)
-            x, y = [x[0]] + x + [x[-1]], [0.0] + y + [0.0]
+        f, lt, rt, b = ([j for j in js if landed[i, j]] for js in (front, left, right, back))
+        order = boundary_order(list(zip(down[i], cross[i])), f, lt, rt, b, mirror)
+        ring = list(zip(down[i, order], cross[i, order]))
+        if not mirror and ring:  # a half footprint: closed along the axis
+            ring = close_half_along_axis(ring)
+        x, y = [p[0] for p in ring], [p[1] for p in ring]
         if len(x) >= 3:
             px[i, : len(x)], py[i, : len(y)], counts[i] = x, y, len(x)
     return px, py, counts
