@@ -79,7 +79,6 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     )
     app.state.read_cache = read_cache.ReadCache()
     errors.install(app)
-    errors.document(app)
     routers = [
         module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)
     ] + [jobs.submit_router()]

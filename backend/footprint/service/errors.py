@@ -4,11 +4,14 @@ Validation errors reuse footprint.contracts.messages.error_parts, so a REST user
 with the field's path in the request (e.g. "study.case.entry.velocity_fps: 50 is outside the allowed range ...")."""
 
 import logging
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
+from typing import Any
 
 from fastapi import FastAPI, Request
+from fastapi.dependencies.utils import get_dependant
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from fastapi.routing import APIRoute
 from pydantic import BaseModel, ValidationError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import compile_path
@@ -104,6 +107,7 @@ ERRORS = {
     431: "headers over the limit",
 }
 WRITES = {"post", "put", "patch", "delete"}
+ERROR_REF = {"$ref": "#/components/schemas/ErrorBody"}
 
 
 STATUS_BY_EXCEPTION = {  # the only place an exception type meets a status code
@@ -180,40 +184,30 @@ def status_of(exc: Exception) -> int:
     return 500
 
 
-def document(app: FastAPI) -> None:
-    """Declare ErrorBody for the errors each operation can answer: 422 (in place of FastAPI's validation schema,
-    which the service never sends), 400 where a body is read, 404 under a path with an id, 401 and 413 on writes,
-    and the 409 and 503 that routes declare themselves."""
-    plain = app.openapi
+class ApiRoute(APIRoute):
+    """A route of the API that declares the ErrorBody answers it can give (issue 14), so that the generated document
+    holds them: 422 (in place of FastAPI's validation schema, which the service never sends), 414, 421 and 431
+    everywhere, 400 where a body is read, 404 under a path with an id, 401, 403 and 413 on writes, and the 409, 415
+    and 503 a route names itself."""
 
-    def openapi() -> dict:
-        if app.openapi_schema:
-            return app.openapi_schema
-        spec = plain()
-        ref = {"$ref": "#/components/schemas/ErrorBody"}
-        schemas = spec.setdefault("components", {}).setdefault("schemas", {})
-        schemas["ErrorBody"] = ErrorBody.model_json_schema()
-        for path, operations in spec["paths"].items():
-            for method, op in operations.items():
-                responses = op.setdefault("responses", {})
-                codes = (
-                    {"414", "421", "422", "431"}
-                    | ({"404"} if "{" in path else set())
-                    | ({"401", "403", "413"} if method in WRITES else set())
-                )
-                codes |= {"400"} if "requestBody" in op else set()
-                codes |= {c for c in ("409", "415", "503") if c in responses}
-                for code in codes:
-                    responses[code] = {
-                        "description": ERRORS[int(code)],
-                        "content": {"application/json": {"schema": ref}},
-                    }
-        for unused in ("HTTPValidationError", "ValidationError"):
-            schemas.pop(unused, None)
-        app.openapi_schema = spec
-        return spec
-
-    app.openapi = openapi
+    def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:
+        methods = {m.lower() for m in kwargs.get("methods") or ()}
+        given = {int(code): answer for code, answer in (kwargs.get("responses") or {}).items()}
+        reads_body = bool(get_dependant(path=path, call=endpoint).body_params) or "requestBody" in (
+            kwargs.get("openapi_extra") or {}
+        )
+        codes = (
+            {414, 421, 422, 431}
+            | ({404} if "{" in path else set())
+            | ({401, 403, 413} if methods & WRITES else set())
+            | ({400} if reads_body else set())
+            | (given.keys() & {409, 415, 503})
+        )
+        json_route = getattr(kwargs.get("response_class"), "media_type", "application/json") == "application/json"
+        for code in codes:  # an HTML or streaming route's errors are JSON all the same: said so by reference
+            body = {"model": ErrorBody} if json_route else {"content": {"application/json": {"schema": ERROR_REF}}}
+            given[code] = {**body, "description": ERRORS[code]} | given.get(code, {})
+        super().__init__(path, endpoint, **(kwargs | {"responses": given}))
 
 
 def error_response(exc: Exception, request: Request | None = None) -> JSONResponse:

@@ -9,10 +9,10 @@ from footprint.contracts import dispersion
 from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
-from footprint.service.errors import NotFound
+from footprint.service.errors import ApiRoute, NotFound
 from footprint.service.schemas import StoredId
 
-router = APIRouter(tags=["jobs"])
+router = APIRouter(tags=["jobs"], route_class=ApiRoute)
 
 
 @router.get(

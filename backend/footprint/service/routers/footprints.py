@@ -16,7 +16,7 @@ from footprint.pictures import geojson
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
-from footprint.service.errors import NotFound, Unavailable
+from footprint.service.errors import ApiRoute, NotFound, Unavailable
 from footprint.service.schemas import (
     FootprintList,
     FootprintRead,
@@ -27,7 +27,7 @@ from footprint.service.schemas import (
     StoredId,
 )
 
-router = APIRouter(tags=["footprints"])
+router = APIRouter(tags=["footprints"], route_class=ApiRoute)
 CSV_COLUMNS = ("index", *POINT_FIELDS)
 
 

@@ -5,9 +5,10 @@ from fastapi import APIRouter, Depends, Request
 
 from footprint.contracts.transform import TransformRequest
 from footprint.service import deps
+from footprint.service.errors import ApiRoute
 from footprint.service.schemas import TransformRead
 
-router = APIRouter(tags=["geometry"])
+router = APIRouter(tags=["geometry"], route_class=ApiRoute)
 
 
 @router.post(

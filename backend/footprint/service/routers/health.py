@@ -6,10 +6,11 @@ from starlette.concurrency import run_in_threadpool
 import footprint
 from footprint.service import deps
 from footprint.service.db import queries as q
+from footprint.service.errors import ApiRoute
 from footprint.service.jobs.engine import one_line
 from footprint.service.schemas import Health, PageConfig
 
-router = APIRouter(tags=["health"])
+router = APIRouter(tags=["health"], route_class=ApiRoute)
 
 
 @router.get("/health", response_model=Health)

@@ -11,10 +11,10 @@ from footprint import contracts
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
-from footprint.service.errors import NotFound
+from footprint.service.errors import ApiRoute, NotFound
 from footprint.service.schemas import JobCreated, JobKind, JobList, JobRead, StoredId, job_create
 
-router = APIRouter(tags=["jobs"])
+router = APIRouter(tags=["jobs"], route_class=ApiRoute)
 EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
 
 
@@ -57,7 +57,7 @@ def submit_router() -> APIRouter:
         response.headers["Location"] = url = f"/api/jobs/{job_id}"
         return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
 
-    submit = APIRouter(tags=["jobs"])
+    submit = APIRouter(tags=["jobs"], route_class=ApiRoute)
     submit.add_api_route(
         "/jobs",
         create_job,

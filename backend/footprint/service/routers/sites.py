@@ -16,10 +16,10 @@ from footprint.contracts.records import plain
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
-from footprint.service.errors import NotFound, RequestInvalid, UnsupportedMediaType
+from footprint.service.errors import ApiRoute, NotFound, RequestInvalid, UnsupportedMediaType
 from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
 
-router = APIRouter(tags=["sites"])
+router = APIRouter(tags=["sites"], route_class=ApiRoute)
 CSV_COLUMNS = ("name", "latitude_deg", "longitude_deg")
 MAX_CSV_SITES = 10_000
 SiteId = Annotated[int, Path(le=MAX_INTEGER)]  # the route's :int takes any digits; the column holds int4

@@ -5,9 +5,10 @@ from fastapi import APIRouter, Depends, Request
 from footprint.contracts.case import Case
 from footprint.contracts.records import decimated, plain
 from footprint.service import deps
+from footprint.service.errors import ApiRoute
 from footprint.service.schemas import TrajectoryRead
 
-router = APIRouter(tags=["trajectories"])
+router = APIRouter(tags=["trajectories"], route_class=ApiRoute)
 MAX_HISTORY_ROWS = 2_000
 
 

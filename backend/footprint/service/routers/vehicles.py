@@ -17,10 +17,10 @@ from footprint.core.aero import (
 )
 from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
-from footprint.service.errors import Conflict, NotFound
+from footprint.service.errors import ApiRoute, Conflict, NotFound
 from footprint.service.schemas import VehicleCreate, VehicleDetail, VehicleItem
 
-router = APIRouter(tags=["vehicles"])
+router = APIRouter(tags=["vehicles"], route_class=ApiRoute)
 AERO_MACH = (2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)  # the aero summary's Mach numbers
 
 
