@@ -4,9 +4,13 @@ Each model converts itself into the core's plain types (`to_spec`). Every quanti
 every number is bounded, and a value out of range is reported as "field: value is outside ...".
 """
 
+from collections.abc import Sequence
 from typing import Annotated, Any, Literal
 
+import numpy as np
+from numpy.typing import NDArray
 from pydantic import (
+    BaseModel,
     Field,
     PrivateAttr,
     TypeAdapter,
@@ -16,11 +20,11 @@ from pydantic import (
 from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.vehicle import VehicleCase
-from footprint.contracts.work import Work
+from footprint.contracts.work import OnProgress, Work
 from footprint.core import constants as c
 from footprint.core.controls import pack_controls
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
-from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop
+from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, Trajectory
 
 
 # ------------------------------------------------------------------------------------------ planet
@@ -44,7 +48,7 @@ class PlanetCase(Strict):
     k: Annotated[float, Range(-0.1, 0.1)] = c.K_ZONAL
 
     @model_validator(mode="after")
-    def _polar(self):
+    def _polar(self) -> "PlanetCase":
         if self.polar_radius_ft is not None and not 0.9 * self.radius_ft <= self.polar_radius_ft <= self.radius_ft:
             raise ValueError(f"polar_radius_ft {self.polar_radius_ft:g} must lie between 0.9 and 1 times radius_ft")
         return self
@@ -85,7 +89,7 @@ class EntryCase(Strict):
     longitude_deg: Annotated[float, Range(-360, 360, "deg")] = 0.0
 
     @model_validator(mode="after")
-    def _enters(self):
+    def _enters(self) -> "EntryCase":
         if self.gamma_deg > 0 and self.altitude_ft > SENSIBLE_ATMOSPHERE_FT:
             raise ValueError(
                 f"gamma_deg {self.gamma_deg:g} > 0 above {SENSIBLE_ATMOSPHERE_FT:,.0f} ft climbs away "
@@ -198,12 +202,12 @@ class BankTable(_BankLaw):
     variable: Literal["zeta", "heading"] = "zeta"  # what heading_deg means
 
     @model_validator(mode="after")
-    def _table(self):
+    def _table(self) -> "BankTable":
         name, x = table_abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
         _check_table(x, self.bank_deg, name, "bank_deg")
         return self
 
-    def abscissa(self) -> tuple[str, list]:
+    def abscissa(self) -> tuple[str, list[float]]:
         """(bank_variable of pack_controls, nodes)."""
         name, x = table_abscissa(self, ("heading_deg", "time_s", "velocity_fps", "energy_ft"))
         return (self.variable if name == "heading_deg" else name.rsplit("_", 1)[0]), x
@@ -217,7 +221,7 @@ class BankTable(_BankLaw):
         }
 
 
-def table_abscissa(table, names, default=None):
+def table_abscissa(table: BaseModel, names: tuple[str, ...], default: tuple[Any, Any] | None = None) -> tuple[Any, Any]:
     """(name, nodes) of the one abscissa field of `table` that is given; `default` when none is (else an error)."""
     given = [n for n in names if getattr(table, n) is not None]
     if not given and default is not None:
@@ -281,12 +285,12 @@ class AlphaTable(_AlphaLaw):
     energy_ft: list[EnergyNode] | None = None  # energy height h + V^2/(2 g0)
 
     @model_validator(mode="after")
-    def _table(self):
+    def _table(self) -> "AlphaTable":
         name, x = table_abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
         _check_table(x, self.alpha_deg, name, "alpha_deg")
         return self
 
-    def abscissa(self) -> tuple[str, list]:
+    def abscissa(self) -> tuple[str, list[float]]:
         """(alpha_table_abscissa of pack_controls, nodes)."""
         name, x = table_abscissa(self, ("velocity_fps", "time_s", "energy_ft"))
         return name.rsplit("_", 1)[0], x
@@ -318,13 +322,13 @@ AlphaCase = Annotated[
 ]
 
 
-def _check_table(x, y, xname, yname):
+def _check_table(x: Sequence[float], y: Sequence[float], xname: str, yname: str) -> None:
     if len(x) != len(y):
         raise ValueError(f"{xname} and {yname} must have the same length ({len(x)} vs {len(y)})")
     check_increasing(x, xname)
 
 
-def check_increasing(x, name):
+def check_increasing(x: Sequence[float], name: str) -> None:
     if any(b <= a for a, b in zip(x, x[1:])):
         raise ValueError(f"{name} must be strictly increasing")
 
@@ -350,7 +354,7 @@ class HeatingReference(Strict):
     # 0: radiation-equilibrium temperature, eq. (7); > 0: a thin skin's lagging temperature (core/heating.py)
     skin_heat_capacity_btu_ft2_R: Annotated[float, Range(0, 100, "Btu/(ft^2 degR)")] = 0.0
 
-    def to_model(self):
+    def to_model(self) -> ReferenceHeating:
         return ReferenceHeating(
             reference_radius_ft=self.reference_radius_ft,
             emissivity=self.emissivity,
@@ -370,7 +374,7 @@ class HeatingCorrelation(Strict):
         None  # with it, eq. (7) gives a radiation-equilibrium temperature
     )
 
-    def to_model(self):
+    def to_model(self) -> CorrelationHeating:
         return CorrelationHeating(
             coefficient=self.coefficient,
             density_exponent=self.density_exponent,
@@ -402,7 +406,7 @@ class Case(Strict):
     heating: HeatingCase | None = None
 
     @model_validator(mode="after")
-    def _consistent(self):
+    def _consistent(self) -> "Case":
         s, e = self.stop, self.entry
         if s.altitude_ft is None and s.velocity_fps is None and s.time_s is None:
             raise ValueError("stop: give at least one of altitude_ft, velocity_fps, time_s")
@@ -442,25 +446,27 @@ class Case(Strict):
             altitude_ft=s.altitude_ft, velocity_fps=s.velocity_fps, time_s=s.time_s, skip_altitude_ft=s.max_altitude_ft
         )
 
-    def controls(self):
+    def controls(self) -> NDArray[np.float64]:
         kw = self.bank.controls() | self.alpha.controls()
         start = self.bank_start
         if isinstance(start, BankStartAltitude):
             kw.update(bank_start="altitude", bank_start_altitude_ft=start.altitude_ft)
         else:
             kw["bank_start"] = start
-        return pack_controls(**kw)
+        ctrl: NDArray[np.float64] = pack_controls(**kw)
+        return ctrl
 
 
 REQUEST = Case  # the kind's request type (the OpenAPI document declares it)
 ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_request(data, ctx: dict | None = None) -> Case:
-    return validated(ADAPTER, data, Case, ctx)
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> Case:
+    case: Case = validated(ADAPTER, data, Case, ctx)
+    return case
 
 
-def fly(case: Case, part=None, on_progress=None):
+def fly(case: Case, part: Any = None, on_progress: OnProgress | None = None) -> Trajectory:
     """Fly the case: footprint.core.trajectory.Trajectory (summary and histories)."""
     from footprint.core.trajectory import simulate
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import csv
 import functools
 import io
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_validator
 
@@ -30,11 +30,14 @@ from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
-from footprint.contracts.work import RunInfo, Stored, Work
+from footprint.contracts.work import OnProgress, RunInfo, Stored, Work
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
 from footprint.core.atmosphere import DENSITY_NODE_COUNT
 from footprint.core.errors import InputError
+
+if TYPE_CHECKING:
+    from footprint.core.trajectory import FlightSpec
 
 MAX_SAMPLES = 1_000_000  # from the CLI or Python
 MAX_SAMPLES_HTTP = 100_000
@@ -80,7 +83,7 @@ class Distribution(Strict):
     truncated_normal: TruncatedNormalSpread | None = None
 
     @model_validator(mode="after")
-    def _one(self):
+    def _one(self) -> Distribution:
         given = [k for k in ("normal", "uniform", "truncated_normal") if getattr(self, k) is not None]
         if len(given) != 1:
             raise ValueError(
@@ -123,7 +126,7 @@ class DensityDispersion(Strict):
     correlation_length_ft: Annotated[float, Range(1_000, 1_000_000, "ft")] = disp.CORRELATION_LENGTH_DEFAULT_FT
 
     @model_validator(mode="after")
-    def _nodes(self):
+    def _nodes(self) -> DensityDispersion:
         if isinstance(self.std, list) and len(self.std) != DENSITY_NODE_COUNT:
             raise ValueError(
                 f"std: {len(self.std)} values; give one, or {DENSITY_NODE_COUNT} (0 to 400,000 ft every 10,000 ft)"
@@ -146,7 +149,7 @@ class DispersionStudy(Strict):
     histories: list[int] = Field(default=[], max_length=MAX_HISTORY_SAMPLES)  # samples flown again in full
 
     @model_validator(mode="after")
-    def _checks(self, info: ValidationInfo):
+    def _checks(self, info: ValidationInfo) -> DispersionStudy:
         if synchronous(info):
             raise ValueError("a dispersion is run as a job; submit it with POST /api/jobs")
         fp = self.footprint
@@ -180,7 +183,7 @@ class DispersionStudy(Strict):
 
         return len(mc.flights(*control_family(self.footprint.to_settings())))
 
-    def distributions(self, spec) -> dict[str, disp.Distribution]:
+    def distributions(self, spec: FlightSpec) -> dict[str, disp.Distribution]:
         """The core's distributions of the dispersed inputs, about the nominal spec's values."""
         nominal = {
             "altitude_ft": spec.entry.altitude_ft,
@@ -208,8 +211,9 @@ ADAPTER = TypeAdapter(REQUEST)
 GROUP = {name: "entry" for name in disp.ENTRY_INPUTS} | {name: "vehicle" for name in disp.VEHICLE_INPUTS}
 
 
-def parse_request(data, ctx: dict | None = None) -> DispersionStudy:
-    return validated(ADAPTER, data, DispersionStudy, ctx)
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> DispersionStudy:
+    study: DispersionStudy = validated(ADAPTER, data, DispersionStudy, ctx)
+    return study
 
 
 # --------------------------------------------------------------------------------------------- running
@@ -217,7 +221,7 @@ class Plan:
     """What every part of a study needs: the nominal spec, the family's flights and, once a part asks, the samples
     (drawn once per process: the same bits wherever they are drawn)."""
 
-    def __init__(self, study: DispersionStudy):
+    def __init__(self, study: DispersionStudy) -> None:
         from footprint.core.footprint_methods import control_family
 
         self.study = study
@@ -244,15 +248,15 @@ class Plan:
                 f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field, exc.message
             ) from None
 
-    def fly(self, first: int, end: int, on_progress=None) -> mc.Landings:
+    def fly(self, first: int, end: int, on_progress: OnProgress | None = None) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first, on_progress)
 
     def nominal(self) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, disp.draw({}, 1, 0))
 
-    def histories(self) -> list[dict]:
+    def histories(self) -> list[dict[str, Any]]:
         """The flights of the samples the study names, flown again with their histories (decimated)."""
-        out = []
+        out: list[dict[str, Any]] = []
         for index in self.study.histories:
             for f, traj in zip(self.flights, mc.sample_trajectories(self.spec, self.flights, self.samples, index)):
                 out.append(
@@ -278,19 +282,21 @@ class Plan:
         )
 
 
-def fly_chunk(study: DispersionStudy, chunk: tuple[int, int], on_progress=None) -> mc.Landings:
+def fly_chunk(study: DispersionStudy, chunk: tuple[int, int], on_progress: OnProgress | None = None) -> mc.Landings:
     """A part: samples first..end-1 of the study."""
     first, end = chunk
     return _plan(study).fly(first, end, on_progress)
 
 
-def combine(study: DispersionStudy, parts: list[mc.Landings], info: RunInfo) -> tuple[mc.DispersedFootprint, dict]:
+def combine(
+    study: DispersionStudy, parts: list[mc.Landings], info: RunInfo
+) -> tuple[mc.DispersedFootprint, dict[str, Any]]:
     """The dispersed footprint and how it ran ({"tasks", "workers", "seconds"}: the flights; the statistics are the
     caller's wait)."""
     return _plan(study).statistics(parts), {"tasks": info.tasks, "workers": info.workers, "seconds": info.seconds}
 
 
-def store(study: DispersionStudy, answer: tuple[mc.DispersedFootprint, dict], name: str | None) -> Stored:
+def store(study: DispersionStudy, answer: tuple[mc.DispersedFootprint, dict[str, Any]], name: str | None) -> Stored:
     """A dispersion job's result: its JSON with each cloud thinned to CLOUD_SAMPLES_STORED samples."""
     stats, info = answer
     return Stored(result={"dispersion": to_dict(study, stats, CLOUD_SAMPLES_STORED, info)})
@@ -300,12 +306,12 @@ def to_dict(
     study: DispersionStudy,
     stats: mc.DispersedFootprint,
     cloud_samples: int | None = CLOUD_SAMPLES_STORED,
-    info: dict | None = None,
-) -> dict:
+    info: dict[str, Any] | None = None,
+) -> dict[str, Any]:
     """A dispersion's JSON (the job's result, the CLI's --json): the statistics, each cloud thinned to its first
     `cloud_samples` samples, the study's design, seed and trajectories, how it ran, and the flights of the samples
     it asks histories of."""
-    return plain(
+    result: dict[str, Any] = plain(
         stats.to_dict(cloud_points=cloud_samples)
         | {
             "design": study.design,
@@ -315,6 +321,7 @@ def to_dict(
             "histories": _plan(study).histories(),
         }
     )
+    return result
 
 
 SITE_COLUMNS = (
@@ -333,7 +340,7 @@ SITE_COLUMNS = (
 )
 
 
-def sites_csv(result: dict) -> str:
+def sites_csv(result: dict[str, Any]) -> str:
     """Each site's probability of being reached, its binomial interval and its ranges, one row a site."""
     out = io.StringIO()
     w = csv.DictWriter(out, fieldnames=SITE_COLUMNS, extrasaction="ignore", lineterminator="\n")

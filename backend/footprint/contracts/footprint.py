@@ -6,7 +6,7 @@ method's.
 """
 
 from dataclasses import fields
-from typing import Annotated, ClassVar, Literal
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
@@ -16,7 +16,7 @@ from footprint.contracts.case import Case
 from footprint.contracts.doors import door_limit, synchronous, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import flown, plain
-from footprint.contracts.work import Stored, Work
+from footprint.contracts.work import OnProgress, Stored, Work
 from footprint.core.method_settings import (
     Collocation,
     ConstantAltitude,
@@ -28,6 +28,10 @@ from footprint.core.method_settings import (
     TemperatureLimited,
     TwoParameter,
 )
+
+if TYPE_CHECKING:
+    from footprint.core.footprints import Footprint, FootprintPoint
+    from footprint.core.trajectory import FlightSpec
 
 BankDeg = Annotated[float, Range(-180, 180, "deg")]
 MAX_POINTS = 10_000  # boundary points of one footprint (parameter settings x sides) from the CLI or Python
@@ -43,18 +47,21 @@ class _Study(Strict):
     )  # iso-velocity points
     SETTINGS: ClassVar[str]  # the field whose values (one trajectory set each) make the footprint's points
     CORE: ClassVar[type]  # the core's settings record of the method
+    if TYPE_CHECKING:  # each method's model declares its own: the discriminator, a Literal of the method's name
+        method: str
 
     def to_settings(self) -> MethodSettings:
         """The core's settings of the method: the fields the record has (a list as a tuple)."""
         values = {f.name: getattr(self, f.name) for f in fields(self.CORE) if f.name in type(self).model_fields}
-        return self.CORE(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
+        settings: MethodSettings = self.CORE(**{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
+        return settings
 
     def settings(self) -> tuple[str, int]:
         """(the field that sets them, how many parameter settings the study flies on each side)."""
         return self.SETTINGS, len(getattr(self, self.SETTINGS))
 
     @model_validator(mode="after")
-    def _points(self, info: ValidationInfo):
+    def _points(self, info: ValidationInfo) -> "_Study":
         limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP, MAX_POINTS_SYNC)
         (field, n), sides = self.settings(), 2 if self.mirror else 1
         if n * sides > limit:
@@ -89,7 +96,10 @@ class SingleParameterStudy(_Study):
 class ConstantBankStudy(_Study):
     """Fig. 14: constant bank for the whole flight."""
 
-    method: Literal["constant_bank"]
+    if TYPE_CHECKING:  # a StagedStudy is a constant-bank study too, discriminated by its own method
+        method: Literal["constant_bank", "staged"]
+    else:
+        method: Literal["constant_bank"]
     SETTINGS: ClassVar[str] = "bank_deg"
     CORE: ClassVar[type] = ConstantBank
     bank_deg: list[BankDeg] = Field(default=list(ConstantBank.bank_deg), min_length=1, max_length=181)
@@ -126,7 +136,9 @@ class ConstantAltitudeStudy(_Study):
 
     method: Literal["constant_altitude"]
     CORE: ClassVar[type] = ConstantAltitude
-    turn_deg: list[Annotated[float, Range(0, 179, "deg")]] | None = ConstantAltitude.turn_deg
+    turn_deg: list[Annotated[float, Range(0, 179, "deg")]] | None = (
+        None if ConstantAltitude.turn_deg is None else list(ConstantAltitude.turn_deg)
+    )
     steps: int = Field(default=ConstantAltitude.steps, ge=1, le=60)
 
     def settings(self) -> tuple[str, int]:  # the turns, or the count of steps when none are listed
@@ -147,7 +159,7 @@ class TemperatureLimitedStudy(_Study):
     )
 
     @model_validator(mode="after")
-    def _heating(self):
+    def _heating(self) -> "TemperatureLimitedStudy":
         if self.case.heating is None:
             raise ValueError("case.heating: a temperature-limited footprint needs a heating model")
         if self.contours_fps:
@@ -174,7 +186,7 @@ class CollocationStudy(_Study):
         return "points_per_half", self.points_per_half + 1
 
     @model_validator(mode="after")
-    def _checks(self, info: ValidationInfo):
+    def _checks(self, info: ValidationInfo) -> "CollocationStudy":
         if synchronous(info):  # a minute of NLP solves is a job, not a request the API process answers itself
             raise ValueError(
                 "method: 'collocation' is solved as a job, not in a synchronous request; submit it with POST /api/jobs"
@@ -200,14 +212,15 @@ FootprintStudy = Annotated[
 ]
 
 REQUEST = FootprintStudy  # the kind's request type (the OpenAPI document declares it)
-ADAPTER = TypeAdapter(REQUEST)
+ADAPTER: TypeAdapter[_Study] = TypeAdapter(REQUEST)  # validates to one of the method models
 
 
-def parse_request(data, ctx: dict | None = None) -> _Study:
-    return validated(ADAPTER, data, _Study, ctx)
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> _Study:
+    study: _Study = validated(ADAPTER, data, _Study, ctx)
+    return study
 
 
-def fly(study: _Study, part=None, on_progress=None):
+def fly(study: _Study, part: Any = None, on_progress: OnProgress | None = None) -> "Footprint":
     """Fly the study's footprint (footprint.core.footprints.Footprint); on_progress(fraction, note) where the
     method reports (the collocation's IPOPT iterations)."""
     from footprint.core.footprint_methods import footprint
@@ -229,7 +242,7 @@ POINT_FIELDS = (
 )  # a stored footprint point
 
 
-def ground_track(spec) -> dict:
+def ground_track(spec: "FlightSpec") -> dict[str, Any]:
     """The flight flown with zero bank (Section II.6's maximum down-range flight), decimated for the map."""
     from footprint.core.footprints import with_bank
     from footprint.core.trajectory import simulate
@@ -237,7 +250,7 @@ def ground_track(spec) -> dict:
     return flown(simulate(with_bank(spec, "zero")))
 
 
-def ground_track_at(study: dict, reference: dict) -> list[dict]:
+def ground_track_at(study: dict[str, Any], reference: dict[str, Any]) -> list[dict[str, Any]]:
     """A stored study's zero-bank track flown from another entry point and heading on the rotating earth (a moved
     footprint's exact track, as a job stores it)."""
     from footprint.core.rotation import at_geometry
@@ -251,7 +264,15 @@ def ground_track_at(study: dict, reference: dict) -> list[dict]:
     ]
 
 
-def record(fp, *, vehicle: str, entry: dict, study: dict, track: dict | None, name: str) -> dict:
+def record(
+    fp: "Footprint",
+    *,
+    vehicle: str,
+    entry: dict[str, Any],
+    study: dict[str, Any],
+    track: dict[str, Any] | None,
+    name: str,
+) -> dict[str, Any]:
     """A flown footprint as the row data the job store writes (summary, points, interior, ground track); `entry`: the
     case's altitude_ft, velocity_fps and gamma_deg; `study`: its study as stored (plain data)."""
     return {
@@ -271,12 +292,12 @@ def record(fp, *, vehicle: str, entry: dict, study: dict, track: dict | None, na
     }
 
 
-def _point(p) -> dict:
+def _point(p: "FootprintPoint") -> dict[str, Any]:
     d = p.to_dict()
     return {k: plain(d[k]) for k in POINT_FIELDS}
 
 
-def store(study: _Study, fp, name: str | None) -> Stored:
+def store(study: _Study, fp: "Footprint", name: str | None) -> Stored:
     """A footprint job's rows: the footprint and its zero-bank ground track."""
     e = study.case.entry
     entry = {"velocity_fps": e.velocity_fps, "gamma_deg": e.gamma_deg, "altitude_ft": e.altitude_ft}

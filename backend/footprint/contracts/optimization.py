@@ -22,9 +22,11 @@ constraint's excess by its tolerance (or its own `scale`) so that unit weights b
 units (core.optimize: a departure from eq. (4)); it is the default when a table block is given, else "none".
 """
 
-from typing import Annotated, ClassVar, Literal
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, get_args
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from pydantic import BeforeValidator, Field, TypeAdapter, model_validator
 
 from footprint.contracts import parse
@@ -41,15 +43,15 @@ from footprint.contracts.case import (
 from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import FLIGHT_KEYS, flown, plain
-from footprint.contracts.work import Stored, Work
+from footprint.contracts.work import OnProgress, Stored, Work
 from footprint.core import collocation as col
 from footprint.core import constrained
 from footprint.core import optimize as opt
-from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, alpha_range_deg, ld_max
+from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, Vehicle, alpha_range_deg, ld_max
 from footprint.core.errors import InputError, NoOptimum
-from footprint.core.trajectory import simulate
+from footprint.core.trajectory import Trajectory, simulate
 
-QUANTITIES = (
+Quantity = Literal[
     "crossrange_nmi",
     "downrange_nmi",
     "final_latitude_deg",
@@ -65,12 +67,15 @@ QUANTITIES = (
     "final_energy_ft",
     "heat_load_btu_ft2",
     "max_load_factor",
-)
-Quantity = Literal[QUANTITIES]
-SCIPY_METHODS = ("Nelder-Mead", "Powell", "SLSQP", "COBYLA")
-METHODS = ("creep_pattern", "collocation") + SCIPY_METHODS
+]
+QUANTITIES: tuple[str, ...] = get_args(Quantity)
+ScipyMethod = Literal["Nelder-Mead", "Powell", "SLSQP", "COBYLA"]
+Method = Literal["creep_pattern", "collocation", ScipyMethod]
+SCIPY_METHODS: tuple[str, ...] = get_args(ScipyMethod)
+METHODS: tuple[str, ...] = get_args(Method)  # ("creep_pattern", "collocation") + SCIPY_METHODS
 DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R": opt.TTOL_TEMPERATURE_R}
-SCALINGS = ("tolerance", "none")
+Scaling = Literal["tolerance", "none"]
+SCALINGS: tuple[str, ...] = get_args(Scaling)
 SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
 AlphaBound = Annotated[float, Range(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")]
 
@@ -87,7 +92,7 @@ class Payoff(Strict):
     goal: Literal["max", "min"] = "max"
     terms: list[Term] | None = Field(default=None, min_length=1, max_length=10)
 
-    def objective(self) -> tuple:
+    def objective(self) -> tuple[tuple[str, float], ...]:
         """((quantity, weight), ...)"""
         return tuple((t.quantity, t.weight) for t in self.terms) if self.terms else ((self.quantity, 1.0),)
 
@@ -106,7 +111,7 @@ class CollocationOptions(Strict):
     max_seconds: Annotated[float, Range(1, 86_400, "s")] = 600.0  # IPOPT's wall time per solve
 
     @model_validator(mode="after")
-    def _bounds(self):
+    def _bounds(self) -> "CollocationOptions":
         for name in ("alpha_bounds_deg", "bank_bounds_deg"):
             b = getattr(self, name)
             if b is not None and b[0] >= b[1]:
@@ -128,7 +133,7 @@ class ConstraintCase(Strict):
     )
 
     @model_validator(mode="after")
-    def _one_kind(self):
+    def _one_kind(self) -> "ConstraintCase":
         given = [k for k in ("equals", "at_most", "at_least") if getattr(self, k) is not None]
         if len(given) != 1:
             raise ValueError("give exactly one of equals, at_most, at_least")
@@ -138,13 +143,13 @@ class ConstraintCase(Strict):
         """TTOL, the tolerance band's full width (the quantity's default when not given)."""
         return self.tolerance if self.tolerance is not None else DEFAULT_TOLERANCE.get(self.quantity, 0.0)
 
-    def to_core(self, scaling="none") -> opt.Constraint:
+    def to_core(self, scaling: str = "none") -> opt.Constraint:
         kind = next(k for k in ("equals", "at_most", "at_least") if getattr(self, k) is not None)
         scale = self.scale if self.scale is not None else (self.band() if scaling == "tolerance" else 1.0)
         return opt.Constraint(self.quantity, kind, float(getattr(self, kind)), self.band(), self.weight, scale)
 
 
-def _one_or_list(v):
+def _one_or_list(v: Any) -> Any:
     return [v] if isinstance(v, (int, float)) and not isinstance(v, bool) else v
 
 
@@ -152,12 +157,15 @@ class _SearchTable(Strict):
     """A searched control table: nodes on one abscissa (the field naming it and its unit), the angle's bounds at
     every node and the search's start (one value per node, or one for all)."""
 
-    ABSCISSAE: ClassVar[dict]  # node field -> pack_controls' abscissa name
-    DEFAULT_NODES: ClassVar[tuple]  # (node field, nodes) when no node field is given
+    ABSCISSAE: ClassVar[dict[str, str]]  # node field -> pack_controls' abscissa name
+    DEFAULT_NODES: ClassVar[tuple[str, tuple[float, ...]]]  # (node field, nodes) when no node field is given
     count: Annotated[int, Range(2, SEARCH_MAX_NODES)] | None = None  # with it the node field is [first, last]
+    if TYPE_CHECKING:  # each table's model declares them, with its angle's bounds
+        bounds_deg: tuple[float, float] | None
+        initial_deg: list[float] | None
 
     @model_validator(mode="after")
-    def _nodes(self):
+    def _nodes(self) -> "_SearchTable":
         name, x = table_abscissa(self, tuple(self.ABSCISSAE), default=(None, None))
         if self.count is not None and (name is None or len(x) != 2):
             raise ValueError(
@@ -179,19 +187,23 @@ class _SearchTable(Strict):
             self.check_start(self.bounds_deg, "bounds_deg")
         return self
 
-    def check_start(self, bounds_deg, what):
+    def check_start(self, bounds_deg: Sequence[float], what: str) -> None:
         bad = [v for v in self.initial_deg or () if not bounds_deg[0] <= v <= bounds_deg[1]]
         if bad:
             raise ValueError(f"initial_deg {bad[0]:g} is outside {what} {bounds_deg[0]:g} to {bounds_deg[1]:g} deg")
 
-    def nodes(self) -> tuple[str, tuple]:
+    def nodes(self) -> tuple[str, tuple[float, ...]]:
         """(pack_controls' abscissa name, the nodes in its unit)."""
         name, x = table_abscissa(self, tuple(self.ABSCISSAE), default=self.DEFAULT_NODES)
         if self.count is not None:
             x = np.linspace(x[0], x[1], self.count)
         return self.ABSCISSAE[name], tuple(float(v) for v in x)
 
-    def _core(self, bounds_deg, start_deg) -> constrained.ControlTable:
+    def _core(
+        self,
+        bounds_deg: tuple[float, float],
+        start_deg: Callable[[str, tuple[float, ...], tuple[float, float]], ArrayLike],
+    ) -> constrained.ControlTable:
         """The core table; start_deg(abscissa, nodes, bounds) gives the start when initial_deg is not given."""
         abscissa, nodes = self.nodes()
         start = self.initial_deg if self.initial_deg is not None else start_deg(abscissa, nodes, bounds_deg)
@@ -201,14 +213,14 @@ class _SearchTable(Strict):
 
 
 class BankSearchTable(_SearchTable):
-    ABSCISSAE: ClassVar[dict] = {
+    ABSCISSAE: ClassVar[dict[str, str]] = {
         "zeta_deg": "zeta",
         "heading_deg": "heading",
         "time_s": "time",
         "velocity_fps": "velocity",
         "energy_ft": "energy",
     }
-    DEFAULT_NODES: ClassVar[tuple] = ("zeta_deg", opt.BANK_TABLE_HEADINGS_DEG)
+    DEFAULT_NODES: ClassVar[tuple[str, tuple[float, ...]]] = ("zeta_deg", opt.BANK_TABLE_HEADINGS_DEG)
     zeta_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     heading_deg: list[HeadingNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     time_s: list[TimeNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
@@ -223,7 +235,9 @@ class BankSearchTable(_SearchTable):
         return self._core(self.bounds_deg, _bank_start_deg)
 
 
-def _bank_start_deg(abscissa, nodes, bounds_deg):
+def _bank_start_deg(
+    abscissa: str, nodes: tuple[float, ...], bounds_deg: tuple[float, float]
+) -> NDArray[np.float64] | float:
     """The ramp K = 1 (Fig. 2's nominal schedule) on a heading abscissa, else the middle of the bounds."""
     if abscissa in ("zeta", "heading"):
         return opt.nominal_bank_deg(1.0, nodes, bounds_deg)
@@ -231,8 +245,8 @@ def _bank_start_deg(abscissa, nodes, bounds_deg):
 
 
 class AlphaSearchTable(_SearchTable):
-    ABSCISSAE: ClassVar[dict] = {"velocity_fps": "velocity", "time_s": "time", "energy_ft": "energy"}
-    DEFAULT_NODES: ClassVar[tuple] = ("velocity_fps", constrained.ALPHA_TABLE_VELOCITIES_FPS)
+    ABSCISSAE: ClassVar[dict[str, str]] = {"velocity_fps": "velocity", "time_s": "time", "energy_ft": "energy"}
+    DEFAULT_NODES: ClassVar[tuple[str, tuple[float, ...]]] = ("velocity_fps", constrained.ALPHA_TABLE_VELOCITIES_FPS)
     velocity_fps: list[VelocityNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     time_s: list[TimeNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
     energy_ft: list[EnergyNode] | None = Field(default=None, min_length=2, max_length=SEARCH_MAX_NODES)
@@ -241,7 +255,7 @@ class AlphaSearchTable(_SearchTable):
         default=None, max_length=SEARCH_MAX_NODES
     )
 
-    def to_core(self, vehicle) -> constrained.ControlTable:
+    def to_core(self, vehicle: Vehicle) -> constrained.ControlTable:
         """Bounds default to the vehicle's alpha range; the start to its (L/D)max alpha (Mach 20, 200,000 ft)."""
         alpha_ld_deg = ld_max(vehicle, SUMMARY_MACH, SUMMARY_ALTITUDE_FT)[1]
         return self._core(
@@ -255,15 +269,15 @@ class OptimizationStudy(Strict):
     payoff: Payoff = Payoff()
     constraints: list[ConstraintCase] = Field(default=[], max_length=10)
     controls: list[Literal["bank", "alpha"]] = Field(default=["bank"], min_length=1, max_length=2)
-    method: Literal[METHODS] = "creep_pattern"
+    method: Method = "creep_pattern"
     collocation: CollocationOptions | None = None  # method "collocation" only
     max_trajectories: int = Field(default=3_000, ge=10, le=100_000)
     bank_table: BankSearchTable | None = None
     alpha_table: AlphaSearchTable | None = None
-    constraint_scaling: Literal[SCALINGS] | None = None  # default: "tolerance" with a table block, else "none"
+    constraint_scaling: Scaling | None = None  # default: "tolerance" with a table block, else "none"
 
     @model_validator(mode="after")
-    def _controls(self):
+    def _controls(self) -> "OptimizationStudy":
         if self.controls not in (["bank"], ["bank", "alpha"]):
             raise ValueError(f"controls: ['bank'] or ['bank', 'alpha'] (got {self.controls})")
         if self.alpha_table is not None and self.controls != ["bank", "alpha"]:
@@ -273,7 +287,7 @@ class OptimizationStudy(Strict):
         return self
 
     @model_validator(mode="after")
-    def _method(self):
+    def _method(self) -> "OptimizationStudy":
         if self.method == "collocation":
             if self.bank_table is not None or self.alpha_table is not None:
                 raise ValueError(
@@ -299,7 +313,7 @@ class OptimizationStudy(Strict):
         return self
 
     @model_validator(mode="after")
-    def _heating(self):
+    def _heating(self) -> "OptimizationStudy":
         uses_heat = {c.quantity for c in self.constraints} | {q for q, _ in self.payoff.objective()}
         if (
             uses_heat & {"max_temperature_R", "max_heat_rate_btu_ft2_s", "heat_load_btu_ft2"}
@@ -309,7 +323,7 @@ class OptimizationStudy(Strict):
         return self
 
     @model_validator(mode="after")
-    def _scales(self):
+    def _scales(self) -> "OptimizationStudy":
         for i, c in enumerate(self.constraints):
             if self.scaling() == "tolerance" and c.scale is None and c.band() == 0.0:
                 raise ValueError(
@@ -319,7 +333,7 @@ class OptimizationStudy(Strict):
         return self
 
     @model_validator(mode="after")
-    def _alpha_range(self):
+    def _alpha_range(self) -> "OptimizationStudy":
         if self.alpha_table is None:
             return self
         try:
@@ -343,7 +357,7 @@ class OptimizationStudy(Strict):
             return self.constraint_scaling
         return "none" if self.bank_table is None and self.alpha_table is None else "tolerance"
 
-    def core_constraints(self) -> tuple:
+    def core_constraints(self) -> tuple[opt.Constraint, ...]:
         return tuple(c.to_core(self.scaling()) for c in self.constraints)
 
 
@@ -352,15 +366,18 @@ REQUEST = OptimizationStudy  # the kind's request type (the OpenAPI document dec
 ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_request(data, ctx: dict | None = None) -> OptimizationStudy:
-    return validated(ADAPTER, data, OptimizationStudy, ctx)
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> OptimizationStudy:
+    study: OptimizationStudy = validated(ADAPTER, data, OptimizationStudy, ctx)
+    return study
 
 
 def _bank_alpha(study: OptimizationStudy) -> bool:
     return study.controls == ["bank", "alpha"]
 
 
-def tables_of(study: OptimizationStudy, vehicle) -> tuple:
+def tables_of(
+    study: OptimizationStudy, vehicle: Vehicle
+) -> tuple[constrained.ControlTable, constrained.ControlTable | None]:
     """(bank table, alpha table or None) searched by the study: its blocks, else the report's tables."""
     bank = (study.bank_table or BankSearchTable()).to_core()
     if not _bank_alpha(study):
@@ -424,17 +441,22 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
     )
 
 
-def fly_optimum(study, result: opt.Result | col.Result):
+def fly_optimum(study: OptimizationStudy | dict[str, Any], result: opt.Result | col.Result) -> Trajectory:
     """The optimum flown by the integrator: the collocation's control tables (its re-flight), or the parameter
     search's best parameters through the study's control laws."""
-    study = parse("optimize", study)
-    if study.method == "collocation":
-        return col.refly(collocation_problem(study), result)
-    problem = problem_of(study)
+    parsed: OptimizationStudy = parse("optimize", study)
+    if parsed.method == "collocation":
+        assert isinstance(result, col.Result)  # optimum(): a collocation study's result is the collocation's
+        return col.refly(collocation_problem(parsed), result)
+    assert isinstance(result, opt.Result)  # optimum(): any other method's is the parameter search's
+    problem = problem_of(parsed)
+    assert problem.base is not None and problem.controls is not None  # problem_of builds both
     return simulate(problem.controls(problem.base, result.params))
 
 
-def optimum(study: OptimizationStudy, part=None, on_progress=None) -> opt.Result | col.Result:
+def optimum(
+    study: OptimizationStudy, part: Any = None, on_progress: OnProgress | None = None
+) -> opt.Result | col.Result:
     """The study's optimum; on_progress(fraction, note) on the collocation's IPOPT iterations or the search's
     flights (True from it stops the search with the best point so far)."""
     if study.method == "collocation":
@@ -442,6 +464,7 @@ def optimum(study: OptimizationStudy, part=None, on_progress=None) -> opt.Result
     problem = problem_of(study)
     if study.method != "creep_pattern":
         return opt.optimize(problem, study.method, max_evaluations=study.max_trajectories, on_progress=on_progress)
+    assert problem.base is not None  # problem_of builds it
     bank, alpha = tables_of(study, problem.base.vehicle)
     search = constrained.search_options(
         "bank_alpha" if alpha else "bank",

@@ -17,10 +17,12 @@ rotation is applied here (Section IV.3 takes its flight times from non-rotating 
 
 import csv
 import math
+import os
 import time
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.bounds import SITE_NAME_CHARS
@@ -29,10 +31,10 @@ from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import fly as fly_study
 from footprint.contracts.records import csv_cell, plain
-from footprint.contracts.work import Stored, Work
+from footprint.contracts.work import OnProgress, Stored, Work
 from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
-from footprint.core.reach import reach
+from footprint.core.reach import Window, reach
 from footprint.core.sphere import close_half_along_axis
 
 MAX_PLACEMENTS = 2_000_000  # revolutions x (360 / u_step_deg): ~80 s of work for 20 sites and 30 points
@@ -54,7 +56,7 @@ class ReachFootprint(Strict):
     study: FootprintStudy | None = None
 
     @model_validator(mode="after")
-    def _one_source(self):
+    def _one_source(self) -> "ReachFootprint":
         if (self.points is None) == (self.study is None):
             raise ValueError("give exactly one of 'points' (the boundary) or 'study' (a footprint study to fly)")
         if self.study is not None and self.mirror:
@@ -79,7 +81,7 @@ class ReachOrbit(Strict):
     j2: Annotated[float, Range(-0.1, 0.1)] = J2
 
     @model_validator(mode="after")
-    def _choices(self):
+    def _choices(self) -> "ReachOrbit":
         if (self.altitude_ft is None) == (self.altitude_nmi is None):
             raise ValueError("give exactly one of altitude_ft or altitude_nmi")
         by_ra = self.right_ascension_deg is not None or self.greenwich_sidereal_deg is not None
@@ -90,8 +92,11 @@ class ReachOrbit(Strict):
         return self
 
     def to_orbit(self) -> CircularOrbit:
-        alt = self.altitude_ft if self.altitude_ft is not None else self.altitude_nmi * c.FT_PER_NMI
-        kw = dict(
+        alt = self.altitude_ft
+        if alt is None:
+            assert self.altitude_nmi is not None  # _choices: exactly one of altitude_ft or altitude_nmi
+            alt = self.altitude_nmi * c.FT_PER_NMI
+        kw: dict[str, Any] = dict(
             inclination_deg=self.inclination_deg,
             altitude_ft=alt,
             mu_ft3_s2=self.mu_ft3_s2,
@@ -101,9 +106,10 @@ class ReachOrbit(Strict):
             nodal_regression=self.nodal_regression,
         )
         if self.right_ascension_deg is not None:
-            return CircularOrbit.from_right_ascension(
+            orbit: CircularOrbit = CircularOrbit.from_right_ascension(
                 right_ascension_deg=self.right_ascension_deg, greenwich_sidereal_deg=self.greenwich_sidereal_deg, **kw
             )
+            return orbit
         return CircularOrbit(node_longitude_deg=self.node_longitude_deg or 0.0, **kw)
 
 
@@ -122,17 +128,18 @@ class Revolutions(Strict):
     hours: Annotated[float, Range(0.01, 720, "h")] | None = None
 
     @model_validator(mode="after")
-    def _span(self):
+    def _span(self) -> "Revolutions":
         if (self.last is None) == (self.hours is None):
             raise ValueError("give exactly one of 'last' or 'hours'")
         if self.last is not None and self.last < self.first:
             raise ValueError(f"last {self.last} must be at least first {self.first}")
         return self
 
-    def span(self, orbit: CircularOrbit):
+    def span(self, orbit: CircularOrbit) -> tuple[NDArray[np.int_], float | None]:
         """(revolution numbers, time span end in seconds since the epoch or None)."""
         if self.last is not None:
             return np.arange(self.first, self.last + 1), None
+        assert self.hours is not None  # _span: exactly one of last or hours
         count = math.ceil(self.hours * 3600.0 / orbit.period_s - 1e-12)
         start_s = (self.first - 1) * orbit.period_s
         return np.arange(self.first, self.first + count), start_s + self.hours * 3600.0
@@ -150,7 +157,7 @@ class ReachRequest(Strict):
 
     @model_validator(mode="before")
     @classmethod
-    def _stored_sites(cls, data, info: ValidationInfo):
+    def _stored_sites(cls, data: Any, info: ValidationInfo) -> Any:
         stored = context_of(info).get("sites")
         if stored is None or not isinstance(data, dict) or data.get("sites"):
             return data
@@ -160,7 +167,7 @@ class ReachRequest(Strict):
         return {**data, "sites": sites}
 
     @model_validator(mode="after")
-    def _size(self, info: ValidationInfo):
+    def _size(self, info: ValidationInfo) -> "ReachRequest":
         if not self.sites:
             raise ValueError("sites: give at least 1 site (allowed: 1 to 1,000)")
         revs, _ = self.revolutions.span(self.orbit.to_orbit())
@@ -174,6 +181,7 @@ class ReachRequest(Strict):
         if fp.points:
             points = len(fp.points) * (2 if fp.mirror else 1)
         else:  # a study's boundary: its settings on each side flown, and the two points closing it on the axis
+            assert fp.study is not None  # _one_source: the points or a study, exactly one
             points = fp.study.settings()[1] * (2 if fp.study.mirror else 1) + 2
         limit, where = door_limit(info, MAX_WORK, MAX_WORK, MAX_WORK_SYNC)
         if placements * len(self.sites) * points > limit:
@@ -189,19 +197,22 @@ REQUEST = ReachRequest  # the kind's request type (the OpenAPI document declares
 ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_request(data, ctx: dict | None = None) -> ReachRequest:
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> ReachRequest:
     """Validate a request; a footprint study inside it is validated too (errors name footprint.study...)."""
-    return validated(ADAPTER, data, ReachRequest, ctx)
+    request: ReachRequest = validated(ADAPTER, data, ReachRequest, ctx)
+    return request
 
 
-def footprint_polygon(req: ReachRequest):
+def footprint_polygon(
+    req: ReachRequest,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], dict[str, Any]]:
     """(down-range nmi, cross-range nmi, flight time s) of the closed boundary, and a description."""
     fp = req.footprint
     if fp.study is not None:
         study = fp.study
         flown = fly_study(study)
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in flown.points]
-        info = {
+        info: dict[str, Any] = {
             "source": "study",
             "method": study.method,
             "trajectories": flown.trajectories,
@@ -209,6 +220,7 @@ def footprint_polygon(req: ReachRequest):
             "planet_rotating": study.case.planet.rotating,
         }
     else:
+        assert fp.points is not None  # _one_source: the points or a study, exactly one
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in fp.points]
         if fp.mirror:
             pts += [(d, -cross, t) for d, cross, t in reversed(pts) if cross != 0.0]
@@ -224,13 +236,13 @@ def footprint_polygon(req: ReachRequest):
     return arr[:, 0], arr[:, 1], arr[:, 2], info
 
 
-def analysis(req: ReachRequest, part=None, on_progress=None) -> dict:
+def analysis(req: ReachRequest, part: Any = None, on_progress: OnProgress | None = None) -> dict[str, Any]:
     """The reach analysis: windows and a per-site summary, as a JSON-ready dict; on_progress(fraction, note) over
     the placements (True stops)."""
     orbit = req.orbit.to_orbit()
     revs, span_end_s = req.revolutions.span(orbit)
     down, cross, flight_time, info = footprint_polygon(req)
-    notes = []
+    notes: list[str] = []
     if info.get("planet_rotating") and req.earth_rotation == "approximate":
         notes.append(
             "the footprint study was flown on a rotating earth and earth_rotation is 'approximate': the "
@@ -310,7 +322,7 @@ def analysis(req: ReachRequest, part=None, on_progress=None) -> dict:
     }
 
 
-def _deorbit_points(orbit, window, u_step_deg) -> dict:
+def _deorbit_points(orbit: CircularOrbit, window: Window, u_step_deg: float) -> dict[str, Any]:
     """Where the vehicle is when it deorbits within a window: the ground points under the orbit at the window's
     grid values of u (core.orbits.position), for the map."""
     from footprint.core.orbits import position
@@ -320,7 +332,7 @@ def _deorbit_points(orbit, window, u_step_deg) -> dict:
     return {"latitude_deg": np.atleast_1d(lat).tolist(), "longitude_deg": np.atleast_1d(lon).tolist()}
 
 
-def store(req: ReachRequest, result: dict, name: str | None) -> Stored:
+def store(req: ReachRequest, result: dict[str, Any], name: str | None) -> Stored:
     return Stored(result={"reach": plain(result)})
 
 
@@ -340,7 +352,7 @@ WINDOW_COLUMNS = (
 )
 
 
-def write_windows_csv(result: dict, path) -> None:
+def write_windows_csv(result: dict[str, Any], path: str | os.PathLike[str]) -> None:
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=WINDOW_COLUMNS, extrasaction="ignore")
         w.writeheader()

@@ -2,8 +2,14 @@
 
 import json
 import math
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from footprint.core.trajectory import Trajectory
 
 MAX_TRACK_POINTS = 500  # a stored ground track or flight
 FLIGHT_KEYS = (
@@ -20,7 +26,7 @@ FLIGHT_KEYS = (
 )  # a flight's stored histories (with heating)
 
 
-def plain(value):
+def plain(value: Any) -> Any:
     """JSON-ready: numpy scalars and arrays to Python, tuples to lists, NaN and infinities to None."""
     if isinstance(value, dict):
         return {str(k): plain(v) for k, v in value.items()}
@@ -35,25 +41,29 @@ def plain(value):
     return value
 
 
-def strict_json(value, **dumps) -> str:
+def strict_json(value: Any, **dumps: Any) -> str:
     """RFC 8259 JSON of `value` (plain(): NaN and infinities as null, as the service writes them); anything else
     unknown as its float or its text. allow_nan=False: a non-finite number that escaped plain() is an error, never
     the `NaN` a JSON parser refuses."""
 
-    def other(o):
+    def other(o: Any) -> Any:
         return plain(float(o)) if hasattr(o, "__float__") else str(o)
 
     return json.dumps(plain(value), allow_nan=False, default=other, **dumps)
 
 
-def decimated(n: int, max_points: int) -> np.ndarray:
+def decimated(n: int, max_points: int) -> NDArray[np.int_]:
     """At most max_points indices of n samples, evenly spread, keeping the first and the last."""
     if n <= max_points:
         return np.arange(n)
     return np.unique(np.linspace(0, n - 1, max_points).round().astype(int))
 
 
-def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg"), max_points: int = MAX_TRACK_POINTS) -> dict:
+def flown(
+    traj: "Trajectory",
+    keys: Iterable[str] = ("time_s", "latitude_deg", "longitude_deg"),
+    max_points: int = MAX_TRACK_POINTS,
+) -> dict[str, Any]:
     """A trajectory's summary and its histories of `keys` (those it has), decimated to max_points."""
     keep = decimated(len(traj.history["time_s"]), max_points)
     return {"summary": plain(traj.summary), **{k: plain(traj.history[k][keep]) for k in keys if k in traj.history}}
@@ -63,7 +73,7 @@ def flown(traj, keys=("time_s", "latitude_deg", "longitude_deg"), max_points: in
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
-def csv_cell(value):
+def csv_cell(value: Any) -> Any:
     """A CSV cell: None empty; a float in full (repr) precision, so a table read back gives the same numbers; a dict
     as sorted JSON; text a spreadsheet would run as a formula behind an apostrophe."""
     if value is None:

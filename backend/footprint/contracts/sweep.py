@@ -26,9 +26,11 @@ import csv
 import json
 import os
 import time
+from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from types import ModuleType
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeVar
 
 from pydantic import BeforeValidator, Field, TypeAdapter, ValidationError, ValidationInfo, create_model, model_validator
 
@@ -42,7 +44,7 @@ from footprint.contracts.footprint import fly as fly_study
 from footprint.contracts.messages import error_line
 from footprint.contracts.records import csv_cell
 from footprint.contracts.vehicle import VehicleCase
-from footprint.contracts.work import RunInfo, Stored, Work
+from footprint.contracts.work import OnProgress, RunInfo, Stored, Work
 
 MAX_FOOTPRINTS = 10_000  # one sweep; Appendix C data set 1 is 120
 MAX_FOOTPRINTS_HTTP = 1_000  # one sweep job
@@ -50,18 +52,30 @@ SWEPT_ENTRY_FIELDS = ("velocity_fps", "gamma_deg", "velocity_frame")
 UNFINISHED = ("max_steps", "step_underflow", "none")  # stop reasons of a flight the integrator gave up on
 
 
+RunKey = tuple[str, float, float]  # a footprint of the sweep: (vehicle, entry_velocity_fps, entry_gamma_deg)
+_H = TypeVar("_H", bound=Hashable)
+
 # ---------------------------------------------------------------------------------------- contract
-# The entry state shared by every footprint: the case's entry less what the sweep varies.
-SweepEntry = create_model("SweepEntry", __base__=Strict, **model_fields(EntryCase, exclude=SWEPT_ENTRY_FIELDS))
+if TYPE_CHECKING:  # mypy cannot see the fields of create_model's classes (below): these name the ones the code reads
 
-# The base case: the case contract less the vehicle (the sweep's list), the bank law (the method's)
-# and the swept entry fields.
-SweepBase = create_model(
-    "SweepBase", __base__=Strict, **model_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...))
-)
+    class SweepEntry(Strict):
+        altitude_ft: float
+
+    class SweepBase(Strict):
+        entry: SweepEntry
+
+else:
+    # The entry state shared by every footprint: the case's entry less what the sweep varies.
+    SweepEntry = create_model("SweepEntry", __base__=Strict, **model_fields(EntryCase, exclude=SWEPT_ENTRY_FIELDS))
+
+    # The base case: the case contract less the vehicle (the sweep's list), the bank law (the method's)
+    # and the swept entry fields.
+    SweepBase = create_model(
+        "SweepBase", __base__=Strict, **model_fields(Case, exclude=("vehicle", "bank"), entry=(SweepEntry, ...))
+    )
 
 
-def _vehicle_ref(value):
+def _vehicle_ref(value: Any) -> Any:
     return {"builtin": value} if isinstance(value, str) else value
 
 
@@ -77,9 +91,11 @@ class _Sweep(Strict):
     entry_gamma_deg: list[Annotated[float, Range(-90, 10, "deg")]] = Field(min_length=1, max_length=100)
     velocity_frame: Literal["inertial", "relative"] = "inertial"
     contours_fps: list[Annotated[float, Range(100, 40_000, "ft/s")]] = Field(default=[], max_length=20)
+    if TYPE_CHECKING:  # each method's sweep model has it (create_model, below): the study's discriminator
+        method: str
 
     @model_validator(mode="after")
-    def _grid(self, info: ValidationInfo):
+    def _grid(self, info: ValidationInfo) -> "_Sweep":
         labels = [v.label() for v in self.vehicles]
         if len(set(labels)) < len(labels):
             raise ValueError(
@@ -111,16 +127,16 @@ class _Sweep(Strict):
         return self
 
     # -- the footprints of the grid
-    def method_params(self) -> dict:
+    def method_params(self) -> dict[str, Any]:
         common = set(_Sweep.model_fields)
         return {k: v for k, v in self.model_dump().items() if k not in common and k != "method"}
 
-    def case_dict(self, vehicle: VehicleCase, velocity_fps: float, gamma_deg: float) -> dict:
+    def case_dict(self, vehicle: VehicleCase, velocity_fps: float, gamma_deg: float) -> dict[str, Any]:
         base = self.base.model_dump()
         base["entry"] |= {"velocity_fps": velocity_fps, "gamma_deg": gamma_deg, "velocity_frame": self.velocity_frame}
         return {"vehicle": vehicle.model_dump(exclude_none=True), **base}
 
-    def jobs(self) -> list[dict]:
+    def jobs(self) -> list[dict[str, Any]]:
         """One job per footprint, in sweep order (vehicle, velocity, angle): plain data, small to ship."""
         return [
             {
@@ -142,31 +158,40 @@ class _Sweep(Strict):
         return len(self.vehicles) * len(self.entry_velocity_fps) * len(self.entry_gamma_deg)
 
 
-def _first_duplicate(values):
+def _first_duplicate(values: Iterable[_H]) -> _H | None:
     seen = set()
     for v in values:
         if v in seen:
             return v
         seen.add(v)
+    return None
 
 
 # One sweep model per method: the shared fields plus that method's parameters from the study contract.
-SingleParameterSweep = create_model(
-    "SingleParameterSweep", __base__=_Sweep, **model_fields(SingleParameterStudy, exclude=("case",))
-)
-ConstantAltitudeSweep = create_model(
-    "ConstantAltitudeSweep", __base__=_Sweep, **model_fields(ConstantAltitudeStudy, exclude=("case",))
-)
+if TYPE_CHECKING:  # as mypy sees them: sweeps (the code reads the method's fields through model_dump)
+
+    class SingleParameterSweep(_Sweep): ...
+
+    class ConstantAltitudeSweep(_Sweep): ...
+
+else:
+    SingleParameterSweep = create_model(
+        "SingleParameterSweep", __base__=_Sweep, **model_fields(SingleParameterStudy, exclude=("case",))
+    )
+    ConstantAltitudeSweep = create_model(
+        "ConstantAltitudeSweep", __base__=_Sweep, **model_fields(ConstantAltitudeStudy, exclude=("case",))
+    )
 Sweep = Annotated[SingleParameterSweep | ConstantAltitudeSweep, Field(discriminator="method")]
 
 REQUEST = Sweep  # the kind's request type (the OpenAPI document declares it)
-ADAPTER = TypeAdapter(REQUEST)
+ADAPTER: TypeAdapter[_Sweep] = TypeAdapter(REQUEST)  # validates to one of the method sweeps
 
 
-def parse_request(data, ctx: dict | None = None) -> _Sweep:
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> _Sweep:
     """Validate a sweep (dict or model); its vehicles are built as they are parsed (an inline definition is checked
     by the core here, not in 40 tasks later). Raises pydantic's ValidationError (`error_line` makes it one line)."""
-    return validated(ADAPTER, data, _Sweep, ctx)
+    sweep: _Sweep = validated(ADAPTER, data, _Sweep, ctx)
+    return sweep
 
 
 # ------------------------------------------------------------------------------------------ worker
@@ -178,21 +203,23 @@ class FootprintRun:
     entry_velocity_fps: float
     entry_gamma_deg: float
     method: str
-    study: dict  # the footprint's study, as stored
+    study: dict[str, Any]  # the footprint's study, as stored
     footprint: Any = None  # footprint.core.footprints.Footprint
-    pullout: dict | None = None  # altitude_ft, downrange_nmi, velocity_fps, time_s of the footprint's first point
-    ground_track: dict | None = None  # the zero-bank flight, decimated (footprint.contracts.footprint.ground_track)
+    # altitude_ft, downrange_nmi, velocity_fps, time_s of the footprint's first point
+    pullout: dict[str, Any] | None = None
+    # the zero-bank flight, decimated (footprint.contracts.footprint.ground_track)
+    ground_track: dict[str, Any] | None = None
     trajectories: int = 0
     seconds: float = 0.0
     worker: str = ""
     error: str | None = None
 
     @property
-    def key(self):
+    def key(self) -> RunKey:
         return self.vehicle, self.entry_velocity_fps, self.entry_gamma_deg
 
 
-def fly_footprint(sweep: "_Sweep", job: dict, on_progress=None) -> FootprintRun:
+def fly_footprint(sweep: "_Sweep", job: dict[str, Any], on_progress: OnProgress | None = None) -> FootprintRun:
     """A part: one footprint of the sweep (`job`: one of sweep.jobs(); on_progress as the core's footprints take it:
     a True answer stops it). Never raises: a failure in the core comes back as a run with `error` set."""
     vehicle, velocity_fps, gamma_deg = job["key"]
@@ -321,7 +348,7 @@ SUMMARY_COLUMNS = (
 @dataclass
 class SweepResult:
     sweep: _Sweep
-    runs: dict[tuple, FootprintRun]  # (vehicle, entry_velocity_fps, entry_gamma_deg) -> run, in sweep order
+    runs: dict[RunKey, FootprintRun]  # (vehicle, entry_velocity_fps, entry_gamma_deg) -> run, in sweep order
     tasks: int  # Dask tasks submitted (one per footprint)
     workers: int
     seconds: float  # first submission to last result
@@ -330,25 +357,25 @@ class SweepResult:
     figures_note: str = field(default="", init=False)
 
     @property
-    def footprints(self) -> dict:
+    def footprints(self) -> dict[RunKey, Any]:
         """(vehicle, entry_velocity_fps, entry_gamma_deg) -> Footprint, for the footprints that were flown."""
         return {k: r.footprint for k, r in self.runs.items() if r.footprint is not None}
 
     @property
-    def errors(self) -> dict:
+    def errors(self) -> dict[RunKey, str]:
         return {k: r.error for k, r in self.runs.items() if r.error is not None}
 
     @property
     def trajectories(self) -> int:
         return sum(r.trajectories for r in self.runs.values())
 
-    def point_rows(self) -> list[dict]:
+    def point_rows(self) -> list[dict[str, Any]]:
         """One row per footprint point: the boundary in order (`point` = its index), then any flown point
         inside it (`on_boundary` False: a minimum-range point that steep banks beat); each preceded by its
         iso-velocity crossings (`velocity_contour_fps` set). A failed footprint is one row with its error."""
-        rows = []
+        rows: list[dict[str, Any]] = []
         for run in self.runs.values():
-            key = {
+            key: dict[str, Any] = {
                 "sweep": self.sweep.name,
                 "vehicle": run.vehicle,
                 "entry_velocity_fps": run.entry_velocity_fps,
@@ -404,11 +431,11 @@ class SweepResult:
                 )
         return rows
 
-    def summary_rows(self) -> list[dict]:
-        rows = []
+    def summary_rows(self) -> list[dict[str, Any]]:
+        rows: list[dict[str, Any]] = []
         for run in self.runs.values():
             fp, po = run.footprint, run.pullout or {}
-            row = {
+            row: dict[str, Any] = {
                 "sweep": self.sweep.name,
                 "vehicle": run.vehicle,
                 "entry_velocity_fps": run.entry_velocity_fps,
@@ -436,7 +463,7 @@ class SweepResult:
             rows.append(row)
         return rows
 
-    def write(self, folder, figures: bool = True) -> list[Path]:
+    def write(self, folder: str | os.PathLike[str], figures: bool = True) -> list[Path]:
         """points.csv, summary.csv and sweep.json in `folder`; figures/ too when footprint.pictures.figures exists."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
@@ -450,7 +477,7 @@ class SweepResult:
             written += self.write_figures(folder / "figures")
         return written
 
-    def write_figures(self, folder) -> list[Path]:
+    def write_figures(self, folder: str | os.PathLike[str]) -> list[Path]:
         """Per vehicle and entry velocity, the footprints over entry angle; per vehicle, the pull-out carpet;
         per footprint with iso-velocity contours, the contours. Skipped (see `figures_note`) while
         footprint.pictures.figures is not there."""
@@ -461,7 +488,7 @@ class SweepResult:
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         written, name = [], self.sweep.name
-        by_vehicle: dict[str, dict] = {}
+        by_vehicle: dict[str, dict[float, dict[str, Any]]] = {}
         for (veh, v, g), fp in self.footprints.items():
             by_vehicle.setdefault(veh, {}).setdefault(v, {})[f"gamma {g:g} deg"] = fp
         for veh, by_velocity in by_vehicle.items():
@@ -485,7 +512,7 @@ class SweepResult:
         return written
 
 
-def _figures_module():
+def _figures_module() -> ModuleType | str:
     """footprint.pictures.figures, or a note saying why there are no figures."""
     import importlib
     import warnings
@@ -509,7 +536,7 @@ def _file_part(text: str) -> str:
     return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text)
 
 
-def _write_csv(path: Path, columns, rows) -> Path:
+def _write_csv(path: Path, columns: Sequence[str], rows: Iterable[dict[str, Any]]) -> Path:
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=columns, restval="", extrasaction="raise")
         w.writeheader()

@@ -31,8 +31,9 @@ down-range is its flown one where the request gives it (a move keeps the ranges 
 """
 
 import csv
+import os
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import ConfigDict, Field, TypeAdapter, ValidationInfo, model_validator
@@ -41,7 +42,7 @@ from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.records import csv_cell
-from footprint.contracts.work import Work
+from footprint.contracts.work import OnProgress, Work
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.rotation import ranges_near
@@ -89,7 +90,7 @@ class Place(Strict):
     argument_of_latitude_deg: Annotated[float, Range(-360, 360, "deg")] | None = None
 
     @model_validator(mode="after")
-    def _one_direction(self):
+    def _one_direction(self) -> "Place":
         orbit = ("node_longitude_deg", "argument_of_latitude_deg")
         if any(getattr(self, k) is not None for k in orbit):
             given = [
@@ -124,6 +125,7 @@ class Place(Strict):
         assert self.latitude_deg is not None and self.longitude_deg is not None  # _one_direction: a place is given
         if self.heading_deg is not None:
             return Reference(self.latitude_deg, self.longitude_deg, self.heading_deg)
+        assert self.inclination_deg is not None  # _one_direction: a heading or an inclination, exactly one
         try:
             hdg = heading_for_inclination(self.latitude_deg, self.inclination_deg, self.ascending)
         except InputError as exc:
@@ -144,7 +146,7 @@ class TransformRequest(Strict):
     study: FootprintStudy | None = None  # "exact" flies it again
 
     @model_validator(mode="after")
-    def _consistent(self, info: ValidationInfo):
+    def _consistent(self, info: ValidationInfo) -> "TransformRequest":
         limit, where = door_limit(info, MAX_POINTS, MAX_POINTS_HTTP)
         if len(self.points) > limit:
             raise ValueError(f"points: {len(self.points)} points is outside the allowed range 1 to {limit:,}{where}")
@@ -179,11 +181,12 @@ REQUEST = TransformRequest  # the kind's request type (the OpenAPI document decl
 ADAPTER = TypeAdapter(REQUEST)
 
 
-def parse_request(data, ctx: dict | None = None) -> TransformRequest:
-    return validated(ADAPTER, data, TransformRequest, ctx)
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> TransformRequest:
+    request: TransformRequest = validated(ADAPTER, data, TransformRequest, ctx)
+    return request
 
 
-def transform(req: TransformRequest, part=None, on_progress=None) -> dict:
+def transform(req: TransformRequest, part: Any = None, on_progress: OnProgress | None = None) -> dict[str, Any]:
     """Carry out a transform request; raises InputError for a user's mistake the contract cannot see."""
     src, dst0 = req.from_.reference("from"), req.to.reference("to")
     from footprint.core.rotation import stepped_reference
@@ -201,7 +204,7 @@ def transform(req: TransformRequest, part=None, on_progress=None) -> dict:
     }
 
 
-def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: Reference) -> list[dict]:
+def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: Reference) -> list[dict[str, Any]]:
     lat = np.array([p.latitude_deg for p in req.points])
     lon = np.array([p.longitude_deg for p in req.points])
     has_time = all(p.flight_time_s is not None for p in req.points)
@@ -222,7 +225,7 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
     down, cross = ranges_near(lat, lon, dst, flown)
     rows = []
     for i in range(len(lat)):
-        row = {"latitude_deg": float(lat[i]), "longitude_deg": float(lon[i])}
+        row: dict[str, Any] = {"latitude_deg": float(lat[i]), "longitude_deg": float(lon[i])}
         if has_time or not np.isnan(t[i]):
             row["flight_time_s"] = float(t[i])
         row.update(downrange_nmi=float(down[i]), crossrange_nmi=float(cross[i]), mirrored=bool(mirrored[i]))
@@ -230,7 +233,7 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
     return rows
 
 
-def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
+def _exact_points(req: TransformRequest, dst: Reference) -> list[dict[str, Any]]:
     from footprint.core.rotation import all_points, fly_at
 
     study = req.study
@@ -253,7 +256,7 @@ def _exact_points(req: TransformRequest, dst: Reference) -> list[dict]:
     ]
 
 
-def _reference_dict(ref: Reference) -> dict:
+def _reference_dict(ref: Reference) -> dict[str, Any]:
     return {
         "latitude_deg": ref.latitude_deg,
         "longitude_deg": float(wrap_longitude(ref.longitude_deg)),
@@ -274,7 +277,7 @@ CSV_COLUMNS = (
 )
 
 
-def write_csv(result: dict, path) -> Path:
+def write_csv(result: dict[str, Any], path: str | os.PathLike[str]) -> Path:
     """The moved points as CSV, one row each (columns a point lacks are left empty)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

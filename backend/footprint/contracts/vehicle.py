@@ -91,7 +91,7 @@ class AeroTable(Strict):
         return self
 
 
-def _shape_of(values: list) -> str:
+def _shape_of(values: list[list[list[float]]]) -> str:
     """A nested list's shape, or that it is ragged."""
     rows, cols = {len(r) for r in values}, {len(c) for r in values for c in r}
     if len(rows) > 1 or len(cols) > 1:

@@ -211,7 +211,7 @@ def rotation_shift(
     return wrap_longitude(lon)
 
 
-def heading_for_inclination(latitude_deg, inclination_deg, ascending=True):
+def heading_for_inclination(latitude_deg: float, inclination_deg: float, ascending: bool = True) -> float:
     """Heading (azimuth from north) of a circular orbit of the given inclination where it crosses a latitude.
 
     Spherical trigonometry of the orbit plane: cos i = sin(heading) cos(latitude); ascending passes head
@@ -225,7 +225,7 @@ def heading_for_inclination(latitude_deg, inclination_deg, ascending=True):
             f"an orbit of inclination {inclination_deg} deg never reaches "
             f"latitude {latitude_deg} deg (it reaches +-{min(inclination_deg, 180 - inclination_deg)} deg)",
         )
-    az = np.degrees(np.arcsin(np.clip(s, -1.0, 1.0)))
+    az: float = np.degrees(np.arcsin(np.clip(s, -1.0, 1.0)))
     return az if ascending else 180.0 - az
 
 
