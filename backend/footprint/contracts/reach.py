@@ -106,6 +106,7 @@ class ReachOrbit(Strict):
             nodal_regression=self.nodal_regression,
         )
         if self.right_ascension_deg is not None:
+            assert self.greenwich_sidereal_deg is not None  # _choices: given with right_ascension_deg
             orbit: CircularOrbit = CircularOrbit.from_right_ascension(
                 right_ascension_deg=self.right_ascension_deg, greenwich_sidereal_deg=self.greenwich_sidereal_deg, **kw
             )

@@ -46,10 +46,13 @@ with T = {"mach": [...], "alpha_deg": [...], "altitude_ft": [...], "values": [ma
 import functools
 import json
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core._jit import njit
 from footprint.core.errors import InputError
@@ -69,6 +72,9 @@ _SWEEP_CHUNK = 150_000  # (Mach x altitude x alpha) points evaluated at once whi
 # built-in, high-lod, has 65 x 57 x 2001 = 7.4 M points)
 _MAX_SWEEP_POINTS = 10_000_000
 
+# a table as arrays: (mach, alpha_deg, altitude_ft, values[mach][alpha][alt])
+_Table = tuple[NDArray[np.float64], ...]
+
 
 # ------------------------------------------------------------------------------------------------
 # Compiled kernel (inner loop of the integrator: no allocation, no exceptions)
@@ -76,7 +82,7 @@ _MAX_SWEEP_POINTS = 10_000_000
 
 
 @njit(allocates=False)
-def _locate(blob, start, n, x):
+def _locate(blob: NDArray[np.float64], start: int, n: int, x: float) -> tuple[int, float]:
     """Interval of x on the axis blob[start:start+n]: (index i, weight of node i+1), held at the edges."""
     if n == 1:
         return 0, 0.0
@@ -97,7 +103,7 @@ def _locate(blob, start, n, x):
 
 
 @njit(allocates=False)
-def lookup(blob, offset, mach, alpha_deg, altitude_ft):
+def lookup(blob: NDArray[np.float64], offset: float, mach: float, alpha_deg: float, altitude_ft: float) -> float:
     """Multilinear interpolation of the table at `offset`; one-node axes skipped, values held at the edges."""
     o = int(offset)
     n_m = int(blob[o])
@@ -129,7 +135,7 @@ def lookup(blob, offset, mach, alpha_deg, altitude_ft):
 
 
 @njit(allocates=False)
-def _horner(blob, offset, x):
+def _horner(blob: NDArray[np.float64], offset: float, x: float) -> float:
     o = int(offset)
     n = int(blob[o])
     total = 0.0
@@ -139,7 +145,7 @@ def _horner(blob, offset, x):
 
 
 @njit(allocates=False)
-def coefficients(blob, mach, alpha_deg, altitude_ft):
+def coefficients(blob: NDArray[np.float64], mach: float, alpha_deg: float, altitude_ft: float) -> tuple[float, float]:
     """(CL, CD) at Mach, alpha (deg), altitude (ft).
 
     Form 1: the tables hold body-axis CN, CA (held at the table edges); lift and drag are their rotation by
@@ -162,25 +168,27 @@ def coefficients(blob, mach, alpha_deg, altitude_ft):
 
 
 @njit(allocates=False)
-def alpha_max_ld_deg(blob, mach, altitude_ft):
+def alpha_max_ld_deg(blob: NDArray[np.float64], mach: float, altitude_ft: float) -> float:
     """Alpha (deg) of (L/D)max at Mach, altitude: bilinear lookup of the precomputed grid."""
     return lookup(blob, blob[5], mach, 0.0, altitude_ft)
 
 
 @njit(allocates=False)
-def alpha_cl_max_deg(blob, mach, altitude_ft):
+def alpha_cl_max_deg(blob: NDArray[np.float64], mach: float, altitude_ft: float) -> float:
     """Alpha (deg) of CL max over the valid alpha range at Mach, altitude (precomputed grid)."""
     return lookup(blob, blob[6], mach, 0.0, altitude_ft)
 
 
 @njit(allocates=False)
-def alpha_zero_lift_deg(blob, mach, altitude_ft):
+def alpha_zero_lift_deg(blob: NDArray[np.float64], mach: float, altitude_ft: float) -> float:
     """Alpha (deg) of zero lift at Mach, altitude (precomputed grid; alpha_min if CL >= 0 there)."""
     return lookup(blob, blob[7], mach, 0.0, altitude_ft)
 
 
 @njit(allocates=False)
-def alpha_for_cl_deg(blob, cl, mach, altitude_ft, alpha_lo_deg, alpha_hi_deg):
+def alpha_for_cl_deg(
+    blob: NDArray[np.float64], cl: float, mach: float, altitude_ft: float, alpha_lo_deg: float, alpha_hi_deg: float
+) -> float:
     """Alpha in [lo, hi] where CL(alpha) = cl, by bisection (CL assumed increasing on [lo, hi]).
 
     Returns lo when cl <= CL(lo) and hi when cl >= CL(hi).
@@ -208,14 +216,14 @@ def alpha_for_cl_deg(blob, cl, mach, altitude_ft, alpha_lo_deg, alpha_hi_deg):
 # ------------------------------------------------------------------------------------------------
 
 
-def _table_segment(mach, alpha, alt, values):
+def _table_segment(mach: ArrayLike, alpha: ArrayLike, alt: ArrayLike, values: ArrayLike) -> NDArray[np.float64]:
     mach, alpha, alt = (np.asarray(x, dtype=np.float64).ravel() for x in (mach, alpha, alt))
     values = np.asarray(values, dtype=np.float64).reshape(mach.size, alpha.size, alt.size)
     head = np.array([mach.size, alpha.size, alt.size], dtype=np.float64)
     return np.concatenate([head, mach, alpha, alt, values.ravel()])
 
 
-def _weights(axis, x):
+def _weights(axis: ArrayLike, x: ArrayLike) -> NDArray[np.float64]:
     """Matrix W (len(x), len(axis)) of the kernel's linear interpolation with edge holding: f(x) = W @ f."""
     axis = np.asarray(axis, dtype=np.float64)
     x = np.asarray(x, dtype=np.float64)
@@ -232,7 +240,7 @@ def _weights(axis, x):
     return w_mat
 
 
-def _refine(nodes, factor=GRID_REFINEMENT):
+def _refine(nodes: ArrayLike, factor: int = GRID_REFINEMENT) -> NDArray[np.float64]:
     nodes = np.unique(np.asarray(nodes, dtype=np.float64))
     if nodes.size == 1:
         return nodes
@@ -241,12 +249,14 @@ def _refine(nodes, factor=GRID_REFINEMENT):
     return np.append(inner, nodes[-1])
 
 
-def _alpha_sweep(alpha_min, alpha_max):
+def _alpha_sweep(alpha_min: float, alpha_max: float) -> NDArray[np.float64]:
     n = int(round((alpha_max - alpha_min) / SWEEP_STEP_DEG)) + 1
     return np.linspace(alpha_min, alpha_max, max(n, 2))
 
 
-def _grid_alphas(cl, cd, sweep):
+def _grid_alphas(
+    cl: NDArray[np.floating[Any]], cd: NDArray[np.floating[Any]], sweep: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], bool]:
     """Alpha of (L/D)max, of CL max and of zero lift along the last axis of cl, cd (sampled at `sweep`)."""
     i_cl = np.argmax(cl, axis=-1)  # first maximum: smallest alpha on ties
     a_cl = sweep[i_cl]
@@ -270,16 +280,20 @@ def _grid_alphas(cl, cd, sweep):
     return a_ld, a_cl, a_zero, bool((cd > 0.0).any())
 
 
-def _table_on_grid(table, mach_nodes, alt_nodes, sweep):
+def _table_on_grid(
+    table: _Table, mach_nodes: NDArray[np.float64], alt_nodes: NDArray[np.float64], sweep: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Values of a (mach, alpha, alt, values) table at every (mach node, alt node, sweep alpha)."""
     mach, alpha, alt, values = table
-    v = np.einsum("mi,ijk,hk->mhj", _weights(mach, mach_nodes), values, _weights(alt, alt_nodes))
+    v: NDArray[np.float64] = np.einsum("mi,ijk,hk->mhj", _weights(mach, mach_nodes), values, _weights(alt, alt_nodes))
     if alpha.size == 1:
         return v  # (mach, alt, 1): broadcasts over the sweep
     return v @ _weights(alpha, sweep).T
 
 
-def _control_grids_tables(form, first, second, alpha_min, alpha_max):
+def _control_grids_tables(
+    form: int, first: _Table, second: _Table, alpha_min: float, alpha_max: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.float64]], bool]:
     sweep = _alpha_sweep(alpha_min, alpha_max)
     mach_axis = np.concatenate([first[0], second[0]])
     alt_axis = np.concatenate([first[2], second[2]])
@@ -314,14 +328,23 @@ def _control_grids_tables(form, first, second, alpha_min, alpha_max):
     return mach_nodes, alt_nodes, grids, cd_positive
 
 
-def _alpha_range(first, second):
+def _alpha_range(first: _Table, second: _Table) -> tuple[float, float]:
     ranges = [(t[1][0], t[1][-1]) for t in (first, second) if t[1].size > 1]
     if not ranges:
         return DEFAULT_ALPHA_RANGE_DEG
     return max(r[0] for r in ranges), min(r[1] for r in ranges)
 
 
-def _assemble(form, alpha_min, alpha_max, seg1, seg2, mach_nodes, alt_nodes, grids):
+def _assemble(
+    form: int,
+    alpha_min: float,
+    alpha_max: float,
+    seg1: NDArray[np.float64],
+    seg2: NDArray[np.float64],
+    mach_nodes: NDArray[np.float64],
+    alt_nodes: NDArray[np.float64],
+    grids: list[NDArray[np.float64]],
+) -> NDArray[np.float64]:
     segments = [seg1, seg2] + [_table_segment(mach_nodes, [0.0], alt_nodes, g[:, None, :]) for g in grids]
     offsets = np.cumsum([HEADER_SIZE] + [s.size for s in segments[:-1]])
     header = np.array([form, alpha_min, alpha_max, *offsets], dtype=np.float64)
@@ -330,22 +353,22 @@ def _assemble(form, alpha_min, alpha_max, seg1, seg2, mach_nodes, alt_nodes, gri
     return blob
 
 
-def pack_tables(form, first, second):
+def pack_tables(form: int, first: Sequence[ArrayLike], second: Sequence[ArrayLike]) -> tuple[NDArray[np.float64], bool]:
     """Blob of a table vehicle. form: FORM_LIFT_DRAG or FORM_NORMAL_AXIAL; first/second: (mach, alpha_deg,
     altitude_ft, values[mach][alpha][alt]) of CL/CN and CD/CA, axes strictly increasing (validated by the caller).
 
     Returns (blob, cd_positive): cd_positive says whether CD > 0 anywhere on the control-grid sweep.
     """
-    first = tuple(np.asarray(x, dtype=np.float64) for x in first)
-    second = tuple(np.asarray(x, dtype=np.float64) for x in second)
-    alpha_min, alpha_max = _alpha_range(first, second)
-    mach_nodes, alt_nodes, grids, cd_positive = _control_grids_tables(form, first, second, alpha_min, alpha_max)
+    first_t: _Table = tuple(np.asarray(x, dtype=np.float64) for x in first)
+    second_t: _Table = tuple(np.asarray(x, dtype=np.float64) for x in second)
+    alpha_min, alpha_max = _alpha_range(first_t, second_t)
+    mach_nodes, alt_nodes, grids, cd_positive = _control_grids_tables(form, first_t, second_t, alpha_min, alpha_max)
     blob = _assemble(
         form,
         alpha_min,
         alpha_max,
-        _table_segment(*first),
-        _table_segment(*second),
+        _table_segment(*first_t),
+        _table_segment(*second_t),
         mach_nodes,
         alt_nodes,
         grids,
@@ -353,7 +376,9 @@ def pack_tables(form, first, second):
     return blob, cd_positive
 
 
-def pack_polynomial(cl_coeffs, cd_coeffs, alpha_range_deg=DEFAULT_ALPHA_RANGE_DEG):
+def pack_polynomial(
+    cl_coeffs: ArrayLike, cd_coeffs: ArrayLike, alpha_range_deg: Sequence[float] = DEFAULT_ALPHA_RANGE_DEG
+) -> tuple[NDArray[np.float64], bool]:
     """Blob of a polynomial vehicle (coefficients lowest power first, alpha in degrees).
 
     Returns (blob, cd_positive) as pack_tables.
@@ -391,7 +416,7 @@ class Vehicle:
     id: str
     name: str
     wing_loading_psf: float
-    blob: np.ndarray = field(repr=False, compare=False)
+    blob: NDArray[np.float64] = field(repr=False, compare=False)
     provenance: str = ""
     readings: tuple[str, ...] = ()
     reported_ld_max: float | None = None
@@ -401,7 +426,7 @@ class Vehicle:
 # --- validation helpers ---------------------------------------------------------------------------
 
 
-def _show(value, limit=80):
+def _show(value: object, limit: int = 80) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
@@ -409,13 +434,13 @@ def _show(value, limit=80):
 MAX_FORCE_COEFFICIENT = 100.0  # |C_L|, |C_D|, |C_N|, |C_A|: physical ones are O(1) (Appendix B's stay below 3)
 
 
-def _table(tab):
+def _table(tab: Mapping[str, Any]) -> _Table:
     """A table's axes and values as arrays (its shape and bounds checked by the contract, contracts.vehicle)."""
     axes = (np.array(tab[k], dtype=np.float64) for k in ("mach", "alpha_deg", "altitude_ft"))
     return (*axes, np.array(tab["values"], dtype=np.float64))
 
 
-def _tables_blob(tables, where):
+def _tables_blob(tables: Mapping[str, Any], where: str) -> NDArray[np.float64]:
     first, second = _table(tables["first"]), _table(tables["second"])
     (a1, b1), (a2, b2) = ((t[1][0], t[1][-1]) for t in (first, second))
     if first[1].size > 1 and second[1].size > 1 and min(b1, b2) <= max(a1, a2):
@@ -426,7 +451,7 @@ def _tables_blob(tables, where):
     return blob
 
 
-def _within_force_range(where, values) -> None:
+def _within_force_range(where: str, values: ArrayLike) -> None:
     """A force coefficient's magnitude at most MAX_FORCE_COEFFICIENT: a C_D of 1e308 overflowed the forces to inf."""
     worst = float(np.max(np.abs(values)))
     if not worst <= MAX_FORCE_COEFFICIENT:
@@ -437,7 +462,9 @@ def _within_force_range(where, values) -> None:
         )
 
 
-def _polynomial_blob(cl, cd, alpha_range, where):
+def _polynomial_blob(
+    cl: Sequence[float], cd: Sequence[float], alpha_range: tuple[float, float], where: str
+) -> NDArray[np.float64]:
     """`where`: the definition's path; its .cl and .cd name the coefficient that is refused."""
     alpha = np.linspace(
         *alpha_range, 721
@@ -452,7 +479,7 @@ def _polynomial_blob(cl, cd, alpha_range, where):
     return blob
 
 
-def _aero_blob(aero, where):
+def _aero_blob(aero: Mapping[str, Any], where: str) -> NDArray[np.float64]:
     """The blob of an aero definition (one of "constant", "polynomial", "tables"; see the module docstring)."""
     (kind, body), w = next(iter(aero.items())), f"{where}.{next(iter(aero))}"
     if kind == "tables":
@@ -467,7 +494,7 @@ def _aero_blob(aero, where):
 
 
 def vehicle_from_definition(
-    aero: dict, wing_loading_psf: float, name: str = "custom vehicle", field: str = "vehicle"
+    aero: Mapping[str, Any], wing_loading_psf: float, name: str = "custom vehicle", field: str = "vehicle"
 ) -> Vehicle:
     """A user vehicle from its aero definition, as contracts.vehicle checked it; InputError (naming the field below
     `field`) for what only the numbers show: a drag nowhere positive, a force past the range, tables whose alpha
@@ -509,17 +536,17 @@ def builtin_vehicle(vehicle_id: str) -> Vehicle:
     return _load_builtin(vehicle_id)
 
 
-def _blob(vehicle):
+def _blob(vehicle: Vehicle | NDArray[np.float64]) -> NDArray[np.float64]:
     return vehicle.blob if isinstance(vehicle, Vehicle) else vehicle
 
 
-def alpha_range_deg(vehicle) -> tuple[float, float]:
+def alpha_range_deg(vehicle: Vehicle | NDArray[np.float64]) -> tuple[float, float]:
     """The vehicle's valid alpha range (deg): its tables' alpha axis, or the range its polynomials were given."""
     blob = _blob(vehicle)
     return float(blob[1]), float(blob[2])
 
 
-def ld_max(vehicle, mach: float, altitude_ft: float) -> tuple[float, float]:
+def ld_max(vehicle: Vehicle | NDArray[np.float64], mach: float, altitude_ft: float) -> tuple[float, float]:
     """((L/D)max, alpha_deg) at Mach, altitude, from the control grid's alpha."""
     blob = _blob(vehicle)
     alpha = float(alpha_max_ld_deg(blob, mach, altitude_ft))
@@ -527,10 +554,10 @@ def ld_max(vehicle, mach: float, altitude_ft: float) -> tuple[float, float]:
     return (float(cl / cd) if cd > 0.0 else float("nan")), alpha
 
 
-def vehicle_summaries() -> list[dict]:
+def vehicle_summaries() -> list[dict[str, Any]]:
     """One row per built-in vehicle for `footprint vehicles` ((L/D)max and CL max at Mach 20 / 200,000 ft)."""
     mach, altitude_ft = SUMMARY_MACH, SUMMARY_ALTITUDE_FT
-    rows = []
+    rows: list[dict[str, Any]] = []
     for vid in builtin_vehicle_ids():
         v = builtin_vehicle(vid)
         ld, alpha = ld_max(v, mach, altitude_ft)

@@ -25,18 +25,20 @@ import shlex
 import shutil
 import sys
 import time
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core import constants as c
 from footprint.core.controls import BANK_ZERO, C_BANK_LAW, pack_controls, replace_bank_law
 from footprint.core.errors import NoOptimum  # noqa: F401 (the collocation's failure, raised by its callers)
 from footprint.core.frames import ecef_from_geodetic, flight_angles
-from footprint.core.model_casadi import FlightModel, geodetic
+from footprint.core.model_casadi import Expr, FlightModel, geodetic
 from footprint.core.optimize import Constraint
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
 from footprint.core.trajectory import Dispersion, FlightSpec, Trajectory, initial_state, pack_parameters, simulate
@@ -98,9 +100,12 @@ STATUS_OF_IPOPT = {
     "Infeasible_Problem_Detected": "infeasible",
     "User_Requested_Stop": "stopped",
 }
+# on_iteration(iteration, stage, stages) after every IPOPT iteration, and on_progress(fraction, note): True stops
+OnIteration = Callable[[int, int, int], bool | None]
+OnProgress = Callable[[float, str], bool | None]
 
 
-def _jit_options():
+def _jit_options() -> dict[str, Any] | None:
     """CasADi options that compile a point function and its derivatives with gcc -O1 (None without a compiler).
 
     The tables' point function is the NLP's cost: compiled, its Hessian takes 24 ms per L/D 1.89 iteration
@@ -109,7 +114,7 @@ def _jit_options():
     compiler = os.environ.get("CC", "gcc")
     if os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0") or shutil.which(compiler) is None:
         return None
-    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint" / f"casadi-{ca.__version__}"
+    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "footprint" / f"casadi-{ca.__version__}"  # type: ignore[attr-defined]  # CasADi's stubs omit __version__
     (root / "build").mkdir(parents=True, exist_ok=True)
     command = " ".join(
         shlex.quote(a) for a in (sys.executable, str(Path(__file__).with_name("_cc_cache.py")), f"--cache={root}")
@@ -121,7 +126,7 @@ def _jit_options():
     }
 
 
-def _map_threads(compiled):
+def _map_threads(compiled: bool) -> tuple[str, int] | tuple[()]:
     """CasADi map arguments that evaluate a compiled point function (and so its derivatives) on every core:
     the L/D 1.89 true footprint 25-28 s instead of 27-33 on 2 cores; the SX virtual machine stays serial."""
     return ("thread", os.cpu_count() or 1) if compiled else ()
@@ -132,39 +137,41 @@ class _Iterations(ca.Callback):
     `report(iteration, stage, stages)`, set per solve; a report that returns True stops IPOPT
     (User_Requested_Stop)."""
 
-    def __init__(self, nx, ng, np_):
+    report: OnIteration | None
+
+    def __init__(self, nx: int, ng: int, np_: int) -> None:
         ca.Callback.__init__(self)
         self.sizes = {"x": nx, "lam_x": nx, "g": ng, "lam_g": ng, "f": 1, "lam_p": np_}
         self.report, self.iteration, self.stage, self.stages = None, 0, 0, 1
         self.construct("iterations", {})
 
-    def get_n_in(self):
+    def get_n_in(self) -> int:
         return ca.nlpsol_n_out()
 
-    def get_n_out(self):
+    def get_n_out(self) -> int:
         return 1
 
-    def get_name_in(self, i):
+    def get_name_in(self, i: int) -> str:
         return ca.nlpsol_out(i)
 
-    def get_name_out(self, i):
+    def get_name_out(self, i: int) -> str:
         return "stop"
 
-    def get_sparsity_in(self, i):
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
         return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)], 1)
 
-    def eval(self, arg):
+    def eval(self, arg: Sequence[ca.DM]) -> list[int]:
         self.iteration += 1  # IPOPT calls at its iteration 0 of every stage too
         stop = self.report is not None and self.report(max(self.iteration, 0), self.stage, self.stages)
         return [1 if stop else 0]
 
 
-def iteration_progress(on_progress, share=(0.0, 1.0), what=""):
+def iteration_progress(on_progress: OnProgress, share: tuple[float, float] = (0.0, 1.0), what: str = "") -> OnIteration:
     """An on_iteration that reports on_progress(fraction, note) within share (from, to) of a larger piece of work:
     iterations have no known end, so each stage moves k / (k + ITERATIONS_HALF_WAY) of its part."""
     lo, hi = share
 
-    def on_iteration(iteration, stage, stages):
+    def on_iteration(iteration: int, stage: int, stages: int) -> bool | None:
         fraction = (stage + iteration / (iteration + ITERATIONS_HALF_WAY)) / stages
         note = f"{what}IPOPT iteration {iteration}" + (f", stage {stage + 1} of {stages}" if stages > 1 else "")
         return on_progress(lo + (hi - lo) * fraction, note)
@@ -186,11 +193,11 @@ class Problem:
     the controls in deg and deg/s."""
 
     base: FlightSpec
-    objective: tuple = (("crossrange_nmi", 1.0),)
+    objective: tuple[tuple[str, float], ...] = (("crossrange_nmi", 1.0),)
     goal: str = "max"
-    constraints: tuple = ()
-    alpha_bounds_deg: tuple | None = None  # default: the vehicle's valid alpha range
-    bank_bounds_deg: tuple = (-180.0, 180.0)
+    constraints: tuple[Constraint, ...] = ()
+    alpha_bounds_deg: tuple[float, float] | None = None  # default: the vehicle's valid alpha range
+    bank_bounds_deg: tuple[float, float] = (-180.0, 180.0)
     alpha_rate_deg_s: float | None = None
     bank_rate_deg_s: float | None = None
     intervals: int = 100
@@ -208,14 +215,16 @@ class Guess:
     """States (n x 6: r ft, lon rad, lat_c rad, V ft/s, gamma rad, psi rad) and controls (n x 2: alpha, bank deg)
     at times tau * final_time_s, tau in [0, 1] increasing; optional heat load (n)."""
 
-    tau: np.ndarray
-    states: np.ndarray
-    controls: np.ndarray
+    tau: NDArray[np.float64]
+    states: NDArray[np.float64]
+    controls: NDArray[np.float64]
     final_time_s: float
     downrange_nmi: float
-    heat_load: np.ndarray | None = None
+    heat_load: NDArray[np.float64] | None = None
 
-    def at(self, tau):
+    def at(
+        self, tau: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None]:
         s = np.column_stack([np.interp(tau, self.tau, self.states[:, i]) for i in range(6)])
         u = np.column_stack([np.interp(tau, self.tau, self.controls[:, i]) for i in range(2)])
         q = None if self.heat_load is None else np.interp(tau, self.tau, self.heat_load)
@@ -227,17 +236,19 @@ class Result:
     status: str  # "optimal" | "infeasible" | "not_converged" | "stopped" (on_iteration asked)
     message: str  # IPOPT's return status, or the largest violation
     objective: float  # in the quantities' own units (weighted sum), the NLP's value
-    summary: dict  # the NLP's end state and path maxima, trajectory-summary keys
-    history: dict  # at the collocation points: time_s, altitude_ft, ..., alpha_deg, bank_deg
-    controls: dict  # the node tables: time_s, alpha_deg, bank_deg
-    refly: dict | None  # summary of the re-flight by simulate()
-    agreement: dict | None  # NLP against re-flight
+    summary: dict[str, Any]  # the NLP's end state and path maxima, trajectory-summary keys
+    history: dict[str, NDArray[np.float64]]  # at the collocation points: time_s, altitude_ft, ..., alpha_deg, bank_deg
+    controls: dict[str, NDArray[np.float64]]  # the node tables: time_s, alpha_deg, bank_deg
+    refly: dict[str, Any] | None  # summary of the re-flight by simulate()
+    agreement: dict[str, float] | None  # NLP against re-flight
     max_violation: float  # largest constraint violation of the (scaled) NLP at the returned point
     iterations: int
     seconds: float
     intervals: int
     guess: Guess | None = field(repr=False, default=None)
-    solver_state: dict | None = field(repr=False, default=None)  # x, lam_x, lam_g for a warm start
+    solver_state: dict[str, NDArray[np.float64]] | None = field(
+        repr=False, default=None
+    )  # x, lam_x, lam_g for a warm start
 
     @property
     def ok(self) -> bool:
@@ -250,7 +261,7 @@ class Result:
             return "optimal"
         return f"{self.status.replace('_', ' ')}: {NO_OPTIMUM_ADVICE}; {self.message}"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         arrays = {k: v.tolist() for k, v in self.history.items()}
         return {
             "method": "collocation",
@@ -271,7 +282,7 @@ class Result:
 
 
 # ----------------------------------------------------------------------------------------------- guesses
-def spherical_state(x, y, z, vx, vy, vz):
+def spherical_state(x: float, y: float, z: float, vx: float, vy: float, vz: float) -> NDArray[np.float64]:
     """(r, lon, lat_c, V, gamma, psi) of an earth-fixed cartesian state (core.frames conventions)."""
     v, gamma, psi = flight_angles(x, y, z, vx, vy, vz)
     return np.array(
@@ -351,7 +362,7 @@ def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
 
 
 # ------------------------------------------------------------------------------------------ transcription
-def _radau(degree):
+def _radau(degree: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Radau IIA points tau_1..tau_d (tau_d = 1) with tau_0 = 0, and D[j, r] = l_r'(tau_j), j = 1..d."""
     tau = np.concatenate(([0.0], np.asarray(ca.collocation_points(degree, "radau"))))
     d = np.zeros((degree, degree + 1))
@@ -413,7 +424,7 @@ class Transcription:
         g: list[ca.MX] = []
         self._groups: list[tuple[str, int, NDArray[np.float64], NDArray[np.float64]]] = []
 
-        def add(name, expr, lo, hi):
+        def add(name: str, expr: ca.MX, lo: float, hi: float) -> None:
             expr = ca.vec(expr)
             g.append(expr)
             self._groups.append(
@@ -429,6 +440,7 @@ class Transcription:
         # altitude: a floor at the stop altitude along the way, equal to it at the end
         alt = path[0, :]
         stop_ft = spec.stop.altitude_ft
+        assert stop_ft is not None  # _check refused a problem without a stop altitude
         add("altitude above the stop altitude", (alt[1:-1] - stop_ft) / H_SCALE_FT, 0.0, np.inf)
         add("final altitude", (alt[-1] - stop_ft) / H_SCALE_FT, 0.0, 0.0)
         self._path_rows: dict[str, object] = {}
@@ -481,13 +493,13 @@ class Transcription:
         self._violation = ca.Function("g", [w, par], [self._g])
 
     # -- pieces ------------------------------------------------------------------------------------------
-    def _needs_heat_load(self):
+    def _needs_heat_load(self) -> bool:
         pr = self.problem
         return any(q == "heat_load_btu_ft2" for q, _ in pr.objective) or any(
             con.quantity == "heat_load_btu_ft2" for con in pr.constraints
         )
 
-    def _point_function(self):
+    def _point_function(self) -> ca.Function:
         """(scaled state, scaled controls) -> (scaled rates, path quantities [altitude, T margin, q, qbar, n])."""
         xs = ca.SX.sym("x", self.ns)
         us = ca.SX.sym("u", 2)
@@ -509,7 +521,7 @@ class Transcription:
         self.compiled = opts is not None
         return ca.Function("point", [xs, us, smoothing], [ca.vertcat(*rates), ca.vertcat(*path)], opts or {})
 
-    def _path_expression(self, quantity, limit, path, smoothing):
+    def _path_expression(self, quantity: str, limit: float, path: ca.MX, smoothing: ca.MX) -> Expr:
         """<= 0 where the path constraint holds, at every collocation point (row vector)."""
         heat = self.model.heating
         qbar, load, rho, t_inf, v, alpha = (path[i, :] for i in range(1, 7))
@@ -523,7 +535,7 @@ class Transcription:
             return heat.temperature_margin(rho, v, t_inf, alpha, limit, smoothing)
         return heat.heat_rate(rho, v, t_inf, alpha) / limit - 1.0
 
-    def _terminal(self, xf, uf, t_f, theta_ref):
+    def _terminal(self, xf: ca.MX, uf: ca.MX, t_f: ca.MX, theta_ref: ca.MX) -> dict[str, Expr]:
         """Summary quantities of the final point (CasADi expressions in their units)."""
         pm = self.model.planet
         r = self.problem.base.planet.radius_ft + H_SCALE_FT * xf[0]
@@ -553,7 +565,7 @@ class Transcription:
             out["heat_load_btu_ft2"] = xf[6] * SCALE["heat_load_btu_ft2"]
         return out
 
-    def _bounds(self, ns, m, n):
+    def _bounds(self, ns: int, m: int, n: int) -> None:
         pr = self.problem
         lo_a, hi_a = self.alpha_bounds_deg()
         lo_b, hi_b = pr.bank_bounds_deg
@@ -576,7 +588,7 @@ class Transcription:
         self.lbx = np.concatenate([x_lo.ravel(order="F"), u_lo.ravel(order="F"), [1e-3]])
         self.ubx = np.concatenate([x_hi.ravel(order="F"), u_hi.ravel(order="F"), [1e3]])
 
-    def alpha_bounds_deg(self):
+    def alpha_bounds_deg(self) -> tuple[float, float]:
         """The problem's alpha bounds within the vehicle's valid alpha range (tables and polynomials alike)."""
         lo, hi = self.model.aero.alpha_range_deg
         if self.problem.alpha_bounds_deg is None:
@@ -588,14 +600,14 @@ class Transcription:
             )
         return max(a, lo), min(b, hi)
 
-    def _scaled_entry(self):
+    def _scaled_entry(self) -> NDArray[np.float64]:
         s = self.x0
         return np.array(
             [(s[0] - self.problem.base.planet.radius_ft) / H_SCALE_FT, s[1], s[2], s[3] / V_SCALE_FPS, s[4], s[5]]
             + [0.0] * self.nq
         )
 
-    def _scaled_guess(self, guess: Guess):
+    def _scaled_guess(self, guess: Guess) -> NDArray[np.float64]:
         s, u, q = guess.at(self.tau)
         xs = np.column_stack(
             [
@@ -624,11 +636,11 @@ class Transcription:
         self,
         guess: Guess,
         *,
-        weights=None,
-        constraint_targets=None,
-        warm: dict | None = None,
-        stages=None,
-        on_iteration=None,
+        weights: Sequence[float] | None = None,
+        constraint_targets: Mapping[str, tuple[float, float]] | None = None,
+        warm: dict[str, NDArray[np.float64]] | None = None,
+        stages: Sequence[float] | None = None,
+        on_iteration: OnIteration | None = None,
     ) -> Result:
         """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
 
@@ -659,6 +671,7 @@ class Transcription:
         # (from the cold solver's start the L/D 1.89 stages do not converge); without tables the polish starts the
         # cold solver from the last point: building the warm-start solver costs as much as the first build (1 s)
         use_warm, x_start = warm is not None, None if warm is not None else self._scaled_guess(guess)
+        kept: tuple[dict[str, NDArray[np.float64]], NDArray[np.float64], dict[str, Any]] | None
         kept, note = None, ""  # the last stage that ended optimal: a narrower one that does not falls back to it
         listener = self._iterations
         listener.report, listener.stages = on_iteration, len(plan)
@@ -674,7 +687,9 @@ class Transcription:
                 polish = stage == len(stages)  # the entry after the stages
                 solver = self._warm(min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polish else pr.max_iterations)
             else:
-                args["x0"] = x_start if warm is None else warm["x"]
+                x0 = x_start if warm is None else warm["x"]
+                assert x0 is not None  # x_start is the guess whenever no warm start was given
+                args["x0"] = x0
             t0 = time.perf_counter()
             sol = solver(**args)
             use_warm = use_warm or self.model.smoothed
@@ -709,11 +724,11 @@ class Transcription:
         result.solver_state = warm
         return result
 
-    def _warm(self, iterations):
+    def _warm(self, iterations: int) -> ca.Function:
         """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push),
         one solver per iteration limit (0.2 s to build once the first is)."""
         if iterations not in self._warm_solvers:
-            opts = dict(
+            opts: dict[str, bool | int | float | str | ca.Function] = dict(
                 self._opts,
                 **{
                     "ipopt.warm_start_init_point": "yes",
@@ -728,7 +743,7 @@ class Transcription:
             self._warm_solvers[iterations] = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
         return self._warm_solvers[iterations]
 
-    def _worst(self, viol):
+    def _worst(self, viol: NDArray[np.float64]) -> str:
         """The largest violation, named; and the worst terminal constraint's in its unit where that is another."""
         offset, worst, name, terminal = 0, -1.0, "", (0.0, "")
         for gname, size, _, _ in self._groups:
@@ -743,7 +758,16 @@ class Transcription:
         line = f"{name} by {worst:.3g} (scaled)"
         return line + (f"; {terminal[1]} by {terminal[0]:.4g}" if terminal[1] else "")
 
-    def _result(self, x, par, status, message, max_violation, iterations, seconds) -> Result:
+    def _result(
+        self,
+        x: NDArray[np.float64],
+        par: NDArray[np.float64],
+        status: str,
+        message: str,
+        max_violation: float,
+        iterations: int,
+        seconds: float,
+    ) -> Result:
         xs, us, t_f_array, path = (np.asarray(v) for v in self._outputs(x, par))
         t_f = float(t_f_array.item())
         final = dict(zip(self._final_names, np.asarray(self._final(x, par)).ravel().tolist()))
@@ -769,7 +793,7 @@ class Transcription:
             "dynamic_pressure_psf": path[1],
             "load_factor": path[2],
         }
-        summary = dict(final)
+        summary: dict[str, float | None] = dict(final)
         summary["final_altitude_ft"] = float(path[0, -1])
         summary["max_dynamic_pressure_psf"] = float(path[1].max())
         summary["max_load_factor"] = float(path[2].max())
@@ -806,7 +830,7 @@ class Transcription:
         return res
 
 
-def _band(con: Constraint):
+def _band(con: Constraint) -> tuple[float, float]:
     if con.kind == "equals":
         return con.target - 0.5 * con.tolerance, con.target + 0.5 * con.tolerance
     if con.kind == "at_most":
@@ -814,7 +838,7 @@ def _band(con: Constraint):
     return con.target, np.inf
 
 
-def _check(pr: Problem):
+def _check(pr: Problem) -> None:
     if pr.base.dispersion != Dispersion():
         raise CollocationError(
             "dispersion: the collocation's model (core.model_casadi) flies the nominal vehicle and "
@@ -835,7 +859,7 @@ def _check(pr: Problem):
 
 
 # --------------------------------------------------------------------------------------------- re-flight
-def control_tables_spec(base: FlightSpec, controls: dict) -> FlightSpec:
+def control_tables_spec(base: FlightSpec, controls: Mapping[str, ArrayLike]) -> FlightSpec:
     """The base flight with the optimum's alpha and bank as tables against time from entry (what `fly` takes)."""
     t = np.asarray(controls["time_s"], float)
     ctrl = pack_controls(
@@ -900,7 +924,7 @@ def agrees(result: Result) -> bool:
     )
 
 
-def solve(problem: Problem, guess: Guess | None = None, on_progress=None) -> Result:
+def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress | None = None) -> Result:
     """Solve, re-fly, and double the mesh from the last solution until the re-flight agrees (or max_intervals);
     on_progress(fraction, note) after every IPOPT iteration (True stops: the result is "stopped")."""
     if guess is None:

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footprint.core import collocation as col
+from footprint.core.errors import NoOptimum
 from footprint.core.footprints import (
     Footprint,
     FootprintPoint,
@@ -85,7 +86,7 @@ def collocation_footprint(
     between = walk.step(left, _direction(135.0), "left", crossrange_nmi=(0.0, math.inf), point=False)
     near = walk.step(between or left, (-1.0, 0.0), "left", crossrange_nmi=(0.0, math.inf))
     if far is None or near is None:
-        raise col.NoOptimum("collocation footprint: the maximum or minimum down-range did not end optimal")
+        raise NoOptimum("collocation footprint: the maximum or minimum down-range did not end optimal")
     lo, hi = near[1].summary["downrange_nmi"], far[1].summary["downrange_nmi"]
     grid = lo + (hi - lo) * 0.5 * (1.0 - np.cos(np.pi * np.arange(1, points_per_half + 1) / (points_per_half + 1)))
     left_half = [_point(near, "left")] + [_point(s, "left", d) for d, s in walk.half(left, grid, +1.0)]
@@ -143,7 +144,7 @@ class _Walk:
         )
         result = self.transcription.solve(guess, on_iteration=report, **options)
         if result.status == "stopped":
-            raise col.NoOptimum(f"collocation footprint: stopped at solve {self.solves + 1} of {self.total}")
+            raise NoOptimum(f"collocation footprint: stopped at solve {self.solves + 1} of {self.total}")
         self.solves, self.last = self.solves + 1, result
         if not result.ok:
             return None
@@ -154,7 +155,7 @@ class _Walk:
         solved = self._solve(guess, weights=weights, stages=self.stages)
         if solved is None:
             assert self.last is not None  # _solve keeps every result it returns None for
-            raise col.NoOptimum(f"collocation footprint: {what}: {self.last.one_line()}")
+            raise NoOptimum(f"collocation footprint: {what}: {self.last.one_line()}")
         return solved
 
     def step(

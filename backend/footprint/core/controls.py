@@ -11,8 +11,10 @@ The laws live in a flat float64 array `ctrl` (layout below) so the compiled inte
 """
 
 import math
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core._jit import njit
 
@@ -100,26 +102,26 @@ LEFT, RIGHT = 1.0, -1.0  # C_SIDE values
 
 def pack_controls(
     *,
-    bank_law,
-    bank_deg=0.0,
-    bank_gain=0.0,
-    side=LEFT,
-    bank_limit_deg=None,
-    sigma_f_deg=0.0,
-    turn_deg=90.0,
-    bank_variable="zeta",
-    mirror=False,
-    bank_start="pullout",
-    bank_start_altitude_ft=0.0,
-    alpha_law="max_ld",
-    alpha_deg=0.0,
-    gamma_deg=0.0,
-    alpha_before="max_ld",
-    bank_table=None,
-    alpha_table=None,
-    alpha_table_abscissa="velocity",
-    hold_time_constant_s=10.0,
-):
+    bank_law: str,
+    bank_deg: float = 0.0,
+    bank_gain: float = 0.0,
+    side: float = LEFT,
+    bank_limit_deg: float | None = None,
+    sigma_f_deg: float = 0.0,
+    turn_deg: float = 90.0,
+    bank_variable: str = "zeta",
+    mirror: bool = False,
+    bank_start: str = "pullout",
+    bank_start_altitude_ft: float = 0.0,
+    alpha_law: str = "max_ld",
+    alpha_deg: float = 0.0,
+    gamma_deg: float = 0.0,
+    alpha_before: str = "max_ld",
+    bank_table: tuple[ArrayLike, ArrayLike] | None = None,
+    alpha_table: tuple[ArrayLike, ArrayLike] | None = None,
+    alpha_table_abscissa: str = "velocity",
+    hold_time_constant_s: float = 10.0,
+) -> NDArray[np.float64]:
     """Build the ctrl array from plain values (validated by the caller)."""
     arguments = locals()  # each slot has one writer, _slot_value, shared with replace_controls
     ctrl = np.zeros(C_SIZE)
@@ -161,7 +163,7 @@ _TABLES = {"bank_table", "alpha_table"}
 _ALPHA = {"alpha_law", "alpha_table_abscissa"}
 
 
-def _slot_value(name: str, value) -> float:
+def _slot_value(name: str, value: Any) -> float:  # value: a code's name, a number, a flag or None, by name
     """An argument of pack_controls as its slot holds it."""
     if name in _CODES:
         return float(_CODES[name][value])
@@ -176,17 +178,17 @@ def _alpha_code(law: str, abscissa: str) -> float:
     return float(ALPHA_TABLE_BY_ABSCISSA[abscissa] if law == "table" else ALPHA_LAWS[law])
 
 
-def _name_of(names: dict, code) -> str:
+def _name_of(names: dict[str, int], code: float) -> str:
     return next(n for n, c in names.items() if c == int(code))
 
 
-def alpha_law_name(code) -> tuple[str, str]:
+def alpha_law_name(code: float) -> tuple[str, str]:
     """(alpha_law, alpha_table_abscissa) of pack_controls for an alpha-law code."""
     abscissa = {c: a for a, c in ALPHA_TABLE_BY_ABSCISSA.items()}.get(int(code))
     return ("table", abscissa) if abscissa is not None else (_name_of(ALPHA_LAWS, code), "velocity")
 
 
-def _table(ctrl, slot):
+def _table(ctrl: NDArray[np.float64], slot: int) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     if ctrl[slot] < 0:
         return None
     o = int(ctrl[slot])
@@ -194,7 +196,7 @@ def _table(ctrl, slot):
     return ctrl[o + 1 : o + 1 + n].copy(), ctrl[o + 1 + n : o + 1 + 2 * n].copy()
 
 
-def unpack_controls(ctrl) -> dict:
+def unpack_controls(ctrl: NDArray[np.float64]) -> dict[str, Any]:
     """The keyword arguments of pack_controls that rebuild ctrl (its inverse)."""
     alpha_law, abscissa = alpha_law_name(ctrl[C_ALPHA_LAW])
     return {
@@ -220,7 +222,7 @@ def unpack_controls(ctrl) -> dict:
     }
 
 
-def replace_controls(ctrl, **changes):
+def replace_controls(ctrl: NDArray[np.float64], **changes: Any) -> NDArray[np.float64]:
     """ctrl with some of pack_controls' arguments changed, the rest kept: the changed slots written into a copy (a
     footprint's every flight changes a law's parameter); a new table packs the array again."""
     unknown = changes.keys() - SLOTS.keys() - _TABLES - _ALPHA
@@ -239,8 +241,16 @@ def replace_controls(ctrl, **changes):
 
 # The variants the footprint, optimization and heating methods fly, all through replace_controls.
 def replace_bank_law(
-    ctrl, law, *, bank_deg=0.0, bank_gain=0.0, limit_deg=None, sigma_f_deg=0.0, turn_deg=90.0, right=False
-):
+    ctrl: NDArray[np.float64],
+    law: str,
+    *,
+    bank_deg: float = 0.0,
+    bank_gain: float = 0.0,
+    limit_deg: float | None = None,
+    sigma_f_deg: float = 0.0,
+    turn_deg: float = 90.0,
+    right: bool = False,
+) -> NDArray[np.float64]:
     """ctrl with its bank law replaced, steering on zeta (the procedure for any inclination, Section II.6); the
     alpha law, the bank start and the tables kept. right: the right-hand version of the law (a negative bank
     for the constant and staged laws, a turn to the right for constant altitude, the mirrored rule otherwise)."""
@@ -259,12 +269,14 @@ def replace_bank_law(
     )
 
 
-def replace_alpha_law(ctrl, law):
+def replace_alpha_law(ctrl: NDArray[np.float64], law: str) -> NDArray[np.float64]:
     """ctrl with its angle-of-attack law replaced (a law without a table), the rest kept."""
     return replace_controls(ctrl, alpha_law=law)
 
 
-def replace_bank_table(ctrl, bank_deg, nodes, variable="zeta"):
+def replace_bank_table(
+    ctrl: NDArray[np.float64], bank_deg: ArrayLike, nodes: ArrayLike, variable: str = "zeta"
+) -> NDArray[np.float64]:
     """ctrl flying bank = linear interpolation in (variable, bank) (Section II.5, Fig. 2: in zeta), nodes in the
     unit of BANK_VARIABLES[variable], held at the table's ends, no limit, left-hand; the rest kept."""
     return replace_controls(
@@ -272,7 +284,9 @@ def replace_bank_table(ctrl, bank_deg, nodes, variable="zeta"):
     )
 
 
-def replace_alpha_table(ctrl, alpha_deg, nodes, law=ALPHA_TABLE_VELOCITY):
+def replace_alpha_table(
+    ctrl: NDArray[np.float64], alpha_deg: ArrayLike, nodes: ArrayLike, law: int = ALPHA_TABLE_VELOCITY
+) -> NDArray[np.float64]:
     """ctrl flying alpha = linear interpolation in (node, alpha), held at the table's ends, over the whole flight:
     nodes are velocities in ft/s (ALPHA_TABLE_VELOCITY, and ALPHA_MAX_LD_FLOOR: (L/D)max, never below the
     table), times in s (ALPHA_TABLE_TIME) or energy heights in ft (ALPHA_TABLE_ENERGY); the rest kept."""
@@ -285,32 +299,36 @@ def replace_alpha_table(ctrl, alpha_deg, nodes, law=ALPHA_TABLE_VELOCITY):
 
 
 @njit(allocates=False)
-def table_interp(ctrl, offset, x):
+def table_interp(ctrl: NDArray[np.float64], offset: float, x: float) -> float:
     """Linear interpolation in a (n, x[n], y[n]) table of ctrl, held at the ends."""
     o = int(offset)
     n = int(ctrl[o])
     xs = o + 1
     ys = o + 1 + n
+    y: float  # each return a typed value (numpy types an array's item as Any)
     if x <= ctrl[xs]:
-        return ctrl[ys]
+        y = ctrl[ys]
+        return y
     if x >= ctrl[xs + n - 1]:
-        return ctrl[ys + n - 1]
+        y = ctrl[ys + n - 1]
+        return y
     i = 0
     while ctrl[xs + i + 1] < x:
         i += 1
     w = (x - ctrl[xs + i]) / (ctrl[xs + i + 1] - ctrl[xs + i])
-    return ctrl[ys + i] + w * (ctrl[ys + i + 1] - ctrl[ys + i])
+    y = ctrl[ys + i] + w * (ctrl[ys + i + 1] - ctrl[ys + i])
+    return y
 
 
 @njit
-def wrap_deg(a):
+def wrap_deg(a: float) -> float:
     """Angle wrapped to (-180, 180] (core.sphere.wrap_longitude with closed_above=True; this one stays a numba kernel
     because the compiled integrator calls it)."""
     return a - 360.0 * math.ceil((a - 180.0) / 360.0)
 
 
 @njit(allocates=False)
-def steering_angle_deg(ctrl, zeta_deg, heading_deg):
+def steering_angle_deg(ctrl: NDArray[np.float64], zeta_deg: float, heading_deg: float) -> float:
     """The angle the heading laws steer on, in the law's own (left-hand) sense (the heading for a bank table
     against time, velocity or energy: the staged and constant-altitude turns still measure their turn on it)."""
     a = zeta_deg if ctrl[C_BANK_VAR] == VAR_ZETA else heading_deg
@@ -320,7 +338,9 @@ def steering_angle_deg(ctrl, zeta_deg, heading_deg):
 
 
 @njit(allocates=False)
-def bank_abscissa(ctrl, steer_deg, time_s, velocity_fps, energy_ft):
+def bank_abscissa(
+    ctrl: NDArray[np.float64], steer_deg: float, time_s: float, velocity_fps: float, energy_ft: float
+) -> float:
     """The value the bank table is read at: the steering angle, or time, velocity or energy (not mirrored)."""
     var = ctrl[C_BANK_VAR]
     if var == VAR_TIME:
@@ -333,7 +353,9 @@ def bank_abscissa(ctrl, steer_deg, time_s, velocity_fps, energy_ft):
 
 
 @njit(allocates=False)
-def bank_from_law(ctrl, mode_active, mode_done, angle_deg, table_x=math.nan):
+def bank_from_law(
+    ctrl: NDArray[np.float64], mode_active: float, mode_done: float, angle_deg: float, table_x: float = math.nan
+) -> float:
     """Bank angle (deg) of the laws that depend on the steering angle only (and of the bank table, read at
     table_x when it is tabulated against time, velocity or energy).
 
@@ -342,6 +364,7 @@ def bank_from_law(ctrl, mode_active, mode_done, angle_deg, table_x=math.nan):
     if mode_active == 0.0:
         return 0.0
     law = int(ctrl[C_BANK_LAW])
+    bank: float  # a typed value (numpy types an array's item as Any)
     if law == BANK_CONSTANT:
         bank = ctrl[C_BANK_DEG]
     elif law == BANK_STAGED:

@@ -9,10 +9,12 @@ the footprint says how far the two halves are from mirror images.
 """
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field, replace
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import NDArray
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
 from footprint.core.method_settings import ConstantAltitude, ConstantBank, SingleParameter, Staged, TwoParameter
@@ -25,7 +27,7 @@ from footprint.core.sphere import (
     unit_vectors,
     wrap_longitude,
 )
-from footprint.core.trajectory import FlightSpec, simulate
+from footprint.core.trajectory import FlightSpec, Trajectory, simulate
 
 # a method's control settings: (the setting, make(spec, right) -> the spec it flies, whether it lands on the axis)
 Family = list[tuple[ControlSetting, Callable[..., FlightSpec], bool]]
@@ -53,10 +55,11 @@ class FootprintPoint:
     pullout_velocity_fps: float | None = None
     pullout_time_s: float | None = None
     turn_deg: float | None = None  # heading change flown before the wings came level (staged, constant altitude)
-    contours: tuple = ()  # where the flight passed each requested velocity (Appendix C iso-velocity contours)
+    # where the flight passed each requested velocity (Appendix C iso-velocity contours)
+    contours: tuple[dict[str, float], ...] = ()
     mirrored: bool = False  # True: reflected from the left half, not flown
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return asdict(self) | {"parameter": self.parameter.as_dict()}
 
 
@@ -66,25 +69,25 @@ class Footprint:
     points: list[FootprintPoint]  # the boundary in order, closed (the last joins the first)
     area_nmi2: float
     trajectories: int  # flown, not reflected
-    entry: dict  # latitude_deg, longitude_deg, heading_deg of the initial point (the ranges' origin)
+    entry: dict[str, float]  # latitude_deg, longitude_deg, heading_deg of the initial point (the ranges' origin)
     sets: dict[float, list[FootprintPoint]] = field(default_factory=dict)  # two_parameter: one set per K
     interior: list[FootprintPoint] = field(default_factory=list)  # flown, inside the boundary
     outer_boundary: list[tuple[float, float]] = field(default_factory=list)  # (down, cross) nmi, left half
-    asymmetry: dict | None = None  # flown halves: largest departure from mirror images, nmi
+    asymmetry: dict[str, Any] | None = None  # flown halves: largest departure from mirror images, nmi
 
     @property
-    def max_crossrange_nmi(self):
+    def max_crossrange_nmi(self) -> float:
         return max(p.crossrange_nmi for p in self.points)
 
     @property
-    def max_downrange_nmi(self):
+    def max_downrange_nmi(self) -> float:
         return max(p.downrange_nmi for p in self.points)
 
     @property
-    def min_downrange_nmi(self):
+    def min_downrange_nmi(self) -> float:
         return min(p.downrange_nmi for p in self.points)
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         return {
             "method": self.method,
             "points": [p.to_dict() for p in self.points],
@@ -102,13 +105,13 @@ class Footprint:
 
 
 # ------------------------------------------------------------------------------------ control variants
-def with_bank(spec: FlightSpec, law, **variant) -> FlightSpec:
+def with_bank(spec: FlightSpec, law: str, **variant: Any) -> FlightSpec:
     """The spec with its bank law replaced (controls.replace_bank_law: bank_deg, bank_gain, limit_deg,
     sigma_f_deg, turn_deg, right); everything else in the control array (alpha law, start) kept."""
     return replace(spec, ctrl=replace_bank_law(spec.ctrl, law, **variant))
 
 
-def with_alpha(spec: FlightSpec, law) -> FlightSpec:
+def with_alpha(spec: FlightSpec, law: str) -> FlightSpec:
     return replace(spec, ctrl=replace_alpha_law(spec.ctrl, law))
 
 
@@ -175,7 +178,12 @@ def two_parameter(spec: FlightSpec, s: TwoParameter = TwoParameter()) -> "Footpr
         f = _fly(spec, family, mirror, s.contours_fps)
         sets[float(gain)] = f.axis + f.left
         flights.append(f)
-    pairs = [(lp, rp) for f in flights for lp, rp in zip(f.left, f.right or [None] * len(f.left))]
+    # a fresh list of Nones pads a half flown without mirror (mypy would type the pad as f.right's list)
+    pairs = [
+        (lp, rp)
+        for f in flights
+        for lp, rp in zip(f.left, f.right or cast(list[FootprintPoint | None], [None] * len(f.left)))
+    ]
     hull = upper_boundary([(p.downrange_nmi, p.crossrange_nmi) for f in flights for p in f.axis + f.left])
     on_hull = set(hull)  # the chain's vertices are the points' own (down, cross) floats
     outer = sorted(
@@ -185,7 +193,7 @@ def two_parameter(spec: FlightSpec, s: TwoParameter = TwoParameter()) -> "Footpr
     merged = _Flights(
         axis=flights[0].axis,
         left=[lp for lp, _ in outer],
-        right=[r for _, r in outer] if mirror else [],
+        right=cast(list[FootprintPoint], [r for _, r in outer]) if mirror else [],  # mirror: no None pad
         flown=sum(f.flown for f in flights),
         asymmetry=_worst([f.asymmetry for f in flights]),
     )
@@ -234,7 +242,7 @@ def staged(spec: FlightSpec, s: Staged = Staged()) -> "Footprint":
 
 
 # ------------------------------------------------------------------------------------------ machinery
-def _min_range(kind):
+def _min_range(kind: str | None) -> Family:
     if kind is None:
         return []
     if kind == "zero_lift":
@@ -242,7 +250,7 @@ def _min_range(kind):
     return [(ControlSetting(min_range="cl_max"), lambda sp, right: with_alpha(with_bank(sp, "zero"), "cl_max"), True)]
 
 
-def velocity_crossings(traj, velocities_fps) -> tuple:
+def velocity_crossings(traj: Trajectory, velocities_fps: Iterable[float]) -> tuple[dict[str, float], ...]:
     """Where a trajectory first slows through each velocity, interpolated linearly between integration
     steps (at most 50 s apart; good to about a nautical mile at 10,000 ft/s)."""
     h = traj.history
@@ -274,7 +282,9 @@ def velocity_crossings(traj, velocities_fps) -> tuple:
     return tuple(out)
 
 
-def point_of_trajectory(parameter, side, traj, contours_fps=()) -> FootprintPoint:
+def point_of_trajectory(
+    parameter: ControlSetting, side: str, traj: Trajectory, contours_fps: Sequence[float] = ()
+) -> FootprintPoint:
     """The footprint point where a flown trajectory ends."""
     s = traj.summary
     return FootprintPoint(
@@ -300,14 +310,14 @@ def point_of_trajectory(parameter, side, traj, contours_fps=()) -> FootprintPoin
 
 @dataclass
 class _Flights:
-    axis: list  # zero bank first (maximum down-range), the minimum-range point last
-    left: list
-    right: list  # paired with `left`, empty without mirror
+    axis: list[FootprintPoint]  # zero bank first (maximum down-range), the minimum-range point last
+    left: list[FootprintPoint]
+    right: list[FootprintPoint]  # paired with `left`, empty without mirror
     flown: int
-    asymmetry: dict | None
+    asymmetry: dict[str, float] | None
 
 
-def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
+def _fly(spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[float] = ()) -> _Flights:
     """Fly a family [(parameter, make(spec, right) -> spec, on_axis)]: the left half, and the right half
     by reflection where that is exact, else flown."""
     axis: list[FootprintPoint] = []
@@ -329,7 +339,7 @@ def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
         elif mirror:
             right.append(point_of_trajectory(parameter, "right", simulate(make(spec, True)), contours_fps))
             flown += 1
-    asym = None
+    asym: dict[str, float] | None = None
     if right and not exact:  # how far the flown halves are from mirror images
         asym = {
             "crossrange_nmi": max(abs(lp.crossrange_nmi + rp.crossrange_nmi) for lp, rp in zip(left, right)),
@@ -338,21 +348,23 @@ def _fly(spec, family, mirror, contours_fps=()) -> _Flights:
     return _Flights(axis, left, right, flown, asym)
 
 
-def _same_place(a, b):
+def _same_place(a: FootprintPoint, b: FootprintPoint) -> bool:
     return abs(a.downrange_nmi - b.downrange_nmi) < 1e-6 and abs(a.crossrange_nmi - b.crossrange_nmi) < 1e-6
 
 
-def _worst(asyms):
-    asyms = [a for a in asyms if a]
-    return {k: max(a[k] for a in asyms) for k in asyms[0]} if asyms else None
+def _worst(asyms: Sequence[dict[str, float] | None]) -> dict[str, float] | None:
+    present: list[dict[str, float]] = [a for a in asyms if a]  # typed: the None (and empty) ones left out
+    return {k: max(a[k] for a in present) for k in present[0]} if present else None
 
 
-def footprint_of_family(method, spec, family, mirror, contours_fps=()) -> Footprint:
+def footprint_of_family(
+    method: str, spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[float] = ()
+) -> Footprint:
     """The footprint a family [(parameter, make(spec, right) -> spec, on_axis)] of control settings draws."""
     return _assemble(method, spec, _fly(spec, family, mirror, contours_fps))
 
 
-def _assemble(method, spec, f: _Flights) -> Footprint:
+def _assemble(method: str, spec: FlightSpec, f: _Flights) -> Footprint:
     """The footprint of a family's flights: their points in the report's boundary order (boundary_order); a
     minimum-range point inside the footprint the banked points draw is kept in `interior`."""
     pts = f.axis + f.left + f.right
@@ -403,7 +415,7 @@ def mirror_is_exact(spec: FlightSpec) -> bool:
     return not pl.oblate or (equatorial and pl.h == 0.0)
 
 
-def reflect(spec, p: FootprintPoint) -> FootprintPoint:
+def reflect(spec: FlightSpec, p: FootprintPoint) -> FootprintPoint:
     """The mirror image of a left-half point across the initial great circle (a sphere's, or the equator)."""
     e = spec.entry
     _, _, n = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
@@ -424,10 +436,12 @@ def reflect(spec, p: FootprintPoint) -> FootprintPoint:
     )
 
 
-def _reflect(n, latitude_deg, longitude_deg, heading_deg):
+def _reflect(
+    n: NDArray[np.float64], latitude_deg: float, longitude_deg: float, heading_deg: float
+) -> tuple[float, float, float]:
     """A point and a heading there, reflected in the plane with unit normal n."""
 
-    def horizon(lat, lon):
+    def horizon(lat: float, lon: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         return (
             np.array([-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat)]),
             np.array([-math.sin(lon), math.cos(lon), 0.0]),
@@ -443,7 +457,7 @@ def _reflect(n, latitude_deg, longitude_deg, heading_deg):
     return math.degrees(lat2), math.degrees(lon2), math.degrees(math.atan2(d2 @ east2, d2 @ north2))
 
 
-def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
+def area_nmi2(points: Iterable[FootprintPoint], radius_nmi: float = MEAN_RADIUS_NMI) -> float:
     """Area on the sphere of radius R' inside the polygon whose edges are straight in (down-range,
     cross-range): dA = cos(c/R') dd dc, integrated by Green's theorem edge by edge in closed form.
     A half footprint is closed along the initial great circle (cross-range 0)."""
@@ -460,7 +474,7 @@ def area_nmi2(points, radius_nmi=MEAN_RADIUS_NMI) -> float:
     return abs(total) * radius_nmi**2
 
 
-def crossrange_at_nmi(points, downrange_nmi):
+def crossrange_at_nmi(points: Iterable[FootprintPoint], downrange_nmi: float) -> float | None:
     """The left half's cross-range at a down-range, linear between its points (on a convex stretch the chord
     lies inside the boundary it samples); None outside the down-ranges the half reaches."""
     left = sorted((p.downrange_nmi, p.crossrange_nmi) for p in points if p.crossrange_nmi >= 0.0)
@@ -468,13 +482,13 @@ def crossrange_at_nmi(points, downrange_nmi):
     return float(np.interp(downrange_nmi, d, c)) if d[0] <= downrange_nmi <= d[-1] else None
 
 
-def upper_boundary(points):
+def upper_boundary(points: Iterable[tuple[float, float]]) -> list[tuple[float, float]]:
     """The outer (upper) convex chain of (down-range, cross-range) points from the shortest down-range to
     the longest, dropped to the axis at both ends."""
-    top = {}
+    top: dict[float, float] = {}
     for d, c in points:  # at equal down-range only the widest point can be on the boundary
         top[d] = max(c, top.get(d, c))
-    chain = []
+    chain: list[tuple[float, float]] = []
     for q in sorted(top.items()):  # Andrew's monotone chain, upper half
         while len(chain) >= 2 and _turn(chain[-2], chain[-1], q) >= 0.0:
             chain.pop()
@@ -482,5 +496,5 @@ def upper_boundary(points):
     return [(chain[0][0], 0.0)] + chain + [(chain[-1][0], 0.0)]
 
 
-def _turn(o, a, b):
+def _turn(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])

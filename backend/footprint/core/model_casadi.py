@@ -19,10 +19,13 @@ Where this model differs from the integrator's (core.dynamics), and why:
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import casadi as ca
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core import constants as c
 from footprint.core._jit import python_function
@@ -54,6 +57,10 @@ _zonal = python_function(zonal_down_north)  # App. A eq. (A10), the integrator's
 # corners (11, 25, 47, 53, 79, 90 km') by up to 0.17 % in density, 0.09 % in the speed of sound, falling 3.7x
 # per node away (tests/core/test_model_casadi.py); finer nodes cost IPOPT in proportion (500 ft: 13x per iteration)
 ATMOSPHERE_GRID_FT = np.arange(0.0, 1_200_001.0, 2_000.0)
+# a number or a CasADi expression (SX, MX, DM) alike: the functions below build the NLP's expressions from SX or MX
+# symbols and evaluate the same lines on floats. Any: CasADi's stubs type SX, MX and DM, but no union of them checks
+# (their operators take one kind each, and ca.if_else of floats is a DM)
+Expr = Any
 
 
 @dataclass(frozen=True)
@@ -82,7 +89,7 @@ def planet_model(spec: FlightSpec) -> PlanetModel:
     )
 
 
-def geodetic(pm: PlanetModel, r, lat_c):
+def geodetic(pm: PlanetModel, r: Expr, lat_c: Expr) -> tuple[Expr, Expr]:
     """(geodetic latitude rad, altitude ft) of a point at radius r, geocentric latitude lat_c: one Bowring
     step (Survey Review 23, 1976), as core.frames.altitude_ft; spherical: (lat_c, r - R_e)."""
     if not pm.oblate:
@@ -98,7 +105,7 @@ def geodetic(pm: PlanetModel, r, lat_c):
     return lat, p * cl + z * sl - re * ca.sqrt(1.0 - e2 * sl * sl)
 
 
-def radial_altitude_ft(pm: PlanetModel, r, lat_c):
+def radial_altitude_ft(pm: PlanetModel, r: Expr, lat_c: Expr) -> Expr:
     """Height above the ellipsoid along the radius, r - R_e R_p / sqrt(R_p^2 cos^2 + R_e^2 sin^2): the
     equations of motion's altitude (cheap for the NLP's derivatives). It differs from the geodetic altitude by
     O(f^2 h): under 3 ft below 400,000 ft (tests/core/test_model_casadi.py)."""
@@ -108,14 +115,14 @@ def radial_altitude_ft(pm: PlanetModel, r, lat_c):
     return r - re * rp / ca.sqrt((rp * ca.cos(lat_c)) ** 2 + (re * ca.sin(lat_c)) ** 2)
 
 
-def _clamped(x, lo, hi):
+def _clamped(x: Expr, lo: float, hi: float) -> Expr:
     return ca.fmin(ca.fmax(x, lo), hi)
 
 
 class Atmosphere:
     """(density slug/ft^3, temperature degR, speed of sound ft/s) at a geometric altitude (ft)."""
 
-    def __init__(self, spec: FlightSpec):
+    def __init__(self, spec: FlightSpec) -> None:
         pl = spec.planet
         self.model = MODEL_IDS[pl.atmosphere]
         self.rho0, self.scale_ft = pl.rho0_slug_ft3, pl.scale_height_ft
@@ -129,7 +136,7 @@ class Atmosphere:
             self._t = ca.interpolant("t_inf", "bspline", grid, tab["temperature_R"])
             self._a = ca.interpolant("sound", "bspline", grid, tab["speed_of_sound_fps"])
 
-    def __call__(self, altitude_ft):
+    def __call__(self, altitude_ft: Expr) -> tuple[Expr, Expr, Expr]:
         if self.model == EXPONENTIAL:  # rho = rho0 exp(-h/H), isothermal (core.atmosphere)
             gas = ARDC_GAS_CONSTANT_FT2_S2_R
             return (
@@ -141,14 +148,14 @@ class Atmosphere:
         return ca.exp(self._ln_rho(h)), self._t(h), self._a(h)
 
 
-def _ramp(z, eps):
+def _ramp(z: Expr, eps: Expr) -> Expr:
     """max(z, 0) with its corner rounded on |z| < eps by the C2 blend (z + eps)^3 (3 eps - z) / (16 eps^3):
     equal to max(z, 0) outside, so a table is the integrator's own linear table away from its nodes."""
     blend = (z + eps) ** 3 * (3.0 * eps - z) / (16.0 * eps**3)
     return ca.if_else(z <= -eps, 0.0, ca.if_else(z >= eps, z, blend))
 
 
-def _segment_fractions(axis, x, smoothing):
+def _segment_fractions(axis: NDArray[np.float64], x: Expr, smoothing: Expr) -> list[Expr]:
     """S_k(x), k = 0..n-2: how much of interval k lies below x (0 to 1), corners rounded:
     (R(x - x_k) - R(x - x_k+1)) / h_k with R the rounded ramp over eps = smoothing x the shortest interval."""
     h = np.diff(axis)
@@ -157,26 +164,26 @@ def _segment_fractions(axis, x, smoothing):
     return [(ramp[k] - ramp[k + 1]) / h[k] for k in range(len(h))]
 
 
-def _hat_weights(axis, x, smoothing):
+def _hat_weights(axis: NDArray[np.float64], x: Expr, smoothing: Expr) -> Expr:
     """Weights of the nodes of one axis at x: the hats of linear interpolation held at the ends, corners
     rounded; they sum to exactly 1, and reproduce the integrator's linear interpolation away from the nodes."""
     s = _segment_fractions(axis, x, smoothing)
     return ca.vertcat(1.0 - s[0], *[s[k - 1] - s[k] for k in range(1, len(s))], s[-1])
 
 
-def smooth_table(axes, values):
+def smooth_table(axes: Sequence[ArrayLike], values: ArrayLike) -> Callable[..., Expr]:
     """f(x_1, ..., x_d, smoothing): multilinear interpolation of values (shape = axis lengths) held at the
     edges, as core.aero.lookup does, with the corners at the nodes rounded (over `smoothing` of the shortest
     interval of each axis) so that IPOPT sees continuous derivatives. Axes of one node are constant."""
-    axes = [np.asarray(a, float) for a in axes]
+    axis_arrays: list[NDArray[np.float64]] = [np.asarray(a, float) for a in axes]
     values = np.asarray(values, float)
 
-    def f(*args):
+    def f(*args: Expr) -> Expr:
         *x, smoothing = args
         # contract the last axis first: t[i..] = sum_k values[i.., k] w_k (linear in each axis' weights)
-        t = values.reshape(-1, values.shape[-1]) if values.ndim > 1 else values.reshape(1, -1)
+        t: Expr = values.reshape(-1, values.shape[-1]) if values.ndim > 1 else values.reshape(1, -1)  # then DM, SX/MX
         t = ca.DM(t)
-        for axis, xi, size in zip(reversed(axes), reversed(x), reversed(values.shape)):
+        for axis, xi, size in zip(reversed(axis_arrays), reversed(x), reversed(values.shape)):
             rows = t.shape[0] * t.shape[1] // size
             t = ca.reshape(ca.vec(t.T), size, rows).T if t.shape[1] != size else t
             t = ca.mtimes(t, _hat_weights(axis, xi, smoothing)) if size > 1 else t[:, 0]
@@ -185,7 +192,7 @@ def smooth_table(axes, values):
     return f
 
 
-def _table_function(blob, offset):
+def _table_function(blob: NDArray[np.float64], offset: float) -> Callable[..., Expr]:
     """A table of the aero blob (layout: core.aero) as a smoothed multilinear function of (Mach, alpha, h)."""
     o = int(offset)
     n_m, n_a, n_h = (int(blob[o + i]) for i in range(3))
@@ -198,7 +205,7 @@ def _table_function(blob, offset):
 class Aerodynamics:
     """(CL, CD) at Mach, alpha (deg), altitude (ft), as core.aero.coefficients."""
 
-    def __init__(self, blob):
+    def __init__(self, blob: NDArray[np.float64]) -> None:
         self.form = int(blob[0])
         self.alpha_range_deg = (float(blob[1]), float(blob[2]))
         if self.form == FORM_POLYNOMIAL:
@@ -207,7 +214,7 @@ class Aerodynamics:
             self._first = _table_function(blob, blob[3])
             self._second = _table_function(blob, blob[4])
 
-    def __call__(self, mach, alpha_deg, altitude_ft, smoothing):
+    def __call__(self, mach: Expr, alpha_deg: Expr, altitude_ft: Expr, smoothing: Expr) -> tuple[Expr, Expr]:
         if self.form == FORM_POLYNOMIAL:
             a = alpha_deg
             return tuple(sum(coef * a**i for i, coef in enumerate(p)) for p in self._poly)
@@ -223,7 +230,7 @@ class Aerodynamics:
 class Heating:
     """Heat rate and the path constraint of a temperature limit, for core.heating's two models."""
 
-    def __init__(self, model: ReferenceHeating | CorrelationHeating):
+    def __init__(self, model: ReferenceHeating | CorrelationHeating) -> None:
         self.model = model
         if isinstance(model, ReferenceHeating):
             if model.skin_heat_capacity_btu_ft2_R > 0.0:
@@ -233,9 +240,10 @@ class Heating:
                 )
             self._ratio = smooth_table([model.ratio_alpha_deg], model.ratio)  # Table 1, eq. (5)
 
-    def coefficient(self, rho, v, t_inf, alpha_deg, smoothing):
+    def coefficient(self, rho: Expr, v: Expr, t_inf: Expr, alpha_deg: Expr, smoothing: Expr) -> tuple[Expr, Expr]:
         """(h lbm/(ft^2 s), H_AW Btu/lbm) of eqs. (5)-(6): Fay-Riddell (Detra-Kemp-Riddell form) times Table 1."""
         m = self.model
+        assert isinstance(m, ReferenceHeating)  # the reference model's coefficient: temperature_margin calls it so
         h0 = CP_AIR_BTU_LBM_R * t_inf + 0.5 * v * v / FT2_S2_PER_BTU_LBM
         q_cw = (
             DKR_Q_BTU_FT2_S
@@ -249,12 +257,15 @@ class Heating:
         ratio = self._ratio(alpha_deg, smoothing)
         return q_cw / drive * ratio, h0
 
-    def correlation_rate(self, rho, v, alpha_deg):
+    def correlation_rate(self, rho: Expr, v: Expr, alpha_deg: Expr) -> Expr:
         m = self.model  # q = C rho^a V^b f(alpha) (core.heating.CorrelationHeating)
+        assert isinstance(m, CorrelationHeating)  # temperature_margin and heat_rate call it for this model only
         f = sum(coef * alpha_deg**i for i, coef in enumerate(m.alpha_polynomial))
         return m.coefficient * rho**m.density_exponent * v**m.velocity_exponent * f
 
-    def temperature_margin(self, rho, v, t_inf, alpha_deg, limit_R, smoothing):
+    def temperature_margin(
+        self, rho: Expr, v: Expr, t_inf: Expr, alpha_deg: Expr, limit_R: float, smoothing: Expr
+    ) -> Expr:
         """<= 0 exactly when the wall temperature is within limit_R, scaled by the radiated flux at the limit.
 
         Reference model: eqs. (6)-(7) give T as the root of eps sigma T^4 + h c_p T - h H_AW, increasing in
@@ -269,7 +280,7 @@ class Heating:
             return h * (h_aw - CP_AIR_BTU_LBM_R * limit_R) / radiated - 1.0
         return self.correlation_rate(rho, v, alpha_deg) / radiated - 1.0
 
-    def heat_rate(self, rho, v, t_inf, alpha_deg):
+    def heat_rate(self, rho: Expr, v: Expr, t_inf: Expr, alpha_deg: Expr) -> Expr:
         """q (Btu/(ft^2 s)) of the correlation model (the reference model's q depends on the wall temperature,
         which the NLP does not carry: it constrains max_temperature_R instead)."""
         if isinstance(self.model, ReferenceHeating):
@@ -283,7 +294,7 @@ class Heating:
 class FlightModel:
     """Rates of the spherical state and the derived quantities, as CasADi expressions."""
 
-    def __init__(self, spec: FlightSpec):
+    def __init__(self, spec: FlightSpec) -> None:
         self.spec = spec
         self.planet = planet_model(spec)
         self.atmosphere = Atmosphere(spec)
@@ -293,7 +304,7 @@ class FlightModel:
         self.smoothed = self.aero.form != FORM_POLYNOMIAL or isinstance(spec.heating, ReferenceHeating)
         self.lift_per_cl_per_q = c.G0_FT_S2 / spec.vehicle.wing_loading_psf  # L/m = CL q g0 / (W/S)
 
-    def point(self, state, alpha_deg, bank_deg, smoothing):
+    def point(self, state: Expr, alpha_deg: Expr, bank_deg: Expr, smoothing: Expr) -> dict[str, Expr]:
         """Everything at one state: a dict of CasADi expressions (rates under 'rates')."""
         pm = self.planet
         r, _lon, lat, v, gam, psi = (state[i] for i in range(6))

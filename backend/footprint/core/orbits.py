@@ -23,8 +23,10 @@ Model (a sphere for the ground track, a point mass for the period, one secular J
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from footprint.core.constants import J_ZONAL, MU_EARTH_FT3_S2, OMEGA_EARTH_DEG_S, RADIUS_EQUATORIAL_FT
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_of, wrap_longitude
@@ -52,12 +54,19 @@ class CircularOrbit:
     nodal_regression: bool = True
 
     @classmethod
-    def from_right_ascension(cls, inclination_deg, altitude_ft, right_ascension_deg, greenwich_sidereal_deg, **kwargs):
+    def from_right_ascension(
+        cls,
+        inclination_deg: float,
+        altitude_ft: float,
+        right_ascension_deg: float,
+        greenwich_sidereal_deg: float,
+        **kwargs: Any,
+    ) -> "CircularOrbit":
         """The node's earth-fixed longitude is its right ascension less the Greenwich sidereal angle."""
         return cls(
             inclination_deg=inclination_deg,
             altitude_ft=altitude_ft,
-            node_longitude_deg=wrap_longitude(right_ascension_deg - greenwich_sidereal_deg),
+            node_longitude_deg=float(wrap_longitude(right_ascension_deg - greenwich_sidereal_deg)),
             **kwargs,
         )
 
@@ -92,27 +101,29 @@ class CircularOrbit:
         """Change of the node's earth-fixed longitude from one revolution to the next (negative: west)."""
         return self.node_drift_deg_s * self.period_s
 
-    def revolutions_in(self, hours: float) -> np.ndarray:
+    def revolutions_in(self, hours: float) -> NDArray[np.int_]:
         """The revolutions (1, 2, ...) that start within `hours` of the epoch."""
         return np.arange(1, math.ceil(hours * 3600.0 / self.period_s - 1e-12) + 1)
 
 
-def time_s(orbit: CircularOrbit, revolution, u_deg):
+def time_s(orbit: CircularOrbit, revolution: ArrayLike, u_deg: ArrayLike) -> NDArray[np.float64]:
     """Seconds since the epoch at argument of latitude u of a revolution (revolution 1 starts at t = 0)."""
     return ((np.asarray(revolution, float) - 1.0) + np.asarray(u_deg, float) / 360.0) * orbit.period_s
 
 
-def node_longitude_deg(orbit: CircularOrbit, t_s):
+def node_longitude_deg(orbit: CircularOrbit, t_s: ArrayLike) -> NDArray[np.float64]:
     """Earth-fixed longitude of the ascending node at time t, in [-180, 180)."""
     return wrap_longitude(orbit.node_longitude_deg + orbit.node_drift_deg_s * np.asarray(t_s, float))
 
 
-def revolution_node_longitude_deg(orbit: CircularOrbit, revolution):
+def revolution_node_longitude_deg(orbit: CircularOrbit, revolution: ArrayLike) -> NDArray[np.float64]:
     """Earth-fixed longitude of the ascending node where each revolution crosses it."""
     return node_longitude_deg(orbit, time_s(orbit, revolution, 0.0))
 
 
-def _plane_vectors(orbit, revolution, u_deg):
+def _plane_vectors(
+    orbit: CircularOrbit, revolution: ArrayLike, u_deg: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Earth-fixed unit vectors (..., 3): position p, direction of motion d and orbit normal n = p x d.
 
     In the node frame (x to the node, z to the pole) p = (cos u, cos i sin u, sin i sin u),
@@ -126,7 +137,7 @@ def _plane_vectors(orbit, revolution, u_deg):
     cu, su = np.cos(ur), np.sin(ur)
     cl, sl = np.cos(lam), np.sin(lam)
 
-    def turn(x, y, z):
+    def turn(x: NDArray[np.float64], y: NDArray[np.float64], z: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.stack([cl * x - sl * y, sl * x + cl * y, np.broadcast_to(z, cl.shape)], axis=-1)
 
     p = turn(cu, ci * su, si * su)
@@ -135,19 +146,27 @@ def _plane_vectors(orbit, revolution, u_deg):
     return p, d, n
 
 
-def position(orbit: CircularOrbit, revolution, u_deg):
+def position(
+    orbit: CircularOrbit, revolution: ArrayLike, u_deg: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Geocentric latitude and earth-fixed longitude (deg) under the satellite; arrays broadcast together."""
     p, _, _ = _plane_vectors(orbit, revolution, u_deg)
     return latlon_of(p)
 
 
-def inertial_heading_deg(orbit: CircularOrbit, u_deg):
+def inertial_heading_deg(orbit: CircularOrbit, u_deg: ArrayLike) -> NDArray[np.float64]:
     """Azimuth from north of the inertial velocity: atan2(cos i, sin i cos u) (90 - i at the ascending node)."""
     inc = math.radians(orbit.inclination_deg)
     return np.degrees(np.arctan2(math.cos(inc), math.sin(inc) * np.cos(np.radians(u_deg))))
 
 
-def frames(orbit: CircularOrbit, revolution, u_deg, entry_offset_nmi=0.0, radius_nmi=MEAN_RADIUS_NMI):
+def frames(
+    orbit: CircularOrbit,
+    revolution: ArrayLike,
+    u_deg: ArrayLike,
+    entry_offset_nmi: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """The footprint frames (p0, d0, n), each (..., 3) earth-fixed, of placements at deorbit (revolution, u).
 
     The entry point is `entry_offset_nmi` further along the orbit (an arc of the orbit plane, delta u =
@@ -160,7 +179,11 @@ def frames(orbit: CircularOrbit, revolution, u_deg, entry_offset_nmi=0.0, radius
 
 
 def deorbit_reference(
-    orbit: CircularOrbit, revolution: int, u_deg: float, entry_offset_nmi: float = 0.0, radius_nmi=MEAN_RADIUS_NMI
+    orbit: CircularOrbit,
+    revolution: int,
+    u_deg: float,
+    entry_offset_nmi: float = 0.0,
+    radius_nmi: float = MEAN_RADIUS_NMI,
 ) -> Reference:
     """The initial point and heading of the footprint's initial great circle, placed at a deorbit point.
 

@@ -237,8 +237,8 @@ def reach(
     down = np.asarray(footprint_down_nmi, float)
     g_total, s_total = p0.shape[0], sites.shape[0]
     step = max(1, chunk_elements // max(1, s_total * down.size))
-    margin = np.empty((g_total, s_total))
-    inside = np.empty((g_total, s_total), bool)
+    margin: NDArray[np.float64] = np.empty((g_total, s_total))
+    inside: NDArray[np.bool_] = np.empty((g_total, s_total), bool)
     for a in range(0, g_total, step):
         if on_progress is not None and on_progress(a / g_total, f"placement {a:,} of {g_total:,}"):
             raise Stopped(f"stopped at placement {a:,} of {g_total:,}")
