@@ -14,6 +14,7 @@ import pytest
 
 from footprint.api import fly
 from footprint.api import footprint as fly_footprint
+from footprint.contracts.footprint import POINT_FIELDS
 from tests.authorities.report import betts
 
 from .conftest import wait_for_job
@@ -29,18 +30,6 @@ from .sample_requests import (
 )
 
 ROOT = Path(__file__).resolve().parents[2]
-POINT_KEYS = (
-    "downrange_nmi",
-    "crossrange_nmi",
-    "flight_time_s",
-    "latitude_deg",
-    "longitude_deg",
-    "heading_deg",
-    "side",
-    "parameter",
-    "stop_reason",
-    "mirrored",
-)
 
 
 def submit(api, kind, study, **extra):
@@ -77,8 +66,8 @@ def test_a_footprint_job_equals_the_python_door(footprint_job, same_numbers):
     assert len(job["result"]["footprints"]) == 1 and job["progress"] == 1.0 and job["error"] is None
     assert job["started_at"] <= job["finished_at"] and job["study"] == FOOTPRINT
     same_numbers(
-        [{k: p[k] for k in POINT_KEYS} for p in stored["points"]],
-        [{k: p.to_dict()[k] for k in POINT_KEYS} for p in direct.points],  # the setting in its stored form
+        [{k: p[k] for k in POINT_FIELDS} for p in stored["points"]],
+        [{k: p.to_dict()[k] for k in POINT_FIELDS} for p in direct.points],  # the setting in its stored form
     )
     same_numbers([p["downrange_nmi"] for p in stored["interior"]], [p.downrange_nmi for p in direct.interior])
     same_numbers(

@@ -82,21 +82,16 @@ class AeroTable(Strict):
 
     @model_validator(mode="after")
     def _shape(self) -> "AeroTable":
-        shape = (len(self.mach), len(self.alpha_deg), len(self.altitude_ft))
-        got = (len(self.values), *{len(row) for row in self.values}, *{len(c) for row in self.values for c in row})
+        shape, got = (len(self.mach), len(self.alpha_deg), len(self.altitude_ft)), _shape_of(self.values)
         if got != shape:
-            raise ValueError(
-                f"values: shape {_shape_of(self.values)}; must be [mach][alpha][altitude] of shape {shape}"
-            )
+            raise ValueError(f"values: shape {got or 'ragged'}; must be [mach][alpha][altitude] of shape {shape}")
         return self
 
 
-def _shape_of(values: list[list[list[float]]]) -> str:
-    """A nested list's shape, or that it is ragged."""
+def _shape_of(values: list[list[list[float]]]) -> tuple[int, ...] | None:
+    """A nested list's shape (None: ragged)."""
     rows, cols = {len(r) for r in values}, {len(c) for r in values for c in r}
-    if len(rows) > 1 or len(cols) > 1:
-        return "ragged"
-    return str((len(values), *rows, *cols))
+    return None if len(rows) > 1 or len(cols) > 1 else (len(values), *rows, *cols)
 
 
 class AeroTables(Strict):
@@ -187,7 +182,8 @@ class VehicleCase(Strict):
         if self.builtin is not None:
             v = builtin_vehicle(self.builtin)
             return v if ws is None else replace(v, wing_loading_psf=ws)
-        return _inline_vehicle(self.model_dump_json(exclude_none=True))
+        assert self.aero is not None and ws is not None  # _one_source: an inline vehicle has both
+        return _inline_vehicle(self.aero.model_dump_json(exclude_none=True), ws, self.name or "custom vehicle")
 
     def label(self) -> str:
         """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""
@@ -206,9 +202,7 @@ def user_vehicle(definition: dict[str, Any]) -> Vehicle:
 
 
 @functools.lru_cache(maxsize=32)
-def _inline_vehicle(definition_json: str) -> Vehicle:
+def _inline_vehicle(aero_json: str, wing_loading_psf: float, name: str) -> Vehicle:
     """An inline aero definition packed once per process (packing its tables takes up to a second; a sweep's
     footprints share one)."""
-    d = json.loads(definition_json)
-    ws = d["weight_lb"] / d["reference_area_ft2"] if "weight_lb" in d else d["wing_loading_psf"]
-    return vehicle_from_definition(d["aero"], ws, d.get("name", "custom vehicle"), field="vehicle")
+    return vehicle_from_definition(json.loads(aero_json), wing_loading_psf, name, field="vehicle")

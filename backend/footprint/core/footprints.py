@@ -394,10 +394,11 @@ def boundary_order(
     back: list[int],
     mirror: bool,
 ) -> list[int]:
-    """The report's boundary through a family's landings (indices into xy, (down-range, cross-range) nmi each): the
-    farthest axis point, the left half inwards, the minimum-range points (zero lift, C_L max) that lie outside the
-    polygon the others draw (a half footprint's closed along the axis, as area_nmi2 closes it), the right half (paired
-    with the left, in its order) back out. The footprint methods and each dispersed sample's footprint draw it."""
+    """The report's boundary (Section II.6, Figs. 9-14: the points joined in the order of their parameter) through a
+    family's landings (indices into xy, (down-range, cross-range) nmi each): the farthest axis point, the left half
+    inwards, the minimum-range points (zero lift, C_L max) that lie outside the polygon the others draw (a half
+    footprint's closed along the axis, as area_nmi2 closes it), the right half (paired with the left, in its order)
+    back out. The footprint methods and each dispersed sample's footprint draw it."""
     ring = front + left + right[::-1]
     polygon = [xy[j] for j in ring]
     if not mirror and polygon:
