@@ -19,10 +19,12 @@ from pydantic import (
 
 from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Strict
+from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import OnProgress, Work
 from footprint.core import constants as c
 from footprint.core.controls import pack_controls
+from footprint.core.dynamics import energy_height_ft
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, Trajectory
 
@@ -180,7 +182,8 @@ class BankSingleParameter(_BankLaw):
         }
 
 
-TABLE_MAX_NODES = 512  # a collocation optimum re-flown as tables carries one node per mesh point
+# a collocation optimum re-flown as tables carries one node per mesh point, a guided flight's bank one per actuator step
+TABLE_MAX_NODES = 8_192
 # the control tables' abscissae, one unit each (cases and optimization studies)
 HeadingNode = Annotated[float, Range(-180, 180, "deg")]
 TimeNode = Annotated[float, Range(0, 100_000, "s")]
@@ -254,7 +257,8 @@ BankCase = Annotated[
     | BankSingleParameter
     | BankTable
     | BankZeroLift
-    | BankConstantAltitude,
+    | BankConstantAltitude
+    | BankGuided,
     Field(discriminator="law"),
 ]
 
@@ -341,6 +345,7 @@ class StopCase(Strict):
     altitude_ft: Annotated[float, Range(0, 3_000_000, "ft")] | None = 50_000.0
     velocity_fps: Annotated[float, Range(0, 40_000, "ft/s")] | None = None
     time_s: Annotated[float, Range(1, 100_000, "s")] | None = None
+    energy_ft: Annotated[float, Range(0, 1e8, "ft")] | None = None  # h + V^2/(2 g0): a guided flight's terminal energy
     max_altitude_ft: Annotated[float, Range(10_000, 100_000_000, "ft")] = 10_000_000.0  # see trajectory.Stop
 
 
@@ -408,8 +413,8 @@ class Case(Strict):
     @model_validator(mode="after")
     def _consistent(self) -> "Case":
         s, e = self.stop, self.entry
-        if s.altitude_ft is None and s.velocity_fps is None and s.time_s is None:
-            raise ValueError("stop: give at least one of altitude_ft, velocity_fps, time_s")
+        if s.altitude_ft is None and s.velocity_fps is None and s.time_s is None and s.energy_ft is None:
+            raise ValueError("stop: give at least one of altitude_ft, velocity_fps, time_s, energy_ft")
         if s.altitude_ft is not None and s.altitude_ft >= e.altitude_ft:
             raise ValueError(f"stop.altitude_ft {s.altitude_ft:g} must be below entry.altitude_ft {e.altitude_ft:g}")
         if s.max_altitude_ft <= e.altitude_ft:
@@ -418,7 +423,24 @@ class Case(Strict):
             )
         if self.bank.law == "constant_altitude" and self.alpha.law != "max_ld":
             raise ValueError("bank law 'constant_altitude' flies alpha at (L/D)max: alpha.law must be 'max_ld'")
+        if isinstance(self.bank, BankGuided):
+            self._guided(self.bank)
         return self
+
+    def _guided(self, bank: BankGuided) -> None:
+        e, t = self.entry, bank.terminal
+        if energy_height_ft(t.altitude_ft, t.velocity_fps, c.G0_FT_S2) >= energy_height_ft(
+            e.altitude_ft, e.velocity_fps, c.G0_FT_S2
+        ):
+            raise ValueError("bank.terminal: its energy h + V^2/(2 g0) must be below the entry's")
+        if bank.min_bank_deg > bank.max_bank_deg:
+            raise ValueError(f"bank.min_bank_deg {bank.min_bank_deg:g} must not exceed bank.max_bank_deg")
+        heat = self.heating
+        for name in ("max_heat_rate_btu_ft2_s", "max_temperature_R"):
+            if getattr(bank, name) is not None and heat is None:
+                raise ValueError(f"bank.{name} needs a heating model: give heating")
+        if bank.max_temperature_R is not None and isinstance(heat, HeatingCorrelation) and heat.emissivity is None:
+            raise ValueError("bank.max_temperature_R needs heating.emissivity (the temperature of eq. 7)")
 
     _spec: FlightSpec | None = PrivateAttr(default=None)
 
@@ -438,12 +460,17 @@ class Case(Strict):
             rtol=self.integrator.rtol,
             max_step_s=self.integrator.max_step_s,
             heating=None if self.heating is None else self.heating.to_model(),
+            guidance=self.bank.to_guidance() if isinstance(self.bank, BankGuided) else None,
         )
 
     def _stop(self) -> Stop:
         s = self.stop
         return Stop(
-            altitude_ft=s.altitude_ft, velocity_fps=s.velocity_fps, time_s=s.time_s, skip_altitude_ft=s.max_altitude_ft
+            altitude_ft=s.altitude_ft,
+            velocity_fps=s.velocity_fps,
+            time_s=s.time_s,
+            skip_altitude_ft=s.max_altitude_ft,
+            energy_ft=s.energy_ft,
         )
 
     def controls(self) -> NDArray[np.float64]:

@@ -212,13 +212,12 @@ def control_problem(
 
 
 def accepted_stops(spec: FlightSpec) -> tuple[str, ...]:
-    """The stop reasons of a flight that ended where the spec asks: at its stop altitude, velocity or time."""
+    """The stop reasons of a flight that ended where the spec asks: at its stop altitude, velocity, time or energy
+    (a guided flight's terminal energy)."""
     st = spec.stop
-    return tuple(
-        r
-        for r, v in (("altitude", st.altitude_ft), ("velocity", st.velocity_fps), ("time", st.time_s))
-        if v is not None
-    )
+    energy = st.energy_ft if spec.guidance is None else spec.guidance.terminal_energy_ft
+    stops = (("altitude", st.altitude_ft), ("velocity", st.velocity_fps), ("time", st.time_s), ("energy", energy))
+    return tuple(r for r, v in stops if v is not None)
 
 
 @dataclass(frozen=True)

@@ -312,9 +312,14 @@ def table_interp(ctrl: NDArray[np.float64], offset: float, x: float) -> float:
     if x >= ctrl[xs + n - 1]:
         y = ctrl[ys + n - 1]
         return y
-    i = 0
-    while ctrl[xs + i + 1] < x:
-        i += 1
+    lo, hi = 0, n - 1  # bisection for the interval [i, i + 1] with x[i] < x <= x[i + 1]
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if ctrl[xs + mid] < x:
+            lo = mid
+        else:
+            hi = mid
+    i = lo
     w = (x - ctrl[xs + i]) / (ctrl[xs + i + 1] - ctrl[xs + i])
     y = ctrl[ys + i] + w * (ctrl[ys + i + 1] - ctrl[ys + i])
     return y

@@ -68,11 +68,12 @@ P_STOP_TIME = 19  # s
 P_SKIP_ALT = 20  # ft, skip-out guard
 P_RTOL = 21
 P_MAX_STEP = 22  # s
+P_STOP_ENERGY = 23  # ft, energy height h + V^2/(2 g0) (NaN: none): a guided flight's terminal energy
 # dispersions of one Monte Carlo sample (trajectory.Dispersion); 1.0, 1.0, 0.0 fly the tables and the model as given
-P_CL_MULTIPLIER = 23  # times the aero table's CL
-P_CD_MULTIPLIER = 24  # times the aero table's CD
-P_DENSITY_DISPERSED = 25  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
-P_DENSITY_DELTA = 26  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
+P_CL_MULTIPLIER = 24  # times the aero table's CL
+P_CD_MULTIPLIER = 25  # times the aero table's CD
+P_DENSITY_DISPERSED = 26  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
+P_DENSITY_DELTA = 27  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
 P_SIZE = P_DENSITY_DELTA + DENSITY_NODE_COUNT
 
 # --- mode layout ---

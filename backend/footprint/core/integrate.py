@@ -55,9 +55,12 @@ from footprint.core.dynamics import (
     P_RE,
     P_RTOL,
     P_SKIP_ALT,
+    P_G0,
     P_STOP_ALT,
+    P_STOP_ENERGY,
     P_STOP_TIME,
     P_STOP_VEL,
+    energy_height_ft,
     evaluate,
     holds_with_alpha,
 )
@@ -71,7 +74,8 @@ E_STOP_ALTITUDE = 4
 E_STOP_VELOCITY = 5
 E_STOP_TIME = 6
 E_SKIP_OUT = 7
-N_EVENTS = 8
+E_STOP_ENERGY = 8
+N_EVENTS = 9
 
 # stop codes
 STOP_NONE = 0
@@ -81,7 +85,8 @@ STOP_TIME = 3
 STOP_SKIP_OUT = 4
 STOP_MAX_STEPS = 5
 STOP_STEP_UNDERFLOW = 6
-STOP_REASONS = ("none", "altitude", "velocity", "time", "skip_out", "max_steps", "step_underflow")
+STOP_ENERGY = 7
+STOP_REASONS = ("none", "altitude", "velocity", "time", "skip_out", "max_steps", "step_underflow", "energy")
 
 # recorded columns
 R_T, R_X, R_Y, R_Z, R_VX, R_VY, R_VZ = 0, 1, 2, 3, 4, 5, 6
@@ -155,6 +160,8 @@ def _event_values(
         g[E_STOP_VELOCITY] = p[P_STOP_VEL] - v
     g[E_STOP_TIME] = t - p[P_STOP_TIME]
     g[E_SKIP_OUT] = alt - p[P_SKIP_ALT]
+    if not math.isnan(p[P_STOP_ENERGY]):
+        g[E_STOP_ENERGY] = p[P_STOP_ENERGY] - energy_height_ft(alt, v, p[P_G0])
 
 
 @njit(allocates=False)
@@ -186,6 +193,8 @@ def _apply_event(
         return STOP_TIME
     elif event == E_SKIP_OUT:
         return STOP_SKIP_OUT
+    elif event == E_STOP_ENERGY:
+        return STOP_ENERGY
     return STOP_NONE
 
 
@@ -236,8 +245,9 @@ def integrate(
     ctrl: NDArray[np.float64],
     mode: NDArray[np.float64],
     max_steps: int,
+    t0: float = 0.0,
 ) -> tuple[NDArray[np.float64], int, int]:
-    """Fly from s0 at t = 0 until a stop event. Returns (rows[:n], stop_code, n_rhs)."""
+    """Fly from s0 at t0 (s) until a stop event. Returns (rows[:n], stop_code, n_rhs)."""
     rtol = p[P_RTOL]
     h_max = p[P_MAX_STEP]
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
@@ -251,7 +261,7 @@ def integrate(
     r2, r3, r4, r5 = np.empty(6), np.empty(6), np.empty(6), np.empty(6)
     g0, g1, gt = np.empty(N_EVENTS), np.empty(N_EVENTS), np.empty(N_EVENTS)
 
-    t = 0.0
+    t = t0
     s = s0.copy()
     rows = np.empty((1024, N_COLS))
     res = _derivative(t, s, p, aero, ctrl, mode, k1)
@@ -309,10 +319,12 @@ def integrate(
                         r3[j] = h * k1[j] - r2[j]
                         r4[j] = r2[j] - h * k7[j] - r3[j]
                         r5[j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j] + D6 * k6[j] + D7 * k7[j])
-                # Illinois regula falsi on [0, 1] for g_i(theta)
+                # Illinois regula falsi on [0, 1] for g_i(theta); the stop time's is exact (g linear in time)
                 a, b, ga, gb = 0.0, 1.0, g0[i], g1[i]
                 side = 0
-                for _ in range(60):
+                if i == E_STOP_TIME:
+                    b = min(max((p[P_STOP_TIME] - t) / h, 0.0), 1.0)
+                for _ in range(60 if i != E_STOP_TIME else 0):
                     c = (a * gb - b * ga) / (gb - ga)
                     _dense(c, s, r2, r3, r4, r5, ye)
                     rc = evaluate(t + c * h, ye, p, aero, ctrl, mode)

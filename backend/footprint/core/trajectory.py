@@ -53,6 +53,7 @@ from footprint.core.dynamics import (
     P_SIZE,
     P_SKIP_ALT,
     P_STOP_ALT,
+    P_STOP_ENERGY,
     P_STOP_TIME,
     P_STOP_VEL,
     P_WS,
@@ -67,6 +68,7 @@ from footprint.core.frames import (
     horizon_basis,
     velocity_from_angles,
 )
+from footprint.core.guidance import Guidance, GuidedRecord, fly_guided
 from footprint.core.heating import CorrelationHeating, ReferenceHeating, trajectory_heating
 from footprint.core.integrate import (
     R_ALPHA,
@@ -126,6 +128,7 @@ class Stop:
     # guard: a flight that climbs this high has left. Lower skips fall back and are flown on: Appendix C's
     # 25,800 ft/s entries at (L/D)max skip to 1.6 million ft and come back.
     skip_altitude_ft: float = 10_000_000.0
+    energy_ft: float | None = None  # energy height h + V^2/(2 g0): a guided flight's terminal energy (its guidance's)
 
 
 @dataclass(frozen=True)
@@ -172,6 +175,7 @@ class FlightSpec:
     max_steps: int = 200_000
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
     dispersion: Dispersion = field(default_factory=Dispersion)
+    guidance: Guidance | None = None  # core.guidance: the bank flown by the predictor-corrector, to its terminal energy
 
 
 @dataclass
@@ -180,6 +184,8 @@ class Trajectory:
 
     summary: dict[str, Any]
     history: dict[str, NDArray[np.float64]]
+    # a guided flight's bank as flown, a time table (time_s, bank_deg) that a bank table law flies again; else None
+    bank_table: dict[str, NDArray[np.float64]] | None = None
 
     def write_csv(self, path: str | os.PathLike[str]) -> None:
         keys = list(self.history)
@@ -207,6 +213,8 @@ def pack_parameters(spec: FlightSpec) -> NDArray[np.float64]:
     p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
     p[P_SKIP_ALT] = st.skip_altitude_ft
     p[P_RTOL], p[P_MAX_STEP] = spec.rtol, spec.max_step_s
+    energy = st.energy_ft if spec.guidance is None else spec.guidance.terminal_energy_ft
+    p[P_STOP_ENERGY] = np.nan if energy is None else energy
     d = spec.dispersion
     p[P_CL_MULTIPLIER], p[P_CD_MULTIPLIER] = d.cl_multiplier, d.cd_multiplier
     if d.density_delta is not None:
@@ -263,6 +271,7 @@ class _Flight(NamedTuple):
     stop_code: int
     n_rhs: int
     mode: NDArray[np.float64]  # the mode at the stop (pull-out time and altitude, turn done)
+    guided: GuidedRecord | None = None  # a guided flight's commands and cycles
 
 
 def _fly(spec: FlightSpec) -> _Flight:
@@ -270,6 +279,9 @@ def _fly(spec: FlightSpec) -> _Flight:
     s0 = initial_state(spec, p)
     _set_left_pole(p, s0, spec.entry.heading_deg)
     mode = initial_mode(spec, p, s0)
+    if spec.guidance is not None:
+        guided = fly_guided(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.guidance, spec.heating, spec.max_steps)
+        return _Flight(p, guided.rows, guided.stop_code, guided.n_rhs, mode, guided)
     rows, stop_code, n_rhs = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
     return _Flight(p, rows, int(stop_code), int(n_rhs), mode)
 
@@ -299,10 +311,13 @@ def simulate(spec: FlightSpec) -> Trajectory:
         "downrange_nmi": track.downrange_nmi,
         "crossrange_nmi": track.crossrange_nmi,
     }
+    if f.guided is not None:
+        history |= f.guided.history()
     heating = _heating(spec, f.p, rows)
     if heating is not None:
         history["heat_rate_btu_ft2_s"], history["temperature_R"] = heating
-    return Trajectory(summary=_summary(spec, f, track, _pullout_row(f), heating), history=history)
+    table = None if f.guided is None else f.guided.bank_table()
+    return Trajectory(summary=_summary(spec, f, track, _pullout_row(f), heating), history=history, bank_table=table)
 
 
 def simulate_summary(spec: FlightSpec) -> dict[str, Any]:
@@ -459,7 +474,7 @@ def _summary(
         max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
     i_po = _pullout_row(f)  # an event row
-    return {
+    summary = {
         "downrange_nmi": float(track.downrange_nmi[-1]),
         "crossrange_nmi": float(track.crossrange_nmi[-1]),
         "flight_time_s": float(rows[-1, R_T]),
@@ -488,3 +503,6 @@ def _summary(
         "steps": int(rows.shape[0] - 1),
         "rhs_evaluations": f.n_rhs,
     }
+    if f.guided is not None:
+        summary["guidance"] = f.guided.summary(float(track.latitude_deg[-1]), float(track.longitude_deg[-1]))
+    return summary

@@ -1,0 +1,777 @@
+"""Entry guidance in the loop: a numerical predictor-corrector that flies the vehicle to a target.
+
+After Lu's fully numerical predictor-corrector entry guidance (FNPEG: P. Lu, "Entry Guidance: A Unified Method",
+J. Guidance, Control, and Dynamics 37(3), 2014, 713-728), written for this integrator:
+
+* Longitudinal: the bank magnitude is linear in energy, from sigma0 now to sigma_f at the terminal energy
+  e_f = h_f + V_f^2/(2 g0) (Lu's eq. 20 form). Every guidance cycle the predictor flies the rest of the flight
+  with that profile (our compiled integrator, a looser tolerance, the nominal vehicle and atmosphere scaled by the
+  filtered lift and drag ratios below) to e_f; the corrector moves sigma0 by secant steps until the range flown,
+  the predicted ground arc, equals the great-circle range to go (Lu's z(sigma0) = s(e_f) - s_togo).
+* Lateral: the sign of the bank reverses when the heading error to the line of sight leaves a corridor that
+  narrows linearly with velocity (the Shuttle's and FNPEG's bank-reversal logic).
+* Path limits (heat rate, radiation-equilibrium temperature, load factor, dynamic pressure): each gives the largest
+  density rho_lim(V, alpha) at which it holds, and the bank magnitude is bounded by the quasi-equilibrium glide
+  at that boundary, with an altitude-rate damping term (the constrained FNPEG's bank bound: bank_bound_deg).
+* Measurement: lift and drag over the nominal model's (an accelerometer against the onboard model) are filtered
+  by a fading-memory filter (Lu 2014, sec. V) and scale the predictor's CL and CD.
+* The flown bank follows the command through a rate- and acceleration-limited actuator (time-optimal tracking),
+  tabulated in time for each cycle.
+
+The guidance runs entirely inside one compiled function (`_fly_guided`): no Python between cycles.
+"""
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footprint.core import constants as c
+from footprint.core._jit import njit
+from footprint.core.atmosphere import atmosphere
+from footprint.core.controls import C_BANK_TABLE, replace_controls
+from footprint.core.dynamics import (
+    EV_ALPHA_DEG,
+    EV_ALTITUDE_FT,
+    EV_CD,
+    EV_CL,
+    EV_Q_PSF,
+    EV_RHO_SLUG_FT3,
+    EV_SIN_GAMMA,
+    EV_SPEED_FPS,
+    M_BANK_ACTIVE,
+    P_ATM,
+    P_ATM_T,
+    P_CD_MULTIPLIER,
+    P_CL_MULTIPLIER,
+    P_DENSITY_DISPERSED,
+    P_G0,
+    P_H,
+    P_J,
+    P_K,
+    P_MAX_STEP,
+    P_MU,
+    P_OBLATE,
+    P_OMEGA,
+    P_RE,
+    P_RHO0,
+    P_RP,
+    P_RTOL,
+    P_SCALE_H,
+    P_STOP_ENERGY,
+    P_STOP_TIME,
+    P_WS,
+    energy_height_ft,
+    evaluate,
+)
+from footprint.core.frames import flight_angles, geodetic_from_ecef
+from footprint.core.gravity import gravity_ecef
+from footprint.core.heating import (
+    CP_AIR_BTU_LBM_R,
+    DKR_COLD_WALL_R,
+    DKR_Q_BTU_FT2_S,
+    DKR_RHO_SL_SLUG_FT3,
+    DKR_V_EXPONENT,
+    DKR_V_FPS,
+    FT2_S2_PER_BTU_LBM,
+    SIGMA_REPORT_BTU_FT2_S_R4,
+    CorrelationHeating,
+    ReferenceHeating,
+)
+from footprint.core.integrate import N_COLS, R_T, R_X, STOP_MAX_STEPS, STOP_TIME, integrate
+from footprint.core.sphere import MEAN_RADIUS_NMI
+
+ACTUATOR_STEP_S = 0.25  # s between the nodes of a cycle's bank table (the actuator's sub-step)
+PROBE_STEP_DEG = 5.0  # deg: the finite difference that starts the corrector's secant
+SLOPE_MIN_NMI_DEG = 1e-3  # nmi/deg: a range less sensitive than this to sigma0 is not corrected (the command held)
+FIRST_CYCLE_ITERATIONS = 12  # the first cycle solves from the initial guess
+FINAL_CYCLES = 20  # near the target a cycle is at most the time to go over this many (at least MIN_CYCLE_S)
+MIN_CYCLE_S = 0.5
+NO_LIMIT_RHO = 1e9  # slug/ft^3: no path limit binds
+BOUNDARY_DV_FPS = 10.0  # ft/s: the finite difference of the limit's density in speed
+PREDICTOR_MAX_STEP_S = 200.0  # s: the predictor's steps are bounded by its tolerance only
+
+
+@dataclass(frozen=True)
+class Guidance:
+    """A guided bank law's settings (defaults: an L/D ~2 glider, Shuttle-like terminal conditions)."""
+
+    target_latitude_deg: float
+    target_longitude_deg: float
+    terminal_altitude_ft: float = 80_000.0  # e_f = h_f + V_f^2/(2 g0): the flight ends at this energy
+    terminal_velocity_fps: float = 2_500.0
+    cycle_s: float = 5.0  # s of flight between guidance cycles
+    initial_bank_deg: float = 45.0  # the corrector's first guess of sigma0
+    final_bank_deg: float = 45.0  # sigma_f, the profile's magnitude at e_f
+    min_bank_deg: float = 0.0  # the corrector's range of sigma0
+    max_bank_deg: float = 85.0
+    iterations: int = 2  # predictions after the first, per cycle
+    tolerance_nmi: float = 0.1  # |predicted range - range to go| that needs no correction, near the target
+    tolerance_fraction: float = 1e-3  # ... and far from it: this fraction of the range to go, when larger
+    corridor_entry_deg: float = 12.0  # heading-error corridor at the entry speed
+    corridor_terminal_deg: float = 2.0  # ... and at the terminal speed, linear in velocity between
+    lateral_freeze_nmi: float = 5.0  # no reversal within this range to go
+    bank_rate_deg_s: float = 10.0  # actuator limits; None-like values are given as math.inf
+    bank_acceleration_deg_s2: float = 5.0
+    predictor_rtol: float = 1e-5
+    filter_gain: float = 0.3  # fading-memory gain of the lift and drag ratios (0: predict with the nominal model)
+    max_heat_rate_btu_ft2_s: float | None = None  # path limits (need a heating model: heat rate, temperature)
+    max_temperature_R: float | None = None
+    max_load_factor: float | None = None
+    max_dynamic_pressure_psf: float | None = None
+    limit_damping: float = 0.75  # zeta of the bound's approach to a limit (bank_bound_deg)
+    reach_nmi: float = 5.0  # a landing within this of the target reached it
+
+    @property
+    def terminal_energy_ft(self) -> float:
+        return float(energy_height_ft(self.terminal_altitude_ft, self.terminal_velocity_fps, c.G0_FT_S2))
+
+    @property
+    def table_nodes(self) -> int:
+        """Nodes of a cycle's bank table (time, bank)."""
+        return int(math.ceil(self.cycle_s / ACTUATOR_STEP_S)) + 2
+
+
+# --- the settings array G ---
+G_TARGET_LAT = 0  # rad, geodetic (taken as spherical for ranges, as eqs. 8-11 do)
+G_TARGET_LON = 1  # rad
+G_TERMINAL_ENERGY = 2  # ft
+G_TERMINAL_V = 3  # ft/s
+G_CYCLE = 4  # s
+G_INITIAL_BANK = 5  # deg
+G_FINAL_BANK = 6
+G_MIN_BANK = 7
+G_MAX_BANK = 8
+G_ITERATIONS = 9
+G_TOLERANCE = 10  # nmi
+G_CORRIDOR_ENTRY = 11  # deg
+G_CORRIDOR_TERMINAL = 12
+G_LATERAL_FREEZE = 13  # nmi
+G_RATE = 14  # deg/s
+G_ACCELERATION = 15  # deg/s^2
+G_FILTER = 16
+G_MAX_HEAT_RATE = 17  # Btu/(ft^2 s), NaN: none
+G_MAX_TEMPERATURE = 18  # degR, NaN: none
+G_MAX_LOAD = 19  # g, NaN: none
+G_MAX_QBAR = 20  # lb/ft^2, NaN: none
+G_LIMIT_DAMPING = 21
+G_TABLE_NODES = 22
+G_TOLERANCE_FRACTION = 23
+G_SIZE = 24
+
+# --- the heating model array H (the path limits' density bound) ---
+H_NONE, H_REFERENCE, H_CORRELATION = 0, 1, 2
+
+# --- per cycle records (columns) ---
+K_TIME, K_ENERGY, K_RANGE_TO_GO, K_SIGMA0, K_BOUND, K_COMMAND, K_MISS, K_PREDICTIONS, K_FLAGS = range(9)
+K_LIFT_RATIO, K_DRAG_RATIO, K_FIRST_MISS = 9, 10, 11  # K_FIRST_MISS: the cycle's first prediction's
+N_CYCLE_COLS = 12
+F_CONVERGED, F_SATURATED, F_BOUND, F_REVERSAL, F_UNCONVERGED, F_HELD = 1, 2, 4, 8, 16, 32
+# --- per row records ---
+A_COMMAND, A_MISS = 0, 1
+N_AUX = 2
+
+
+def _value(x: float | None) -> float:
+    return math.nan if x is None else float(x)
+
+
+def pack_guidance(g: Guidance) -> NDArray[np.float64]:
+    out = np.zeros(G_SIZE)
+    out[G_TARGET_LAT], out[G_TARGET_LON] = math.radians(g.target_latitude_deg), math.radians(g.target_longitude_deg)
+    out[G_TERMINAL_ENERGY], out[G_TERMINAL_V] = g.terminal_energy_ft, g.terminal_velocity_fps
+    out[G_CYCLE] = g.cycle_s
+    out[G_INITIAL_BANK], out[G_FINAL_BANK] = g.initial_bank_deg, g.final_bank_deg
+    out[G_MIN_BANK], out[G_MAX_BANK] = g.min_bank_deg, g.max_bank_deg
+    out[G_ITERATIONS], out[G_TOLERANCE] = g.iterations, g.tolerance_nmi
+    out[G_CORRIDOR_ENTRY], out[G_CORRIDOR_TERMINAL] = g.corridor_entry_deg, g.corridor_terminal_deg
+    out[G_LATERAL_FREEZE] = g.lateral_freeze_nmi
+    out[G_RATE], out[G_ACCELERATION] = g.bank_rate_deg_s, g.bank_acceleration_deg_s2
+    out[G_FILTER] = g.filter_gain
+    out[G_MAX_HEAT_RATE], out[G_MAX_TEMPERATURE] = _value(g.max_heat_rate_btu_ft2_s), _value(g.max_temperature_R)
+    out[G_MAX_LOAD], out[G_MAX_QBAR] = _value(g.max_load_factor), _value(g.max_dynamic_pressure_psf)
+    out[G_LIMIT_DAMPING] = g.limit_damping
+    out[G_TABLE_NODES] = g.table_nodes
+    out[G_TOLERANCE_FRACTION] = g.tolerance_fraction
+    return out
+
+
+def pack_heating(model: ReferenceHeating | CorrelationHeating | None) -> NDArray[np.float64]:
+    """The heating model as the bound reads it: [kind, parameters..., table]."""
+    if isinstance(model, ReferenceHeating):
+        return np.array([H_REFERENCE, model.reference_radius_ft, model.emissivity, len(model.ratio)])
+    if isinstance(model, CorrelationHeating):
+        eps = math.nan if model.emissivity is None else model.emissivity
+        head = [H_CORRELATION, model.coefficient, model.density_exponent, model.velocity_exponent, eps]
+        return np.array(head + [len(model.alpha_polynomial), *model.alpha_polynomial])
+    return np.array([float(H_NONE)])
+
+
+def heating_table(model: ReferenceHeating | CorrelationHeating | None) -> NDArray[np.float64]:
+    """pack_heating with the reference model's Table 1 (h/h_F&R against alpha) appended."""
+    head = pack_heating(model)
+    if isinstance(model, ReferenceHeating):
+        return np.concatenate((head, model.ratio_alpha_deg, model.ratio))
+    return head
+
+
+def guided_controls(ctrl: NDArray[np.float64], nodes: int, variable: str) -> NDArray[np.float64]:
+    """ctrl (its alpha law and bank start kept) flying a bank table of `nodes` slots against `variable` (the cycle's
+    time table, or the predictor's energy profile), written in place each cycle."""
+    x = np.arange(nodes, dtype=float)
+    return replace_controls(
+        ctrl, bank_law="table", bank_limit_deg=None, bank_variable=variable, mirror=False, bank_table=(x, 0.0 * x)
+    )
+
+
+# ------------------------------------------------------------------------------------- compiled pieces
+@njit
+def _unit(lat: float, lon: float) -> tuple[float, float, float]:
+    cl = math.cos(lat)
+    return cl * math.cos(lon), cl * math.sin(lon), math.sin(lat)
+
+
+@njit
+def _angle(ax: float, ay: float, az: float, bx: float, by: float, bz: float) -> float:
+    """Angle (rad) between two unit vectors."""
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    return math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), ax * bx + ay * by + az * bz)
+
+
+@njit
+def _ground_point(s: NDArray[np.float64], p: NDArray[np.float64]) -> tuple[float, float]:
+    lat, lon, _ = geodetic_from_ecef(s[0], s[1], s[2], p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
+    return lat, lon
+
+
+@njit
+def _range_nmi(lat: float, lon: float, lat_t: float, lon_t: float) -> float:
+    ax, ay, az = _unit(lat, lon)
+    bx, by, bz = _unit(lat_t, lon_t)
+    return _angle(ax, ay, az, bx, by, bz) * MEAN_RADIUS_NMI
+
+
+@njit
+def _azimuth(lat: float, lon: float, lat_t: float, lon_t: float) -> float:
+    """Initial azimuth (rad, from north clockwise) of the great circle to the target."""
+    d = lon_t - lon
+    return math.atan2(
+        math.sin(d) * math.cos(lat_t), math.cos(lat) * math.sin(lat_t) - math.sin(lat) * math.cos(lat_t) * math.cos(d)
+    )
+
+
+@njit
+def _arc_nmi(rows: NDArray[np.float64], p: NDArray[np.float64]) -> float:
+    """Ground arc along the recorded rows (nmi): the predictor's range flown."""
+    total = 0.0
+    lat, lon = _ground_point(rows[0, R_X : R_X + 3], p)
+    ax, ay, az = _unit(lat, lon)
+    for i in range(1, rows.shape[0]):
+        lat, lon = _ground_point(rows[i, R_X : R_X + 3], p)
+        bx, by, bz = _unit(lat, lon)
+        total += _angle(ax, ay, az, bx, by, bz)
+        ax, ay, az = bx, by, bz
+    return total * MEAN_RADIUS_NMI
+
+
+@njit
+def _ratio_at(heat: NDArray[np.float64], alpha_deg: float) -> float:
+    """Table 1's h/h_F&R at alpha (linear, held at the ends), from the reference model's array."""
+    n = int(heat[3])
+    xs, ys = 4, 4 + n
+    if alpha_deg <= heat[xs]:
+        return float(heat[ys])
+    if alpha_deg >= heat[xs + n - 1]:
+        return float(heat[ys + n - 1])
+    i = 0
+    while heat[xs + i + 1] < alpha_deg:
+        i += 1
+    w = (alpha_deg - heat[xs + i]) / (heat[xs + i + 1] - heat[xs + i])
+    return float(heat[ys + i] + w * (heat[ys + i + 1] - heat[ys + i]))
+
+
+@njit
+def _heat_density_limit(heat: NDArray[np.float64], q_max: float, v: float, alpha_deg: float, t_inf: float) -> float:
+    """The density (slug/ft^3) at which the stagnation heat rate is q_max (Btu/(ft^2 s)) at speed v and alpha."""
+    kind = int(heat[0])
+    if kind == H_REFERENCE:
+        # eqs. (5)-(7) inverted: the wall at radiation equilibrium with q_max, T_w = (q_max / (sigma eps))^(1/4)
+        t_wall = (q_max / (SIGMA_REPORT_BTU_FT2_S_R4 * heat[2])) ** 0.25
+        h0 = CP_AIR_BTU_LBM_R * t_inf + 0.5 * v * v / FT2_S2_PER_BTU_LBM
+        drive_hot, drive_cold = h0 - CP_AIR_BTU_LBM_R * t_wall, h0 - CP_AIR_BTU_LBM_R * DKR_COLD_WALL_R
+        if drive_hot <= 0.0 or drive_cold <= 0.0:
+            return NO_LIMIT_RHO
+        q_cw = q_max / drive_hot / _ratio_at(heat, alpha_deg) * drive_cold  # cold-wall rate that gives q_max
+        root = q_cw / (DKR_Q_BTU_FT2_S / math.sqrt(heat[1]) * (v / DKR_V_FPS) ** DKR_V_EXPONENT)
+        return DKR_RHO_SL_SLUG_FT3 * root * root
+    if kind == H_CORRELATION:  # q = C rho^a V^b f(alpha)
+        n = int(heat[5])
+        f = 0.0
+        for i in range(n - 1, -1, -1):
+            f = f * alpha_deg + heat[6 + i]
+        scale = heat[1] * v ** heat[3] * f
+        if scale <= 0.0 or heat[2] <= 0.0:
+            return NO_LIMIT_RHO
+        return float((q_max / scale) ** (1.0 / heat[2]))
+    return NO_LIMIT_RHO
+
+
+@njit
+def density_limit(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    v: float,
+    alpha_deg: float,
+    t_inf: float,
+    cl: float,
+    cd: float,
+    wing_loading_psf: float,
+) -> float:
+    """The largest density (slug/ft^3) at which every path limit of g holds at speed v (ft/s) and alpha."""
+    rho = NO_LIMIT_RHO
+    q_max = g[G_MAX_HEAT_RATE]
+    if not math.isnan(g[G_MAX_TEMPERATURE]):  # radiation equilibrium: q = sigma eps T^4 (eq. 7)
+        eps = heat[2] if int(heat[0]) == H_REFERENCE else heat[4]
+        q_t = SIGMA_REPORT_BTU_FT2_S_R4 * eps * g[G_MAX_TEMPERATURE] ** 4
+        q_max = q_t if math.isnan(q_max) else min(q_max, q_t)
+    if not math.isnan(q_max):
+        rho = min(rho, _heat_density_limit(heat, q_max, v, alpha_deg, t_inf))
+    if not math.isnan(g[G_MAX_LOAD]):  # n = q sqrt(CL^2 + CD^2) / (W/S)
+        rho = min(rho, 2.0 * g[G_MAX_LOAD] * wing_loading_psf / math.sqrt(cl * cl + cd * cd) / (v * v))
+    if not math.isnan(g[G_MAX_QBAR]):
+        rho = min(rho, 2.0 * g[G_MAX_QBAR] / (v * v))
+    return rho
+
+
+@njit
+def _vertical_excess(s: NDArray[np.float64], p: NDArray[np.float64], r: float) -> float:
+    """G (ft/s^2): the downward acceleration lift must balance for level flight, gravity (A10) with the earth's
+    Coriolis and centrifugal terms (eqs. 1-2) less the centrifugal term of flight over the curved earth."""
+    x, y, z, vx, vy, vz = s[0], s[1], s[2], s[3], s[4], s[5]
+    w = p[P_OMEGA]
+    gx, gy, gz = gravity_ecef(x, y, z, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
+    ax, ay = gx + 2.0 * w * vy + w * w * x, gy - 2.0 * w * vx + w * w * y
+    radial_a = (ax * x + ay * y + gz * z) / r
+    radial_v = (vx * x + vy * y + vz * z) / r
+    return float(-radial_a - (vx * vx + vy * vy + vz * vz - radial_v * radial_v) / r)
+
+
+@njit
+def bank_bound_deg(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    p: NDArray[np.float64],
+    s: NDArray[np.float64],
+    res: tuple[float, ...],
+) -> float:
+    """The largest bank magnitude (deg) that keeps the path limits (180: none binds), from the measured state.
+
+    The quasi-equilibrium glide at the limit's boundary (constrained FNPEG): with L_lim = L rho_lim / rho the lift
+    there, cos(bank) <= (G - 2 zeta w h') / L_lim, G = g - V^2/r, keeps the glide's equilibrium above the boundary;
+    the h' term, w = sqrt(G / H) (H the density scale height), damps the approach relative to the boundary, which
+    descends as the vehicle slows (near it the altitude error then obeys x'' = -w^2 x - 2 zeta w x', x = h - h_min).
+    Far above the boundary L_lim >> L and no bound binds."""
+    alt, v, rho = res[EV_ALTITUDE_FT], res[EV_SPEED_FPS], res[EV_RHO_SLUG_FT3]
+    rho_here, _, t_inf, _ = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    rho_up, _, _, _ = atmosphere(int(p[P_ATM]), alt + 1000.0, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    lift_per_cl = res[EV_Q_PSF] * p[P_G0] / p[P_WS]
+    rho_lim = density_limit(g, heat, v, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS])
+    if rho_lim >= NO_LIMIT_RHO or rho <= 0.0 or lift_per_cl <= 0.0 or res[EV_CL] <= 0.0:
+        return 180.0
+    scale_h = 1000.0 / math.log(rho_here / rho_up) if rho_here > rho_up > 0.0 else p[P_SCALE_H]
+    r = math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    excess = _vertical_excess(s, p, r)
+    w = math.sqrt(max(excess, 0.0) / scale_h)
+    lift_at_limit = res[EV_CL] * lift_per_cl * rho_lim / rho
+    # the boundary moves as the vehicle slows: h_min' = -H dln(rho_lim)/dV V', V' = -D - g sin(gamma)
+    rho_lim_slower = density_limit(g, heat, v - BOUNDARY_DV_FPS, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS])
+    v_dot = -res[EV_CD] * lift_per_cl - p[P_MU] / (r * r) * res[EV_SIN_GAMMA]
+    boundary_rate = -scale_h * math.log(rho_lim / rho_lim_slower) / BOUNDARY_DV_FPS * v_dot
+    cos_bank = (excess - 2.0 * g[G_LIMIT_DAMPING] * w * (v * res[EV_SIN_GAMMA] - boundary_rate)) / lift_at_limit
+    if cos_bank >= 1.0:
+        return 0.0
+    if cos_bank <= -1.0:
+        return 180.0
+    return math.degrees(math.acos(cos_bank))
+
+
+@njit
+def _actuate(
+    ctrl: NDArray[np.float64],
+    t0: float,
+    duration_s: float,
+    bank: float,
+    rate: float,
+    command_start: float,
+    command_end: float,
+    rate_max: float,
+    acceleration_max: float,
+    capacity: int,
+) -> tuple[float, float]:
+    """Write the cycle's bank table (time, bank) of a rate- and acceleration-limited actuator tracking, from (bank,
+    rate), a command linear in time from command_start to command_end: time-optimal on the error (the rate that
+    stops on the command at full deceleration), locked on the command once it is reached. Nodes on one line are
+    left out (each node is a kink the integrator must step over). Returns (bank, rate) at the cycle's end."""
+    o = int(ctrl[C_BANK_TABLE])
+    steps = capacity - 2
+    dt = duration_s / steps
+    command_rate = (command_end - command_start) / duration_s
+    xs, ys = ctrl[o + 1 : o + 1 + capacity], ctrl[o + 1 + capacity : o + 1 + 2 * capacity]  # scratch, then packed
+    xs[0], ys[0] = t0, bank
+    n = 1
+    for k in range(1, steps + 1):
+        command = command_start + command_rate * k * dt
+        error = command - (bank + rate * dt)
+        wanted = command_rate + math.copysign(min(2.0 * rate_max, math.sqrt(2.0 * acceleration_max * abs(error))), error)
+        wanted = min(max(wanted, -rate_max), rate_max)
+        new_rate = rate + min(max(wanted - rate, -acceleration_max * dt), acceleration_max * dt)
+        new_bank = bank + 0.5 * (rate + new_rate) * dt
+        if (command - new_bank) * (command - command_rate * dt - bank) <= 0.0:  # reached: lock on the command
+            new_bank, new_rate = command, min(max(command_rate, -rate_max), rate_max)
+        if n >= 2 and abs((new_bank - ys[n - 1]) / dt - (ys[n - 1] - ys[n - 2]) / (xs[n - 1] - xs[n - 2])) < 1e-9:
+            n -= 1  # the last node lies on the line from the one before to this one
+        bank, rate = new_bank, new_rate
+        xs[n], ys[n] = t0 + k * dt, bank
+        n += 1
+    ctrl[o] = n
+    for i in range(n):  # pack (n, x[n], y[n]): y moves down next to x
+        ys_i = ys[i]
+        ctrl[o + 1 + n + i] = ys_i
+    return bank, rate
+
+
+@njit
+def _predict(
+    s: NDArray[np.float64],
+    t: float,
+    p_pred: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl_pred: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    work: NDArray[np.float64],
+    sigma0: float,
+    sign: float,
+    energy: float,
+    g: NDArray[np.float64],
+    max_steps: int,
+) -> tuple[float, int]:
+    """(range flown to the terminal energy in nmi, right-hand sides) with |bank| linear in energy from sigma0 now to
+    sigma_f at e_f (FNPEG's profile), the bank's sign held."""
+    o = int(ctrl_pred[C_BANK_TABLE])
+    ctrl_pred[o] = 2.0
+    ctrl_pred[o + 1], ctrl_pred[o + 2] = g[G_TERMINAL_ENERGY], energy
+    ctrl_pred[o + 3], ctrl_pred[o + 4] = sign * g[G_FINAL_BANK], sign * sigma0
+    for i in range(mode.shape[0]):
+        work[i] = mode[i]
+    rows, _, n_rhs = integrate(s, p_pred, aero, ctrl_pred, work, max_steps, t)
+    return _arc_nmi(rows, p_pred), n_rhs
+
+
+@njit
+def _append(
+    rows: NDArray[np.float64], aux: NDArray[np.float64], n: int, new: NDArray[np.float64], first: int, command: float, miss: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
+    m = new.shape[0] - first
+    if n + m > rows.shape[0]:
+        size = max(2 * rows.shape[0], n + m)
+        bigger, bigger_aux = np.empty((size, N_COLS)), np.empty((size, N_AUX))
+        bigger[:n], bigger_aux[:n] = rows[:n], aux[:n]
+        rows, aux = bigger, bigger_aux
+    rows[n : n + m] = new[first:]
+    aux[n : n + m, A_COMMAND] = command
+    aux[n : n + m, A_MISS] = miss
+    return rows, aux, n + m
+
+
+@njit
+def _append_nodes(nodes: NDArray[np.float64], n: int, ctrl: NDArray[np.float64]) -> tuple[NDArray[np.float64], int]:
+    """The cycle's bank table appended to the flown nodes (its first node is the last cycle's end: left out)."""
+    o = int(ctrl[C_BANK_TABLE])
+    m = int(ctrl[o])
+    if n + m > nodes.shape[0]:
+        bigger = np.empty((max(2 * nodes.shape[0], n + m), 2))
+        bigger[:n] = nodes[:n]
+        nodes = bigger
+    for i in range(m):
+        if n > 0 and ctrl[o + 1 + i] <= nodes[n - 1, 0]:
+            continue
+        nodes[n, 0], nodes[n, 1] = ctrl[o + 1 + i], ctrl[o + 1 + m + i]
+        n += 1
+    return nodes, n
+
+
+@njit
+def _reversal(
+    g: NDArray[np.float64], sign: float, heading_error_deg: float, v: float, v0: float, to_go: float, active: bool
+) -> float:
+    """The bank's sign: reversed when the heading error to the line of sight leaves the corridor, which narrows
+    linearly in velocity from entry to terminal speed (positive bank turns left, lowering the heading); none within
+    the lateral freeze range or before the bank law takes over. 0 on the first cycle: toward the target."""
+    if sign == 0.0:
+        return 1.0 if heading_error_deg >= 0.0 else -1.0
+    if to_go <= g[G_LATERAL_FREEZE] or not active:
+        return sign
+    fraction = min(max((v - g[G_TERMINAL_V]) / max(v0 - g[G_TERMINAL_V], 1.0), 0.0), 1.0)
+    corridor = g[G_CORRIDOR_TERMINAL] + (g[G_CORRIDOR_ENTRY] - g[G_CORRIDOR_TERMINAL]) * fraction
+    if heading_error_deg > corridor:
+        return 1.0
+    if heading_error_deg < -corridor:
+        return -1.0
+    return sign
+
+
+@njit
+def _correct(
+    s: NDArray[np.float64],
+    t: float,
+    p_pred: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl_pred: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    work: NDArray[np.float64],
+    g: NDArray[np.float64],
+    sigma0: float,
+    slope: float,
+    sign: float,
+    energy: float,
+    to_go: float,
+    iterations: int,
+    max_steps: int,
+) -> tuple[float, float, float, float, int, int, int]:
+    """FNPEG's corrector: secant steps on sigma0 for z = predicted range flown - range to go, from the last cycle's
+    sigma0 and slope dz/dsigma0 (a finite difference when there is none). Keeps the best sigma0 found.
+    Returns (sigma0, z, slope, first z, predictions, F_* flags, right-hand sides)."""
+    flown, n_rhs = _predict(s, t, p_pred, aero, ctrl_pred, mode, work, sigma0, sign, energy, g, max_steps)
+    z = flown - to_go
+    first = z
+    tolerance = max(g[G_TOLERANCE], g[G_TOLERANCE_FRACTION] * to_go)
+    predictions, flags = 1, 0
+    for _ in range(iterations):
+        if abs(z) <= tolerance:
+            break
+        fresh = not slope < -SLOPE_MIN_NMI_DEG
+        if fresh:  # a finite difference, away from the upper limit
+            trial = sigma0 + PROBE_STEP_DEG if sigma0 + PROBE_STEP_DEG <= g[G_MAX_BANK] else sigma0 - PROBE_STEP_DEG
+        else:
+            wanted = sigma0 - z / slope
+            trial = min(max(wanted, g[G_MIN_BANK]), g[G_MAX_BANK])
+            if trial != wanted:
+                flags |= F_SATURATED
+            if trial == sigma0:
+                break
+        flown, used = _predict(s, t, p_pred, aero, ctrl_pred, mode, work, trial, sign, energy, g, max_steps)
+        n_rhs += used
+        predictions += 1
+        z_trial = flown - to_go
+        secant = (z_trial - z) / (trial - sigma0)
+        better = abs(z_trial) < abs(z)
+        if fresh or secant < -SLOPE_MIN_NMI_DEG:
+            slope = secant
+        if better:
+            sigma0, z = trial, z_trial
+        if fresh and not slope < -SLOPE_MIN_NMI_DEG:
+            flags |= F_HELD  # the range does not answer the bank here: keep the command
+            break
+        if not fresh and not better:
+            break  # no better: keep the last command
+    if abs(z) <= tolerance:
+        flags |= F_CONVERGED
+    elif flags & (F_SATURATED | F_HELD) == 0:
+        flags |= F_UNCONVERGED
+    return sigma0, z, slope, first, predictions, flags, n_rhs
+
+
+@njit
+def _record_cycle(cycles: NDArray[np.float64], nc: int, values: tuple[float, ...]) -> NDArray[np.float64]:
+    if nc == cycles.shape[0]:
+        bigger = np.empty((2 * nc, N_CYCLE_COLS))
+        bigger[:nc] = cycles
+        cycles = bigger
+    for k in range(N_CYCLE_COLS):
+        cycles[nc, k] = values[k]
+    return cycles
+
+
+@njit
+def _fly_guided(
+    s0: NDArray[np.float64],
+    p: NDArray[np.float64],
+    p_nominal: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl_fly: NDArray[np.float64],
+    ctrl_pred: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    max_steps: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, int]:
+    """The guided flight: (rows, per-row command and predicted miss, per-cycle records, the bank flown as (time,
+    bank) nodes, stop code, right-hand sides).
+
+    p: the flown world (its dispersions); p_nominal: what the guidance believes (no dispersion, the predictor's
+    tolerance); both stop at the terminal energy. Each cycle: measure, steer (lateral), correct (longitudinal),
+    bound (path limits), then fly the cycle through the actuator."""
+    lat_t, lon_t, e_f = g[G_TARGET_LAT], g[G_TARGET_LON], g[G_TERMINAL_ENERGY]
+    capacity = int(g[G_TABLE_NODES])
+    p_pred = p_nominal.copy()
+    p_pred[P_STOP_TIME] = 1e9
+    p_seg = p.copy()
+    case_stop_time = p[P_STOP_TIME]
+    work = np.empty_like(mode)
+    rows, aux = np.empty((2048, N_COLS)), np.empty((2048, N_AUX))
+    cycles = np.empty((256, N_CYCLE_COLS))
+    nodes = np.empty((4096, 2))  # the bank flown: every cycle's table, (time, bank)
+    n = nc = n_nodes = 0
+    t = 0.0
+    s = s0.copy()
+    bank, rate = 0.0, 0.0
+    sigma0, slope, sign = g[G_INITIAL_BANK], math.nan, 0.0
+    last_energy = math.nan
+    lift_ratio, drag_ratio = 1.0, 1.0
+    v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
+    n_rhs_total = 0
+    steps_left = max_steps
+    while True:
+        res = evaluate(t, s, p, aero, ctrl_fly, mode)
+        v = res[EV_SPEED_FPS]
+        energy = energy_height_ft(res[EV_ALTITUDE_FT], v, p[P_G0])
+        # measured lift and drag against the onboard model's: a fading-memory filter (FNPEG sec. V)
+        nominal = evaluate(t, s, p_nominal, aero, ctrl_fly, mode)
+        if g[G_FILTER] > 0.0 and nominal[EV_Q_PSF] > 1.0 and nominal[EV_CL] > 0.0:
+            measured_l = res[EV_CL] * res[EV_Q_PSF] / (nominal[EV_CL] * nominal[EV_Q_PSF])
+            measured_d = res[EV_CD] * res[EV_Q_PSF] / (nominal[EV_CD] * nominal[EV_Q_PSF])
+            lift_ratio += g[G_FILTER] * (measured_l - lift_ratio)
+            drag_ratio += g[G_FILTER] * (measured_d - drag_ratio)
+        p_pred[P_CL_MULTIPLIER], p_pred[P_CD_MULTIPLIER] = lift_ratio, drag_ratio
+        if nc > 0 and last_energy > e_f and energy < last_energy:  # the profile's value here: its line flown on
+            sigma0 += (g[G_FINAL_BANK] - sigma0) * (last_energy - energy) / (last_energy - e_f)
+        lat, lon = _ground_point(s, p)
+        to_go = _range_nmi(lat, lon, lat_t, lon_t)
+        _, _, heading = flight_angles(s[0], s[1], s[2], s[3], s[4], s[5])
+        heading_error = math.degrees(heading - _azimuth(lat, lon, lat_t, lon_t))
+        heading_error -= 360.0 * math.floor((heading_error + 180.0) / 360.0)
+        new_sign = _reversal(g, sign, heading_error, v, v0, to_go, mode[M_BANK_ACTIVE] != 0.0)
+        reversed_now = sign != 0.0 and new_sign != sign
+        sign = new_sign
+        iterations = FIRST_CYCLE_ITERATIONS if nc == 0 else int(g[G_ITERATIONS])
+        sigma0, z, slope, first, predictions, flags, used = _correct(
+            s, t, p_pred, aero, ctrl_pred, mode, work, g, sigma0, slope, sign, energy, to_go, iterations, steps_left
+        )
+        n_rhs_total += used
+        if reversed_now:
+            flags |= F_REVERSAL
+        bound = bank_bound_deg(g, heat, p, s, res)
+        if bound < sigma0:
+            flags |= F_BOUND
+        command = sign * min(sigma0, bound)
+        # shorter cycles near the target, where a cycle's turn would leave the corridor
+        cycle = min(g[G_CYCLE], max(MIN_CYCLE_S, to_go * c.FT_PER_NMI / v / FINAL_CYCLES))
+        # the command over the cycle follows the profile down to the energy expected at its end (e' = -D V / g0)
+        cycle_end_energy = max(energy - cycle * res[EV_CD] * res[EV_Q_PSF] * v / p[P_WS], e_f)
+        end_magnitude = sigma0 + (g[G_FINAL_BANK] - sigma0) * (energy - cycle_end_energy) / max(energy - e_f, 1.0)
+        end_command = sign * min(end_magnitude, bound)
+        last_energy = energy
+        cycles = _record_cycle(
+            cycles,
+            nc,
+            (t, energy, to_go, sigma0, bound, command, z, float(predictions), float(flags), lift_ratio, drag_ratio, first),
+        )
+        nc += 1
+        # --- fly the cycle ---
+        if mode[M_BANK_ACTIVE] == 0.0:  # wings level until the law takes over (the case's bank start): rolls in after
+            command = end_command = 0.0
+        end_bank, end_rate = _actuate(
+            ctrl_fly, t, cycle, bank, rate, command, end_command, g[G_RATE], g[G_ACCELERATION], capacity
+        )
+        nodes, n_nodes = _append_nodes(nodes, n_nodes, ctrl_fly)
+        p_seg[P_STOP_TIME] = min(t + cycle, case_stop_time)
+        seg, stop, used = integrate(s, p_seg, aero, ctrl_fly, mode, steps_left, t)
+        n_rhs_total += used
+        steps_left -= seg.shape[0] - 1
+        rows, aux, n = _append(rows, aux, n, seg, 0 if n == 0 else 1, command, z)
+        t = seg[-1, R_T]
+        for i in range(6):
+            s[i] = seg[-1, R_X + i]
+        bank, rate = end_bank, end_rate
+        if stop != STOP_TIME or p_seg[P_STOP_TIME] >= case_stop_time:
+            break
+        if steps_left <= 0:
+            stop = STOP_MAX_STEPS
+            break
+    return rows[:n], aux[:n], cycles[:nc], nodes[:n_nodes], stop, n_rhs_total
+
+
+@dataclass(frozen=True)
+class GuidedRecord:
+    """What a guided flight returns beside its rows: the command and predicted miss at each row, and each cycle."""
+
+    guidance: Guidance
+    rows: NDArray[np.float64]
+    aux: NDArray[np.float64]  # A_* columns, one row per row
+    cycles: NDArray[np.float64]  # K_* columns, one row per guidance cycle
+    bank_nodes: NDArray[np.float64]  # (time_s, bank_deg): the bank flown, linear between the nodes
+    stop_code: int
+    n_rhs: int
+
+    def history(self) -> dict[str, NDArray[np.float64]]:
+        return {"bank_command_deg": self.aux[:, A_COMMAND], "predicted_miss_nmi": self.aux[:, A_MISS]}
+
+    def bank_table(self) -> dict[str, NDArray[np.float64]]:
+        """The bank flown as a time table (time_s, bank_deg), linear between nodes: every cycle's actuator table,
+        the open-loop law that flies this flight again."""
+        return {"time_s": self.bank_nodes[:, 0], "bank_deg": self.bank_nodes[:, 1]}
+
+    def count(self, flag: int) -> int:
+        return int(np.sum((self.cycles[:, K_FLAGS].astype(np.int64) & flag) != 0))
+
+    def summary(self, latitude_deg: float, longitude_deg: float) -> dict[str, Any]:
+        """The guidance's part of the flight's summary, from where it ended (geodetic degrees)."""
+        g = self.guidance
+        lat, lon = np.radians([latitude_deg, g.target_latitude_deg]), np.radians([longitude_deg, g.target_longitude_deg])
+        miss = float(_range_nmi(lat[0], lon[0], lat[1], lon[1]))
+        bound = self.count(F_BOUND)
+        return {
+            "target_latitude_deg": g.target_latitude_deg,
+            "target_longitude_deg": g.target_longitude_deg,
+            "miss_nmi": miss,
+            "reached": miss <= g.reach_nmi,
+            "status": "reached" if miss <= g.reach_nmi else "not reachable",
+            "cycles": int(self.cycles.shape[0]),
+            "predictions": int(np.sum(self.cycles[:, K_PREDICTIONS])),
+            "reversals": self.count(F_REVERSAL),
+            "saturated_cycles": self.count(F_SATURATED),
+            "unconverged_cycles": self.count(F_UNCONVERGED),
+            "held_cycles": self.count(F_HELD),
+            "limit_bound_cycles": bound,
+            "limit_bound": bound > 0,
+            "final_predicted_miss_nmi": float(self.cycles[-1, K_MISS]) if len(self.cycles) else None,
+            "lift_ratio": float(self.cycles[-1, K_LIFT_RATIO]) if len(self.cycles) else 1.0,
+            "drag_ratio": float(self.cycles[-1, K_DRAG_RATIO]) if len(self.cycles) else 1.0,
+        }
+
+
+def fly_guided(
+    s0: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    guidance: Guidance,
+    heating: ReferenceHeating | CorrelationHeating | None,
+    max_steps: int,
+) -> GuidedRecord:
+    """Set up the guided flight's arrays (p of the flown world, already stopping at the terminal energy) and fly it."""
+    g = pack_guidance(guidance)
+    p_nominal = p.copy()
+    p_nominal[P_CL_MULTIPLIER] = p_nominal[P_CD_MULTIPLIER] = 1.0
+    p_nominal[P_DENSITY_DISPERSED] = 0.0
+    p_nominal[P_RTOL] = guidance.predictor_rtol
+    p_nominal[P_MAX_STEP] = PREDICTOR_MAX_STEP_S
+    ctrl_fly = guided_controls(ctrl, guidance.table_nodes, "time")
+    ctrl_pred = guided_controls(ctrl, 2, "energy")
+    rows, aux, cycles, nodes, stop, n_rhs = _fly_guided(
+        s0, p, p_nominal, aero, ctrl_fly, ctrl_pred, mode, g, heating_table(heating), max_steps
+    )
+    return GuidedRecord(guidance, rows, aux, cycles, nodes, int(stop), int(n_rhs))
