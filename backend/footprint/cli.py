@@ -44,9 +44,10 @@ def _read_json(path: Path) -> dict:
     return data
 
 
-def _request(kind: str, path: Path):
-    """The file's request of this kind, parsed once (footprint.contracts); a mistake: one line, exit 2."""
-    data = _read_json(path)
+def _request(kind: str, path: Path, data=None):
+    """The file's request of this kind, parsed once (footprint.contracts); a mistake: one line, exit 2. `data`: the
+    file's JSON, already read."""
+    data = _read_json(path) if data is None else data
     try:
         return contracts.parse(kind, data)
     except (ValidationError, InputError) as exc:
@@ -255,12 +256,17 @@ def disperse(
 ):
     """Fly a footprint study in N Monte Carlo samples of its entry, air and aerodynamics (one Dask task per chunk
     of samples): each setting's landing cloud, mean, covariance and 1/3-sigma ellipses, the footprint reached with
-    probability p, each site's probability with its 95 % interval, and every flight that did not land, counted."""
+    probability p, each site's probability with its 95 % interval, and every flight that did not land, counted.
+    A study with a guided case instead of a footprint ({"case": ..., "radius_nmi": [...]}) flies every sample with
+    its entry guidance, and open loop beside it: the miss distances, CEP, P(within R) and the spreads."""
     from contextlib import ExitStack
 
     for path, option in ((figure, "--figure"), (geojson_out, "--geojson"), (csv_out, "--csv")):
         _writable(path, option)
-    study = _request("dispersion", study_file)
+    data = _read_json(study_file)
+    if isinstance(data, dict) and "case" in data and "footprint" not in data:
+        return _guided_disperse(study_file, data, workers, scheduler, figure, geojson_out, csv_out, clouds, as_json)
+    study = _request("dispersion", study_file, data)
     dask = _dask_options(workers, scheduler, parallel.default_workers())
     with ExitStack() as stack:
         progress = stack.enter_context(_parts_bar("chunk"))
@@ -281,6 +287,62 @@ def disperse(
     if csv_out is not None:
         csv_out.write_text(dispersion.sites_csv(result))
     _answer(result, as_json, _dispersion_lines)
+
+
+def _guided_disperse(study_file, data, workers, scheduler, figure, geojson_out, csv_out, clouds, as_json) -> None:
+    from contextlib import ExitStack
+
+    study = _request("guided_dispersion", study_file, data)
+    dask = _dask_options(workers, scheduler, parallel.default_workers())
+    with ExitStack() as stack:
+        progress = stack.enter_context(_parts_bar("chunk"))
+        try:
+            stats, info = parallel.run("guided_dispersion", study, progress, **dask)
+        except OSError as exc:
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+    kind = contracts.module("guided_dispersion")
+    result = kind.to_dict(study, stats, clouds, info)
+    if figure is not None:
+        from footprint.pictures.figures import guided_dispersion_figure, save
+
+        save(guided_dispersion_figure(result), figure)
+    if geojson_out is not None:
+        from footprint.pictures.geojson import guided_dispersion_collection
+
+        geojson_out.write_text(strict_json(guided_dispersion_collection(result)))
+    if csv_out is not None:
+        csv_out.write_text(kind.within_csv(result))
+    _answer(result, as_json, _guided_dispersion_lines)
+
+
+def _guided_dispersion_lines(r: dict) -> list[str]:
+    run, t = r["run"], r["target"]
+    where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"
+    out = [
+        f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}) in {run['seconds']:.1f} s {where}; target "
+        f"{t['latitude_deg']:.3f}, {t['longitude_deg']:.3f} ({t['downrange_nmi']:,.0f} nmi down-range, "
+        f"{t['crossrange_nmi']:,.0f} cross-range); nominal guided miss {r['nominal']['guidance']['miss_nmi']:.2f} nmi"
+    ]
+    radii = [w["radius_nmi"] for w in r["guided"]["within"]]
+    out.append(
+        f"  {'':<10} {'landed':>7} {'mean nmi':>9} {'CEP':>8} {'p99':>8}"
+        + "".join(f" {f'P<={x:g}':>16}" for x in radii)
+    )
+    for mode in ("guided", "open_loop"):
+        if mode not in r:
+            continue
+        m, miss = r[mode], r[mode]["miss_nmi"] or {}
+        cells = "".join(
+            f" {w['probability']:>6.3f} ({w['interval'][0]:.2f}-{w['interval'][1]:.2f})" for w in m["within"]
+        )
+        mean, cep, p99 = (miss.get(k, float("nan")) for k in ("mean", "cep", "p99"))
+        out.append(f"  {mode:<10} {m['landed']:>7,} {mean:>9.2f} {cep:>8.2f} {p99:>8.2f}{cells}")
+        notes = [f"{m[k]:,} {what}" for k, what in (("saturated_samples", "saturated the bank"),
+                 ("limit_bound_samples", "bound by a path limit")) if m.get(k)]  # fmt: skip
+        notes += [f"{v:,} exceeded {k}" for k, v in m["violations"].items() if v]
+        if notes:
+            out.append("    " + "; ".join(notes))
+    return out
 
 
 def _dispersion_lines(r: dict) -> list[str]:

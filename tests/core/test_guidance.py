@@ -54,11 +54,15 @@ def test_the_guided_vehicle_lands_within_a_mile_of_its_target(flight_5000_600):
     assert s["guidance"]["reversals"] >= 2  # a 600 nmi cross-range flown with bank reversals, not one turn
 
 
-def test_the_bank_flown_flies_again_open_loop_to_the_same_landing(flight_5000_600):
-    """Two routes: the guided loop, and its flown bank as a time table flown open loop by fly()."""
-    s, table = flight_5000_600.summary, flight_5000_600.bank_table
+def test_the_bank_flown_flies_again_open_loop_to_the_same_landing():
+    """Two routes: the guided loop, and its flown bank as a time table flown open loop by fly(). Both at rtol 1e-11:
+    this open-loop flight amplifies the integrator's error (at the default 1e-9 the two land 1.7 nmi apart, at
+    1e-10 0.13 nmi, at 1e-11 0.02 nmi; the guided loop corrects its own)."""
+    tight = {"integrator": {"rtol": 1e-11}}
+    flight = fly(guided(5000.0, 600.0, base={**LOD189, **tight}))
+    s, table = flight.summary, flight.bank_table
     assert np.all(np.diff(table["time_s"]) > 0)
-    case = copy.deepcopy(LOD189)
+    case = copy.deepcopy({**LOD189, **tight})
     case["bank"] = {"law": "table", "time_s": table["time_s"].tolist(), "bank_deg": table["bank_deg"].tolist()}
     case["stop"] = dict(case["stop"], energy_ft=s["final_energy_ft"])
     again = fly(case).summary
@@ -100,7 +104,10 @@ def test_mirrored_targets_give_mirrored_flights():
     base["planet"] = {"rotating": False, "oblate": False, "atmosphere": {"model": "ardc1959"}}
     left, right = fly(guided(4500.0, 500.0, base)).summary, fly(guided(4500.0, -500.0, base)).summary
     gap = distance_nmi(
-        -left["final_latitude_deg"], left["final_longitude_deg"], right["final_latitude_deg"], right["final_longitude_deg"]
+        -left["final_latitude_deg"],
+        left["final_longitude_deg"],
+        right["final_latitude_deg"],
+        right["final_longitude_deg"],
     )
     assert gap <= 0.2
     assert left["guidance"]["reversals"] == right["guidance"]["reversals"]

@@ -20,6 +20,7 @@ MODULES = {
     "transform": "footprint.contracts.transform",
     "reach": "footprint.contracts.reach",
     "dispersion": "footprint.contracts.dispersion",
+    "guided_dispersion": "footprint.contracts.guided_dispersion",
 }  # kind -> its contract module
 
 

@@ -134,18 +134,58 @@ class DensityDispersion(Strict):
         return self
 
 
-class DispersionStudy(Strict):
-    description: str | None = Field(default=None, max_length=4_000)
-    footprint: FootprintStudy
+class DispersedInputs(Strict):
+    """What every dispersed study draws: how many samples, how, and the spreads of the entry, vehicle and air."""
+
     samples: int = Field(default=1_000, ge=1, le=MAX_SAMPLES)
     design: Literal["sobol", "lhs", "random"] = "sobol"
     seed: int = Field(default=1, ge=0, le=2**63 - 1)
     entry: EntryDispersion = EntryDispersion()
     vehicle: VehicleDispersion = VehicleDispersion()
     density: DensityDispersion | None = None
+    chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies
+
+    def distributions(self, spec: FlightSpec) -> dict[str, disp.Distribution]:
+        """The core's distributions of the dispersed inputs, about the nominal spec's values."""
+        nominal = {
+            "altitude_ft": spec.entry.altitude_ft,
+            "velocity_fps": spec.entry.velocity_fps,
+            "gamma_deg": spec.entry.gamma_deg,
+            "heading_deg": spec.entry.heading_deg,
+            "latitude_deg": spec.entry.latitude_deg,
+            "longitude_deg": spec.entry.longitude_deg,
+            "cl_multiplier": 1.0,
+            "cd_multiplier": 1.0,
+            "wing_loading_psf": spec.vehicle.wing_loading_psf,
+        }
+        given = self.entry.model_dump(exclude_none=True) | self.vehicle.model_dump(exclude_none=True)
+        groups = {**{k: self.entry for k in disp.ENTRY_INPUTS}, **{k: self.vehicle for k in disp.VEHICLE_INPUTS}}
+        return {name: getattr(groups[name], name).about(nominal[name]) for name in given}
+
+    def draw(self, spec: FlightSpec) -> disp.Samples:
+        """The samples (the same bits wherever they are drawn); a core error names the study's field."""
+        density = (
+            None
+            if self.density is None
+            else disp.GaussMarkovDensity(
+                tuple(self.density.std) if isinstance(self.density.std, list) else self.density.std,
+                self.density.correlation_length_ft,
+            )
+        )
+        try:
+            return disp.draw(self.distributions(spec), self.samples, self.seed, self.design, density)
+        except InputError as exc:  # the core names its own inputs: say the study's field
+            name = exc.field.removeprefix("distributions.")
+            raise InputError(
+                f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field, exc.message
+            ) from None
+
+
+class DispersionStudy(DispersedInputs):
+    description: str | None = Field(default=None, max_length=4_000)
+    footprint: FootprintStudy
     confidence: list[Annotated[float, Range(0.01, 0.999)]] = Field(default=[0.99], min_length=1, max_length=5)
     sites: list[Site] = Field(default=[], max_length=1_000)
-    chunk_samples: int | None = Field(default=None, ge=1, le=100_000)  # samples a task flies (default ~1,000 flights)
     histories: list[int] = Field(default=[], max_length=MAX_HISTORY_SAMPLES)  # samples flown again in full
 
     @model_validator(mode="after")
@@ -183,23 +223,6 @@ class DispersionStudy(Strict):
 
         return len(mc.flights(*control_family(self.footprint.to_settings())))
 
-    def distributions(self, spec: FlightSpec) -> dict[str, disp.Distribution]:
-        """The core's distributions of the dispersed inputs, about the nominal spec's values."""
-        nominal = {
-            "altitude_ft": spec.entry.altitude_ft,
-            "velocity_fps": spec.entry.velocity_fps,
-            "gamma_deg": spec.entry.gamma_deg,
-            "heading_deg": spec.entry.heading_deg,
-            "latitude_deg": spec.entry.latitude_deg,
-            "longitude_deg": spec.entry.longitude_deg,
-            "cl_multiplier": 1.0,
-            "cd_multiplier": 1.0,
-            "wing_loading_psf": spec.vehicle.wing_loading_psf,
-        }
-        given = self.entry.model_dump(exclude_none=True) | self.vehicle.model_dump(exclude_none=True)
-        groups = {**{k: self.entry for k in disp.ENTRY_INPUTS}, **{k: self.vehicle for k in disp.VEHICLE_INPUTS}}
-        return {name: getattr(groups[name], name).about(nominal[name]) for name in given}
-
     def chunks(self) -> list[tuple[int, int]]:
         """[first, end) sample ranges, one task each."""
         size = self.chunk_samples or max(1, CHUNK_FLIGHTS // self.flights_per_sample())
@@ -231,22 +254,7 @@ class Plan:
 
     @functools.cached_property
     def samples(self) -> disp.Samples:
-        study = self.study
-        density = (
-            None
-            if study.density is None
-            else disp.GaussMarkovDensity(
-                tuple(study.density.std) if isinstance(study.density.std, list) else study.density.std,
-                study.density.correlation_length_ft,
-            )
-        )
-        try:
-            return disp.draw(study.distributions(self.spec), study.samples, study.seed, study.design, density)
-        except InputError as exc:  # the core names its own inputs: say the study's field
-            name = exc.field.removeprefix("distributions.")
-            raise InputError(
-                f"{GROUP.get(name, 'density')}.{name}" if name in GROUP else exc.field, exc.message
-            ) from None
+        return self.study.draw(self.spec)
 
     def fly(self, first: int, end: int, on_progress: OnProgress | None = None) -> mc.Landings:
         return mc.fly_samples(self.spec, self.flights, self.samples[first:end], first, on_progress)

@@ -60,7 +60,6 @@ from footprint.core.dynamics import (
     P_RP,
     P_RTOL,
     P_SCALE_H,
-    P_STOP_ENERGY,
     P_STOP_TIME,
     P_WS,
     energy_height_ft,
@@ -104,7 +103,7 @@ class Guidance:
     terminal_velocity_fps: float = 2_500.0
     cycle_s: float = 5.0  # s of flight between guidance cycles
     initial_bank_deg: float = 45.0  # the corrector's first guess of sigma0
-    final_bank_deg: float = 45.0  # sigma_f, the profile's magnitude at e_f
+    final_bank_deg: float = 25.0  # sigma_f, the profile's magnitude at e_f (lower: more authority left at the end)
     min_bank_deg: float = 0.0  # the corrector's range of sigma0
     max_bank_deg: float = 85.0
     iterations: int = 2  # predictions after the first, per cycle
@@ -305,7 +304,7 @@ def _heat_density_limit(heat: NDArray[np.float64], q_max: float, v: float, alpha
             return NO_LIMIT_RHO
         q_cw = q_max / drive_hot / _ratio_at(heat, alpha_deg) * drive_cold  # cold-wall rate that gives q_max
         root = q_cw / (DKR_Q_BTU_FT2_S / math.sqrt(heat[1]) * (v / DKR_V_FPS) ** DKR_V_EXPONENT)
-        return DKR_RHO_SL_SLUG_FT3 * root * root
+        return float(DKR_RHO_SL_SLUG_FT3 * root * root)
     if kind == H_CORRELATION:  # q = C rho^a V^b f(alpha)
         n = int(heat[5])
         f = 0.0
@@ -386,7 +385,9 @@ def bank_bound_deg(
     w = math.sqrt(max(excess, 0.0) / scale_h)
     lift_at_limit = res[EV_CL] * lift_per_cl * rho_lim / rho
     # the boundary moves as the vehicle slows: h_min' = -H dln(rho_lim)/dV V', V' = -D - g sin(gamma)
-    rho_lim_slower = density_limit(g, heat, v - BOUNDARY_DV_FPS, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS])
+    rho_lim_slower = density_limit(
+        g, heat, v - BOUNDARY_DV_FPS, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS]
+    )
     v_dot = -res[EV_CD] * lift_per_cl - p[P_MU] / (r * r) * res[EV_SIN_GAMMA]
     boundary_rate = -scale_h * math.log(rho_lim / rho_lim_slower) / BOUNDARY_DV_FPS * v_dot
     cos_bank = (excess - 2.0 * g[G_LIMIT_DAMPING] * w * (v * res[EV_SIN_GAMMA] - boundary_rate)) / lift_at_limit
@@ -424,11 +425,14 @@ def _actuate(
     for k in range(1, steps + 1):
         command = command_start + command_rate * k * dt
         error = command - (bank + rate * dt)
-        wanted = command_rate + math.copysign(min(2.0 * rate_max, math.sqrt(2.0 * acceleration_max * abs(error))), error)
+        wanted = command_rate + math.copysign(
+            min(2.0 * rate_max, math.sqrt(2.0 * acceleration_max * abs(error))), error
+        )
         wanted = min(max(wanted, -rate_max), rate_max)
         new_rate = rate + min(max(wanted - rate, -acceleration_max * dt), acceleration_max * dt)
         new_bank = bank + 0.5 * (rate + new_rate) * dt
-        if (command - new_bank) * (command - command_rate * dt - bank) <= 0.0:  # reached: lock on the command
+        reached = (command - new_bank) * (command - command_rate * dt - bank) <= 0.0
+        if reached and abs(command_rate) <= rate_max:  # lock on the command (one it can follow)
             new_bank, new_rate = command, min(max(command_rate, -rate_max), rate_max)
         if n >= 2 and abs((new_bank - ys[n - 1]) / dt - (ys[n - 1] - ys[n - 2]) / (xs[n - 1] - xs[n - 2])) < 1e-9:
             n -= 1  # the last node lies on the line from the one before to this one
@@ -471,7 +475,13 @@ def _predict(
 
 @njit
 def _append(
-    rows: NDArray[np.float64], aux: NDArray[np.float64], n: int, new: NDArray[np.float64], first: int, command: float, miss: float
+    rows: NDArray[np.float64],
+    aux: NDArray[np.float64],
+    n: int,
+    new: NDArray[np.float64],
+    first: int,
+    command: float,
+    miss: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
     m = new.shape[0] - first
     if n + m > rows.shape[0]:
@@ -676,7 +686,20 @@ def _fly_guided(
         cycles = _record_cycle(
             cycles,
             nc,
-            (t, energy, to_go, sigma0, bound, command, z, float(predictions), float(flags), lift_ratio, drag_ratio, first),
+            (
+                t,
+                energy,
+                to_go,
+                sigma0,
+                bound,
+                command,
+                z,
+                float(predictions),
+                float(flags),
+                lift_ratio,
+                drag_ratio,
+                first,
+            ),
         )
         nc += 1
         # --- fly the cycle ---
@@ -729,7 +752,10 @@ class GuidedRecord:
     def summary(self, latitude_deg: float, longitude_deg: float) -> dict[str, Any]:
         """The guidance's part of the flight's summary, from where it ended (geodetic degrees)."""
         g = self.guidance
-        lat, lon = np.radians([latitude_deg, g.target_latitude_deg]), np.radians([longitude_deg, g.target_longitude_deg])
+        lat, lon = (
+            np.radians([latitude_deg, g.target_latitude_deg]),
+            np.radians([longitude_deg, g.target_longitude_deg]),
+        )
         miss = float(_range_nmi(lat[0], lon[0], lat[1], lon[1]))
         bound = self.count(F_BOUND)
         return {

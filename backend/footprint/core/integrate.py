@@ -51,11 +51,11 @@ from footprint.core.dynamics import (
     M_PULLOUT_T,
     M_REF_ANGLE,
     M_TURN_DONE_DEG,
+    P_G0,
     P_MAX_STEP,
     P_RE,
     P_RTOL,
     P_SKIP_ALT,
-    P_G0,
     P_STOP_ALT,
     P_STOP_ENERGY,
     P_STOP_TIME,
@@ -280,6 +280,8 @@ def integrate(
         if h < 1e-9:
             stop = STOP_STEP_UNDERFLOW
             break
+        if t + h > p[P_STOP_TIME] > t:  # end the step on the stop time: no interpolated state at a guidance cycle
+            h = p[P_STOP_TIME] - t
         for i in range(6):
             ys[i] = s[i] + h * A21 * k1[i]
         _derivative(t + C2 * h, ys, p, aero, ctrl, mode, k2)

@@ -413,18 +413,24 @@ def _flight(
             "ellipses": ellipses,
         }
     for key, col in (("max_temperature_R", TEMPERATURE), ("heat_load_btu_ft2", HEAT_LOAD)):
-        x = values[landed, col]
-        x = x[np.isfinite(x)]
-        if x.size:
-            out[key] = {
-                "mean": float(x.mean()),
-                "std": float(x.std(ddof=1)) if x.size > 1 else 0.0,
-                "min": float(x.min()),
-                "p50": float(np.percentile(x, 50)),
-                "p99": float(np.percentile(x, 99)),
-                "max": float(x.max()),
-            }
+        if (sp := spread(values[landed, col])) is not None:
+            out[key] = sp
     return out
+
+
+def spread(x: NDArray[np.float64]) -> dict[str, float] | None:
+    """mean, standard deviation (n - 1), min, median, 99th percentile and max of the finite values; None if none."""
+    x = x[np.isfinite(x)]
+    if not x.size:
+        return None
+    return {
+        "mean": float(x.mean()),
+        "std": float(x.std(ddof=1)) if x.size > 1 else 0.0,
+        "min": float(x.min()),
+        "p50": float(np.percentile(x, 50)),
+        "p99": float(np.percentile(x, 99)),
+        "max": float(x.max()),
+    }
 
 
 def _grid(

@@ -474,7 +474,7 @@ def _summary(
         max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
     i_po = _pullout_row(f)  # an event row
-    summary = {
+    summary: dict[str, Any] = {
         "downrange_nmi": float(track.downrange_nmi[-1]),
         "crossrange_nmi": float(track.crossrange_nmi[-1]),
         "flight_time_s": float(rows[-1, R_T]),

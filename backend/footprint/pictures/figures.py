@@ -172,6 +172,61 @@ def dispersion_figure(result, title=None, ax=None) -> Figure:
     return fig
 
 
+def guided_dispersion_figure(result: dict, title=None) -> Figure:
+    """A guided dispersion (contracts.guided_dispersion.to_dict): left, both landing clouds about the entry with the
+    target; right, the guided landings about the target (down-range and cross-range offsets) with the miss circles
+    of the radii asked and the 3-sigma ellipse, titled with P(within R) and its interval."""
+    from footprint.core.monte_carlo import ellipse
+
+    fig = Figure(figsize=(12.0, 5.5), layout="constrained")
+    wide, near = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    t, clouds = result["target"], result["clouds"]
+    styles = {"open_loop": ("0.6", "open loop (nominal guided bank)"), "guided": ("tab:blue", "guided")}
+    for mode in ("open_loop", "guided"):
+        if mode in clouds:
+            color, label = styles[mode]
+            c = clouds[mode]
+            d = np.array([np.nan if v is None else v for v in c["downrange_nmi"]], float)
+            x = np.array([np.nan if v is None else v for v in c["crossrange_nmi"]], float)
+            wide.plot(d, x, ".", color=color, ms=2.0, ls="none", label=f"{label}: {np.isfinite(d).sum():,} landings",
+                      gid=f"cloud_{mode}", rasterized=True)  # fmt: skip
+            if mode == "guided":
+                near.plot(d - t["downrange_nmi"], x - t["crossrange_nmi"], ".", color=color, ms=3.0, ls="none",
+                          label="guided landings", gid="cloud_near", rasterized=True)  # fmt: skip
+    wide.plot(t["downrange_nmi"], t["crossrange_nmi"], "r*", ms=12, label="target", gid="target", zorder=5)
+    wide.legend(fontsize="small", loc="best")
+    _range_axes(wide, "Landings about the entry")
+    a = np.linspace(0.0, 2.0 * np.pi, 181)
+    for r, ls in zip(result["radii_nmi"], cycle(["-", "--", ":", "-."])):
+        near.plot(r * np.cos(a), r * np.sin(a), ls=ls, color="k", lw=0.9, label=f"{r:g} nmi", gid="miss_circle")
+    landing = result["guided"].get("landing")
+    if landing is not None:
+        mean = np.array([landing["mean_downrange_nmi"] - t["downrange_nmi"],
+                         landing["mean_crossrange_nmi"] - t["crossrange_nmi"]])  # fmt: skip
+        ex, ey = ellipse(mean, np.array(landing["covariance_nmi2"]), 3.0)
+        near.plot(ex, ey, "-", color="tab:orange", lw=1.2, label=r"3$\sigma$ ellipse", gid="ellipse")
+    near.plot(0.0, 0.0, "r+", ms=14, mew=1.5, gid="target_near", zorder=5)
+    miss = result["guided"]["miss_nmi"] or {}
+    half = max(1.5 * miss.get("max", 0.0), 1.2 * min(result["radii_nmi"]))  # the landings, and the nearest circle
+    near.set_xlim(-half, half)
+    near.set_ylim(-half, half)
+    near.set_aspect("equal")
+    near.legend(fontsize="small", loc="upper right")
+    near.set_xlabel("Down-range past the target (n.mi.)")
+    near.set_ylabel("Cross-range left of the target (n.mi.)")
+    near.grid(True, color="0.92", lw=0.6)
+    words = "; ".join(
+        f"P(<= {w['radius_nmi']:g} nmi) {_probability(w['probability'])} [{lo:.3f}, {hi:.3f}]"
+        for w in result["guided"]["within"]
+        for lo, hi in [w["interval"]]
+    )
+    near.set_title(fill(f"Guided: CEP {miss.get('cep', float('nan')):.2f} nmi, p99 {miss.get('p99', float('nan')):.2f}"
+                        f" nmi; {words}", 70), fontsize="small")  # fmt: skip
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
 def _probability(p: float) -> str:
     """Two decimals, three below 0.01 (so a rare reach does not read as 0.00); 0 and 1 exactly."""
     return "0" if p == 0.0 else "1" if p == 1.0 else f"{p:.3f}" if p < 0.01 else f"{p:.2f}"

@@ -149,3 +149,49 @@ def dispersion_collection(result: dict) -> dict:
         for s in result["sites"]
     ]
     return {"type": "FeatureCollection", "features": features}
+
+
+def guided_dispersion_collection(result: dict) -> dict:
+    """A guided dispersion's result (contracts.guided_dispersion.to_dict) as GeoJSON features: the target with each
+    mode's probability of landing within each radius, the radii's circles about it, the nominal guided track, and
+    each mode's 3-sigma landing ellipse. The landing clouds stay in the JSON."""
+    t, entry = result["target"], result["entry"]
+    within = {mode: result[mode]["within"] for mode in ("guided", "open_loop") if mode in result}
+    features = [
+        {"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}},
+        {"type": "Feature", "geometry": _point(t), "properties": {"kind": "target", **t, "within": within}},
+        {
+            "type": "Feature",
+            "geometry": line(result["nominal_flight"]["latitude_deg"], result["nominal_flight"]["longitude_deg"]),
+            "properties": {"kind": "nominal_guided_track", "miss_nmi": result["nominal"]["guidance"]["miss_nmi"]},
+        },
+    ]
+    for radius in result["radii_nmi"]:
+        lat, lon = circle(t["latitude_deg"], t["longitude_deg"], radius)
+        features.append(
+            {"type": "Feature", "geometry": line(lat, lon), "properties": {"kind": "miss_circle", "radius_nmi": radius}}
+        )
+    for mode in within:
+        e = result[mode].get("landing", {}).get("ellipse_3sigma")
+        if e is not None:
+            features.append(
+                {
+                    "type": "Feature",
+                    "geometry": line(e["latitude_deg"], e["longitude_deg"]),
+                    "properties": {"kind": "ellipse", "mode": mode, "sigma": 3.0},
+                }  # fmt: skip
+            )
+    return {"type": "FeatureCollection", "features": features}
+
+
+def circle(lat_deg: float, lon_deg: float, radius_nmi: float, points: int = 73) -> tuple[np.ndarray, np.ndarray]:
+    """A small circle of radius_nmi (on R') about a point: latitudes and longitudes, closed."""
+    from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
+
+    t = np.linspace(0.0, 2.0 * np.pi, points)
+    a = radius_nmi / MEAN_RADIUS_NMI  # the circle's angular radius, as down/cross-range about a local frame
+    return latlon_from_ranges(
+        MEAN_RADIUS_NMI * np.arctan2(np.sin(a) * np.cos(t), np.cos(a)),
+        MEAN_RADIUS_NMI * np.arcsin(np.sin(a) * np.sin(t)),
+        lat_deg, lon_deg, 0.0,
+    )  # fmt: skip
