@@ -78,7 +78,7 @@ class Vehicle(Base):
 class Job(Base):
     __tablename__ = "jobs"
     id: Mapped[str] = mapped_column(String(36), primary_key=True)
-    kind: Mapped[str] = mapped_column(String(16))
+    kind: Mapped[str] = mapped_column(String(32))  # a contracts.MODULES kind
     name: Mapped[str | None] = mapped_column(String(JOB_NAME_CHARS))
     status: Mapped[str] = mapped_column(String(16), index=True)
     progress: Mapped[float] = mapped_column(Float, default=0.0)
