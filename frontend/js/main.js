@@ -7,6 +7,7 @@ import { exportCSV, exportDispersion, exportGeoJSON, exportPNG } from "./exporti
 import { el, fmt } from "./format.js";
 import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
 import { GlobeView } from "./globe.js";
+import { GuidedPanel, drawBankPlot } from "./guided.js";
 import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
 import { drawHistories } from "./histories.js";
@@ -32,7 +33,8 @@ function toast(message, isError = false) {
   toast.timer = setTimeout(() => { t.hidden = true; }, isError ? 6000 : 3000);
 }
 
-const mapView = new MapView($("map"), { onClick: (latlng) => sites.onMapClick(latlng) });
+// a click picks the guided target while its toggle is on, else it may add a site
+const mapView = new MapView($("map"), { onClick: (latlng) => guided.onMapClick(latlng) || sites.onMapClick(latlng) });
 const globe = new GlobeView($("globe"));
 const sites = new SitesPanel({ onChange: () => redrawSites(), onReach: (result) => showReach(result),
                                selectedFootprint: () => selected(), toast });
@@ -41,6 +43,8 @@ const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOpt
 const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.setDispersionLayer(kind, on); drawGlobeDispersion(); },
                                               onShowJob: (id) => showDispersionJob(id).catch(fail),
                                               onDownload: (format) => exportDispersion(state.dispersion, format).catch(fail) });
+const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(false),
+                                 onFlight: () => { $("plot-guided").disabled = false; setPlot("guided"); } });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
 const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
@@ -107,6 +111,7 @@ function redraw(fp) {
 
 function redrawSites() {
   mapView.setSites(sites.shown());
+  guided.setSites(sites.sites);
   if (state.dispersion) drawDispersion(); // a site of the study is named on the map unless it is a stored one
   globe.setData(visible(), sites.shown());
 }
@@ -190,7 +195,8 @@ async function showJobFootprints(job) {
 
 // ------------------------------------------------------------------------------------------ plot, optimum
 const PLOTS = { range: () => drawRangePlot($("plot"), selected()), optimum: () => drawHistories($("plot"), state.optimum),
-                reach: () => drawTimeline($("plot"), state.reach), dispersion: () => drawDispersionPlot($("plot"), state.dispersion) };
+                reach: () => drawTimeline($("plot"), state.reach), dispersion: () => drawDispersionPlot($("plot"), state.dispersion),
+                guided: () => drawBankPlot($("plot"), guided.flight) };
 const drawPlot = () => PLOTS[state.plot]();
 
 function setPlot(which) {
@@ -250,6 +256,7 @@ $("plot-range").addEventListener("click", () => setPlot("range"));
 $("plot-dispersion").addEventListener("click", () => setPlot("dispersion"));
 $("plot-optimum").addEventListener("click", () => setPlot("optimum"));
 $("plot-reach").addEventListener("click", () => setPlot("reach"));
+$("plot-guided").addEventListener("click", () => setPlot("guided"));
 
 // ---------------------------------------------------------------------------------- live geometry
 const CONTROLS = [["node-longitude", "nodeLongitudeDeg"], ["inclination", "inclinationDeg"], ["step-downrange", "stepDownrangeNmi"]];
@@ -395,5 +402,5 @@ async function start() {
   console.info(`map page ready in ${Math.round(performance.now())} ms`);
 }
 
-window.footprintApp = { state, mapView, globe, sites, jobs, setView, select, setVisible, showDispersionJob,
+window.footprintApp = { state, mapView, globe, sites, jobs, guided, setView, select, setVisible, showDispersionJob,
                         ready: start().catch(fail) };

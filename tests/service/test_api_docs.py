@@ -75,7 +75,7 @@ def test_the_openapi_document_validates_and_types_every_job_and_study_kind(api):
     validate(spec)
     jobs = spec["paths"]["/api/jobs"]["post"]["requestBody"]["content"]["application/json"]["schema"]
     assert jobs["discriminator"]["propertyName"] == "kind"
-    assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach", "dispersion"}
+    assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion"}
     study = spec["components"]["schemas"]["FootprintJob"]["properties"]["study"]
     assert study["discriminator"]["propertyName"] == "method"
     assert set(study["discriminator"]["mapping"]) == {
@@ -162,5 +162,5 @@ def test_every_json_body_is_read_by_the_framework_as_its_contract_model():
     assert body_type(sites.router, "/reach") is ReachRequest
     job_models = get_args(body_type(jobs.submit_router(), "/jobs"))
     kinds = {get_args(m.model_fields["kind"].annotation)[0]: m.model_fields["study"].annotation for m in job_models}
-    assert set(kinds) == {"footprint", "optimize", "sweep", "reach", "dispersion"}
+    assert set(kinds) == {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion"}
     assert kinds["reach"] is ReachRequest

@@ -1,0 +1,450 @@
+// Guided entry (issue 27 item 5): a target from its latitude and longitude, a click on the map or a stored landing
+// site; one guided flight to it (POST /api/trajectories: its ground track, miss and bank history) and a guided
+// dispersion job (POST /api/jobs: the guided and open-loop landing clouds about the miss circle of radius R).
+/* global L */
+import { api } from "./api.js";
+import { levelWords, percent } from "./dispersion.js";
+import { clearFieldErrors, inputForField, showFieldError } from "./fielderrors.js";
+import { el, fmt } from "./format.js";
+import { copyOffsets, unwrapLongitudes, wrapLongitude } from "./geometry.js";
+import { buildCase } from "./jobs.js";
+import { gridAndTicks, niceTicks } from "./rangeplot.js";
+
+const $ = (id) => document.getElementById(id);
+const SVG_NS = "http://www.w3.org/2000/svg";
+const EARTH_RADIUS_NMI = 3440.07; // R', the sphere of the report's ranges (eqs. 8-11) and of the service's miss
+const CIRCLE_STEP_DEG = 5; // the miss circle's vertices: every 5 deg of bearing
+const POLL_MS = 1000;
+const DONE = ["succeeded", "failed", "cancelled"];
+const TARGET_BOX_PX = 240; // "Zoom to target" fits the circle into a box this big (up to the map's max zoom)
+// the dispersion of issue 27 item 5: entry state, aerodynamics and density spread about the case's nominal
+const SPREADS = {
+  entry: { gamma_deg: { normal: { std: 0.05 } }, velocity_fps: { normal: { std: 15 } }, heading_deg: { normal: { std: 0.05 } } },
+  vehicle: { cl_multiplier: { truncated_normal: { std: 0.03, sigmas: 3 } },
+             cd_multiplier: { truncated_normal: { std: 0.03, sigmas: 3 } } },
+  density: { std: 0.05, correlation_length_ft: 30000 },
+};
+/** The guided layers' colours (CSS px), the map's and the bank plot's (styles.css has the same for the plot). */
+export const GUIDED_STYLE = { track: "#b00068", guided: "#b00068", openLoop: "#7b8794", circle: "#b00068" };
+
+/** A distance for people: two decimals under 10 nmi (a guided miss), whole miles past 100. */
+export const nmiWords = (x) => (x == null ? "–" : fmt(x, x < 10 ? 2 : x < 100 ? 1 : 0));
+
+/** The points R nmi from a centre at each bearing 0..360 deg (a geodesic small circle on the sphere of R'), their
+ * longitudes continuous about the centre's. */
+export function smallCircle(latDeg, lonDeg, radiusNmi) {
+  const rad = Math.PI / 180, d = radiusNmi / EARTH_RADIUS_NMI, p1 = latDeg * rad, out = [];
+  for (let b = 0; b <= 360; b += CIRCLE_STEP_DEG) {
+    const t = b * rad;
+    const p2 = Math.asin(Math.sin(p1) * Math.cos(d) + Math.cos(p1) * Math.sin(d) * Math.cos(t));
+    const dl = Math.atan2(Math.sin(t) * Math.sin(d) * Math.cos(p1), Math.cos(d) - Math.sin(p1) * Math.sin(p2));
+    out.push([p2 / rad, lonDeg + dl / rad]);
+  }
+  return out;
+}
+
+/** A number input as the service would check it, so that a bad target never leaves the page: {value} or {error}
+ * (worded with the field's path, as the service words it, for showFieldError to put the label in). */
+function checkedNumber(id, lo, hi, unit) {
+  const input = $(id), text = input.value.trim(), value = Number(text), field = input.dataset.field;
+  if (text === "" || !Number.isFinite(value)) return { error: { field, message: `${field}: give a number` } };
+  if (value < lo || value > hi) {
+    return { error: { field, message: `${field}: ${text} is outside the allowed range ${lo} to ${hi} ${unit}` } };
+  }
+  return { value };
+}
+/** A number, or the text as it is for the service to name (as the job form sends it). */
+const numberOrText = (id) => { const v = $(id).value.trim(); return v !== "" && Number.isFinite(+v) ? +v : v; };
+
+export class GuidedPanel {
+  constructor({ mapView, onFlight, onPick, toast }) {
+    this.mapView = mapView;
+    this.map = mapView.map;
+    this.onFlight = onFlight; // a bank history to plot
+    this.onPick = onPick; // picking on the map: the sites panel stops adding sites
+    this.toast = toast;
+    this.form = $("guided-form");
+    this.flight = null; // {time_s, bank_deg, bank_command_deg, predicted_miss_nmi?, title}: the bank plot's
+    this.siteName = null; // the stored site the target came from, else null
+    this.sites = [];
+    this.anchorLon = null; // the shown track's end: the target and clouds go on its copy of the map
+    this.picking = false;
+    this.resultLayer = L.layerGroup().addTo(this.map);
+    this.targetLayer = L.layerGroup().addTo(this.map);
+    this.addLegend();
+    this.form.addEventListener("submit", (e) => { e.preventDefault(); this.fly(); });
+    $("g-disperse").addEventListener("click", () => this.disperse());
+    $("g-pick").addEventListener("click", () => this.setPicking(!this.picking));
+    $("g-zoom").addEventListener("click", () => this.zoomToTarget());
+    $("g-site").addEventListener("change", () => this.chooseSite($("g-site").value));
+    for (const id of ["g-latitude", "g-longitude"]) $(id).addEventListener("input", () => this.typed());
+    $("site-click-toggle").addEventListener("click", () => this.setPicking(false)); // one use of a map click at a time
+    $("guided-jobs").addEventListener("click", (e) => {
+      const id = e.target.closest("button[data-cancel]")?.dataset.cancel;
+      if (id) api(`/api/jobs/${id}`, { method: "DELETE" }).catch((err) => this.toast(err.message, true));
+    });
+    this.drawTarget();
+  }
+
+  // ------------------------------------------------------------------------------------------- the target
+  setPicking(on) {
+    this.picking = on;
+    $("g-pick").setAttribute("aria-pressed", String(on));
+    this.map.getContainer().classList.toggle("picking-target", on);
+    if (on) this.onPick?.();
+  }
+
+  /** A map click while picking sets the target (and is not a new site); false: not ours. */
+  onMapClick(latlng) {
+    if (!this.picking) return false;
+    $("g-latitude").value = latlng.lat.toFixed(4);
+    $("g-longitude").value = wrapLongitude(latlng.lng).toFixed(4);
+    this.typed();
+    return true;
+  }
+
+  typed() {
+    this.siteName = null; // a target moved by hand is no longer the site's
+    $("g-site").value = "";
+    this.drawTarget();
+  }
+
+  /** The stored sites to choose from (their names as text), the chosen one kept when it still exists. */
+  setSites(sites) {
+    this.sites = sites;
+    const chosen = $("g-site").value;
+    $("g-site").replaceChildren(el("option", { value: "" }, sites.length ? "stored sites…" : "no stored sites"),
+      ...sites.map((s) => el("option", { value: String(s.id) },
+                             `${s.name} · ${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°`)));
+    if (sites.some((s) => String(s.id) === chosen)) $("g-site").value = chosen;
+  }
+
+  chooseSite(id) {
+    const s = this.sites.find((t) => String(t.id) === id);
+    if (!s) return;
+    $("g-latitude").value = String(s.latitude_deg);
+    $("g-longitude").value = String(s.longitude_deg);
+    this.siteName = s.name;
+    this.drawTarget();
+  }
+
+  /** The target of the inputs, or null with each bad input's message next to it (nothing is sent then). */
+  readTarget() {
+    const lat = checkedNumber("g-latitude", -90, 90, "deg"), lon = checkedNumber("g-longitude", -180, 180, "deg");
+    for (const { error } of [lat, lon]) if (error) showFieldError(this.form, error, $("guided-error"));
+    return lat.error || lon.error ? null : { latitude_deg: lat.value, longitude_deg: lon.value };
+  }
+
+  targetWords(t) {
+    const at = `${fmt(t.latitude_deg, 3)}°, ${fmt(t.longitude_deg, 3)}°`;
+    return this.siteName ? `“${this.siteName}” (${at})` : at;
+  }
+
+  /** The target of the inputs on the map (when they hold one), on the copy of the shown track's end. */
+  drawTarget() {
+    this.targetLayer.clearLayers();
+    const lat = Number($("g-latitude").value), lon = Number($("g-longitude").value);
+    if ($("g-latitude").value.trim() === "" || !(Math.abs(lat) <= 90 && Math.abs(lon) <= 180)) return;
+    const placed = this.placeNearAnchor(lon);
+    const tip = el("div", {}, el("strong", {}, this.siteName ?? "Guidance target"), el("br"),
+                   `${fmt(lat, 3)}°, ${fmt(lon, 3)}°`);
+    for (const offset of copyOffsets(placed, placed)) {
+      L.marker([lat, placed + offset], { keyboard: false, icon: L.divIcon({ className: "guided-target", iconSize: [18, 18] }) })
+        .bindTooltip(tip).addTo(this.targetLayer);
+    }
+  }
+
+  placeNearAnchor(lon) {
+    return this.anchorLon == null ? lon : this.anchorLon + wrapLongitude(lon - this.anchorLon);
+  }
+
+  zoomToTarget() {
+    const lat = Number($("g-latitude").value), lon = this.placeNearAnchor(Number($("g-longitude").value));
+    const radius = Number($("g-radius").value) > 0 ? Number($("g-radius").value) : 5;
+    if (!Number.isFinite(lat) || !Number.isFinite(lon)) return;
+    const ring = smallCircle(lat, lon, radius);
+    const size = this.map.getSize(), pad = (px) => Math.max(0, (px - TARGET_BOX_PX) / 2);
+    this.map.fitBounds(L.latLngBounds(ring), { maxZoom: this.map.getMaxZoom(), animate: false,
+                                               padding: [pad(size.x), pad(size.y)] });
+  }
+
+  // ------------------------------------------------------------------------------------------- requests
+  /** The job form's case (vehicle, entry, alpha law, stop) with the guided bank law to the target. */
+  guidedCase(target) {
+    return { ...buildCase(), bank: { law: "guided", target } };
+  }
+
+  clearErrors() {
+    clearFieldErrors(this.form);
+    clearFieldErrors($("job-form"));
+    $("guided-error").hidden = true;
+  }
+
+  /** A refusal next to its field: the panel's own, else the job form's case inputs (said here too), else here. */
+  showError(err) {
+    const jobForm = $("job-form");
+    if (inputForField(this.form, err.field) || !inputForField(jobForm, err.field)) {
+      showFieldError(this.form, err, $("guided-error"));
+      return;
+    }
+    $("job-panel").open = true;
+    const note = showFieldError(jobForm, err, $("guided-error"));
+    $("guided-error").textContent = `${note.textContent} (in the job form above)`;
+    $("guided-error").hidden = false;
+  }
+
+  async fly() {
+    this.clearErrors();
+    const target = this.readTarget();
+    if (!target) return;
+    const words = this.targetWords(target), name = this.siteName;
+    $("g-fly").disabled = true;
+    $("guided-summary").replaceChildren(el("span", { class: "muted" }, `Flying guided to ${words}…`));
+    try {
+      const answer = await api("/api/trajectories", { method: "POST", body: this.guidedCase(target) });
+      this.showFlight(answer, words, name);
+    } catch (err) {
+      $("guided-summary").replaceChildren();
+      this.showError(err);
+    } finally {
+      $("g-fly").disabled = false;
+    }
+  }
+
+  async disperse() {
+    this.clearErrors();
+    const target = this.readTarget();
+    if (!target) return;
+    const study = { case: this.guidedCase(target), samples: numberOrText("g-samples"), seed: 1,
+                    radius_nmi: [numberOrText("g-radius")], ...structuredClone(SPREADS) };
+    const name = `guided dispersion to ${this.targetWords(target)}`.slice(0, 200);
+    $("g-disperse").disabled = true;
+    try {
+      const job = await api("/api/jobs", { method: "POST", body: { kind: "guided_dispersion", name, study } });
+      this.follow(job.id, name);
+    } catch (err) {
+      this.showError(err);
+    } finally {
+      $("g-disperse").disabled = false;
+    }
+  }
+
+  /** A row with progress and a cancel button, fed by polling GET /api/jobs/{id} until the job ends. */
+  follow(id, label) {
+    const li = el("li", { dataset: { jobId: id } },
+      el("div", { class: "job-line" }, el("span", { class: "job-label" }, label), el("span", { class: "job-status" }, "queued")),
+      el("progress", { max: "100", value: "0", "aria-label": `Progress of ${label}` }), " ",
+      el("span", { class: "job-percent" }, "0 %"), " ",
+      el("button", { type: "button", class: "job-cancel", dataset: { cancel: id } }, "Cancel"));
+    $("guided-jobs").prepend(li);
+    const poll = async () => {
+      for (;;) {
+        const job = await api(`/api/jobs/${id}`).catch(() => null);
+        if (job) showProgress(li, job);
+        if (job && DONE.includes(job.status)) return this.finished(li, job, label);
+        await new Promise((r) => setTimeout(r, POLL_MS));
+      }
+    };
+    poll().catch((err) => this.toast(err.message, true));
+  }
+
+  finished(li, job, label) {
+    const r = job.result?.guided_dispersion;
+    if (job.status === "succeeded" && r) {
+      li.append(el("div", { class: "succeeded" }, withinWords(r, 0)));
+      this.showDispersion(r, label);
+    } else if (job.error) {
+      li.append(el("div", { class: "failed" }, job.error));
+    }
+  }
+
+  // ------------------------------------------------------------------------------------------- results
+  /** One guided flight: its ground track to the target, its miss, status and reversals, its bank history. */
+  showFlight({ summary, history: h }, words, name) {
+    const g = summary.guidance;
+    const lons = this.drawResult(h.latitude_deg, h.longitude_deg, null);
+    const last = lons.length - 1;
+    $("guided-summary").replaceChildren(
+      el("p", { class: `guided-line ${g.status === "reached" ? "reached" : "missed"}` },
+         `Miss ${nmiWords(g.miss_nmi)} nmi · ${g.status} · ${fmt(g.reversals)} reversal${g.reversals === 1 ? "" : "s"}`),
+      el("p", { class: "muted" }, `To ${words}: landed at ${fmt(h.latitude_deg[last], 3)}°, `
+         + `${fmt(wrapLongitude(lons[last]), 3)}° after ${fmt(summary.flight_time_s)} s; ${fmt(g.cycles)} guidance cycles, `
+         + `${fmt(g.saturated_cycles)} saturated${g.limit_bound ? ", bound by a path limit" : ""}.`));
+    this.setFlight(h, `Guided bank${name ? ` to “${name}”` : ""}: miss ${nmiWords(g.miss_nmi)} nmi, ${g.status}, `
+                      + `${fmt(g.reversals)} reversals`);
+    this.fitTrack();
+  }
+
+  /** A guided dispersion: both landing clouds, the miss circles about the target, the nominal guided track. */
+  showDispersion(r, label) {
+    const f = r.nominal_flight;
+    this.drawResult(f.latitude_deg, f.longitude_deg, r);
+    const lines = r.radii_nmi.map((radius, i) => el("p", { class: "guided-line" }, withinWords(r, i)));
+    const landed = ["guided", "open_loop"].filter((m) => r[m]).map((m) => `${fmt(r[m].landed)} ${m.replace("_", " ")}`);
+    $("guided-dispersion-summary").replaceChildren(el("p", {}, el("strong", {}, label)), ...lines,
+      el("p", { class: "muted" }, `${fmt(r.samples)} samples, seed ${r.seed}: ${landed.join(", ")} landed; `
+         + `${levelWords(r.guided.within[0]?.level ?? 0.95)} Clopper–Pearson intervals. Nominal guided miss ${nmiWords(r.nominal.guidance.miss_nmi)} nmi.`));
+    this.setFlight(f, `Nominal guided bank of the dispersion: miss ${nmiWords(r.nominal.guidance.miss_nmi)} nmi, `
+                      + `${fmt(r.nominal.guidance.reversals)} reversals`);
+    this.fitTrack(true);
+  }
+
+  setFlight(h, title) {
+    this.flight = { time_s: h.time_s, bank_deg: h.bank_deg, bank_command_deg: h.bank_command_deg,
+                    predicted_miss_nmi: h.predicted_miss_nmi ?? null, title };
+    this.onFlight?.(this.flight);
+  }
+
+  /** The track (unwrapped from its entry, with its copies), and with a dispersion its clouds and circles placed on
+   * the copy of the track's end; the target follows. The track's continuous longitudes are returned. */
+  drawResult(lats, lonsIn, dispersion) {
+    this.resultLayer.clearLayers();
+    const lons = unwrapLongitudes(lonsIn, lonsIn[0]);
+    this.anchorLon = lons[lons.length - 1];
+    const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true, interactive: false };
+    for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
+      L.polyline(lats.map((lat, i) => [lat, lons[i] + offset]),
+                 { ...svg, color: GUIDED_STYLE.track, weight: 2.5, className: `guided-track g-copy-${offset}` })
+        .addTo(this.resultLayer);
+    }
+    if (dispersion) this.drawClouds(dispersion, svg);
+    this.drawTarget();
+    this.legend.getContainer().hidden = false;
+    this.legendDispersion.hidden = !dispersion;
+    return lons;
+  }
+
+  drawClouds(r, svg) {
+    const t = r.target, lon = this.placeNearAnchor(t.longitude_deg), radius = r.radii_nmi[0];
+    for (const offset of copyOffsets(lon, lon)) {
+      for (const R of r.radii_nmi) {
+        L.polygon(smallCircle(t.latitude_deg, lon + offset, R),
+                  { ...svg, color: GUIDED_STYLE.circle, weight: 1.5, dashArray: "5 4", fillOpacity: 0.06,
+                    className: `guided-circle g-copy-${offset}` })
+          .addTo(this.resultLayer).getElement().dataset.radiusNmi = String(R);
+      }
+      for (const mode of ["open_loop", "guided"]) { // the guided dots over the open loop's
+        const c = r.clouds?.[mode];
+        c?.latitude_deg.forEach((lat, i) => {
+          if (lat == null || c.longitude_deg[i] == null) return; // a sample that did not land
+          const at = [lat, lon + wrapLongitude(c.longitude_deg[i] - lon) + offset];
+          const dot = L.circleMarker(at, { ...svg, radius: mode === "guided" ? 3 : 2.5, weight: 0, fillOpacity: 0.85,
+            fillColor: mode === "guided" ? GUIDED_STYLE.guided : GUIDED_STYLE.openLoop,
+            className: `guided-point guided-${mode.replace("_", "-")} g-copy-${offset}` }).addTo(this.resultLayer);
+          Object.assign(dot.getElement().dataset, { mode, sample: String(i), missNmi: String(c.miss_nmi[i]),
+                                                    within: String(c.miss_nmi[i] <= radius) });
+        });
+      }
+    }
+  }
+
+  /** The view on the main copy of what is shown: the track, and a dispersion's far open-loop landings too. */
+  fitTrack(withClouds = false) {
+    const shown = this.resultLayer.getLayers().filter((l) => l.options.className.endsWith(" g-copy-0")
+      && (withClouds || l.options.className.startsWith("guided-track")));
+    const bounds = L.latLngBounds([]);
+    for (const l of shown) bounds.extend(l.getBounds?.() ?? l.getLatLng());
+    if (bounds.isValid()) this.map.fitBounds(bounds.pad(0.25), { maxZoom: 5, animate: false });
+  }
+
+  addLegend() {
+    const key = (cls, text) => el("div", {}, el("span", { class: cls }), text);
+    this.legendDispersion = el("div", {}, key("dot guided-dot", "guided landings"),
+      key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "miss radius R about the target"));
+    this.legend = L.control({ position: "topright" });
+    this.legend.onAdd = () => {
+      const div = el("div", { class: "map-legend guided-legend" }, el("strong", {}, "Guided entry"),
+                     key("line guided-line-key", "guided track"), key("target-key", "target"), this.legendDispersion);
+      div.hidden = true;
+      return div;
+    };
+    this.legend.addTo(this.map);
+  }
+}
+
+function showProgress(li, job) {
+  const pct = Math.round(100 * (job.status === "succeeded" ? 1 : job.progress ?? 0));
+  li.querySelector("progress").value = pct;
+  li.querySelector(".job-percent").textContent = `${pct} %`;
+  const s = li.querySelector(".job-status");
+  s.textContent = job.status;
+  s.className = `job-status ${job.status}`;
+  li.querySelector(".job-cancel").hidden = DONE.includes(job.status);
+}
+
+const bracketWords = ([lo, hi]) => `[${percent(lo)}, ${percent(hi)}]`;
+
+/** "guided: P(within 5 nmi) = 100 % [63.1 %, 100 %], CEP 0.18 nmi; open loop: P = 0 % [0 %, 36.9 %], CEP 645 nmi". */
+export function withinWords(r, i) {
+  const words = (m) => {
+    const w = r[m].within[i];
+    return `${percent(w.probability)} ${bracketWords(w.interval)}, CEP ${nmiWords(r[m].miss_nmi?.cep)} nmi`;
+  };
+  const guided = `guided: P(within ${+r.radii_nmi[i].toFixed(3)} nmi) = ${words("guided")}`;
+  return r.open_loop ? `${guided}; open loop: P = ${words("open_loop")}` : guided;
+}
+
+// ------------------------------------------------------------------------------------------- the bank plot
+const M = { left: 48, right: 14, top: 40, bottom: 34 };
+
+/** An SVG path through (t, v), broken where a value is missing. */
+function pathData(time, values, sx, sy) {
+  let d = "", pen = "M";
+  values.forEach((v, i) => {
+    if (v == null || !Number.isFinite(v)) { pen = "M"; return; }
+    d += `${pen}${sx(time[i]).toFixed(1)},${sy(v).toFixed(1)}`;
+    pen = "L";
+  });
+  return d;
+}
+
+/** One panel of series against flight time: frame, grid, ticks, the zero line and each series ({values, cls}). */
+function seriesPanel({ x, w, h, time, series, label, zeroClass }) {
+  const values = series.flatMap((s) => s.values).filter((v) => v != null && Number.isFinite(v));
+  const tmax = Math.max(...time);
+  const xt = niceTicks(0, tmax, Math.max(2, Math.floor(w / 90)));
+  const yt = niceTicks(Math.min(0, ...values), Math.max(0, ...values), 4);
+  const [x0, x1, y0, y1] = [0, Math.max(xt.at(-1), tmax), Math.min(yt[0], ...values), Math.max(yt.at(-1), ...values)];
+  const left = x + M.left, pw = w - M.left - M.right, ph = h - M.top - M.bottom;
+  const sx = (v) => left + ((v - x0) / (x1 - x0 || 1)) * pw;
+  const sy = (v) => M.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;
+  const parts = gridAndTicks({ xt, yt, sx, sy, left, top: M.top, width: pw, height: ph });
+  const zero = sy(0).toFixed(1); // as the paths' vertices: a zero value lies on the line
+  parts.push(`<line class="axis-zero ${zeroClass}" x1="${left}" x2="${left + pw}" y1="${zero}" y2="${zero}"/>`,
+             `<rect class="frame" x="${left}" y="${M.top}" width="${pw}" height="${ph}"/>`,
+             ...series.map((s) => `<path class="history ${s.cls}" d="${pathData(time, s.values, sx, sy)}"/>`),
+             `<text class="axis-label" x="${left}" y="${M.top - 6}">${label}</text>`,
+             `<text class="axis-label" x="${left + pw / 2}" y="${h - 4}" text-anchor="middle">Flight time (s)</text>`);
+  return { parts, right: left + pw };
+}
+
+/** The bank a guided flight flew and the one its guidance commanded against time (a reversal: a change of sign),
+ * and beside it, when the flight has it and there is room, the miss the guidance predicted at each cycle. */
+export function drawBankPlot(container, flight) {
+  if (!flight) {
+    container.innerHTML = '<p class="empty">Fly a guided entry to plot its bank, flown and commanded.</p>';
+    return;
+  }
+  const width = Math.max(container.clientWidth, 240), height = Math.max(container.clientHeight, 160);
+  const miss = flight.predicted_miss_nmi && width >= 640;
+  const bankWidth = miss ? Math.round(width * 0.62) : width;
+  const bank = seriesPanel({ x: 0, w: bankWidth, h: height, time: flight.time_s, label: "Bank (deg)", zeroClass: "bank-zero",
+                             series: [{ values: flight.bank_command_deg, cls: "bank-command" },
+                                      { values: flight.bank_deg, cls: "bank-flown" }] });
+  const parts = [...bank.parts, legendKeys(bank.right, M.top - 10)];
+  if (miss) {
+    parts.push(...seriesPanel({ x: bankWidth, w: width - bankWidth, h: height, time: flight.time_s, zeroClass: "miss-zero",
+                                label: "Predicted miss (nmi)", series: [{ values: flight.predicted_miss_nmi, cls: "predicted-miss" }] }).parts);
+  }
+  container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot bank-plot" viewBox="0 0 ${width} ${height}" width="${width}" `
+    + `height="${height}" role="img"><text class="plot-title" x="6" y="15"></text>${parts.join("")}</svg>`;
+  // the title may name a site: set as text, never parsed
+  container.querySelector(".plot-title").textContent = flight.title;
+  container.querySelector("svg").setAttribute("aria-label", flight.title);
+}
+
+function legendKeys(right, y) {
+  const key = (x, cls, text) => `<line class="history ${cls}" x1="${x}" x2="${x + 18}" y1="${y - 4}" y2="${y - 4}"/>`
+    + `<text class="tick" x="${x + 22}" y="${y}">${text}</text>`;
+  return key(right - 180, "bank-flown", "flown") + key(right - 110, "bank-command", "commanded");
+}

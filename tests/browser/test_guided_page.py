@@ -1,0 +1,331 @@
+"""The guided entry panel (issue 27 item 5), in Debian's chromium against the real service: a target from its inputs,
+a stored site or a map click; one guided flight (its ground track, miss, status, reversals and bank history) and a
+guided dispersion job (its guided and open-loop landing clouds about the miss circle), each checked against the
+service's own answer to the same request, made by the test."""
+
+import json
+import math
+import re
+import time
+import urllib.error
+import urllib.request
+from urllib.parse import urlparse
+
+import pytest
+
+from footprint.core.sphere import latlon_from_ranges
+from tests.authorities.report import table2_entry, table2_stop
+
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS
+
+EARTH_RADIUS_NMI = 3440.07  # R', the sphere of the service's miss distance
+TARGET = (9.99325, 83.27707)  # 5,000 nmi down-range, 600 nmi cross-range of Table 2's entry (0 N 0 E, heading 90)
+END_DEG = 0.05  # the drawn track's end from the service's final point
+RADIUS_NMI = 5.0
+SAMPLES = 8
+HOSTILE_SITE = 'Target <img src=x onerror=alert(1)> & "Co" ${1}'
+SPREADS = {
+    "entry": {
+        "gamma_deg": {"normal": {"std": 0.05}},
+        "velocity_fps": {"normal": {"std": 15}},
+        "heading_deg": {"normal": {"std": 0.05}},
+    },
+    "vehicle": {
+        "cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+        "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
+    },
+    "density": {"std": 0.05, "correlation_length_ft": 30000},
+}
+
+# the drawn main copy of the track (Leaflet's own vertices: a path read back through pixels is ~1 px coarse)
+TRACK_JS = """() => { const g = window.footprintApp.guided.resultLayer.getLayers();
+  const t = g.find((l) => l.options.className === "guided-track g-copy-0");
+  const path = document.querySelector("path.guided-track.g-copy-0");
+  return { latlngs: t.getLatLngs().map((p) => [p.lat, p.lng]), vertices: path.getAttribute("d").split("L").length }; }"""
+# the commanded bank as drawn: each vertex's y and the zero line's
+BANK_JS = """() => { const svg = document.querySelector("#plot svg.bank-plot");
+  const ys = (cls) => [...svg.querySelector(`path.${cls}`).getAttribute("d").matchAll(/[ML]([-\\d.]+),([-\\d.]+)/g)]
+    .map((m) => +m[2]);
+  return { command: ys("bank-command"), flown: ys("bank-flown"), zero: +svg.querySelector("line.bank-zero").getAttribute("y1"),
+           title: svg.querySelector(".plot-title").textContent }; }"""
+# every landing dot of the main copy (its data and its centre) and each miss circle's vertices, in the SVG's px
+CLOUD_JS = """() => { const centre = (e) => { const b = e.getBBox(); return [b.x + b.width / 2, b.y + b.height / 2]; };
+  const points = [...document.querySelectorAll("path.guided-point.g-copy-0")].map((e) => ({ ...e.dataset, xy: centre(e) }));
+  const circles = [...document.querySelectorAll("path.guided-circle.g-copy-0")].map((e) => ({ radius: +e.dataset.radiusNmi,
+    ring: [...e.getAttribute("d").matchAll(/[ML]([-\\d.]+) ([-\\d.]+)/g)].map((m) => [+m[1], +m[2]]) }));
+  return { points, circles }; }"""
+
+# a place's point in the page (CSS px), for the mouse
+POINT_JS = """([lat, lon]) => { const m = window.footprintApp.mapView.map, p = m.latLngToContainerPoint([lat, lon]);
+  const b = m.getContainer().getBoundingClientRect(); return [b.left + p.x, b.top + p.y]; }"""
+
+
+def guided_case(lat, lon, **entry):
+    """The case the page builds from the job form's defaults (Table 2's entry, the L/D 1.89 vehicle), guided."""
+    return {
+        "vehicle": {"builtin": "lod-1.89"},
+        "planet": {"rotating": True},
+        "entry": table2_entry(**entry),
+        "alpha": {"law": "max_ld"},
+        "bank_start": "pullout",
+        "stop": table2_stop(),
+        "bank": {"law": "guided", "target": {"latitude_deg": lat, "longitude_deg": lon}},
+    }
+
+
+def distance_nmi(lat1, lon1, lat2, lon2):
+    """Haversine on the sphere of R', independent of the page's and the service's geometry."""
+    p1, p2, dl = math.radians(lat1), math.radians(lat2), math.radians(lon2 - lon1)
+    a = math.sin((p2 - p1) / 2) ** 2 + math.cos(p1) * math.cos(p2) * math.sin(dl / 2) ** 2
+    return 2 * EARTH_RADIUS_NMI * math.asin(math.sqrt(a))
+
+
+def wrapped(deg):
+    return (deg + 180) % 360 - 180
+
+
+def nmi_words(x):
+    """As the page words a distance (guided.js nmiWords)."""
+    return f"{x:,.2f}" if x < 10 else f"{x:,.1f}" if x < 100 else f"{x:,.0f}"
+
+
+def percent(p):
+    """As the page words a probability (dispersion.js percent)."""
+    return f"{100 * p:,.0f} %" if p in (0, 1) else f"{100 * p:,.1f} %"
+
+
+def sign_changes(values):
+    signs = [v > 0 for v in values if v != 0]
+    return sum(a != b for a, b in zip(signs, signs[1:]))
+
+
+def inside(xy, ring):
+    """Whether a point lies inside a polygon (even-odd rule)."""
+    x, y = xy
+    hit = False
+    for (x1, y1), (x2, y2) in zip(ring, ring[1:] + ring[:1]):
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            hit = not hit
+    return hit
+
+
+def refusal(service, path, body):
+    """The service's own 422 for a body: its {detail, field}."""
+    req = urllib.request.Request(
+        service.base_url + path, json.dumps(body).encode(), {"Content-Type": "application/json"}
+    )
+    with pytest.raises(urllib.error.HTTPError) as info:
+        urllib.request.urlopen(req, timeout=60)
+    assert info.value.code == 422
+    return json.loads(info.value.read())
+
+
+def only_the_service(run, service):
+    hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
+    assert hosts == {urlparse(service.base_url).hostname}, hosts
+
+
+def fly(page, lat, lon):
+    """Fly guided to (lat, lon) from the panel: the request body the page sent."""
+    page.fill("#g-latitude", str(lat))
+    page.fill("#g-longitude", str(lon))
+    with page.expect_request(lambda r: r.url.endswith("/api/trajectories"), timeout=WAIT_MS) as request:
+        page.click("#g-fly")
+    page.locator("#guided-summary .guided-line").wait_for(timeout=WAIT_MS)
+    return request.value.post_data_json
+
+
+def screenshot(page, name):
+    page.evaluate("""() => { for (const id of ['job-panel', 'dispersion-panel']) document.getElementById(id).open = false;
+        document.getElementById('guided-panel').scrollIntoView(); }""")
+    page.wait_for_timeout(400)
+    FIGURES_DIR.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(FIGURES_DIR / name))
+
+
+def test_a_guided_flight_is_drawn_to_its_target_with_its_miss_and_bank_reversals(open_page, service):
+    t0 = time.monotonic()
+    run = open_page(1280, 800)
+    page = run.page
+    body = fly(page, *TARGET)
+    assert body == guided_case(*TARGET)  # the job form's case, flown by guidance to the target
+    answer = service.call("/api/trajectories", body)  # the service's own flight of the same case
+    g, h = answer["summary"]["guidance"], answer["history"]
+    end = (h["latitude_deg"][-1], h["longitude_deg"][-1])
+    assert distance_nmi(*end, *TARGET) == pytest.approx(g["miss_nmi"], abs=1e-6) and g["miss_nmi"] < 1.0
+
+    line = page.inner_text("#guided-summary .guided-line")
+    assert line == f"Miss {nmi_words(g['miss_nmi'])} nmi · reached · {g['reversals']} reversals", line
+    assert "reached" in page.get_attribute("#guided-summary .guided-line", "class")
+    track = page.evaluate(TRACK_JS)
+    assert track["vertices"] == len(track["latlngs"]) == len(h["time_s"])  # every row drawn
+    lat, lon = track["latlngs"][-1]
+    assert abs(lat - end[0]) < END_DEG and abs(wrapped(lon - end[1])) < END_DEG, (track["latlngs"][-1], end)
+    steps = [abs(b[1] - a[1]) for a, b in zip(track["latlngs"], track["latlngs"][1:])]
+    assert max(steps) < 5  # continuous: no jump of 360 deg
+    assert page.locator(".guided-target").count() >= 1
+
+    # the bank plot: the commanded bank changes sign at each reversal, as the service's own history does
+    assert page.get_attribute("#plot-guided", "aria-pressed") == "true"
+    bank = page.evaluate(BANK_JS)
+    assert len(bank["command"]) == len(bank["flown"]) == len(h["time_s"])
+    drawn = sign_changes([round(bank["zero"] - y, 1) for y in bank["command"]])  # both drawn to 0.1 px
+    assert drawn >= 2 and drawn == sign_changes(h["bank_command_deg"]), (drawn, g["reversals"])
+    assert bank["title"].startswith(f"Guided bank: miss {nmi_words(g['miss_nmi'])} nmi")
+    screenshot(page, "guided_track.png")
+    only_the_service(run, service)
+    assert not run.errors and run.violations() == [], (run.errors, run.violations())
+    print(f"guided flight test: {time.monotonic() - t0:.1f} s")
+
+
+def test_a_target_out_of_reach_says_not_reachable(open_page, service):
+    run = open_page()
+    page = run.page
+    body = fly(page, 0, 25)  # 1,500 nmi down-range: far short of the shortest guided flight
+    g = service.call("/api/trajectories", body)["summary"]["guidance"]
+    assert g["status"] == "not reachable"
+    line = page.locator("#guided-summary .guided-line")
+    assert "not reachable" in line.inner_text() and "missed" in line.get_attribute("class")
+    assert line.inner_text().startswith(f"Miss {nmi_words(g['miss_nmi'])} nmi")
+    assert not run.errors and run.violations() == []
+
+
+def test_a_track_past_180_e_runs_on_and_ends_at_the_service_final_point(open_page, service):
+    """Entered at 150 E heading east, the flight crosses the antimeridian: the drawn track runs on past 180 E (no
+    jump of 360 deg) and ends where the service's flight ends."""
+    run = open_page()
+    page = run.page
+    lat, lon = (float(x) for x in latlon_from_ranges(4500.0, -300.0, 0.0, 150.0, 90.0))
+    page.fill("#entry-longitude", "150")
+    body = fly(page, round(lat, 5), round(wrapped(lon), 5))
+    assert body == guided_case(round(lat, 5), round(wrapped(lon), 5), longitude_deg=150)
+    h = service.call("/api/trajectories", body)["history"]
+    track = page.evaluate(TRACK_JS)["latlngs"]
+    assert track[0][1] == pytest.approx(150.0) and track[-1][1] > 180  # on one copy, east of 180
+    assert max(abs(b[1] - a[1]) for a, b in zip(track, track[1:])) < 5
+    assert (
+        abs(wrapped(track[-1][1] - h["longitude_deg"][-1])) < END_DEG
+        and abs(track[-1][0] - h["latitude_deg"][-1]) < END_DEG
+    )
+    assert not run.errors and run.violations() == []
+
+
+def test_a_bad_target_is_named_next_to_its_field_and_never_sent(open_page, service):
+    run = open_page()
+    page = run.page
+    page.fill("#g-latitude", "95")
+    page.click("#g-fly")
+    page.click("#g-disperse")
+    note = page.locator("#g-latitude + .field-error")
+    note.wait_for(timeout=WAIT_MS)
+    # the service's own words for the same case, with the field's label for its path
+    refused = refusal(service, "/api/trajectories", guided_case(95, TARGET[1]))
+    assert refused["field"] == "bank.target.latitude_deg"
+    assert note.inner_text() == "Target latitude (deg): " + refused["detail"].split(": ", 1)[1], note.inner_text()
+    assert page.locator(".field-error:visible").count() == 1
+    assert page.get_attribute("#g-latitude", "aria-invalid") == "true"
+    assert not any(u.endswith(("/api/trajectories", "/api/jobs")) for u in run.requests)
+    # a refusal only the service can make shows next to its field too: no job is followed
+    page.fill("#g-latitude", str(TARGET[0]))
+    page.fill("#g-samples", "0")
+    page.click("#g-disperse")
+    samples = page.locator("#g-samples + .field-error")
+    samples.wait_for(timeout=WAIT_MS)
+    assert samples.inner_text().startswith("Samples: ") and "0" in samples.inner_text()
+    assert page.locator("#g-latitude + .field-error").count() == 0 and page.locator("#guided-jobs li").count() == 0
+    # the one error logged is the browser's own line for the refusal the test asked for
+    refused_logged = "Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)"
+    assert run.errors == [refused_logged] and run.violations() == [], run.errors
+
+
+@pytest.fixture(scope="module")
+def hostile_site(service):
+    return service.call("/api/sites", {"name": HOSTILE_SITE, "latitude_deg": TARGET[0], "longitude_deg": TARGET[1]})
+
+
+def test_a_guided_dispersion_draws_its_clouds_about_the_miss_circle(open_page, service, hostile_site):
+    t0 = time.monotonic()
+    run = open_page(1280, 800)
+    page, dialogs = run.page, []
+    page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+    page.select_option("#g-site", str(hostile_site["id"]))
+    assert any(t.startswith(HOSTILE_SITE + " · ") for t in page.locator("#g-site option").all_inner_texts())
+    assert (page.input_value("#g-latitude"), page.input_value("#g-longitude")) == tuple(str(x) for x in TARGET)
+    page.fill("#g-samples", str(SAMPLES))
+    page.fill("#g-radius", f"{RADIUS_NMI:g}")
+    page.click("#g-disperse")
+    item = page.locator("#guided-jobs li").first
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    assert item.locator(".job-percent").inner_text() == "100 %" and item.locator(".job-cancel").is_hidden()
+    assert HOSTILE_SITE in item.locator(".job-label").inner_text()  # the site's name as text
+    job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
+    assert job["kind"] == "guided_dispersion"
+    assert job["study"] == {
+        "case": guided_case(*TARGET),
+        "samples": SAMPLES,
+        "seed": 1,
+        "radius_nmi": [RADIUS_NMI],
+        **SPREADS,
+    }
+    r = job["result"]["guided_dispersion"]
+    page.locator("path.guided-circle.g-copy-0").wait_for(state="attached", timeout=WAIT_MS)
+
+    # the line of text: each mode's P(within R), its interval and CEP, as the result has them
+    def words(mode):
+        w = r[mode]["within"][0]
+        lo, hi = w["interval"]
+        return f"{percent(w['probability'])} [{percent(lo)}, {percent(hi)}], CEP {nmi_words(r[mode]['miss_nmi']['cep'])} nmi"
+
+    expected = f"guided: P(within {RADIUS_NMI:g} nmi) = {words('guided')}; open loop: P = {words('open_loop')}"
+    assert expected in page.inner_text("#guided-dispersion-summary"), page.inner_text("#guided-dispersion-summary")
+    screenshot(page, "guided_dispersion.png")
+
+    # close in on the target: every landed dot drawn, inside the drawn circle exactly when it landed within R
+    page.click("#g-zoom")
+    page.wait_for_timeout(300)
+    drawn = page.evaluate(CLOUD_JS)
+    (circle,) = drawn["circles"]
+    assert circle["radius"] == RADIUS_NMI and len(circle["ring"]) == 360 // 5  # a polygon: its closing vertex is the first
+    target = (r["target"]["latitude_deg"], r["target"]["longitude_deg"])
+    for mode in ("guided", "open_loop"):
+        cloud = r["clouds"][mode]
+        landed = [i for i, la in enumerate(cloud["latitude_deg"]) if la is not None]
+        points = {int(p["sample"]): p for p in drawn["points"] if p["mode"] == mode}
+        assert sorted(points) == landed and len(landed) == r[mode]["landed"]
+        for i, p in points.items():
+            within = distance_nmi(cloud["latitude_deg"][i], cloud["longitude_deg"][i], *target) <= RADIUS_NMI
+            assert inside(p["xy"], circle["ring"]) == within == (p["within"] == "true"), (mode, i, p)
+        assert sum(inside(p["xy"], circle["ring"]) for p in points.values()) == r[mode]["within"][0]["samples_within"]
+    assert r["guided"]["within"][0]["samples_within"] == SAMPLES  # closed loop: every sample within 5 nmi
+    assert r["open_loop"]["within"][0]["samples_within"] < SAMPLES  # open loop: not
+    screenshot(page, "guided_dispersion_target.png")
+
+    # the nominal guided flight's bank in the plot; no name became markup
+    bank = page.evaluate(BANK_JS)
+    assert len(bank["command"]) == len(r["nominal_flight"]["time_s"])
+    assert page.locator("#guided-panel img, .leaflet-pane img[src=x], #plot img").count() == 0
+    page.mouse.move(*page.evaluate(POINT_JS, list(target)))  # the target, in the middle of the view
+    assert HOSTILE_SITE in page.locator(".leaflet-tooltip").first.inner_text()
+    only_the_service(run, service)
+    assert dialogs == [] and not run.errors and run.violations() == [], (dialogs, run.errors, run.violations())
+    print(f"guided dispersion test: {time.monotonic() - t0:.1f} s")
+
+
+def test_a_map_click_picks_the_target_and_a_job_is_cancelled(open_page, service):
+    run = open_page()
+    page = run.page
+    page.click("#g-pick")
+    assert page.get_attribute("#g-pick", "aria-pressed") == "true"
+    page.evaluate("() => { window.footprintApp.mapView.map.setView([20, 100], 3, {animate: false}); }")
+    page.mouse.click(*page.evaluate(POINT_JS, [20, 100]))
+    lat, lon = float(page.input_value("#g-latitude")), float(page.input_value("#g-longitude"))
+    assert abs(lat - 20) < 1 and abs(lon - 100) < 1, (lat, lon)  # a pixel at world zoom: under a degree
+    assert len(service.call("/api/sites")) == len(page.locator("#site-list li").all())  # no site added
+    page.fill("#g-samples", "2000")
+    page.click("#g-disperse")
+    item = page.locator("#guided-jobs li").first
+    item.locator(".job-cancel").click()
+    item.locator(".job-status", has_text="cancelled").wait_for(timeout=WAIT_MS)
+    assert service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["status"] == "cancelled"
+    assert re.fullmatch(r"\d+ %", item.locator(".job-percent").inner_text())
+    assert not run.errors and run.violations() == []
