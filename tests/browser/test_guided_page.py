@@ -285,7 +285,8 @@ def test_a_guided_dispersion_draws_its_clouds_about_the_miss_circle(open_page, s
     page.wait_for_timeout(300)
     drawn = page.evaluate(CLOUD_JS)
     (circle,) = drawn["circles"]
-    assert circle["radius"] == RADIUS_NMI and len(circle["ring"]) == 360 // 5  # a polygon: its closing vertex is the first
+    # a polygon: its closing vertex is the first
+    assert circle["radius"] == RADIUS_NMI and len(circle["ring"]) == 360 // 5
     target = (r["target"]["latitude_deg"], r["target"]["longitude_deg"])
     for mode in ("guided", "open_loop"):
         cloud = r["clouds"][mode]

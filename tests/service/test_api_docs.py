@@ -12,6 +12,9 @@ from .sample_requests import UNKNOWN_ID
 DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
 EXAMPLES = re.findall(r"```json (POST|PUT|PATCH) (\S+)\n(.*?)\n```", DOC.read_text(), flags=re.S)
 
+# every job kind the issues asked for, each typed in the document
+JOB_KINDS = {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion"}
+
 
 def test_the_document_has_examples_of_every_kind_of_write():
     paths = {p for _, p, _ in EXAMPLES}
@@ -75,7 +78,7 @@ def test_the_openapi_document_validates_and_types_every_job_and_study_kind(api):
     validate(spec)
     jobs = spec["paths"]["/api/jobs"]["post"]["requestBody"]["content"]["application/json"]["schema"]
     assert jobs["discriminator"]["propertyName"] == "kind"
-    assert set(jobs["discriminator"]["mapping"]) == {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion"}
+    assert set(jobs["discriminator"]["mapping"]) == JOB_KINDS
     study = spec["components"]["schemas"]["FootprintJob"]["properties"]["study"]
     assert study["discriminator"]["propertyName"] == "method"
     assert set(study["discriminator"]["mapping"]) == {
@@ -162,5 +165,5 @@ def test_every_json_body_is_read_by_the_framework_as_its_contract_model():
     assert body_type(sites.router, "/reach") is ReachRequest
     job_models = get_args(body_type(jobs.submit_router(), "/jobs"))
     kinds = {get_args(m.model_fields["kind"].annotation)[0]: m.model_fields["study"].annotation for m in job_models}
-    assert set(kinds) == {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion"}
+    assert set(kinds) == JOB_KINDS
     assert kinds["reach"] is ReachRequest
