@@ -3,6 +3,7 @@ a job of chunk tasks on Dask with its stored result, a cancel that stops it, and
 the field."""
 
 import copy
+import math
 
 import pytest
 
@@ -74,4 +75,56 @@ def test_a_guided_dispersion_job_is_cancelled(api):
 )
 def test_bad_guided_studies_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "guided_dispersion", "study": copy.deepcopy(STUDY) | change})
+    assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
+
+
+FOOTPRINT_STUDY = {
+    "case": guided(5000.0, 600.0),
+    "rays": 4,
+    "samples": 4,
+    "probability": 0.75,
+    "optimal": False,
+    "seed": 2,
+    "entry": STUDY["entry"],
+    "vehicle": STUDY["vehicle"],
+}
+
+
+def test_a_guided_footprint_job_traces_ray_by_ray_and_stores_its_boundaries(api):
+    submitted = api.post("/api/jobs", json={"kind": "guided_footprint", "study": FOOTPRINT_STUDY})
+    job = wait_for_job(api, submitted.json()["id"])
+    assert job["status"] == "succeeded", job
+    got = job["result"]["guided_footprint"]
+    assert got["run"]["tasks"] == 1 + 4 and [r["angle_deg"] for r in got["rays"]] == [0.0, 90.0, 180.0, 270.0]
+    f = got["frame"]
+    for r in got["rays"]:  # each ray's boundary point is where its s puts it on the frame's ellipse
+        a = math.radians(r["angle_deg"])
+        assert r["guided"]["downrange_nmi"] == pytest.approx(
+            f["center_nmi"] + r["s_guided"] * f["half_length_nmi"] * math.cos(a)
+        )
+        assert r["guided"]["crossrange_nmi"] == pytest.approx(
+            r["s_guided"] * f["half_width_nmi"] * math.sin(a), abs=1e-9
+        )
+        assert 0.0 < r["s_guided"] <= r["s_nominal"] < r["s_report"]
+    assert len(got["guided"]["latitude_deg"]) == 4 and got["margin_to_report"]["inside_at_every_ray"]
+
+
+def test_a_guided_footprint_job_is_cancelled(api):
+    long = FOOTPRINT_STUDY | {"rays": 24, "samples": 1_000}
+    job_id = api.post("/api/jobs", json={"kind": "guided_footprint", "study": long}).json()["id"]
+    r = api.delete(f"/api/jobs/{job_id}")
+    assert r.status_code == 200 and r.json()["status"] == "cancelled" and r.json()["result"] is None
+    assert wait_for_job(api, job_id)["status"] == "cancelled"
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"samples": 5_000}, "study.samples"),
+        ({"rays": 3}, "study.rays"),
+        ({"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}}, "study.case.bank.law"),
+    ],
+)
+def test_bad_guided_footprint_studies_are_422_naming_the_field(api, change, field):
+    r = api.post("/api/jobs", json={"kind": "guided_footprint", "study": copy.deepcopy(FOOTPRINT_STUDY) | change})
     assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()

@@ -21,6 +21,7 @@ MODULES = {
     "reach": "footprint.contracts.reach",
     "dispersion": "footprint.contracts.dispersion",
     "guided_dispersion": "footprint.contracts.guided_dispersion",
+    "guided_footprint": "footprint.contracts.guided_footprint",
 }  # kind -> its contract module
 
 

@@ -459,10 +459,14 @@ def _reflect(
 
 
 def area_nmi2(points: Iterable[FootprintPoint], radius_nmi: float = MEAN_RADIUS_NMI) -> float:
-    """Area on the sphere of radius R' inside the polygon whose edges are straight in (down-range,
-    cross-range): dA = cos(c/R') dd dc, integrated by Green's theorem edge by edge in closed form.
+    """The area inside a footprint's boundary points (ring_area_nmi2)."""
+    return ring_area_nmi2([(p.downrange_nmi, p.crossrange_nmi) for p in points], radius_nmi)
+
+
+def ring_area_nmi2(pts: list[tuple[float, float]], radius_nmi: float = MEAN_RADIUS_NMI) -> float:
+    """Area on the sphere of radius R' inside the polygon (down-range, cross-range) nmi whose edges are straight in
+    those coordinates: dA = cos(c/R') dd dc, integrated by Green's theorem edge by edge in closed form.
     A half footprint is closed along the initial great circle (cross-range 0)."""
-    pts = [(p.downrange_nmi, p.crossrange_nmi) for p in points]
     if len(pts) < 2:
         return 0.0
     pts = close_half_along_axis(pts)

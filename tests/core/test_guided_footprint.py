@@ -1,0 +1,152 @@
+"""The guided footprint (core/guided_footprint.py, contracts/guided_footprint.py): with no dispersion it is the
+undispersed guided one to the bisection's resolution; each traced boundary point is, flown again sample by sample
+and measured by haversine, reached within R in at least p of the samples; it lies inside the report's footprint of
+the same vehicle at every ray, whose boundary the guided vehicle does not reach; a ray meets a circle where the closed
+form says."""
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+from footprint import parallel
+from footprint.contracts import parse
+from footprint.core import dispersion as disp
+from footprint.core import guided_footprint as gfp
+from footprint.core.sphere import latlon_from_ranges
+from footprint.core.trajectory import simulate_summary
+from tests.core.test_guidance import distance_nmi, guided
+from tests.core.test_guided_dispersion import SPREADS
+
+RADIUS_NMI = 5.0
+STUDY = {
+    "case": guided(5000.0, 600.0),
+    "rays": 4,
+    "samples": 8,
+    "probability": 0.75,  # two misses of eight allowed
+    "radius_nmi": RADIUS_NMI,
+    "optimal": False,  # the collocation footprint: the slow test below
+    "seed": 5,
+    **SPREADS,
+}
+
+
+@pytest.fixture(scope="module")
+def spec():
+    return parse("case", guided(5000.0, 600.0)).to_spec()
+
+
+@pytest.fixture(scope="module")
+def frame(spec):
+    return gfp.frame(spec, RADIUS_NMI)
+
+
+@pytest.fixture(scope="module")
+def study():
+    s = parse("guided_footprint", copy.deepcopy(STUDY))
+    return s, parallel.run("guided_footprint", s)
+
+
+def lands_within(spec, down_nmi, cross_nmi, radius_nmi):
+    """Whether the flight aimed at (down, cross) lands within R of that point, by haversine on the sphere of R'."""
+    s = simulate_summary(gfp.targeted(spec, down_nmi, cross_nmi))
+    lat, lon = latlon_from_ranges(down_nmi, cross_nmi, 0.0, 0.0, 90.0)
+    miss = distance_nmi(s["final_latitude_deg"], s["final_longitude_deg"], float(lat), float(lon))
+    return s["stop_reason"] == "energy" and miss <= radius_nmi
+
+
+def test_the_frame_is_the_undispersed_reach_on_the_axis(spec, frame):
+    near = frame.center_nmi - frame.half_length_nmi
+    far = frame.center_nmi + frame.half_length_nmi
+    step = 0.01 * frame.half_length_nmi  # well over the bisection's resolution
+    assert lands_within(spec, near + step, 0.0, RADIUS_NMI) and not lands_within(spec, near - step, 0.0, RADIUS_NMI)
+    assert lands_within(spec, far - step, 0.0, RADIUS_NMI) and not lands_within(spec, far + step, 0.0, RADIUS_NMI)
+
+
+def test_with_no_dispersion_the_guided_boundary_is_the_undispersed_one(spec, frame):
+    settings = gfp.GuidedFootprintSettings(rays=4, samples=3, radius_nmi=RADIUS_NMI, probability=1.0)
+    for angle_deg in (0.0, 90.0):
+        ray = gfp.trace_ray(spec, frame, math.radians(angle_deg), disp.draw({}, 3, 0), settings)
+        resolution = (1.0 - gfp.LOWER_FRACTION) * ray["s_nominal"] / 2**gfp.GUIDED_BISECTIONS
+        assert ray["s_nominal"] - resolution <= ray["s_guided"] <= ray["s_nominal"]
+
+
+def test_each_boundary_point_is_reached_in_p_of_the_samples_flown_again(study):
+    s, answer = study
+    spec = s.case.to_spec()
+    samples = s.draw(spec)
+    allowed = math.floor((1.0 - s.probability) * s.samples + 1e-9)
+    for r in answer["rays"]:
+        point = gfp.targeted(spec, r["guided"]["downrange_nmi"], r["guided"]["crossrange_nmi"])
+        t = point.guidance
+        reached = 0
+        for i in range(s.samples):
+            f = simulate_summary(disp.sample_spec(point, samples, i))
+            miss = distance_nmi(f["final_latitude_deg"], f["final_longitude_deg"], t.target_latitude_deg,
+                                t.target_longitude_deg)  # fmt: skip
+            reached += f["stop_reason"] == "energy" and miss <= RADIUS_NMI
+        assert reached >= s.samples - allowed, r
+
+
+def test_the_guided_footprint_lies_inside_the_nominal_and_the_reports(study):
+    _, answer = study
+    for r in answer["rays"]:
+        assert 0.0 < r["s_guided"] <= r["s_nominal"] < r["s_report"], r
+    assert answer["margin_to_report"]["inside_at_every_ray"]
+    assert answer["guided"]["area_nmi2"] < answer["nominal_guided"]["area_nmi2"] < answer["report"]["area_nmi2"]
+    m = answer["margin_to_report"]
+    assert m["area_nmi2"] == pytest.approx(answer["report"]["area_nmi2"] - answer["guided"]["area_nmi2"])
+    assert m["percent"] == pytest.approx(100 * m["area_nmi2"] / answer["report"]["area_nmi2"])
+    assert answer["optimal"] is None and "margin_to_optimal" not in answer
+
+
+def test_the_reports_boundary_is_not_reached_under_dispersion_a_point_well_inside_is(study, spec, frame):
+    s, answer = study
+    samples = s.draw(spec)
+    settings = s.settings()
+    for r in answer["rays"]:
+        on_edge = gfp.ray_point(frame, math.radians(r["angle_deg"]), r["s_report"])
+        inside = gfp.ray_point(frame, math.radians(r["angle_deg"]), 0.5 * r["s_guided"])
+        assert not gfp.dispersed_ok(gfp.targeted(spec, *on_edge), samples, settings, [0]), (r, on_edge)
+        assert gfp.dispersed_ok(gfp.targeted(spec, *inside), samples, settings, [0]), (r, inside)
+
+
+def test_a_ray_meets_a_circle_where_the_closed_form_says():
+    f = gfp.Frame(center_nmi=5000.0, half_length_nmi=2000.0, half_width_nmi=1000.0)
+    radius = 1500.0
+    a = np.linspace(0.0, 2.0 * np.pi, 721)[:-1]
+    ring = [(f.center_nmi + radius * math.cos(t), radius * math.sin(t)) for t in a]
+    for angle in np.radians([0.0, 30.0, 90.0, 200.0, 300.0]):
+        # |s (a cos, b sin)| = radius on the circle about the centre
+        s = radius / math.hypot(f.half_length_nmi * math.cos(angle), f.half_width_nmi * math.sin(angle))
+        assert gfp.reach_on_ray(ring, f, angle) == pytest.approx(s, rel=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}}, "case.bank.law"),
+        ({"rays": 2}, "rays"),
+        ({"probability": 1.5}, "probability"),
+        ({"radius_nmi": 0}, "radius_nmi"),
+    ],
+)
+def test_a_bad_guided_footprint_study_names_its_field(change, field):
+    from pydantic import ValidationError
+
+    from footprint.contracts.messages import error_line
+
+    with pytest.raises(ValidationError) as info:
+        parse("guided_footprint", {**copy.deepcopy(STUDY), **change})
+    assert error_line(info.value).startswith(field), error_line(info.value)
+
+
+@pytest.mark.slow
+def test_the_guided_footprint_lies_inside_the_true_optimal_one_at_every_ray():
+    s = parse("guided_footprint", {**copy.deepcopy(STUDY), "rays": 8, "optimal": True})
+    answer = parallel.run("guided_footprint", s)
+    for r in answer["rays"]:
+        assert r["s_guided"] <= r["s_nominal"] < r["s_optimal"], r
+    assert answer["margin_to_optimal"]["inside_at_every_ray"]
+    assert answer["optimal"]["area_nmi2"] > answer["report"]["area_nmi2"] > answer["guided"]["area_nmi2"]
