@@ -315,6 +315,73 @@ def _guided_disperse(study_file, data, workers, scheduler, figure, geojson_out, 
     _answer(result, as_json, _guided_dispersion_lines)
 
 
+@app.command("guided-footprint")
+def guided_footprint(
+    study_file: Path = typer.Argument(
+        ..., metavar="STUDY.json", help="a guided case, its dispersions, rays, samples, R and p"
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local worker processes [the cores]; 0: fly in this process"
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
+    ),
+    figure: Path | None = typer.Option(
+        None, "--figure", metavar="FILE.png", help="draw the guided footprint inside the report's and the optimal"
+    ),
+    geojson_out: Path | None = typer.Option(
+        None, "--geojson", metavar="FILE.geojson", help="the guided, undispersed guided, report's and optimal rings"
+    ),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
+):
+    """Trace the guided footprint: the targets the guided vehicle reaches within R nmi in at least p of the dispersed
+    samples, one Dask task per ray from a centre on the initial great circle, beside the report's footprint and the
+    true optimal one of the same vehicle flown to the same end; the guidance's margin to each, in nmi² and percent."""
+    from contextlib import ExitStack
+
+    for path, option in ((figure, "--figure"), (geojson_out, "--geojson")):
+        _writable(path, option)
+    study = _request("guided_footprint", study_file)
+    dask = _dask_options(workers, scheduler, parallel.default_workers())
+    with ExitStack() as stack:
+        progress = stack.enter_context(_parts_bar("ray"))
+        try:
+            result = parallel.run("guided_footprint", study, progress, **dask)
+        except OSError as exc:
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+    if figure is not None:
+        from footprint.pictures.figures import guided_footprint_figure, save
+
+        save(guided_footprint_figure(result), figure)
+    if geojson_out is not None:
+        from footprint.pictures.geojson import guided_footprint_collection
+
+        geojson_out.write_text(strict_json(guided_footprint_collection(result)))
+    _answer(result, as_json, _guided_footprint_lines)
+
+
+def _guided_footprint_lines(r: dict) -> list[str]:
+    run, st = r["run"], r["settings"]
+    where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"
+    out = [
+        f"{st['rays']} rays, {st['samples']:,} samples a target, within {st['radius_nmi']:g} nmi in "
+        f"{st['probability']:.0%}: {r['flights']:,} guided flights in {run['seconds']:.1f} s {where}",
+        f"  {'footprint':<16} {'area nmi²':>12} {'margin nmi²':>12} {'margin':>7}  inside at every ray",
+    ]
+    for name in ("guided", "nominal_guided", "report", "optimal"):
+        ring = r.get(name)
+        if ring is None:
+            continue
+        m = r.get(f"margin_to_{name}")
+        tail = (
+            f" {m['area_nmi2']:>12,.0f} {m['percent']:>6.1f}%  {'yes' if m['inside_at_every_ray'] else 'NO'}"
+            if m
+            else ""
+        )
+        out.append(f"  {name:<16} {ring['area_nmi2']:>12,.0f}{tail}")
+    return out
+
+
 def _guided_dispersion_lines(r: dict) -> list[str]:
     run, t = r["run"], r["target"]
     where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"

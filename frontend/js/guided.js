@@ -1,12 +1,13 @@
 // Guided entry (issue 27 item 5): a target from its latitude and longitude, a click on the map or a stored landing
 // site; one guided flight to it (POST /api/trajectories: its ground track, miss and bank history) and a guided
-// dispersion job (POST /api/jobs: the guided and open-loop landing clouds about the miss circle of radius R).
+// dispersion job (POST /api/jobs: the guided and open-loop landing clouds about the miss circle of radius R) and a
+// guided footprint job (its rings beside the report's and the true optimal footprints, and the margins).
 /* global L */
 import { api } from "./api.js";
 import { levelWords, percent } from "./dispersion.js";
 import { clearFieldErrors, inputForField, showFieldError } from "./fielderrors.js";
 import { el, fmt } from "./format.js";
-import { copyOffsets, unwrapLongitudes, wrapLongitude } from "./geometry.js";
+import { copyOffsets, unwrapLongitudes, unwrapRing, wrapLongitude } from "./geometry.js";
 import { buildCase } from "./jobs.js";
 import { gridAndTicks, niceTicks } from "./rangeplot.js";
 
@@ -26,6 +27,10 @@ const SPREADS = {
 };
 /** The guided layers' colours (CSS px), the map's and the bank plot's (styles.css has the same for the plot). */
 export const GUIDED_STYLE = { track: "#b00068", guided: "#b00068", openLoop: "#7b8794", circle: "#b00068" };
+
+// the guided footprint's rings, outermost first: [result key, legend words, colour, dash]
+const RINGS = [["optimal", "true optimal (collocation)", "#111", "7 5"], ["report", "report's law, same end", "#7b8794", null],
+               ["nominal_guided", "guided, undispersed", "#b00068", "2 4"], ["guided", "guided: within R in p", "#b00068", null]];
 
 /** A distance for people: two decimals under 10 nmi (a guided miss), whole miles past 100. */
 export const nmiWords = (x) => (x == null ? "–" : fmt(x, x < 10 ? 2 : x < 100 ? 1 : 0));
@@ -71,9 +76,11 @@ export class GuidedPanel {
     this.picking = false;
     this.resultLayer = L.layerGroup().addTo(this.map);
     this.targetLayer = L.layerGroup().addTo(this.map);
+    this.footprintLayer = L.layerGroup().addTo(this.map);
     this.addLegend();
     this.form.addEventListener("submit", (e) => { e.preventDefault(); this.fly(); });
     $("g-disperse").addEventListener("click", () => this.disperse());
+    $("g-footprint").addEventListener("click", () => this.traceFootprint());
     $("g-pick").addEventListener("click", () => this.setPicking(!this.picking));
     $("g-zoom").addEventListener("click", () => this.zoomToTarget());
     $("g-site").addEventListener("change", () => this.chooseSite($("g-site").value));
@@ -229,6 +236,25 @@ export class GuidedPanel {
     }
   }
 
+  async traceFootprint() {
+    this.clearErrors();
+    const target = this.readTarget();
+    if (!target) return;
+    const study = { case: this.guidedCase(target), rays: numberOrText("gf-rays"), samples: numberOrText("gf-samples"),
+                    probability: numberOrText("gf-probability"), radius_nmi: numberOrText("g-radius"),
+                    optimal: $("gf-optimal").checked, seed: 1, ...structuredClone(SPREADS) };
+    const name = "guided footprint";
+    $("g-footprint").disabled = true;
+    try {
+      const job = await api("/api/jobs", { method: "POST", body: { kind: "guided_footprint", name, study } });
+      this.follow(job.id, name);
+    } catch (err) {
+      this.showError(err);
+    } finally {
+      $("g-footprint").disabled = false;
+    }
+  }
+
   /** A row with progress and a cancel button, fed by polling GET /api/jobs/{id} until the job ends. */
   follow(id, label) {
     const li = el("li", { dataset: { jobId: id } },
@@ -249,10 +275,13 @@ export class GuidedPanel {
   }
 
   finished(li, job, label) {
-    const r = job.result?.guided_dispersion;
+    const r = job.result?.guided_dispersion, fp = job.result?.guided_footprint;
     if (job.status === "succeeded" && r) {
       li.append(el("div", { class: "succeeded" }, withinWords(r, 0)));
       this.showDispersion(r, label);
+    } else if (job.status === "succeeded" && fp) {
+      li.append(el("div", { class: "succeeded" }, footprintWords(fp)));
+      this.showFootprint(fp);
     } else if (job.error) {
       li.append(el("div", { class: "failed" }, job.error));
     }
@@ -287,6 +316,40 @@ export class GuidedPanel {
     this.setFlight(f, `Nominal guided bank of the dispersion: miss ${nmiWords(r.nominal.guidance.miss_nmi)} nmi, `
                       + `${fmt(r.nominal.guidance.reversals)} reversals`);
     this.fitTrack(true);
+  }
+
+  /** A guided footprint's rings on the map (each continuous from its entry, with its copies past +-180 deg; a ring
+   * that holds a pole is drawn as a line, unfilled) and its areas and margins in words. */
+  showFootprint(r) {
+    this.footprintLayer.clearLayers();
+    const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true, interactive: false };
+    const main = [];
+    for (const [key, , color, dashArray] of RINGS) {
+      const ring = r[key];
+      if (!ring) continue;
+      const pts = ring.latitude_deg.map((lat, i) => ({ latitude_deg: lat, longitude_deg: ring.longitude_deg[i] }));
+      const lons = unwrapRing(pts, r.entry);
+      const closes = Math.abs(lons.at(-1) + wrapLongitude(lons[0] - lons.at(-1)) - lons[0]) < 1e-9;
+      for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
+        const latlngs = pts.map((p, i) => [p.latitude_deg, lons[i] + offset]);
+        const style = { ...svg, color, weight: key === "guided" ? 2.5 : 1.6, dashArray,
+                        className: `gf-ring gf-${key.replace("_", "-")} g-copy-${offset}` };
+        const shape = closes
+          ? L.polygon(latlngs, { ...style, fill: key === "guided", fillOpacity: 0.12 })
+          : L.polyline([...latlngs, latlngs[0]], style);
+        shape.addTo(this.footprintLayer);
+        if (offset === 0) main.push(shape);
+      }
+    }
+    $("guided-footprint-summary").replaceChildren(el("p", { class: "guided-line" }, footprintWords(r)),
+      el("p", { class: "muted" }, `${fmt(r.settings.rays)} rays, ${fmt(r.settings.samples)} samples a target: `
+         + `${fmt(r.flights)} guided flights in ${fmt(r.run.seconds, 1)} s.`));
+    this.legend.getContainer().hidden = false;
+    this.legendFootprint.hidden = false;
+    for (const k of this.legendFootprint.children) k.hidden = !r[k.dataset.ring]; // the rings drawn
+    const bounds = L.latLngBounds([]);
+    for (const l of main) bounds.extend(l.getBounds());
+    if (bounds.isValid()) this.map.fitBounds(bounds.pad(0.1), { maxZoom: 5, animate: false });
   }
 
   setFlight(h, title) {
@@ -349,12 +412,15 @@ export class GuidedPanel {
 
   addLegend() {
     const key = (cls, text) => el("div", {}, el("span", { class: cls }), text);
-    this.legendDispersion = el("div", {}, key("dot guided-dot", "guided landings"),
+    this.legendDispersion = el("div", { hidden: "" }, key("dot guided-dot", "guided landings"),
       key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "miss radius R about the target"));
+    this.legendFootprint = el("div", { hidden: "" }, ...RINGS.map(([k, words]) =>
+      el("div", { dataset: { ring: k } }, el("span", { class: `ring-key gf-key-${k.replace("_", "-")}` }), words)));
     this.legend = L.control({ position: "topright" });
     this.legend.onAdd = () => {
       const div = el("div", { class: "map-legend guided-legend" }, el("strong", {}, "Guided entry"),
-                     key("line guided-line-key", "guided track"), key("target-key", "target"), this.legendDispersion);
+                     key("line guided-line-key", "guided track"), key("target-key", "target"), this.legendDispersion,
+                     this.legendFootprint);
       div.hidden = true;
       return div;
     };
@@ -382,6 +448,18 @@ export function withinWords(r, i) {
   };
   const guided = `guided: P(within ${+r.radii_nmi[i].toFixed(3)} nmi) = ${words("guided")}`;
   return r.open_loop ? `${guided}; open loop: P = ${words("open_loop")}` : guided;
+}
+
+const areaWords = (nmi2) => `${fmt(nmi2 / 1e6, 2)} million nmi²`;
+
+/** "guided footprint 24.37 million nmi²; margin to the report's 16.99 million nmi² (41 %), inside at every ray". */
+export function footprintWords(r) {
+  const margins = ["report", "optimal"].filter((k) => r[`margin_to_${k}`]).map((k) => {
+    const m = r[`margin_to_${k}`];
+    return `margin to the ${k === "report" ? "report's" : "true optimal"} ${areaWords(m.area_nmi2)} (${fmt(m.percent, 0)} %)`
+      + `, ${m.inside_at_every_ray ? "inside at every ray" : "not inside at every ray"}`;
+  });
+  return [`guided footprint ${areaWords(r.guided.area_nmi2)}`, ...margins].join("; ");
 }
 
 // ------------------------------------------------------------------------------------------- the bank plot

@@ -330,3 +330,43 @@ def test_a_map_click_picks_the_target_and_a_job_is_cancelled(open_page, service)
     assert service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["status"] == "cancelled"
     assert re.fullmatch(r"\d+ %", item.locator(".job-percent").inner_text())
     assert not run.errors and run.violations() == []
+
+
+# the drawn rings of the guided footprint, main copy: each ring's Leaflet vertices
+RINGS_JS = """() => Object.fromEntries(window.footprintApp.guided.footprintLayer.getLayers()
+  .filter((l) => l.options.className.endsWith(" g-copy-0"))
+  .map((l) => { const ll = l.getLatLngs(); const ring = Array.isArray(ll[0]) ? ll[0] : ll;
+                return [l.options.className.split(" ")[1], ring.map((p) => [p.lat, p.lng])]; }))"""
+
+
+def test_a_guided_footprint_is_drawn_past_half_way_round_beside_the_reports(open_page, service):
+    """The L/D 1.89 guided footprint from 0 N 0 E eastbound reaches past 180 E: each ring is drawn continuous from
+    the entry (no jump across the map) at the service's own latitudes and longitudes, and the margins are said as
+    the job's result has them."""
+    run = open_page(1280, 800)
+    page = run.page
+    for field, value in (("#gf-rays", "4"), ("#gf-samples", "2"), ("#gf-probability", "0.5"), ("#g-radius", "5")):
+        page.fill(field, value)
+    page.click("#g-footprint")
+    item = page.locator("#guided-jobs li").first
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
+    assert job["kind"] == "guided_footprint" and job["study"]["rays"] == 4 and job["study"]["optimal"] is False
+    r = job["result"]["guided_footprint"]
+    page.locator("path.gf-guided.g-copy-0").wait_for(state="attached", timeout=WAIT_MS)
+    drawn = page.evaluate(RINGS_JS)
+    assert set(drawn) == {"gf-guided", "gf-nominal-guided", "gf-report"}
+    for key, cls in (("guided", "gf-guided"), ("nominal_guided", "gf-nominal-guided"), ("report", "gf-report")):
+        ring, got = r[key], drawn[cls]
+        assert len(got) == len(ring["latitude_deg"])
+        for (lat, lon), la, lo in zip(got, ring["latitude_deg"], ring["longitude_deg"]):
+            assert lat == pytest.approx(la, abs=1e-9) and wrapped(lon - lo) == pytest.approx(0, abs=1e-9)
+        assert all(abs(b[1] - a[1]) < 90 for a, b in zip(got, got[1:] + got[:1]))  # continuous, closed
+    assert max(lon for _, lon in drawn["gf-report"]) > 180  # past half-way round, on the main copy
+    words = page.inner_text("#guided-footprint-summary")
+    m = r["margin_to_report"]
+    assert f"guided footprint {r['guided']['area_nmi2'] / 1e6:,.2f} million nmi²" in words, words
+    assert f"margin to the report's {m['area_nmi2'] / 1e6:,.2f} million nmi² ({m['percent']:,.0f} %)" in words
+    assert ("not inside at every ray" not in words) == m["inside_at_every_ray"]
+    screenshot(page, "guided_footprint_page.png")
+    assert not run.errors and run.violations() == []

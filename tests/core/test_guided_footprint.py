@@ -110,6 +110,14 @@ def test_the_reports_boundary_is_not_reached_under_dispersion_a_point_well_insid
         inside = gfp.ray_point(frame, math.radians(r["angle_deg"]), 0.5 * r["s_guided"])
         assert not gfp.dispersed_ok(gfp.targeted(spec, *on_edge), samples, settings, [0]), (r, on_edge)
         assert gfp.dispersed_ok(gfp.targeted(spec, *inside), samples, settings, [0]), (r, inside)
+    # the verdict does not depend on which samples fly first; a failure found first among the hard ones is cheap
+    r = answer["rays"][0]
+    beyond = gfp.targeted(spec, *gfp.ray_point(frame, 0.0, 0.5 * (r["s_guided"] + r["s_nominal"])))
+    in_order, hard = [0], []
+    verdict = gfp.dispersed_ok(beyond, samples, settings, in_order, hard)
+    again = [0]
+    assert gfp.dispersed_ok(beyond, samples, settings, again, list(hard)) == verdict
+    assert again[0] <= in_order[0]
 
 
 def test_a_ray_meets_a_circle_where_the_closed_form_says():
@@ -150,3 +158,19 @@ def test_the_guided_footprint_lies_inside_the_true_optimal_one_at_every_ray():
         assert r["s_guided"] <= r["s_nominal"] < r["s_optimal"], r
     assert answer["margin_to_optimal"]["inside_at_every_ray"]
     assert answer["optimal"]["area_nmi2"] > answer["report"]["area_nmi2"] > answer["guided"]["area_nmi2"]
+
+
+@pytest.mark.parametrize("threshold", [1.0, 0.95, 0.81, 0.79, 0.5, 0.2])
+def test_the_guided_bisection_finds_a_threshold_to_its_resolution(threshold):
+    """Against a predicate with a known edge (s <= threshold), the search returns a point that passed, below the edge
+    by less than its bracket's resolution, whichever bracket the edge falls in."""
+    asked = []
+
+    def ok(s):
+        asked.append(s)
+        return s <= threshold
+
+    s = gfp._bisect_guided(ok, 1.0)
+    bracket = next(b for b in (gfp.LOWER_FRACTION**k for k in range(1, 20)) if b <= threshold)  # the edge's floor
+    resolution = (bracket / gfp.LOWER_FRACTION - bracket) / 2**gfp.GUIDED_BISECTIONS
+    assert s in asked and s <= threshold and threshold - s <= resolution + 1e-12, (s, threshold)

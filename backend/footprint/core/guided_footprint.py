@@ -7,7 +7,8 @@ at the centre for the rays' scale). A ray at angle theta holds the targets centr
 a the half length and b the half width so found. Along each ray (one part of a run each):
   1. s_nominal: the farthest s the undispersed guided flight reaches within R (bisection);
   2. s_guided: the farthest s in [LOWER_FRACTION s_nominal, s_nominal] reached within R in >= p of the samples
-     (bisection; a candidate fails as soon as more samples missed than p allows, so most failures cost few flights).
+     (bisection; a candidate fails as soon as more samples missed than p allows, the samples that missed before
+     flying first, so a failure costs a few flights and a pass every sample).
 The guided footprint lies inside the undispersed one by construction; the area between the guided footprint and
 an outer one (the report's, or the true optimal) is the guidance's margin.
 """
@@ -74,6 +75,25 @@ def _bisect(ok: Callable[[float], bool], lo: float, hi: float, steps: int) -> fl
     return lo
 
 
+def _bisect_guided(ok: Callable[[float], bool], s_nominal: float) -> float:
+    """The largest s in [LOWER_FRACTION s_nominal, s_nominal] with ok(s), to a 2^-GUIDED_BISECTIONS part of the
+    bracket. The bracket's floor is flown only when no candidate above it passed (a pass costs every sample); when it
+    fails too, the bracket moves down below it, LOWER_FRACTION of it, and is bisected again (0 when nothing passes)."""
+    lo, hi = LOWER_FRACTION * s_nominal, s_nominal
+    while lo > 1e-3:
+        passed = False
+        for _ in range(GUIDED_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            if ok(mid):
+                lo, passed = mid, True
+            else:
+                hi = mid
+        if passed or ok(lo):
+            return lo
+        lo, hi = LOWER_FRACTION * lo, lo
+    return 0.0
+
+
 def frame(spec: FlightSpec, radius_nmi: float) -> Frame:
     """The rays' centre and half-axes from the undispersed guided reach on the axis and across it: a grid of targets
     on the initial great circle, then bisections past its first and last reached points."""
@@ -96,15 +116,27 @@ def ray_point(f: Frame, angle_rad: float, s: float) -> tuple[float, float]:
     return f.center_nmi + s * f.half_length_nmi * math.cos(angle_rad), s * f.half_width_nmi * math.sin(angle_rad)
 
 
-def dispersed_ok(spec: FlightSpec, samples: Samples, settings: GuidedFootprintSettings, counter: list[int]) -> bool:
-    """Whether the target is reached within R in >= p of the samples: stops at the first miss too many (the flights
-    flown are added to counter[0])."""
+def dispersed_ok(
+    spec: FlightSpec,
+    samples: Samples,
+    settings: GuidedFootprintSettings,
+    counter: list[int],
+    hard: list[int] | None = None,
+) -> bool:
+    """Whether the target is reached within R in >= p of the samples: stops at the first miss too many. The samples
+    in `hard` (those that missed a neighbouring target) fly first and each new miss joins them, so a failing target
+    is found in a few flights; the verdict does not depend on the order. counter[0] counts the flights."""
+    hard = [] if hard is None else hard
+    known = set(hard)
     allowed = math.floor((1.0 - settings.probability) * len(samples) + 1e-9)
     misses = 0
-    for i in range(len(samples)):
+    for i in [*hard, *(j for j in range(len(samples)) if j not in known)]:
         counter[0] += 1
         if not _reached(sample_spec(spec, samples, i), settings.radius_nmi):
             misses += 1
+            if i not in known:
+                hard.append(i)
+                known.add(i)
             if misses > allowed:
                 return False
     return True
@@ -119,7 +151,8 @@ def trace_ray(
     on_progress: Callable[[float, str], bool | None] | None = None,
 ) -> dict[str, Any]:
     """One ray: s_nominal, s_guided and the boundary points (module docstring)."""
-    flights = [0]
+    flights: list[int] = [0]
+    hard: list[int] = []
 
     def nominal(s: float) -> bool:
         flights[0] += 1
@@ -128,13 +161,10 @@ def trace_ray(
     def guided(s: float) -> bool:
         if on_progress is not None and on_progress(0.5, f"ray {math.degrees(angle_rad):.0f} deg, s {s:.3f}"):
             raise Stopped("stopped")
-        return dispersed_ok(targeted(spec, *ray_point(f, angle_rad, s)), samples, settings, flights)
+        return dispersed_ok(targeted(spec, *ray_point(f, angle_rad, s)), samples, settings, flights, hard)
 
     s_nominal = _bisect(nominal, 0.0, FAR_S, NOMINAL_BISECTIONS)
-    lo = LOWER_FRACTION * s_nominal
-    while lo > 1e-3 and not guided(lo):
-        lo *= LOWER_FRACTION
-    s_guided = _bisect(guided, lo, s_nominal, GUIDED_BISECTIONS) if lo > 1e-3 else 0.0
+    s_guided = _bisect_guided(guided, s_nominal)
     (nd, nc), (gd, gc) = ray_point(f, angle_rad, s_nominal), ray_point(f, angle_rad, s_guided)
     return {
         "angle_deg": math.degrees(angle_rad),

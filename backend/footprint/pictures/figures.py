@@ -227,6 +227,46 @@ def guided_dispersion_figure(result: dict, title=None) -> Figure:
     return fig
 
 
+def guided_footprint_figure(result: dict, title=None) -> Figure:
+    """A guided footprint (contracts.guided_footprint) in down-range and cross-range: the true optimal and the
+    report's footprints, the undispersed guided one, the guided one under dispersion shaded, the rays from the
+    frame's centre; titled with the margins to the outer footprints."""
+    fig = Figure(figsize=(10.0, 6.0), layout="constrained")
+    ax = fig.add_subplot(1, 1, 1)
+    st = result["settings"]
+    styles = {
+        "optimal": dict(color="k", ls="--", lw=1.2, label="true optimal (collocation)"),
+        "report": dict(color="0.45", ls="-", lw=1.2, label="report's single-parameter law"),
+        "nominal_guided": dict(color="tab:blue", ls=":", lw=1.4, label="guided, undispersed"),
+        "guided": dict(color="tab:blue", ls="-", lw=1.8,
+                       label=f"guided: within {st['radius_nmi']:g} nmi in {st['probability']:.0%} of "
+                             f"{st['samples']:,} samples"),
+    }  # fmt: skip
+    f = result["frame"]
+    for r in result["rays"]:
+        d, c = r["nominal"]["downrange_nmi"], r["nominal"]["crossrange_nmi"]
+        ax.plot([f["center_nmi"], d], [0.0, c], color="0.85", lw=0.6, zorder=0)
+    for name, style in styles.items():
+        ring = result.get(name)
+        if ring is None:
+            continue
+        d, c = ring["downrange_nmi"] + ring["downrange_nmi"][:1], ring["crossrange_nmi"] + ring["crossrange_nmi"][:1]
+        ax.plot(d, c, gid=f"ring_{name}", **style)
+        if name == "guided":
+            ax.fill(d, c, color="tab:blue", alpha=0.15, lw=0)
+    ax.plot(0.0, 0.0, "ko", ms=4, label="entry")
+    ax.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, frameon=False)
+    words = [f"guided {result['guided']['area_nmi2'] / 1e6:.1f}M nmi²"]
+    for name in ("report", "optimal"):
+        m = result.get(f"margin_to_{name}")
+        if m is not None:
+            inside = "inside at every ray" if m["inside_at_every_ray"] else "NOT inside at every ray"
+            words.append(f"margin to the {name} {m['area_nmi2'] / 1e6:.1f}M nmi² ({m['percent']:.0f} %), {inside}")
+    _range_axes(ax, title or fill("; ".join(words), 110))
+    ax.set_aspect("equal")
+    return fig
+
+
 def _probability(p: float) -> str:
     """Two decimals, three below 0.01 (so a rare reach does not read as 0.00); 0 and 1 exactly."""
     return "0" if p == 0.0 else "1" if p == 1.0 else f"{p:.3f}" if p < 0.01 else f"{p:.2f}"

@@ -184,6 +184,27 @@ def guided_dispersion_collection(result: dict) -> dict:
     return {"type": "FeatureCollection", "features": features}
 
 
+GUIDED_FOOTPRINT_RINGS = ("optimal", "report", "nominal_guided", "guided")  # outermost first
+
+
+def guided_footprint_collection(result: dict) -> dict:
+    """A guided footprint (contracts.guided_footprint) as GeoJSON features: each ring (the true optimal and the
+    report's footprints, the undispersed guided one and the guided one under dispersion) as a polygon with its area,
+    the guided ring's properties holding the margins, and the entry."""
+    entry = result["entry"]
+    features = [{"type": "Feature", "geometry": _point(entry), "properties": {"kind": "entry", **entry}}]
+    for name in GUIDED_FOOTPRINT_RINGS:
+        ring = result.get(name)
+        if ring is None:
+            continue
+        props = {"kind": f"{name}_footprint", "area_nmi2": ring["area_nmi2"]}
+        if name == "guided":
+            props |= {k: v for k, v in result.items() if k.startswith("margin_to_")} | {"settings": result["settings"]}
+        o = outline(ring["downrange_nmi"], ring["crossrange_nmi"], Reference(**entry))
+        features.append({"type": "Feature", "geometry": polygon(o), "properties": props})
+    return {"type": "FeatureCollection", "features": features}
+
+
 def circle(lat_deg: float, lon_deg: float, radius_nmi: float, points: int = 73) -> tuple[np.ndarray, np.ndarray]:
     """A small circle of radius_nmi (on R') about a point: latitudes and longitudes, closed."""
     from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
