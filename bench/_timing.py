@@ -7,9 +7,19 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root, for tests.authorities
-from tests.authorities.report import REPORT, betts, example, table2_entry, table2_stop  # noqa: E402
+from tests.authorities.report import REPORT, betts, example, guided_spreads, table2_entry, table2_stop  # noqa: E402
 
-__all__ = ["REPORT", "betts", "example", "table2_entry", "table2_stop", "timings_s", "median_ms", "save_result"]
+__all__ = [
+    "REPORT",
+    "betts",
+    "example",
+    "guided_spreads",
+    "table2_entry",
+    "table2_stop",
+    "timings_s",
+    "median_ms",
+    "save_result",
+]
 RESULTS = Path(__file__).resolve().parent / "results"
 
 

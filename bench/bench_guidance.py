@@ -14,22 +14,11 @@ import os
 import sys
 import time
 
-from _timing import example, save_result, timings_s
+from _timing import example, guided_spreads, save_result, timings_s
 
 SAMPLES = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000
 TARGET = {"flight_ms": 50.0, "flight_ratio": 60.0, "samples_1000_s": 60.0, "within_5_nmi": 0.99}
-SPREADS = {
-    "entry": {
-        "gamma_deg": {"normal": {"std": 0.05}},
-        "velocity_fps": {"normal": {"std": 15}},
-        "heading_deg": {"normal": {"std": 0.05}},
-    },
-    "vehicle": {
-        "cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-        "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-    },
-    "density": {"std": 0.05, "correlation_length_ft": 30_000},
-}
+SPREADS = guided_spreads()
 
 
 def load() -> float:

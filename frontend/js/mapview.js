@@ -138,7 +138,7 @@ export class MapView {
     this.map.attributionControl.setPrefix(false);
     this.map.attributionControl.addAttribution("Natural Earth (public domain), via world-atlas");
     this.legend = L.control({ position: "bottomright" });
-    this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
+    this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend footprint-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
     this.legend.addTo(this.map);
     this.map.on("click", (e) => onClick?.(e.latlng));
     this.gridLabels = L.layerGroup().addTo(this.map);

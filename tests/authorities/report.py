@@ -33,6 +33,13 @@ def example(name: str) -> dict:
     return json.loads((EXAMPLES / f"{name}.json").read_text())
 
 
+def guided_spreads() -> dict:
+    """The dispersions of issue 27's example (examples/disperse_guided_lod189.json): entry gamma and heading 0.05 deg,
+    V 15 ft/s, density 5 % correlated over 30,000 ft, C_L and C_D 3 % truncated at 3 sigma."""
+    data = example("disperse_guided_lod189")
+    return {k: data[k] for k in ("entry", "vehicle", "density")}
+
+
 def table2_entry(**changes) -> dict:
     """The report's Table 2 entry (364,800 ft, 24,480 ft/s relative, -2 deg, heading 90 at 0 N 0 E), as
     examples/table2_lod22.json flies it (whose vehicle, lod-2.2, is not part of Table 2), with `changes`."""

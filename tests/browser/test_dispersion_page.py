@@ -216,7 +216,7 @@ def test_a_dispersion_job_is_drawn_across_the_antimeridian_with_its_site_probabi
         ).count()
         == 0
     )
-    assert HOSTILE_JOB in page.locator(".map-legend").inner_text()
+    assert HOSTILE_JOB in page.locator(".footprint-legend").inner_text()
     assert HOSTILE_JOB in page.locator("#dispersion-sites caption").inner_text()
     # the dispersion in the report's axes
     assert page.locator("#plot svg.dispersion-plot path.dispersion-ellipse").count() == len(drawn)

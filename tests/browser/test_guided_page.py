@@ -14,7 +14,7 @@ from urllib.parse import urlparse
 import pytest
 
 from footprint.core.sphere import latlon_from_ranges
-from tests.authorities.report import table2_entry, table2_stop
+from tests.authorities.report import guided_spreads, table2_entry, table2_stop
 
 from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS
 
@@ -24,18 +24,7 @@ END_DEG = 0.05  # the drawn track's end from the service's final point
 RADIUS_NMI = 5.0
 SAMPLES = 8
 HOSTILE_SITE = 'Target <img src=x onerror=alert(1)> & "Co" ${1}'
-SPREADS = {
-    "entry": {
-        "gamma_deg": {"normal": {"std": 0.05}},
-        "velocity_fps": {"normal": {"std": 15}},
-        "heading_deg": {"normal": {"std": 0.05}},
-    },
-    "vehicle": {
-        "cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-        "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-    },
-    "density": {"std": 0.05, "correlation_length_ft": 30000},
-}
+SPREADS = guided_spreads()  # what the page sends: the issue's example dispersions
 
 # the drawn main copy of the track (Leaflet's own vertices: a path read back through pixels is ~1 px coarse)
 TRACK_JS = """() => { const g = window.footprintApp.guided.resultLayer.getLayers();

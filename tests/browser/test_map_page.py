@@ -195,7 +195,7 @@ def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):
     tip.wait_for()
     for label in ("Down-range", "Cross-range", "Flight time", "Control"):
         assert label in tip.inner_text()
-    assert run.page.locator(".map-legend").inner_text().strip().startswith(fp["name"])
+    assert run.page.locator(".footprint-legend").inner_text().strip().startswith(fp["name"])
 
 
 def test_node_longitude_control_moves_the_polygon_east(open_page, service):
@@ -565,7 +565,7 @@ def test_twenty_sites_are_labelled_without_one_label_over_another(open_page, twe
         else:
             assert len(labels) >= 0.75 * len(visible), seen  # at world zoom most are named, the rest on hover
             page.screenshot(path=str(FIGURES / "map_20_sites.png"))
-    assert "reached" in page.locator(".map-legend").inner_text()
+    assert "reached" in page.locator(".footprint-legend").inner_text()
     assert not run.errors, run.errors
 
 
@@ -746,7 +746,7 @@ def test_a_footprint_is_renamed_and_deleted_from_the_list(open_page, service):
     row.locator(".fp-select", has_text="Pacific <b>east</b>").wait_for()  # shown as text, not markup
     assert service.call(f"/api/footprints/{fp_id}")["name"] == "Pacific <b>east</b>"
     page.evaluate("(id) => window.footprintApp.select(id)", fp_id)
-    assert "Pacific <b>east</b>" in page.locator(".map-legend").inner_text()
+    assert "Pacific <b>east</b>" in page.locator(".footprint-legend").inner_text()
     page.once("dialog", lambda d: d.accept())
     row.locator(".fp-delete").click()
     row.wait_for(state="detached")
@@ -1062,7 +1062,7 @@ def test_a_hostile_name_is_text_on_the_page(open_page, service, hostile_footprin
     row = page.locator(f"#footprint-list li[data-id='{fp_id}']")
     assert row.locator(".fp-select").inner_text().startswith(HOSTILE_NAME)
     page.evaluate("(id) => window.footprintApp.select(id)", fp_id)
-    assert HOSTILE_NAME in page.locator(".map-legend").inner_text()
+    assert HOSTILE_NAME in page.locator(".footprint-legend").inner_text()
     assert page.locator("#footprint-list img, .map-legend img").count() == 0
     page.wait_for_timeout(300)
     assert dialogs == [] and not run.errors and run.violations() == [], (dialogs, run.errors, run.violations())

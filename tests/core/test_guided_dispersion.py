@@ -13,20 +13,10 @@ from footprint import parallel
 from footprint.contracts import module, parse
 from footprint.core import dispersion as disp
 from footprint.core import guided_dispersion as gdisp
+from tests.authorities.report import guided_spreads
 from tests.core.test_guidance import distance_nmi, guided
 
-SPREADS = {  # the example dispersions
-    "entry": {
-        "gamma_deg": {"normal": {"std": 0.05}},
-        "velocity_fps": {"normal": {"std": 15}},
-        "heading_deg": {"normal": {"std": 0.05}},
-    },
-    "vehicle": {
-        "cl_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-        "cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}},
-    },
-    "density": {"std": 0.05, "correlation_length_ft": 30_000},
-}
+SPREADS = guided_spreads()  # the example dispersions
 STUDY = {"case": guided(5000.0, 600.0), "samples": 24, "seed": 3, "radius_nmi": [0.3, 1.0, 5.0], **SPREADS}
 
 

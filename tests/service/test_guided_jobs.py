@@ -20,6 +20,17 @@ STUDY = {
     "vehicle": {"cd_multiplier": {"truncated_normal": {"std": 0.03, "sigmas": 3}}},
 }
 
+FOOTPRINT_STUDY = {
+    "case": guided(5000.0, 600.0),
+    "rays": 4,
+    "samples": 4,
+    "probability": 0.75,
+    "optimal": False,
+    "seed": 2,
+    "entry": STUDY["entry"],
+    "vehicle": STUDY["vehicle"],
+}
+
 
 def test_every_kind_fits_the_job_stores_kind_column():
     """guided_dispersion has 17 characters; the column had 16 (Postgres refused the job, SQLite stored it)."""
@@ -57,37 +68,44 @@ def test_a_guided_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
     assert len(got["nominal_flight"]["bank_command_deg"]) == len(got["nominal_flight"]["time_s"])
 
 
-def test_a_guided_dispersion_job_is_cancelled(api):
-    long = STUDY | {"samples": 5_000, "chunk_samples": 50}
-    job_id = api.post("/api/jobs", json={"kind": "guided_dispersion", "study": long}).json()["id"]
+@pytest.mark.parametrize(
+    "kind, long",
+    [
+        ("guided_dispersion", STUDY | {"samples": 5_000, "chunk_samples": 50}),
+        ("guided_footprint", FOOTPRINT_STUDY | {"rays": 24, "samples": 1_000}),
+    ],
+)
+def test_a_guided_job_is_cancelled(api, kind, long):
+    job_id = api.post("/api/jobs", json={"kind": kind, "study": long}).json()["id"]
     r = api.delete(f"/api/jobs/{job_id}")
     assert r.status_code == 200 and r.json()["status"] == "cancelled" and r.json()["result"] is None
     assert wait_for_job(api, job_id)["status"] == "cancelled"
 
 
 @pytest.mark.parametrize(
-    "change, field",
+    "kind, base, change, field",
     [
-        ({"samples": 50_000}, "study.samples"),
-        ({"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}}, "study.case.bank.law"),
-        ({"case": guided(5000.0, 600.0, cycle_s=0.01)}, "study.case.bank.cycle_s"),
+        ("guided_dispersion", STUDY, {"samples": 50_000}, "study.samples"),
+        (
+            "guided_dispersion",
+            STUDY,
+            {"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}},
+            "study.case.bank.law",
+        ),
+        ("guided_dispersion", STUDY, {"case": guided(5000.0, 600.0, cycle_s=0.01)}, "study.case.bank.cycle_s"),
+        ("guided_footprint", FOOTPRINT_STUDY, {"samples": 5_000}, "study.samples"),
+        ("guided_footprint", FOOTPRINT_STUDY, {"rays": 3}, "study.rays"),
+        (
+            "guided_footprint",
+            FOOTPRINT_STUDY,
+            {"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}},
+            "study.case.bank.law",
+        ),
     ],
 )
-def test_bad_guided_studies_are_422_naming_the_field(api, change, field):
-    r = api.post("/api/jobs", json={"kind": "guided_dispersion", "study": copy.deepcopy(STUDY) | change})
+def test_bad_guided_studies_are_422_naming_the_field(api, kind, base, change, field):
+    r = api.post("/api/jobs", json={"kind": kind, "study": copy.deepcopy(base) | change})
     assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
-
-
-FOOTPRINT_STUDY = {
-    "case": guided(5000.0, 600.0),
-    "rays": 4,
-    "samples": 4,
-    "probability": 0.75,
-    "optimal": False,
-    "seed": 2,
-    "entry": STUDY["entry"],
-    "vehicle": STUDY["vehicle"],
-}
 
 
 def test_a_guided_footprint_job_traces_ray_by_ray_and_stores_its_boundaries(api):
@@ -107,24 +125,3 @@ def test_a_guided_footprint_job_traces_ray_by_ray_and_stores_its_boundaries(api)
         )
         assert 0.0 < r["s_guided"] <= r["s_nominal"] < r["s_report"]
     assert len(got["guided"]["latitude_deg"]) == 4 and got["margin_to_report"]["inside_at_every_ray"]
-
-
-def test_a_guided_footprint_job_is_cancelled(api):
-    long = FOOTPRINT_STUDY | {"rays": 24, "samples": 1_000}
-    job_id = api.post("/api/jobs", json={"kind": "guided_footprint", "study": long}).json()["id"]
-    r = api.delete(f"/api/jobs/{job_id}")
-    assert r.status_code == 200 and r.json()["status"] == "cancelled" and r.json()["result"] is None
-    assert wait_for_job(api, job_id)["status"] == "cancelled"
-
-
-@pytest.mark.parametrize(
-    "change, field",
-    [
-        ({"samples": 5_000}, "study.samples"),
-        ({"rays": 3}, "study.rays"),
-        ({"case": {**guided(5000.0, 600.0), "bank": {"law": "zero"}}}, "study.case.bank.law"),
-    ],
-)
-def test_bad_guided_footprint_studies_are_422_naming_the_field(api, change, field):
-    r = api.post("/api/jobs", json={"kind": "guided_footprint", "study": copy.deepcopy(FOOTPRINT_STUDY) | change})
-    assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()

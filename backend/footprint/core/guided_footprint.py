@@ -101,7 +101,7 @@ def frame(spec: FlightSpec, radius_nmi: float) -> Frame:
     step = float(grid[1] - grid[0])
     on_axis = [float(d) for d in grid if _reached(targeted(spec, float(d), 0.0), radius_nmi)]
     if not on_axis:
-        raise InputError("case.bank.target", "the guided vehicle reaches no target on its initial great circle")
+        raise InputError("case", "the guided vehicle reaches no target on its initial great circle from this entry")
     first, last = on_axis[0], on_axis[-1]
     low = first - _bisect(
         lambda d: _reached(targeted(spec, first - d, 0.0), radius_nmi), 0.0, min(step, first), AXIS_BISECTIONS
