@@ -13,7 +13,16 @@ DOC = Path(__file__).resolve().parents[2] / "docs" / "api.md"
 EXAMPLES = re.findall(r"```json (POST|PUT|PATCH) (\S+)\n(.*?)\n```", DOC.read_text(), flags=re.S)
 
 # every job kind the issues asked for, each typed in the document
-JOB_KINDS = {"footprint", "optimize", "sweep", "reach", "dispersion", "guided_dispersion", "guided_footprint"}
+JOB_KINDS = {
+    "footprint",
+    "optimize",
+    "sweep",
+    "reach",
+    "dispersion",
+    "guided_dispersion",
+    "guided_footprint",
+    "guided_reach",
+}
 
 
 def test_the_document_has_examples_of_every_kind_of_write():

@@ -125,3 +125,16 @@ def test_a_guided_footprint_job_traces_ray_by_ray_and_stores_its_boundaries(api)
         )
         assert 0.0 < r["s_guided"] <= r["s_nominal"] < r["s_report"]
     assert len(got["guided"]["latitude_deg"]) == 4 and got["margin_to_report"]["inside_at_every_ray"]
+
+
+def test_a_guided_reach_job_says_each_sites_guided_probability(api):
+    sites = [{"name": "A <b>site</b>", **target(5000.0, 600.0)}, {"name": "short", **target(1500.0, 0.0)}]
+    study = {"case": guided(5000.0, 600.0), "sites": sites, "samples": 3, "seed": 2, "entry": STUDY["entry"]}
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "guided_reach", "study": study}).json()["id"])
+    assert job["status"] == "succeeded", job
+    got = job["result"]["guided_reach"]
+    assert got["run"]["tasks"] == 2 and [s["name"] for s in got["sites"]] == ["A <b>site</b>", "short"]
+    assert [s["samples_within"] for s in got["sites"]] == [3, 0]
+    r = api.post("/api/jobs", json={"kind": "guided_reach", "study": study | {"samples": 15_000}})
+    assert r.status_code == 422 and r.json()["field"] == "study.samples", r.json()
+    assert "2 sites x 15,000 samples" in r.json()["detail"]

@@ -22,6 +22,7 @@ MODULES = {
     "dispersion": "footprint.contracts.dispersion",
     "guided_dispersion": "footprint.contracts.guided_dispersion",
     "guided_footprint": "footprint.contracts.guided_footprint",
+    "guided_reach": "footprint.contracts.guided_reach",
 }  # kind -> its contract module
 
 

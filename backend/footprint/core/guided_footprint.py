@@ -25,7 +25,7 @@ import numpy as np
 from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprints import ring_area_nmi2
-from footprint.core.guidance import Guidance
+from footprint.core.guided_reach import aimed_at, landed_miss_nmi
 from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, Stop, simulate_summary
 
@@ -55,16 +55,13 @@ class Frame(NamedTuple):
 
 def targeted(spec: FlightSpec, down_nmi: float, cross_nmi: float) -> FlightSpec:
     """The guided spec aimed at the point (down-range, cross-range) about its entry."""
-    assert spec.guidance is not None
     e = spec.entry
     lat, lon = latlon_from_ranges(down_nmi, cross_nmi, e.latitude_deg, e.longitude_deg, e.heading_deg)
-    guidance: Guidance = replace(spec.guidance, target_latitude_deg=float(lat), target_longitude_deg=float(lon))
-    return replace(spec, guidance=guidance)
+    return aimed_at(spec, float(lat), float(lon))
 
 
 def _reached(spec: FlightSpec, radius_nmi: float) -> bool:
-    s = simulate_summary(spec)
-    return bool(s["stop_reason"] == "energy" and s["guidance"]["miss_nmi"] <= radius_nmi)
+    return landed_miss_nmi(simulate_summary(spec)) <= radius_nmi
 
 
 def _bisect(ok: Callable[[float], bool], lo: float, hi: float, steps: int) -> float:

@@ -1,0 +1,66 @@
+"""The guided reach of landing sites: each site made the target of a guided case (core.guidance) and flown in the
+dispersed samples; the probability that the guided vehicle lands within R of it, with its Clopper-Pearson interval
+(Clopper & Pearson, Biometrika 26, 1934), the CEP of its landings and the undispersed flight's miss."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from footprint.core.dispersion import Samples, sample_spec
+from footprint.core.errors import Stopped
+from footprint.core.monte_carlo import CONFIDENCE_INTERVAL, clopper_pearson
+from footprint.core.trajectory import FlightSpec, simulate_summary
+
+
+def aimed_at(spec: FlightSpec, latitude_deg: float, longitude_deg: float) -> FlightSpec:
+    """The guided spec with its target at (latitude, longitude)."""
+    assert spec.guidance is not None
+    guidance = replace(spec.guidance, target_latitude_deg=latitude_deg, target_longitude_deg=longitude_deg)
+    return replace(spec, guidance=guidance)
+
+
+def landed_miss_nmi(summary: dict[str, Any]) -> float:
+    """A guided flight's miss of its target (nmi); infinite when it did not end at its terminal energy (it skipped
+    out, ran out of time or hit the ground first)."""
+    return float(summary["guidance"]["miss_nmi"]) if summary["stop_reason"] == "energy" else math.inf
+
+
+def site_reach(
+    spec: FlightSpec,
+    name: str,
+    latitude_deg: float,
+    longitude_deg: float,
+    samples: Samples,
+    radius_nmi: float,
+    on_progress: Callable[[float, str], bool | None] | None = None,
+) -> dict[str, Any]:
+    """One site: its P(within R) over the samples with the interval, the landings' CEP and the nominal flight."""
+    aimed = aimed_at(spec, latitude_deg, longitude_deg)
+    nominal = simulate_summary(aimed)
+    misses = np.empty(len(samples))
+    for i in range(len(samples)):
+        if on_progress is not None and on_progress(i / len(samples), f"{name}: sample {i + 1:,}"):
+            raise Stopped(f"stopped at {name}, sample {i + 1:,}")
+        misses[i] = landed_miss_nmi(simulate_summary(sample_spec(aimed, samples, i)))
+    n, k = len(samples), int(np.count_nonzero(misses <= radius_nmi))
+    low, high = clopper_pearson(k, n)
+    landed = misses[np.isfinite(misses)]
+    return {
+        "name": name,
+        "latitude_deg": latitude_deg,
+        "longitude_deg": longitude_deg,
+        "samples_within": k,
+        "samples": n,
+        "probability": k / n,
+        "interval": [low, high],
+        "level": CONFIDENCE_INTERVAL,
+        "cep_nmi": float(np.median(landed)) if landed.size else None,
+        "landed": int(landed.size),
+        "nominal_miss_nmi": float(nominal["guidance"]["miss_nmi"]),
+        "nominal_status": nominal["guidance"]["status"],
+    }
