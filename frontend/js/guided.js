@@ -62,11 +62,12 @@ function checkedNumber(id, lo, hi, unit) {
 const numberOrText = (id) => { const v = $(id).value.trim(); return v !== "" && Number.isFinite(+v) ? +v : v; };
 
 export class GuidedPanel {
-  constructor({ mapView, onFlight, onPick, toast }) {
+  constructor({ mapView, onFlight, onPick, onReach, toast }) {
     this.mapView = mapView;
     this.map = mapView.map;
     this.onFlight = onFlight; // a bank history to plot
     this.onPick = onPick; // picking on the map: the sites panel stops adding sites
+    this.onReach = onReach; // a guided reach's result: each stored site's guided probability
     this.toast = toast;
     this.form = $("guided-form");
     this.flight = null; // {time_s, bank_deg, bank_command_deg, predicted_miss_nmi?, title}: the bank plot's
@@ -81,6 +82,7 @@ export class GuidedPanel {
     this.form.addEventListener("submit", (e) => { e.preventDefault(); this.fly(); });
     $("g-disperse").addEventListener("click", () => this.disperse());
     $("g-footprint").addEventListener("click", () => this.traceFootprint());
+    $("g-reach").addEventListener("click", () => this.reachSites());
     $("g-pick").addEventListener("click", () => this.setPicking(!this.picking));
     $("g-zoom").addEventListener("click", () => this.zoomToTarget());
     $("g-site").addEventListener("change", () => this.chooseSite($("g-site").value));
@@ -224,16 +226,34 @@ export class GuidedPanel {
     if (!target) return;
     const study = { case: this.guidedCase(target), samples: numberOrText("g-samples"), seed: 1,
                     radius_nmi: [numberOrText("g-radius")], ...structuredClone(SPREADS) };
-    const name = `guided dispersion to ${this.targetWords(target)}`.slice(0, 200);
-    $("g-disperse").disabled = true;
+    await this.submit("guided_dispersion", study, `guided dispersion to ${this.targetWords(target)}`.slice(0, 200), "g-disperse");
+  }
+
+  /** A job of this kind submitted (its button off meanwhile) and followed in the list; a refusal by its field. */
+  async submit(kind, study, name, buttonId) {
+    $(buttonId).disabled = true;
     try {
-      const job = await api("/api/jobs", { method: "POST", body: { kind: "guided_dispersion", name, study } });
+      const job = await api("/api/jobs", { method: "POST", body: { kind, name, study } });
       this.follow(job.id, name);
     } catch (err) {
       this.showError(err);
     } finally {
-      $("g-disperse").disabled = false;
+      $(buttonId).disabled = false;
     }
+  }
+
+  /** Every stored site made the target, flown guided in the dispersed samples: a guided reach job. */
+  async reachSites() {
+    this.clearErrors();
+    if (!this.sites.length) {
+      this.toast("Store a landing site first (the sites panel below)", true);
+      return;
+    }
+    const target = { latitude_deg: this.sites[0].latitude_deg, longitude_deg: this.sites[0].longitude_deg };
+    const sites = this.sites.map(({ name, latitude_deg, longitude_deg }) => ({ name, latitude_deg, longitude_deg }));
+    const study = { case: this.guidedCase(target), sites, samples: numberOrText("g-samples"),
+                    radius_nmi: numberOrText("g-radius"), seed: 1, ...structuredClone(SPREADS) };
+    await this.submit("guided_reach", study, `guided P of ${sites.length} stored site${sites.length === 1 ? "" : "s"}`, "g-reach");
   }
 
   async traceFootprint() {
@@ -243,16 +263,7 @@ export class GuidedPanel {
     const study = { case: this.guidedCase(target), rays: numberOrText("gf-rays"), samples: numberOrText("gf-samples"),
                     probability: numberOrText("gf-probability"), radius_nmi: numberOrText("g-radius"),
                     optimal: $("gf-optimal").checked, seed: 1, ...structuredClone(SPREADS) };
-    const name = "guided footprint";
-    $("g-footprint").disabled = true;
-    try {
-      const job = await api("/api/jobs", { method: "POST", body: { kind: "guided_footprint", name, study } });
-      this.follow(job.id, name);
-    } catch (err) {
-      this.showError(err);
-    } finally {
-      $("g-footprint").disabled = false;
-    }
+    await this.submit("guided_footprint", study, "guided footprint", "g-footprint");
   }
 
   /** A row with progress and a cancel button, fed by polling GET /api/jobs/{id} until the job ends. */
@@ -279,6 +290,10 @@ export class GuidedPanel {
     if (job.status === "succeeded" && r) {
       li.append(el("div", { class: "succeeded" }, withinWords(r, 0)));
       this.showDispersion(r, label);
+    } else if (job.status === "succeeded" && job.result?.guided_reach) {
+      const reach = job.result.guided_reach, reached = reach.sites.filter((t) => t.probability >= 0.99).length;
+      li.append(el("div", { class: "succeeded" }, `${reached} of ${reach.sites.length} sites with guided P ≥ 99 %`));
+      this.onReach?.(reach);
     } else if (job.status === "succeeded" && fp) {
       li.append(el("div", { class: "succeeded" }, footprintWords(fp)));
       this.showFootprint(fp);

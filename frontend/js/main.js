@@ -43,7 +43,7 @@ const jobs = new JobsPanel({ onSucceeded: (job) => showJobFootprints(job), onOpt
 const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.setDispersionLayer(kind, on); drawGlobeDispersion(); },
                                               onShowJob: (id) => showDispersionJob(id).catch(fail),
                                               onDownload: (format) => exportDispersion(state.dispersion, format).catch(fail) });
-const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(false),
+const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(false), onReach: (r) => sites.setGuided(r),
                                  onFlight: () => { $("plot-guided").disabled = false; setPlot("guided"); } });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;

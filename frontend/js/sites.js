@@ -25,11 +25,20 @@ function dispersionVerdict(s, dispersion) {
             el("em", {}, dispersion.name));
 }
 
+/** A site's guided probability from the last guided reach: "guided P 100 % (96–100 %) within 5 nmi". */
+function guidedVerdict(s, guided) {
+  const hit = guided?.sites.find((t) => sameSite(t, s));
+  if (!hit) return null;
+  return el("span", { class: "guided-p" },
+            `guided P ${percent(hit.probability)} (${intervalWords(hit.interval)}) within ${+guided.radius_nmi.toFixed(3)} nmi`);
+}
+
 export class SitesPanel {
   constructor({ onChange, onReach, selectedFootprint, toast }) {
     this.sites = [];
     this.reach = null; // the last reach result, by site name
     this.dispersion = null; // {name, sites} of the dispersion shown
+    this.guided = null; // the last guided reach: {radius_nmi, sites}
     this.onChange = onChange;
     this.onReach = onReach;
     this.selectedFootprint = selectedFootprint;
@@ -64,7 +73,7 @@ export class SitesPanel {
   render() {
     $("site-list").replaceChildren(...this.shown().map((s) => el("li", {},
       el("span", {}, `${s.name} `, el("span", { class: "muted" }, `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°`),
-         verdict(s), dispersionVerdict(s, this.dispersion)),
+         verdict(s), dispersionVerdict(s, this.dispersion), guidedVerdict(s, this.guided)),
       el("button", { type: "button", "data-delete": String(s.id), "aria-label": `Delete ${s.name}` }, "×"))));
     this.onChange();
   }
@@ -72,6 +81,12 @@ export class SitesPanel {
   /** The probabilities of the dispersion shown, beside the stored sites it has. */
   setDispersion(name, sites) {
     this.dispersion = { name, sites };
+    this.render();
+  }
+
+  /** Each stored site's probability of being reached by the guided vehicle (a guided reach job's result). */
+  setGuided(result) {
+    this.guided = result;
     this.render();
   }
 

@@ -359,3 +359,32 @@ def test_a_guided_footprint_is_drawn_past_half_way_round_beside_the_reports(open
     assert ("not inside at every ray" not in words) == m["inside_at_every_ray"]
     screenshot(page, "guided_footprint_page.png")
     assert not run.errors and run.violations() == []
+
+
+def test_each_stored_site_says_its_guided_probability(open_page, service, hostile_site):
+    """The stored sites flown guided in the dispersed samples (a guided reach job): each site's line in the sites
+    panel says its probability and interval as the job's result has them, the hostile name staying text."""
+    run = open_page()
+    page = run.page
+    page.fill("#g-samples", "2")
+    page.fill("#g-radius", "5")
+    page.click("#g-reach")
+    item = page.locator("#guided-jobs li").first
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
+    stored = service.call("/api/sites")
+    assert job["kind"] == "guided_reach" and [s["name"] for s in job["study"]["sites"]] == [s["name"] for s in stored]
+    r = job["result"]["guided_reach"]
+    lines = page.locator("#site-list li .guided-p")
+    lines.first.wait_for(timeout=WAIT_MS)
+    assert lines.count() == len(stored)
+    for site, line in zip(r["sites"], lines.all_inner_texts()):
+        lo, hi = site["interval"]
+        assert line.startswith(f"guided P {percent(site['probability'])} ("), line
+        assert line.endswith(" within 5 nmi") and f"{100 * lo:.1f}" in line and f"{100 * hi:.1f}" in line, line
+    hostile = next(s for s in r["sites"] if s["name"] == HOSTILE_SITE)
+    assert hostile["samples_within"] == 2  # the default target itself: reached in both samples
+    assert HOSTILE_SITE in page.inner_text("#site-list")
+    assert page.locator("#site-list img").count() == 0
+    page.locator("#sites-panel").screenshot(path=str(FIGURES_DIR / "guided_reach_sites.png"))
+    assert not run.errors and run.violations() == []
