@@ -51,6 +51,7 @@ export class GlobeView {
     this.footprints = [];
     this.sites = [];
     this.dispersion = null; // {name, features, sites, layers}
+    this.guided = null; // {track, rings}: the guided panel's flight and footprint, [lon, lat] lines
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -63,6 +64,10 @@ export class GlobeView {
     this.dispersion = { name, features: dispersionFeatures(d), sites: d.sites, layers };
     this.render();
   }
+
+  /** The guided panel's track and footprint rings ({track: [[lon, lat]...] | null, rings: [{key, color, dash,
+   * coordinates}]}), drawn as lines: d3 cuts them at the limb and carries them over the poles. */
+  setGuided(g) { this.guided = g; this.render(); }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
 
@@ -95,6 +100,7 @@ export class GlobeView {
       if (e) parts.push(`<path class="globe-entry fp-${fp.id}" style="fill:${fp.color}" d="${e}"><title>${escapeHtml(fp.name)}: entry</title></path>`);
     }
     if (this.dispersion) parts.push(...this._dispersionParts(path, projection));
+    if (this.guided) parts.push(...this._guidedParts(path));
     for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
       if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
       const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
@@ -109,6 +115,14 @@ export class GlobeView {
       + `<text class="globe-legend" x="32" y="${23 + 18 * i}">${escapeHtml(fp.name)}</text>`));
     this.svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
     this.svg.innerHTML = parts.join("");
+  }
+
+  _guidedParts(path) {
+    const line = (coordinates) => path({ type: "LineString", coordinates }) || "";
+    const parts = this.guided.rings.map((r) => `<path class="globe-guided-ring gr-${r.key}" style="stroke:${r.color}`
+      + `${r.dash ? `;stroke-dasharray:${r.dash}` : ""}" d="${line(r.coordinates)}"/>`);
+    if (this.guided.track) parts.push(`<path class="globe-guided-track" d="${line(this.guided.track)}"/>`);
+    return parts;
   }
 
   _dispersionParts(path, projection) {

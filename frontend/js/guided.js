@@ -62,12 +62,14 @@ function checkedNumber(id, lo, hi, unit) {
 const numberOrText = (id) => { const v = $(id).value.trim(); return v !== "" && Number.isFinite(+v) ? +v : v; };
 
 export class GuidedPanel {
-  constructor({ mapView, onFlight, onPick, onReach, toast }) {
+  constructor({ mapView, onFlight, onPick, onReach, onGlobe, toast }) {
     this.mapView = mapView;
     this.map = mapView.map;
     this.onFlight = onFlight; // a bank history to plot
     this.onPick = onPick; // picking on the map: the sites panel stops adding sites
     this.onReach = onReach; // a guided reach's result: each stored site's guided probability
+    this.onGlobe = onGlobe; // the track and rings for the globe: {track, rings} ([lon, lat] lines)
+    this.globeLayers = { track: null, rings: [] };
     this.toast = toast;
     this.form = $("guided-form");
     this.flight = null; // {time_s, bank_deg, bank_command_deg, predicted_miss_nmi?, title}: the bank plot's
@@ -339,11 +341,14 @@ export class GuidedPanel {
     this.footprintLayer.clearLayers();
     const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true, interactive: false };
     const main = [];
+    this.globeLayers.rings = [];
     for (const [key, , color, dashArray] of RINGS) {
       const ring = r[key];
       if (!ring) continue;
       const pts = ring.latitude_deg.map((lat, i) => ({ latitude_deg: lat, longitude_deg: ring.longitude_deg[i] }));
       const lons = unwrapRing(pts, r.entry);
+      const coordinates = pts.map((p, i) => [lons[i], p.latitude_deg]);
+      this.globeLayers.rings.push({ key, color, dash: dashArray, coordinates: [...coordinates, coordinates[0]] });
       const closes = Math.abs(lons.at(-1) + wrapLongitude(lons[0] - lons.at(-1)) - lons[0]) < 1e-9;
       for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
         const latlngs = pts.map((p, i) => [p.latitude_deg, lons[i] + offset]);
@@ -356,6 +361,7 @@ export class GuidedPanel {
         if (offset === 0) main.push(shape);
       }
     }
+    this.onGlobe?.(this.globeLayers);
     $("guided-footprint-summary").replaceChildren(el("p", { class: "guided-line" }, footprintWords(r)),
       el("p", { class: "muted" }, `${fmt(r.settings.rays)} rays, ${fmt(r.settings.samples)} samples a target: `
          + `${fmt(r.flights)} guided flights in ${fmt(r.run.seconds, 1)} s.`));
@@ -379,6 +385,8 @@ export class GuidedPanel {
     this.resultLayer.clearLayers();
     const lons = unwrapLongitudes(lonsIn, lonsIn[0]);
     this.anchorLon = lons[lons.length - 1];
+    this.globeLayers.track = lats.map((lat, i) => [lons[i], lat]);
+    this.onGlobe?.(this.globeLayers);
     const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true, interactive: false };
     for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
       L.polyline(lats.map((lat, i) => [lat, lons[i] + offset]),

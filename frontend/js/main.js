@@ -44,6 +44,7 @@ const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.s
                                               onShowJob: (id) => showDispersionJob(id).catch(fail),
                                               onDownload: (format) => exportDispersion(state.dispersion, format).catch(fail) });
 const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(false), onReach: (r) => sites.setGuided(r),
+                                 onGlobe: (g) => globe.setGuided(g),
                                  onFlight: () => { $("plot-guided").disabled = false; setPlot("guided"); } });
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;

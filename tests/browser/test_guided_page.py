@@ -358,6 +358,14 @@ def test_a_guided_footprint_is_drawn_past_half_way_round_beside_the_reports(open
     assert f"margin to the report's {m['area_nmi2'] / 1e6:,.2f} million nmi² ({m['percent']:,.0f} %)" in words
     assert ("not inside at every ray" not in words) == m["inside_at_every_ray"]
     screenshot(page, "guided_footprint_page.png")
+    # the globe draws the same rings as lines, centred on the footprint: each ring a path through its points
+    page.click("#view-globe")
+    page.evaluate("() => window.footprintApp.globe.center(110, 5)")
+    rings = page.evaluate("""() => [...document.querySelectorAll('#globe path.globe-guided-ring')]
+      .map((p) => [p.getAttribute('class'), p.getAttribute('d').length])""")
+    assert sorted(c for c, _ in rings) == [f"globe-guided-ring gr-{k}" for k in ("guided", "nominal_guided", "report")]
+    assert all(n > 100 for _, n in rings), rings
+    page.screenshot(path=str(FIGURES_DIR / "guided_footprint_globe.png"))
     assert not run.errors and run.violations() == []
 
 
