@@ -39,6 +39,7 @@ export class SitesPanel {
     this.reach = null; // the last reach result, by site name
     this.dispersion = null; // {name, sites} of the dispersion shown
     this.guided = null; // the last guided reach: {radius_nmi, sites}
+    this.lastReach = null; // the last reach analysis shown in the site table
     this.onChange = onChange;
     this.onReach = onReach;
     this.selectedFootprint = selectedFootprint;
@@ -88,6 +89,7 @@ export class SitesPanel {
   setGuided(result) {
     this.guided = result;
     this.render();
+    if (this.lastReach) this.renderReach(this.lastReach); // its table's Guided P column
   }
 
   async onMapClick(latlng) {
@@ -151,10 +153,16 @@ export class SitesPanel {
   }
 
   renderReach(result) {
+    this.lastReach = result;
+    const guidedP = (s) => { // the last guided reach's probability of this site, when it has the site
+      const hit = this.guided?.sites.find((t) => sameSite(t, s));
+      return hit ? `${percent(hit.probability)} (${intervalWords(hit.interval)})` : "–";
+    };
     const rows = result.sites.map((s) => `<tr><td>${escapeHtml(s.name)}</td>`
       + `<td class="${s.reachable ? "reached" : "missed"}">${s.reachable ? "yes" : "no"}</td><td>${s.windows}</td>`
       + `<td>${s.revolutions.slice(0, 4).join(", ")}${s.revolutions.length > 4 ? "…" : ""}</td>`
-      + `<td>${fmt(s.best_margin_nmi)}</td><td>${s.first_deorbit_time_s == null ? "–" : fmt(s.first_deorbit_time_s / 3600, 2)}</td></tr>`);
+      + `<td>${fmt(s.best_margin_nmi)}</td><td>${s.first_deorbit_time_s == null ? "–" : fmt(s.first_deorbit_time_s / 3600, 2)}</td>`
+      + `<td class="guided-p-cell">${guidedP(s)}</td></tr>`);
     const notes = (result.notes || []).map((n) => `<p class="muted small">${escapeHtml(n)}</p>`).join("");
     const reached = result.sites.filter((s) => s.reachable).length;
     $("reach-summary").innerHTML = `${reached} of ${result.sites.length} sites reached, ${result.windows.length} landing `
@@ -162,6 +170,6 @@ export class SitesPanel {
     $("reach-table").addEventListener("click", () => $("reach-dialog").showModal());
     $("reach-result").innerHTML = `<table class="reach"><caption class="small muted">${fmt(result.analysis.placements)} deorbit points, `
       + `${fmt(result.analysis.seconds, 2)} s</caption><thead><tr><th>Site</th><th>Reach</th><th>Windows</th><th>Revs</th>`
-      + `<th>Best margin (nmi)</th><th>First (h)</th></tr></thead><tbody>${rows.join("")}</tbody></table>`;
+      + `<th>Best margin (nmi)</th><th>First (h)</th><th>Guided P</th></tr></thead><tbody>${rows.join("")}</tbody></table>`;
   }
 }

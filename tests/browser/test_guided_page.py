@@ -395,4 +395,13 @@ def test_each_stored_site_says_its_guided_probability(open_page, service, hostil
     assert HOSTILE_SITE in page.inner_text("#site-list")
     assert page.locator("#site-list img").count() == 0
     page.locator("#sites-panel").screenshot(path=str(FIGURES_DIR / "guided_reach_sites.png"))
+    # the reach analysis's site table has a Guided P column from the same result
+    page.click("#reach-submit")
+    page.locator("table.reach tbody tr").first.wait_for(state="attached", timeout=WAIT_MS)
+    cells = page.evaluate("""() => [...document.querySelectorAll('table.reach tbody tr')]
+      .map((tr) => [tr.cells[0].textContent, tr.querySelector('.guided-p-cell').textContent])""")
+    by_name = {s["name"]: s for s in r["sites"]}
+    assert {name for name, _ in cells} == set(by_name)
+    for name, text in cells:
+        assert text.startswith(f"{percent(by_name[name]['probability'])} ("), (name, text)
     assert not run.errors and run.violations() == []
