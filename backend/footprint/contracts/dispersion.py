@@ -30,7 +30,7 @@ from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
-from footprint.contracts.work import OnProgress, RunInfo, Stored, Work
+from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import dispersion as disp
 from footprint.core import monte_carlo as mc
 from footprint.core.atmosphere import DENSITY_NODE_COUNT
@@ -359,13 +359,7 @@ def sites_csv(result: dict[str, Any]) -> str:
     return out.getvalue()
 
 
-_PLAN: list[Plan] = []  # this process's plan of the study it flies (a study's parts share one draw)
-
-
-def _plan(study: DispersionStudy) -> Plan:
-    if not _PLAN or _PLAN[0].study is not study:  # one study at a time: a worker keeps one run's samples
-        _PLAN[:] = [Plan(study)]
-    return _PLAN[0]
+_plan = PerStudy(Plan)  # this process's plan of the study it flies (a study's parts share one draw)
 
 
 WORK = Work(split=DispersionStudy.chunks, run_part=fly_chunk, combine=combine, store=store, part_unit="chunk")

@@ -19,7 +19,7 @@ from footprint.contracts.doors import door_limit, synchronous, validated
 from footprint.contracts.fields import Range
 from footprint.contracts.guidance import BankGuided
 from footprint.contracts.records import plain
-from footprint.contracts.work import OnProgress, RunInfo, Stored, Work
+from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import dispersion as disp
 from footprint.core import guided_dispersion as gdisp
 from footprint.core.monte_carlo import Landings
@@ -79,13 +79,7 @@ class Plan:
         return self.study.draw(self.spec)
 
 
-_PLAN: list[Plan] = []  # this process's plan of the study it flies
-
-
-def _plan(study: GuidedDispersionStudy) -> Plan:
-    if not _PLAN or _PLAN[0].study is not study:
-        _PLAN[:] = [Plan(study)]
-    return _PLAN[0]
+_plan = PerStudy(Plan)  # this process's plan of the study it flies (a study's parts share one draw)
 
 
 def fly_chunk(study: GuidedDispersionStudy, chunk: tuple[int, int], on_progress: OnProgress | None = None) -> Landings:

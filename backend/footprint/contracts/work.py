@@ -5,7 +5,7 @@ one runner of every kind; it calls only these."""
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 # on_progress(fraction of the part done, note) -> True to stop: the core's long loops take it (a cancel, a time limit)
 OnProgress = Callable[[float, str], bool | None]
@@ -55,3 +55,20 @@ class Work:
     store: Callable[[Any, Any, str | None], Stored] | None = None  # (request, answer, job name) -> the job's rows
     default_name: Callable[[Any], str | None] = _no_name  # a job's name when none is given
     part_unit: str = "task"
+
+
+P = TypeVar("P")
+
+
+class PerStudy(Generic[P]):
+    """What every part of one study needs (its spec, its samples...), made once in this process: `make(study)` for a
+    study not seen last. One study at a time, as a worker flies one run's parts."""
+
+    def __init__(self, make: Callable[[Any], P]) -> None:
+        self._make = make
+        self._kept: tuple[Any, P] | None = None
+
+    def __call__(self, study: Any) -> P:
+        if self._kept is None or self._kept[0] is not study:
+            self._kept = (study, self._make(study))
+        return self._kept[1]
