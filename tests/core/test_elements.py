@@ -86,3 +86,22 @@ def test_the_subsatellite_point_agrees_with_skyfields_own_route():
     # and on the report's earth (App. A radii) the point moves by the ellipsoids' difference only
     lat_r, lon_r, _ = el.subsatellite_points(e, times)
     assert np.allclose(lon_r, lon) and np.max(np.abs(lat_r - lat)) < 0.01
+
+
+def test_a_window_far_from_the_epoch_or_past_the_decay_is_refused():
+    e = el.parse_tle(VANGUARD)
+    el.check_window(e, e.epoch, e.epoch + timedelta(days=1))  # a day after the epoch: answered
+    with pytest.raises(InputError) as info:
+        el.check_window(e, e.epoch + timedelta(days=20), e.epoch + timedelta(days=21))
+    assert str(info.value).startswith("window.start: ") and "20.0 days from the elements' epoch" in str(info.value)
+    with pytest.raises(InputError) as info:
+        el.check_window(e, e.epoch + timedelta(days=2), e.epoch + timedelta(days=1))
+    assert str(info.value).startswith("window.end: ")
+    # a shorter period at the same eccentricity puts the perigee inside the earth, with a large drag term: SGP4 stops
+    low = VANGUARD.replace("10.82419157", "16.40000000").replace(" 28098-4 ", " 99999-1 ")
+    lines = low.splitlines()
+    low = "\n".join(ln[:-1] + str(el.checksum(ln)) for ln in lines)
+    e = el.parse_tle(low)
+    with pytest.raises(InputError) as info:
+        el.check_window(e, e.epoch, e.epoch + timedelta(days=10))
+    assert str(info.value).startswith("window: the orbit does not last the window"), str(info.value)

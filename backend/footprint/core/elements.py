@@ -149,3 +149,26 @@ def subsatellite_points(
     report's oblate earth (App. A) unless other radii are given."""
     out = np.array([geodetic_from_ecef(x, y, z, re_ft, rp_ft, True, 3) for x, y, z in earth_fixed_ft(elements, utc)])
     return np.degrees(out[:, 0]), np.degrees(out[:, 1]), out[:, 2]
+
+
+MAX_EPOCH_AGE_DAYS = 14.0  # SGP4's mean elements go stale: a window farther than this from the epoch is refused
+
+
+def check_window(elements: Elements, start: datetime, end: datetime, field: str = "window") -> None:
+    """A UTC window the elements can answer for: in order, within MAX_EPOCH_AGE_DAYS of the epoch at both ends, and
+    the orbit not decayed before its end (SGP4 says so); else one line naming `field`."""
+    if end <= start:
+        raise InputError(f"{field}.end", f"{end.isoformat()} is not after the start {start.isoformat()}")
+    for name, t in (("start", start), ("end", end)):
+        days = abs((t - elements.epoch).total_seconds()) / 86400.0
+        if days > MAX_EPOCH_AGE_DAYS:
+            raise InputError(
+                f"{field}.{name}",
+                f"{t.isoformat()} is {days:,.1f} days from the elements' epoch {elements.epoch.isoformat()} "
+                f"(at most {MAX_EPOCH_AGE_DAYS:g}: take a newer element set)",
+            )
+    hours = max(1, math.ceil((end - start).total_seconds() / 3600.0))
+    try:
+        teme_km(elements, [start + (end - start) * k / hours for k in range(hours + 1)])
+    except InputError as exc:
+        raise InputError(field, f"the orbit does not last the window: {str(exc).split(': ', 1)[1]}") from exc
