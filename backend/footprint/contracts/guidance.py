@@ -8,6 +8,9 @@ import dataclasses
 import math
 from typing import Annotated, Any, Literal
 
+from pydantic import ValidationInfo
+
+from footprint.contracts.doors import synchronous
 from footprint.contracts.fields import Range, Strict
 from footprint.core.guidance import Guidance
 
@@ -81,3 +84,12 @@ class BankGuided(Strict):
             terminal_velocity_fps=self.terminal.velocity_fps,
             **settings,
         )
+
+
+def check_guided_study(bank: Any, info: ValidationInfo, what: str) -> None:
+    """A study that flies a guided case (`what`: "guided dispersion"...): run as a job, its case's bank law the
+    guided one; else one line naming the field."""
+    if synchronous(info):
+        raise ValueError(f"a {what} is run as a job; submit it with POST /api/jobs")
+    if not isinstance(bank, BankGuided):
+        raise ValueError(f"case.bank.law: a {what} flies the 'guided' law, not {bank.law!r}")

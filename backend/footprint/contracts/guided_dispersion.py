@@ -15,9 +15,9 @@ from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.case import Case
 from footprint.contracts.dispersion import DispersedInputs
-from footprint.contracts.doors import door_limit, synchronous, validated
+from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range
-from footprint.contracts.guidance import BankGuided
+from footprint.contracts.guidance import check_guided_study
 from footprint.contracts.records import plain
 from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import dispersion as disp
@@ -40,10 +40,7 @@ class GuidedDispersionStudy(DispersedInputs):
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo) -> GuidedDispersionStudy:
-        if synchronous(info):
-            raise ValueError("a guided dispersion is run as a job; submit it with POST /api/jobs")
-        if not isinstance(self.case.bank, BankGuided):
-            raise ValueError(f"case.bank.law: a guided dispersion flies the 'guided' law, not {self.case.bank.law!r}")
+        check_guided_study(self.case.bank, info, "guided dispersion")
         samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
         if self.samples > samples:
             raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")

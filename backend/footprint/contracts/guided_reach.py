@@ -15,9 +15,9 @@ from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.case import Case
 from footprint.contracts.dispersion import DispersedInputs
-from footprint.contracts.doors import door_limit, synchronous, validated
+from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range
-from footprint.contracts.guidance import BankGuided
+from footprint.contracts.guidance import check_guided_study
 from footprint.contracts.reach import Site
 from footprint.contracts.records import plain
 from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
@@ -37,10 +37,7 @@ class GuidedReachStudy(DispersedInputs):
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo) -> GuidedReachStudy:
-        if synchronous(info):
-            raise ValueError("a guided reach is run as a job; submit it with POST /api/jobs")
-        if not isinstance(self.case.bank, BankGuided):
-            raise ValueError(f"case.bank.law: a guided reach flies the 'guided' law, not {self.case.bank.law!r}")
+        check_guided_study(self.case.bank, info, "guided reach")
         flights, where = door_limit(info, MAX_FLIGHTS, MAX_FLIGHTS_HTTP)
         if len(self.sites) * self.samples > flights:
             raise ValueError(
