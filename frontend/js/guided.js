@@ -7,7 +7,7 @@ import { api } from "./api.js";
 import { levelWords, percent } from "./dispersion.js";
 import { clearFieldErrors, inputForField, showFieldError } from "./fielderrors.js";
 import { el, fmt } from "./format.js";
-import { copyOffsets, unwrapLongitudes, unwrapRing, wrapLongitude } from "./geometry.js";
+import { copyOffsets, listPoints, planarOutline, unwrapLongitudes, wrapLongitude } from "./geometry.js";
 import { buildCase } from "./jobs.js";
 import { gridAndTicks, niceTicks } from "./rangeplot.js";
 
@@ -345,20 +345,21 @@ export class GuidedPanel {
     for (const [key, , color, dashArray] of RINGS) {
       const ring = r[key];
       if (!ring) continue;
-      const pts = ring.latitude_deg.map((lat, i) => ({ latitude_deg: lat, longitude_deg: ring.longitude_deg[i] }));
-      const lons = unwrapRing(pts, r.entry);
-      const coordinates = pts.map((p, i) => [lons[i], p.latitude_deg]);
-      this.globeLayers.rings.push({ key, color, dash: dashArray, coordinates: [...coordinates, coordinates[0]] });
-      const closes = Math.abs(lons.at(-1) + wrapLongitude(lons[0] - lons.at(-1)) - lons[0]) < 1e-9;
+      // placed as a stored footprint is (planarOutline: the service's outline, across +-180 deg and over a pole)
+      const { polygons, line } = planarOutline({ points: listPoints(ring), reference: r.entry, outline: ring.outline });
+      this.globeLayers.rings.push({ key, color, dash: dashArray, coordinates: line });
+      const lons = line.map(([lon]) => lon).concat([-180, 180]); // the area lies within -180..180
       for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
-        const latlngs = pts.map((p, i) => [p.latitude_deg, lons[i] + offset]);
-        const style = { ...svg, color, weight: key === "guided" ? 2.5 : 1.6, dashArray,
-                        className: `gf-ring gf-${key.replace("_", "-")} g-copy-${offset}` };
-        const shape = closes
-          ? L.polygon(latlngs, { ...style, fill: key === "guided", fillOpacity: 0.12 })
-          : L.polyline([...latlngs, latlngs[0]], style);
-        shape.addTo(this.footprintLayer);
-        if (offset === 0) main.push(shape);
+        if (key === "guided" && polygons?.length) {
+          L.polygon(polygons.map((rings) => rings.map((q) => q.map(([lon, lat]) => [lat, lon + offset]))),
+                    { ...svg, stroke: false, fillColor: color, fillOpacity: 0.12, className: `gf-area g-copy-${offset}` })
+            .addTo(this.footprintLayer);
+        }
+        const edge = L.polyline(line.map(([lon, lat]) => [lat, lon + offset]),
+                                { ...svg, color, weight: key === "guided" ? 2.5 : 1.6, dashArray,
+                                  className: `gf-ring gf-${key.replace("_", "-")} g-copy-${offset}` })
+          .addTo(this.footprintLayer);
+        if (offset === 0) main.push(edge);
       }
     }
     this.onGlobe?.(this.globeLayers);

@@ -323,9 +323,8 @@ def test_a_map_click_picks_the_target_and_a_job_is_cancelled(open_page, service)
 
 # the drawn rings of the guided footprint, main copy: each ring's Leaflet vertices
 RINGS_JS = """() => Object.fromEntries(window.footprintApp.guided.footprintLayer.getLayers()
-  .filter((l) => l.options.className.endsWith(" g-copy-0"))
-  .map((l) => { const ll = l.getLatLngs(); const ring = Array.isArray(ll[0]) ? ll[0] : ll;
-                return [l.options.className.split(" ")[1], ring.map((p) => [p.lat, p.lng])]; }))"""
+  .filter((l) => l.options.className.startsWith("gf-ring ") && l.options.className.endsWith(" g-copy-0"))
+  .map((l) => [l.options.className.split(" ")[1], l.getLatLngs().map((p) => [p.lat, p.lng])]))"""
 
 
 def test_a_guided_footprint_is_drawn_past_half_way_round_beside_the_reports(open_page, service):
@@ -347,10 +346,14 @@ def test_a_guided_footprint_is_drawn_past_half_way_round_beside_the_reports(open
     assert set(drawn) == {"gf-guided", "gf-nominal-guided", "gf-report"}
     for key, cls in (("guided", "gf-guided"), ("nominal_guided", "gf-nominal-guided"), ("report", "gf-report")):
         ring, got = r[key], drawn[cls]
-        assert len(got) == len(ring["latitude_deg"])
-        for (lat, lon), la, lo in zip(got, ring["latitude_deg"], ring["longitude_deg"]):
+        # the edge drawn is the service's outline (its edges sampled on the sphere), closed, through every ray point
+        o = ring["outline"]
+        assert len(got) == len(o["latitude_deg"]) + 1 and got[0][0] == got[-1][0]
+        for (lat, lon), la, lo in zip(got, o["latitude_deg"], o["longitude_deg"]):
             assert lat == pytest.approx(la, abs=1e-9) and wrapped(lon - lo) == pytest.approx(0, abs=1e-9)
-        assert all(abs(b[1] - a[1]) < 90 for a, b in zip(got, got[1:] + got[:1]))  # continuous, closed
+        for la, lo in zip(ring["latitude_deg"], ring["longitude_deg"]):
+            assert min(abs(la - a) + abs(wrapped(lo - b)) for a, b in got) < 1e-6, (key, la, lo)
+        assert all(abs(b[1] - a[1]) < 90 for a, b in zip(got, got[1:]))  # continuous
     assert max(lon for _, lon in drawn["gf-report"]) > 180  # past half-way round, on the main copy
     words = page.inner_text("#guided-footprint-summary")
     m = r["margin_to_report"]

@@ -26,7 +26,8 @@ from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprints import ring_area_nmi2
 from footprint.core.guided_reach import aimed_at, landed_miss_nmi
-from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
+from footprint.core.outline import outline
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, Stop, simulate_summary
 
 AXIS_GRID = 24  # targets on the axis that find the reached interval
@@ -174,7 +175,8 @@ def trace_ray(
 
 
 def _ring(d: list[float], c: list[float], spec: FlightSpec) -> dict[str, Any]:
-    """A boundary ring (down, cross) nmi with its latitudes, longitudes and area."""
+    """A boundary ring (down, cross) nmi with its latitudes, longitudes, area and outline (core.outline: its edges
+    sampled on the sphere, its area on the map across +-180 deg and over a pole, as a stored footprint's)."""
     e = spec.entry
     lat, lon = latlon_from_ranges(np.array(d), np.array(c), e.latitude_deg, e.longitude_deg, e.heading_deg)
     return {
@@ -183,6 +185,7 @@ def _ring(d: list[float], c: list[float], spec: FlightSpec) -> dict[str, Any]:
         "latitude_deg": lat.tolist(),
         "longitude_deg": lon.tolist(),
         "area_nmi2": ring_area_nmi2(list(zip(d, c))),
+        "outline": outline(d, c, Reference(e.latitude_deg, e.longitude_deg, e.heading_deg)).to_dict(),
     }
 
 

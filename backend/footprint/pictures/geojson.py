@@ -94,8 +94,8 @@ def feature_collection(item: dict, outline_: Outline | None = None) -> dict:
 
 
 def _ring(shape: dict, entry: dict) -> Outline:
-    """A dispersion's ring as its outline: the service's own where the result has one, else made from its ranges
-    (an ellipse: closed, its first point repeated last)."""
+    """A dispersion's or a guided footprint's ring as its outline: the service's own where the result has one, else
+    made from its ranges (an ellipse: closed, its first point repeated last)."""
     if "area" in shape.get("outline", {}):  # a result stored before issue 25 has no area: made again below
         return Outline.from_dict(shape["outline"])
     down, cross = shape["downrange_nmi"], shape["crossrange_nmi"]
@@ -200,8 +200,7 @@ def guided_footprint_collection(result: dict) -> dict:
         props = {"kind": f"{name}_footprint", "area_nmi2": ring["area_nmi2"]}
         if name == "guided":
             props |= {k: v for k, v in result.items() if k.startswith("margin_to_")} | {"settings": result["settings"]}
-        o = outline(ring["downrange_nmi"], ring["crossrange_nmi"], Reference(**entry))
-        features.append({"type": "Feature", "geometry": polygon(o), "properties": props})
+        features.append({"type": "Feature", "geometry": polygon(_ring(ring, entry)), "properties": props})
     return {"type": "FeatureCollection", "features": features}
 
 
