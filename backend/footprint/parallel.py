@@ -270,13 +270,30 @@ class Niceness:
 class ParentStops:
     """SIGINT ignored in the worker's process (its main thread runs the worker's event loop, where setup is called):
     the service that started the cluster stops it, and each worker's own KeyboardInterrupt printed a 30-line
-    traceback over the shutdown (issue 25 item 8)."""
+    traceback over the shutdown (issue 25 item 8). And the heartbeat a closing worker had in flight, cut off when it
+    closes its own connections, is not reported as an error (a 40-line traceback on a loaded machine's Ctrl+C)."""
 
     name = "footprint-parent-stops"
     idempotent = True
 
     def setup(self, worker: Any) -> None:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        logging.getLogger("distributed.worker").addFilter(ClosingHeartbeat(worker))
+
+
+class ClosingHeartbeat(logging.Filter):
+    """Drops distributed's "Failed to communicate with scheduler during heartbeat" once `worker` is closing
+    (Worker.close closes its connection pool under the heartbeat it may be awaiting); kept while it runs."""
+
+    CLOSING = ("closing", "closing_gracefully", "closed")  # distributed.core.Status names
+
+    def __init__(self, worker: Any):
+        super().__init__()
+        self.worker = worker
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        closing = getattr(self.worker.status, "name", "") in self.CLOSING
+        return not (closing and str(record.msg).startswith("Failed to communicate with scheduler during heartbeat"))
 
 
 def _worker_plugin(behaviour: type, *args: Any) -> Any:
