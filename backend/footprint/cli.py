@@ -518,6 +518,73 @@ def reach(
 
 
 @app.command()
+def opportunities(
+    study_file: Path = typer.Argument(
+        ..., metavar="STUDY.json", help="a TLE, a UTC window, sites, the deorbit burn and a footprint study"
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", metavar="N", help="local worker processes [the cores]; 0: fly in this process"
+    ),
+    scheduler: str | None = typer.Option(
+        None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
+    ),
+    csv_out: Path | None = typer.Option(None, "--csv", metavar="FILE.csv", help="also write the opportunities as CSV"),
+    ics_out: Path | None = typer.Option(
+        None, "--ics", metavar="FILE.ics", help="also write the opportunities that meet the rules as an iCalendar"
+    ),
+    geojson_out: Path | None = typer.Option(
+        None, "--geojson", metavar="FILE.geojson", help="the ground tracks, deorbit arcs, entries and footprints"
+    ),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
+):
+    """Landing opportunities in UTC: for each revolution of the window and each site, the deorbit burns (time, Δv)
+    whose coast and entry put the site inside the footprint flown from that entry, with the landing time, the
+    margin and the sun at the site; one Dask task per revolution."""
+    from contextlib import ExitStack
+
+    for path, option in ((csv_out, "--csv"), (ics_out, "--ics"), (geojson_out, "--geojson")):
+        _writable(path, option)
+    study = _request("opportunities", study_file)
+    dask = _dask_options(workers, scheduler, parallel.default_workers())
+    with ExitStack() as stack:
+        progress = stack.enter_context(_parts_bar("revolution"))
+        try:
+            result = parallel.run("opportunities", study, progress, **dask)
+        except OSError as exc:
+            _fail(f"--scheduler: cannot connect to {scheduler} ({exc})")
+        except InputError as exc:
+            _fail(error_line(exc))
+    kind = contracts.module("opportunities")
+    if csv_out is not None:
+        csv_out.write_text(kind.opportunities_csv(result))
+    if ics_out is not None:
+        ics_out.write_text(kind.opportunities_ics(result), newline="")
+    if geojson_out is not None:
+        from footprint.pictures.geojson import opportunities_collection
+
+        geojson_out.write_text(strict_json(opportunities_collection(result)))
+    _answer(result, as_json, _opportunities_lines)
+
+
+def _opportunities_lines(r: dict) -> list[str]:
+    e, run = r["elements"], r["run"]
+    where = f"on {run['workers']} worker(s)" if run["workers"] else "in this process"
+    out = [
+        f"{e['name'] or e['satellite_number']}: {e['inclination_deg']:.2f} deg, {e['period_min']:.1f} min; "
+        f"{r['window']['start_utc']} to {r['window']['end_utc']}, {len(r['ascending_nodes_utc'])} ascending nodes; "
+        f"{len(r['opportunities'])} opportunities in {run['seconds']:.1f} s {where}",
+        f"  {'site':<36} {'found':>5} {'taken':>5}  {'first landing (UTC)':<20} {'best margin':>11}",
+    ]
+    for s in r["sites"]:
+        best = "-" if s["best_margin_nmi"] is None else f"{s['best_margin_nmi']:,.0f} nmi"
+        out.append(
+            f"  {s['name'][:36]:<36} {s['opportunities']:>5} {s['meeting_rules']:>5}  "
+            f"{s['first_landing_utc'] or '-':<20} {best:>11}"
+        )
+    return out
+
+
+@app.command()
 def optimize(
     study_file: Path = typer.Argument(..., metavar="STUDY.json", help="optimization study (DESIGN.md)"),
     plot: Path | None = typer.Option(

@@ -22,6 +22,7 @@ JOB_KINDS = {
     "guided_dispersion",
     "guided_footprint",
     "guided_reach",
+    "opportunities",
 }
 
 

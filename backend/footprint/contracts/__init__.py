@@ -23,6 +23,7 @@ MODULES = {
     "guided_dispersion": "footprint.contracts.guided_dispersion",
     "guided_footprint": "footprint.contracts.guided_footprint",
     "guided_reach": "footprint.contracts.guided_reach",
+    "opportunities": "footprint.contracts.opportunities",
 }  # kind -> its contract module
 
 

@@ -83,14 +83,16 @@ def latlon_of(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
 
 # ----------------------------------------------------------------------------- the initial great circle
 def great_circle_frame(
-    latitude0_deg: float, longitude0_deg: float, heading0_deg: float
+    latitude0_deg: ArrayLike, longitude0_deg: ArrayLike, heading0_deg: ArrayLike
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """(p0, d0, n): initial point, initial direction, left pole; unit vectors."""
+    """(p0, d0, n): initial point, initial direction, left pole; unit vectors (shape (..., 3) for arrays of the
+    arguments)."""
     lat, lon, hdg = np.radians(latitude0_deg), np.radians(longitude0_deg), np.radians(heading0_deg)
     p0 = unit_vectors(latitude0_deg, longitude0_deg)
-    north = np.array([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
-    east = np.array([-np.sin(lon), np.cos(lon), 0.0])
-    d0 = np.cos(hdg) * north + np.sin(hdg) * east  # the heading is the azimuth from north (the report's sigma_0)
+    north = np.stack([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)], axis=-1)
+    east = np.stack([-np.sin(lon), np.cos(lon), np.zeros_like(lon)], axis=-1)
+    # the heading is the azimuth from north (the report's sigma_0)
+    d0 = np.cos(hdg)[..., None] * north + np.sin(hdg)[..., None] * east
     return p0, d0, np.cross(p0, d0)
 
 

@@ -215,3 +215,42 @@ def circle(lat_deg: float, lon_deg: float, radius_nmi: float, points: int = 73) 
         MEAN_RADIUS_NMI * np.arcsin(np.sin(a) * np.sin(t)),
         lat_deg, lon_deg, 0.0,
     )  # fmt: skip
+
+
+def opportunities_collection(result: dict) -> dict:
+    """Landing opportunities (contracts.opportunities) as GeoJSON features: the ground track of each revolution,
+    and per opportunity its burn point, deorbit coast arc, entry point, footprint flown from that entry and site."""
+    track = result["ground_track"]
+    features = []
+    revs = np.asarray(track["revolution"])
+    for rev in np.unique(revs):
+        at = revs == rev
+        geometry = line(np.asarray(track["latitude_deg"])[at], np.asarray(track["longitude_deg"])[at])
+        features.append(
+            {"type": "Feature", "geometry": geometry, "properties": {"kind": "ground_track", "revolution": int(rev)}}
+        )
+    sites = result["sites"]
+    for o in result["opportunities"]:
+        about = {
+            k: o[k]
+            for k in ("site_name", "revolution", "burn_utc", "entry_utc", "landing_utc", "margin_nmi", "meets_rules")
+        }
+        arc = np.asarray(o["coast_track"])
+        burn_point = {"latitude_deg": arc[0, 0], "longitude_deg": arc[0, 1]}
+        features += [
+            {
+                "type": "Feature",
+                "geometry": _point(burn_point),
+                "properties": {"kind": "burn", "delta_v_fps": o["delta_v_fps"], **about},
+            },
+            {"type": "Feature", "geometry": line(arc[:, 0], arc[:, 1]), "properties": {"kind": "coast", **about}},
+            {"type": "Feature", "geometry": _point(o["entry"]), "properties": {"kind": "entry", **o["entry"], **about}},
+            {
+                "type": "Feature",
+                "geometry": polygon(_ring(o["footprint_ring"], o["entry"])),
+                "properties": {"kind": "footprint", **about},
+            },
+        ]
+    for s in sites:
+        features.append({"type": "Feature", "geometry": _point(s), "properties": {"kind": "site", **s}})
+    return {"type": "FeatureCollection", "features": features}

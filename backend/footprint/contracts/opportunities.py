@@ -1,0 +1,296 @@
+"""The landing opportunities contract (issue 28): a TLE, a UTC window, sites, the deorbit burn and a footprint study;
+one part per revolution (footprint.core.opportunities), combined into the opportunities ranked per site.
+
+    {"tle": "NAME\\n1 ...\\n2 ...", "window": {"start": "2008-09-21T00:00:00Z", "hours": 24} (or "end"),
+     "sites": [{"name", "latitude_deg", "longitude_deg"}, ...],
+     "deorbit": {"entry_gamma_deg": -2.0} | {"delta_v_fps": 400}, "interface_altitude_ft": 400000,
+     "footprint": a footprint study (its case's vehicle, controls and planet; the entry is each burn's),
+     "rules": {"sun_elevation_min_deg": -0.833, "min_margin_nmi": 0},
+     "burn_step_s": 30, "ring_step_deg": 10, "screen_nmi": 200, "refly": true}
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import io
+from datetime import UTC, datetime, timedelta
+from typing import Annotated, Any
+
+import numpy as np
+from pydantic import AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
+
+from footprint.contracts.doors import door_limit, validated
+from footprint.contracts.fields import Range, Strict
+from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.reach import Site
+from footprint.contracts.records import csv_cell, plain
+from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
+from footprint.core import deorbit as dorb
+from footprint.core import opportunities as op
+from footprint.core.elements import MAX_EPOCH_AGE_DAYS, check_window, parse_tle
+
+MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
+MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
+FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
+
+
+class UtcWindow(Strict):
+    start: AwareDatetime
+    end: AwareDatetime | None = None
+    hours: Annotated[float, Range(0.1, 24 * 2 * MAX_EPOCH_AGE_DAYS, "h")] | None = None
+
+    @model_validator(mode="after")
+    def _span(self) -> UtcWindow:
+        if (self.end is None) == (self.hours is None):
+            raise ValueError("give exactly one of 'end' or 'hours'")
+        return self
+
+    @property
+    def bounds(self) -> tuple[datetime, datetime]:
+        start = self.start.astimezone(UTC)
+        end = self.end.astimezone(UTC) if self.end is not None else start + timedelta(hours=self.hours or 0.0)
+        return start, end
+
+
+class DeorbitBurn(Strict):
+    """A fixed retrograde Δv, or the target earth-relative flight-path angle at the interface that sets it."""
+
+    delta_v_fps: Annotated[float, Range(1, 10_000, "ft/s")] | None = None
+    entry_gamma_deg: Annotated[float, Range(-30, -0.01, "deg")] | None = None
+    interface_altitude_ft: Annotated[float, Range(150_000, 1_000_000, "ft")] = dorb.INTERFACE_ALTITUDE_FT
+
+    @model_validator(mode="after")
+    def _one(self) -> DeorbitBurn:
+        if (self.delta_v_fps is None) == (self.entry_gamma_deg is None):
+            raise ValueError("give exactly one of 'delta_v_fps' or 'entry_gamma_deg'")
+        return self
+
+
+class Rules(Strict):
+    """Which opportunities a planner takes: the sun at least this high at the site at landing (deg; -0.833 is
+    sunrise and sunset, -6 civil twilight; none: any hour) and a margin to the footprint's boundary."""
+
+    sun_elevation_min_deg: Annotated[float, Range(-90, 90, "deg")] | None = None
+    min_margin_nmi: Annotated[float, Range(0, 10_000, "nmi")] = 0.0
+
+
+class OpportunitiesStudy(Strict):
+    description: str | None = Field(default=None, max_length=4_000)
+    tle: str = Field(min_length=1, max_length=400)
+    window: UtcWindow
+    sites: list[Site] = Field(min_length=1, max_length=500)
+    deorbit: DeorbitBurn
+    footprint: FootprintStudy
+    rules: Rules = Rules()
+    burn_step_s: Annotated[float, Range(1, 600, "s")] = 30.0
+    ring_step_deg: Annotated[float, Range(1, 90, "deg")] = 10.0
+    screen_nmi: Annotated[float, Range(0, 5_000, "nmi")] = 200.0
+    refly: bool = True
+
+    @model_validator(mode="after")
+    def _checks(self, info: ValidationInfo) -> OpportunitiesStudy:
+        if self.footprint.method not in FAST_METHODS:
+            raise ValueError(f"footprint.method: {self.footprint.method!r} is too slow to fly per opportunity; "
+                             f"one of {', '.join(FAST_METHODS)}")  # fmt: skip
+        elements = parse_tle(self.tle)
+        start, end = self.window.bounds
+        check_window(elements, start, end)
+        spec = self.footprint.case.to_spec()  # the first burn comes down to the interface (else: 422 / exit 2)
+        coast = dorb.Coast.of(spec.vehicle, spec.planet, self.deorbit.interface_altitude_ft)
+        first = op.Plan(elements, start, np.zeros(1), np.zeros(0))
+        op.entries(coast, first, first.times_s, op.Deorbit(self.deorbit.delta_v_fps, self.deorbit.entry_gamma_deg))
+        work, where = door_limit(info, MAX_WORK, MAX_WORK_HTTP)
+        burns = (end - start).total_seconds() / self.burn_step_s
+        if burns * len(self.sites) > work:
+            raise ValueError(
+                f"burn_step_s: {burns:,.0f} burn times x {len(self.sites)} sites is outside the allowed range of 1 to "
+                f"{work:,.0f}{where} (a longer step or a shorter window)"
+            )
+        return self
+
+    def parts(self) -> list[int]:
+        """One revolution each."""
+        return _plan(self).plan.revolutions
+
+
+REQUEST = OpportunitiesStudy
+ADAPTER = TypeAdapter(REQUEST)
+
+
+def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> OpportunitiesStudy:
+    study: OpportunitiesStudy = validated(ADAPTER, data, OpportunitiesStudy, ctx)
+    return study
+
+
+class Plan:
+    """Once per process: the elements, the burn grid, the coast, the footprint maker and the scan's footprints."""
+
+    def __init__(self, study: OpportunitiesStudy) -> None:
+        self.study = study
+        start, end = study.window.bounds
+        self.plan = op.plan(parse_tle(study.tle), start, end, study.burn_step_s)
+        self.spec = study.footprint.case.to_spec()
+        self.coast = dorb.Coast.of(self.spec.vehicle, self.spec.planet, study.deorbit.interface_altitude_ft)
+        self.deorbit = op.Deorbit(study.deorbit.delta_v_fps, study.deorbit.entry_gamma_deg)
+        self.footprint_at = op.footprint_ring(self.spec, study.footprint.to_settings())
+        self.sites = op.Sites(
+            tuple(s.name for s in study.sites),
+            np.array([s.latitude_deg for s in study.sites]),
+            np.array([s.longitude_deg for s in study.sites]),
+        )
+        self.settings = op.Settings(
+            burn_step_s=study.burn_step_s,
+            ring_step_deg=study.ring_step_deg,
+            screen_nmi=study.screen_nmi,
+            refly=study.refly,
+            sun_elevation_min_deg=study.rules.sun_elevation_min_deg,
+            min_margin_nmi=study.rules.min_margin_nmi,
+        )
+
+    @functools.cached_property
+    def table(self) -> op.RingTable:
+        return op.ring_table(self.coast, self.plan, self.deorbit, self.footprint_at, self.study.ring_step_deg)
+
+
+_plan = PerStudy(Plan)  # this process's plan of the study it works on (a study's revolutions share it)
+
+
+def revolution(study: OpportunitiesStudy, number: int, on_progress: OnProgress | None = None) -> list[dict[str, Any]]:
+    plan = _plan(study)
+    found = op.revolution_opportunities(
+        plan.plan, number, plan.coast, plan.deorbit, plan.table, plan.footprint_at, plan.sites, plan.settings,
+        on_progress,
+    )  # fmt: skip
+    return [o.to_dict() for o in found]
+
+
+def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: RunInfo) -> dict[str, Any]:
+    """The opportunities in landing order, each ranked within its site (1: the largest margin of those that meet
+    the rules), a summary per site and the elements' facts."""
+    found = sorted((o for part in parts for o in part), key=lambda o: o["landing_utc"])
+    for s in range(len(study.sites)):
+        mine = sorted((o for o in found if o["site"] == s and o["meets_rules"]), key=lambda o: -o["margin_nmi"])
+        for rank, o in enumerate(mine, 1):
+            o["rank"] = rank
+    plan = _plan(study)
+    elements, (start, end) = plan.plan.elements, study.window.bounds
+    sites = []
+    for s, site in enumerate(study.sites):
+        mine = [o for o in found if o["site"] == s]
+        taken = [o for o in mine if o["meets_rules"]]
+        sites.append(
+            {
+                "name": site.name,
+                "latitude_deg": site.latitude_deg,
+                "longitude_deg": site.longitude_deg,
+                "opportunities": len(mine),
+                "meeting_rules": len(taken),
+                "first_landing_utc": taken[0]["landing_utc"] if taken else None,
+                "best_margin_nmi": max((o["margin_nmi"] for o in taken), default=None),
+            }
+        )
+    answer: dict[str, Any] = plain(
+        {
+            "elements": {
+                "name": elements.name,
+                "satellite_number": elements.satellite_number,
+                "epoch_utc": op.iso(elements.epoch),
+                "inclination_deg": elements.inclination_deg,
+                "eccentricity": elements.eccentricity,
+                "period_min": 1440.0 / elements.mean_motion_rev_day,
+            },
+            "window": {"start_utc": op.iso(start), "end_utc": op.iso(end)},
+            "ascending_nodes_utc": [op.iso(t) for t in plan.plan.utc(plan.plan.node_s)],
+            "ground_track": op.ground_track(plan.plan),
+            "deorbit": study.deorbit.model_dump(exclude_none=True),
+            "rules": study.rules.model_dump(),
+            "sites": sites,
+            "opportunities": found,
+            "settings": {
+                "burn_step_s": study.burn_step_s,
+                "ring_step_deg": study.ring_step_deg,
+                "screen_nmi": study.screen_nmi,
+                "refly": study.refly,
+                "footprint_method": study.footprint.method,
+            },
+            "run": {"tasks": info.tasks, "workers": info.workers, "seconds": info.seconds},
+        }
+    )
+    return answer
+
+
+def store(study: OpportunitiesStudy, answer: dict[str, Any], name: str | None) -> Stored:
+    return Stored(result={"opportunities": answer})
+
+
+WORK = Work(split=OpportunitiesStudy.parts, run_part=revolution, combine=combine, store=store, part_unit="revolution")
+
+
+# ------------------------------------------------------------------------------------------------ outputs
+CSV_COLUMNS = (
+    "site_name", "rank", "revolution", "burn_utc", "delta_v_fps", "entry_utc", "landing_utc", "flight_time_s",
+    "downrange_nmi", "crossrange_nmi", "margin_nmi", "sun_elevation_deg", "local_solar_time_h", "daylight",
+    "meets_rules", "burn_window_start_utc", "burn_window_end_utc",
+)  # fmt: skip
+
+
+def opportunities_csv(answer: dict[str, Any]) -> str:
+    """One row per opportunity, in landing order."""
+    out = io.StringIO()
+    w = csv.DictWriter(out, fieldnames=CSV_COLUMNS, extrasaction="ignore", lineterminator="\n")
+    w.writeheader()
+    for o in answer["opportunities"]:
+        w.writerow({k: csv_cell(o.get(k)) for k in CSV_COLUMNS})
+    return out.getvalue()
+
+
+def _ics_time(utc: str) -> str:
+    return datetime.fromisoformat(utc.replace("Z", "+00:00")).strftime("%Y%m%dT%H%M%SZ")
+
+
+def _ics_text(text: str) -> str:
+    """RFC 5545 3.3.11: backslash, semicolon and comma escaped, new lines as \\n."""
+    return text.replace("\\", "\\\\").replace(";", "\\;").replace(",", "\\,").replace("\n", "\\n")
+
+
+def _ics_fold(line: str) -> list[str]:
+    """RFC 5545 3.1: lines of at most 75 octets, each continuation starting with a space."""
+    parts, chunk = [], ""
+    for ch in line:
+        if len((chunk + ch).encode()) > 75:
+            parts.append(chunk)
+            chunk = " "
+        chunk += ch
+    return parts + [chunk]
+
+
+def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
+    """An iCalendar (RFC 5545) of the opportunities that meet the rules: one event per opportunity from the burn to
+    the landing, its summary the site and revolution, its description the Δv, margin and sun."""
+    stamp = (made_utc or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
+    sat = answer["elements"]["satellite_number"]
+    lines = ["BEGIN:VCALENDAR", "VERSION:2.0", "PRODID:-//Footprint//landing opportunities//EN", "CALSCALE:GREGORIAN"]
+    for o in answer["opportunities"]:
+        if not o["meets_rules"]:
+            continue
+        uid = f"{sat}-{o['site']}-{_ics_time(o['burn_utc'])}@footprint"
+        summary = f"Landing at {o['site_name']}, revolution {o['revolution']}"
+        about = (
+            f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
+            f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
+            f"margin {o['margin_nmi']:.0f} nmi; sun {o['sun_elevation_deg']:.1f} deg, local solar time "
+            f"{o['local_solar_time_h']:.2f} h"
+        )
+        lines += [
+            "BEGIN:VEVENT",
+            f"UID:{uid}",
+            f"DTSTAMP:{stamp}",
+            f"DTSTART:{_ics_time(o['burn_utc'])}",
+            f"DTEND:{_ics_time(o['landing_utc'])}",
+            f"SUMMARY:{_ics_text(summary)}",
+            f"DESCRIPTION:{_ics_text(about)}",
+            "END:VEVENT",
+        ]
+    lines.append("END:VCALENDAR")
+    return "".join(part + "\r\n" for line in lines for part in _ics_fold(line))

@@ -1,0 +1,217 @@
+"""The deorbit (issue 28 item 2): an impulsive retrograde burn on an orbit's state and the vacuum coast from the burn
+to the entry interface, flown by our own integrator (eqs. (1)-(3) on the rotating oblate earth, gravity A10) with
+the drag off: the entry state (altitude, earth-relative speed, flight-path angle, heading, latitude, longitude) and
+the time the coast took.
+
+The burn is along the inertial velocity (retrograde: it slows the vehicle in inertial space, the only direction a
+deorbit thruster aims); a target flight-path angle at the interface sets the Δv by a secant search on flown coasts,
+started from the two-body closed form (Vallado, Fundamentals of Astrodynamics, 4th ed., sec. 2.2: energy and angular
+momentum conserved, cos γ = h / (r V)). The coast's air is the exponential model with zero density: the same
+integrator, its aerodynamic forces zero above the interface.
+
+States are earth-fixed, ft and ft/s, the velocity relative to the earth (as the integrator flies them).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from footprint.core._jit import njit
+from footprint.core.aero import Vehicle
+from footprint.core.controls import pack_controls
+from footprint.core.dynamics import M_SIZE, P_MU, P_OBLATE, P_OMEGA, P_RE, P_RP
+from footprint.core.errors import InputError
+from footprint.core.frames import flight_angles, geodetic_from_ecef
+from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, integrate
+from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, pack_parameters
+
+INTERFACE_ALTITUDE_FT = 400_000.0  # the entry interface of the report's cases (Table 2 enters at 364,800 ft)
+COAST_RTOL = 1e-10  # 0.002 ft a step on the planet's radius: the coast is smooth and cheap
+COAST_MAX_STEP_S = 120.0
+MAX_COAST_S = 20_000.0  # more than three low orbits: a coast that has not come down by then will not
+MAX_STEPS = 20_000
+GAMMA_TOLERANCE_DEG = 1e-6  # the secant's stop on a target flight-path angle
+N_ENTRY = 10  # entry_states' columns, below
+E_COAST_S, E_ALT, E_V, E_GAMMA, E_HEADING, E_LAT, E_LON, E_X, E_Y, E_Z = range(N_ENTRY)
+
+
+@dataclass(frozen=True)
+class Coast:
+    """What every coast of one study flies with, packed once: the integrator's parameters (the planet with its air
+    removed, stopping at the interface), a vehicle's tables (their forces are zero in vacuum) and zero-lift controls."""
+
+    p: NDArray[np.float64]
+    aero: NDArray[np.float64]
+    ctrl: NDArray[np.float64]
+    interface_altitude_ft: float
+
+    @classmethod
+    def of(cls, vehicle: Vehicle, planet: Planet, interface_altitude_ft: float = INTERFACE_ALTITUDE_FT) -> Coast:
+        vacuum = replace(planet, atmosphere="exponential", rho0_slug_ft3=0.0)
+        spec = FlightSpec(
+            vehicle=vehicle,
+            planet=vacuum,
+            entry=Entry(altitude_ft=interface_altitude_ft, velocity_fps=1.0, gamma_deg=0.0),
+            ctrl=pack_controls(bank_law="zero"),
+            stop=Stop(altitude_ft=interface_altitude_ft, time_s=MAX_COAST_S, skip_altitude_ft=1e9),
+            rtol=COAST_RTOL,
+            max_step_s=COAST_MAX_STEP_S,
+        )
+        return cls(pack_parameters(spec), vehicle.blob, spec.ctrl, interface_altitude_ft)
+
+    @property
+    def omega_rad_s(self) -> float:
+        return float(self.p[P_OMEGA])
+
+    @property
+    def mu_ft3_s2(self) -> float:
+        return float(self.p[P_MU])
+
+
+def inertial_velocity(
+    r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], omega_rad_s: float
+) -> NDArray[np.float64]:
+    """v_inertial = v_relative + omega x r (omega along +z), rows of n x 3, in the earth-fixed axes of the instant."""
+    spin = np.zeros_like(r_ft)
+    spin[:, 0], spin[:, 1] = -omega_rad_s * r_ft[:, 1], omega_rad_s * r_ft[:, 0]
+    v_in: NDArray[np.float64] = v_rel_fps + spin
+    return v_in
+
+
+def burn(
+    r_ft: NDArray[np.float64],
+    v_rel_fps: NDArray[np.float64],
+    delta_v_fps: NDArray[np.float64] | float,
+    omega_rad_s: float,
+) -> NDArray[np.float64]:
+    """The earth-relative velocity after an impulsive Δv (ft/s, n or scalar) against the inertial velocity."""
+    v_in = inertial_velocity(r_ft, v_rel_fps, omega_rad_s)
+    speed = np.linalg.norm(v_in, axis=1)
+    scale = 1.0 - np.broadcast_to(np.asarray(delta_v_fps, float), speed.shape) / speed
+    after: NDArray[np.float64] = v_rel_fps + v_in * (scale - 1.0)[:, None]
+    return after
+
+
+@njit
+def _coasts(
+    states: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    max_steps: int,
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Each row's coast to the stop: its last row (t, x, y, z, vx, vy, vz) and its stop code."""
+    n = states.shape[0]
+    out = np.empty((n, 7))
+    codes = np.empty(n, np.int64)
+    mode = np.zeros(M_SIZE)
+    for i in range(n):
+        mode[:] = 0.0
+        rows, code, _ = integrate(states[i].copy(), p, aero, ctrl, mode, max_steps)
+        last = rows[rows.shape[0] - 1]
+        out[i, 0] = last[R_T]
+        out[i, 1:4] = last[R_X : R_Z + 1]
+        out[i, 4:7] = last[R_VX : R_VZ + 1]
+        codes[i] = code
+    return out, codes
+
+
+def entry_states(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each state (after its burn) coasted to the interface: rows of E_* (coast s, altitude ft, earth-relative speed
+    ft/s, flight-path angle deg, heading deg, geodetic latitude deg, longitude deg, earth-fixed x, y, z ft); a coast
+    that does not come down to the interface raises InputError on "deorbit" with its stop reason."""
+    states = np.ascontiguousarray(np.column_stack([r_ft, v_rel_fps]), dtype=np.float64)
+    last, codes = _coasts(states, coast.p, coast.aero, coast.ctrl, MAX_STEPS)
+    bad = np.flatnonzero(codes != STOP_ALTITUDE)
+    if bad.size:
+        perigee = perigee_altitude_ft(coast, states[bad[0], :3], states[bad[0], 3:])
+        raise InputError(
+            "deorbit",
+            f"the coast does not reach the interface at {coast.interface_altitude_ft:,.0f} ft (it ended by "
+            f"{STOP_REASONS[int(codes[bad[0]])]}; the orbit's perigee after the burn is {perigee:,.0f} ft): "
+            "a larger Δv or a steeper target angle",
+        )
+    p = coast.p
+    out = np.empty((len(last), N_ENTRY))
+    for i, (t, x, y, z, vx, vy, vz) in enumerate(last):
+        lat, lon, alt = geodetic_from_ecef(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, 3)
+        v, gamma, heading = flight_angles(x, y, z, vx, vy, vz)
+        out[i] = (t, alt, v, math.degrees(gamma), math.degrees(heading), math.degrees(lat), math.degrees(lon), x, y, z)
+    return out
+
+
+def coast_track(
+    coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """One state's coast (after its burn) as the integrator's steps: time from the burn (s), geodetic latitude and
+    longitude (deg), for the map."""
+    rows, _, _ = integrate(
+        np.concatenate([r_ft, v_rel_fps]), coast.p, coast.aero, coast.ctrl, np.zeros(M_SIZE), MAX_STEPS
+    )
+    p = coast.p
+    places = np.array(
+        [geodetic_from_ecef(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, 3) for x, y, z in rows[:, R_X : R_Z + 1]]
+    )
+    return rows[:, R_T], np.degrees(places[:, 0]), np.degrees(places[:, 1])
+
+
+def perigee_altitude_ft(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> float:
+    """The two-body perigee of an earth-fixed state, above the equatorial radius (ft): r_p = a (1 - e)."""
+    v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
+    mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
+    h = np.cross(r_ft, v_in)
+    energy = 0.5 * float(v_in @ v_in) - mu / r
+    e = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
+    a = -mu / (2.0 * energy) if energy < 0.0 else math.inf
+    return a * (1.0 - e) - float(coast.p[P_RE])
+
+
+def two_body_entry_gamma_deg(mu_ft3_s2: float, r_burn_ft: float, v_burn_fps: float, r_entry_ft: float) -> float:
+    """The flight-path angle (deg, negative: descending) at radius r_entry of a two-body orbit leaving r_burn
+    horizontally at v_burn (energy and angular momentum conserved); NaN if the orbit does not come down that far."""
+    v_entry = math.sqrt(max(0.0, v_burn_fps**2 + 2.0 * mu_ft3_s2 * (1.0 / r_entry_ft - 1.0 / r_burn_ft)))
+    cos_gamma = r_burn_ft * v_burn_fps / (r_entry_ft * v_entry)
+    return -math.degrees(math.acos(cos_gamma)) if cos_gamma <= 1.0 else math.nan
+
+
+def delta_v_for_gamma(
+    coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], gamma_deg: float
+) -> tuple[float, NDArray[np.float64]]:
+    """The Δv (ft/s) whose coast from this one state enters at the earth-relative flight-path angle gamma_deg, and
+    that entry (a row of E_*): a secant on flown coasts from the two-body estimates of 0.9 and 1.1 times it."""
+    r, v_in = float(np.linalg.norm(r_ft)), inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
+    speed, r_entry = float(np.linalg.norm(v_in)), float(coast.p[P_RE]) + coast.interface_altitude_ft
+    guess = _two_body_delta_v(coast.mu_ft3_s2, r, speed, r_entry, gamma_deg)
+    grazing = _two_body_delta_v(coast.mu_ft3_s2, r, speed, r_entry, 0.0)  # the least that comes down to r_entry
+
+    def entry(dv: float) -> NDArray[np.float64]:
+        rows = entry_states(coast, r_ft[None, :], burn(r_ft[None, :], v_rel_fps[None, :], dv, coast.omega_rad_s))
+        row: NDArray[np.float64] = rows[0]
+        return row
+
+    x0, x1 = max(0.99 * guess, grazing + 0.5 * (guess - grazing)), 1.01 * guess
+    f0, e1 = entry(x0)[E_GAMMA] - gamma_deg, entry(x1)
+    for _ in range(30):
+        f1 = e1[E_GAMMA] - gamma_deg
+        if abs(f1) < GAMMA_TOLERANCE_DEG:
+            return x1, e1
+        if f1 == f0:
+            break
+        x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
+        e1 = entry(x1)
+    raise InputError("deorbit.entry_gamma_deg", f"no Δv found that enters at {gamma_deg:g} deg (last {x1:.2f} ft/s)")
+
+
+def _two_body_delta_v(mu: float, r_burn: float, speed: float, r_entry: float, gamma_deg: float) -> float:
+    """The horizontal-burn Δv whose two-body orbit crosses r_entry at gamma_deg (cos γ = h / (r V), solved for V)."""
+    cg = math.cos(math.radians(gamma_deg))
+    # (r_b v)^2 = (r_e cg)^2 (v^2 + 2 mu (1/r_e - 1/r_b)), so v^2 (r_b^2 - (r_e cg)^2) = (r_e cg)^2 2 mu (1/r_e - 1/r_b)
+    num = (r_entry * cg) ** 2 * 2.0 * mu * (1.0 / r_entry - 1.0 / r_burn)
+    den = r_burn**2 - (r_entry * cg) ** 2
+    if den <= 0.0 or num <= 0.0:
+        raise InputError("deorbit.entry_gamma_deg", f"{gamma_deg:g} deg cannot be reached from this orbit")
+    return speed - math.sqrt(num / den)

@@ -1,0 +1,453 @@
+"""Landing opportunities from a real orbit and a clock (issue 28 item 3): for each revolution of a UTC window and each
+site, the deorbit times whose entry puts the site inside the footprint, with the Δv, the entry and landing times,
+the down-range and cross-range the site needs, the margin to the footprint's boundary and the sun at the site.
+
+1. The burn times: a grid (burn_step_s) over the window; SGP4 gives each one's state (core.elements), the burn and
+   the vacuum coast to the interface are flown (core.deorbit): an entry state per burn time.
+2. The scan: footprints flown from entries spread round one orbit (RingTable, one per 15 deg of argument of
+   latitude: about its entry point a footprint depends on where in the orbit it starts, the gravity being zonal),
+   each burn's nearest moved by the exact rotation of the sphere (core.reach.margins: the entry point and heading
+   carried to the burn's own) to its entry; each site's margin to its boundary (nmi, positive inside) per burn
+   time. A revolution runs from one ascending node of the orbit to the next (the first and last cut by the window).
+3. The opportunities: per revolution and site, each run of burn times within `screen_nmi` of the boundary gives
+   one candidate, at its largest margin (a parabola through the grid's three best). That burn is flown again from
+   its own SGP4 state (its Δv solved again for a target entry angle) and the footprint is flown from its own entry
+   state (`refly`), which sets the margin, the site's down-range and cross-range and the flight time (linear in the
+   footprint's boundary along the site's down-range line, between its two crossings). The burn window is where
+   the scan's footprints hold the site (the grid's zero crossings, interpolated).
+4. The sun at the site at landing (core.sun): its elevation and the local apparent solar time; `daylight` when the
+   elevation is at least the rule's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field, replace
+from datetime import datetime, timedelta
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from footprint.core import deorbit as dorb
+from footprint.core import sun
+from footprint.core.elements import FT_PER_KM, Elements, gmst_deg, subsatellite_points, teme_km
+from footprint.core.errors import Stopped
+from footprint.core.footprint_methods import footprint
+from footprint.core.method_settings import MethodSettings
+from footprint.core.plane import inside_points
+from footprint.core.reach import _branches, margins
+from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
+from footprint.core.trajectory import FlightSpec
+
+# (an entry row of deorbit.E_*) -> the footprint flown from it
+FootprintAt = Callable[[NDArray[np.float64]], "Ring"]
+
+
+@dataclass(frozen=True)
+class Ring:
+    """A footprint's boundary about its entry point: chart coordinates, flight times and places."""
+
+    downrange_nmi: NDArray[np.float64]
+    crossrange_nmi: NDArray[np.float64]
+    flight_time_s: NDArray[np.float64]
+    latitude_deg: NDArray[np.float64]
+    longitude_deg: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Sites:
+    names: tuple[str, ...]
+    latitude_deg: NDArray[np.float64]
+    longitude_deg: NDArray[np.float64]
+
+    @property
+    def unit(self) -> NDArray[np.float64]:
+        return unit_vectors(self.latitude_deg, self.longitude_deg)
+
+
+@dataclass(frozen=True)
+class Deorbit:
+    """The burn: a fixed retrograde Δv, or the Δv that gives a target earth-relative flight-path angle at entry."""
+
+    delta_v_fps: float | None = None
+    entry_gamma_deg: float | None = None
+
+
+@dataclass(frozen=True)
+class Settings:
+    burn_step_s: float = 30.0
+    ring_step_deg: float = 15.0  # the scan's footprints, one per this much of the orbit (RingTable)
+    screen_nmi: float = 200.0  # candidates from runs of burn times the moved footprint brings this near a site
+    refly: bool = True  # fly the footprint from each candidate's own entry state (else: the moved one's answer)
+    sun_elevation_min_deg: float | None = None  # the daylight rule (None: none)
+    min_margin_nmi: float = 0.0
+
+
+@dataclass(frozen=True)
+class Opportunity:
+    site: int
+    site_name: str
+    revolution: int
+    burn_utc: datetime
+    delta_v_fps: float
+    coast_s: float
+    entry_utc: datetime
+    entry: dict[str, float]  # altitude_ft, velocity_fps, gamma_deg, heading_deg, latitude_deg, longitude_deg
+    flight_time_s: float
+    landing_utc: datetime
+    downrange_nmi: float
+    crossrange_nmi: float
+    margin_nmi: float
+    sun_elevation_deg: float
+    local_solar_time_h: float
+    daylight: bool
+    meets_rules: bool
+    burn_window_start_utc: datetime
+    burn_window_end_utc: datetime
+    scan_margin_nmi: float  # the scan's footprint's margin at this burn
+    coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
+    footprint_ring: dict[str, list[float]]  # the boundary flown from this entry: downrange_nmi, crossrange_nmi lists
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        for k, v in d.items():
+            if isinstance(v, datetime):
+                d[k] = iso(v)
+        return d
+
+
+@dataclass
+class Plan:
+    """A window's burn grid and revolutions (cheap: one SGP4 call), shared by every part."""
+
+    elements: Elements
+    start: datetime
+    times_s: NDArray[np.float64]  # burn grid, s from start
+    node_s: NDArray[np.float64]  # ascending node crossings in the window, s from start
+    revolution: NDArray[np.int64] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.revolution = 1 + np.searchsorted(self.node_s, self.times_s, side="right")
+
+    @property
+    def revolutions(self) -> list[int]:
+        return sorted({int(r) for r in self.revolution})
+
+    def utc(self, seconds: Sequence[float] | NDArray[np.float64]) -> list[datetime]:
+        return [self.start + timedelta(seconds=float(s)) for s in seconds]
+
+
+def ground_track(p: Plan, every_s: float = 60.0) -> dict[str, list[Any]]:
+    """The sub-satellite points over the window (geodetic, on the report's ellipsoid) every `every_s`: UTC,
+    latitude, longitude, revolution."""
+    seconds = np.arange(0.0, p.times_s[-1] + 1e-9, every_s)
+    lat, lon, _ = subsatellite_points(p.elements, p.utc(seconds))
+    return {
+        "utc": [iso(t) for t in p.utc(seconds)],
+        "latitude_deg": lat.tolist(),
+        "longitude_deg": lon.tolist(),
+        "revolution": (1 + np.searchsorted(p.node_s, seconds, side="right")).tolist(),
+    }
+
+
+def iso(t: datetime) -> str:
+    return t.isoformat(timespec="seconds").replace("+00:00", "Z")
+
+
+def plan(elements: Elements, start: datetime, end: datetime, burn_step_s: float) -> Plan:
+    """The burn grid over [start, end] and the ascending nodes (the sub-satellite point's z crossing upward,
+    interpolated linearly on the grid)."""
+    span = (end - start).total_seconds()
+    times = np.arange(0.0, span + 1e-9, burn_step_s)
+    r, _ = teme_km(elements, [start + timedelta(seconds=float(s)) for s in times])
+    z = r[:, 2]
+    up = np.flatnonzero((z[:-1] < 0.0) & (z[1:] >= 0.0))
+    nodes = times[up] + burn_step_s * (-z[up]) / (z[up + 1] - z[up])
+    return Plan(elements, start, times, nodes)
+
+
+def burn_states(
+    p: Plan, seconds: NDArray[np.float64], omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Earth-fixed position (ft) and earth-relative velocity (ft/s) before the burn at each time: SGP4's TEME rotated
+    by GMST about the pole, less the earth's turning (omega x r)."""
+    utc = p.utc(seconds)
+    r, v = teme_km(p.elements, utc)
+    theta = np.radians(gmst_deg(utc))
+    ct, st = np.cos(theta), np.sin(theta)
+
+    def fixed(a: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.column_stack([ct * a[:, 0] + st * a[:, 1], -st * a[:, 0] + ct * a[:, 1], a[:, 2]]) * FT_PER_KM
+
+    r_ft, v_in = fixed(r), fixed(v)
+    v_in[:, 0] += omega_rad_s * r_ft[:, 1]  # v_rel = v_in - omega x r
+    v_in[:, 1] -= omega_rad_s * r_ft[:, 0]
+    return r_ft, v_in
+
+
+def entries(
+    coast: dorb.Coast, p: Plan, seconds: NDArray[np.float64], deorbit: Deorbit, delta_v_fps: ArrayLike | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(Δv per burn, entry rows) of burns at these times: `delta_v_fps` when given (the scan's), else the deorbit's
+    fixed Δv, or each burn's own for its target entry angle (a secant on flown coasts, burn by burn)."""
+    r, v = burn_states(p, seconds, coast.omega_rad_s)
+    if delta_v_fps is None and deorbit.entry_gamma_deg is not None:
+        solved = [dorb.delta_v_for_gamma(coast, r[i], v[i], deorbit.entry_gamma_deg) for i in range(len(seconds))]
+        return np.array([dv for dv, _ in solved]), np.array([row for _, row in solved])
+    dvs = np.broadcast_to(np.asarray(deorbit.delta_v_fps if delta_v_fps is None else delta_v_fps, float), len(seconds))
+    return np.array(dvs), dorb.entry_states(coast, r, dorb.burn(r, v, dvs, coast.omega_rad_s))
+
+
+def argument_of_latitude_deg(p: Plan, seconds: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The orbit's argument of latitude (deg in [0, 360): from the ascending node, along the motion) at each time,
+    from SGP4's TEME state: the angle from the node line k x h to r."""
+    r, v = teme_km(p.elements, p.utc(seconds))
+    h = np.cross(r, v)
+    node = np.column_stack([-h[:, 1], h[:, 0], np.zeros(len(h))])
+    node /= np.linalg.norm(node, axis=1)[:, None]
+    along = np.cross(h / np.linalg.norm(h, axis=1)[:, None], node)  # in the plane, 90 deg ahead of the node
+    u: NDArray[np.float64] = np.degrees(np.arctan2(np.einsum("ij,ij->i", r, along), np.einsum("ij,ij->i", r, node)))
+    return u % 360.0
+
+
+@dataclass(frozen=True)
+class RingTable:
+    """Footprints flown from burns spread round the orbit, one per `step_deg` of the burn's argument of latitude,
+    and each one's Δv: on a planet whose gravity is zonal, the footprint about its entry point depends on where in
+    the orbit the burn is (the entry's latitude and heading; for a target entry angle, the Δv the orbit's height
+    there needs), not on the longitude, so each burn of the scan takes the nearest."""
+
+    step_deg: float
+    rings: tuple[Ring, ...]
+    delta_v_fps: NDArray[np.float64]
+
+    def index(self, u_deg: NDArray[np.float64]) -> NDArray[np.int64]:
+        return np.rint(u_deg / self.step_deg).astype(np.int64) % len(self.rings)
+
+    def delta_v_at(self, u_deg: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The Δv at each argument of latitude, linear between the table's (periodic)."""
+        u = np.arange(len(self.rings) + 1) * self.step_deg
+        dv: NDArray[np.float64] = np.interp(u_deg % 360.0, u, np.append(self.delta_v_fps, self.delta_v_fps[0]))
+        return dv
+
+
+def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, footprint_at: FootprintAt, step_deg: float) -> RingTable:
+    """The footprints of burns at u = 0, step, 2 step... (deg), each from the burn of the window's first orbit
+    nearest it (within 1 deg), with the Δv given or the one its target entry angle needs there."""
+    period_s = 86_400.0 / p.elements.mean_motion_rev_day
+    u_grid = np.arange(0.0, 360.0 - 1e-9, step_deg)
+    seconds = np.arange(0.0, period_s, period_s / 360.0)
+    u = argument_of_latitude_deg(p, seconds)
+    nearest = [int(np.argmin(np.abs((u - uk + 180.0) % 360.0 - 180.0))) for uk in u_grid]
+    dvs, rows = entries(coast, p, seconds[nearest], deorbit)
+    return RingTable(step_deg, tuple(footprint_at(row) for row in rows), dvs)
+
+
+def scan_margins(
+    rows: NDArray[np.float64], ring: Ring, sites: Sites, radius_nmi: float = MEAN_RADIUS_NMI
+) -> NDArray[np.float64]:
+    """Each site's margin (nmi, (G, S)) to the footprint `ring` moved to each entry row's point and heading."""
+    p0, d0, n = great_circle_frame(rows[:, dorb.E_LAT], rows[:, dorb.E_LON], rows[:, dorb.E_HEADING])
+    m, _ = margins(p0, d0, n, ring.downrange_nmi, ring.crossrange_nmi, ring.flight_time_s, sites.unit, 0.0, radius_nmi)
+    return m
+
+
+def footprint_ring(spec: FlightSpec, settings: MethodSettings) -> FootprintAt:
+    """The footprint of `spec`'s vehicle and controls by the method `settings` name, flown from an entry row (its
+    altitude, earth-relative speed, flight-path angle, heading and place) on the spec's planet."""
+
+    def at(row: NDArray[np.float64]) -> Ring:
+        entry = replace(
+            spec.entry,
+            altitude_ft=float(row[dorb.E_ALT]),
+            velocity_fps=float(row[dorb.E_V]),
+            gamma_deg=float(row[dorb.E_GAMMA]),
+            heading_deg=float(row[dorb.E_HEADING]),
+            latitude_deg=float(row[dorb.E_LAT]),
+            longitude_deg=float(row[dorb.E_LON]),
+            velocity_frame="relative",
+        )
+        pts = footprint(replace(spec, entry=entry), settings).points
+
+        def column(name: str) -> NDArray[np.float64]:
+            return np.array([getattr(q, name) for q in pts])
+
+        return Ring(
+            *(column(k) for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg"))
+        )
+
+    return at
+
+
+def site_in_chart(
+    row: NDArray[np.float64], ring: Ring, lat_deg: float, lon_deg: float, radius_nmi: float = MEAN_RADIUS_NMI
+) -> tuple[float, float, bool]:
+    """The site's (down-range, cross-range) nmi in the chart of an entry row, on the branch (down-range past half a
+    circumference) that lies inside the ring, else on the one nearest its down-range span; and whether inside."""
+    p0, d0, n = great_circle_frame(row[dorb.E_LAT], row[dorb.E_LON], row[dorb.E_HEADING])
+    u = unit_vectors(lat_deg, lon_deg)
+    ds = math.atan2(float(d0 @ u), float(p0 @ u))
+    cs = math.asin(max(-1.0, min(1.0, float(n @ u)))) * radius_nmi
+    polygon = list(zip(ring.downrange_nmi.tolist(), ring.crossrange_nmi.tolist()))
+    lo, hi = float(ring.downrange_nmi.min()), float(ring.downrange_nmi.max())
+    best = None
+    for k in _branches(lo / radius_nmi, hi / radius_nmi):
+        d = (ds + 2.0 * math.pi * k) * radius_nmi
+        if inside_points(d, cs, polygon):
+            return d, cs, True
+        gap = max(lo - d, d - hi, 0.0)
+        if best is None or gap < best[0]:
+            best = (gap, d)
+    return (ds * radius_nmi if best is None else best[1]), cs, False
+
+
+def flight_time_at(ring: Ring, downrange_nmi: float, crossrange_nmi: float) -> float:
+    """The flight time (s) to a point of the footprint: along the line of its down-range, linear between the
+    boundary's two crossings that bracket it in cross-range (each crossing's time linear along its edge); the
+    nearest boundary point's time where no crossing brackets it."""
+    d, c, t = ring.downrange_nmi, ring.crossrange_nmi, ring.flight_time_s
+    d2, c2, t2 = np.roll(d, -1), np.roll(c, -1), np.roll(t, -1)
+    straddle = (d - downrange_nmi) * (d2 - downrange_nmi) <= 0.0
+    straddle &= d != d2
+    f = (downrange_nmi - d[straddle]) / (d2[straddle] - d[straddle])
+    cx = c[straddle] + f * (c2[straddle] - c[straddle])
+    tx = t[straddle] + f * (t2[straddle] - t[straddle])
+    below, above = cx <= crossrange_nmi, cx >= crossrange_nmi
+    if below.any() and above.any():
+        i, j = np.flatnonzero(below)[np.argmax(cx[below])], np.flatnonzero(above)[np.argmin(cx[above])]
+        if cx[j] == cx[i]:
+            return float(tx[i])
+        return float(tx[i] + (crossrange_nmi - cx[i]) / (cx[j] - cx[i]) * (tx[j] - tx[i]))
+    nearest = np.argmin(np.hypot(d - downrange_nmi, c - crossrange_nmi))
+    return float(t[nearest])
+
+
+def _peak(times: NDArray[np.float64], m: NDArray[np.float64], i: int) -> float:
+    """The time of the largest margin near grid index i: the vertex of the parabola through i - 1, i, i + 1."""
+    if 0 < i < len(m) - 1:
+        a, b, c = m[i - 1], m[i], m[i + 1]
+        curve = a - 2.0 * b + c
+        if curve < 0.0:
+            return float(times[i] + 0.5 * (a - c) / curve * (times[1] - times[0]))
+    return float(times[i])
+
+
+def _crossing(times: NDArray[np.float64], m: NDArray[np.float64], i: int, j: int) -> float:
+    """Where the margin crosses zero between grid indices i and j (linear), or times[j] if it does not."""
+    if m[i] < 0.0 <= m[j] or m[j] < 0.0 <= m[i]:
+        return float(times[i] + (times[j] - times[i]) * (-m[i]) / (m[j] - m[i]))
+    return float(times[j])
+
+
+def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
+    return [(int(a), int(b) - 1) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def revolution_opportunities(
+    p: Plan,
+    revolution: int,
+    coast: dorb.Coast,
+    deorbit: Deorbit,
+    table: RingTable,
+    footprint_at: FootprintAt,
+    sites: Sites,
+    settings: Settings,
+    on_progress: Callable[[float, str], bool | None] | None = None,
+) -> list[Opportunity]:
+    """One revolution's opportunities at every site (the scan, then each candidate flown again)."""
+    times = p.times_s[p.revolution == revolution]
+    u = argument_of_latitude_deg(p, times)
+    _, rows = entries(coast, p, times, deorbit, table.delta_v_at(u))
+    which = table.index(u)
+    m = np.empty((len(times), len(sites.names)))
+    for k in np.unique(which):
+        m[which == k] = scan_margins(rows[which == k], table.rings[k], sites)
+    candidates = [(s, a, b) for s in range(len(sites.names)) for a, b in _runs(m[:, s] >= -settings.screen_nmi)]
+    out = []
+    for k, (s, a, b) in enumerate(candidates):
+        if on_progress is not None and on_progress(k / max(len(candidates), 1), f"revolution {revolution}"):
+            raise Stopped("stopped")
+        best = a + int(np.argmax(m[a : b + 1, s]))
+        inside = np.flatnonzero(m[a : b + 1, s] >= 0.0) + a
+        window = (times[inside[0]], times[inside[-1]]) if inside.size else (times[best], times[best])
+        if inside.size:  # the zero crossings next to the first and last burns inside
+            window = (
+                _crossing(times, m[:, s], max(inside[0] - 1, 0), inside[0]),
+                _crossing(times, m[:, s], min(inside[-1] + 1, len(times) - 1), inside[-1]),
+            )
+        found = _opportunity(
+            p, revolution, coast, deorbit, table.rings[which[best]], footprint_at, sites, settings, s,
+            _peak(times, m[:, s], best), float(m[best, s]), window,
+        )  # fmt: skip
+        if found is not None:
+            out.append(found)
+    return out
+
+
+def _opportunity(
+    p: Plan,
+    revolution: int,
+    coast: dorb.Coast,
+    deorbit: Deorbit,
+    scanned: Ring,
+    footprint_at: FootprintAt,
+    sites: Sites,
+    settings: Settings,
+    s: int,
+    burn_s: float,
+    scan_margin: float,
+    window: tuple[float, float],
+) -> Opportunity | None:
+    """The candidate burn flown again: its entry, its footprint, the site's place in it and the sun at landing;
+    None when the site is outside that footprint."""
+    dvs, rows = entries(coast, p, np.array([burn_s]), deorbit)
+    row = rows[0]
+    r, v = burn_states(p, np.array([burn_s]), coast.omega_rad_s)
+    _, track_lat, track_lon = dorb.coast_track(coast, r[0], dorb.burn(r, v, dvs, coast.omega_rad_s)[0])
+    ring = footprint_at(row) if settings.refly else scanned
+    lat, lon = float(sites.latitude_deg[s]), float(sites.longitude_deg[s])
+    margin = float(scan_margins(rows, ring, Sites((sites.names[s],), np.array([lat]), np.array([lon])))[0, 0])
+    if margin < 0.0:
+        return None
+    down, cross, _ = site_in_chart(row, ring, lat, lon)
+    flight_s = flight_time_at(ring, down, cross)
+    burn_utc = p.utc([burn_s])[0]
+    entry_utc = burn_utc + timedelta(seconds=float(row[dorb.E_COAST_S]))
+    landing_utc = entry_utc + timedelta(seconds=flight_s)
+    elevation = float(sun.elevation_deg([landing_utc], lat, lon)[0])
+    sunlit = settings.sun_elevation_min_deg is None or elevation >= settings.sun_elevation_min_deg
+    return Opportunity(
+        site=s,
+        site_name=sites.names[s],
+        revolution=revolution,
+        burn_utc=burn_utc,
+        delta_v_fps=float(dvs[0]),
+        coast_s=float(row[dorb.E_COAST_S]),
+        entry_utc=entry_utc,
+        entry={
+            "altitude_ft": float(row[dorb.E_ALT]),
+            "velocity_fps": float(row[dorb.E_V]),
+            "gamma_deg": float(row[dorb.E_GAMMA]),
+            "heading_deg": float(row[dorb.E_HEADING]),
+            "latitude_deg": float(row[dorb.E_LAT]),
+            "longitude_deg": float(row[dorb.E_LON]),
+        },
+        flight_time_s=flight_s,
+        landing_utc=landing_utc,
+        downrange_nmi=down,
+        crossrange_nmi=cross,
+        margin_nmi=margin,
+        sun_elevation_deg=elevation,
+        local_solar_time_h=float(sun.local_solar_time_h([landing_utc], lon)[0]),
+        daylight=elevation >= sun.DAYLIGHT_ELEVATION_DEG,
+        meets_rules=sunlit and margin >= settings.min_margin_nmi,
+        burn_window_start_utc=p.utc([window[0]])[0],
+        burn_window_end_utc=p.utc([window[1]])[0],
+        scan_margin_nmi=scan_margin,
+        coast_track=np.column_stack([track_lat, track_lon]).tolist(),
+        footprint_ring={"downrange_nmi": ring.downrange_nmi.tolist(), "crossrange_nmi": ring.crossrange_nmi.tolist()},
+    )

@@ -1,0 +1,37 @@
+"""Landing opportunities through the service (issue 28 item 4): a job of one task per revolution on Dask, its stored
+result the CLI's, and the issue's bad inputs answered 422 naming the field."""
+
+import copy
+
+import pytest
+
+from tests.core.test_opportunities import small_study
+from tests.service.conftest import wait_for_job
+
+
+def test_an_opportunities_job_runs_revolution_by_revolution(api):
+    study = small_study(window={"start": "2008-09-21T00:00:00Z", "hours": 2})
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "opportunities", "study": study}).json()["id"])
+    assert job["status"] == "succeeded", job["error"]
+    got = job["result"]["opportunities"]
+    assert got["run"]["tasks"] == len(got["ascending_nodes_utc"]) + 1  # the revolutions the nodes divide
+    assert got["opportunities"] and all(o["margin_nmi"] >= 0.0 for o in got["opportunities"])
+    assert [s["name"] for s in got["sites"]] == [s["name"] for s in study["sites"]]
+
+
+TLE = small_study()["tle"]
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"tle": TLE[:-1] + str((int(TLE[-1]) + 1) % 10)}, "study"),
+        ({"window": {"start": "2008-12-21T00:00:00Z", "hours": 3}}, "study"),
+        ({"deorbit": {"delta_v_fps": 20}}, "study"),
+        ({"burn_step_s": 1, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24}}, "study"),
+    ],
+)
+def test_bad_opportunities_are_422_naming_the_field(api, change, field):
+    r = api.post("/api/jobs", json={"kind": "opportunities", "study": copy.deepcopy(small_study()) | change})
+    assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
+    assert "Traceback" not in r.json()["detail"]

@@ -1,0 +1,60 @@
+"""`footprint opportunities` run as a user runs it (issue 28 items 3-5): its CSV, iCalendar and GeoJSON files, and
+one line with exit 2 for each of the issue's bad inputs."""
+
+import copy
+import json
+
+import pytest
+
+from tests.core.test_opportunities import small_study
+from tests.test_cli import run
+
+TLE = small_study()["tle"]
+
+
+def test_the_files_of_a_small_window(tmp_path):
+    path = tmp_path / "study.json"
+    path.write_text(json.dumps(small_study()))
+    files = {"--csv": tmp_path / "o.csv", "--ics": tmp_path / "o.ics", "--geojson": tmp_path / "o.geojson"}
+    r = run("opportunities", path, "--workers", 0, *[x for kv in files.items() for x in kv])
+    assert r.returncode == 0, r.stderr
+    got = json.loads(r.stdout)
+    taken = [o for o in got["opportunities"] if o["meets_rules"]]
+    rows = files["--csv"].read_text().splitlines()
+    assert rows[0].startswith("site_name,rank,revolution,burn_utc") and len(rows) == 1 + len(got["opportunities"])
+    ics = files["--ics"].read_bytes()
+    assert ics.startswith(b"BEGIN:VCALENDAR\r\n") and ics.endswith(b"END:VCALENDAR\r\n")
+    lines = ics.decode().split("\r\n")[:-1]
+    assert all(len(line.encode()) <= 75 for line in lines)  # RFC 5545 3.1: folded
+    unfolded = "\r\n".join(lines).replace("\r\n ", "").split("\r\n")
+    assert unfolded.count("BEGIN:VEVENT") == len(taken)
+    first = taken[0]
+    start = first["burn_utc"].replace("-", "").replace(":", "")
+    assert f"DTSTART:{start}" in unfolded
+    assert any(u.startswith("SUMMARY:Landing at ") and "\\," in u for u in unfolded)  # the site's comma escaped
+    kinds = [f["properties"]["kind"] for f in json.loads(files["--geojson"].read_text())["features"]]
+    assert kinds.count("coast") == kinds.count("footprint") == len(got["opportunities"])
+    assert kinds.count("site") == len(got["sites"]) and "ground_track" in kinds
+
+
+BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [
+        ({"tle": BAD_TLE}, "tle: line 2: its check digit is"),
+        ({"window": {"start": "2008-10-21T00:00:00Z", "hours": 3}}, "window.start: 2008-10-21T00:00:00+00:00 is 30.5"),
+        ({"window": {"start": "2008-09-21T00:00:00Z"}}, "give exactly one of 'end' or 'hours'"),
+        ({"deorbit": {"delta_v_fps": 20}}, "deorbit: the coast does not reach the interface"),
+        ({"deorbit": {"delta_v_fps": 300, "entry_gamma_deg": -2}}, "give exactly one of 'delta_v_fps'"),
+        ({"burn_step_s": 0.5}, "burn_step_s"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(tmp_path, change, words):
+    path = tmp_path / "study.json"
+    path.write_text(json.dumps(copy.deepcopy(small_study()) | change))
+    r = run("opportunities", path, "--workers", 0)
+    assert r.returncode == 2, r.stdout + r.stderr
+    said = r.stderr.strip().splitlines()
+    assert len(said) == 1 and words in said[0] and "Traceback" not in r.stderr, r.stderr
