@@ -15,7 +15,8 @@ TLE = small_study()["tle"]
 def test_the_files_of_a_small_window(tmp_path):
     path = tmp_path / "study.json"
     path.write_text(json.dumps(small_study()))
-    files = {"--csv": tmp_path / "o.csv", "--ics": tmp_path / "o.ics", "--geojson": tmp_path / "o.geojson"}
+    files = {"--csv": tmp_path / "o.csv", "--ics": tmp_path / "o.ics", "--geojson": tmp_path / "o.geojson",
+             "--figure": tmp_path / "o.png"}  # fmt: skip
     r = run("opportunities", path, "--workers", 0, *[x for kv in files.items() for x in kv])
     assert r.returncode == 0, r.stderr
     got = json.loads(r.stdout)
@@ -35,6 +36,16 @@ def test_the_files_of_a_small_window(tmp_path):
     kinds = [f["properties"]["kind"] for f in json.loads(files["--geojson"].read_text())["features"]]
     assert kinds.count("coast") == kinds.count("footprint") == len(got["opportunities"])
     assert kinds.count("site") == len(got["sites"]) and "ground_track" in kinds
+    assert files["--figure"].read_bytes().startswith(b"\x89PNG")
+    # more Δv: a steeper entry, slower and sooner (energy and angular momentum: tests/core/test_deorbit.py)
+    table = got["delta_v_table"]
+    assert len(table) >= 10
+    for a, b in zip(table, table[1:]):
+        assert (
+            b["gamma_deg"] < a["gamma_deg"] < 0
+            and b["velocity_fps"] < a["velocity_fps"]
+            and b["coast_s"] < a["coast_s"]
+        )
 
 
 BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)

@@ -535,6 +535,9 @@ def opportunities(
     geojson_out: Path | None = typer.Option(
         None, "--geojson", metavar="FILE.geojson", help="the ground tracks, deorbit arcs, entries and footprints"
     ),
+    figure: Path | None = typer.Option(
+        None, "--figure", metavar="FILE.png", help="the opportunities on a UTC timeline, night at each site shaded"
+    ),
     as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
 ):
     """Landing opportunities in UTC: for each revolution of the window and each site, the deorbit burns (time, Δv)
@@ -542,7 +545,7 @@ def opportunities(
     margin and the sun at the site; one Dask task per revolution."""
     from contextlib import ExitStack
 
-    for path, option in ((csv_out, "--csv"), (ics_out, "--ics"), (geojson_out, "--geojson")):
+    for path, option in ((csv_out, "--csv"), (ics_out, "--ics"), (geojson_out, "--geojson"), (figure, "--figure")):
         _writable(path, option)
     study = _request("opportunities", study_file)
     dask = _dask_options(workers, scheduler, parallel.default_workers())
@@ -563,6 +566,10 @@ def opportunities(
         from footprint.pictures.geojson import opportunities_collection
 
         geojson_out.write_text(strict_json(opportunities_collection(result)))
+    if figure is not None:
+        from footprint.pictures.figures import opportunities_timeline_figure, save
+
+        save(opportunities_timeline_figure(result), figure)
     _answer(result, as_json, _opportunities_lines)
 
 

@@ -32,6 +32,7 @@ from footprint.core.elements import MAX_EPOCH_AGE_DAYS, check_window, parse_tle
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
+DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
 
@@ -203,6 +204,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
             "window": {"start_utc": op.iso(start), "end_utc": op.iso(end)},
             "ascending_nodes_utc": [op.iso(t) for t in plan.plan.utc(plan.plan.node_s)],
             "ground_track": op.ground_track(plan.plan),
+            "delta_v_table": op.delta_v_table(plan.coast, plan.plan, DELTA_V_TABLE_FPS),
             "deorbit": study.deorbit.model_dump(exclude_none=True),
             "rules": study.rules.model_dump(),
             "sites": sites,

@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from footprint.core import deorbit as dorb
 from footprint.core import sun
 from footprint.core.elements import FT_PER_KM, Elements, gmst_deg, subsatellite_points, teme_km
-from footprint.core.errors import Stopped
+from footprint.core.errors import InputError, Stopped
 from footprint.core.footprint_methods import footprint
 from footprint.core.method_settings import MethodSettings
 from footprint.core.plane import inside_points
@@ -108,7 +108,8 @@ class Opportunity:
     burn_window_end_utc: datetime
     scan_margin_nmi: float  # the scan's footprint's margin at this burn
     coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
-    footprint_ring: dict[str, list[float]]  # the boundary flown from this entry: downrange_nmi, crossrange_nmi lists
+    # the boundary flown from this entry: downrange_nmi, crossrange_nmi about it, latitude_deg, longitude_deg landed
+    footprint_ring: dict[str, list[float]]
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -198,6 +199,29 @@ def entries(
         return np.array([dv for dv, _ in solved]), np.array([row for _, row in solved])
     dvs = np.broadcast_to(np.asarray(deorbit.delta_v_fps if delta_v_fps is None else delta_v_fps, float), len(seconds))
     return np.array(dvs), dorb.entry_states(coast, r, dorb.burn(r, v, dvs, coast.omega_rad_s))
+
+
+def delta_v_table(coast: dorb.Coast, p: Plan, delta_v_fps: Sequence[float]) -> list[dict[str, float]]:
+    """The entry state a burn at the window's start gives for each Δv (ft/s): entry angle, earth-relative speed,
+    coast time and the down-range of the entry from the burn point; a Δv too small to come down is left out."""
+    r, v = burn_states(p, p.times_s[:1], coast.omega_rad_s)
+    out = []
+    for dv in delta_v_fps:
+        try:
+            row = dorb.entry_states(coast, r, dorb.burn(r, v, dv, coast.omega_rad_s))[0]
+        except InputError:
+            continue
+        out.append(
+            {
+                "delta_v_fps": float(dv),
+                "gamma_deg": float(row[dorb.E_GAMMA]),
+                "velocity_fps": float(row[dorb.E_V]),
+                "coast_s": float(row[dorb.E_COAST_S]),
+                "latitude_deg": float(row[dorb.E_LAT]),
+                "longitude_deg": float(row[dorb.E_LON]),
+            }
+        )
+    return out
 
 
 def argument_of_latitude_deg(p: Plan, seconds: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -449,5 +473,10 @@ def _opportunity(
         burn_window_end_utc=p.utc([window[1]])[0],
         scan_margin_nmi=scan_margin,
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
-        footprint_ring={"downrange_nmi": ring.downrange_nmi.tolist(), "crossrange_nmi": ring.crossrange_nmi.tolist()},
+        footprint_ring={
+            "downrange_nmi": ring.downrange_nmi.tolist(),
+            "crossrange_nmi": ring.crossrange_nmi.tolist(),
+            "latitude_deg": ring.latitude_deg.tolist(),
+            "longitude_deg": ring.longitude_deg.tolist(),
+        },
     )

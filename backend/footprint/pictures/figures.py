@@ -267,6 +267,45 @@ def guided_footprint_figure(result: dict, title=None) -> Figure:
     return fig
 
 
+def opportunities_timeline_figure(result: dict, title=None) -> Figure:
+    """Landing opportunities (contracts.opportunities) on a UTC timeline, one row per site: night at the site
+    shaded (the sun below -0.833 deg, core.sun), each opportunity at its landing time (filled where it meets the
+    rules, open where not), the orbit's ascending nodes as thin lines."""
+    from datetime import datetime, timedelta
+
+    from footprint.core import sun
+
+    def utc(text: str) -> datetime:
+        return datetime.fromisoformat(text.replace("Z", "+00:00"))
+
+    start, end = utc(result["window"]["start_utc"]), utc(result["window"]["end_utc"])
+    span_h = (end - start).total_seconds() / 3600.0
+    sites = result["sites"]
+    fig = Figure(figsize=(11.0, 0.32 * len(sites) + 1.6), layout="constrained")
+    ax = fig.add_subplot(1, 1, 1)
+    hours = np.arange(0.0, span_h + 2.0 + 1e-9, 1.0 / 12.0)  # landings come up to two hours after the last burn
+    times = [start + timedelta(hours=float(h)) for h in hours]
+    for row, site in enumerate(sites):
+        dark = sun.elevation_deg(times, site["latitude_deg"], site["longitude_deg"]) < sun.DAYLIGHT_ELEVATION_DEG
+        ax.fill_between(hours, row - 0.45, row + 0.45, where=dark, color="0.85", lw=0, step="mid")
+    for node in result["ascending_nodes_utc"]:
+        ax.axvline((utc(node) - start).total_seconds() / 3600.0, color="0.7", lw=0.5, zorder=0)
+    for taken, style in ((True, dict(color="tab:blue")), (False, dict(facecolor="none", edgecolor="tab:orange"))):
+        mine = [o for o in result["opportunities"] if o["meets_rules"] == taken]
+        x = [(utc(o["landing_utc"]) - start).total_seconds() / 3600.0 for o in mine]
+        ax.scatter(x, [o["site"] for o in mine], s=22, zorder=3, label="meets the rules" if taken else "fails a rule",
+                   **style)  # fmt: skip
+    ax.set_yticks(range(len(sites)), [s["name"][:32] for s in sites], fontsize=7)
+    ax.set_ylim(len(sites) - 0.5, -0.5)
+    ax.set_xlim(0.0, span_h + 2.0)
+    ax.set_xlabel(f"landing time, hours from {result['window']['start_utc']} (UTC); grey: night at the site")
+    e = result["elements"]
+    ax.set_title(title or f"Landing opportunities from {e['name'] or e['satellite_number']} ({e['inclination_deg']:.1f}"
+                          f" deg); thin lines: ascending nodes", fontsize=10)  # fmt: skip
+    ax.legend(loc="lower right", fontsize=8)
+    return fig
+
+
 def _probability(p: float) -> str:
     """Two decimals, three below 0.01 (so a rare reach does not read as 0.00); 0 and 1 exactly."""
     return "0" if p == 0.0 else "1" if p == 1.0 else f"{p:.3f}" if p < 0.01 else f"{p:.2f}"
