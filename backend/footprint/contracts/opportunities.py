@@ -28,10 +28,12 @@ from footprint.contracts.records import csv_cell, plain
 from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
+from footprint.core import sun
 from footprint.core.elements import MAX_EPOCH_AGE_DAYS, check_window, parse_tle
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
+NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
@@ -189,6 +191,12 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
                 "meeting_rules": len(taken),
                 "first_landing_utc": taken[0]["landing_utc"] if taken else None,
                 "best_margin_nmi": max((o["margin_nmi"] for o in taken), default=None),
+                "night_utc": [
+                    [op.iso(a), op.iso(b)]
+                    for a, b in sun.night_intervals(
+                        start, end + NIGHT_PAST_WINDOW, site.latitude_deg, site.longitude_deg
+                    )
+                ],
             }
         )
     answer: dict[str, Any] = plain(

@@ -11,7 +11,7 @@ horizon, 0.02 deg at 40 deg; no parallax: 0.0024 deg). Local apparent solar time
 from __future__ import annotations
 
 from collections.abc import Sequence
-from datetime import UTC, datetime
+from datetime import UTC, datetime, timedelta
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -66,3 +66,14 @@ def equation_of_time_min(utc: Sequence[datetime]) -> NDArray[np.float64]:
     n = _days_from_j2000(utc)
     ra, _ = right_ascension_declination_deg(utc)
     return ((280.460 + 0.9856474 * n - ra + 180.0) % 360.0 - 180.0) * 4.0
+
+
+def night_intervals(
+    start: datetime, end: datetime, latitude_deg: float, longitude_deg: float, step_s: float = 60.0
+) -> list[tuple[datetime, datetime]]:
+    """The spans of [start, end] when the sun is below DAYLIGHT_ELEVATION_DEG at the site, to `step_s`."""
+    count = int((end - start).total_seconds() // step_s) + 1
+    times = [start + timedelta(seconds=k * step_s) for k in range(count)]
+    dark = elevation_deg(times, latitude_deg, longitude_deg) < DAYLIGHT_ELEVATION_DEG
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], dark.astype(np.int8), [0]])))
+    return [(times[a], times[b - 1]) for a, b in zip(edges[::2], edges[1::2])]

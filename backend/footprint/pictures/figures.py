@@ -268,12 +268,10 @@ def guided_footprint_figure(result: dict, title=None) -> Figure:
 
 
 def opportunities_timeline_figure(result: dict, title=None) -> Figure:
-    """Landing opportunities (contracts.opportunities) on a UTC timeline, one row per site: night at the site
-    shaded (the sun below -0.833 deg, core.sun), each opportunity at its landing time (filled where it meets the
-    rules, open where not), the orbit's ascending nodes as thin lines."""
-    from datetime import datetime, timedelta
-
-    from footprint.core import sun
+    """Landing opportunities (contracts.opportunities) on a UTC timeline, one row per site: night at the site shaded
+    (its night_utc: the sun below -0.833 deg, core.sun), each opportunity at its landing time (filled where it meets
+    the rules, open where not), the orbit's ascending nodes as thin lines."""
+    from datetime import datetime
 
     def utc(text: str) -> datetime:
         return datetime.fromisoformat(text.replace("Z", "+00:00"))
@@ -283,11 +281,10 @@ def opportunities_timeline_figure(result: dict, title=None) -> Figure:
     sites = result["sites"]
     fig = Figure(figsize=(11.0, 0.32 * len(sites) + 1.6), layout="constrained")
     ax = fig.add_subplot(1, 1, 1)
-    hours = np.arange(0.0, span_h + 2.0 + 1e-9, 1.0 / 12.0)  # landings come up to two hours after the last burn
-    times = [start + timedelta(hours=float(h)) for h in hours]
     for row, site in enumerate(sites):
-        dark = sun.elevation_deg(times, site["latitude_deg"], site["longitude_deg"]) < sun.DAYLIGHT_ELEVATION_DEG
-        ax.fill_between(hours, row - 0.45, row + 0.45, where=dark, color="0.85", lw=0, step="mid")
+        for a, b in site["night_utc"]:
+            x0, x1 = ((utc(t) - start).total_seconds() / 3600.0 for t in (a, b))
+            ax.fill_between([x0, x1], row - 0.45, row + 0.45, color="0.85", lw=0)
     for node in result["ascending_nodes_utc"]:
         ax.axvline((utc(node) - start).total_seconds() / 3600.0, color="0.7", lw=0.5, zorder=0)
     for taken, style in ((True, dict(color="tab:blue")), (False, dict(facecolor="none", edgecolor="tab:orange"))):
