@@ -6,7 +6,7 @@ one part per revolution (footprint.core.opportunities), combined into the opport
      "deorbit": {"entry_gamma_deg": -2.0} | {"delta_v_fps": 400}, "interface_altitude_ft": 400000,
      "footprint": a footprint study (its case's vehicle, controls and planet; the entry is each burn's),
      "rules": {"sun_elevation_min_deg": -0.833, "min_margin_nmi": 0},
-     "burn_step_s": 30, "ring_step_deg": 10, "screen_nmi": 200, "refly": true}
+     "burn_step_s": 30, "ring_step_deg": 10, "screen_nmi": 200, "refly": "near"}
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import csv
 import functools
 import io
 from datetime import UTC, datetime, timedelta
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
@@ -89,7 +89,7 @@ class OpportunitiesStudy(Strict):
     burn_step_s: Annotated[float, Range(1, 600, "s")] = 30.0
     ring_step_deg: Annotated[float, Range(1, 90, "deg")] = 10.0
     screen_nmi: Annotated[float, Range(0, 5_000, "nmi")] = 200.0
-    refly: bool = True
+    refly: Literal["near", "full", "none"] = "near"
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo) -> OpportunitiesStudy:
@@ -136,7 +136,7 @@ class Plan:
         self.spec = study.footprint.case.to_spec()
         self.coast = dorb.Coast.of(self.spec.vehicle, self.spec.planet, study.deorbit.interface_altitude_ft)
         self.deorbit = op.Deorbit(study.deorbit.delta_v_fps, study.deorbit.entry_gamma_deg)
-        self.footprint_at = op.footprint_ring(self.spec, study.footprint.to_settings())
+        self.flier = op.Flier(self.spec, study.footprint.to_settings())
         self.sites = op.Sites(
             tuple(s.name for s in study.sites),
             np.array([s.latitude_deg for s in study.sites]),
@@ -153,7 +153,7 @@ class Plan:
 
     @functools.cached_property
     def table(self) -> op.RingTable:
-        return op.ring_table(self.coast, self.plan, self.deorbit, self.footprint_at, self.study.ring_step_deg)
+        return op.ring_table(self.coast, self.plan, self.deorbit, self.flier, self.study.ring_step_deg)
 
 
 _plan = PerStudy(Plan)  # this process's plan of the study it works on (a study's revolutions share it)
@@ -162,7 +162,7 @@ _plan = PerStudy(Plan)  # this process's plan of the study it works on (a study'
 def revolution(study: OpportunitiesStudy, number: int, on_progress: OnProgress | None = None) -> list[dict[str, Any]]:
     plan = _plan(study)
     found = op.revolution_opportunities(
-        plan.plan, number, plan.coast, plan.deorbit, plan.table, plan.footprint_at, plan.sites, plan.settings,
+        plan.plan, number, plan.coast, plan.deorbit, plan.table, plan.flier, plan.sites, plan.settings,
         on_progress,
     )  # fmt: skip
     return [o.to_dict() for o in found]

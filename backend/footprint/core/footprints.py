@@ -27,7 +27,7 @@ from footprint.core.sphere import (
     unit_vectors,
     wrap_longitude,
 )
-from footprint.core.trajectory import FlightSpec, Trajectory, simulate
+from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
 
 # a method's control settings: (the setting, make(spec, right) -> the spec it flies, whether it lands on the axis)
 Family = list[tuple[ControlSetting, Callable[..., FlightSpec], bool]]
@@ -326,7 +326,7 @@ def _fly(spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[
     flown = 0
     exact = mirror_is_exact(spec)
     for parameter, make, on_axis in family:
-        pt = point_of_trajectory(parameter, "axis" if on_axis else "left", simulate(make(spec, False)), contours_fps)
+        pt = _landing(parameter, "axis" if on_axis else "left", make(spec, False), contours_fps)
         flown += 1
         if on_axis:
             axis.append(pt)
@@ -337,7 +337,7 @@ def _fly(spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[
         if mirror and exact:
             right.append(reflect(spec, pt))
         elif mirror:
-            right.append(point_of_trajectory(parameter, "right", simulate(make(spec, True)), contours_fps))
+            right.append(_landing(parameter, "right", make(spec, True), contours_fps))
             flown += 1
     asym: dict[str, float] | None = None
     if right and not exact:  # how far the flown halves are from mirror images
@@ -346,6 +346,14 @@ def _fly(spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[
             "downrange_nmi": max(abs(lp.downrange_nmi - rp.downrange_nmi) for lp, rp in zip(left, right)),
         }
     return _Flights(axis, left, right, flown, asym)
+
+
+def _landing(parameter: ControlSetting, side: str, spec: FlightSpec, contours_fps: Sequence[float]) -> FootprintPoint:
+    """One setting's footprint point: flown on the summary path (the same summary to the bit, no histories) unless
+    its iso-velocity contours need the histories."""
+    if contours_fps:
+        return point_of_trajectory(parameter, side, simulate(spec), contours_fps)
+    return point_of_trajectory(parameter, side, Trajectory(summary=simulate_summary(spec), history={}))
 
 
 def _same_place(a: FootprintPoint, b: FootprintPoint) -> bool:

@@ -25,7 +25,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from datetime import datetime, timedelta
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -34,15 +34,13 @@ from footprint.core import deorbit as dorb
 from footprint.core import sun
 from footprint.core.elements import FT_PER_KM, Elements, gmst_deg, subsatellite_points, teme_km
 from footprint.core.errors import InputError, Stopped
-from footprint.core.footprint_methods import footprint
+from footprint.core.footprint_methods import FAMILIES, control_family, footprint
 from footprint.core.method_settings import MethodSettings
 from footprint.core.plane import inside_points
 from footprint.core.reach import _branches, margins
+from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
-from footprint.core.trajectory import FlightSpec
-
-# (an entry row of deorbit.E_*) -> the footprint flown from it
-FootprintAt = Callable[[NDArray[np.float64]], "Ring"]
+from footprint.core.trajectory import FlightSpec, simulate_summary
 
 
 @dataclass(frozen=True)
@@ -54,6 +52,18 @@ class Ring:
     flight_time_s: NDArray[np.float64]
     latitude_deg: NDArray[np.float64]
     longitude_deg: NDArray[np.float64]
+    settings: tuple[tuple[ControlSetting, str], ...] = ()  # each vertex's control setting and side
+
+    def replaced(self, idx: Sequence[int], points: Sequence[Ring]) -> Ring:
+        """This ring with vertices idx replaced by the one-point rings `points` (their settings kept)."""
+        columns = {k: getattr(self, k).copy() for k in RING_COLUMNS}
+        for i, q in zip(idx, points):
+            for k in RING_COLUMNS:
+                columns[k][i] = getattr(q, k)[0]
+        return Ring(**columns, settings=self.settings)
+
+
+RING_COLUMNS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg")
 
 
 @dataclass(frozen=True)
@@ -80,7 +90,9 @@ class Settings:
     burn_step_s: float = 30.0
     ring_step_deg: float = 15.0  # the scan's footprints, one per this much of the orbit (RingTable)
     screen_nmi: float = 200.0  # candidates from runs of burn times the moved footprint brings this near a site
-    refly: bool = True  # fly the footprint from each candidate's own entry state (else: the moved one's answer)
+    # each candidate's footprint from its own entry: "near" flies the vertices about the edge nearest the site again
+    # (the rest moved from the scan's), "full" the whole footprint, "none" the scan's footprint moved
+    refly: Literal["near", "full", "none"] = "near"
     sun_elevation_min_deg: float | None = None  # the daylight rule (None: none)
     min_margin_nmi: float = 0.0
 
@@ -257,7 +269,7 @@ class RingTable:
         return dv
 
 
-def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, footprint_at: FootprintAt, step_deg: float) -> RingTable:
+def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, flier: Flier, step_deg: float) -> RingTable:
     """The footprints of burns at u = 0, step, 2 step... (deg), each from the burn of the window's first orbit
     nearest it (within 1 deg), with the Δv given or the one its target entry angle needs there."""
     period_s = 86_400.0 / p.elements.mean_motion_rev_day
@@ -266,7 +278,7 @@ def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, footprint_at: Footp
     u = argument_of_latitude_deg(p, seconds)
     nearest = [int(np.argmin(np.abs((u - uk + 180.0) % 360.0 - 180.0))) for uk in u_grid]
     dvs, rows = entries(coast, p, seconds[nearest], deorbit)
-    return RingTable(step_deg, tuple(footprint_at(row) for row in rows), dvs)
+    return RingTable(step_deg, tuple(flier.ring(row) for row in rows), dvs)
 
 
 def scan_margins(
@@ -278,13 +290,20 @@ def scan_margins(
     return m
 
 
-def footprint_ring(spec: FlightSpec, settings: MethodSettings) -> FootprintAt:
-    """The footprint of `spec`'s vehicle and controls by the method `settings` name, flown from an entry row (its
-    altitude, earth-relative speed, flight-path angle, heading and place) on the spec's planet."""
+class Flier:
+    """Flies the footprint study (`spec`'s vehicle and controls, the method `settings` name) from an entry row (its
+    altitude, earth-relative speed, flight-path angle, heading and place) on the spec's planet: the whole footprint,
+    or, for a method whose points are fixed control laws (footprint_methods.FAMILIES), some of its vertices."""
 
-    def at(row: NDArray[np.float64]) -> Ring:
+    def __init__(self, spec: FlightSpec, settings: MethodSettings):
+        self.spec, self.settings = spec, settings
+        self.makers = (
+            {p.key(): make for p, make, _ in control_family(settings)[0]} if type(settings) in FAMILIES else None
+        )
+
+    def at_entry(self, row: NDArray[np.float64]) -> FlightSpec:
         entry = replace(
-            spec.entry,
+            self.spec.entry,
             altitude_ft=float(row[dorb.E_ALT]),
             velocity_fps=float(row[dorb.E_V]),
             gamma_deg=float(row[dorb.E_GAMMA]),
@@ -293,16 +312,46 @@ def footprint_ring(spec: FlightSpec, settings: MethodSettings) -> FootprintAt:
             longitude_deg=float(row[dorb.E_LON]),
             velocity_frame="relative",
         )
-        pts = footprint(replace(spec, entry=entry), settings).points
+        return replace(self.spec, entry=entry)
 
-        def column(name: str) -> NDArray[np.float64]:
-            return np.array([getattr(q, name) for q in pts])
+    def ring(self, row: NDArray[np.float64]) -> Ring:
+        """The whole footprint from this entry."""
+        pts = footprint(self.at_entry(row), self.settings).points
+        columns = {k: np.array([getattr(q, k) for q in pts]) for k in RING_COLUMNS}
+        return Ring(**columns, settings=tuple((q.parameter, q.side) for q in pts))
 
-        return Ring(
-            *(column(k) for k in ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg"))
-        )
+    def vertices(self, row: NDArray[np.float64], ring: Ring, idx: Sequence[int]) -> Ring:
+        """`ring` with its vertices idx flown again from this entry (each by its own setting and side)."""
+        assert self.makers is not None  # callers check: a method of fixed control laws
+        spec = self.at_entry(row)
+        flown = []
+        for i in idx:
+            setting, side = ring.settings[i]
+            s = simulate_summary(self.makers[setting.key()](spec, side == "right"))
+            flown.append(
+                Ring(
+                    np.array([s["downrange_nmi"]]),
+                    np.array([s["crossrange_nmi"]]),
+                    np.array([s["flight_time_s"]]),
+                    np.array([s["final_latitude_deg"]]),
+                    np.array([s["final_longitude_deg"]]),
+                )
+            )
+        return ring.replaced(idx, flown)
 
-    return at
+
+NEAR_VERTICES = 3  # "near": the nearest edge's ends and this many vertices more on each side are flown again
+
+
+def _near_vertices(ring: Ring, down: float, cross: float, radius_nmi: float = MEAN_RADIUS_NMI) -> list[int]:
+    """The vertices about the edge nearest a chart point (the down-range scaled by cos(cross-range) there)."""
+    scale = math.cos(cross / radius_nmi)
+    x, y = (ring.downrange_nmi - down) * scale, ring.crossrange_nmi - cross
+    ex, ey = np.roll(x, -1) - x, np.roll(y, -1) - y
+    t = np.clip(-(x * ex + y * ey) / np.maximum(ex * ex + ey * ey, 1e-12), 0.0, 1.0)
+    nearest = int(np.argmin(np.hypot(x + t * ex, y + t * ey)))
+    n = len(x)
+    return sorted({(nearest + k) % n for k in range(-NEAR_VERTICES, NEAR_VERTICES + 2)})
 
 
 def site_in_chart(
@@ -377,7 +426,7 @@ def revolution_opportunities(
     coast: dorb.Coast,
     deorbit: Deorbit,
     table: RingTable,
-    footprint_at: FootprintAt,
+    flier: Flier,
     sites: Sites,
     settings: Settings,
     on_progress: Callable[[float, str], bool | None] | None = None,
@@ -404,7 +453,7 @@ def revolution_opportunities(
                 _crossing(times, m[:, s], min(inside[-1] + 1, len(times) - 1), inside[-1]),
             )
         found = _opportunity(
-            p, revolution, coast, deorbit, table.rings[which[best]], footprint_at, sites, settings, s,
+            p, revolution, coast, deorbit, table.rings[which[best]], flier, sites, settings, s,
             _peak(times, m[:, s], best), float(m[best, s]), window,
         )  # fmt: skip
         if found is not None:
@@ -418,7 +467,7 @@ def _opportunity(
     coast: dorb.Coast,
     deorbit: Deorbit,
     scanned: Ring,
-    footprint_at: FootprintAt,
+    flier: Flier,
     sites: Sites,
     settings: Settings,
     s: int,
@@ -432,8 +481,14 @@ def _opportunity(
     row = rows[0]
     r, v = burn_states(p, np.array([burn_s]), coast.omega_rad_s)
     _, track_lat, track_lon = dorb.coast_track(coast, r[0], dorb.burn(r, v, dvs, coast.omega_rad_s)[0])
-    ring = footprint_at(row) if settings.refly else scanned
     lat, lon = float(sites.latitude_deg[s]), float(sites.longitude_deg[s])
+    if settings.refly == "full" or (settings.refly == "near" and flier.makers is None):
+        ring = flier.ring(row)
+    elif settings.refly == "near":
+        down, cross, _ = site_in_chart(row, scanned, lat, lon)
+        ring = flier.vertices(row, scanned, _near_vertices(scanned, down, cross))
+    else:
+        ring = scanned
     margin = float(scan_margins(rows, ring, Sites((sites.names[s],), np.array([lat]), np.array([lon])))[0, 0])
     if margin < 0.0:
         return None
