@@ -48,6 +48,7 @@ def test_the_files_of_a_small_window(tmp_path):
         )
 
 
+STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "velocity_km_s": [0.0, 4.766, 6.01]}
 BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
 
 
@@ -60,11 +61,17 @@ BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
         ({"deorbit": {"delta_v_fps": 20}}, "deorbit: the coast does not reach the interface"),
         ({"deorbit": {"delta_v_fps": 300, "entry_gamma_deg": -2}}, "give exactly one of 'delta_v_fps'"),
         ({"burn_step_s": 0.5}, "burn_step_s"),
+        ({"state": STATE}, "give exactly one of 'tle' or 'state'"),
+        (
+            {"tle": None, "state": STATE | {"epoch": "2008-09-21T01:00:00Z"}},
+            "window.start: 2008-09-21T00:00:00Z is before",
+        ),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path, change, words):
     path = tmp_path / "study.json"
-    path.write_text(json.dumps(copy.deepcopy(small_study()) | change))
+    study = {k: v for k, v in (copy.deepcopy(small_study()) | change).items() if v is not None}
+    path.write_text(json.dumps(study))
     r = run("opportunities", path, "--workers", 0)
     assert r.returncode == 2, r.stdout + r.stderr
     said = r.stderr.strip().splitlines()

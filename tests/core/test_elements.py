@@ -51,7 +51,7 @@ def test_a_bad_tle_is_named_and_said(text, words):
 def test_sgp4_reproduces_the_published_verification_vectors():
     e = el.parse_tle(VANGUARD)
     times = [e.epoch + timedelta(minutes=m) for m in VANGUARD_KM]
-    r, _ = el.teme_km(e, times)
+    r, _ = e.teme_km(times)
     assert r == pytest.approx(np.array(list(VANGUARD_KM.values())), abs=1e-3)  # 1 m: the epoch's microseconds
 
 

@@ -1,7 +1,8 @@
 """The landing opportunities contract (issue 28): a TLE, a UTC window, sites, the deorbit burn and a footprint study;
 one part per revolution (footprint.core.opportunities), combined into the opportunities ranked per site.
 
-    {"tle": "NAME\\n1 ...\\n2 ...", "window": {"start": "2008-09-21T00:00:00Z", "hours": 24} (or "end"),
+    {"tle": "NAME\\n1 ...\\n2 ..." or "state": {"epoch", "frame": "teme" | "earth_fixed", "position_km",
+     "velocity_km_s"}, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24} (or "end"),
      "sites": [{"name", "latitude_deg", "longitude_deg"}, ...],
      "deorbit": {"entry_gamma_deg": -2.0} | {"delta_v_fps": 400}, "interface_altitude_ft": 400000,
      "footprint": a footprint study (its case's vehicle, controls and planet; the entry is each burn's),
@@ -29,10 +30,12 @@ from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
 from footprint.core import sun
-from footprint.core.elements import MAX_EPOCH_AGE_DAYS, check_window, parse_tle
+from footprint.core.elements import MAX_EPOCH_AGE_DAYS, Orbit, check_window, parse_tle
+from footprint.core.errors import InputError
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
+STATE_PAST_WINDOW_S = 60.0  # a state vector is propagated this far past the window's end
 NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
@@ -78,9 +81,20 @@ class Rules(Strict):
     min_margin_nmi: Annotated[float, Range(0, 10_000, "nmi")] = 0.0
 
 
+class StateVector(Strict):
+    """The vehicle's state at a UTC epoch: in TEME (true equator, mean equinox of date, as SGP4 gives it) or
+    earth-fixed (the velocity relative to the earth); propagated by our integrator without drag."""
+
+    epoch: AwareDatetime
+    frame: Literal["teme", "earth_fixed"] = "teme"
+    position_km: list[Annotated[float, Range(-100_000, 100_000, "km")]] = Field(min_length=3, max_length=3)
+    velocity_km_s: list[Annotated[float, Range(-20, 20, "km/s")]] = Field(min_length=3, max_length=3)
+
+
 class OpportunitiesStudy(Strict):
     description: str | None = Field(default=None, max_length=4_000)
-    tle: str = Field(min_length=1, max_length=400)
+    tle: str | None = Field(default=None, min_length=1, max_length=400)
+    state: StateVector | None = None
     window: UtcWindow
     sites: list[Site] = Field(min_length=1, max_length=500)
     deorbit: DeorbitBurn
@@ -96,13 +110,14 @@ class OpportunitiesStudy(Strict):
         if self.footprint.method not in FAST_METHODS:
             raise ValueError(f"footprint.method: {self.footprint.method!r} is too slow to fly per opportunity; "
                              f"one of {', '.join(FAST_METHODS)}")  # fmt: skip
-        elements = parse_tle(self.tle)
+        if (self.tle is None) == (self.state is None):
+            raise ValueError("give exactly one of 'tle' or 'state'")
         start, end = self.window.bounds
-        check_window(elements, start, end)
-        spec = self.footprint.case.to_spec()  # the first burn comes down to the interface (else: 422 / exit 2)
-        coast = dorb.Coast.of(spec.vehicle, spec.planet, self.deorbit.interface_altitude_ft)
-        first = op.Plan(elements, start, np.zeros(1), np.zeros(0))
-        op.entries(coast, first, first.times_s, op.Deorbit(self.deorbit.delta_v_fps, self.deorbit.entry_gamma_deg))
+        if self.state is not None and start < self.state.epoch:
+            raise InputError("window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}")
+        check_window(self.orbit, start, end)
+        first = op.Plan(self.orbit, start, np.zeros(1), np.zeros(0))  # the first burn comes down to the interface
+        op.entries(self.coast, first, first.times_s, op.Deorbit(self.deorbit.delta_v_fps, self.deorbit.entry_gamma_deg))
         work, where = door_limit(info, MAX_WORK, MAX_WORK_HTTP)
         burns = (end - start).total_seconds() / self.burn_step_s
         if burns * len(self.sites) > work:
@@ -115,6 +130,23 @@ class OpportunitiesStudy(Strict):
     def parts(self) -> list[int]:
         """One revolution each."""
         return _plan(self).plan.revolutions
+
+    @functools.cached_property
+    def coast(self) -> dorb.Coast:
+        """The coast's packed parameters: the footprint's vehicle and planet, the air removed."""
+        spec = self.footprint.case.to_spec()
+        return dorb.Coast.of(spec.vehicle, spec.planet, self.deorbit.interface_altitude_ft)
+
+    @functools.cached_property
+    def orbit(self) -> Orbit:
+        """The TLE's elements, or the state vector propagated over the window."""
+        if self.tle is not None:
+            return parse_tle(self.tle)
+        assert self.state is not None  # _checks: exactly one of tle or state
+        st, (_, end) = self.state, self.window.bounds
+        epoch = st.epoch.astimezone(UTC)
+        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, self.coast.omega_rad_s)
+        return dorb.PropagatedState(epoch, r, v, self.coast, (end - epoch).total_seconds() + STATE_PAST_WINDOW_S)
 
 
 REQUEST = OpportunitiesStudy
@@ -132,9 +164,9 @@ class Plan:
     def __init__(self, study: OpportunitiesStudy) -> None:
         self.study = study
         start, end = study.window.bounds
-        self.plan = op.plan(parse_tle(study.tle), start, end, study.burn_step_s)
+        self.plan = op.plan(study.orbit, start, end, study.burn_step_s)
         self.spec = study.footprint.case.to_spec()
-        self.coast = dorb.Coast.of(self.spec.vehicle, self.spec.planet, study.deorbit.interface_altitude_ft)
+        self.coast = study.coast
         self.deorbit = op.Deorbit(study.deorbit.delta_v_fps, study.deorbit.entry_gamma_deg)
         self.flier = op.Flier(self.spec, study.footprint.to_settings())
         self.sites = op.Sites(
@@ -177,7 +209,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
         for rank, o in enumerate(mine, 1):
             o["rank"] = rank
     plan = _plan(study)
-    elements, (start, end) = plan.plan.elements, study.window.bounds
+    elements, (start, end) = plan.plan.orbit, study.window.bounds
     sites = []
     for s, site in enumerate(study.sites):
         mine = [o for o in found if o["site"] == s]
@@ -279,7 +311,7 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
     """An iCalendar (RFC 5545) of the opportunities that meet the rules: one event per opportunity from the burn to
     the landing, its summary the site and revolution, its description the Δv, margin and sun."""
     stamp = (made_utc or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
-    sat = answer["elements"]["satellite_number"]
+    sat = answer["elements"]["satellite_number"] or "state"
     lines = ["BEGIN:VCALENDAR", "VERSION:2.0", "PRODID:-//Footprint//landing opportunities//EN", "CALSCALE:GREGORIAN"]
     for o in answer["opportunities"]:
         if not o["meets_rules"]:

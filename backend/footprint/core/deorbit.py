@@ -15,7 +15,9 @@ States are earth-fixed, ft and ft/s, the velocity relative to the earth (as the 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from datetime import datetime
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,10 +25,11 @@ from numpy.typing import NDArray
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
 from footprint.core.controls import pack_controls
-from footprint.core.dynamics import M_SIZE, P_MU, P_OBLATE, P_OMEGA, P_RE, P_RP
+from footprint.core.dynamics import M_SIZE, P_MAX_STEP, P_MU, P_OBLATE, P_OMEGA, P_RE, P_RP, P_STOP_ALT, P_STOP_TIME
+from footprint.core.elements import FT_PER_KM, gmst_deg
 from footprint.core.errors import InputError
 from footprint.core.frames import flight_angles, geodetic_from_ecef
-from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, integrate
+from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, STOP_TIME, integrate
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, pack_parameters
 
 INTERFACE_ALTITUDE_FT = 400_000.0  # the entry interface of the report's cases (Table 2 enters at 364,800 ft)
@@ -157,6 +160,90 @@ def coast_track(
         [geodetic_from_ecef(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, 3) for x, y, z in rows[:, R_X : R_Z + 1]]
     )
     return rows[:, R_T], np.degrees(places[:, 0]), np.degrees(places[:, 1])
+
+
+PROPAGATION_MAX_STEP_S = 10.0  # the states between steps are cubic (Hermite): 0.03 ft/s at this step in low orbit
+
+
+class PropagatedState:
+    """An orbit given by one state at its UTC epoch, propagated by our integrator on the coast's planet with the air
+    removed (gravity A10, no drag: for the days of a window), forward to `horizon_s` after the epoch; the states in
+    between by cubic Hermite interpolation of the steps' positions and velocities. Satisfies elements.Orbit."""
+
+    name: str | None = None
+    satellite_number: int | None = None
+
+    def __init__(self, epoch: datetime, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], coast: Coast,
+                 horizon_s: float):  # fmt: skip
+        self.epoch, self.coast = epoch, coast
+        p = coast.p.copy()
+        p[P_STOP_ALT], p[P_STOP_TIME], p[P_MAX_STEP] = 0.0, horizon_s, PROPAGATION_MAX_STEP_S
+        rows, code, _ = integrate(np.concatenate([r_ft, v_rel_fps]), p, coast.aero, coast.ctrl, np.zeros(M_SIZE),
+                                  10 * MAX_STEPS)  # fmt: skip
+        if code != STOP_TIME:
+            raise InputError("state", f"the orbit does not last {horizon_s / 3600:.1f} h ({STOP_REASONS[int(code)]})")
+        self.rows = rows
+        v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
+        mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
+        h = np.cross(r_ft, v_in)
+        energy = 0.5 * float(v_in @ v_in) - mu / r
+        a = -mu / (2.0 * energy)
+        self.inclination_deg = math.degrees(math.acos(h[2] / np.linalg.norm(h)))
+        self.eccentricity = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
+        self.mean_motion_rev_day = math.sqrt(mu / a**3) * 86_400.0 / (2.0 * math.pi)
+
+    def earth_fixed(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each."""
+        t = np.array([(u - self.epoch).total_seconds() for u in utc])
+        rows = self.rows
+        if t.min() < 0.0 or t.max() > rows[-1, R_T]:
+            raise InputError("window", f"outside the propagated span of the state (epoch {self.epoch.isoformat()} "
+                                       f"to {rows[-1, R_T] / 3600:.1f} h after)")  # fmt: skip
+        i = np.clip(np.searchsorted(rows[:, R_T], t, side="right") - 1, 0, len(rows) - 2)
+        h = rows[i + 1, R_T] - rows[i, R_T]
+        s = ((t - rows[i, R_T]) / h)[:, None]
+        p0, p1 = rows[i, R_X : R_Z + 1], rows[i + 1, R_X : R_Z + 1]
+        v0, v1 = rows[i, R_VX : R_VZ + 1] * h[:, None], rows[i + 1, R_VX : R_VZ + 1] * h[:, None]
+        position = (
+            (2 * s**3 - 3 * s**2 + 1) * p0
+            + (s**3 - 2 * s**2 + s) * v0
+            + (-2 * s**3 + 3 * s**2) * p1
+            + (s**3 - s**2) * v1
+        )
+        velocity = ((6 * s**2 - 6 * s) * p0 + (3 * s**2 - 4 * s + 1) * v0 + (-6 * s**2 + 6 * s) * p1
+                    + (3 * s**2 - 2 * s) * v1) / h[:, None]  # fmt: skip
+        return position, velocity
+
+    def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """TEME position (km) and velocity (km/s): the earth-fixed state turned by +GMST, the earth's turning added."""
+        r, v = self.earth_fixed(utc)
+        v = inertial_velocity(r, v, self.coast.omega_rad_s)
+        theta = np.radians(gmst_deg(utc))
+        ct, st = np.cos(theta), np.sin(theta)
+
+        def inertial(a: NDArray[np.float64]) -> NDArray[np.float64]:
+            out: NDArray[np.float64] = (
+                np.column_stack([ct * a[:, 0] - st * a[:, 1], st * a[:, 0] + ct * a[:, 1], a[:, 2]]) / FT_PER_KM
+            )
+            return out
+
+        return inertial(r), inertial(v)
+
+
+def state_earth_fixed(
+    epoch: datetime, frame: str, position_km: Sequence[float], velocity_km_s: Sequence[float], omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A state vector as the integrator flies it (earth-fixed ft, earth-relative ft/s): "teme" (true equator, mean
+    equinox of date, as SGP4 gives it) turned by -GMST and the earth's turning removed; "earth_fixed" as given."""
+    r = np.asarray(position_km, float) * FT_PER_KM
+    v = np.asarray(velocity_km_s, float) * FT_PER_KM
+    if frame == "earth_fixed":
+        return r, v
+    theta = math.radians(float(gmst_deg([epoch])[0]))
+    ct, st = math.cos(theta), math.sin(theta)
+    r_ef = np.array([ct * r[0] + st * r[1], -st * r[0] + ct * r[1], r[2]])
+    v_ef = np.array([ct * v[0] + st * v[1], -st * v[0] + ct * v[1], v[2]])
+    return r_ef, v_ef - (inertial_velocity(r_ef[None, :], np.zeros((1, 3)), omega_rad_s)[0])
 
 
 def perigee_altitude_ft(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> float:

@@ -14,7 +14,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,7 +48,7 @@ class Elements:
     name: str | None
     line1: str
     line2: str
-    satellite_number: int
+    satellite_number: int | None
     epoch: datetime
     inclination_deg: float
     right_ascension_deg: float
@@ -63,6 +63,37 @@ class Elements:
         from sgp4.api import Satrec
 
         return Satrec.twoline2rv(self.line1, self.line2)
+
+    def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """SGP4's TEME position (km, n x 3) and velocity (km/s) at each UTC time; an error of SGP4 (a decayed orbit)
+        names the first time it happens."""
+        from sgp4.api import SGP4_ERRORS, jday
+
+        days = np.array([jday(t.year, t.month, t.day, t.hour, t.minute, t.second + t.microsecond * 1e-6) for t in utc])
+        err, r, v = self.satrec.sgp4_array(np.ascontiguousarray(days[:, 0]), np.ascontiguousarray(days[:, 1]))
+        bad = np.flatnonzero(err)
+        if bad.size:
+            raise InputError("tle", f"SGP4 fails at {utc[bad[0]].isoformat()}: {SGP4_ERRORS[int(err[bad[0]])]}")
+        return r, v
+
+
+class Orbit(Protocol):
+    """What the landing opportunities read of an orbit: its epoch and a few of its elements, and its TEME state at
+    any UTC time of a window (Elements by SGP4; deorbit.PropagatedState by our integrator)."""
+
+    @property
+    def name(self) -> str | None: ...
+    @property
+    def satellite_number(self) -> int | None: ...
+    @property
+    def epoch(self) -> datetime: ...
+    @property
+    def inclination_deg(self) -> float: ...
+    @property
+    def eccentricity(self) -> float: ...
+    @property
+    def mean_motion_rev_day(self) -> float: ...
+    def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
 
 def _check_line(line: str, number: int, field: str) -> None:
@@ -110,28 +141,15 @@ def parse_tle(text: str, field: str = "tle") -> Elements:
     )
 
 
-def teme_km(elements: Elements, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """SGP4's TEME position (km, n x 3) and velocity (km/s) at each UTC time; an error of SGP4 (a decayed orbit)
-    names the first time it happens."""
-    from sgp4.api import SGP4_ERRORS, jday
-
-    days = np.array([jday(t.year, t.month, t.day, t.hour, t.minute, t.second + t.microsecond * 1e-6) for t in utc])
-    err, r, v = elements.satrec.sgp4_array(np.ascontiguousarray(days[:, 0]), np.ascontiguousarray(days[:, 1]))
-    bad = np.flatnonzero(err)
-    if bad.size:
-        raise InputError("tle", f"SGP4 fails at {utc[bad[0]].isoformat()}: {SGP4_ERRORS[int(err[bad[0]])]}")
-    return r, v
-
-
 def gmst_deg(utc: Sequence[datetime]) -> NDArray[np.float64]:
     """Greenwich mean sidereal time (deg) at each UTC time, from UT1 (skyfield's bundled IERS data)."""
     t = timescale().from_datetimes([u.astimezone(UTC) for u in utc])
     return np.asarray(t.gmst, float) * 15.0
 
 
-def earth_fixed_ft(elements: Elements, utc: Sequence[datetime]) -> NDArray[np.float64]:
+def earth_fixed_ft(orbit: Orbit, utc: Sequence[datetime]) -> NDArray[np.float64]:
     """The satellite's earth-fixed position (ft, n x 3): TEME rotated by -GMST about the pole."""
-    r, _ = teme_km(elements, utc)
+    r, _ = orbit.teme_km(utc)
     theta = np.radians(gmst_deg(utc))
     ct, st = np.cos(theta), np.sin(theta)
     x = ct * r[:, 0] + st * r[:, 1]
@@ -140,35 +158,35 @@ def earth_fixed_ft(elements: Elements, utc: Sequence[datetime]) -> NDArray[np.fl
 
 
 def subsatellite_points(
-    elements: Elements,
+    orbit: Orbit,
     utc: Sequence[datetime],
     re_ft: float = c.RADIUS_EQUATORIAL_FT,
     rp_ft: float = c.RADIUS_POLAR_FT,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Geodetic latitude and longitude (deg) of the point under the satellite, and its altitude (ft), on the
     report's oblate earth (App. A) unless other radii are given."""
-    out = np.array([geodetic_from_ecef(x, y, z, re_ft, rp_ft, True, 3) for x, y, z in earth_fixed_ft(elements, utc)])
+    out = np.array([geodetic_from_ecef(x, y, z, re_ft, rp_ft, True, 3) for x, y, z in earth_fixed_ft(orbit, utc)])
     return np.degrees(out[:, 0]), np.degrees(out[:, 1]), out[:, 2]
 
 
 MAX_EPOCH_AGE_DAYS = 14.0  # SGP4's mean elements go stale: a window farther than this from the epoch is refused
 
 
-def check_window(elements: Elements, start: datetime, end: datetime, field: str = "window") -> None:
-    """A UTC window the elements can answer for: in order, within MAX_EPOCH_AGE_DAYS of the epoch at both ends, and
-    the orbit not decayed before its end (SGP4 says so); else one line naming `field`."""
+def check_window(orbit: Orbit, start: datetime, end: datetime, field: str = "window") -> None:
+    """A UTC window the orbit can answer for: in order, within MAX_EPOCH_AGE_DAYS of the epoch at both ends, and
+    the orbit not decayed before its end (its propagation says so); else one line naming `field`."""
     if end <= start:
         raise InputError(f"{field}.end", f"{end.isoformat()} is not after the start {start.isoformat()}")
     for name, t in (("start", start), ("end", end)):
-        days = abs((t - elements.epoch).total_seconds()) / 86400.0
+        days = abs((t - orbit.epoch).total_seconds()) / 86400.0
         if days > MAX_EPOCH_AGE_DAYS:
             raise InputError(
                 f"{field}.{name}",
-                f"{t.isoformat()} is {days:,.1f} days from the elements' epoch {elements.epoch.isoformat()} "
+                f"{t.isoformat()} is {days:,.1f} days from the elements' epoch {orbit.epoch.isoformat()} "
                 f"(at most {MAX_EPOCH_AGE_DAYS:g}: take a newer element set)",
             )
     hours = max(1, math.ceil((end - start).total_seconds() / 3600.0))
     try:
-        teme_km(elements, [start + (end - start) * k / hours for k in range(hours + 1)])
+        orbit.teme_km([start + (end - start) * k / hours for k in range(hours + 1)])
     except InputError as exc:
         raise InputError(field, f"the orbit does not last the window: {str(exc).split(': ', 1)[1]}") from exc

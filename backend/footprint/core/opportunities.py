@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footprint.core import deorbit as dorb
 from footprint.core import sun
-from footprint.core.elements import FT_PER_KM, Elements, gmst_deg, subsatellite_points, teme_km
+from footprint.core.elements import FT_PER_KM, Orbit, gmst_deg, subsatellite_points
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprint_methods import FAMILIES, control_family, footprint
 from footprint.core.method_settings import MethodSettings
@@ -135,7 +135,7 @@ class Opportunity:
 class Plan:
     """A window's burn grid and revolutions (cheap: one SGP4 call), shared by every part."""
 
-    elements: Elements
+    orbit: Orbit
     start: datetime
     times_s: NDArray[np.float64]  # burn grid, s from start
     node_s: NDArray[np.float64]  # ascending node crossings in the window, s from start
@@ -156,7 +156,7 @@ def ground_track(p: Plan, every_s: float = 60.0) -> dict[str, list[Any]]:
     """The sub-satellite points over the window (geodetic, on the report's ellipsoid) every `every_s`: UTC,
     latitude, longitude, revolution."""
     seconds = np.arange(0.0, p.times_s[-1] + 1e-9, every_s)
-    lat, lon, _ = subsatellite_points(p.elements, p.utc(seconds))
+    lat, lon, _ = subsatellite_points(p.orbit, p.utc(seconds))
     return {
         "utc": [iso(t) for t in p.utc(seconds)],
         "latitude_deg": lat.tolist(),
@@ -169,16 +169,16 @@ def iso(t: datetime) -> str:
     return t.isoformat(timespec="seconds").replace("+00:00", "Z")
 
 
-def plan(elements: Elements, start: datetime, end: datetime, burn_step_s: float) -> Plan:
+def plan(orbit: Orbit, start: datetime, end: datetime, burn_step_s: float) -> Plan:
     """The burn grid over [start, end] and the ascending nodes (the sub-satellite point's z crossing upward,
     interpolated linearly on the grid)."""
     span = (end - start).total_seconds()
     times = np.arange(0.0, span + 1e-9, burn_step_s)
-    r, _ = teme_km(elements, [start + timedelta(seconds=float(s)) for s in times])
+    r, _ = orbit.teme_km([start + timedelta(seconds=float(s)) for s in times])
     z = r[:, 2]
     up = np.flatnonzero((z[:-1] < 0.0) & (z[1:] >= 0.0))
     nodes = times[up] + burn_step_s * (-z[up]) / (z[up + 1] - z[up])
-    return Plan(elements, start, times, nodes)
+    return Plan(orbit, start, times, nodes)
 
 
 def burn_states(
@@ -187,7 +187,7 @@ def burn_states(
     """Earth-fixed position (ft) and earth-relative velocity (ft/s) before the burn at each time: SGP4's TEME rotated
     by GMST about the pole, less the earth's turning (omega x r)."""
     utc = p.utc(seconds)
-    r, v = teme_km(p.elements, utc)
+    r, v = p.orbit.teme_km(utc)
     theta = np.radians(gmst_deg(utc))
     ct, st = np.cos(theta), np.sin(theta)
 
@@ -239,7 +239,7 @@ def delta_v_table(coast: dorb.Coast, p: Plan, delta_v_fps: Sequence[float]) -> l
 def argument_of_latitude_deg(p: Plan, seconds: NDArray[np.float64]) -> NDArray[np.float64]:
     """The orbit's argument of latitude (deg in [0, 360): from the ascending node, along the motion) at each time,
     from SGP4's TEME state: the angle from the node line k x h to r."""
-    r, v = teme_km(p.elements, p.utc(seconds))
+    r, v = p.orbit.teme_km(p.utc(seconds))
     h = np.cross(r, v)
     node = np.column_stack([-h[:, 1], h[:, 0], np.zeros(len(h))])
     node /= np.linalg.norm(node, axis=1)[:, None]
@@ -272,7 +272,7 @@ class RingTable:
 def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, flier: Flier, step_deg: float) -> RingTable:
     """The footprints of burns at u = 0, step, 2 step... (deg), each from the burn of the window's first orbit
     nearest it (within 1 deg), with the Δv given or the one its target entry angle needs there."""
-    period_s = 86_400.0 / p.elements.mean_motion_rev_day
+    period_s = 86_400.0 / p.orbit.mean_motion_rev_day
     u_grid = np.arange(0.0, 360.0 - 1e-9, step_deg)
     seconds = np.arange(0.0, period_s, period_s / 360.0)
     u = argument_of_latitude_deg(p, seconds)
