@@ -1,5 +1,5 @@
-"""The Python door: fly(case), footprint(study), disperse(study) and run(kind, request) for any kind, with dicts or
-validated models (footprint.contracts), all through the one runner (footprint.parallel)."""
+"""The Python door: fly(case), footprint(study), disperse(study), opportunities(study) and run(kind, request) for any
+kind, with dicts or validated models (footprint.contracts), all through the one runner (footprint.parallel)."""
 
 from footprint.parallel import run
 
@@ -22,4 +22,10 @@ def disperse(study, progress=None, **dask):
     return run("dispersion", study, progress, **dask)
 
 
-__all__ = ["disperse", "fly", "footprint", "run"]
+def opportunities(study, progress=None, **dask):
+    """Landing opportunities in UTC from a TLE or a state vector (a dict: footprint.contracts.opportunities's answer):
+    in this process, or on Dask with client=, workers= or scheduler=."""
+    return run("opportunities", study, progress, **dask)
+
+
+__all__ = ["disperse", "fly", "footprint", "opportunities", "run"]

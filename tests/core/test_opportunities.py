@@ -185,3 +185,10 @@ def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():
         0.5 * np.sum(vv**2, axis=1) - 0.5 * w**2 * (rr[:, 0] ** 2 + rr[:, 1] ** 2) - mu / np.linalg.norm(rr, axis=1)
     )
     assert np.ptp(jacobi) <= 1e-9 * abs(jacobi[0])
+
+
+def test_the_python_door_gives_the_runners_answer(answer):
+    from footprint import api
+
+    again = api.opportunities(small_study())
+    assert [o["burn_utc"] for o in again["opportunities"]] == [o["burn_utc"] for o in answer["opportunities"]]

@@ -25,13 +25,13 @@ TLE = small_study()["tle"]
 @pytest.mark.parametrize(
     ("change", "field"),
     [
-        ({"tle": TLE[:-1] + str((int(TLE[-1]) + 1) % 10)}, "study"),
-        ({"window": {"start": "2008-12-21T00:00:00Z", "hours": 3}}, "study"),
-        ({"deorbit": {"delta_v_fps": 20}}, "study"),
-        ({"burn_step_s": 1, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24}}, "study"),
+        ({"tle": TLE[:-1] + str((int(TLE[-1]) + 1) % 10)}, "study.tle"),
+        ({"window": {"start": "2008-12-21T00:00:00Z", "hours": 3}}, "study.window.start"),
+        ({"deorbit": {"delta_v_fps": 20}}, "study.deorbit"),
+        ({"burn_step_s": 1, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24}}, "study.burn_step_s"),
     ],
 )
 def test_bad_opportunities_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "opportunities", "study": copy.deepcopy(small_study()) | change})
-    assert r.status_code == 422 and r.json()["field"].startswith(field), r.json()
+    assert r.status_code == 422 and r.json()["field"] == field, r.json()
     assert "Traceback" not in r.json()["detail"]
