@@ -26,7 +26,7 @@ from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
 from footprint.core.controls import pack_controls
 from footprint.core.dynamics import M_SIZE, P_MAX_STEP, P_MU, P_OBLATE, P_OMEGA, P_RE, P_RP, P_STOP_ALT, P_STOP_TIME
-from footprint.core.elements import FT_PER_KM, gmst_deg
+from footprint.core.elements import FT_PER_KM, earth_fixed_to_teme, teme_to_earth_fixed
 from footprint.core.errors import InputError
 from footprint.core.frames import flight_angles, geodetic_from_ecef
 from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, STOP_TIME, integrate
@@ -215,35 +215,20 @@ class PropagatedState:
         return position, velocity
 
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """TEME position (km) and velocity (km/s): the earth-fixed state turned by +GMST, the earth's turning added."""
-        r, v = self.earth_fixed(utc)
-        v = inertial_velocity(r, v, self.coast.omega_rad_s)
-        theta = np.radians(gmst_deg(utc))
-        ct, st = np.cos(theta), np.sin(theta)
-
-        def inertial(a: NDArray[np.float64]) -> NDArray[np.float64]:
-            out: NDArray[np.float64] = (
-                np.column_stack([ct * a[:, 0] - st * a[:, 1], st * a[:, 0] + ct * a[:, 1], a[:, 2]]) / FT_PER_KM
-            )
-            return out
-
-        return inertial(r), inertial(v)
+        """TEME position (km) and velocity (km/s) at each UTC time."""
+        return earth_fixed_to_teme(*self.earth_fixed(utc), utc, self.coast.omega_rad_s)
 
 
 def state_earth_fixed(
     epoch: datetime, frame: str, position_km: Sequence[float], velocity_km_s: Sequence[float], omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A state vector as the integrator flies it (earth-fixed ft, earth-relative ft/s): "teme" (true equator, mean
-    equinox of date, as SGP4 gives it) turned by -GMST and the earth's turning removed; "earth_fixed" as given."""
-    r = np.asarray(position_km, float) * FT_PER_KM
-    v = np.asarray(velocity_km_s, float) * FT_PER_KM
+    equinox of date, as SGP4 gives it) by elements.teme_to_earth_fixed; "earth_fixed" as given."""
+    r, v = np.asarray(position_km, float)[None, :], np.asarray(velocity_km_s, float)[None, :]
     if frame == "earth_fixed":
-        return r, v
-    theta = math.radians(float(gmst_deg([epoch])[0]))
-    ct, st = math.cos(theta), math.sin(theta)
-    r_ef = np.array([ct * r[0] + st * r[1], -st * r[0] + ct * r[1], r[2]])
-    v_ef = np.array([ct * v[0] + st * v[1], -st * v[0] + ct * v[1], v[2]])
-    return r_ef, v_ef - (inertial_velocity(r_ef[None, :], np.zeros((1, 3)), omega_rad_s)[0])
+        return r[0] * FT_PER_KM, v[0] * FT_PER_KM
+    r_ft, v_fps = teme_to_earth_fixed(r, v, [epoch], omega_rad_s)
+    return r_ft[0], v_fps[0]
 
 
 def perigee_altitude_ft(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> float:

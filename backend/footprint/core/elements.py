@@ -147,14 +147,40 @@ def gmst_deg(utc: Sequence[datetime]) -> NDArray[np.float64]:
     return np.asarray(t.gmst, float) * 15.0
 
 
-def earth_fixed_ft(orbit: Orbit, utc: Sequence[datetime]) -> NDArray[np.float64]:
-    """The satellite's earth-fixed position (ft, n x 3): TEME rotated by -GMST about the pole."""
-    r, _ = orbit.teme_km(utc)
+def _turned(a: NDArray[np.float64], theta_rad: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rows of a turned by theta about the pole (each row its own angle)."""
+    ct, st = np.cos(theta_rad), np.sin(theta_rad)
+    out: NDArray[np.float64] = np.column_stack([ct * a[:, 0] - st * a[:, 1], st * a[:, 0] + ct * a[:, 1], a[:, 2]])
+    return out
+
+
+def teme_to_earth_fixed(
+    r_km: NDArray[np.float64], v_km_s: NDArray[np.float64], utc: Sequence[datetime], omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """TEME states (km, km/s; n x 3) as earth-fixed position (ft) and earth-relative velocity (ft/s): turned by -GMST
+    about the pole, the earth's turning omega x r taken away (AIAA 2006-6753 sec. IV-C, polar motion neglected)."""
+    theta = -np.radians(gmst_deg(utc))
+    r, v = _turned(r_km, theta) * FT_PER_KM, _turned(v_km_s, theta) * FT_PER_KM
+    v[:, 0] += omega_rad_s * r[:, 1]
+    v[:, 1] -= omega_rad_s * r[:, 0]
+    return r, v
+
+
+def earth_fixed_to_teme(
+    r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], utc: Sequence[datetime], omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The inverse of teme_to_earth_fixed: TEME position (km) and velocity (km/s)."""
+    v = v_rel_fps.copy()
+    v[:, 0] -= omega_rad_s * r_ft[:, 1]
+    v[:, 1] += omega_rad_s * r_ft[:, 0]
     theta = np.radians(gmst_deg(utc))
-    ct, st = np.cos(theta), np.sin(theta)
-    x = ct * r[:, 0] + st * r[:, 1]
-    y = -st * r[:, 0] + ct * r[:, 1]
-    return np.column_stack([x, y, r[:, 2]]) * FT_PER_KM
+    return _turned(r_ft, theta) / FT_PER_KM, _turned(v, theta) / FT_PER_KM
+
+
+def earth_fixed_ft(orbit: Orbit, utc: Sequence[datetime]) -> NDArray[np.float64]:
+    """The satellite's earth-fixed position (ft, n x 3)."""
+    r, v = orbit.teme_km(utc)
+    return teme_to_earth_fixed(r, v, utc, 0.0)[0]
 
 
 def subsatellite_points(

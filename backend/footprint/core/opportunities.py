@@ -2,21 +2,23 @@
 site, the deorbit times whose entry puts the site inside the footprint, with the Δv, the entry and landing times,
 the down-range and cross-range the site needs, the margin to the footprint's boundary and the sun at the site.
 
-1. The burn times: a grid (burn_step_s) over the window; SGP4 gives each one's state (core.elements), the burn and
-   the vacuum coast to the interface are flown (core.deorbit): an entry state per burn time.
-2. The scan: footprints flown from entries spread round one orbit (RingTable, one per 15 deg of argument of
+1. The burn times: a grid (burn_step_s) over the window; the orbit (a TLE by SGP4, or a state vector propagated by
+   our integrator: core.elements.Orbit) gives each one's state, the burn and the vacuum coast to the interface are
+   flown (core.deorbit): an entry state per burn time.
+2. The scan: footprints flown from entries spread round one orbit (RingTable, one per ring_step_deg of argument of
    latitude: about its entry point a footprint depends on where in the orbit it starts, the gravity being zonal),
    each burn's nearest moved by the exact rotation of the sphere (core.reach.margins: the entry point and heading
    carried to the burn's own) to its entry; each site's margin to its boundary (nmi, positive inside) per burn
    time. A revolution runs from one ascending node of the orbit to the next (the first and last cut by the window).
 3. The opportunities: per revolution and site, each run of burn times within `screen_nmi` of the boundary gives
    one candidate, at its largest margin (a parabola through the grid's three best). That burn is flown again from
-   its own SGP4 state (its Δv solved again for a target entry angle) and the footprint is flown from its own entry
-   state (`refly`), which sets the margin, the site's down-range and cross-range and the flight time (linear in the
-   footprint's boundary along the site's down-range line, between its two crossings). The burn window is where
-   the scan's footprints hold the site (the grid's zero crossings, interpolated).
+   its own state (its Δv solved again for a target entry angle) and its footprint from its own entry state
+   (`refly`: the vertices about the edge nearest the site, or all of them), which sets the margin, the site's
+   down-range and cross-range and the flight time (linear in the footprint's boundary along the site's down-range
+   line, between its two crossings). The burn window is where the scan's footprints hold the site (the grid's zero
+   crossings, interpolated).
 4. The sun at the site at landing (core.sun): its elevation and the local apparent solar time; `daylight` when the
-   elevation is at least the rule's.
+   sun is up (above -0.833 deg), `meets_rules` when it is at least the rule's elevation and the margin the rule's.
 """
 
 from __future__ import annotations
@@ -32,12 +34,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from footprint.core import deorbit as dorb
 from footprint.core import sun
-from footprint.core.elements import FT_PER_KM, Orbit, gmst_deg, subsatellite_points
+from footprint.core.elements import Orbit, subsatellite_points, teme_to_earth_fixed
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprint_methods import FAMILIES, control_family, footprint
 from footprint.core.method_settings import MethodSettings
 from footprint.core.plane import inside_points
-from footprint.core.reach import _branches, margins
+from footprint.core.reach import branches, margins
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate_summary
@@ -88,7 +90,7 @@ class Deorbit:
 @dataclass(frozen=True)
 class Settings:
     burn_step_s: float = 30.0
-    ring_step_deg: float = 15.0  # the scan's footprints, one per this much of the orbit (RingTable)
+    ring_step_deg: float = 10.0  # the scan's footprints, one per this much of the orbit (RingTable)
     screen_nmi: float = 200.0  # candidates from runs of burn times the moved footprint brings this near a site
     # each candidate's footprint from its own entry: "near" flies the vertices about the edge nearest the site again
     # (the rest moved from the scan's), "full" the whole footprint, "none" the scan's footprint moved
@@ -133,7 +135,7 @@ class Opportunity:
 
 @dataclass
 class Plan:
-    """A window's burn grid and revolutions (cheap: one SGP4 call), shared by every part."""
+    """A window's burn grid and revolutions (cheap: one call of the orbit), shared by every part."""
 
     orbit: Orbit
     start: datetime
@@ -184,20 +186,9 @@ def plan(orbit: Orbit, start: datetime, end: datetime, burn_step_s: float) -> Pl
 def burn_states(
     p: Plan, seconds: NDArray[np.float64], omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Earth-fixed position (ft) and earth-relative velocity (ft/s) before the burn at each time: SGP4's TEME rotated
-    by GMST about the pole, less the earth's turning (omega x r)."""
+    """Earth-fixed position (ft) and earth-relative velocity (ft/s) before the burn at each time."""
     utc = p.utc(seconds)
-    r, v = p.orbit.teme_km(utc)
-    theta = np.radians(gmst_deg(utc))
-    ct, st = np.cos(theta), np.sin(theta)
-
-    def fixed(a: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.column_stack([ct * a[:, 0] + st * a[:, 1], -st * a[:, 0] + ct * a[:, 1], a[:, 2]]) * FT_PER_KM
-
-    r_ft, v_in = fixed(r), fixed(v)
-    v_in[:, 0] += omega_rad_s * r_ft[:, 1]  # v_rel = v_in - omega x r
-    v_in[:, 1] -= omega_rad_s * r_ft[:, 0]
-    return r_ft, v_in
+    return teme_to_earth_fixed(*p.orbit.teme_km(utc), utc, omega_rad_s)
 
 
 def entries(
@@ -238,7 +229,7 @@ def delta_v_table(coast: dorb.Coast, p: Plan, delta_v_fps: Sequence[float]) -> l
 
 def argument_of_latitude_deg(p: Plan, seconds: NDArray[np.float64]) -> NDArray[np.float64]:
     """The orbit's argument of latitude (deg in [0, 360): from the ascending node, along the motion) at each time,
-    from SGP4's TEME state: the angle from the node line k x h to r."""
+    from its TEME state: the angle from the node line k x h to r."""
     r, v = p.orbit.teme_km(p.utc(seconds))
     h = np.cross(r, v)
     node = np.column_stack([-h[:, 1], h[:, 0], np.zeros(len(h))])
@@ -366,7 +357,7 @@ def site_in_chart(
     polygon = list(zip(ring.downrange_nmi.tolist(), ring.crossrange_nmi.tolist()))
     lo, hi = float(ring.downrange_nmi.min()), float(ring.downrange_nmi.max())
     best = None
-    for k in _branches(lo / radius_nmi, hi / radius_nmi):
+    for k in branches(lo / radius_nmi, hi / radius_nmi):
         d = (ds + 2.0 * math.pi * k) * radius_nmi
         if inside_points(d, cs, polygon):
             return d, cs, True

@@ -95,7 +95,7 @@ def _wrap_pi(a: NDArray[np.float64]) -> NDArray[np.float64]:
     return (a + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def _branches(dmin: float, dmax: float) -> range:
+def branches(dmin: float, dmax: float) -> range:
     """Integers k for which a chart down-range in (-pi, pi] shifted by 2 pi k can meet [dmin, dmax] (radians)."""
     lo = math.ceil((dmin - math.pi) / (2.0 * math.pi) - 1e-12)
     hi = math.floor((dmax + math.pi) / (2.0 * math.pi) + 1e-12)
@@ -168,7 +168,7 @@ def margins(
     best = np.full(ds.shape, -np.inf)
     inside = np.zeros(ds.shape, bool)
     eps = ON_BOUNDARY_NMI / radius_nmi
-    for k in _branches(float(dv.min()), float(dv.max())):
+    for k in branches(float(dv.min()), float(dv.max())):
         off = 2.0 * np.pi * k * scale  # the site at down-range ds + 2 pi k: the polygon moves back by it
         odd = (np.count_nonzero(straddles & (xi > off), axis=-1) & 1).astype(bool)  # even-odd, ray to +x
         t = np.clip((along + off * ex) * inv_len2, 0.0, 1.0)
@@ -346,7 +346,7 @@ def margins_reference(
             cs = math.asin(max(-1.0, min(1.0, sum(s[k] * n[k] for k in range(3)))))
             scale = math.cos(cs)
             best, hit_any = -math.inf, False
-            for k in _branches(dmin, dmax):
+            for k in branches(dmin, dmax):
                 pts = [((dv - ds - two_pi * k) * scale, cv - cs) for dv, cv in verts]
                 odd, dist2 = False, math.inf
                 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
