@@ -168,6 +168,11 @@ def test_a_heat_rate_below_the_entry_floor_is_not_an_optimum():
         )
     )
     assert not result.feasible and "largest violation" in result.message
+    # the excess in the constraint's own unit (issue 29: it said 326.2 where the last iterate's peak was 21.3, the
+    # path constraint being stored as q / limit - 1 and scaled as if it were in Btu/ft^2/s)
+    said = re.search(r"max_heat_rate_btu_ft2_s by ([\d.]+) Btu/ft\^2/s", result.message)
+    assert said, result.message
+    assert float(said.group(1)) == pytest.approx(result.summary["max_heat_rate_btu_ft2_s"] - 5.0, rel=0.10)
 
 
 def test_a_quantity_the_nlp_does_not_know_is_one_line():

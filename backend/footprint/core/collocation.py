@@ -56,6 +56,12 @@ TERMINAL = (
     "heat_load_btu_ft2",
 )
 PATH = ("max_temperature_R", "max_heat_rate_btu_ft2_s", "max_dynamic_pressure_psf", "max_load_factor")
+PATH_UNITS = {
+    "max_temperature_R": "degR",
+    "max_heat_rate_btu_ft2_s": "Btu/ft^2/s",
+    "max_dynamic_pressure_psf": "lb/ft^2",
+    "max_load_factor": "g",
+}
 QUANTITIES = TERMINAL + PATH
 # a typical size of each quantity: objective and constraints enter the NLP divided by it
 SCALE = {
@@ -717,10 +723,10 @@ class Transcription:
         gval = np.asarray(self._violation(x, par)).ravel()
         viol = np.maximum(lbg - gval, 0.0) + np.maximum(gval - ubg, 0.0)
         status = STATUS_OF_IPOPT.get(stats["return_status"], "not_converged")
-        message = stats["return_status"] + note
+        result = self._result(x, par, status, stats["return_status"] + note, float(viol.max(initial=0.0)), iterations,
+                              seconds)  # fmt: skip
         if status != "optimal":
-            message = f"{stats['return_status']}; largest violation {self._worst(viol)}"
-        result = self._result(x, par, status, message, float(viol.max(initial=0.0)), iterations, seconds)
+            result.message = f"{stats['return_status']}; largest violation {self._worst(viol, result.summary)}"
         result.solver_state = warm
         return result
 
@@ -743,8 +749,10 @@ class Transcription:
             self._warm_solvers[iterations] = ca.nlpsol("collocation_warm", "ipopt", self._nlp, opts)
         return self._warm_solvers[iterations]
 
-    def _worst(self, viol: NDArray[np.float64]) -> str:
-        """The largest violation, named; and the worst terminal constraint's in its unit where that is another."""
+    def _worst(self, viol: NDArray[np.float64], summary: dict[str, float | None]) -> str:
+        """The largest violation, named, in its own unit: a terminal constraint's by its scale, a path constraint's as
+        the last iterate's peak less the limit (the NLP holds them relative to the limit, or as a flux margin); and the
+        worst terminal constraint's where that is another."""
         offset, worst, name, terminal = 0, -1.0, "", (0.0, "")
         for gname, size, _, _ in self._groups:
             v = viol[offset : offset + size].max(initial=0.0)
@@ -753,9 +761,14 @@ class Transcription:
             if gname in TERMINAL and v * SCALE[gname] > terminal[0]:
                 terminal = (v * SCALE[gname], gname)
             offset += size
-        if name in SCALE:  # a terminal constraint: in its own unit
+        if name in TERMINAL:
             return f"{name} by {worst * SCALE[name]:.4g}"
-        line = f"{name} by {worst:.3g} (scaled)"
+        peak = summary.get(name) if name in PATH else None
+        if peak is not None:
+            limit = next(c.target for c in self.problem.constraints if c.quantity == name)
+            line = f"{name} by {peak - limit:.4g} {PATH_UNITS[name]} (peak {peak:.4g}, limit {limit:g})"
+        else:
+            line = f"{name} by {worst:.3g} (scaled)"
         return line + (f"; {terminal[1]} by {terminal[0]:.4g}" if terminal[1] else "")
 
     def _result(
