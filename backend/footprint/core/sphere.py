@@ -22,6 +22,7 @@ Longitudes. `wrap_longitude` puts a longitude in [-180, 180) (about a centre, op
 numba kernel, core.controls.wrap_deg ((-180, 180]), which must stay inside the compiled code.
 """
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -87,6 +88,8 @@ def great_circle_frame(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(p0, d0, n): initial point, initial direction, left pole; unit vectors (shape (..., 3) for arrays of the
     arguments)."""
+    if np.ndim(latitude0_deg) == np.ndim(longitude0_deg) == np.ndim(heading0_deg) == 0:
+        return _one_frame(float(latitude0_deg), float(longitude0_deg), float(heading0_deg))  # type: ignore[arg-type]
     lat, lon, hdg = np.radians(latitude0_deg), np.radians(longitude0_deg), np.radians(heading0_deg)
     p0 = unit_vectors(latitude0_deg, longitude0_deg)
     north = np.stack([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)], axis=-1)
@@ -94,6 +97,19 @@ def great_circle_frame(
     # the heading is the azimuth from north (the report's sigma_0)
     d0 = np.cos(hdg)[..., None] * north + np.sin(hdg)[..., None] * east
     return p0, d0, np.cross(p0, d0)
+
+
+def _one_frame(
+    latitude0_deg: float, longitude0_deg: float, heading0_deg: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """great_circle_frame of one point in plain floats (every flight's summary takes one: numpy's broadcasting cost
+    more than the arithmetic)."""
+    lat, lon, hdg = math.radians(latitude0_deg), math.radians(longitude0_deg), math.radians(heading0_deg)
+    sl, cl, so, co, sh, ch = math.sin(lat), math.cos(lat), math.sin(lon), math.cos(lon), math.sin(hdg), math.cos(hdg)
+    p = (cl * co, cl * so, sl)
+    d = (-ch * sl * co - sh * so, -ch * sl * so + sh * co, ch * cl)  # cos(h) north + sin(h) east
+    n = (p[1] * d[2] - p[2] * d[1], p[2] * d[0] - p[0] * d[2], p[0] * d[1] - p[1] * d[0])
+    return np.array(p), np.array(d), np.array(n)
 
 
 @dataclass(frozen=True)
