@@ -192,3 +192,40 @@ def test_the_python_door_gives_the_runners_answer(answer):
 
     again = api.opportunities(small_study())
     assert [o["burn_utc"] for o in again["opportunities"]] == [o["burn_utc"] for o in answer["opportunities"]]
+
+
+def test_one_opportunity_a_pass_even_across_the_node(answer):
+    """A run of burns that reaches a site across an ascending node is one pass, one opportunity (Diego Garcia had two,
+    8 minutes apart, one in each revolution)."""
+    for s in range(len(SITES)):
+        burns = sorted(_utc(o["burn_utc"]) for o in answer["opportunities"] if o["site"] == s)
+        assert all((b - a).total_seconds() > 60 * 60 for a, b in zip(burns, burns[1:])), (SITES[s]["name"], burns)
+
+
+def test_the_drawn_footprint_lies_about_the_opportunitys_entry(answer):
+    """Each point of an opportunity's footprint is placed at its down-range and cross-range about that entry (cos of
+    the arc from the entry = cos(d / R) cos(c / R), by haversine here); the vertex nearest the site, flown again,
+    lands where the whole footprint flown again puts it, the others within what the scan's table of footprints (one
+    per 30 deg of the orbit here) allows (they were left at the scan's places, up to 1,494 nmi off)."""
+    from footprint.core.sphere import MEAN_RADIUS_NMI as R
+
+    full = {
+        (o["site"], o["burn_utc"]): o for o in parallel.run("opportunities", small_study(refly="full"))["opportunities"]
+    }
+    for o in answer["opportunities"]:
+        ring, e = o["footprint_ring"], o["entry"]
+        for d, cr, lat, lon in zip(
+            ring["downrange_nmi"], ring["crossrange_nmi"], ring["latitude_deg"], ring["longitude_deg"]
+        ):
+            arc = math.acos(math.cos(d / R) * math.cos(cr / R)) * R
+            assert distance_nmi(e["latitude_deg"], e["longitude_deg"], lat, lon) == pytest.approx(arc, abs=0.01)
+        other = full[(o["site"], o["burn_utc"])]["footprint_ring"]
+        site = SITES[o["site"]]
+        gaps = sorted(
+            (distance_nmi(site["latitude_deg"], site["longitude_deg"], a, b), distance_nmi(a, b, x, y))
+            for a, b, x, y in zip(
+                ring["latitude_deg"], ring["longitude_deg"], other["latitude_deg"], other["longitude_deg"]
+            )
+        )
+        assert gaps[0][1] <= 1.0, (o["site_name"], gaps[:4])  # the vertex nearest the site is one flown again
+        assert all(gap <= 250.0 for _, gap in gaps)  # the rest: the scan's

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, astuple, dataclass, field, replace
 from datetime import datetime, timedelta
 from typing import Any, Literal
 
@@ -38,10 +38,11 @@ from footprint.core.elements import Orbit, subsatellite_points, teme_to_earth_fi
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprint_methods import FAMILIES, control_family, footprint
 from footprint.core.method_settings import MethodSettings
+from footprint.core.outline import outline
 from footprint.core.plane import inside_points
 from footprint.core.reach import branches, margins
 from footprint.core.setting import ControlSetting
-from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, unit_vectors
+from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, great_circle_frame, latlon_from_ranges, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate_summary
 
 
@@ -122,8 +123,7 @@ class Opportunity:
     burn_window_end_utc: datetime
     scan_margin_nmi: float  # the scan's footprint's margin at this burn
     coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
-    # the boundary flown from this entry: downrange_nmi, crossrange_nmi about it, latitude_deg, longitude_deg landed
-    footprint_ring: dict[str, list[float]]
+    footprint_ring: dict[str, Any]  # the footprint about this entry (placed): ranges, places, outline
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -422,8 +422,16 @@ def revolution_opportunities(
     settings: Settings,
     on_progress: Callable[[float, str], bool | None] | None = None,
 ) -> list[Opportunity]:
-    """One revolution's opportunities at every site (the scan, then each candidate flown again)."""
-    times = p.times_s[p.revolution == revolution]
+    """One revolution's opportunities at every site (the scan, then each candidate flown again). A run of burns that
+    reaches a site across an ascending node is one pass: the revolution whose part of it holds the better peak
+    within a quarter of an orbit of the other's takes it (each part scans that far into its neighbours, so both
+    decide alike)."""
+    mine = np.flatnonzero(p.revolution == revolution)
+    reach_s = 0.25 * 86_400.0 / p.orbit.mean_motion_rev_day
+    lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - reach_s))
+    hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + reach_s, side="right")) - 1
+    times = p.times_s[lo : hi + 1]  # the revolution's burns and a quarter of an orbit of each neighbour's
+    first, last = int(mine[0]) - lo, int(mine[-1]) - lo
     u = argument_of_latitude_deg(p, times)
     _, rows = entries(coast, p, times, deorbit, table.delta_v_at(u))
     which = table.index(u)
@@ -433,9 +441,15 @@ def revolution_opportunities(
     candidates = [(s, a, b) for s in range(len(sites.names)) for a, b in _runs(m[:, s] >= -settings.screen_nmi)]
     out = []
     for k, (s, a, b) in enumerate(candidates):
-        if on_progress is not None and on_progress(k / max(len(candidates), 1), f"revolution {revolution}"):
+        note = f"revolution {revolution} of {p.revolutions[-1]}"
+        if on_progress is not None and on_progress(k / max(len(candidates), 1), note):
             raise Stopped("stopped")
-        best = a + int(np.argmax(m[a : b + 1, s]))
+        if b < first or a > last:
+            continue  # a neighbour's run
+        best = max(a, first) + int(np.argmax(m[max(a, first) : min(b, last) + 1, s]))
+        theirs = [i for i in range(a, b + 1) if not first <= i <= last]
+        if any(m[i, s] > m[best, s] and abs(times[i] - times[best]) <= reach_s for i in theirs):
+            continue  # the pass peaks better in the neighbouring revolution, close by: that one's opportunity
         inside = np.flatnonzero(m[a : b + 1, s] >= 0.0) + a
         window = (times[inside[0]], times[inside[-1]]) if inside.size else (times[best], times[best])
         if inside.size:  # the zero crossings next to the first and last burns inside
@@ -450,6 +464,36 @@ def revolution_opportunities(
         if found is not None:
             out.append(found)
     return out
+
+
+def placed(ring: Ring, row: NDArray[np.float64]) -> dict[str, Any]:
+    """A footprint's boundary about an entry row, on the map: its ranges, the places they give about the entry (the
+    points flown from it land there; the scan's moved ones by the exact rotation) and its outline (core.outline: the
+    edges sampled on the sphere, cut at 180 deg, a pole taken in)."""
+    reference = Reference(float(row[dorb.E_LAT]), float(row[dorb.E_LON]), float(row[dorb.E_HEADING]))
+    lat, lon = latlon_from_ranges(ring.downrange_nmi, ring.crossrange_nmi, *astuple(reference))
+    return {
+        "downrange_nmi": ring.downrange_nmi.tolist(),
+        "crossrange_nmi": ring.crossrange_nmi.tolist(),
+        "latitude_deg": np.atleast_1d(lat).tolist(),
+        "longitude_deg": np.atleast_1d(lon).tolist(),
+        "outline": _rounded(outline(ring.downrange_nmi, ring.crossrange_nmi, reference, OUTLINE_EDGE_NMI).to_dict()),
+    }
+
+
+OUTLINE_EDGE_NMI = 400.0  # an opportunity's outline samples its edges this finely (a day's answer holds hundreds)
+OUTLINE_DIGITS = 4  # and keeps 1e-4 deg (11 m)
+
+
+def _rounded(value: Any) -> Any:
+    """Nested lists of floats rounded to OUTLINE_DIGITS."""
+    if isinstance(value, float):
+        return round(value, OUTLINE_DIGITS)
+    if isinstance(value, list):
+        return [_rounded(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _rounded(v) for k, v in value.items()}
+    return value
 
 
 def _opportunity(
@@ -519,10 +563,5 @@ def _opportunity(
         burn_window_end_utc=p.utc([window[1]])[0],
         scan_margin_nmi=scan_margin,
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
-        footprint_ring={
-            "downrange_nmi": ring.downrange_nmi.tolist(),
-            "crossrange_nmi": ring.crossrange_nmi.tolist(),
-            "latitude_deg": ring.latitude_deg.tolist(),
-            "longitude_deg": ring.longitude_deg.tolist(),
-        },
+        footprint_ring=placed(ring, row),
     )
