@@ -52,6 +52,7 @@ export class GlobeView {
     this.sites = [];
     this.dispersion = null; // {name, features, sites, layers}
     this.guided = null; // {track, rings}: the guided panel's flight and footprint, [lon, lat] lines
+    this.opportunity = null; // the landing opportunity shown: {track, coast, ring} lines, {burn, entry, site} points
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -68,6 +69,10 @@ export class GlobeView {
   /** The guided panel's track and footprint rings ({track: [[lon, lat]...] | null, rings: [{key, color, dash,
    * coordinates}]}), drawn as lines: d3 cuts them at the limb and carries them over the poles. */
   setGuided(g) { this.guided = g; this.render(); }
+
+  /** A landing opportunity ([lon, lat]: its revolution's ground track, coast arc and footprint as lines; the burn,
+   * entry and site as points), or null. */
+  setOpportunity(o) { this.opportunity = o; this.render(); }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
 
@@ -101,6 +106,7 @@ export class GlobeView {
     }
     if (this.dispersion) parts.push(...this._dispersionParts(path, projection));
     if (this.guided) parts.push(...this._guidedParts(path));
+    if (this.opportunity) parts.push(...this._opportunityParts(path));
     for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
       if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
       const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
@@ -123,6 +129,14 @@ export class GlobeView {
       + `${r.dash ? `;stroke-dasharray:${r.dash}` : ""}" d="${line(r.coordinates)}"/>`);
     if (this.guided.track) parts.push(`<path class="globe-guided-track" d="${line(this.guided.track)}"/>`);
     return parts;
+  }
+
+  _opportunityParts(path) {
+    const o = this.opportunity;
+    const line = (cls, coordinates) => `<path class="${cls}" d="${path({ type: "LineString", coordinates }) || ""}"/>`;
+    const point = (cls, at, r) => `<path class="${cls}" d="${path.pointRadius(r)({ type: "Point", coordinates: at }) || ""}"/>`;
+    return [line("globe-op-footprint", o.ring), line("globe-op-track", o.track), line("globe-op-coast", o.coast),
+            point("globe-op-burn", o.burn, 4), point("globe-op-entry", o.entry, 4.5), point("globe-op-site", o.site, 8)];
   }
 
   _dispersionParts(path, projection) {

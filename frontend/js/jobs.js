@@ -88,7 +88,7 @@ export function buildDispersionStudy(sites = []) {
 /** A 422 about a dispersion's footprint study ("study.footprint.case.entry.velocity_fps", the service may add the
  * method's union tag: "study.footprint.single_parameter.case...") named as the form's footprint inputs name it
  * ("study.case.entry.velocity_fps"), so that it shows next to that input, worded by its label. */
-function asFootprintField(err) {
+export function asFootprintField(err) {
   const m = /^study\.footprint\.(?:(\w+)\.)?/.exec(err.field ?? "");
   if (!m) return err;
   const tag = [...$("job-method").options].some((o) => o.value === m[1]) ? m[0] : "study.footprint.";
@@ -199,64 +199,82 @@ export class JobsPanel {
     await this.post({ kind: "dispersion", study });
   }
 
-  /** A row with a progress bar, fed by GET /api/jobs/{id}/events (polling if the stream breaks). */
+  /** A row in the job list, its result handed to the page when the job succeeds. */
   follow(id, label) {
-    const li = document.createElement("li");
-    li.dataset.jobId = id;
-    li.append(el("div", { class: "job-line" }, el("span", { class: "job-label" }, label),
-                         el("span", { class: "job-status" }, "queued")),
-              el("progress", { max: "100", value: "0", "aria-label": `Progress of ${label}` }), " ",
-              el("span", { class: "job-percent" }, "0 %"), el("div", { class: "job-note" }));
-    $("job-list").prepend(li);
-    const update = (status, progress, note) => {
-      const pct = Math.round(100 * (status === "succeeded" ? 1 : progress ?? 0));
-      li.querySelector("progress").value = pct;
-      li.querySelector(".job-percent").textContent = `${pct} %`;
-      li.querySelector(".job-note").textContent = status === "running" ? note ?? "" : "";  // IPOPT's iteration
-      const s = li.querySelector(".job-status");
-      s.textContent = status;
-      s.className = `job-status ${status}`;
-    };
-    let finished = false;
-    const finish = async () => {
-      if (finished) return;
-      finished = true;
-      const job = await api(`/api/jobs/${id}`);
-      update(job.status, job.progress, job.progress_note);
-      if (job.status === "succeeded") {
-        const o = job.result?.optimization;
-        if (o) {
-          const cost = o.method === "collocation" ? `${fmt(o.iterations)} IPOPT iterations` : `${fmt(o.trajectories)} trajectories`;
-          li.insertAdjacentHTML("beforeend", `<div class="${o.feasible ? "succeeded" : "failed"}">optimum: cross-range `
-            + `${fmt(o.summary.crossrange_nmi)} nmi at down-range ${fmt(o.summary.downrange_nmi)} nmi, `
-            + `${cost}${o.feasible ? "" : ", constraints not met"}</div>`);
-          this.onOptimum?.(label, o);
-        }
-        const d = job.result?.dispersion;
-        if (d) {
-          li.append(el("div", { class: "succeeded" }, outcomeWords(d)));
-          this.onDispersion?.(label, d, job);
-        }
-        await this.onSucceeded(job);
-      } else if (job.error) {
-        li.append(el("div", { class: "failed" }, job.error));
-      }
-    };
-    const poll = async () => {
-      while (!finished) {
-        const job = await api(`/api/jobs/${id}`).catch(() => null);
-        if (job && ["succeeded", "failed", "cancelled"].includes(job.status)) return finish();
-        if (job) update(job.status, job.progress, job.progress_note);
-        await new Promise((r) => setTimeout(r, POLL_MS));
-      }
-    };
-    const events = new EventSource(`/api/jobs/${id}/events`);
-    events.addEventListener("progress", (e) => {
-      const data = JSON.parse(e.data);
-      update(data.status, data.progress, data.progress_note);
-      if (["succeeded", "failed", "cancelled"].includes(data.status)) { events.close(); finish(); }
-    });
-    events.addEventListener("end", () => { events.close(); finish(); });
-    events.onerror = () => { events.close(); if (!finished) poll(); };
+    followJob($("job-list"), id, label, { onDone: (job, li) => this.finished(job, li, label) });
   }
+
+  async finished(job, li, label) {
+    if (job.status === "succeeded") {
+      const o = job.result?.optimization;
+      if (o) {
+        const cost = o.method === "collocation" ? `${fmt(o.iterations)} IPOPT iterations` : `${fmt(o.trajectories)} trajectories`;
+        li.insertAdjacentHTML("beforeend", `<div class="${o.feasible ? "succeeded" : "failed"}">optimum: cross-range `
+          + `${fmt(o.summary.crossrange_nmi)} nmi at down-range ${fmt(o.summary.downrange_nmi)} nmi, `
+          + `${cost}${o.feasible ? "" : ", constraints not met"}</div>`);
+        this.onOptimum?.(label, o);
+      }
+      const d = job.result?.dispersion;
+      if (d) {
+        li.append(el("div", { class: "succeeded" }, outcomeWords(d)));
+        this.onDispersion?.(label, d, job);
+      }
+      await this.onSucceeded(job);
+    } else if (job.error) {
+      li.append(el("div", { class: "failed" }, job.error));
+    }
+  }
+}
+
+const TERMINAL = ["succeeded", "failed", "cancelled"];
+
+/** A job's row at the top of `list` (its label, status, progress bar, percent and what it is doing, the service's
+ * progress_note), fed by GET /api/jobs/{id}/events, polling once a second if the stream breaks. With `cancel`, a
+ * Cancel button (DELETE /api/jobs/{id}) until the job ends. `onDone(job, li)`: the finished job, once. */
+export function followJob(list, id, label, { onDone, cancel = false } = {}) {
+  const li = el("li", { dataset: { jobId: id } },
+    el("div", { class: "job-line" }, el("span", { class: "job-label" }, label), el("span", { class: "job-status" }, "queued")),
+    el("progress", { max: "100", value: "0", "aria-label": `Progress of ${label}` }), " ",
+    el("span", { class: "job-percent" }, "0 %"),
+    cancel ? el("button", { type: "button", class: "job-cancel", "aria-label": `Cancel ${label}` }, "Cancel") : null,
+    el("div", { class: "job-note" }));
+  list.prepend(li);
+  const update = (status, progress, note) => {
+    const pct = Math.round(100 * (status === "succeeded" ? 1 : progress ?? 0));
+    li.querySelector("progress").value = pct;
+    li.querySelector(".job-percent").textContent = `${pct} %`;
+    li.querySelector(".job-note").textContent = status === "running" ? note ?? "" : ""; // IPOPT's iteration, a revolution
+    const s = li.querySelector(".job-status");
+    s.textContent = status;
+    s.className = `job-status ${status}`;
+    if (cancel) li.querySelector(".job-cancel").hidden = TERMINAL.includes(status);
+  };
+  li.querySelector(".job-cancel")?.addEventListener("click", () => {
+    api(`/api/jobs/${id}`, { method: "DELETE" }).catch((err) => li.append(el("div", { class: "failed" }, err.message)));
+  });
+  let finished = false;
+  const finish = async () => {
+    if (finished) return;
+    finished = true;
+    const job = await api(`/api/jobs/${id}`);
+    update(job.status, job.progress, job.progress_note);
+    await onDone?.(job, li);
+  };
+  const poll = async () => {
+    while (!finished) {
+      const job = await api(`/api/jobs/${id}`).catch(() => null);
+      if (job && TERMINAL.includes(job.status)) return finish();
+      if (job) update(job.status, job.progress, job.progress_note);
+      await new Promise((r) => setTimeout(r, POLL_MS));
+    }
+  };
+  const events = new EventSource(`/api/jobs/${id}/events`);
+  events.addEventListener("progress", (e) => {
+    const data = JSON.parse(e.data);
+    update(data.status, data.progress, data.progress_note);
+    if (TERMINAL.includes(data.status)) { events.close(); finish(); }
+  });
+  events.addEventListener("end", () => { events.close(); finish(); });
+  events.onerror = () => { events.close(); if (!finished) poll(); };
+  return li;
 }

@@ -10,6 +10,7 @@ import { GlobeView } from "./globe.js";
 import { GuidedPanel, drawBankPlot } from "./guided.js";
 import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
+import { OpportunitiesPanel } from "./opportunities.js";
 import { drawHistories } from "./histories.js";
 import { drawRangePlot } from "./rangeplot.js";
 import { drawTimeline, siteColor } from "./timeline.js";
@@ -46,6 +47,11 @@ const dispersionPanel = new DispersionPanel({ onLayer: (kind, on) => { mapView.s
 const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(false), onReach: (r) => sites.setGuided(r),
                                  onGlobe: (g) => globe.setGuided(g),
                                  onFlight: () => { $("plot-guided").disabled = false; setPlot("guided"); } });
+const opportunities = new OpportunitiesPanel({
+  mapView, onGlobe: (o) => globe.setOpportunity(o),
+  onResult: () => { $("plot-opportunities").disabled = false; setPlot("opportunities"); },
+  onSelect: () => { if (state.plot === "opportunities") drawPlot(); centerGlobeOnOpportunity(); },
+});
 
 const selected = () => state.footprints.get(state.selectedId) ?? null;
 const visible = () => [...state.footprints.values()].filter((fp) => fp.visible && fp.shown);
@@ -113,6 +119,7 @@ function redraw(fp) {
 function redrawSites() {
   mapView.setSites(sites.shown());
   guided.setSites(sites.sites);
+  opportunities.setSites(sites.sites);
   if (state.dispersion) drawDispersion(); // a site of the study is named on the map unless it is a stored one
   globe.setData(visible(), sites.shown());
 }
@@ -197,7 +204,7 @@ async function showJobFootprints(job) {
 // ------------------------------------------------------------------------------------------ plot, optimum
 const PLOTS = { range: () => drawRangePlot($("plot"), selected()), optimum: () => drawHistories($("plot"), state.optimum),
                 reach: () => drawTimeline($("plot"), state.reach), dispersion: () => drawDispersionPlot($("plot"), state.dispersion),
-                guided: () => drawBankPlot($("plot"), guided.flight) };
+                guided: () => drawBankPlot($("plot"), guided.flight), opportunities: () => opportunities.drawTimeline($("plot")) };
 const drawPlot = () => PLOTS[state.plot]();
 
 function setPlot(which) {
@@ -258,6 +265,7 @@ $("plot-dispersion").addEventListener("click", () => setPlot("dispersion"));
 $("plot-optimum").addEventListener("click", () => setPlot("optimum"));
 $("plot-reach").addEventListener("click", () => setPlot("reach"));
 $("plot-guided").addEventListener("click", () => setPlot("guided"));
+$("plot-opportunities").addEventListener("click", () => setPlot("opportunities"));
 
 // ---------------------------------------------------------------------------------- live geometry
 const CONTROLS = [["node-longitude", "nodeLongitudeDeg"], ["inclination", "inclinationDeg"], ["step-downrange", "stepDownrangeNmi"]];
@@ -357,12 +365,15 @@ function setView(view) {
   if (view === "map") mapView.invalidate();
   else {
     if (state.plot === "dispersion" && state.dispersion) centerGlobeOn(state.dispersion.dispersion.nominal);
+    else if (state.plot === "opportunities" && opportunities.globeCenter) centerGlobeOnOpportunity();
     else if (selected()) centerGlobe(selected());
     globe.render();
   }
 }
 
 const centerGlobe = (fp) => centerGlobeOn(fp.shown.points);
+// the chosen landing opportunity: between its entry and its site
+const centerGlobeOnOpportunity = () => { if (opportunities.globeCenter) globe.center(...opportunities.globeCenter); };
 
 function centerGlobeOn(points) {
   // the middle of the footprint's points (mean of unit vectors), so the whole footprint faces the viewer
@@ -403,5 +414,5 @@ async function start() {
   console.info(`map page ready in ${Math.round(performance.now())} ms`);
 }
 
-window.footprintApp = { state, mapView, globe, sites, jobs, guided, setView, select, setVisible, showDispersionJob,
+window.footprintApp = { state, mapView, globe, sites, jobs, guided, opportunities, setView, select, setVisible, showDispersionJob,
                         ready: start().catch(fail) };
