@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from footprint.core._jit import njit
 from footprint.core.constants import FT_PER_NMI, MEAN_RADIUS_FT, OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 
@@ -157,19 +158,51 @@ def downrange_crossrange_nmi(
     frame: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Down-range and cross-range (nmi) of points about the great circle through the initial point
-    (eqs. 8-11 in closed form, see the module docstring).
+    (eqs. 8-11 in closed form, see the module docstring), shaped like the points.
 
     `unwrap=True` treats the points as a path from the initial point and lets the down-range grow past
     half a circumference. `frame`: great_circle_frame of the initial point and heading, when the caller has it.
     """
     p0, d0, n = great_circle_frame(latitude0_deg, longitude0_deg, heading0_deg) if frame is None else frame
-    pts = unit_vectors(np.asarray(latitude_deg, float), np.asarray(longitude_deg, float))
-    along_p0, along_d0 = pts @ p0, pts @ d0
-    cross = np.arctan2(pts @ n, np.hypot(along_p0, along_d0))  # not asin: exact near the poles too
-    down = np.arctan2(along_d0, along_p0)
-    if unwrap:
-        down = np.unwrap(np.atleast_1d(down))
-    return radius_nmi * down, radius_nmi * cross
+    lat, lon = np.broadcast_arrays(
+        np.radians(np.asarray(latitude_deg, float)), np.radians(np.asarray(longitude_deg, float))
+    )
+    shape = np.atleast_1d(lat).shape if unwrap else lat.shape
+    down, cross = ranges_rad(np.ravel(lat), np.ravel(lon), p0, d0, n, unwrap)
+    return radius_nmi * down.reshape(shape), radius_nmi * cross.reshape(shape)
+
+
+@njit
+def ranges_rad(
+    latitude_rad: NDArray[np.float64],
+    longitude_rad: NDArray[np.float64],
+    p0: NDArray[np.float64],
+    d0: NDArray[np.float64],
+    n: NDArray[np.float64],
+    unwrap: bool,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Down-range and cross-range angles (rad) of points (rad): cross = atan2(P.n, |P in the plane|), exact near the
+    poles too; down = atan2(P.d0, P.p0), unwrapped along the points as numpy.unwrap does (a step of pi or more
+    corrected by whole turns) when `unwrap`. One compiled loop: every flight's track takes it."""
+    m = latitude_rad.shape[0]
+    down, cross = np.empty(m), np.empty(m)
+    correction, previous = 0.0, 0.0
+    for i in range(m):
+        cl = math.cos(latitude_rad[i])
+        x, y, z = cl * math.cos(longitude_rad[i]), cl * math.sin(longitude_rad[i]), math.sin(latitude_rad[i])
+        along_p0, along_d0 = x * p0[0] + y * p0[1] + z * p0[2], x * d0[0] + y * d0[1] + z * d0[2]
+        cross[i] = math.atan2(x * n[0] + y * n[1] + z * n[2], math.hypot(along_p0, along_d0))
+        raw = math.atan2(along_d0, along_p0)
+        if unwrap and i > 0:
+            step = raw - previous
+            folded = (step + math.pi) % (2.0 * math.pi) - math.pi
+            if folded == -math.pi and step > 0.0:
+                folded = math.pi
+            if abs(step) >= math.pi:
+                correction += folded - step
+        previous = raw
+        down[i] = raw + correction
+    return down, cross
 
 
 def close_half_along_axis(points: Iterable[tuple[Any, ...]]) -> list[tuple[Any, ...]]:

@@ -87,7 +87,7 @@ from footprint.core.integrate import (
     STOP_REASONS,
     integrate,
 )
-from footprint.core.sphere import downrange_crossrange_nmi, great_circle_frame
+from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, ranges_rad
 
 
 @dataclass(frozen=True)
@@ -239,9 +239,9 @@ def initial_state(spec: FlightSpec, p: NDArray[np.float64]) -> NDArray[np.float6
 def _set_left_pole(p: NDArray[np.float64], s0: NDArray[np.float64], heading_deg: float) -> None:
     """Left pole of the initial great circle (through the entry point along the named heading)."""
     ux, uy, uz, nx, ny, nz, ex, ey, ez = horizon_basis(s0[0], s0[1], s0[2])
-    hdg = math.radians(heading_deg)
-    d = np.array([nx, ny, nz]) * math.cos(hdg) + np.array([ex, ey, ez]) * math.sin(hdg)
-    p[P_POLE_X : P_POLE_X + 3] = np.cross([ux, uy, uz], d)
+    ch, sh = math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))
+    dx, dy, dz = nx * ch + ex * sh, ny * ch + ey * sh, nz * ch + ez * sh
+    p[P_POLE_X : P_POLE_X + 3] = (uy * dz - uz * dy, uz * dx - ux * dz, ux * dy - uy * dx)  # up x direction
 
 
 def initial_mode(spec: FlightSpec, p: NDArray[np.float64], s0: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -367,13 +367,12 @@ def _track(
     depends on its own row only, but the down-range's unwrapping on the rows before it: `_track_rows` says which
     rows keep it equal to the full history's."""
     lat, lon, heading = _geodetic_history(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
-    lat, lon = np.degrees(lat), np.degrees(lon)
     e = spec.entry
-    down, cross = downrange_crossrange_nmi(
-        lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg, unwrap=True, frame=frame
-    )
+    p0, d0, n = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg) if frame is None else frame
+    down, cross = ranges_rad(lat, lon, p0, d0, n, True)
     gamma = np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1)))
-    return _Track(lat, lon, np.degrees(heading), gamma, down, cross)
+    radius = MEAN_RADIUS_NMI
+    return _Track(np.degrees(lat), np.degrees(lon), np.degrees(heading), gamma, radius * down, radius * cross)
 
 
 # _track_rows: bounds on the along-track angle of the geocentric direction against the down-range's (geodetic
