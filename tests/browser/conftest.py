@@ -16,6 +16,7 @@ import urllib.error
 import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
+from urllib.parse import urlparse
 
 import pytest
 
@@ -236,3 +237,19 @@ PNG_CROP_JS = """() => { const m = window.footprintApp.mapView.map, s = m.getSiz
   const at = (a, o) => m.latLngToContainerPoint([a, o]);
   const x = Math.max(0, Math.floor(at(0, c - 180).x)), y = Math.max(0, Math.floor(at(90, c).y));
   return {x, y, w: Math.min(s.x, Math.ceil(at(0, c + 180).x)) - x, h: Math.min(s.y, Math.ceil(at(-90, c).y)) - y}; }"""
+
+
+def refusal(service, path, body):
+    """The service's own 422 for a body: its {detail, field}."""
+    req = urllib.request.Request(
+        service.base_url + path, json.dumps(body).encode(), {"Content-Type": "application/json"}
+    )
+    with pytest.raises(urllib.error.HTTPError) as info:
+        urllib.request.urlopen(req, timeout=60)
+    assert info.value.code == 422
+    return json.loads(info.value.read())
+
+
+def only_the_service(run, service):
+    hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
+    assert hosts == {urlparse(service.base_url).hostname}, hosts

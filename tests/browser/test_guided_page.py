@@ -3,20 +3,16 @@ a stored site or a map click; one guided flight (its ground track, miss, status,
 guided dispersion job (its guided and open-loop landing clouds about the miss circle), each checked against the
 service's own answer to the same request, made by the test."""
 
-import json
 import math
 import re
 import time
-import urllib.error
-import urllib.request
-from urllib.parse import urlparse
 
 import pytest
 
 from footprint.core.sphere import latlon_from_ranges
 from tests.authorities.report import guided_spreads, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, WAIT_MS, only_the_service, refusal
 
 EARTH_RADIUS_NMI = 3440.07  # R', the sphere of the service's miss distance
 TARGET = (9.99325, 83.27707)  # 5,000 nmi down-range, 600 nmi cross-range of Table 2's entry (0 N 0 E, heading 90)
@@ -96,22 +92,6 @@ def inside(xy, ring):
         if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
             hit = not hit
     return hit
-
-
-def refusal(service, path, body):
-    """The service's own 422 for a body: its {detail, field}."""
-    req = urllib.request.Request(
-        service.base_url + path, json.dumps(body).encode(), {"Content-Type": "application/json"}
-    )
-    with pytest.raises(urllib.error.HTTPError) as info:
-        urllib.request.urlopen(req, timeout=60)
-    assert info.value.code == 422
-    return json.loads(info.value.read())
-
-
-def only_the_service(run, service):
-    hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
-    assert hosts == {urlparse(service.base_url).hostname}, hosts
 
 
 def fly(page, lat, lon):

@@ -9,14 +9,11 @@ import copy
 import json
 import re
 import time
-import urllib.error
-import urllib.request
 from datetime import datetime
-from urllib.parse import urlparse
 
 import pytest
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, ROOT, WAIT_MS
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, ROOT, WAIT_MS, only_the_service, refusal
 
 EXAMPLE = json.loads((ROOT / "examples" / "opportunities_iss_20_sites.json").read_text())
 TLE = EXAMPLE["tle"]
@@ -78,21 +75,6 @@ def tick_scale(ticks, day):
     (step,) = {b - a for a, b in zip(times, times[1:])}
     assert all(t % step == 0 for t in times)  # whole steps of the clock
     return sx
-
-
-def refusal(service, body):
-    req = urllib.request.Request(
-        service.base_url + "/api/jobs", json.dumps(body).encode(), {"Content-Type": "application/json"}
-    )
-    with pytest.raises(urllib.error.HTTPError) as info:
-        urllib.request.urlopen(req, timeout=60)
-    assert info.value.code == 422
-    return json.loads(info.value.read())
-
-
-def only_the_service(run, service):
-    hosts = {urlparse(u).hostname for u in run.requests if not u.startswith(("data:", "blob:"))}
-    assert hosts == {urlparse(service.base_url).hostname}, hosts
 
 
 @pytest.fixture(scope="module")
@@ -288,7 +270,7 @@ def test_a_bad_tle_is_named_next_to_its_field(open_page, service, stored_sites):
     sent = find(page)
     note = page.locator("#op-tle + .field-error")
     note.wait_for(timeout=WAIT_MS)
-    refused = refusal(service, copy.deepcopy(sent))  # the service's own words for the same study
+    refused = refusal(service, "/api/jobs", copy.deepcopy(sent))  # the service's own words for the same study
     assert refused["field"] == "study.tle"
     assert note.inner_text() == "TLE (2 or 3 lines): " + refused["detail"].split(": ", 1)[1], note.inner_text()
     assert page.get_attribute("#op-tle", "aria-invalid") == "true"
@@ -297,7 +279,7 @@ def test_a_bad_tle_is_named_next_to_its_field(open_page, service, stored_sites):
     page.fill("#op-tle", TLE)
     page.fill("#entry-velocity", "5")
     sent = find(page)
-    refused = refusal(service, copy.deepcopy(sent))
+    refused = refusal(service, "/api/jobs", copy.deepcopy(sent))
     assert refused["field"] == "study.footprint.case.entry.velocity_fps"
     velocity = page.locator("#entry-velocity + .field-error")
     velocity.wait_for(timeout=WAIT_MS)
