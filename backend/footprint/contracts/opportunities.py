@@ -32,6 +32,7 @@ from footprint.core import opportunities as op
 from footprint.core import sun
 from footprint.core.elements import MAX_EPOCH_AGE_DAYS, Orbit, check_window, parse_tle
 from footprint.core.errors import InputError
+from footprint.core.trajectory import FlightSpec
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
@@ -117,7 +118,8 @@ class OpportunitiesStudy(Strict):
             raise InputError("window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}")
         check_window(self.orbit, start, end)
         first = op.Plan(self.orbit, start, np.zeros(1), np.zeros(0))  # the first burn comes down to the interface
-        op.entries(self.coast, first, first.times_s, op.Deorbit(self.deorbit.delta_v_fps, self.deorbit.entry_gamma_deg))
+        states = op.burn_states(first, first.times_s, self.coast.omega_rad_s)
+        op.entries(self.coast, *states, op.Deorbit(self.deorbit.delta_v_fps, self.deorbit.entry_gamma_deg))
         work, where = door_limit(info, MAX_WORK, MAX_WORK_HTTP)
         burns = (end - start).total_seconds() / self.burn_step_s
         if burns * len(self.sites) > work:
@@ -132,10 +134,14 @@ class OpportunitiesStudy(Strict):
         return _plan(self).plan.revolutions
 
     @functools.cached_property
+    def spec(self) -> FlightSpec:
+        """The footprint study's case, as the core flies it (built once)."""
+        return self.footprint.case.to_spec()
+
+    @functools.cached_property
     def coast(self) -> dorb.Coast:
         """The coast's packed parameters: the footprint's vehicle and planet, the air removed."""
-        spec = self.footprint.case.to_spec()
-        return dorb.Coast.of(spec.vehicle, spec.planet, self.deorbit.interface_altitude_ft)
+        return dorb.Coast.of(self.spec.vehicle, self.spec.planet, self.deorbit.interface_altitude_ft)
 
     @functools.cached_property
     def orbit(self) -> Orbit:
@@ -165,7 +171,7 @@ class Plan:
         self.study = study
         start, end = study.window.bounds
         self.plan = op.plan(study.orbit, start, end, study.burn_step_s)
-        self.spec = study.footprint.case.to_spec()
+        self.spec = study.spec
         self.coast = study.coast
         self.deorbit = op.Deorbit(study.deorbit.delta_v_fps, study.deorbit.entry_gamma_deg)
         self.flier = op.Flier(self.spec, study.footprint.to_settings())

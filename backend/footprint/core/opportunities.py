@@ -48,13 +48,11 @@ from footprint.core.trajectory import FlightSpec, simulate_summary
 
 @dataclass(frozen=True)
 class Ring:
-    """A footprint's boundary about its entry point: chart coordinates, flight times and places."""
+    """A footprint's boundary about its entry point (its places follow from an entry: `placed`)."""
 
     downrange_nmi: NDArray[np.float64]
     crossrange_nmi: NDArray[np.float64]
     flight_time_s: NDArray[np.float64]
-    latitude_deg: NDArray[np.float64]
-    longitude_deg: NDArray[np.float64]
     settings: tuple[tuple[ControlSetting, str], ...] = ()  # each vertex's control setting and side
 
     def replaced(self, idx: Sequence[int], points: Sequence[Ring]) -> Ring:
@@ -66,7 +64,7 @@ class Ring:
         return Ring(**columns, settings=self.settings)
 
 
-RING_COLUMNS = ("downrange_nmi", "crossrange_nmi", "flight_time_s", "latitude_deg", "longitude_deg")
+RING_COLUMNS = ("downrange_nmi", "crossrange_nmi", "flight_time_s")
 
 
 @dataclass(frozen=True)
@@ -192,15 +190,18 @@ def burn_states(
 
 
 def entries(
-    coast: dorb.Coast, p: Plan, seconds: NDArray[np.float64], deorbit: Deorbit, delta_v_fps: ArrayLike | None = None
+    coast: dorb.Coast,
+    r: NDArray[np.float64],
+    v: NDArray[np.float64],
+    deorbit: Deorbit,
+    delta_v_fps: ArrayLike | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """(Δv per burn, entry rows) of burns at these times: `delta_v_fps` when given (the scan's), else the deorbit's
-    fixed Δv, or each burn's own for its target entry angle (a secant on flown coasts, burn by burn)."""
-    r, v = burn_states(p, seconds, coast.omega_rad_s)
+    """(Δv per burn, entry rows) of burns from these states (burn_states): `delta_v_fps` when given (the scan's), else
+    the deorbit's fixed Δv, or each burn's own for its target entry angle (a secant on flown coasts, burn by burn)."""
     if delta_v_fps is None and deorbit.entry_gamma_deg is not None:
-        solved = [dorb.delta_v_for_gamma(coast, r[i], v[i], deorbit.entry_gamma_deg) for i in range(len(seconds))]
+        solved = [dorb.delta_v_for_gamma(coast, r[i], v[i], deorbit.entry_gamma_deg) for i in range(len(r))]
         return np.array([dv for dv, _ in solved]), np.array([row for _, row in solved])
-    dvs = np.broadcast_to(np.asarray(deorbit.delta_v_fps if delta_v_fps is None else delta_v_fps, float), len(seconds))
+    dvs = np.broadcast_to(np.asarray(deorbit.delta_v_fps if delta_v_fps is None else delta_v_fps, float), len(r))
     return np.array(dvs), dorb.entry_states(coast, r, dorb.burn(r, v, dvs, coast.omega_rad_s))
 
 
@@ -268,7 +269,7 @@ def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, flier: Flier, step_
     seconds = np.arange(0.0, period_s, period_s / 360.0)
     u = argument_of_latitude_deg(p, seconds)
     nearest = [int(np.argmin(np.abs((u - uk + 180.0) % 360.0 - 180.0))) for uk in u_grid]
-    dvs, rows = entries(coast, p, seconds[nearest], deorbit)
+    dvs, rows = entries(coast, *burn_states(p, seconds[nearest], coast.omega_rad_s), deorbit)
     return RingTable(step_deg, tuple(flier.ring(row) for row in rows), dvs)
 
 
@@ -324,8 +325,6 @@ class Flier:
                     np.array([s["downrange_nmi"]]),
                     np.array([s["crossrange_nmi"]]),
                     np.array([s["flight_time_s"]]),
-                    np.array([s["final_latitude_deg"]]),
-                    np.array([s["final_longitude_deg"]]),
                 )
             )
         return ring.replaced(idx, flown)
@@ -433,7 +432,7 @@ def revolution_opportunities(
     times = p.times_s[lo : hi + 1]  # the revolution's burns and a quarter of an orbit of each neighbour's
     first, last = int(mine[0]) - lo, int(mine[-1]) - lo
     u = argument_of_latitude_deg(p, times)
-    _, rows = entries(coast, p, times, deorbit, table.delta_v_at(u))
+    _, rows = entries(coast, *burn_states(p, times, coast.omega_rad_s), deorbit, table.delta_v_at(u))
     which = table.index(u)
     m = np.empty((len(times), len(sites.names)))
     for k in np.unique(which):
@@ -512,9 +511,9 @@ def _opportunity(
 ) -> Opportunity | None:
     """The candidate burn flown again: its entry, its footprint, the site's place in it and the sun at landing;
     None when the site is outside that footprint."""
-    dvs, rows = entries(coast, p, np.array([burn_s]), deorbit)
-    row = rows[0]
     r, v = burn_states(p, np.array([burn_s]), coast.omega_rad_s)
+    dvs, rows = entries(coast, r, v, deorbit)
+    row = rows[0]
     _, track_lat, track_lon = dorb.coast_track(coast, r[0], dorb.burn(r, v, dvs, coast.omega_rad_s)[0])
     lat, lon = float(sites.latitude_deg[s]), float(sites.longitude_deg[s])
     if settings.refly == "full" or (settings.refly == "near" and flier.makers is None):
