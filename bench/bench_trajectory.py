@@ -16,6 +16,7 @@ import importlib
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -26,7 +27,19 @@ from _timing import median_ms, save_result  # noqa: E402
 from scipy.integrate import solve_ivp
 
 from footprint.contracts import parse
-from footprint.core.dynamics import M_BANK_ACTIVE, M_PULLED_OUT, M_REF_ANGLE, P_RE, P_STOP_ALT, evaluate, rhs
+from footprint.core.dynamics import (
+    INTEGRATOR_DOP853,
+    INTEGRATOR_DOPRI5,
+    M_BANK_ACTIVE,
+    M_PULLED_OUT,
+    M_REF_ANGLE,
+    P_INTEGRATOR,
+    P_RE,
+    P_STOP_ALT,
+    evaluate,
+    rhs,
+)
+from footprint.core.integrate import integrate
 from footprint.core.trajectory import _set_left_pole, initial_mode, initial_state, pack_parameters, simulate
 
 HERE = Path(__file__).resolve().parent
@@ -83,6 +96,33 @@ def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
     return leg2.t[-1], leg1.nfev + leg2.nfev
 
 
+def integrator_methods(spec, rounds=15, calls=40):
+    """DOP853 against DOPRI5 (the default) on the packed Table 2 inputs, alternating in rounds (same load):
+    median ms per flight, steps and right-hand sides of each."""
+    p = pack_parameters(spec)
+    s0 = initial_state(spec, p)
+    _set_left_pole(p, s0, spec.entry.heading_deg)
+    mode = initial_mode(spec, p, s0)
+    out = {}
+    for name, method in (("dopri5", INTEGRATOR_DOPRI5), ("dop853", INTEGRATOR_DOP853)):
+        q = p.copy()
+        q[P_INTEGRATOR] = method
+        rows, _, n_rhs = integrate(s0, q, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
+        out[name] = {"q": q, "steps": rows.shape[0] - 1, "rhs_evaluations": int(n_rhs), "ms": []}
+    for _ in range(rounds):
+        for entry in out.values():
+            t0 = time.perf_counter()
+            for _ in range(calls):
+                integrate(s0, entry["q"], spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
+            entry["ms"].append(1e3 * (time.perf_counter() - t0) / calls)
+    result = {
+        name: {"ms": round(statistics.median(e["ms"]), 3), "steps": e["steps"], "rhs": e["rhs_evaluations"]}
+        for name, e in out.items()
+    }
+    result["dop853_over_dopri5"] = round(result["dop853"]["ms"] / result["dopri5"]["ms"], 3)
+    return result
+
+
 def first_cli_seconds():
     """Wall time of `footprint fly` in a new process (the numba cache was warmed by this process)."""
     t0 = time.perf_counter()
@@ -115,6 +155,8 @@ def main():
             "scipy_plain": round(float(t_plain), 3),
         },
         "first_cli_fly_new_process_s": round(cli_s, 2),
+        "integrator_alone_dop853_vs_dopri5": integrator_methods(spec),
+        "load_average_1min": round(os.getloadavg()[0], 2),
     }
     save_result("trajectory", result)
     print(json.dumps(result, indent=2))

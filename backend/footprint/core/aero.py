@@ -135,6 +135,40 @@ def lookup(blob: NDArray[np.float64], offset: float, mach: float, alpha_deg: flo
 
 
 @njit(allocates=False)
+def _axis_node_between(
+    blob: NDArray[np.float64], offset: float, axis: int, from_value: float, to_value: float
+) -> float:
+    """The node of axis `axis` (0 Mach, 2 altitude) of the table at `offset` strictly between from_value and
+    to_value nearest from_value; NaN if none."""
+    o = int(offset)
+    start = o + 3
+    for a in range(axis):
+        start += int(blob[o + a])
+    found = math.nan
+    for i in range(start, start + int(blob[o + axis])):
+        node = blob[i]
+        if (from_value < node < to_value or to_value < node < from_value) and not (
+            abs(node - from_value) >= abs(found - from_value)
+        ):
+            found = node
+    return found
+
+
+@njit(allocates=False)
+def kink_between(blob: NDArray[np.float64], axis: int, from_value: float, to_value: float) -> float:
+    """The Mach number (axis 0) or altitude (axis 2, ft) strictly between from_value and to_value nearest from_value
+    at which the coefficients or the (L/D)max alpha, multilinear in them, may change slope: a node of the tables or of
+    the (L/D)max grid. NaN if none. The integrator ends a rejected step there (integrate._kink_fraction)."""
+    found = math.nan
+    first = 5 if blob[0] == FORM_POLYNOMIAL else 3
+    for slot in range(first, 6):
+        node = _axis_node_between(blob, blob[slot], axis, from_value, to_value)
+        if not math.isnan(node) and not (abs(node - from_value) >= abs(found - from_value)):
+            found = node
+    return found
+
+
+@njit(allocates=False)
 def _horner(blob: NDArray[np.float64], offset: float, x: float) -> float:
     o = int(offset)
     n = int(blob[o])

@@ -167,6 +167,20 @@ def _read_us1976_table(
 ) = _read_us1976_table(US1976_TABLE_PATH)
 
 
+# Geometric altitudes (ft) where a model's density or speed of sound changes its slope (layer bases: T is continuous,
+# dT/dh jumps; the upper US 1976 table is linear between its rows): the integrator ends a rejected step there
+# (integrate._kink_fraction) instead of shrinking it step by step across the kink. Geometric z = r0 H / (r0 - H).
+ARDC_KINK_ALTITUDE_FT = (
+    ARDC_EARTH_RADIUS_FT * ARDC_BASE_ALTITUDE_FT[1:] / (ARDC_EARTH_RADIUS_FT - ARDC_BASE_ALTITUDE_FT[1:])
+)
+US1976_KINK_ALTITUDE_FT = np.concatenate(
+    [
+        US1976_EARTH_RADIUS_FT * US1976_BASE_ALTITUDE_FT[1:] / (US1976_EARTH_RADIUS_FT - US1976_BASE_ALTITUDE_FT[1:]),
+        US1976_TABLE_ALTITUDE_FT,
+    ]
+)
+
+
 # --- Kernels ---------------------------------------------------------------------------------------------
 
 
@@ -284,6 +298,52 @@ def density_factor(delta: NDArray[np.float64], start: int, altitude_ft: float) -
         w = x - i
         delta_h = delta[start + i] + w * (delta[start + i + 1] - delta[start + i])
     return 1.0 + delta_h
+
+
+@njit(allocates=False)
+def _nearest_between(nodes: NDArray[np.float64], from_value: float, to_value: float) -> float:
+    """The node strictly between from_value and to_value nearest from_value (NaN if none); nodes ascending."""
+    found = math.nan
+    if to_value > from_value:
+        for node in nodes:
+            if node > to_value:
+                break
+            if node > from_value and node < to_value:
+                return float(node)
+    else:
+        for node in nodes:
+            if node >= from_value:
+                break
+            if node > to_value:
+                found = float(node)
+    return found
+
+
+@njit(allocates=False)
+def kink_between_ft(model: int, from_ft: float, to_ft: float) -> float:
+    """The altitude (ft) strictly between from_ft and to_ft nearest from_ft where the model's density or speed of
+    sound has a kink (a layer base; a row of the upper US 1976 table); NaN if none."""
+    if model == ARDC1959:
+        return _nearest_between(ARDC_KINK_ALTITUDE_FT, from_ft, to_ft)
+    if model == US1976:
+        return _nearest_between(US1976_KINK_ALTITUDE_FT, from_ft, to_ft)
+    return math.nan
+
+
+@njit(allocates=False)
+def density_kink_between_ft(delta: NDArray[np.float64], start: int, from_ft: float, to_ft: float) -> float:
+    """The node of DENSITY_NODES_FT strictly between from_ft and to_ft nearest from_ft where density_factor's slope
+    changes (delta[start:start + DENSITY_NODE_COUNT] as there); NaN if none (a profile linear there has no kink)."""
+    found = math.nan
+    for i in range(1, DENSITY_NODE_COUNT - 1):
+        node = DENSITY_NODES_FT[i]
+        if not (from_ft < node < to_ft or to_ft < node < from_ft):
+            continue
+        if delta[start + i + 1] - delta[start + i] == delta[start + i] - delta[start + i - 1]:
+            continue
+        if not (abs(node - from_ft) >= abs(found - from_ft)):
+            found = node
+    return found
 
 
 @njit

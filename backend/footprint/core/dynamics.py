@@ -33,16 +33,18 @@ from footprint.core.controls import (
     C_ALPHA_LAW,
     C_ALPHA_TABLE,
     C_BANK_LAW,
+    C_BANK_VAR,
     C_GAMMA_DEG,
     C_SIDE,
     C_TAU,
+    VAR_ZETA,
     bank_abscissa,
     bank_from_law,
     steering_angle_deg,
     table_interp,
 )
 from footprint.core.frames import altitude_ft, horizon_basis
-from footprint.core.gravity import gravity_ecef
+from footprint.core.gravity import gravity_unit
 
 # --- p layout ---
 P_MU = 0  # ft^3/s^2
@@ -74,7 +76,13 @@ P_CL_MULTIPLIER = 24  # times the aero table's CL
 P_CD_MULTIPLIER = 25  # times the aero table's CD
 P_DENSITY_DISPERSED = 26  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
 P_DENSITY_DELTA = 27  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
-P_SIZE = P_DENSITY_DELTA + DENSITY_NODE_COUNT
+P_INTEGRATOR = P_DENSITY_DELTA + DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below (0.0: DOPRI5)
+P_SIZE = P_INTEGRATOR + 1
+INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4), the default
+# Dormand-Prince 8(5,3): fewer right-hand sides (Table 2 case: 2,335 against 3,033) and a closer landing, but a
+# third of the rows, so the maxima and the heat load read on the rows (trajectory._summary) move: opt-in until they
+# are located on the continuous extension (issue 29)
+INTEGRATOR_DOP853 = 1.0
 
 # --- mode layout ---
 M_BANK_ACTIVE = 0
@@ -124,6 +132,18 @@ def holds_with_alpha(ctrl: NDArray[np.float64], mode: NDArray[np.float64]) -> bo
 
 
 @njit(allocates=False)
+def _zeta_deg(ux: float, uy: float, uz: float, hx: float, hy: float, hz: float, p: NDArray[np.float64]) -> float:
+    """Remaining heading change (deg) of the horizontal velocity h at the unit position u: the angle, clockwise seen
+    from above, from the left pole of the initial great circle projected on the local horizontal plane to h."""
+    px, py, pz = p[P_POLE_X], p[P_POLE_Y], p[P_POLE_Z]
+    pu = px * ux + py * uy + pz * uz
+    cx, cy, cz = px - pu * ux, py - pu * uy, pz - pu * uz
+    # the direction 90 deg clockwise of c seen from above: c x up
+    dx, dy, dz = cy * uz - cz * uy, cz * ux - cx * uz, cx * uy - cy * ux
+    return math.degrees(math.atan2(hx * dx + hy * dy + hz * dz, hx * cx + hy * cy + hz * cz))
+
+
+@njit(allocates=False)
 def steering_angles(
     x: float, y: float, z: float, vx: float, vy: float, vz: float, p: NDArray[np.float64]
 ) -> tuple[float, float]:
@@ -132,14 +152,29 @@ def steering_angles(
     vu = vx * ux + vy * uy + vz * uz
     hx, hy, hz = vx - vu * ux, vy - vu * uy, vz - vu * uz
     heading = math.degrees(math.atan2(hx * ex + hy * ey + hz * ez, hx * nx + hy * ny + hz * nz))
-    # cross-range axis: the left pole projected on the local horizontal plane
-    px, py, pz = p[P_POLE_X], p[P_POLE_Y], p[P_POLE_Z]
-    pu = px * ux + py * uy + pz * uz
-    cx, cy, cz = px - pu * ux, py - pu * uy, pz - pu * uz
-    # the direction 90 deg clockwise of c seen from above: c x up
-    dx, dy, dz = cy * uz - cz * uy, cz * ux - cx * uz, cx * uy - cy * ux
-    zeta = math.degrees(math.atan2(hx * dx + hy * dy + hz * dz, hx * cx + hy * cy + hz * cz))
-    return zeta, heading
+    return _zeta_deg(ux, uy, uz, hx, hy, hz, p), heading
+
+
+@njit(allocates=False)
+def _steer_deg(
+    ux: float,
+    uy: float,
+    uz: float,
+    vx: float,
+    vy: float,
+    vz: float,
+    p: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+) -> float:
+    """steering_angle_deg of steering_angles at the unit position u (the right-hand side has it), computing only
+    the angle the law steers on."""
+    vu = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - vu * ux, vy - vu * uy, vz - vu * uz
+    if ctrl[C_BANK_VAR] == VAR_ZETA:
+        return steering_angle_deg(ctrl, _zeta_deg(ux, uy, uz, hx, hy, hz, p), math.nan)
+    _, _, _, nx, ny, nz, ex, ey, ez = horizon_basis(ux, uy, uz)
+    heading = math.degrees(math.atan2(hx * ex + hy * ey + hz * ez, hx * nx + hy * ny + hz * nz))
+    return steering_angle_deg(ctrl, math.nan, heading)
 
 
 @njit(allocates=False)
@@ -172,14 +207,14 @@ def evaluate(
     v = math.sqrt(vx * vx + vy * vy + vz * vz)
     mach = v / sound
     q = 0.5 * rho * v * v  # dynamic pressure on the earth-relative speed (the air turns with the earth)
+    ivr = 1.0 / r
+    ux, uy, uz = x * ivr, y * ivr, z * ivr
     # non-aerodynamic accelerations: gravity (A10) and, from eqs. (1)-(2), Coriolis and centrifugal terms
-    gx, gy, gz = gravity_ecef(x, y, z, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
+    gx, gy, gz = gravity_unit(ux, uy, uz, r, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
     a0x = gx + 2.0 * omega * vy + omega * omega * x
     a0y = gy - 2.0 * omega * vx + omega * omega * y
     a0z = gz
     # wind axes: v_hat; left = r_hat x v_hat; lift_up = v_hat x left (in the vertical plane, above v)
-    ivr = 1.0 / r
-    ux, uy, uz = x * ivr, y * ivr, z * ivr
     iv = 1.0 / v
     wx, wy, wz = vx * iv, vy * iv, vz * iv
     sin_gamma = ux * wx + uy * wy + uz * wz
@@ -189,21 +224,22 @@ def evaluate(
         lx, ly, lz, ln = 0.0, 0.0, 1.0, 1.0
     lx, ly, lz = lx / ln, ly / ln, lz / ln
     upx, upy, upz = wy * lz - wz * ly, wz * lx - wx * lz, wx * ly - wy * lx
-    # vertical lift per unit mass that holds the commanded flight-path rate:
-    # V dgamma/dt = a . up + V^2 cos(gamma) / r   (derived from sin(gamma) = v.r_hat / V)
-    cos_gamma = math.sqrt(max(0.0, 1.0 - sin_gamma * sin_gamma))
-    tau = ctrl[C_TAU]
-    gamma = math.asin(sin_gamma)
-    gamma_cmd = 0.0
-    if int(ctrl[C_ALPHA_LAW]) == ALPHA_GAMMA_HOLD:
-        gamma_cmd = math.radians(ctrl[C_GAMMA_DEG])
-    if int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE:
-        gamma_cmd = -(alt - mode[M_HOLD_ALT]) / (v * tau)  # Appendix C data set 2: hold the pull-out altitude
-    vert_needed = v * (gamma_cmd - gamma) / tau - v * v * cos_gamma * ivr - (a0x * upx + a0y * upy + a0z * upz)
     lift_per_cl = q * p[P_G0] / p[P_WS]  # L/m = CL q S / m = CL q g0 / (W/S)
+    vert_needed = 0.0
+    if int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE or holds_with_alpha(ctrl, mode):
+        # vertical lift per unit mass that holds the commanded flight-path rate:
+        # V dgamma/dt = a . up + V^2 cos(gamma) / r   (derived from sin(gamma) = v.r_hat / V)
+        cos_gamma = math.sqrt(max(0.0, 1.0 - sin_gamma * sin_gamma))
+        tau = ctrl[C_TAU]
+        gamma = math.asin(sin_gamma)
+        gamma_cmd = 0.0
+        if int(ctrl[C_ALPHA_LAW]) == ALPHA_GAMMA_HOLD:
+            gamma_cmd = math.radians(ctrl[C_GAMMA_DEG])
+        if int(ctrl[C_BANK_LAW]) == BANK_CONSTANT_ALTITUDE:
+            gamma_cmd = -(alt - mode[M_HOLD_ALT]) / (v * tau)  # Appendix C data set 2: hold the pull-out altitude
+        vert_needed = v * (gamma_cmd - gamma) / tau - v * v * cos_gamma * ivr - (a0x * upx + a0y * upy + a0z * upz)
 
-    zeta, heading = steering_angles(x, y, z, vx, vy, vz, p)
-    steer = steering_angle_deg(ctrl, zeta, heading)
+    steer = _steer_deg(ux, uy, uz, vx, vy, vz, p, ctrl)
     bank_law = int(ctrl[C_BANK_LAW])
     alpha_law = int(ctrl[C_ALPHA_LAW])
     pulled_out = mode[M_PULLED_OUT] != 0.0

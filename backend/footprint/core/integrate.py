@@ -1,21 +1,29 @@
-"""Adaptive Dormand-Prince 5(4) integration of the equations of motion with located events.
+"""Adaptive explicit Runge-Kutta integration of the equations of motion with located events.
 
-Hairer, Norsett & Wanner, Solving ODEs I (2nd ed.), Table 5.2 (coefficients) and the DOPRI5 code's
-continuous extension (dense output of order 4), used to locate events. The step control is the usual
-error-per-step rule with the error scaled by rtol times a characteristic size of each component
-(the planet radius for positions, the entry speed for velocities), so it is not fooled by components
+Two embedded pairs, chosen per flight by p[P_INTEGRATOR]:
+- DOPRI5 (the default): Dormand-Prince 5(4) (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., Table 5.2) with
+  the DOPRI5 code's continuous extension of order 4, 6 right-hand sides a step;
+- DOP853 (dynamics.INTEGRATOR_DOP853): Dormand & Prince's 8(5,3) pair with its continuous extension of order 7
+  (ibid., Sec. II.10, and Hairer's dop853.f), 12 right-hand sides a step; a rejected step across a kink of the
+  right-hand side is retried up to the kink (_kink_fraction).
+The step control is the usual error-per-step rule with the error scaled by rtol times a characteristic size of each
+component (the planet radius for positions, the entry speed for velocities), so it is not fooled by components
 that cross zero.
 
 Events (a function of state and mode crossing from negative to non-negative) change the control mode
-or stop the flight. Nothing here raises: a flight ends with a stop code.
+or stop the flight; they are located on the continuous extension. Nothing here raises: a flight ends with a stop
+code.
 """
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
+from footprint.core import aero as _aero
 from footprint.core._jit import njit
+from footprint.core.atmosphere import density_kink_between_ft, kink_between_ft
 from footprint.core.controls import (
     BANK_CONSTANT_ALTITUDE,
     BANK_STAGED,
@@ -42,6 +50,7 @@ from footprint.core.dynamics import (
     EV_SIN_GAMMA,
     EV_SPEED_FPS,
     EV_STEER_DEG,
+    INTEGRATOR_DOP853,
     M_BANK_ACTIVE,
     M_BANK_DONE,
     M_HOLD_ALT,
@@ -51,7 +60,11 @@ from footprint.core.dynamics import (
     M_PULLOUT_T,
     M_REF_ANGLE,
     M_TURN_DONE_DEG,
+    P_ATM,
+    P_DENSITY_DELTA,
+    P_DENSITY_DISPERSED,
     P_G0,
+    P_INTEGRATOR,
     P_MAX_STEP,
     P_RE,
     P_RTOL,
@@ -106,21 +119,236 @@ E1, E3, E4, E5, E6, E7 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.
 D1, D3, D4 = -12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0, -10690763975.0 / 1880347072.0
 D5, D6, D7 = 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0
 
+# DOP853 (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., Sec. II.10): the coefficients of Hairer's dop853.f
+# (unige.ch/~hairer/software.html), as scipy.integrate's DOP853 also carries them. Stages 0-11 make the step,
+# stage 12 is f(t + h, y1) (the next step's first), stages 13-15 only the continuous extension (order 7).
+DOP853_STAGES = 12
+DOP853_STAGES_DENSE = 16
+DOP853_DENSE_ROWS = 4  # rows of D; the interpolant has 3 more, from y0, y1, f(t) and f(t + h)
+DOP853_C: NDArray[np.float64] = np.array(
+    [
+        0.0,
+        0.05260015195876773,
+        0.0789002279381516,
+        0.1183503419072274,
+        0.2816496580927726,
+        0.3333333333333333,
+        0.25,
+        0.3076923076923077,
+        0.6512820512820513,
+        0.6,
+        0.8571428571428571,
+        1.0,
+        1.0,
+        0.1,
+        0.2,
+        0.7777777777777778,
+    ]
+)
+_DOP853_A_ROWS: dict[int, dict[int, float]] = {
+    1: {0: 5.26001519587677318785587544488e-2},
+    2: {0: 1.97250569845378994544595329183e-2, 1: 5.91751709536136983633785987549e-2},
+    3: {0: 2.95875854768068491816892993775e-2, 2: 8.87627564304205475450678981324e-2},
+    4: {
+        0: 2.41365134159266685502369798665e-1,
+        2: -8.84549479328286085344864962717e-1,
+        3: 9.24834003261792003115737966543e-1,
+    },
+    5: {
+        0: 3.7037037037037037037037037037e-2,
+        3: 1.70828608729473871279604482173e-1,
+        4: 1.25467687566822425016691814123e-1,
+    },
+    6: {
+        0: 3.7109375e-2,
+        3: 1.70252211019544039314978060272e-1,
+        4: 6.02165389804559606850219397283e-2,
+        5: -1.7578125e-2,
+    },
+    7: {
+        0: 3.70920001185047927108779319836e-2,
+        3: 1.70383925712239993810214054705e-1,
+        4: 1.07262030446373284651809199168e-1,
+        5: -1.53194377486244017527936158236e-2,
+        6: 8.27378916381402288758473766002e-3,
+    },
+    8: {
+        0: 6.24110958716075717114429577812e-1,
+        3: -3.36089262944694129406857109825,
+        4: -8.68219346841726006818189891453e-1,
+        5: 2.75920996994467083049415600797e1,
+        6: 2.01540675504778934086186788979e1,
+        7: -4.34898841810699588477366255144e1,
+    },
+    9: {
+        0: 4.77662536438264365890433908527e-1,
+        3: -2.48811461997166764192642586468,
+        4: -5.90290826836842996371446475743e-1,
+        5: 2.12300514481811942347288949897e1,
+        6: 1.52792336328824235832596922938e1,
+        7: -3.32882109689848629194453265587e1,
+        8: -2.03312017085086261358222928593e-2,
+    },
+    10: {
+        0: -9.3714243008598732571704021658e-1,
+        3: 5.18637242884406370830023853209,
+        4: 1.09143734899672957818500254654,
+        5: -8.14978701074692612513997267357,
+        6: -1.85200656599969598641566180701e1,
+        7: 2.27394870993505042818970056734e1,
+        8: 2.49360555267965238987089396762,
+        9: -3.0467644718982195003823669022,
+    },
+    11: {
+        0: 2.27331014751653820792359768449,
+        3: -1.05344954667372501984066689879e1,
+        4: -2.00087205822486249909675718444,
+        5: -1.79589318631187989172765950534e1,
+        6: 2.79488845294199600508499808837e1,
+        7: -2.85899827713502369474065508674,
+        8: -8.87285693353062954433549289258,
+        9: 1.23605671757943030647266201528e1,
+        10: 6.43392746015763530355970484046e-1,
+    },
+    12: {  # the weights b of the 8th-order solution
+        0: 5.42937341165687622380535766363e-2,
+        5: 4.45031289275240888144113950566,
+        6: 1.89151789931450038304281599044,
+        7: -5.8012039600105847814672114227,
+        8: 3.1116436695781989440891606237e-1,
+        9: -1.52160949662516078556178806805e-1,
+        10: 2.01365400804030348374776537501e-1,
+        11: 4.47106157277725905176885569043e-2,
+    },
+    13: {
+        0: 5.61675022830479523392909219681e-2,
+        6: 2.53500210216624811088794765333e-1,
+        7: -2.46239037470802489917441475441e-1,
+        8: -1.24191423263816360469010140626e-1,
+        9: 1.5329179827876569731206322685e-1,
+        10: 8.20105229563468988491666602057e-3,
+        11: 7.56789766054569976138603589584e-3,
+        12: -8.298e-3,
+    },
+    14: {
+        0: 3.18346481635021405060768473261e-2,
+        5: 2.83009096723667755288322961402e-2,
+        6: 5.35419883074385676223797384372e-2,
+        7: -5.49237485713909884646569340306e-2,
+        10: -1.08347328697249322858509316994e-4,
+        11: 3.82571090835658412954920192323e-4,
+        12: -3.40465008687404560802977114492e-4,
+        13: 1.41312443674632500278074618366e-1,
+    },
+    15: {
+        0: -4.28896301583791923408573538692e-1,
+        5: -4.69762141536116384314449447206,
+        6: 7.68342119606259904184240953878,
+        7: 4.06898981839711007970213554331,
+        8: 3.56727187455281109270669543021e-1,
+        12: -1.39902416515901462129418009734e-3,
+        13: 2.9475147891527723389556272149,
+        14: -9.15095847217987001081870187138,
+    },
+}
+# the 5th- and 3rd-order error estimates (dop853.f's ER and BHH; E3 = b - bhh), on stages 0-11
+_DOP853_E5: dict[int, float] = {
+    0: 0.1312004499419488073250102996e-1,
+    5: -0.1225156446376204440720569753e1,
+    6: -0.4957589496572501915214079952,
+    7: 0.1664377182454986536961530415e1,
+    8: -0.3503288487499736816886487290,
+    9: 0.3341791187130174790297318841,
+    10: 0.8192320648511571246570742613e-1,
+    11: -0.2235530786388629525884427845e-1,
+}
+_DOP853_BHH: dict[int, float] = {
+    0: 0.244094488188976377952755905512,
+    8: 0.733846688281611857341361741547,
+    11: 0.220588235294117647058823529412e-1,
+}
+# the continuous extension's rows 4-7 (dop853.f's D4j-D7j), on stages 0-15
+_DOP853_D_ROWS: tuple[dict[int, float], ...] = (
+    {
+        0: -0.84289382761090128651353491142e1,
+        5: 0.56671495351937776962531783590,
+        6: -0.30689499459498916912797304727e1,
+        7: 0.23846676565120698287728149680e1,
+        8: 0.21170345824450282767155149946e1,
+        9: -0.87139158377797299206789907490,
+        10: 0.22404374302607882758541771650e1,
+        11: 0.63157877876946881815570249290,
+        12: -0.88990336451333310820698117400e-1,
+        13: 0.18148505520854727256656404962e2,
+        14: -0.91946323924783554000451984436e1,
+        15: -0.44360363875948939664310572000e1,
+    },
+    {
+        0: 0.10427508642579134603413151009e2,
+        5: 0.24228349177525818288430175319e3,
+        6: 0.16520045171727028198505394887e3,
+        7: -0.37454675472269020279518312152e3,
+        8: -0.22113666853125306036270938578e2,
+        9: 0.77334326684722638389603898808e1,
+        10: -0.30674084731089398182061213626e2,
+        11: -0.93321305264302278729567221706e1,
+        12: 0.15697238121770843886131091075e2,
+        13: -0.31139403219565177677282850411e2,
+        14: -0.93529243588444783865713862664e1,
+        15: 0.35816841486394083752465898540e2,
+    },
+    {
+        0: 0.19985053242002433820987653617e2,
+        5: -0.38703730874935176555105901742e3,
+        6: -0.18917813819516756882830838328e3,
+        7: 0.52780815920542364900561016686e3,
+        8: -0.11573902539959630126141871134e2,
+        9: 0.68812326946963000169666922661e1,
+        10: -0.10006050966910838403183860980e1,
+        11: 0.77771377980534432092869265740,
+        12: -0.27782057523535084065932004339e1,
+        13: -0.60196695231264120758267380846e2,
+        14: 0.84320405506677161018159903784e2,
+        15: 0.11992291136182789328035130030e2,
+    },
+    {
+        0: -0.25693933462703749003312586129e2,
+        5: -0.15418974869023643374053993627e3,
+        6: -0.23152937917604549567536039109e3,
+        7: 0.35763911791061412378285349910e3,
+        8: 0.93405324183624310003907691704e2,
+        9: -0.37458323136451633156875139351e2,
+        10: 0.10409964950896230045147246184e3,
+        11: 0.29840293426660503123344363579e2,
+        12: -0.43533456590011143754432175058e2,
+        13: 0.96324553959188282948394950600e2,
+        14: -0.39177261675615439165231486172e2,
+        15: -0.14972683625798562581422125276e3,
+    },
+)
 
-@njit(allocates=False)
-def _derivative(
-    t: float,
-    s: NDArray[np.float64],
-    p: NDArray[np.float64],
-    aero: NDArray[np.float64],
-    ctrl: NDArray[np.float64],
-    mode: NDArray[np.float64],
-    out: NDArray[np.float64],
-) -> tuple[float, ...]:
-    res = evaluate(t, s, p, aero, ctrl, mode)
-    out[0], out[1], out[2] = s[3], s[4], s[5]
-    out[3], out[4], out[5] = res[EV_AX], res[EV_AY], res[EV_AZ]
-    return res
+
+def _dense_table(rows: Sequence[dict[int, float]], columns: int) -> NDArray[np.float64]:
+    table = np.zeros((len(rows), columns))
+    for i, row in enumerate(rows):
+        for j, value in row.items():
+            table[i, j] = value
+    return table
+
+
+DOP853_A = _dense_table([_DOP853_A_ROWS.get(i, {}) for i in range(DOP853_STAGES_DENSE)], DOP853_STAGES_DENSE)
+DOP853_E5 = _dense_table([_DOP853_E5], DOP853_STAGES)[0]
+DOP853_E3 = DOP853_A[DOP853_STAGES, :DOP853_STAGES] - _dense_table([_DOP853_BHH], DOP853_STAGES)[0]
+DOP853_D = _dense_table(_DOP853_D_ROWS, DOP853_STAGES_DENSE)
+# Where the step size is capped by the flight's max_step_s (above the atmosphere; an orbit flown for hours), the error
+# is far below the tolerance and a DOP853 step buys nothing that a DOPRI5 step of the same length (half the
+# right-hand sides) does not: a step whose error would allow DOPRI5_CAPPED_STEP times max_step_s or more is
+# followed by DOPRI5 steps, each with its own error control, until one would not (both end in f(t + h, y1)).
+DOPRI5_CAPPED_STEP = 2.0
+# a rejected DOP853 step that crosses a kink of the right-hand side is retried up to the kink (_kink_fraction) when
+# that shortens it to less than KINK_MAX_FRACTION of itself, and to no less than KINK_MIN_STEP_S
+KINK_MAX_FRACTION = 0.98
+KINK_MIN_STEP_S = 1e-3
 
 
 @njit(allocates=False)
@@ -199,19 +427,310 @@ def _apply_event(
 
 
 @njit(allocates=False)
-def _dense(
-    theta: float,
-    y0: NDArray[np.float64],
-    r2: NDArray[np.float64],
-    r3: NDArray[np.float64],
-    r4: NDArray[np.float64],
-    r5: NDArray[np.float64],
-    out: NDArray[np.float64],
-) -> None:
-    """DOPRI5 continuous extension at theta in [0, 1] of the last step."""
+def _stage(
+    t: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    k: NDArray[np.float64],
+    row: int,
+) -> tuple[float, ...]:
+    """ds/dt at (t, s) into k[row]; returns evaluate's outputs."""
+    res = evaluate(t, s, p, aero, ctrl, mode)
+    k[row, 0], k[row, 1], k[row, 2] = s[3], s[4], s[5]
+    k[row, 3], k[row, 4], k[row, 5] = res[EV_AX], res[EV_AY], res[EV_AZ]
+    return res
+
+
+@njit(allocates=False)
+def _dopri5_step(
+    t: float,
+    h: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    k: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    y1: NDArray[np.float64],
+    scale: NDArray[np.float64],
+) -> tuple[float, tuple[float, ...]]:
+    """One DOPRI5 step from (t, s) with k[0] = f(t, s): y1, k[1..6], (rms scaled error, evaluate at y1)."""
+    for i in range(6):
+        ys[i] = s[i] + h * A21 * k[0, i]
+    _stage(t + C2 * h, ys, p, aero, ctrl, mode, k, 1)
+    for i in range(6):
+        ys[i] = s[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+    _stage(t + C3 * h, ys, p, aero, ctrl, mode, k, 2)
+    for i in range(6):
+        ys[i] = s[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+    _stage(t + C4 * h, ys, p, aero, ctrl, mode, k, 3)
+    for i in range(6):
+        ys[i] = s[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+    _stage(t + C5 * h, ys, p, aero, ctrl, mode, k, 4)
+    for i in range(6):
+        ys[i] = s[i] + h * (A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i] + A65 * k[4, i])
+    _stage(t + h, ys, p, aero, ctrl, mode, k, 5)
+    for i in range(6):
+        y1[i] = s[i] + h * (A71 * k[0, i] + A73 * k[2, i] + A74 * k[3, i] + A75 * k[4, i] + A76 * k[5, i])
+    res1 = _stage(t + h, y1, p, aero, ctrl, mode, k, 6)
+    err = 0.0
+    for i in range(6):
+        e = h * (E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i] + E7 * k[6, i])
+        err += (e / scale[i]) ** 2
+    return math.sqrt(err / 6.0), res1
+
+
+@njit(allocates=False)
+def _dop853_step(
+    t: float,
+    h: float,
+    s: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    k: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    y1: NDArray[np.float64],
+    scale: NDArray[np.float64],
+) -> tuple[float, tuple[float, ...]]:
+    """Stages 2-12 of one DOP853 step from (t, s) with k[0] = f(t, s): y1, k[1..11], and (dop853.f's scaled error,
+    its 5th- and 3rd-order estimates combined; evaluate at the last stage, at t + h). f(t + h, y1) is left to the
+    caller, for accepted steps only."""
+    # the stages written out, their coefficients constants to the compiler (a loop over the table costs 10 %)
+    for i in range(6):
+        ys[i] = s[i] + h * (DOP853_A[1, 0] * k[0, i])
+    _stage(t + DOP853_C[1] * h, ys, p, aero, ctrl, mode, k, 1)
+    for i in range(6):
+        ys[i] = s[i] + h * (DOP853_A[2, 0] * k[0, i] + DOP853_A[2, 1] * k[1, i])
+    _stage(t + DOP853_C[2] * h, ys, p, aero, ctrl, mode, k, 2)
+    for i in range(6):
+        ys[i] = s[i] + h * (DOP853_A[3, 0] * k[0, i] + DOP853_A[3, 2] * k[2, i])
+    _stage(t + DOP853_C[3] * h, ys, p, aero, ctrl, mode, k, 3)
+    for i in range(6):
+        ys[i] = s[i] + h * (DOP853_A[4, 0] * k[0, i] + DOP853_A[4, 2] * k[2, i] + DOP853_A[4, 3] * k[3, i])
+    _stage(t + DOP853_C[4] * h, ys, p, aero, ctrl, mode, k, 4)
+    for i in range(6):
+        ys[i] = s[i] + h * (DOP853_A[5, 0] * k[0, i] + DOP853_A[5, 3] * k[3, i] + DOP853_A[5, 4] * k[4, i])
+    _stage(t + DOP853_C[5] * h, ys, p, aero, ctrl, mode, k, 5)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[6, 0] * k[0, i] + DOP853_A[6, 3] * k[3, i] + DOP853_A[6, 4] * k[4, i] + DOP853_A[6, 5] * k[5, i]
+        )
+    _stage(t + DOP853_C[6] * h, ys, p, aero, ctrl, mode, k, 6)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[7, 0] * k[0, i]
+            + DOP853_A[7, 3] * k[3, i]
+            + DOP853_A[7, 4] * k[4, i]
+            + DOP853_A[7, 5] * k[5, i]
+            + DOP853_A[7, 6] * k[6, i]
+        )
+    _stage(t + DOP853_C[7] * h, ys, p, aero, ctrl, mode, k, 7)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[8, 0] * k[0, i]
+            + DOP853_A[8, 3] * k[3, i]
+            + DOP853_A[8, 4] * k[4, i]
+            + DOP853_A[8, 5] * k[5, i]
+            + DOP853_A[8, 6] * k[6, i]
+            + DOP853_A[8, 7] * k[7, i]
+        )
+    _stage(t + DOP853_C[8] * h, ys, p, aero, ctrl, mode, k, 8)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[9, 0] * k[0, i]
+            + DOP853_A[9, 3] * k[3, i]
+            + DOP853_A[9, 4] * k[4, i]
+            + DOP853_A[9, 5] * k[5, i]
+            + DOP853_A[9, 6] * k[6, i]
+            + DOP853_A[9, 7] * k[7, i]
+            + DOP853_A[9, 8] * k[8, i]
+        )
+    _stage(t + DOP853_C[9] * h, ys, p, aero, ctrl, mode, k, 9)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[10, 0] * k[0, i]
+            + DOP853_A[10, 3] * k[3, i]
+            + DOP853_A[10, 4] * k[4, i]
+            + DOP853_A[10, 5] * k[5, i]
+            + DOP853_A[10, 6] * k[6, i]
+            + DOP853_A[10, 7] * k[7, i]
+            + DOP853_A[10, 8] * k[8, i]
+            + DOP853_A[10, 9] * k[9, i]
+        )
+    _stage(t + DOP853_C[10] * h, ys, p, aero, ctrl, mode, k, 10)
+    for i in range(6):
+        ys[i] = s[i] + h * (
+            DOP853_A[11, 0] * k[0, i]
+            + DOP853_A[11, 3] * k[3, i]
+            + DOP853_A[11, 4] * k[4, i]
+            + DOP853_A[11, 5] * k[5, i]
+            + DOP853_A[11, 6] * k[6, i]
+            + DOP853_A[11, 7] * k[7, i]
+            + DOP853_A[11, 8] * k[8, i]
+            + DOP853_A[11, 9] * k[9, i]
+            + DOP853_A[11, 10] * k[10, i]
+        )
+    res_end = _stage(t + h, ys, p, aero, ctrl, mode, k, 11)
+    err5 = 0.0
+    err3 = 0.0
+    for i in range(6):
+        y1[i] = s[i] + h * (
+            DOP853_A[12, 0] * k[0, i]
+            + DOP853_A[12, 5] * k[5, i]
+            + DOP853_A[12, 6] * k[6, i]
+            + DOP853_A[12, 7] * k[7, i]
+            + DOP853_A[12, 8] * k[8, i]
+            + DOP853_A[12, 9] * k[9, i]
+            + DOP853_A[12, 10] * k[10, i]
+            + DOP853_A[12, 11] * k[11, i]
+        )
+        err5 += (
+            (
+                DOP853_E5[0] * k[0, i]
+                + DOP853_E5[5] * k[5, i]
+                + DOP853_E5[6] * k[6, i]
+                + DOP853_E5[7] * k[7, i]
+                + DOP853_E5[8] * k[8, i]
+                + DOP853_E5[9] * k[9, i]
+                + DOP853_E5[10] * k[10, i]
+                + DOP853_E5[11] * k[11, i]
+            )
+            / scale[i]
+        ) ** 2
+        err3 += (
+            (
+                DOP853_E3[0] * k[0, i]
+                + DOP853_E3[5] * k[5, i]
+                + DOP853_E3[6] * k[6, i]
+                + DOP853_E3[7] * k[7, i]
+                + DOP853_E3[8] * k[8, i]
+                + DOP853_E3[9] * k[9, i]
+                + DOP853_E3[10] * k[10, i]
+                + DOP853_E3[11] * k[11, i]
+            )
+            / scale[i]
+        ) ** 2
+    deno = err5 + 0.01 * err3
+    if not deno > 0.0:
+        return (0.0 if deno == 0.0 else math.nan), res_end
+    return abs(h) * err5 / math.sqrt(6.0 * deno), res_end
+
+
+@njit(allocates=False)
+def _altitude_fraction(alt0: float, alt1: float, rate0: float, rate1: float, target: float) -> float:
+    """theta in [0, 1] where the cubic Hermite altitude through (alt0, rate0) at 0 and (alt1, rate1) at 1 reaches
+    target (rates in ft per unit theta): Newton's method from the straight line's crossing."""
+    theta = (target - alt0) / (alt1 - alt0)
+    for _ in range(4):
+        t2 = theta * theta
+        t3 = t2 * theta
+        value = (
+            (2.0 * t3 - 3.0 * t2 + 1.0) * alt0
+            + (t3 - 2.0 * t2 + theta) * rate0
+            + (-2.0 * t3 + 3.0 * t2) * alt1
+            + (t3 - t2) * rate1
+        )
+        slope = (
+            (6.0 * t2 - 6.0 * theta) * (alt0 - alt1)
+            + (3.0 * t2 - 4.0 * theta + 1.0) * rate0
+            + (3.0 * t2 - 2.0 * theta) * rate1
+        )
+        if not slope != 0.0:
+            break
+        theta = min(max(theta - (value - target) / slope, 0.0), 1.0)
+    return theta
+
+
+@njit(allocates=False)
+def _kink_fraction(
+    res0: tuple[float, ...], res1: tuple[float, ...], h: float, p: NDArray[np.float64], aero: NDArray[np.float64]
+) -> float:
+    """Where in a step (theta in (0, 1), 2.0 if nowhere) the flight first crosses an altitude or Mach number at
+    which the right-hand side has a kink (atmosphere layer bases, dispersed-density nodes, aero table and grid
+    nodes; atmosphere.kink_between_ft, aero.kink_between). res0, res1: evaluate at the step's ends. A step across
+    a kink has an error of order h^2 whatever the method's order: ending the rejected step there, and starting the
+    next one there, replaces the string of ever shorter rejected steps that the error control would otherwise try.
+    """
+    alt0, alt1 = res0[EV_ALTITUDE_FT], res1[EV_ALTITUDE_FT]
+    rate0 = h * res0[EV_SPEED_FPS] * res0[EV_SIN_GAMMA]  # d(altitude)/d(theta), to the oblateness
+    rate1 = h * res1[EV_SPEED_FPS] * res1[EV_SIN_GAMMA]
+    first = 2.0
+    for z in (
+        kink_between_ft(int(p[P_ATM]), alt0, alt1),
+        density_kink_between_ft(p, P_DENSITY_DELTA, alt0, alt1) if p[P_DENSITY_DISPERSED] != 0.0 else math.nan,
+        _aero.kink_between(aero, 2, alt0, alt1),
+    ):
+        if not math.isnan(z):
+            first = min(first, _altitude_fraction(alt0, alt1, rate0, rate1, z))
+    mach0, mach1 = res0[EV_MACH], res1[EV_MACH]
+    m = _aero.kink_between(aero, 0, mach0, mach1)
+    if not math.isnan(m):
+        first = min(first, (m - mach0) / (mach1 - mach0))
+    return first
+
+
+@njit(allocates=False)
+def _dense_coefficients(
+    dop853: bool,
+    t: float,
+    h: float,
+    s: NDArray[np.float64],
+    y1: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    k: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    f: NDArray[np.float64],
+) -> int:
+    """The continuous extension of the step just taken (k holds its stages, the last f(t + h, y1)) into f;
+    returns the number of its rows. DOP853: three more stages, an interpolant of order 7 (dop853.f's CONTD8);
+    DOPRI5: order 4 (dopri5.f's CONTD5). Either is evaluated by _dense."""
+    if not dop853:
+        for j in range(6):
+            f[0, j] = y1[j] - s[j]
+            f[1, j] = h * k[0, j] - f[0, j]
+            f[2, j] = f[0, j] - h * k[6, j] - f[1, j]
+            f[3, j] = h * (D1 * k[0, j] + D3 * k[2, j] + D4 * k[3, j] + D5 * k[4, j] + D6 * k[5, j] + D7 * k[6, j])
+        return 4
+    for st in range(DOP853_STAGES + 1, DOP853_STAGES_DENSE):
+        for i in range(6):
+            acc = 0.0
+            for j in range(st):
+                acc += DOP853_A[st, j] * k[j, i]
+            ys[i] = s[i] + h * acc
+        _stage(t + DOP853_C[st] * h, ys, p, aero, ctrl, mode, k, st)
+    last = DOP853_STAGES  # f(t + h, y1)
+    for i in range(6):
+        dy = y1[i] - s[i]
+        f[0, i] = dy
+        f[1, i] = h * k[0, i] - dy
+        f[2, i] = 2.0 * dy - h * (k[last, i] + k[0, i])
+        for m in range(DOP853_DENSE_ROWS):
+            acc = 0.0
+            for j in range(DOP853_STAGES_DENSE):
+                acc += DOP853_D[m, j] * k[j, i]
+            f[3 + m, i] = h * acc
+    return 3 + DOP853_DENSE_ROWS
+
+
+@njit(allocates=False)
+def _dense(theta: float, y0: NDArray[np.float64], f: NDArray[np.float64], rows: int, out: NDArray[np.float64]) -> None:
+    """The continuous extension at theta in [0, 1] of the last step: y0 + theta (f0 + (1 - theta) (f1 + theta (f2
+    + ...))), the nested form of dopri5.f's CONTD5 and dop853.f's CONTD8."""
     t1 = 1.0 - theta
     for i in range(6):
-        out[i] = y0[i] + theta * (r2[i] + t1 * (r3[i] + theta * (r4[i] + t1 * r5[i])))
+        acc = 0.0
+        for m in range(rows - 1, -1, -1):
+            acc = (acc + f[m, i]) * (theta if m % 2 == 0 else t1)
+        out[i] = y0[i] + acc
 
 
 @njit
@@ -248,6 +767,8 @@ def integrate(
     t0: float = 0.0,
 ) -> tuple[NDArray[np.float64], int, int]:
     """Fly from s0 at t0 (s) until a stop event. Returns (rows[:n], stop_code, n_rhs)."""
+    dop853 = p[P_INTEGRATOR] == INTEGRATOR_DOP853
+    use853 = dop853  # this step's method: DOP853 when chosen, unless capped by h_max (DOPRI5_CAPPED_STEP)
     rtol = p[P_RTOL]
     h_max = p[P_MAX_STEP]
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
@@ -255,16 +776,16 @@ def integrate(
     for i in range(3):
         scale[i] = rtol * p[P_RE]
         scale[3 + i] = rtol * max(v0, 1000.0)
-    k1, k2, k3, k4 = np.empty(6), np.empty(6), np.empty(6), np.empty(6)
-    k5, k6, k7 = np.empty(6), np.empty(6), np.empty(6)
+    k = np.empty((DOP853_STAGES_DENSE, 6))  # the stages of a step (DOPRI5 uses the first 7)
+    f = np.empty((3 + DOP853_DENSE_ROWS, 6))  # the continuous extension of a step with an event
     ys, y1, ye = np.empty(6), np.empty(6), np.empty(6)
-    r2, r3, r4, r5 = np.empty(6), np.empty(6), np.empty(6), np.empty(6)
     g0, g1, gt = np.empty(N_EVENTS), np.empty(N_EVENTS), np.empty(N_EVENTS)
 
     t = t0
     s = s0.copy()
     rows = np.empty((1024, N_COLS))
-    res = _derivative(t, s, p, aero, ctrl, mode, k1)
+    res = _stage(t, s, p, aero, ctrl, mode, k, 0)
+    res0 = res  # evaluate at the start of the step
     rows = _record(rows, 0, t, s, res)
     n = 1
     n_rhs = 1
@@ -272,6 +793,7 @@ def integrate(
     h = min(1.0, h_max)
     stop = STOP_NONE
     steps = 0
+    rejected = False
     while stop == STOP_NONE:
         steps += 1
         if steps > max_steps:
@@ -282,45 +804,37 @@ def integrate(
             break
         if t + h > p[P_STOP_TIME] > t:  # end the step on the stop time: no interpolated state at a guidance cycle
             h = p[P_STOP_TIME] - t
-        for i in range(6):
-            ys[i] = s[i] + h * A21 * k1[i]
-        _derivative(t + C2 * h, ys, p, aero, ctrl, mode, k2)
-        for i in range(6):
-            ys[i] = s[i] + h * (A31 * k1[i] + A32 * k2[i])
-        _derivative(t + C3 * h, ys, p, aero, ctrl, mode, k3)
-        for i in range(6):
-            ys[i] = s[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        _derivative(t + C4 * h, ys, p, aero, ctrl, mode, k4)
-        for i in range(6):
-            ys[i] = s[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        _derivative(t + C5 * h, ys, p, aero, ctrl, mode, k5)
-        for i in range(6):
-            ys[i] = s[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-        _derivative(t + h, ys, p, aero, ctrl, mode, k6)
-        for i in range(6):
-            y1[i] = s[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i])
-        res1 = _derivative(t + h, y1, p, aero, ctrl, mode, k7)
-        n_rhs += 6
-        err = 0.0
-        for i in range(6):
-            e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
-            err += (e / scale[i]) ** 2
-        err = math.sqrt(err / 6.0)
-        if not (err <= 1.0):  # also catches NaN
-            h *= max(0.2, 0.9 * err**-0.2) if err == err else 0.2
-            continue
+        if use853:
+            err, res_end = _dop853_step(t, h, s, p, aero, ctrl, mode, k, ys, y1, scale)
+            n_rhs += DOP853_STAGES - 1
+            if not (err <= 1.0):  # also catches NaN
+                theta = _kink_fraction(res0, res_end, h, p, aero) if err == err else 2.0
+                if theta < KINK_MAX_FRACTION and theta * h >= KINK_MIN_STEP_S:
+                    h *= theta
+                else:
+                    h *= max(1.0 / 3.0, 0.9 * err**-0.125) if err == err else 1.0 / 3.0
+                rejected = True
+                continue
+            res1 = _stage(t + h, y1, p, aero, ctrl, mode, k, DOP853_STAGES)  # first stage of the next step
+            n_rhs += 1
+        else:
+            err, res1 = _dopri5_step(t, h, s, p, aero, ctrl, mode, k, ys, y1, scale)
+            n_rhs += 6
+            if not (err <= 1.0):  # also catches NaN
+                h *= max(0.2, 0.9 * err**-0.2) if err == err else 0.2
+                use853 = dop853
+                continue
 
         _event_values(t + h, y1, res1, p, ctrl, mode, g1)
         first = -1
         theta_first = 2.0
+        n_dense = 0
         for i in range(N_EVENTS):
             if g0[i] < 0.0 and g1[i] >= 0.0:  # NaN compares false: inactive events never fire
-                if first == -1:  # dense-output coefficients, built once per step
-                    for j in range(6):
-                        r2[j] = y1[j] - s[j]
-                        r3[j] = h * k1[j] - r2[j]
-                        r4[j] = r2[j] - h * k7[j] - r3[j]
-                        r5[j] = h * (D1 * k1[j] + D3 * k3[j] + D4 * k4[j] + D5 * k5[j] + D6 * k6[j] + D7 * k7[j])
+                if n_dense == 0:  # the continuous extension, built once per step
+                    n_dense = _dense_coefficients(use853, t, h, s, y1, p, aero, ctrl, mode, k, ys, f)
+                    if use853:
+                        n_rhs += DOP853_STAGES_DENSE - DOP853_STAGES - 1
                 # Illinois regula falsi on [0, 1] for g_i(theta); the stop time's is exact (g linear in time)
                 a, b, ga, gb = 0.0, 1.0, g0[i], g1[i]
                 side = 0
@@ -328,7 +842,7 @@ def integrate(
                     b = min(max((p[P_STOP_TIME] - t) / h, 0.0), 1.0)
                 for _ in range(60 if i != E_STOP_TIME else 0):
                     c = (a * gb - b * ga) / (gb - ga)
-                    _dense(c, s, r2, r3, r4, r5, ye)
+                    _dense(c, s, f, n_dense, ye)
                     rc = evaluate(t + c * h, ye, p, aero, ctrl, mode)
                     _event_values(t + c * h, ye, rc, p, ctrl, mode, gt)
                     n_rhs += 1
@@ -350,26 +864,37 @@ def integrate(
                     first = i
         if first >= 0:
             te = t + theta_first * h
-            _dense(theta_first, s, r2, r3, r4, r5, ye)
+            _dense(theta_first, s, f, n_dense, ye)
             rese = evaluate(te, ye, p, aero, ctrl, mode)
             stop = _apply_event(first, te, rese, ctrl, mode)
             for j in range(6):
                 s[j] = ye[j]
             t = te
-            res = _derivative(t, s, p, aero, ctrl, mode, k1)  # the mode may have changed the forces
+            res = _stage(t, s, p, aero, ctrl, mode, k, 0)  # the mode may have changed the forces
+            res0 = res
             n_rhs += 1
             rows = _record(rows, n, t, s, res)
             n += 1
             _event_values(t, s, res, p, ctrl, mode, g0)
+            rejected = False
             continue
 
         t += h
+        last = DOP853_STAGES if use853 else 6  # the row of k that holds f(t + h, y1)
         for j in range(6):
             s[j] = y1[j]
-            k1[j] = k7[j]
+            k[0, j] = k[last, j]
         for j in range(N_EVENTS):
             g0[j] = g1[j]
         rows = _record(rows, n, t, s, res1)
+        res0 = res1
         n += 1
-        h = min(h * min(5.0, max(0.2, 0.9 * err**-0.2)), h_max) if err > 0.0 else min(5.0 * h, h_max)
+        if use853:  # dop853.f: h 0.9 err^(-1/8), by at most 6 times, and not up just after a rejection
+            grow = min(6.0, 0.9 * err**-0.125) if err > 0.0 else 6.0
+            h_next = h * (min(grow, 1.0) if rejected else grow)
+        else:
+            h_next = h * min(5.0, max(0.2, 0.9 * err**-0.2)) if err > 0.0 else 5.0 * h
+        rejected = False
+        use853 = dop853 and h_next < DOPRI5_CAPPED_STEP * h_max
+        h = min(h_next, h_max)
     return rows[:n], stop, n_rhs
