@@ -1,59 +1,173 @@
 """The doors against the kernel (issue 29 item 3): one trajectory (the Table 2 case, lod-2.2) flown by the compiled
 integrator alone (trajectory._fly: the parameters packed, the entry state, the integration), by simulate(spec)
-(histories and summary), by footprint.api.fly(dict) (the case parsed, its spec built, flown) and by POST
-/api/trajectories through the service's ASGI app in this process (FastAPI's TestClient, SQLite in a temporary
-folder), all in the same process; each the fastest of 7 repeats of a batch. The target: every door within 30 % of
-the kernel.
+(histories and summary), by footprint.api.fly(dict) (the case parsed, its spec built, flown), by the CLI's
+`footprint fly CASE.json` as its command function in this process (the file read, the summary printed as JSON;
+the interpreter's start-up and imports left out), and by POST /api/trajectories: through the service's ASGI app
+called on an event loop in this process (the route's thread-pool hop, its middleware, the body parsed, the
+answer serialized; SQLite in a temporary folder), and through FastAPI's TestClient (which adds its own threads).
+All in one process; rounds of batches taken in turn, each door's figure the median over the rounds of its time
+over the kernel's in the same round (the machine's other work moves both alike). The target: every door within
+30 % of the kernel.
 
     python3 bench/bench_doors.py   # bench/results/doors.json
 """
 
+import asyncio
+import contextlib
+import io
 import json
 import os
+import statistics
 import tempfile
 import time
 from pathlib import Path
 
 from _timing import save_result
 
-CASE = json.loads((Path(__file__).resolve().parents[1] / "examples" / "table2_lod22.json").read_text())
+CASE_FILE = Path(__file__).resolve().parents[1] / "examples" / "table2_lod22.json"
+CASE = json.loads(CASE_FILE.read_text())
+ROUNDS = 25  # batches per door, taken in turn
+BATCH = 40  # calls per batch
 
 
-def fastest_ms(fn, n: int = 300, repeats: int = 7) -> float:
-    for _ in range(20):
+def asgi_post(app, path: str, body: bytes, state: dict):
+    """A coroutine that POSTs `body` to the ASGI app as a server would hand it over: (status, response body)."""
+    scope = {
+        "type": "http",
+        "asgi": {"version": "3.0"},
+        "http_version": "1.1",
+        "method": "POST",
+        "scheme": "http",
+        "path": path,
+        "raw_path": path.encode(),
+        "query_string": b"",
+        "root_path": "",
+        "headers": [
+            (b"host", b"localhost"),
+            (b"content-type", b"application/json"),
+            (b"content-length", str(len(body)).encode()),
+        ],
+        "client": ("127.0.0.1", 50000),
+        "server": ("127.0.0.1", 8000),
+        "state": dict(state),
+    }
+
+    async def call():
+        sent = [{"type": "http.request", "body": body, "more_body": False}]
+        status, chunks = 0, []
+
+        async def receive():
+            return sent.pop() if sent else {"type": "http.disconnect"}
+
+        async def send(message):
+            nonlocal status
+            if message["type"] == "http.response.start":
+                status = message["status"]
+            elif message["type"] == "http.response.body":
+                chunks.append(message.get("body", b""))
+
+        await app(scope, receive, send)
+        return status, b"".join(chunks)
+
+    return call
+
+
+@contextlib.asynccontextmanager
+async def lifespan(app):
+    """The app's lifespan (migrations, engine) run on this event loop; its state for the requests' scopes."""
+    inbox: asyncio.Queue = asyncio.Queue()
+    started, stopped = asyncio.Event(), asyncio.Event()
+    state: dict = {}
+
+    async def send(message):
+        if message["type"].startswith("lifespan.startup"):
+            started.set()
+        elif message["type"].startswith("lifespan.shutdown"):
+            stopped.set()
+        if message["type"].endswith("failed"):
+            raise RuntimeError(message.get("message", "lifespan failed"))
+
+    task = asyncio.create_task(app({"type": "lifespan", "asgi": {"version": "3.0"}, "state": state}, inbox.get, send))
+    await inbox.put({"type": "lifespan.startup"})
+    await started.wait()
+    try:
+        yield state
+    finally:
+        await inbox.put({"type": "lifespan.shutdown"})
+        await stopped.wait()
+        await task
+
+
+def batch_ms(fn) -> float:
+    t0 = time.perf_counter()
+    for _ in range(BATCH):
         fn()
-    best = float("inf")
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / n)
-    return 1e3 * best
+    return 1e3 * (time.perf_counter() - t0) / BATCH
 
 
 def main() -> None:
-    from footprint import api
+    from fastapi.testclient import TestClient
+
+    from footprint import api, cli
     from footprint.contracts import parse
     from footprint.core.trajectory import _fly, simulate
+    from footprint.service.app import create_app
+    from footprint.service.settings import load_settings
 
     spec = parse("case", CASE).to_spec()
-    kernel = fastest_ms(lambda: _fly(spec))
-    doors = {"simulate(spec)": fastest_ms(lambda: simulate(spec)), "api.fly(dict)": fastest_ms(lambda: api.fly(CASE))}
+    body = json.dumps(CASE).encode()
+
+    def cli_fly():
+        with contextlib.redirect_stdout(io.StringIO()):
+            cli.fly(CASE_FILE, history=None)
+
     with tempfile.TemporaryDirectory() as folder:
-        os.environ["FOOTPRINT_DATABASE_URL"] = f"sqlite:///{folder}/bench.db"
-        from fastapi.testclient import TestClient
-
-        from footprint.service.app import create_app
-        from footprint.service.settings import load_settings
-
-        with TestClient(create_app(load_settings(), runs_jobs=False)) as client:
-            doors["POST /api/trajectories"] = fastest_ms(lambda: client.post("/api/trajectories", json=CASE), n=100)
+        settings = load_settings(database_url=f"sqlite:///{folder}/bench.db", allowed_hosts="testserver")
+        app = create_app(settings, runs_jobs=False)
+        loop = asyncio.new_event_loop()
+        with TestClient(app) as client:  # its own event loop in a thread; the app started there (lifespan)
+            test_client = lambda: client.post("/api/trajectories", json=CASE)  # noqa: E731
+            assert test_client().status_code == 200
+            # a second app, started on this thread's loop, for the calls a server would make
+            direct = create_app(settings, runs_jobs=False)
+            started = lifespan(direct)
+            state = loop.run_until_complete(started.__aenter__())
+            post = asgi_post(direct, "/api/trajectories", body, state)
+            status, answer = loop.run_until_complete(post())
+            assert status == 200, (status, answer[:200])
+            doors = {
+                "simulate(spec)": lambda: simulate(spec),
+                "api.fly(dict)": lambda: api.fly(CASE),
+                "CLI fly (command function, in-process)": cli_fly,
+                "POST /api/trajectories (ASGI app)": lambda: loop.run_until_complete(post()),
+                "POST /api/trajectories (TestClient)": test_client,
+            }
+            kernel = lambda: _fly(spec)  # noqa: E731
+            for fn in (kernel, *doors.values()):  # warm: numba, pydantic, the thread pool
+                for _ in range(20):
+                    fn()
+            times: dict[str, list[float]] = {"kernel": [], **{k: [] for k in doors}}
+            ratios: dict[str, list[float]] = {k: [] for k in doors}
+            load = [os.getloadavg()[0]]
+            for _ in range(ROUNDS):
+                k_ms = batch_ms(kernel)
+                times["kernel"].append(k_ms)
+                for name, fn in doors.items():
+                    ms = batch_ms(fn)
+                    times[name].append(ms)
+                    ratios[name].append(ms / k_ms)
+            load.append(os.getloadavg()[0])
+            loop.run_until_complete(started.__aexit__(None, None, None))
+        loop.close()
     data = {
-        "kernel_ms": kernel,
-        "doors_ms": doors,
-        "over_kernel": {k: v / kernel - 1.0 for k, v in doors.items()},
+        "case": "examples/table2_lod22.json",
+        "kernel_ms": statistics.median(times["kernel"]),
+        "doors_ms": {k: statistics.median(times[k]) for k in doors},
+        "over_kernel": {k: statistics.median(r) - 1.0 for k, r in ratios.items()},
         "target_over_kernel": 0.30,
-        "load": os.getloadavg()[0],
+        "rounds": ROUNDS,
+        "calls_per_batch": BATCH,
+        "load_1min_before_after": load,
     }
     print(json.dumps(data, indent=2))
     print(save_result("doors", data))

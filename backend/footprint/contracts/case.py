@@ -18,7 +18,7 @@ from pydantic import (
 )
 
 from footprint.contracts.doors import validated
-from footprint.contracts.fields import Range, Strict
+from footprint.contracts.fields import Range, Settled, Strict
 from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import OnProgress, Work
@@ -30,14 +30,14 @@ from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, Trajector
 
 
 # ------------------------------------------------------------------------------------------ planet
-class AtmosphereCase(Strict):
+class AtmosphereCase(Settled):  # the default of every case that leaves it out
     model: Literal["ardc1959", "us1976", "exponential"] = "ardc1959"
     rho0_slug_ft3: Annotated[float, Range(1e-12, 1.0, "slug/ft^3")] = 0.0027
     scale_height_ft: Annotated[float, Range(1_000, 1_000_000, "ft")] = 23_800.0
     temperature_R: Annotated[float, Range(50, 10_000, "degR")] | None = None
 
 
-class PlanetCase(Strict):
+class PlanetCase(Settled):  # the default of every case that leaves it out
     rotating: bool = True
     oblate: bool = True
     atmosphere: AtmosphereCase = AtmosphereCase()
@@ -100,7 +100,15 @@ class EntryCase(Strict):
         return self
 
     def to_entry(self) -> Entry:
-        return Entry(**self.model_dump())
+        return Entry(
+            altitude_ft=self.altitude_ft,
+            velocity_fps=self.velocity_fps,
+            gamma_deg=self.gamma_deg,
+            heading_deg=self.heading_deg,
+            latitude_deg=self.latitude_deg,
+            longitude_deg=self.longitude_deg,
+            velocity_frame=self.velocity_frame,
+        )
 
 
 # ---------------------------------------------------------------------------------------- controls
@@ -341,7 +349,7 @@ class BankStartAltitude(Strict):
     altitude_ft: Annotated[float, Range(1_000, 3_000_000, "ft")]
 
 
-class StopCase(Strict):
+class StopCase(Settled):  # the default of every case that leaves it out
     altitude_ft: Annotated[float, Range(0, 3_000_000, "ft")] | None = 50_000.0
     velocity_fps: Annotated[float, Range(0, 40_000, "ft/s")] | None = None
     time_s: Annotated[float, Range(1, 100_000, "s")] | None = None
@@ -392,7 +400,7 @@ class HeatingCorrelation(Strict):
 HeatingCase = Annotated[HeatingReference | HeatingCorrelation, Field(discriminator="model")]
 
 
-class IntegratorCase(Strict):
+class IntegratorCase(Settled):  # the default of every case that leaves it out
     rtol: Annotated[float, Range(1e-13, 1e-4)] = 1e-9
     max_step_s: Annotated[float, Range(0.01, 1000, "s")] = 50.0
 

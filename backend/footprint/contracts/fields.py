@@ -41,6 +41,16 @@ class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
+class Settled(Strict):
+    """A strict model that never changes once validated (frozen): one instance can be the default of every request
+    that leaves it out. pydantic deep-copies a model default at each validation; this one is handed over as it is."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    def __deepcopy__(self, memo: dict[int, Any] | None = None) -> "Settled":
+        return self
+
+
 def model_fields(model: type[BaseModel], exclude: tuple[str, ...] = (), **replace: Any) -> dict[str, Any]:
     """A model's fields (type, bounds, default) for create_model, less `exclude`, with some replaced."""
     out = {n: (f.annotation, f) for n, f in model.model_fields.items() if n not in exclude}

@@ -124,21 +124,22 @@ def pack_controls(
 ) -> NDArray[np.float64]:
     """Build the ctrl array from plain values (validated by the caller)."""
     arguments = locals()  # each slot has one writer, _slot_value, shared with replace_controls
-    ctrl = np.zeros(C_SIZE)
+    slots = [0.0] * C_SIZE  # filled as plain floats, made an array once
     for name, slot in SLOTS.items():
-        ctrl[slot] = _slot_value(name, arguments[name])
-    ctrl[C_ALPHA_LAW] = _alpha_code(alpha_law, alpha_table_abscissa)
-    parts = [ctrl]
+        slots[slot] = _slot_value(name, arguments[name])
+    slots[C_ALPHA_LAW] = _alpha_code(alpha_law, alpha_table_abscissa)
+    parts: list[NDArray[np.float64]] = []
     offset = C_SIZE
     for slot, table in ((C_BANK_TABLE, bank_table), (C_ALPHA_TABLE, alpha_table)):
         if table is None:
-            ctrl[slot] = -1.0
+            slots[slot] = -1.0
             continue
         x, y = (np.asarray(v, dtype=np.float64) for v in table)
-        ctrl[slot] = offset
+        slots[slot] = float(offset)
         parts.append(np.concatenate(([len(x)], x, y)))
         offset += 1 + 2 * len(x)
-    return np.concatenate(parts)
+    ctrl = np.array(slots)
+    return np.concatenate([ctrl, *parts]) if parts else ctrl
 
 
 SLOTS = {  # pack_controls' scalar arguments -> their slot (the laws' codes, the tables' offsets aside)

@@ -1,6 +1,10 @@
 """POST /api/trajectories: one trajectory, flown synchronously (in the threadpool, off the event loop)."""
 
+import numpy as np
 from fastapi import APIRouter, Depends, Request
+from fastapi.responses import Response
+from numpy.typing import NDArray
+from pydantic_core import to_json
 
 from footprint.contracts.case import Case
 from footprint.contracts.records import decimated, plain
@@ -13,8 +17,17 @@ MAX_HISTORY_ROWS = 2_000
 
 
 @router.post("/trajectories", response_model=TrajectoryRead, dependencies=[Depends(deps.sync_door)])
-def fly(request: Request, case: Case) -> dict:
+def fly(request: Request, case: Case) -> Response:
     """Fly one case: its summary and its time histories (at most 2,000 rows)."""
     traj = deps.answer_now(request, "case", case)
-    keep = decimated(len(traj.history["time_s"]), MAX_HISTORY_ROWS)
-    return {"summary": plain(traj.summary), "history": {k: plain(v[keep]) for k, v in traj.history.items()}}
+    return Response(trajectory_json(traj.summary, traj.history), media_type="application/json")
+
+
+def trajectory_json(summary: dict, history: dict[str, NDArray[np.float64]]) -> bytes:
+    """TrajectoryRead's JSON, the bytes its response_model would write (pydantic's serializer, NaN and infinities
+    as null), made in one step: the histories' columns as lists of floats at once (ndarray.tolist), neither
+    converted number by number nor validated again against the model they are built to."""
+    n = len(history["time_s"])
+    keep = None if n <= MAX_HISTORY_ROWS else decimated(n, MAX_HISTORY_ROWS)
+    columns = {k: (v if keep is None else v[keep]).tolist() for k, v in history.items()}
+    return to_json({"summary": plain(summary), "history": columns}, inf_nan_mode="null")
