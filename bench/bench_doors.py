@@ -4,7 +4,8 @@ integrator alone (trajectory._fly: the parameters packed, the entry state, the i
 `footprint fly CASE.json` as its command function in this process (the file read, the summary printed as JSON;
 the interpreter's start-up and imports left out), and by POST /api/trajectories: through the service's ASGI app
 called on an event loop in this process (the route's thread-pool hop, its middleware, the body parsed, the
-answer serialized; SQLite in a temporary folder), and through FastAPI's TestClient (which adds its own threads).
+answer serialized; SQLite in a temporary folder), the same with the thread-pool hop replaced by a direct call (the
+route's own work), and through FastAPI's TestClient (which adds its own threads).
 All in one process; rounds of batches taken in turn, each door's figure the median over the rounds of its time
 over the kernel's in the same round (the machine's other work moves both alike). The target: every door within
 30 % of the kernel.
@@ -20,6 +21,7 @@ import os
 import statistics
 import tempfile
 import time
+import unittest.mock
 from pathlib import Path
 
 from _timing import save_result
@@ -31,7 +33,7 @@ BATCH = 40  # calls per batch
 
 
 def asgi_post(app, path: str, body: bytes, state: dict):
-    """A coroutine that POSTs `body` to the ASGI app as a server would hand it over: (status, response body)."""
+    """A coroutine function that POSTs `body` to the ASGI app as a server hands it over: (status, response body)."""
     scope = {
         "type": "http",
         "asgi": {"version": "3.0"},
@@ -72,30 +74,8 @@ def asgi_post(app, path: str, body: bytes, state: dict):
     return call
 
 
-@contextlib.asynccontextmanager
-async def lifespan(app):
-    """The app's lifespan (migrations, engine) run on this event loop; its state for the requests' scopes."""
-    inbox: asyncio.Queue = asyncio.Queue()
-    started, stopped = asyncio.Event(), asyncio.Event()
-    state: dict = {}
-
-    async def send(message):
-        if message["type"].startswith("lifespan.startup"):
-            started.set()
-        elif message["type"].startswith("lifespan.shutdown"):
-            stopped.set()
-        if message["type"].endswith("failed"):
-            raise RuntimeError(message.get("message", "lifespan failed"))
-
-    task = asyncio.create_task(app({"type": "lifespan", "asgi": {"version": "3.0"}, "state": state}, inbox.get, send))
-    await inbox.put({"type": "lifespan.startup"})
-    await started.wait()
-    try:
-        yield state
-    finally:
-        await inbox.put({"type": "lifespan.shutdown"})
-        await stopped.wait()
-        await task
+async def called_here(func, *args, **kwargs):
+    return func(*args, **kwargs)
 
 
 def batch_ms(fn) -> float:
@@ -106,6 +86,7 @@ def batch_ms(fn) -> float:
 
 
 def main() -> None:
+    import fastapi.routing
     from fastapi.testclient import TestClient
 
     from footprint import api, cli
@@ -122,24 +103,32 @@ def main() -> None:
             cli.fly(CASE_FILE, history=None)
 
     with tempfile.TemporaryDirectory() as folder:
-        settings = load_settings(database_url=f"sqlite:///{folder}/bench.db", allowed_hosts="testserver")
+        # an API process of `footprint serve --api-processes N` (runs_jobs=False: it flies the synchronous
+        # trajectories itself); its cluster link is one local worker, idle here
+        settings = load_settings(
+            database_url=f"sqlite:///{folder}/bench.db", allowed_hosts="testserver", dask_workers=1
+        )
         app = create_app(settings, runs_jobs=False)
         loop = asyncio.new_event_loop()
-        with TestClient(app) as client:  # its own event loop in a thread; the app started there (lifespan)
+        with TestClient(app) as client:  # the app started (lifespan) on the test client's loop, in its thread
             test_client = lambda: client.post("/api/trajectories", json=CASE)  # noqa: E731
             assert test_client().status_code == 200
-            # a second app, started on this thread's loop, for the calls a server would make
-            direct = create_app(settings, runs_jobs=False)
-            started = lifespan(direct)
-            state = loop.run_until_complete(started.__aenter__())
-            post = asgi_post(direct, "/api/trajectories", body, state)
+            # the same app called on this thread's loop, as a server hands it a request
+            post = asgi_post(app, "/api/trajectories", body, {})
             status, answer = loop.run_until_complete(post())
             assert status == 200, (status, answer[:200])
+            no_hop = asgi_post(app, "/api/trajectories", body, {})
+
+            def post_without_hop():  # FastAPI's thread-pool hop replaced by a direct call: the route's own work
+                with unittest.mock.patch.object(fastapi.routing, "run_in_threadpool", called_here):
+                    loop.run_until_complete(no_hop())
+
             doors = {
                 "simulate(spec)": lambda: simulate(spec),
                 "api.fly(dict)": lambda: api.fly(CASE),
                 "CLI fly (command function, in-process)": cli_fly,
                 "POST /api/trajectories (ASGI app)": lambda: loop.run_until_complete(post()),
+                "POST /api/trajectories (ASGI app, no thread hop)": post_without_hop,
                 "POST /api/trajectories (TestClient)": test_client,
             }
             kernel = lambda: _fly(spec)  # noqa: E731
@@ -157,7 +146,6 @@ def main() -> None:
                     times[name].append(ms)
                     ratios[name].append(ms / k_ms)
             load.append(os.getloadavg()[0])
-            loop.run_until_complete(started.__aexit__(None, None, None))
         loop.close()
     data = {
         "case": "examples/table2_lod22.json",
