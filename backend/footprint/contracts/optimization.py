@@ -102,7 +102,10 @@ class CollocationOptions(Strict):
 
     intervals: int = Field(default=100, ge=4, le=1_000)
     degree: int = Field(default=3, ge=1, le=8)  # Radau points per interval
-    max_intervals: int = Field(default=400, ge=4, le=2_000)  # mesh doubling stops here
+    max_intervals: int = Field(default=400, ge=4, le=2_000)  # the mesh refinement stops here
+    # the objective's change under a mesh refinement that counts as settled, in the objective's unit (default:
+    # 0.001 deg for an objective in degrees, 1e-4 of its value for any other; collocation.objective_tolerance)
+    mesh_tolerance: Annotated[float, Range(1e-12, 1e9, "(the objective's unit)")] | None = None
     alpha_bounds_deg: tuple[AlphaBound, AlphaBound] | None = None  # default: the vehicle's valid alpha range
     bank_bounds_deg: tuple[Bank, Bank] = (-180.0, 180.0)
     alpha_rate_deg_s: Annotated[float, Range(1e-3, 1e3, "deg/s")] | None = None
@@ -436,6 +439,7 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
         intervals=o.intervals,
         degree=o.degree,
         max_intervals=o.max_intervals,
+        mesh_tolerance=o.mesh_tolerance,
         max_iterations=o.max_iterations,
         max_seconds=o.max_seconds,
     )

@@ -208,7 +208,8 @@ class Problem:
     bank_rate_deg_s: float | None = None
     intervals: int = 100
     degree: int = 3
-    max_intervals: int = 400  # the mesh is doubled up to this many intervals until the re-flight agrees
+    max_intervals: int = 400  # the mesh is refined up to this many intervals until the optimum settles (solve)
+    mesh_tolerance: float | None = None  # the objective's change that counts as settled (objective_tolerance)
     max_iterations: int = 3000
     max_seconds: float = 600.0  # IPOPT's wall time per solve: far from any optimum an iteration can take seconds
     tolerance: float = 1e-8  # IPOPT's tol (scaled NLP)
@@ -252,6 +253,8 @@ class Result:
     seconds: float
     intervals: int
     guess: Guess | None = field(repr=False, default=None)
+    mesh_change: float | None = None  # the objective's change under the last mesh refinement (solve)
+    advice: str = ""  # what to change, when there is no optimum (NO_OPTIMUM_ADVICE unless said)
     solver_state: dict[str, NDArray[np.float64]] | None = field(
         repr=False, default=None
     )  # x, lam_x, lam_g for a warm start
@@ -265,7 +268,7 @@ class Result:
     def one_line(self) -> str:
         if self.ok:
             return "optimal"
-        return f"{self.status.replace('_', ' ')}: {NO_OPTIMUM_ADVICE}; {self.message}"
+        return f"{self.status.replace('_', ' ')}: {self.advice or NO_OPTIMUM_ADVICE}; {self.message}"
 
     def to_dict(self) -> dict[str, Any]:
         arrays = {k: v.tolist() for k, v in self.history.items()}
@@ -284,6 +287,7 @@ class Result:
             "iterations": self.iterations,
             "seconds": self.seconds,
             "intervals": self.intervals,
+            "mesh_change": self.mesh_change,
         }
 
 
@@ -368,6 +372,34 @@ def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
 
 
 # ------------------------------------------------------------------------------------------ transcription
+def uniform_mesh(intervals: int) -> NDArray[np.float64]:
+    return np.linspace(0.0, 1.0, intervals + 1)
+
+
+def control_errors(controls: Mapping[str, NDArray[np.float64]]) -> NDArray[np.float64]:
+    """Each interval's error of the linear controls (scaled alpha and bank), h^2 |u''| / 8 with u'' the second
+    divided difference of the node values at either end (the interpolation error bound, e.g. Burden & Faires,
+    thm. 3.3): large where a path limit or a turn bends the optimal control between nodes."""
+    t = np.asarray(controls["time_s"], float)
+    u = np.vstack([controls["alpha_deg"] / ALPHA_SCALE_DEG, controls["bank_deg"] / BANK_SCALE_DEG])
+    tau = (t - t[0]) / (t[-1] - t[0])
+    h = np.diff(tau)
+    slope = np.diff(u, axis=1) / h
+    second = np.zeros_like(u)
+    second[:, 1:-1] = 2.0 * np.diff(slope, axis=1) / (h[:-1] + h[1:])
+    second[:, 0], second[:, -1] = second[:, 1], second[:, -2]
+    errors: NDArray[np.float64] = h**2 * np.maximum(np.abs(second[:, :-1]), np.abs(second[:, 1:])).max(axis=0) / 8.0
+    return errors
+
+
+def refine_mesh(mesh: NDArray[np.float64], errors: NDArray[np.float64], share: float = 0.1) -> NDArray[np.float64]:
+    """The mesh with every interval whose error is at least `share` of the largest halved: each pass cuts
+    the largest error about fourfold, as doubling the whole mesh would, for the intervals that carry it."""
+    split = errors >= share * errors.max()
+    middles = 0.5 * (mesh[:-1] + mesh[1:])[split]
+    return np.sort(np.concatenate([mesh, middles]))
+
+
 def _radau(degree: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Radau IIA points tau_1..tau_d (tau_d = 1) with tau_0 = 0, and D[j, r] = l_r'(tau_j), j = 1..d."""
     tau = np.concatenate(([0.0], np.asarray(ca.collocation_points(degree, "radau"))))
@@ -383,9 +415,13 @@ class Transcription:
     """The NLP of one Problem on a uniform mesh of `intervals`; solve() may be called many times with other
     objective weights, constraint targets and guesses (the continuation of an optimal footprint)."""
 
-    def __init__(self, problem: Problem, intervals: int | None = None):
+    def __init__(self, problem: Problem, intervals: int | None = None, mesh: NDArray[np.float64] | None = None):
         self.problem = pr = problem
-        self.n = n = intervals or pr.intervals
+        uniform = mesh is None  # its NLP is written as before meshes could be refined (the same IPOPT path)
+        if mesh is None:
+            mesh = uniform_mesh(intervals or pr.intervals)
+        self.mesh = mesh  # the interval ends as fractions of the flight time, 0 to 1 (refine_mesh)
+        self.n = n = len(mesh) - 1
         self.d = d = pr.degree
         spec = pr.base
         _check(pr)
@@ -394,7 +430,9 @@ class Transcription:
         self.x0 = spherical_state(*initial_state(spec, p))
         self.entry = spec.entry
         tau_c, dmat = _radau(d)
-        self.tau = np.concatenate([[0.0]] + [(k + tau_c[1:]) / n for k in range(n)])  # all points, in [0, 1]
+        h = np.full(n, 1.0 / n) if uniform else np.diff(mesh)  # each interval's share of the flight time
+        inner = [(k + tau_c[1:]) / n if uniform else mesh[k] + h[k] * tau_c[1:] for k in range(n)]
+        self.tau = np.concatenate([[0.0], *inner])  # all points, in [0, 1]
         m = n * d  # collocation points (point 0 is the entry)
         self.nq = 1 if self._needs_heat_load() else 0
         ns = 6 + self.nq
@@ -420,13 +458,13 @@ class Transcription:
         for k in range(n):
             for j in range(d):
                 dbig[k * d : k * d + d + 1, k * d + j] = dmat[j]
-        point = self._point_function()
+        self._point = point = self._point_function()
         u_all = ca.horzcat(us[:, 0], ca.mtimes(us, ca.sparsify(ca.DM(lin))))  # controls at every point, entry included
         rates, path = point.map(m + 1, *_map_threads(self.compiled))(xs, u_all, smoothing)
         rates = rates[:, 1:]
         t_f = ts * T_SCALE_S
-        h = 1.0 / n
-        defects = ca.mtimes(xs, ca.sparsify(ca.DM(dbig))) - h * t_f * rates
+        step: Expr = float(h[0]) * t_f if uniform else ca.repmat(ca.DM(np.repeat(h, d)).T, ns, 1) * t_f  # h t_f a point
+        defects = ca.mtimes(xs, ca.sparsify(ca.DM(dbig))) - step * rates
         g: list[ca.MX] = []
         self._groups: list[tuple[str, int, NDArray[np.float64], NDArray[np.float64]]] = []
 
@@ -466,15 +504,20 @@ class Transcription:
             if rate is not None:
                 scale = ALPHA_SCALE_DEG if i == 0 else BANK_SCALE_DEG
                 du = (us[i, 1:] - us[i, :-1]) * scale
+                most = rate * float(h[0]) * t_f if uniform else rate * ca.DM(h).T * t_f  # in each interval
                 add(
                     ("alpha" if i == 0 else "bank") + " rate",
-                    ca.horzcat(du - rate * h * t_f, -du - rate * h * t_f),
+                    ca.horzcat(du - most, -du - most),
                     -np.inf,
                     0.0,
                 )
         objective = sum(weights[i] * final[q] / SCALE[q] for i, (q, _) in enumerate(pr.objective))
         f = -objective if pr.goal == "max" else objective
-        f = f + regularization * ca.sumsqr(us[:, 1:] - us[:, :-1]) * n
+        # the rates' integral of squares, sum (du/h)^2 h
+        du = us[:, 1:] - us[:, :-1]
+        f = f + (
+            regularization * ca.sumsqr(du) * n if uniform else regularization * ca.sum2(ca.sum1(du**2) / ca.DM(h).T)
+        )
         self._g = ca.vertcat(*g)
         self.lbg = np.concatenate([grp[2] for grp in self._groups])
         self.ubg = np.concatenate([grp[3] for grp in self._groups])
@@ -646,6 +689,8 @@ class Transcription:
         constraint_targets: Mapping[str, tuple[float, float]] | None = None,
         warm: dict[str, NDArray[np.float64]] | None = None,
         stages: Sequence[float] | None = None,
+        polish: bool | None = None,
+        polish_only: bool = False,
         on_iteration: OnIteration | None = None,
     ) -> Result:
         """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
@@ -653,9 +698,18 @@ class Transcription:
         weights: one per objective term (default: the problem's); constraint_targets: {quantity: (lo, hi)} to
         replace terminal constraint bands without rebuilding; stages: the smoothing of the tables, each stage
         started from the last (default SMOOTHING_STAGES, the last one alone from a warm start; one stage
-        without tables); on_iteration(iteration, stage, stages) after every IPOPT iteration (True stops)."""
+        without tables); polish: a last stage at POLISH_WEIGHT (default: the problem's); polish_only: that stage
+        alone, from `warm` (the optimum of this transcription's last stage, as solve() gives it);
+        on_iteration(iteration, stage, stages) after every IPOPT iteration (True stops)."""
         pr = self.problem
         wts = np.array([wt for _, wt in pr.objective] if weights is None else weights, float)
+        floor = self.entry_floor()
+        if floor is not None:  # no iterate can meet it: said at once, in the limit's unit, without IPOPT
+            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, SMOOTHING_STAGES[-1], 0.0]])
+            x = self._scaled_guess(guess) if warm is None else warm["x"]
+            result = self._result(x, par, "infeasible", floor, math.inf, 0, 0.0)
+            result.advice = "to change: the limit (above the fixed entry state's least value) or the entry state"
+            return result
         lbg, ubg = self.lbg.copy(), self.ubg.copy()
         offset = 0
         for name, size, _, _ in self._groups:
@@ -670,13 +724,17 @@ class Transcription:
             stages = stages[-1:]
         weight = pr.smoothing_weight
         plan = [(st, weight) for st in stages]
-        if weight > 0 and pr.polish:
+        if weight > 0 and (pr.polish if polish is None else polish):
             plan.append((stages[-1], weight * POLISH_WEIGHT))
+        if polish_only:
+            plan = [(stages[-1], weight * POLISH_WEIGHT)]
         seconds, iterations = 0.0, 0
         # a caller's warm start, and the stages after the first on smoothed tables, use the warm-start solver
         # (from the cold solver's start the L/D 1.89 stages do not converge); without tables the polish starts the
         # cold solver from the last point: building the warm-start solver costs as much as the first build (1 s)
         use_warm, x_start = warm is not None, None if warm is not None else self._scaled_guess(guess)
+        if polish_only:  # as the polish after the stages: warm on the tables, from the last point without them
+            use_warm = self.model.smoothed
         kept: tuple[dict[str, NDArray[np.float64]], NDArray[np.float64], dict[str, Any]] | None
         kept, note = None, ""  # the last stage that ended optimal: a narrower one that does not falls back to it
         listener = self._iterations
@@ -690,8 +748,9 @@ class Transcription:
                 # use_warm: a caller's warm start, or (smoothed tables) the stage before's solution
                 assert warm is not None
                 args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
-                polish = stage == len(stages)  # the entry after the stages
-                solver = self._warm(min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polish else pr.max_iterations)
+                polishing = reg < weight  # the entry after the stages
+                cap = min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polishing else pr.max_iterations
+                solver = self._warm(cap)
             else:
                 x0 = x_start if warm is None else warm["x"]
                 assert x0 is not None  # x_start is the guess whenever no warm start was given
@@ -729,6 +788,35 @@ class Transcription:
             result.message = f"{stats['return_status']}; largest violation {self._worst(viol, result.summary)}"
         result.solver_state = warm
         return result
+
+    def entry_floor(self) -> str | None:
+        """The path limit the fixed entry state breaks at every allowed alpha, named with its excess in its unit (the
+        least value over the alpha bounds on a 0.25 deg grid less the limit), or None. Heat rate, temperature, dynamic
+        pressure and load factor do not depend on the bank (a coordinated turn without side force)."""
+        limits = [con for con in self.problem.constraints if con.quantity in PATH]
+        if not limits:
+            return None
+        lo, hi = self.alpha_bounds_deg()
+        alpha = np.linspace(lo, hi, max(2, int((hi - lo) / 0.25) + 1))
+        x = np.tile(self._scaled_entry()[:, None], (1, alpha.size))
+        u = np.vstack([alpha / ALPHA_SCALE_DEG, np.zeros(alpha.size)])
+        path = np.asarray(self._point.map(alpha.size)(x, u, SMOOTHING_STAGES[-1])[1])
+        values: dict[str, NDArray[np.float64]] = {"max_dynamic_pressure_psf": path[1], "max_load_factor": path[2]}
+        heating = self.problem.base.heating
+        if heating is not None:  # the integrator's heating model, as the result's summary
+            values["max_heat_rate_btu_ft2_s"], values["max_temperature_R"] = heating.evaluate(
+                path[3], np.full(alpha.size, self.x0[3]), alpha, path[4], np.zeros(alpha.size)
+            )
+        for con in limits:
+            least = int(np.argmin(values[con.quantity]))
+            value = float(values[con.quantity][least])
+            if value > con.target * (1.0 + 1e-6):
+                return (
+                    f"{con.quantity} by {value - con.target:.4g} {PATH_UNITS[con.quantity]} at the entry, which is "
+                    f"fixed (its least {value:.4g} over alpha {lo:g} to {hi:g} deg, at {alpha[least]:g} deg; "
+                    f"limit {con.target:g})"
+                )
+        return None
 
     def _warm(self, iterations: int) -> ca.Function:
         """The same NLP with IPOPT started at the given primal-dual point (small barrier, small bound push),
@@ -937,23 +1025,88 @@ def agrees(result: Result) -> bool:
     )
 
 
+def objective_tolerance(problem: Problem, objective: float) -> float:
+    """How little the objective must change under a mesh refinement for the optimum to count as settled (issue 29):
+    Problem.mesh_tolerance, else 0.001 deg for an objective in degrees and 1e-4 of its value for any other."""
+    if problem.mesh_tolerance is not None:
+        return problem.mesh_tolerance
+    if all(q.endswith("_deg") for q, _ in problem.objective):
+        return 1e-3
+    return 1e-4 * max(abs(objective), 1.0)
+
+
 def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress | None = None) -> Result:
-    """Solve, re-fly, and double the mesh from the last solution until the re-flight agrees (or max_intervals);
-    on_progress(fraction, note) after every IPOPT iteration (True stops: the result is "stopped")."""
+    """Solve, re-fly, and refine the mesh from the last solution until the optimum is settled: the re-flight agrees
+    and the objective moved by less than objective_tolerance under the last refinement (or max_intervals is
+    reached, or a refined mesh ends without an optimum: then the result is "not_converged" and says by how much the
+    objective still moved). A refinement halves the intervals where the linear controls' error is largest
+    (control_errors), or every interval while the re-flight disagrees, and starts from the last optimum at the
+    narrowest corners. The meshes settle on the problem with the rates' penalty; the polish (Problem.polish) then
+    follows once, on the last mesh. on_progress(fraction, note) after every IPOPT iteration (True stops)."""
     if guess is None:
         guess = first_guess(problem)
-    n, total_s, total_it, mesh = problem.intervals, 0.0, 0, 0
+    mesh: NDArray[np.float64] | None = None  # the first: uniform, problem.intervals
+    total_s, total_it, rounds = 0.0, 0, 0
+    previous: tuple[Result, Transcription] | None = None  # the last mesh's optimum
     while True:  # the k-th mesh reports within [1 - 2^-k, 1 - 2^-(k+1)] (how many there will be is not known)
-        share, mesh = (1.0 - 0.5**mesh, 1.0 - 0.5 ** (mesh + 1)), mesh + 1
+        share, rounds = (1.0 - 0.5**rounds, 1.0 - 0.5 ** (rounds + 1)), rounds + 1
+        transcription = Transcription(problem, mesh=mesh)
+        n = transcription.n
         report = None if on_progress is None else iteration_progress(on_progress, share, f"{n} intervals: ")
-        result = Transcription(problem, n).solve(guess, on_iteration=report)
+        # a refined mesh starts from the last optimum, at the narrowest corners: 5-40 iterations where a cold start
+        # from the case's flight takes hundreds (the polish cannot start there: from the L/D 1.89 polished optimum
+        # it ran out of 3,000 iterations, and from the finer mesh's own stage it did not always end within 300)
+        stages = None if previous is None else SMOOTHING_STAGES[-1:]
+        result = transcription.solve(guess, stages=stages, polish=False, on_iteration=report)
         total_s, total_it = total_s + result.seconds, total_it + result.iterations
+        if previous is not None and not result.ok and result.status != "stopped":
+            previous[0].message += f"; a refinement to {n} intervals ended {result.status}: {result.message}"
+            result, transcription = previous
+            break
         refly(problem, result)
-        if not result.ok or agrees(result) or 2 * n > problem.max_intervals:
+        if not result.ok:
+            break
+        if previous is not None:
+            result.mesh_change = result.objective - previous[0].objective
+        if agrees(result) and _settled(problem, result):
+            break
+        errors = control_errors(result.controls) if agrees(result) else np.ones(n)
+        finer = refine_mesh(transcription.mesh, errors)
+        if len(finer) - 1 > problem.max_intervals:
             break
         assert result.guess is not None  # a solved result carries its solution (Transcription._result)
-        guess, n = result.guess, 2 * n
+        guess, mesh, previous = result.guess, finer, (result, transcription)
+    if result.ok and problem.polish and problem.smoothing_weight > 0:
+        assert result.guess is not None and result.solver_state is not None
+        change = result.mesh_change
+        report = None if on_progress is None else iteration_progress(on_progress, (1.0 - 0.5**rounds, 1.0), "polish: ")
+        stage = SMOOTHING_STAGES[-1:]
+        polished = transcription.solve(
+            result.guess, warm=result.solver_state, stages=stage, polish_only=True, on_iteration=report
+        )
+        total_s, total_it = total_s + polished.seconds, total_it + polished.iterations
+        if polished.ok or polished.status == "stopped":
+            result = polished
+            result.mesh_change = change
+            refly(problem, result)
+        else:  # said, as a stage that does not end is: the optimum before it is kept
+            result.message += f"; the polish ended {polished.message}: the optimum before it is kept"
     result.seconds, result.iterations = total_s, total_it
+    if result.ok and problem.max_intervals > problem.intervals and not _settled(problem, result):
+        result.status = "not_converged"
+        result.advice = "to change: a larger collocation.max_intervals"
+        if result.mesh_change is None:
+            result.message = (
+                f"the mesh could not be refined within max_intervals ({problem.max_intervals}): how far the "
+                "objective may still move is not measured; " + result.message
+            )
+        else:
+            result.message = (
+                f"the mesh stopped at {result.intervals} intervals with the objective still moving by "
+                f"{abs(result.mesh_change):.3g} under the last refinement (tolerance "
+                f"{objective_tolerance(problem, result.objective):.3g}): it may move by about as much again; "
+                + result.message
+            )
     if result.ok and not agrees(result):  # said, not hidden: the mesh stopped at max_intervals
         a = result.agreement
         assert a is not None  # refly recorded it
@@ -962,3 +1115,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
             f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range"
         )
     return result
+
+
+def _settled(problem: Problem, result: Result) -> bool:
+    return result.mesh_change is not None and abs(result.mesh_change) <= objective_tolerance(problem, result.objective)
