@@ -128,7 +128,13 @@ def _jit_options() -> dict[str, Any] | None:
     return {
         "jit": True,
         "compiler": "shell",
-        "jit_options": {"compiler": command, "flags": ["-O1"], "verbose": False, "directory": f"{root / 'build'}/"},
+        "jit_options": {
+            "compiler": command,
+            "linker": command,
+            "flags": ["-O1"],
+            "verbose": False,
+            "directory": f"{root / 'build'}/",
+        },
     }
 
 
