@@ -44,7 +44,7 @@ from footprint.core.controls import (
     table_interp,
 )
 from footprint.core.frames import altitude_ft, horizon_basis
-from footprint.core.gravity import gravity_unit
+from footprint.core.gravity import gravity_ecef
 
 # --- p layout ---
 P_MU = 0  # ft^3/s^2
@@ -211,7 +211,9 @@ def evaluate(
     ivr = 1.0 / r
     ux, uy, uz = x * ivr, y * ivr, z * ivr
     # non-aerodynamic accelerations: gravity (A10) and, from eqs. (1)-(2), Coriolis and centrifugal terms
-    gx, gy, gz = gravity_unit(ux, uy, uz, r, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
+    # gravity from the position itself (sharing r and the unit vector moved it by round-off, and the widest
+    # constant-altitude turn of data set 2 at 25,800 ft/s, a knife edge, from 179 to 65 deg)
+    gx, gy, gz = gravity_ecef(x, y, z, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)
     a0x = gx + 2.0 * omega * vy + omega * omega * x
     a0y = gy - 2.0 * omega * vx + omega * omega * y
     a0z = gz

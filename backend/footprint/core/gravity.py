@@ -34,34 +34,19 @@ def zonal_down_north(g0: float, s: float, q: float, j: float, h: float, k: float
 
 
 @njit
-def gravity_unit(
-    ux: float,
-    uy: float,
-    uz: float,
-    r_ft: float,
-    mu_ft3_s2: float,
-    re_ft: float,
-    j: float,
-    h: float,
-    k: float,
-    oblate: bool,
-) -> tuple[float, float, float]:
-    """gravity_ecef at distance r_ft along the unit vector (ux, uy, uz): the equations of motion have both at hand."""
-    g0 = mu_ft3_s2 / (r_ft * r_ft)
-    if not oblate:
-        return -g0 * ux, -g0 * uy, -g0 * uz
-    s = uz  # sine of the geocentric latitude phi_L
-    g_down, g_north_over_cos = zonal_down_north(g0, s, re_ft / r_ft, j, h, k)
-    gx = -g_down * ux + g_north_over_cos * (-s * ux)
-    gy = -g_down * uy + g_north_over_cos * (-s * uy)
-    gz = -g_down * uz + g_north_over_cos * (1.0 - s * uz)
-    return gx, gy, gz
-
-
-@njit
 def gravity_ecef(
     x_ft: float, y_ft: float, z_ft: float, mu_ft3_s2: float, re_ft: float, j: float, h: float, k: float, oblate: bool
 ) -> tuple[float, float, float]:
     """Gravitational acceleration (ft/s^2) at an earth-fixed position; z along the north pole."""
-    r = math.sqrt(x_ft * x_ft + y_ft * y_ft + z_ft * z_ft)
-    return gravity_unit(x_ft / r, y_ft / r, z_ft / r, r, mu_ft3_s2, re_ft, j, h, k, oblate)
+    r2 = x_ft * x_ft + y_ft * y_ft + z_ft * z_ft
+    r = math.sqrt(r2)
+    g0 = mu_ft3_s2 / r2
+    if not oblate:
+        return -g0 * x_ft / r, -g0 * y_ft / r, -g0 * z_ft / r
+    s = z_ft / r  # sine of the geocentric latitude phi_L
+    g_down, g_north_over_cos = zonal_down_north(g0, s, re_ft / r, j, h, k)
+    ex, ey, ez = x_ft / r, y_ft / r, z_ft / r
+    gx = -g_down * ex + g_north_over_cos * (-s * ex)
+    gy = -g_down * ey + g_north_over_cos * (-s * ey)
+    gz = -g_down * ez + g_north_over_cos * (1.0 - s * ez)
+    return gx, gy, gz
