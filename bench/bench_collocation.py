@@ -17,9 +17,9 @@ from pathlib import Path
 
 from _timing import betts, save_result  # noqa: E402
 
+from footprint.api import run
 from footprint.contracts import parse
 from footprint.contracts.optimization import collocation_problem
-from footprint.contracts.optimization import run as run_optimization
 from footprint.core import collocation as col
 from footprint.core import optimize as O
 
@@ -54,7 +54,7 @@ def betts():
         )
     )
     search_study = json.loads((EXAMPLES / "optimize_betts_shuttle.json").read_text())
-    search, search_s = timed(lambda: run_optimization(search_study))
+    search, search_s = timed(lambda: run("optimize", search_study))
     return {
         "collocation_cold": {
             "final_latitude_deg": cold.summary["final_latitude_deg"],
