@@ -307,7 +307,8 @@ def test_a_collocation_optimization_job_reports_iterations_and_returns_its_fligh
     study = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
     job, seen = watched(api, submit(api, "optimize", study))
     assert job["status"] == "succeeded", job["error"]
-    assert any(n and re.fullmatch(r"100 intervals: IPOPT iteration \d+, stage \d of 2", n) for _, n in seen), seen
+    # each mesh's iterations, then the polish's (the mesh is refined until the optimum settles: issue 29)
+    assert any(n and re.fullmatch(r"100 intervals: IPOPT iteration \d+", n) for _, n in seen), seen
     flight = job["result"]["optimization"]["flight"]
     assert flight["latitude_deg"][-1] == pytest.approx(betts()["final_latitude_deg"], abs=0.01)
     assert flight["altitude_ft"][-1] == pytest.approx(80_000, abs=50)
