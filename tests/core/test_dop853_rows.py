@@ -4,32 +4,22 @@ against independent values: the interior rows lie on scipy's DOP853 solution at 
 and the summary's maxima and trapezoidal heat load are as close to a converged flight's (rtol 1e-12, 0.2 s steps) as
 DOPRI5's one row a step is."""
 
-import math
-
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 from footprint.contracts import parse
 from footprint.core import trajectory
 from footprint.core.dynamics import (
     EV_ALTITUDE_FT,
-    EV_SIN_GAMMA,
     EV_SPEED_FPS,
-    EV_STEER_DEG,
     INTEGRATOR_DOP853,
     INTEGRATOR_DOPRI5,
-    M_BANK_ACTIVE,
-    M_PULLED_OUT,
-    M_REF_ANGLE,
     P_INTEGRATOR,
-    P_RE,
     evaluate,
-    rhs,
 )
 from footprint.core.integrate import DOP853_ROWS_PER_STEP, R_ALT, R_INTERIOR, R_T, R_V, integrate
-from footprint.core.trajectory import _set_left_pole, initial_mode, initial_state, pack_parameters
 from tests.authorities.report import example
+from tests.authorities.tight import inputs, tight
 
 TABLE2 = example("table2_lod22")
 HEATED = dict(TABLE2, heating={"model": "reference"})
@@ -43,12 +33,7 @@ SUMMARY_KEYS = (
 
 
 def _fly(case, method):
-    spec = parse("case", case).to_spec()
-    p = pack_parameters(spec)
-    p[P_INTEGRATOR] = method
-    s0 = initial_state(spec, p)
-    _set_left_pole(p, s0, spec.entry.heading_deg)
-    mode = initial_mode(spec, p, s0)
+    spec, p, s0, mode = inputs(case, method)
     start = mode.copy()
     rows, _, _ = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
     return spec, p, s0, start, mode, rows
@@ -69,32 +54,13 @@ def test_each_dop853_step_is_recorded_at_its_points_and_dopri5_at_its_ends():
 def test_the_interior_rows_lie_on_a_tight_solution():
     """scipy's DOP853 at rtol 1e-12 on dynamics.rhs, in two legs split at the pull-out, its dense output read at the
     interior rows' times: altitude and speed."""
-    spec, p, s0, mode, _, rows = _fly(TABLE2, INTEGRATOR_DOP853)
-    aero, ctrl, out = spec.vehicle.blob, spec.ctrl, np.empty(6)
-    v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
-    atol = np.array([p[P_RE]] * 3 + [v0] * 3) * 1e-12
-
-    def f(t, s):
-        rhs(t, s, p, aero, ctrl, mode, out)
-        return out.copy()
-
-    def pullout(t, s):
-        return evaluate(t, s, p, aero, ctrl, mode)[EV_SIN_GAMMA]
-
-    pullout.terminal, pullout.direction = True, 1.0
-    kw = dict(method="DOP853", rtol=1e-12, atol=atol, max_step=spec.max_step_s, dense_output=True)
-    leg1 = solve_ivp(f, (0.0, 5.0e4), s0, events=[pullout], **kw)
-    t1, s1 = leg1.t_events[0][0], leg1.y_events[0][0]
-    mode[M_PULLED_OUT] = mode[M_BANK_ACTIVE] = 1.0
-    mode[M_REF_ANGLE] = evaluate(t1, s1, p, aero, ctrl, mode)[EV_STEER_DEG]
-    leg2 = solve_ivp(f, (t1, rows[-1, R_T]), s1, **kw)
+    spec, p, _, _, _, rows = _fly(TABLE2, INTEGRATOR_DOP853)
+    reference = tight(inputs(TABLE2, INTEGRATOR_DOP853))
     worst_alt = worst_speed = 0.0
     for row in rows[rows[:, R_INTERIOR] == 1.0]:
         t = row[R_T]
-        leg, m = (leg1, mode.copy()) if t < t1 else (leg2, mode)
-        if t < t1:
-            m[M_PULLED_OUT] = m[M_BANK_ACTIVE] = 0.0
-        res = evaluate(t, leg.sol(t), p, aero, ctrl, m)
+        mode = reference.mode_before if t < reference.pullout_time_s else reference.mode_after
+        res = evaluate(t, reference.state(t), p, spec.vehicle.blob, spec.ctrl, mode)
         worst_alt = max(worst_alt, abs(row[R_ALT] - res[EV_ALTITUDE_FT]))
         worst_speed = max(worst_speed, abs(row[R_V] - res[EV_SPEED_FPS]))
     assert worst_alt < 1.0  # ft
