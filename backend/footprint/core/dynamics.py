@@ -76,14 +76,13 @@ P_CL_MULTIPLIER = 24  # times the aero table's CL
 P_CD_MULTIPLIER = 25  # times the aero table's CD
 P_DENSITY_DISPERSED = 26  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
 P_DENSITY_DELTA = 27  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
-P_INTEGRATOR = P_DENSITY_DELTA + DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below (0.0: DOPRI5)
+P_INTEGRATOR = P_DENSITY_DELTA + DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below
 P_SIZE = P_INTEGRATOR + 1
-INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4), the default
-# Dormand-Prince 8(5,3): fewer right-hand sides for the steps (Table 2 case: 2,335 against 3,033) and a closer landing;
-# each step recorded at integrate.DOP853_ROWS_PER_STEP points, so the maxima and the heat load read on the rows
-# (trajectory._summary) keep DOPRI5's density. Opt-in (issue 29 item 4): the interior rows' evaluations take back
-# most of its time (Table 2 summary path 0.89x DOPRI5's, 0.74x without them); 29 of its 41 rejected steps cross kinks
+INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4)
+# Dormand-Prince 8(5,3), the default (issue 29 item 4): Table 2 in 147 steps and 2,613 right-hand sides against DOPRI5's
+# 454 and 3,026, a closer landing; each step recorded at integrate.DOP853_ROWS_PER_STEP points
 INTEGRATOR_DOP853 = 1.0
+INTEGRATOR_IDS = {"dopri5": INTEGRATOR_DOPRI5, "dop853": INTEGRATOR_DOP853}  # contracts' integrator.method
 
 # --- mode layout ---
 M_BANK_ACTIVE = 0

@@ -1,11 +1,12 @@
 """Adaptive explicit Runge-Kutta integration of the equations of motion with located events.
 
-Two embedded pairs, chosen per flight by p[P_INTEGRATOR]:
-- DOPRI5 (the default): Dormand-Prince 5(4) (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., Table 5.2) with
-  the DOPRI5 code's continuous extension of order 4, 6 right-hand sides a step;
-- DOP853 (dynamics.INTEGRATOR_DOP853): Dormand & Prince's 8(5,3) pair with its continuous extension of order 7
-  (ibid., Sec. II.10, and Hairer's dop853.f), 12 right-hand sides a step; a rejected step across a kink of the
-  right-hand side is retried up to the kink (_kink_fraction); each step recorded at DOP853_ROWS_PER_STEP points.
+Two embedded pairs, chosen per flight by p[P_INTEGRATOR] (a case's integrator.method):
+- DOP853 (the default): Dormand & Prince's 8(5,3) pair with its continuous extension of order 7 (Hairer, Norsett &
+  Wanner, Solving ODEs I, 2nd ed., Sec. II.10, and Hairer's dop853.f), 12 right-hand sides a step; a rejected step
+  across a kink of the right-hand side is retried up to the kink (_kink_fraction); each step recorded at
+  DOP853_ROWS_PER_STEP points;
+- DOPRI5 (dynamics.INTEGRATOR_DOPRI5): Dormand-Prince 5(4) (ibid., Table 5.2) with the DOPRI5 code's continuous
+  extension of order 4, 6 right-hand sides a step.
 The step control is the usual error-per-step rule with the error scaled by rtol times a characteristic size of each
 component (the planet radius for positions, the entry speed for velocities), so it is not fooled by components
 that cross zero.
@@ -351,8 +352,9 @@ DOPRI5_CAPPED_STEP = 2.0
 KINK_MAX_FRACTION = 0.98
 KINK_MIN_STEP_S = 1e-3
 # A DOP853 step is about three DOPRI5 steps long: it is recorded at DOP853_ROWS_PER_STEP evenly spaced points (its end
-# and the points inside), so that the rows keep the density DOPRI5's had, and the maxima and the trapezoidal heat load
-# that trajectory._summary reads off them stay as close to the converged values. An interior row of an accepted step is
+# and the points inside), so that the histories keep the density DOPRI5's had, and trajectory._summary reads the maxima
+# (parabola through the largest row) and the heat load (Simpson's 3/8 rule a step) off them within ~1e-5 of a converged
+# flight's (core.sampled). An interior row of an accepted step is
 # the quintic Hermite interpolant through the step's ends (state and acceleration at both, no right-hand side more:
 # error of order h^6 in position, h^5 in velocity, far below what the rows are read for); of a step cut at an event,
 # the continuous extension of order 7 that located it. Each interior row costs one evaluate (its alpha, q, Mach...).

@@ -41,6 +41,7 @@ from footprint.core.method_settings import MethodSettings
 from footprint.core.outline import outline
 from footprint.core.plane import inside_points
 from footprint.core.reach import branches, margins
+from footprint.core.sampled import parabola_peak
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, great_circle_frame, latlon_from_ranges, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate_summary
@@ -387,16 +388,6 @@ def flight_time_at(ring: Ring, downrange_nmi: float, crossrange_nmi: float) -> f
     return float(t[nearest])
 
 
-def _peak(times: NDArray[np.float64], m: NDArray[np.float64], i: int) -> float:
-    """The time of the largest margin near grid index i: the vertex of the parabola through i - 1, i, i + 1."""
-    if 0 < i < len(m) - 1:
-        a, b, c = m[i - 1], m[i], m[i + 1]
-        curve = a - 2.0 * b + c
-        if curve < 0.0:
-            return float(times[i] + 0.5 * (a - c) / curve * (times[1] - times[0]))
-    return float(times[i])
-
-
 def _crossing(times: NDArray[np.float64], m: NDArray[np.float64], i: int, j: int) -> float:
     """Where the margin crosses zero between grid indices i and j (linear), or times[j] if it does not."""
     if m[i] < 0.0 <= m[j] or m[j] < 0.0 <= m[i]:
@@ -458,7 +449,7 @@ def revolution_opportunities(
             )
         found = _opportunity(
             p, revolution, coast, deorbit, table.rings[which[best]], flier, sites, settings, s,
-            _peak(times, m[:, s], best), float(m[best, s]), window,
+            parabola_peak(times, m[:, s], best)[0], float(m[best, s]), window,
         )  # fmt: skip
         if found is not None:
             out.append(found)

@@ -22,6 +22,7 @@ from footprint.core.aero import Vehicle
 from footprint.core.atmosphere import DENSITY_NODE_COUNT, MODEL_IDS, density_factor_table, isothermal_temperature_R
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
 from footprint.core.dynamics import (
+    INTEGRATOR_IDS,
     M_BANK_ACTIVE,
     M_BANK_DONE,
     M_HOLD_ALT,
@@ -39,6 +40,7 @@ from footprint.core.dynamics import (
     P_DENSITY_DISPERSED,
     P_G0,
     P_H,
+    P_INTEGRATOR,
     P_J,
     P_K,
     P_MAX_STEP,
@@ -77,6 +79,7 @@ from footprint.core.integrate import (
     R_BANK,
     R_CD,
     R_CL,
+    R_INTERIOR,
     R_MACH,
     R_Q,
     R_SIN_GAMMA,
@@ -88,6 +91,7 @@ from footprint.core.integrate import (
     STOP_REASONS,
     integrate,
 )
+from footprint.core.sampled import peak, step_integral
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, ranges_rad
 
 
@@ -173,6 +177,7 @@ class FlightSpec:
     stop: Stop = field(default_factory=Stop)
     rtol: float = 1e-9
     max_step_s: float = 50.0
+    integrator_method: str = "dop853"  # a key of dynamics.INTEGRATOR_IDS
     max_steps: int = 200_000
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
     dispersion: Dispersion = field(default_factory=Dispersion)
@@ -214,6 +219,7 @@ def pack_parameters(spec: FlightSpec) -> NDArray[np.float64]:
     p[P_STOP_TIME] = 50_000.0 if st.time_s is None else st.time_s
     p[P_SKIP_ALT] = st.skip_altitude_ft
     p[P_RTOL], p[P_MAX_STEP] = spec.rtol, spec.max_step_s
+    p[P_INTEGRATOR] = INTEGRATOR_IDS[spec.integrator_method]
     energy = st.energy_ft if spec.guidance is None else spec.guidance.terminal_energy_ft
     p[P_STOP_ENERGY] = np.nan if energy is None else energy
     d = spec.dispersion
@@ -484,12 +490,13 @@ def _summary(
     """The summary of a flight from its rows and its track (whose last entry is the final row and entry
     `at_pullout` the pull-out row)."""
     rows, mode = f.rows, f.mode
+    t = rows[:, R_T]
     max_heat_rate = max_temperature = heat_load = None
     if heating is not None:
         heat_rate, temperature = heating
-        max_heat_rate = float(np.max(heat_rate))
-        heat_load = float(np.trapezoid(heat_rate, rows[:, R_T]))  # integrated heat load, trapezoidal rule
-        max_temperature = float(np.max(temperature)) if np.all(np.isfinite(temperature)) else None
+        max_heat_rate = peak(t, heat_rate)
+        heat_load = step_integral(t, heat_rate, rows[:, R_INTERIOR] == 0.0)  # integrated heat load
+        max_temperature = peak(t, temperature) if np.all(np.isfinite(temperature)) else None
     pulled_out = mode[M_PULLED_OUT] != 0.0
     i_po = _pullout_row(f)  # an event row
     summary: dict[str, Any] = {
@@ -507,11 +514,10 @@ def _summary(
         "pullout_downrange_nmi": float(track.downrange_nmi[at_pullout]) if pulled_out else None,
         "pullout_velocity_fps": float(rows[i_po, R_V]) if pulled_out else None,
         "turn_deg": float(mode[M_TURN_DONE_DEG]) if mode[M_BANK_DONE] != 0.0 else None,  # staged, constant altitude
-        "max_dynamic_pressure_psf": float(rows[:, R_Q].max()),
+        "max_dynamic_pressure_psf": peak(t, rows[:, R_Q]),
         # load factor sqrt(L^2 + D^2) / W = q sqrt(CL^2 + CD^2) / (W/S)
-        "max_load_factor": float(
-            np.max(rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD])) / spec.vehicle.wing_loading_psf
-        ),
+        "max_load_factor": peak(t, rows[:, R_Q] * np.hypot(rows[:, R_CL], rows[:, R_CD]))
+        / spec.vehicle.wing_loading_psf,
         "final_energy_ft": float(energy_height_ft(rows[-1, R_ALT], rows[-1, R_V], c.G0_FT_S2)),
         "heat_load_btu_ft2": heat_load,
         "max_heat_rate_btu_ft2_s": max_heat_rate,
