@@ -1,4 +1,5 @@
-"""One trajectory: Footprint's compiled DOPRI5 against scipy's solve_ivp on the same right-hand side.
+"""One trajectory: Footprint's compiled integrator (DOP853, the default) against scipy's solve_ivp on the same
+right-hand side, and against our DOPRI5 in the same process.
 
 The case is the report's Table 2 entry with the lod-2.2 vehicle, ARDC 1959, rotating oblate earth,
 single-parameter bank (K = .8, 85 deg limit) from pull-out, stop at 50,000 ft. The baseline is
@@ -7,7 +8,8 @@ stop altitude, as anyone would write it by hand, on the same right-hand side (dy
 - as plain Python (the same source, loaded a second time with FOOTPRINT_NO_JIT=1): the plain baseline;
 - compiled, called from Python: the ratio then measures only the integrator and its events.
 
-Also timed: a first `footprint fly` in a new process with numba's on-disk cache warm.
+Also timed: DOP853 against DOPRI5 on the summary path, the full flight and the integrator alone (interleaved rounds);
+a first `footprint fly` in a new process with numba's on-disk cache warm.
 
     python3 bench/bench_trajectory.py            # prints the figures, writes bench/results/trajectory.json
 """
@@ -28,19 +30,23 @@ from scipy.integrate import solve_ivp
 
 from footprint.contracts import parse
 from footprint.core.dynamics import (
-    INTEGRATOR_DOP853,
-    INTEGRATOR_DOPRI5,
     M_BANK_ACTIVE,
     M_PULLED_OUT,
     M_REF_ANGLE,
-    P_INTEGRATOR,
     P_RE,
     P_STOP_ALT,
     evaluate,
     rhs,
 )
 from footprint.core.integrate import integrate
-from footprint.core.trajectory import _set_left_pole, initial_mode, initial_state, pack_parameters, simulate
+from footprint.core.trajectory import (
+    _set_left_pole,
+    initial_mode,
+    initial_state,
+    pack_parameters,
+    simulate,
+    simulate_summary,
+)
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "examples" / "table2_lod22.json"
@@ -96,30 +102,42 @@ def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
     return leg2.t[-1], leg1.nfev + leg2.nfev
 
 
-def integrator_methods(spec, rounds=15, calls=40):
-    """DOP853 against DOPRI5 (the default) on the packed Table 2 inputs, alternating in rounds (same load):
-    median ms per flight, steps and right-hand sides of each."""
-    p = pack_parameters(spec)
-    s0 = initial_state(spec, p)
-    _set_left_pole(p, s0, spec.entry.heading_deg)
-    mode = initial_mode(spec, p, s0)
+def integrator_methods(case, rounds=15, calls=40):
+    """DOP853 (the default) against DOPRI5 on the Table 2 case, alternating in rounds (same load): median ms of the
+    summary path (simulate_summary: issue 29's 0.45 ms), of the full flight with its histories (simulate) and of the
+    integrator alone; steps and right-hand sides of each."""
     out = {}
-    for name, method in (("dopri5", INTEGRATOR_DOPRI5), ("dop853", INTEGRATOR_DOP853)):
-        q = p.copy()
-        q[P_INTEGRATOR] = method
-        rows, _, n_rhs = integrate(s0, q, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
-        out[name] = {"q": q, "steps": rows.shape[0] - 1, "rhs_evaluations": int(n_rhs), "ms": []}
+    for method in ("dop853", "dopri5"):
+        spec = parse("case", case | {"integrator": {"method": method}}).to_spec()
+        p = pack_parameters(spec)
+        s0 = initial_state(spec, p)
+        _set_left_pole(p, s0, spec.entry.heading_deg)
+        mode = initial_mode(spec, p, s0)
+        summary = simulate_summary(spec)
+
+        def alone(spec=spec, p=p, s0=s0, mode=mode):
+            integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
+
+        paths = {"summary_path": lambda spec=spec: simulate_summary(spec), "simulate": lambda spec=spec: simulate(spec)}
+        paths["integrator_alone"] = alone
+        out[method] = {"summary": summary, "paths": paths, "ms": {name: [] for name in paths}}
     for _ in range(rounds):
         for entry in out.values():
-            t0 = time.perf_counter()
-            for _ in range(calls):
-                integrate(s0, entry["q"], spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
-            entry["ms"].append(1e3 * (time.perf_counter() - t0) / calls)
+            for name, fn in entry["paths"].items():
+                t0 = time.perf_counter()
+                for _ in range(calls):
+                    fn()
+                entry["ms"][name].append(1e3 * (time.perf_counter() - t0) / calls)
     result = {
-        name: {"ms": round(statistics.median(e["ms"]), 3), "steps": e["steps"], "rhs": e["rhs_evaluations"]}
-        for name, e in out.items()
+        method: {
+            **{f"{name}_ms": round(statistics.median(ms), 3) for name, ms in e["ms"].items()},
+            "steps": e["summary"]["steps"],
+            "rhs": e["summary"]["rhs_evaluations"],
+        }
+        for method, e in out.items()
     }
-    result["dop853_over_dopri5"] = round(result["dop853"]["ms"] / result["dopri5"]["ms"], 3)
+    for name in ("summary_path", "simulate", "integrator_alone"):
+        result[f"{name}_dop853_over_dopri5"] = round(result["dop853"][f"{name}_ms"] / result["dopri5"][f"{name}_ms"], 3)
     return result
 
 
@@ -155,7 +173,7 @@ def main():
             "scipy_plain": round(float(t_plain), 3),
         },
         "first_cli_fly_new_process_s": round(cli_s, 2),
-        "integrator_alone_dop853_vs_dopri5": integrator_methods(spec),
+        "dop853_vs_dopri5": integrator_methods(json.loads(CASE.read_text())),
         "load_average_1min": round(os.getloadavg()[0], 2),
     }
     save_result("trajectory", result)

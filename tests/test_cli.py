@@ -75,6 +75,7 @@ def test_fly_prints_the_summary_and_writes_the_history(tmp_path):
         (with_("entry", latitude_deg=95), "entry.latitude_deg", "-90 to 90"),
         (with_("bank", k="fast"), "bank.k", ""),
         (with_("stop", altitude_ft=-5), "stop.altitude_ft", "allowed range"),
+        ({**TABLE2, "integrator": {"method": "rk4"}}, "integrator.method", "dop853"),
         ({**TABLE2, "planet": {"atmosphere": {"model": "mars"}}}, "planet.atmosphere.model", "ardc1959"),
         ({k: v for k, v in TABLE2.items() if k != "entry"}, "entry", "required"),
         ('{"vehicle": {"builtin": "lod-2.2"},', "case.json", "not valid JSON"),

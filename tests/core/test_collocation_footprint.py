@@ -127,15 +127,15 @@ def test_a_temperature_limit_below_the_entry_floor_is_one_line_and_exit_1(tmp_pa
 
 def test_progress_rises_solve_by_solve_and_a_stop_ends_the_footprint(shuttle):
     """Reported on every IPOPT iteration of every solve: the fractions rise through [0, 1], each note names its
-    solve of the planned number (3 extremes, the way to the nearest point, per half the down-ranges; the right
-    half's maximum and nearest), and a listener that asks to stop ends the footprint with that answer."""
+    solve of the planned number (3 extremes, the farthest from two starts, the ways to the farthest and the nearest
+    point, per half the down-ranges; the right half's maximum and nearest), and a listener that asks to stop ends the footprint with that answer."""
     from footprint.core.errors import NoOptimum
 
     fractions = [f for f, _ in PROGRESS]
     assert fractions == sorted(fractions) and fractions[0] >= 0.0 and fractions[-1] <= 1.0
-    planned = 4 + 3 + 2 + 3
+    planned = 6 + 3 + 2 + 3
     solves = {int(note.split()[1]) for _, note in PROGRESS}
     assert solves == set(range(1, planned + 1)) and all(f"of {planned}:" in note for _, note in PROGRESS)
     assert fractions[-1] > (planned - 1) / planned
-    with pytest.raises(NoOptimum, match="stopped at solve 2 of 12"):
+    with pytest.raises(NoOptimum, match="stopped at solve 2 of 14"):
         fly(SHUTTLE, lambda fraction, note: note.startswith("solve 2 "))

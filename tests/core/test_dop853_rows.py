@@ -1,8 +1,8 @@
 """DOP853 (p[P_INTEGRATOR] = INTEGRATOR_DOP853) records each step at integrate.DOP853_ROWS_PER_STEP points: its end
 and interior rows from the step's quintic Hermite interpolant (or, cut at an event, its continuous extension). Checked
 against independent values: the interior rows lie on scipy's DOP853 solution at rtol 1e-12 (its own dense output),
-and the summary's maxima and trapezoidal heat load are as close to a converged flight's (rtol 1e-12, 0.2 s steps) as
-DOPRI5's one row a step is."""
+and the summary's maxima and heat load read off the rows (core.sampled) are within 3e-5 of a converged flight's
+(rtol 1e-12, 0.2 s steps)."""
 
 import numpy as np
 import pytest
@@ -14,7 +14,6 @@ from footprint.core.dynamics import (
     EV_SPEED_FPS,
     INTEGRATOR_DOP853,
     INTEGRATOR_DOPRI5,
-    P_INTEGRATOR,
     evaluate,
 )
 from footprint.core.integrate import DOP853_ROWS_PER_STEP, R_ALT, R_INTERIOR, R_T, R_V, integrate
@@ -69,33 +68,31 @@ def test_the_interior_rows_lie_on_a_tight_solution():
 
 @pytest.fixture(scope="module")
 def summaries():
-    """The heated Table 2 case's summary flown by DOPRI5 and by DOP853 at the case's rtol, and converged (DOP853 at
-    rtol 1e-12 with 0.2 s steps: ~50,000 rows)."""
-    out = {}
-    with pytest.MonkeyPatch.context() as mp:
-        for name, method, tight in (
-            ("dopri5", INTEGRATOR_DOPRI5, False),
-            ("dop853", INTEGRATOR_DOP853, False),
-            ("converged", INTEGRATOR_DOP853, True),
-        ):
-            packed = trajectory.pack_parameters
+    """The heated Table 2 case's summary flown by each method at the case's rtol, and converged (DOP853 at rtol 1e-12
+    with 0.2 s steps: ~50,000 rows, its maxima and trapezoidal heat load within ~1e-7 of the limit)."""
+    methods = {
+        "dopri5": {"method": "dopri5"},
+        "dop853": {"method": "dop853"},
+        "converged": {"method": "dop853", "rtol": 1e-12, "max_step_s": 0.2},
+    }
+    return {
+        name: trajectory.simulate(parse("case", dict(HEATED, integrator=m)).to_spec()).summary
+        for name, m in methods.items()
+    }
 
-            def pack(spec, method=method, packed=packed):
-                p = packed(spec)
-                p[P_INTEGRATOR] = method
-                return p
 
-            mp.setattr(trajectory, "pack_parameters", pack)
-            spec = parse("case", HEATED).to_spec()
-            if tight:
-                spec = trajectory.FlightSpec(**{**spec.__dict__, "rtol": 1e-12, "max_step_s": 0.2})
-            out[name] = trajectory.simulate(spec).summary
-            mp.undo()
-    return out
+MAXIMA_TOL = (
+    3e-5  # relative; sampled on the rows they were short by up to 9.5e-4 (DOP853's max q) and 1.8e-4 (DOPRI5's load)
+)
 
 
 @pytest.mark.parametrize("key", SUMMARY_KEYS)
-def test_dop853_summary_is_as_close_to_the_converged_one_as_dopri5s(summaries, key):
+def test_the_summary_is_within_its_tolerance_of_the_converged_one(summaries, key):
+    """core.sampled: each maximum at the parabola's vertex about the largest row, the heat load by Simpson's 3/8 rule
+    over DOP853's steps (the trapezoidal rule over DOPRI5's rows: 2.3e-4 here)."""
     converged = summaries["converged"][key]
     error = {name: abs(summaries[name][key] / converged - 1.0) for name in ("dopri5", "dop853")}
-    assert error["dop853"] < max(2.0 * error["dopri5"], 1e-3)
+    if key == "heat_load_btu_ft2":
+        assert error["dop853"] < MAXIMA_TOL and error["dopri5"] < 5e-4, error
+    else:
+        assert max(error.values()) < MAXIMA_TOL, error

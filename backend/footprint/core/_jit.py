@@ -17,11 +17,12 @@ from pathlib import Path
 from typing import Any, TypeVar, overload
 
 NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
-# LLVM fast-math flags that keep IEEE NaN and infinity semantics (events use NaN for "inactive"):
-# contraction into fused multiply-add, reciprocal approximation, no signed zeros. Not "reassoc": how LLVM
-# reassociates depends on what it inlined, so a function compiled afresh and its cached copy rounded
-# differently, and an optimization run on a cold cache took another path than the same run on a warm one.
-FASTMATH = {"contract", "arcp", "nsz"}
+# No fast-math: IEEE arithmetic, so that a kernel rounds the same wherever it was compiled. LLVM applies "contract"
+# (fused multiply-add) and "arcp" (reciprocals) to what it sees after inlining, and a caller compiled in a process that
+# loaded its callees from the disk cache inlines nothing of them: with either flag, a cold cache and a warm one gave
+# different bits (a dispersion's samples flown in this process and on workers that loaded the cache, 9 of 240 apart
+# by ~1e-4 nmi; "reassoc" did the same to an optimization). Where a reciprocal pays, the source computes it once.
+FASTMATH = False
 # njit(allocates=False): a kernel that creates no array (it reads and writes the arrays it is given and returns
 # numbers) is compiled without numba's reference-counting runtime (NRT). With it, every array argument costs an
 # atomic increment and decrement at each call: in the integrator's right-hand side (dynamics.evaluate and what it

@@ -4,7 +4,9 @@ collocation at stepped down-ranges.
 Five optima open the boundary: the maximum cross-range of each half with the down-range free, the maximum
 down-range, and each half's minimum down-range (the support function in the directions 0 and 180 deg: on the
 L/D 1.89 the nearest point is off the axis, 582 nmi at 292 nmi cross-range where the axis' own nearest is
-976 nmi). Between the extremes, down-ranges on a cosine grid (closer where the boundary turns, at both ends)
+976 nmi). The maximum down-range is solved from two starts, the maximum cross-range and the support direction
+FAR_VIA_DEG on the way from it, and the farther kept (its local optima lie hundreds of miles apart). Between the
+extremes, down-ranges on a cosine grid (closer where the boundary turns, at both ends)
 are held as a terminal equality, and each half's cross-range is maximized (the right half's minimized), every
 solve warm-started from its neighbour's primal-dual point: IPOPT needs 8-60 iterations a point where a cold
 start needs 100-250.
@@ -42,6 +44,7 @@ from footprint.core.trajectory import FlightSpec, Trajectory, simulate
 
 FREE_NMI = 1e6  # the lower end of a free down-range's or cross-range's band
 OBJECTIVE = (("downrange_nmi", 0.0), ("crossrange_nmi", 1.0))  # weighted by each solve
+FAR_VIA_DEG = 20.0  # the second start of the maximum down-range: the support direction 20 deg off the axis
 _Solved = tuple[col.Result, Trajectory]  # a solve that ended optimal, and the re-flight of its controls
 
 
@@ -76,13 +79,20 @@ def collocation_footprint(
     walk = _Walk(
         problem,
         col.SMOOTHING_STAGES if s.fine else col.SMOOTHING_STAGES[:1],
-        total=4 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
+        total=6 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
         on_progress=on_progress,
     )
     left = walk.first(col.guess_from_trajectory(spec, simulate(spec)), (0.0, 1.0), "the maximum cross-range")
-    far = walk.step(left, (1.0, 0.0), "axis")
+    # The maximum down-range has local optima (Betts' shuttle, 3 g: 11,274, 11,317 and 12,764 nmi) and a step
+    # straight from the maximum cross-range took the second or the third by the round-off of its start; by way of
+    # the support direction FAR_VIA_DEG it took the third from either. The farther of the two is kept.
+    via = walk.step(left, _direction(FAR_VIA_DEG), "axis", point=False)
+    far = _farther(
+        walk.step(left, (1.0, 0.0), "axis", point=False),
+        None if via is None else walk.step(via, (1.0, 0.0), "axis", point=False),
+    )
     # the minimum down-range by way of the support direction 135 deg: 35-45 + 42-59 IPOPT iterations, 300 in
-    # one step (the maximum down-range the same way ended infeasible once: it stays one step of ~120)
+    # one step
     between = walk.step(left, _direction(135.0), "left", crossrange_nmi=(0.0, math.inf), point=False)
     near = walk.step(between or left, (-1.0, 0.0), "left", crossrange_nmi=(0.0, math.inf))
     if far is None or near is None:
@@ -206,6 +216,13 @@ def _mirrored_guess(problem: col.Problem, result: col.Result) -> col.Guess:
     """The right half's first guess: the left optimum's controls with the bank reversed, flown."""
     controls = dict(result.controls, bank_deg=-np.asarray(result.controls["bank_deg"]))
     return col.guess_from_trajectory(problem.base, simulate(col.control_tables_spec(problem.base, controls)))
+
+
+def _farther(a: _Solved | None, b: _Solved | None) -> _Solved | None:
+    """The solve whose re-flight lands farther down-range (either, if one ended without an optimum)."""
+    if a is None or b is None:
+        return a or b
+    return b if b[1].summary["downrange_nmi"] > a[1].summary["downrange_nmi"] else a
 
 
 def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> FootprintPoint:

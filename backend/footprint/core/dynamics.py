@@ -224,7 +224,8 @@ def evaluate(
     ln = math.sqrt(lx * lx + ly * ly + lz * lz)
     if ln < 1e-12:  # vertical flight: any horizontal direction will do
         lx, ly, lz, ln = 0.0, 0.0, 1.0, 1.0
-    lx, ly, lz = lx / ln, ly / ln, lz / ln
+    iln = 1.0 / ln
+    lx, ly, lz = lx * iln, ly * iln, lz * iln
     upx, upy, upz = wy * lz - wz * ly, wz * lx - wx * lz, wx * ly - wy * lx
     lift_per_cl = q * p[P_G0] / p[P_WS]  # L/m = CL q S / m = CL q g0 / (W/S)
     vert_needed = 0.0

@@ -38,14 +38,13 @@ def gravity_ecef(
     x_ft: float, y_ft: float, z_ft: float, mu_ft3_s2: float, re_ft: float, j: float, h: float, k: float, oblate: bool
 ) -> tuple[float, float, float]:
     """Gravitational acceleration (ft/s^2) at an earth-fixed position; z along the north pole."""
-    r2 = x_ft * x_ft + y_ft * y_ft + z_ft * z_ft
-    r = math.sqrt(r2)
-    g0 = mu_ft3_s2 / r2
+    ir = 1.0 / math.sqrt(x_ft * x_ft + y_ft * y_ft + z_ft * z_ft)  # one division: the rest multiply by it
+    g0 = mu_ft3_s2 * ir * ir
+    ex, ey, ez = x_ft * ir, y_ft * ir, z_ft * ir
     if not oblate:
-        return -g0 * x_ft / r, -g0 * y_ft / r, -g0 * z_ft / r
-    s = z_ft / r  # sine of the geocentric latitude phi_L
-    g_down, g_north_over_cos = zonal_down_north(g0, s, re_ft / r, j, h, k)
-    ex, ey, ez = x_ft / r, y_ft / r, z_ft / r
+        return -g0 * ex, -g0 * ey, -g0 * ez
+    s = ez  # sine of the geocentric latitude phi_L
+    g_down, g_north_over_cos = zonal_down_north(g0, s, re_ft * ir, j, h, k)
     gx = -g_down * ex + g_north_over_cos * (-s * ex)
     gy = -g_down * ey + g_north_over_cos * (-s * ey)
     gz = -g_down * ez + g_north_over_cos * (1.0 - s * ez)
