@@ -55,6 +55,18 @@ def test_staged_bank_holds_until_the_heading_has_turned_then_rolls_out():
     assert np.all(h["bank_deg"][i:] == 0.0)
 
 
+@pytest.mark.parametrize("method", ["dop853", "dopri5"])
+def test_a_turn_of_179_deg_rolls_out_at_179_deg_whatever_the_steps(method):
+    """The turn is counted step by step, so a step from under 179 to past 181 deg does not carry it round: the wrapped
+    difference from the turn's start exceeds 179 deg only between the two, and DOP853's 5 deg steps of heading
+    flew on to 351 deg (App. C data set 2's widest turn at gamma -20 deg: 72 against 473 nmi of cross-range)."""
+    s, h = fly({"law": "staged", "bank_deg": 70, "turn_deg": 179}, integrator={"method": method, "max_step_s": 50})
+    assert s["turn_deg"] == pytest.approx(179.0, abs=1e-6)
+    turned = (90.0 - h["heading_deg"]) % 360.0
+    i = np.flatnonzero(after_pullout(s, h) & (h["bank_deg"] == 0.0))[0]  # the roll-out
+    assert turned[i] == pytest.approx(179.0, abs=0.01) and np.all(turned[:i] < 179.0 + 1e-6)
+
+
 def test_two_parameter_bank_is_linear_in_heading_and_limited():
     s, h = fly({"law": "two_parameter", "bank_gain": 1.0, "sigma_f_deg": 30, "limit_deg": 75})
     m = after_pullout(s, h)

@@ -89,12 +89,13 @@ M_BANK_ACTIVE = 0
 M_BANK_DONE = 1
 M_LATCHED = 2  # level-flight / gamma-hold alpha has reached (L/D)max: fly (L/D)max from here
 M_PULLED_OUT = 3
-M_REF_ANGLE = 4  # steering angle (deg) when the bank law took over
+M_REF_ANGLE = 4  # steering angle (deg) the turn so far is counted from: the bank law's start, then each step's
 M_HOLD_ALT = 5  # ft, altitude at pull-out (held by the constant-altitude law)
 M_PULLOUT_T = 6
 M_PULLOUT_ALT = 7
 M_TURN_DONE_DEG = 8  # heading change (steering angle) when a staged / constant-altitude turn ended
-M_SIZE = 9
+M_TURNED_DEG = 9  # the steering angle's change since the bank law's start, to M_REF_ANGLE, unwrapped step by step
+M_SIZE = 10
 
 # --- evaluate's outputs (a tuple: numba returns it without allocating) ---
 EV_AX, EV_AY, EV_AZ = 0, 1, 2  # ft/s^2, d/dt of the earth-relative velocity in the earth-fixed frame

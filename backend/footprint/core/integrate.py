@@ -61,6 +61,7 @@ from footprint.core.dynamics import (
     M_PULLOUT_T,
     M_REF_ANGLE,
     M_TURN_DONE_DEG,
+    M_TURNED_DEG,
     P_ATM,
     P_DENSITY_DELTA,
     P_DENSITY_DISPERSED,
@@ -419,7 +420,7 @@ def _event_values(
         and mode[M_BANK_ACTIVE] != 0.0
         and mode[M_BANK_DONE] == 0.0
     ):
-        g[E_TURN_DONE] = abs(wrap_deg(steer - mode[M_REF_ANGLE])) - ctrl[C_TURN]
+        g[E_TURN_DONE] = abs(_turned_deg(steer, mode)) - ctrl[C_TURN]
         if law == BANK_CONSTANT_ALTITUDE:
             # App. C data set 2: the turn also ends when the wings come level (no lift left to turn with)
             g[E_TURN_DONE] = max(g[E_TURN_DONE], need_ratio - 1.0)
@@ -436,6 +437,22 @@ def _event_values(
 
 
 @njit(allocates=False)
+def _turned_deg(steer: float, mode: NDArray[np.float64]) -> float:
+    """The steering angle's change since the bank law's start, unwrapped: the turn counted to the last step's start
+    and the change since (less than 180 deg within a step). A turn measured by the wrapped difference from its start
+    alone passed 179 deg unseen when a step went from under 179 to past 181 deg (|wrap| only exceeds 179 between)."""
+    return mode[M_TURNED_DEG] + wrap_deg(steer - mode[M_REF_ANGLE])
+
+
+@njit(allocates=False)
+def _advance_turn(steer: float, mode: NDArray[np.float64]) -> None:
+    """Count the turn to a step's end (or an event): its reference becomes the steering angle there."""
+    if mode[M_BANK_ACTIVE] != 0.0 and mode[M_BANK_DONE] == 0.0:
+        mode[M_TURNED_DEG] = _turned_deg(steer, mode)
+        mode[M_REF_ANGLE] = steer
+
+
+@njit(allocates=False)
 def _apply_event(
     event: int, t: float, res: tuple[float, ...], ctrl: NDArray[np.float64], mode: NDArray[np.float64]
 ) -> int:
@@ -447,13 +464,13 @@ def _apply_event(
         mode[M_HOLD_ALT] = res[EV_ALTITUDE_FT]
         if mode[M_BANK_ACTIVE] == 0.0 and int(ctrl[C_START]) == START_PULLOUT:
             mode[M_BANK_ACTIVE] = 1.0
-            mode[M_REF_ANGLE] = res[EV_STEER_DEG]
+            mode[M_REF_ANGLE], mode[M_TURNED_DEG] = res[EV_STEER_DEG], 0.0
     elif event == E_BANK_START:
         mode[M_BANK_ACTIVE] = 1.0
-        mode[M_REF_ANGLE] = res[EV_STEER_DEG]
+        mode[M_REF_ANGLE], mode[M_TURNED_DEG] = res[EV_STEER_DEG], 0.0
     elif event == E_TURN_DONE:
         mode[M_BANK_DONE] = 1.0
-        mode[M_TURN_DONE_DEG] = abs(wrap_deg(res[EV_STEER_DEG] - mode[M_REF_ANGLE]))
+        mode[M_TURN_DONE_DEG] = abs(_turned_deg(res[EV_STEER_DEG], mode))
     elif event == E_ALPHA_LATCH:
         mode[M_LATCHED] = 1.0
     elif event == E_STOP_ALTITUDE:
@@ -948,6 +965,7 @@ def integrate(
                 n_rhs += DOP853_ROWS_PER_STEP - 1
             _dense(theta_first, s, f, n_dense, ye)
             rese = evaluate(te, ye, p, aero, ctrl, mode)
+            _advance_turn(rese[EV_STEER_DEG], mode)
             stop = _apply_event(first, te, rese, ctrl, mode)
             for j in range(6):
                 s[j] = ye[j]
@@ -972,6 +990,7 @@ def integrate(
         for j in range(N_EVENTS):
             g0[j] = g1[j]
         rows = _record(rows, n, t, s, res1)
+        _advance_turn(res1[EV_STEER_DEG], mode)
         res0 = res1
         n += 1
         if use853:  # dop853.f: h 0.9 err^(-1/8), by at most 6 times, and not up just after a rejection
