@@ -1,5 +1,5 @@
-"""One trajectory: Footprint's compiled integrator (DOP853, the default) against scipy's solve_ivp on the same
-right-hand side, and against our DOPRI5 in the same process.
+"""One trajectory: Footprint's compiled integrator (DOPRI5, the default) against scipy's solve_ivp on the same
+right-hand side, and our DOP853 against our DOPRI5 in the same process.
 
 The case is the report's Table 2 entry with the lod-2.2 vehicle, ARDC 1959, rotating oblate earth,
 single-parameter bank (K = .8, 85 deg limit) from pull-out, stop at 50,000 ft. The baseline is
@@ -8,7 +8,8 @@ stop altitude, as anyone would write it by hand, on the same right-hand side (dy
 - as plain Python (the same source, loaded a second time with FOOTPRINT_NO_JIT=1): the plain baseline;
 - compiled, called from Python: the ratio then measures only the integrator and its events.
 
-Also timed: DOP853 against DOPRI5 on the summary path, the full flight and the integrator alone (interleaved rounds);
+Also timed: DOP853 against DOPRI5 on the summary path, the full flight and the integrator alone (interleaved rounds),
+on the Table 2 case, on it with a dispersed density profile and aero (a Monte Carlo sample) and on the L/D 1.89 case;
 a first `footprint fly` in a new process with numba's on-disk cache warm.
 
     python3 bench/bench_trajectory.py            # prints the figures, writes bench/results/trajectory.json
@@ -22,6 +23,7 @@ import statistics
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +31,7 @@ from _timing import median_ms, save_result  # noqa: E402
 from scipy.integrate import solve_ivp
 
 from footprint.contracts import parse
+from footprint.core.atmosphere import DENSITY_NODE_COUNT
 from footprint.core.dynamics import (
     M_BANK_ACTIVE,
     M_PULLED_OUT,
@@ -40,6 +43,7 @@ from footprint.core.dynamics import (
 )
 from footprint.core.integrate import integrate
 from footprint.core.trajectory import (
+    Dispersion,
     _set_left_pole,
     initial_mode,
     initial_state,
@@ -102,42 +106,60 @@ def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
     return leg2.t[-1], leg1.nfev + leg2.nfev
 
 
-def integrator_methods(case, rounds=15, calls=40):
-    """DOP853 (the default) against DOPRI5 on the Table 2 case, alternating in rounds (same load): median ms of the
-    summary path (simulate_summary: issue 29's 0.45 ms), of the full flight with its histories (simulate) and of the
-    integrator alone; steps and right-hand sides of each."""
+def dispersed(spec):
+    """A Monte Carlo sample's flight: C_L x 0.98, C_D x 1.03, the density profile 5 % rms (seed 1) at its nodes."""
+    delta = 0.05 * np.random.default_rng(1).standard_normal(DENSITY_NODE_COUNT)
+    return replace(spec, dispersion=Dispersion(cl_multiplier=0.98, cd_multiplier=1.03, density_delta=tuple(delta)))
+
+
+METHOD_CASES = {
+    "table2": (CASE, lambda spec: spec),
+    "table2_dispersed": (CASE, dispersed),
+    "lod189": (HERE.parent / "examples" / "footprint_lod189.json", lambda spec: spec),
+}
+
+
+def integrator_methods(rounds=9, calls=20):
+    """DOP853 against DOPRI5 (the default) on each of METHOD_CASES, alternating in rounds (same load): median ms of
+    the summary path (simulate_summary: issue 29's 0.45 ms), of the full flight with its histories (simulate) and of
+    the integrator alone; steps and right-hand sides of each."""
     out = {}
-    for method in ("dop853", "dopri5"):
-        spec = parse("case", case | {"integrator": {"method": method}}).to_spec()
-        p = pack_parameters(spec)
-        s0 = initial_state(spec, p)
-        _set_left_pole(p, s0, spec.entry.heading_deg)
-        mode = initial_mode(spec, p, s0)
-        summary = simulate_summary(spec)
+    for name, (path, change) in METHOD_CASES.items():
+        data = json.loads(path.read_text())
+        case = data.get("case", data)
+        for method in ("dop853", "dopri5"):
+            spec = change(parse("case", case | {"integrator": {"method": method}}).to_spec())
+            p = pack_parameters(spec)
+            s0 = initial_state(spec, p)
+            _set_left_pole(p, s0, spec.entry.heading_deg)
+            mode = initial_mode(spec, p, s0)
 
-        def alone(spec=spec, p=p, s0=s0, mode=mode):
-            integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
+            def alone(spec=spec, p=p, s0=s0, mode=mode):
+                integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
 
-        paths = {"summary_path": lambda spec=spec: simulate_summary(spec), "simulate": lambda spec=spec: simulate(spec)}
-        paths["integrator_alone"] = alone
-        out[method] = {"summary": summary, "paths": paths, "ms": {name: [] for name in paths}}
+            paths = {
+                "summary_path": lambda spec=spec: simulate_summary(spec),
+                "simulate": lambda spec=spec: simulate(spec),
+                "integrator_alone": alone,
+            }
+            out[name, method] = {"summary": simulate_summary(spec), "paths": paths, "ms": {k: [] for k in paths}}
     for _ in range(rounds):
         for entry in out.values():
-            for name, fn in entry["paths"].items():
+            for path_name, fn in entry["paths"].items():
                 t0 = time.perf_counter()
                 for _ in range(calls):
                     fn()
-                entry["ms"][name].append(1e3 * (time.perf_counter() - t0) / calls)
-    result = {
-        method: {
-            **{f"{name}_ms": round(statistics.median(ms), 3) for name, ms in e["ms"].items()},
+                entry["ms"][path_name].append(1e3 * (time.perf_counter() - t0) / calls)
+    result = {}
+    for (name, method), e in out.items():
+        result.setdefault(name, {})[method] = {
+            **{f"{k}_ms": round(statistics.median(ms), 3) for k, ms in e["ms"].items()},
             "steps": e["summary"]["steps"],
             "rhs": e["summary"]["rhs_evaluations"],
         }
-        for method, e in out.items()
-    }
-    for name in ("summary_path", "simulate", "integrator_alone"):
-        result[f"{name}_dop853_over_dopri5"] = round(result["dop853"][f"{name}_ms"] / result["dopri5"][f"{name}_ms"], 3)
+    for r in result.values():
+        for k in ("summary_path", "simulate", "integrator_alone"):
+            r[f"{k}_dop853_over_dopri5"] = round(r["dop853"][f"{k}_ms"] / r["dopri5"][f"{k}_ms"], 3)
     return result
 
 
@@ -173,7 +195,7 @@ def main():
             "scipy_plain": round(float(t_plain), 3),
         },
         "first_cli_fly_new_process_s": round(cli_s, 2),
-        "dop853_vs_dopri5": integrator_methods(json.loads(CASE.read_text())),
+        "dop853_vs_dopri5": integrator_methods(),
         "load_average_1min": round(os.getloadavg()[0], 2),
     }
     save_result("trajectory", result)

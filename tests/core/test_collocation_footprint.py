@@ -128,7 +128,8 @@ def test_a_temperature_limit_below_the_entry_floor_is_one_line_and_exit_1(tmp_pa
 def test_progress_rises_solve_by_solve_and_a_stop_ends_the_footprint(shuttle):
     """Reported on every IPOPT iteration of every solve: the fractions rise through [0, 1], each note names its
     solve of the planned number (3 extremes, the farthest from two starts, the ways to the farthest and the nearest
-    point, per half the down-ranges; the right half's maximum and nearest), and a listener that asks to stop ends the footprint with that answer."""
+    point, per half the down-ranges; the right half's maximum and nearest), and a listener that asks to stop ends
+    the footprint with that answer."""
     from footprint.core.errors import NoOptimum
 
     fractions = [f for f, _ in PROGRESS]

@@ -138,7 +138,10 @@ def test_calibration_max_crossrange_peaks_at_2670R(max_crossrange):
     s = max_crossrange.summary
     assert s["crossrange_nmi"] == pytest.approx(2_044.5, abs=0.5)  # nmi: the optimum (bench/results/optimize.json)
     assert s["max_temperature_R"] == pytest.approx(REPORT["sec3.max_temperature_R"].value, abs=5)  # degR
-    assert s["max_heat_rate_btu_ft2_s"] == pytest.approx(max_crossrange.history["heat_rate_btu_ft2_s"].max())
+    # the peak between the rows (core.sampled: the parabola's vertex about the largest row) lies above that row, by
+    # less than the rows' spacing allows (1.9e-3 Btu/ft^2/s here)
+    rows_max = max_crossrange.history["heat_rate_btu_ft2_s"].max()
+    assert rows_max <= s["max_heat_rate_btu_ft2_s"] <= rows_max * (1.0 + 1e-3)
 
 
 def test_calibration_recomputes_the_reference_radius(max_crossrange):
@@ -240,8 +243,9 @@ def test_correlation_along_a_flight():
     without_t = fly(lod189(heating=BETTS_SHUTTLE)).summary
     assert without_t["max_temperature_R"] is None
     assert with_t["max_heat_rate_btu_ft2_s"] == pytest.approx(without_t["max_heat_rate_btu_ft2_s"])
+    # eq. (7) is monotone in the heat rate: the peaks coincide, each read between the rows to the parabola's O(h^3)
     assert with_t["max_temperature_R"] == pytest.approx(
-        radiation_equilibrium_R(with_t["max_heat_rate_btu_ft2_s"], 0.8), rel=1e-12
+        radiation_equilibrium_R(with_t["max_heat_rate_btu_ft2_s"], 0.8), rel=1e-6
     )
 
 

@@ -78,9 +78,11 @@ P_DENSITY_DISPERSED = 26  # 1.0: the model's density times 1 + delta(h) of the p
 P_DENSITY_DELTA = 27  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
 P_INTEGRATOR = P_DENSITY_DELTA + DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below
 P_SIZE = P_INTEGRATOR + 1
-INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4)
-# Dormand-Prince 8(5,3), the default (issue 29 item 4): Table 2 in 147 steps and 2,613 right-hand sides against DOPRI5's
-# 454 and 3,026, a closer landing; each step recorded at integrate.DOP853_ROWS_PER_STEP points
+INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4), the default
+# Dormand-Prince 8(5,3), each step recorded at integrate.DOP853_ROWS_PER_STEP points. Not the default (issue 29 item 4):
+# Table 2 in 2,677 right-hand sides against DOPRI5's 3,031 (summary path 0.93x), but the L/D 1.89 case 4,829 against
+# 4,010 and a dispersed density profile (linear between nodes 10,000 ft apart) 1.4-1.8x DOPRI5's: a high-order step
+# across a kink is rejected, retried up to it and regrown
 INTEGRATOR_DOP853 = 1.0
 INTEGRATOR_IDS = {"dopri5": INTEGRATOR_DOPRI5, "dop853": INTEGRATOR_DOP853}  # contracts' integrator.method
 

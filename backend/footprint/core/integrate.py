@@ -1,12 +1,11 @@
 """Adaptive explicit Runge-Kutta integration of the equations of motion with located events.
 
 Two embedded pairs, chosen per flight by p[P_INTEGRATOR] (a case's integrator.method):
-- DOP853 (the default): Dormand & Prince's 8(5,3) pair with its continuous extension of order 7 (Hairer, Norsett &
-  Wanner, Solving ODEs I, 2nd ed., Sec. II.10, and Hairer's dop853.f), 12 right-hand sides a step; a rejected step
-  across a kink of the right-hand side is retried up to the kink (_kink_fraction); each step recorded at
-  DOP853_ROWS_PER_STEP points;
-- DOPRI5 (dynamics.INTEGRATOR_DOPRI5): Dormand-Prince 5(4) (ibid., Table 5.2) with the DOPRI5 code's continuous
-  extension of order 4, 6 right-hand sides a step.
+- DOPRI5 (the default): Dormand-Prince 5(4) (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., Table 5.2) with
+  the DOPRI5 code's continuous extension of order 4, 6 right-hand sides a step;
+- DOP853 (dynamics.INTEGRATOR_DOP853): Dormand & Prince's 8(5,3) pair with its continuous extension of order 7
+  (ibid., Sec. II.10, and Hairer's dop853.f), 12 right-hand sides a step; a rejected step across a kink of the
+  right-hand side is retried up to the kink (_kink_fraction); each step recorded at DOP853_ROWS_PER_STEP points.
 The step control is the usual error-per-step rule with the error scaled by rtol times a characteristic size of each
 component (the planet radius for positions, the entry speed for velocities), so it is not fooled by components
 that cross zero.
@@ -441,7 +440,8 @@ def _turned_deg(steer: float, mode: NDArray[np.float64]) -> float:
     """The steering angle's change since the bank law's start, unwrapped: the turn counted to the last step's start
     and the change since (less than 180 deg within a step). A turn measured by the wrapped difference from its start
     alone passed 179 deg unseen when a step went from under 179 to past 181 deg (|wrap| only exceeds 179 between)."""
-    return mode[M_TURNED_DEG] + wrap_deg(steer - mode[M_REF_ANGLE])
+    turned: float = mode[M_TURNED_DEG] + wrap_deg(steer - mode[M_REF_ANGLE])  # typed: numpy's item is Any
+    return turned
 
 
 @njit(allocates=False)

@@ -177,7 +177,7 @@ class FlightSpec:
     stop: Stop = field(default_factory=Stop)
     rtol: float = 1e-9
     max_step_s: float = 50.0
-    integrator_method: str = "dop853"  # a key of dynamics.INTEGRATOR_IDS
+    integrator_method: str = "dopri5"  # a key of dynamics.INTEGRATOR_IDS
     max_steps: int = 200_000
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
     dispersion: Dispersion = field(default_factory=Dispersion)
