@@ -18,14 +18,7 @@ from _timing import example, save_result  # noqa: E402
 
 from footprint.contracts import parse
 from footprint.core.integrate import integrate
-from footprint.core.trajectory import (
-    _set_left_pole,
-    initial_mode,
-    initial_state,
-    pack_parameters,
-    simulate,
-    simulate_summary,
-)
+from footprint.core.trajectory import flight_inputs, simulate, simulate_summary
 
 ROUNDS = 15
 CALLS_PER_ROUND = 40
@@ -43,10 +36,7 @@ def cases():
 
 
 def integrator_only(spec):
-    p = pack_parameters(spec)
-    s0 = initial_state(spec, p)
-    _set_left_pole(p, s0, spec.entry.heading_deg)
-    mode = initial_mode(spec, p, s0)
+    p, s0, mode = flight_inputs(spec)
     return lambda: integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)
 
 

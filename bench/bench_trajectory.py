@@ -42,15 +42,7 @@ from footprint.core.dynamics import (
     rhs,
 )
 from footprint.core.integrate import integrate
-from footprint.core.trajectory import (
-    Dispersion,
-    _set_left_pole,
-    initial_mode,
-    initial_state,
-    pack_parameters,
-    simulate,
-    simulate_summary,
-)
+from footprint.core.trajectory import Dispersion, flight_inputs, simulate, simulate_summary
 
 HERE = Path(__file__).resolve().parent
 CASE = HERE.parent / "examples" / "table2_lod22.json"
@@ -73,10 +65,7 @@ def interpreted_dynamics():
 
 def scipy_flight(spec, rhs=rhs, evaluate=evaluate):
     """The baseline: solve_ivp twice, with pull-out and the stop altitude as terminal events."""
-    p = pack_parameters(spec)
-    s0 = initial_state(spec, p)
-    _set_left_pole(p, s0, spec.entry.heading_deg)
-    mode = initial_mode(spec, p, s0)
+    p, s0, mode = flight_inputs(spec)
     aero, ctrl = spec.vehicle.blob, spec.ctrl
     out = np.empty(6)
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
@@ -129,10 +118,7 @@ def integrator_methods(rounds=9, calls=20):
         case = data.get("case", data)
         for method in ("dop853", "dopri5"):
             spec = change(parse("case", case | {"integrator": {"method": method}}).to_spec())
-            p = pack_parameters(spec)
-            s0 = initial_state(spec, p)
-            _set_left_pole(p, s0, spec.entry.heading_deg)
-            mode = initial_mode(spec, p, s0)
+            p, s0, mode = flight_inputs(spec)
 
             def alone(spec=spec, p=p, s0=s0, mode=mode):
                 integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode.copy(), spec.max_steps)

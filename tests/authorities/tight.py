@@ -21,7 +21,7 @@ from footprint.core.dynamics import (
     evaluate,
     rhs,
 )
-from footprint.core.trajectory import _set_left_pole, initial_mode, initial_state, pack_parameters
+from footprint.core.trajectory import flight_inputs
 
 
 class Inputs(NamedTuple):
@@ -51,11 +51,9 @@ class Tight(NamedTuple):
 def inputs(case: dict, method: float) -> Inputs:
     """A case's packed inputs as trajectory.simulate makes them, flown by `method` (dynamics.INTEGRATOR_*)."""
     spec = parse("case", case).to_spec()
-    p = pack_parameters(spec)
+    p, s0, mode = flight_inputs(spec)
     p[P_INTEGRATOR] = method
-    s0 = initial_state(spec, p)
-    _set_left_pole(p, s0, spec.entry.heading_deg)
-    return Inputs(spec, p, s0, initial_mode(spec, p, s0))
+    return Inputs(spec, p, s0, mode)
 
 
 def tight(i: Inputs) -> Tight:

@@ -281,11 +281,16 @@ class _Flight(NamedTuple):
     guided: GuidedRecord | None = None  # a guided flight's commands and cycles
 
 
-def _fly(spec: FlightSpec) -> _Flight:
+def flight_inputs(spec: FlightSpec) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """What integrate.integrate takes besides the vehicle and controls: (parameters, entry state, initial mode)."""
     p = pack_parameters(spec)
     s0 = initial_state(spec, p)
     _set_left_pole(p, s0, spec.entry.heading_deg)
-    mode = initial_mode(spec, p, s0)
+    return p, s0, initial_mode(spec, p, s0)
+
+
+def _fly(spec: FlightSpec) -> _Flight:
+    p, s0, mode = flight_inputs(spec)
     if spec.guidance is not None:
         guided = fly_guided(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.guidance, spec.heating, spec.max_steps)
         return _Flight(p, guided.rows, guided.stop_code, guided.n_rhs, mode, guided)
