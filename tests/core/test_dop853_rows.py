@@ -69,7 +69,7 @@ def test_the_interior_rows_lie_on_a_tight_solution():
 @pytest.fixture(scope="module")
 def summaries():
     """The heated Table 2 case's summary flown by each method at the case's rtol, and converged (DOP853 at rtol 1e-12
-    with 0.2 s steps: ~50,000 rows, its maxima and trapezoidal heat load within ~1e-7 of the limit)."""
+    with 0.2 s steps: ~50,000 rows, its maxima and heat load within ~1e-7 of the limit)."""
     methods = {
         "dopri5": {"method": "dopri5"},
         "dop853": {"method": "dop853"},
@@ -81,9 +81,8 @@ def summaries():
     }
 
 
-MAXIMA_TOL = (
-    3e-5  # relative; sampled on the rows they were short by up to 9.5e-4 (DOP853's max q) and 1.8e-4 (DOPRI5's load)
-)
+# relative; sampled on the rows the maxima were short by up to 9.5e-4 (DOP853's max q) and 1.8e-4 (DOPRI5's load)
+MAXIMA_TOL = 3e-5
 
 
 @pytest.mark.parametrize("key", SUMMARY_KEYS)

@@ -20,8 +20,8 @@ NO_JIT = os.environ.get("FOOTPRINT_NO_JIT", "") not in ("", "0")
 # No fast-math: IEEE arithmetic, so that a kernel rounds the same wherever it was compiled. LLVM applies "contract"
 # (fused multiply-add) and "arcp" (reciprocals) to what it sees after inlining, and a caller compiled in a process that
 # loaded its callees from the disk cache inlines nothing of them: with either flag, a cold cache and a warm one gave
-# different bits (a dispersion's samples flown in this process and on workers that loaded the cache, 9 of 240 apart
-# by ~1e-4 nmi; "reassoc" did the same to an optimization). Where a reciprocal pays, the source computes it once.
+# different bits (a dispersion's DOP853 samples flown in this process and on workers that loaded the cache, 44 of 240
+# apart by ~1e-4 nmi; "reassoc" did the same to an optimization). Where a reciprocal pays, the source computes it once.
 FASTMATH = False
 # njit(allocates=False): a kernel that creates no array (it reads and writes the arrays it is given and returns
 # numbers) is compiled without numba's reference-counting runtime (NRT). With it, every array argument costs an
