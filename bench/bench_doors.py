@@ -1,6 +1,7 @@
 """The doors against the kernel (issue 29 item 3): one trajectory (the Table 2 case, lod-2.2) flown by the compiled
 integrator alone (trajectory._fly: the parameters packed, the entry state, the integration), by simulate(spec)
-(histories and summary), by footprint.api.fly(dict) (the case parsed, its spec built, flown), by the CLI's
+(the summary; the histories are made when first read) and with its histories read, by footprint.api.fly(dict)
+(the case parsed, its spec built, flown, the summary), by the CLI's
 `footprint fly CASE.json` as its command function in this process (the file read, the summary printed as JSON;
 the interpreter's start-up and imports left out), and by POST /api/trajectories: through the service's ASGI app
 called on an event loop in this process (the route's thread-pool hop, its middleware, the body parsed, the
@@ -125,6 +126,7 @@ def main() -> None:
 
             doors = {
                 "simulate(spec)": lambda: simulate(spec),
+                "simulate(spec).history": lambda: simulate(spec).history,
                 "api.fly(dict)": lambda: api.fly(CASE),
                 "CLI fly (command function, in-process)": cli_fly,
                 "POST /api/trajectories (ASGI app)": lambda: loop.run_until_complete(post()),

@@ -1,6 +1,8 @@
-"""simulate_summary(spec) is simulate(spec).summary to the bit, without converting every row."""
+"""simulate_summary(spec), which simulate(spec) also gives, is the summary of the track of every row to the bit,
+though it converts only a handful of rows."""
 
 import copy
+import pickle
 from dataclasses import replace
 
 import numpy as np
@@ -11,7 +13,17 @@ from hypothesis import strategies as st
 from footprint.contracts import parse
 from footprint.core.atmosphere import DENSITY_NODES_FT
 from footprint.core.sphere import great_circle_frame
-from footprint.core.trajectory import Dispersion, _fly, _pullout_row, _track_rows, simulate, simulate_summary
+from footprint.core.trajectory import (
+    Dispersion,
+    _fly,
+    _heating,
+    _pullout_row,
+    _summary,
+    _track,
+    _track_rows,
+    simulate,
+    simulate_summary,
+)
 from tests.authorities.report import example
 
 TABLE2 = example("table2_lod22")
@@ -56,6 +68,12 @@ CASES = {
 }
 
 
+def every_row(spec) -> dict:
+    """The summary read off the track of every row (as simulate made it before its histories were made on demand)."""
+    f = _fly(spec)
+    return _summary(spec, f, _track(spec, f.p, f.rows), _pullout_row(f), _heating(spec, f.p, f.rows))
+
+
 def bits(summary: dict) -> dict:
     """Every float by its bits (float.hex tells -0.0 from 0.0), everything else as it is."""
     return {k: v.hex() if isinstance(v, float) else v for k, v in summary.items()}
@@ -64,14 +82,14 @@ def bits(summary: dict) -> dict:
 @pytest.mark.parametrize("name", CASES)
 def test_summary_path_equals_the_full_path_to_the_bit(name):
     spec = parse("case", CASES[name]).to_spec()
-    assert bits(simulate_summary(spec)) == bits(simulate(spec).summary)
+    assert bits(simulate_summary(spec)) == bits(every_row(spec))
 
 
 def test_a_dispersed_heated_flight_gives_the_same_summary_both_ways():
     spec = parse("case", variant(LOD189, heating={"model": "reference"})).to_spec()
     delta = 0.1 * np.sin(DENSITY_NODES_FT / 60_000.0)
     spec = replace(spec, dispersion=Dispersion(cl_multiplier=1.03, cd_multiplier=0.97, density_delta=delta))
-    assert bits(simulate_summary(spec)) == bits(simulate(spec).summary)
+    assert bits(simulate_summary(spec)) == bits(every_row(spec))
 
 
 @settings(max_examples=60, deadline=None)
@@ -105,7 +123,19 @@ def test_summary_path_equals_the_full_path_anywhere(
             stop={"altitude_ft": 50_000, "time_s": 15_000},
         ),
     ).to_spec()
-    assert bits(simulate_summary(spec)) == bits(simulate(spec).summary)
+    assert bits(simulate_summary(spec)) == bits(every_row(spec))
+
+
+def test_simulate_gives_the_summary_path_and_the_histories_on_demand():
+    spec = parse("case", CASES["lod189 past half a circumference"]).to_spec()
+    trajectory = simulate(spec)
+    assert bits(trajectory.summary) == bits(simulate_summary(spec))
+    h = trajectory.history  # made now, from every row
+    assert h["downrange_nmi"][-1] == trajectory.summary["downrange_nmi"] > 10_800  # past half a circumference
+    assert h["crossrange_nmi"][-1] == trajectory.summary["crossrange_nmi"]
+    assert h is trajectory.history  # made once
+    again = pickle.loads(pickle.dumps(trajectory))  # as Dask ships it
+    assert np.array_equal(again.history["latitude_deg"], h["latitude_deg"]) and again.summary == trajectory.summary
 
 
 def test_the_summary_path_converts_a_handful_of_rows():

@@ -6,6 +6,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import orjson
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
@@ -41,15 +42,17 @@ def plain(value: Any) -> Any:
     return value
 
 
-def strict_json(value: Any, **dumps: Any) -> str:
-    """RFC 8259 JSON of `value` (plain(): NaN and infinities as null, as the service writes them); anything else
-    unknown as its float or its text. allow_nan=False: a non-finite number that escaped plain() is an error, never
-    the `NaN` a JSON parser refuses."""
+def strict_json(value: Any, indent: int | None = None) -> str:
+    """RFC 8259 JSON of `value` (plain(): NaN and infinities as null, as the service writes them), compact or indented
+    by 2; anything else unknown as its float or its text. orjson writes each float in its shortest round-trip digits, as
+    json.dumps does, in C (json.dumps with an indent encodes in Python: a third of the CLI's cost over a flight)."""
+    if indent not in (None, 2):
+        raise ValueError(f"indent={indent!r}: 2 or None")
 
     def other(o: Any) -> Any:
         return plain(float(o)) if hasattr(o, "__float__") else str(o)
 
-    return json.dumps(plain(value), allow_nan=False, default=other, **dumps)
+    return orjson.dumps(plain(value), default=other, option=orjson.OPT_INDENT_2 if indent else 0).decode()
 
 
 def decimated(n: int, max_points: int) -> NDArray[np.int_]:

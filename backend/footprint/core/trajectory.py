@@ -9,7 +9,7 @@ import csv
 import functools
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
@@ -184,14 +184,29 @@ class FlightSpec:
     guidance: Guidance | None = None  # core.guidance: the bank flown by the predictor-corrector, to its terminal energy
 
 
-@dataclass
 class Trajectory:
-    """Time histories (numpy arrays, units in the keys) and a summary of one flight."""
+    """Time histories (numpy arrays, units in the keys) and a summary of one flight. `history` is a dict, or a function
+    that makes it on its first read: a door that needs only the summary never converts every row."""
 
-    summary: dict[str, Any]
-    history: dict[str, NDArray[np.float64]]
-    # a guided flight's bank as flown, a time table (time_s, bank_deg) that a bank table law flies again; else None
-    bank_table: dict[str, NDArray[np.float64]] | None = None
+    def __init__(
+        self,
+        summary: dict[str, Any],
+        history: dict[str, NDArray[np.float64]] | Callable[[], dict[str, NDArray[np.float64]]],
+        bank_table: dict[str, NDArray[np.float64]] | None = None,
+    ) -> None:
+        self.summary = summary
+        self._history = history
+        # a guided flight's bank as flown, a time table (time_s, bank_deg) that a bank table law flies again; else None
+        self.bank_table = bank_table
+
+    @property
+    def history(self) -> dict[str, NDArray[np.float64]]:
+        if callable(self._history):
+            self._history = self._history()
+        return self._history
+
+    def __getstate__(self) -> dict[str, Any]:  # pickled (to and from Dask workers) with its histories made
+        return {"summary": self.summary, "_history": self.history, "bank_table": self.bank_table}
 
     def write_csv(self, path: str | os.PathLike[str]) -> None:
         keys = list(self.history)
@@ -299,8 +314,37 @@ def _fly(spec: FlightSpec) -> _Flight:
 
 
 def simulate(spec: FlightSpec) -> Trajectory:
-    """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3): its time histories and summary."""
+    """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3): its summary, and its time histories made when first
+    read (the same summary, to the bit, either way: simulate_summary)."""
     f = _fly(spec)
+    heating = _heating(spec, f.p, f.rows)
+    table = None if f.guided is None else f.guided.bank_table()
+    return Trajectory(_summary_of(spec, f, heating), functools.partial(_history, spec, f, heating), table)
+
+
+def simulate_summary(spec: FlightSpec) -> dict[str, Any]:
+    """simulate(spec).summary, equal to the bit, without the histories: the landing point, the pull-out and the
+    maxima (heating from the altitude, velocity, alpha and time columns), for Monte Carlo samples and searches."""
+    f = _fly(spec)
+    return _summary_of(spec, f, _heating(spec, f.p, f.rows))
+
+
+def _summary_of(
+    spec: FlightSpec, f: _Flight, heating: tuple[NDArray[np.float64], NDArray[np.float64]] | None
+) -> dict[str, Any]:
+    """The summary from the track at the few rows it reads (_track_rows), equal to the bit to the full track's."""
+    i_pullout = _pullout_row(f)
+    e = spec.entry
+    frame = _entry_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
+    kept = _track_rows(f.rows, i_pullout, *frame)
+    track = _track(spec, f.p, f.rows[kept], frame)
+    return _summary(spec, f, track, int(np.searchsorted(kept, i_pullout)), heating)
+
+
+def _history(
+    spec: FlightSpec, f: _Flight, heating: tuple[NDArray[np.float64], NDArray[np.float64]] | None
+) -> dict[str, NDArray[np.float64]]:
+    """Every row's time histories (Trajectory.history)."""
     track = _track(spec, f.p, f.rows)
     rows = f.rows
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -325,23 +369,9 @@ def simulate(spec: FlightSpec) -> Trajectory:
     }
     if f.guided is not None:
         history |= f.guided.history()
-    heating = _heating(spec, f.p, rows)
     if heating is not None:
         history["heat_rate_btu_ft2_s"], history["temperature_R"] = heating
-    table = None if f.guided is None else f.guided.bank_table()
-    return Trajectory(summary=_summary(spec, f, track, _pullout_row(f), heating), history=history, bank_table=table)
-
-
-def simulate_summary(spec: FlightSpec) -> dict[str, Any]:
-    """simulate(spec).summary, equal to the bit, without the histories: the landing point, the pull-out and the
-    maxima (heating from the altitude, velocity, alpha and time columns), for Monte Carlo samples and searches."""
-    f = _fly(spec)
-    i_pullout = _pullout_row(f)
-    e = spec.entry
-    frame = _entry_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
-    kept = _track_rows(f.rows, i_pullout, *frame)
-    track = _track(spec, f.p, f.rows[kept], frame)
-    return _summary(spec, f, track, int(np.searchsorted(kept, i_pullout)), _heating(spec, f.p, f.rows))
+    return history
 
 
 class _Track(NamedTuple):

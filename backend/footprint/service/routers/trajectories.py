@@ -1,10 +1,10 @@
 """POST /api/trajectories: one trajectory, flown synchronously (in the threadpool, off the event loop)."""
 
 import numpy as np
+import orjson
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
 from numpy.typing import NDArray
-from pydantic_core import to_json
 
 from footprint.contracts.case import Case
 from footprint.contracts.records import decimated, plain
@@ -24,10 +24,10 @@ def fly(request: Request, case: Case) -> Response:
 
 
 def trajectory_json(summary: dict, history: dict[str, NDArray[np.float64]]) -> bytes:
-    """TrajectoryRead's JSON, the bytes its response_model would write (pydantic's serializer, NaN and infinities
-    as null), made in one step: the histories' columns as lists of floats at once (ndarray.tolist), neither
-    converted number by number nor validated again against the model they are built to."""
+    """TrajectoryRead's JSON (NaN and infinities as null), made in one step: the histories' float64 columns written
+    by orjson straight from their memory, neither converted number by number nor validated again against the model
+    they are built to (pydantic's serializer over lists took twice as long: issue 29's doors)."""
     n = len(history["time_s"])
-    keep = None if n <= MAX_HISTORY_ROWS else decimated(n, MAX_HISTORY_ROWS)
-    columns = {k: (v if keep is None else v[keep]).tolist() for k, v in history.items()}
-    return to_json({"summary": plain(summary), "history": columns}, inf_nan_mode="null")
+    keep = slice(None) if n <= MAX_HISTORY_ROWS else decimated(n, MAX_HISTORY_ROWS)
+    columns = {k: np.ascontiguousarray(v[keep], dtype=np.float64) for k, v in history.items()}
+    return orjson.dumps({"summary": plain(summary), "history": columns}, option=orjson.OPT_SERIALIZE_NUMPY)
