@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline
 
 from footprint.contracts import parse
 from footprint.core import dispersion as mc
@@ -92,13 +93,31 @@ def test_a_constant_density_profile_is_the_exponential_atmosphere_with_rho0_scal
     assert by_profile["heat_load_btu_ft2"] == pytest.approx(by_rho0["heat_load_btu_ft2"], rel=1e-6)
 
 
-def test_the_density_factor_is_linear_between_the_nodes_and_held_beyond():
+def test_the_density_factor_is_the_natural_cubic_spline_through_the_nodes_held_beyond():
     rng = np.random.default_rng(7)
     delta = rng.normal(0.0, 0.1, DENSITY_NODE_COUNT)
     altitudes_ft = np.concatenate([rng.uniform(-5_000.0, 450_000.0, 500), DENSITY_NODES_FT])
-    expected = 1.0 + np.interp(altitudes_ft, DENSITY_NODES_FT, delta)  # np.interp holds the end values
-    np.testing.assert_allclose(density_factor_table(delta, altitudes_ft), expected, rtol=1e-15, atol=0.0)
+    spline = CubicSpline(DENSITY_NODES_FT, delta, bc_type="natural")  # scipy's, an independent construction
+    held = np.clip(altitudes_ft, DENSITY_NODES_FT[0], DENSITY_NODES_FT[-1])
+    np.testing.assert_allclose(density_factor_table(delta, altitudes_ft), 1.0 + spline(held), rtol=0.0, atol=1e-14)
+    assert np.array_equal(density_factor_table(delta, DENSITY_NODES_FT), 1.0 + delta)  # the drawn nodes, exactly
     assert density_factor_table(delta, np.nan) == 1.0 + delta[0]  # a NaN altitude reads no node out of range
+    # no kink at an inner node: the slopes on either side agree to the differencing error (a polyline's jump by ~0.1)
+    h = 1.0  # ft
+    inner = DENSITY_NODES_FT[1:-1]
+    left = (density_factor_table(delta, inner) - density_factor_table(delta, inner - h)) / h
+    right = (density_factor_table(delta, inner + h) - density_factor_table(delta, inner)) / h
+    assert np.max(np.abs(right - left)) * 10_000.0 < 1e-4  # per node spacing
+
+
+def test_a_profile_with_extreme_nodes_keeps_the_density_positive_between_them():
+    """The spline through one node at +0.9 among nodes at -0.9 dips below -1 beside it (a negative density: scipy's
+    own spline reaches a factor of -0.15); the factor is held above half the lower node's there; the nodes are kept."""
+    delta = np.where(np.arange(DENSITY_NODE_COUNT) == 20, 0.9, -0.9)
+    altitudes_ft = np.linspace(0.0, 400_000.0, 40_001)
+    assert np.min(1.0 + CubicSpline(DENSITY_NODES_FT, delta, bc_type="natural")(altitudes_ft)) < 0.0
+    assert np.min(density_factor_table(delta, altitudes_ft)) >= 0.05
+    assert np.array_equal(density_factor_table(delta, DENSITY_NODES_FT), 1.0 + delta)
 
 
 @pytest.mark.parametrize(

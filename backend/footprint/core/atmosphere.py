@@ -15,8 +15,8 @@ Sources
   scripts/make_us1976_table.py (ussa1976 package, corrected; see that script).
 * Exponential: rho = rho0 exp(-h/H), isothermal at a given T; p = rho R T with the 1959 ARDC R.
 
-Density dispersion (Monte Carlo samples): the density of any model times 1 + delta(h), delta piecewise linear
-between fixed nodes every 10,000 ft from 0 to 400,000 ft and held beyond them (`density_factor`). Temperature,
+Density dispersion (Monte Carlo samples): the density of any model times 1 + delta(h), delta the natural cubic
+spline through fixed nodes every 10,000 ft from 0 to 400,000 ft and held beyond them (`density_factor`). Temperature,
 pressure and the speed of sound are left as the model gives them. core/dispersion.py draws the nodes.
 
 Layer base temperatures and pressures are computed once at import (numpy) into module-level arrays
@@ -282,21 +282,55 @@ def atmosphere(
     return nan, nan, nan, nan
 
 
+def density_profile(delta: ArrayLike) -> NDArray[np.float64]:
+    """The packed profile density_factor reads: delta at DENSITY_NODES_FT, then the second derivatives of the natural
+    cubic spline through them (per node spacing squared; zero at the end nodes). A spline, not the polyline through
+    the nodes: its slope has no jump at the 39 inner nodes, where a DOPRI5 step across each had its error estimate
+    spoiled and was rejected (issue 29: an L/D 1.89 flight with a 5 % profile took 1.34x the right-hand sides of the
+    undispersed one, with the spline 1.03x). The nodal values, which the Gauss-Markov draw sets, are the same."""
+    values = np.zeros(2 * DENSITY_NODE_COUNT)
+    values[:DENSITY_NODE_COUNT] = delta
+    _natural_spline_curvature(values)
+    return values
+
+
+@njit
+def _natural_spline_curvature(values: NDArray[np.float64]) -> None:
+    """values[n:2n] = M, the second derivatives of the natural cubic spline through values[:n] at unit spacing:
+    M[k-1] + 4 M[k] + M[k+1] = 6 (d[k+1] - 2 d[k] + d[k-1]), M[0] = M[n-1] = 0 (de Boor, A Practical Guide to
+    Splines, ch. IV), by the Thomas algorithm (diagonally dominant: no pivoting)."""
+    n = DENSITY_NODE_COUNT
+    d, m = values[:n], values[n:]
+    ratio = np.zeros(n)  # the eliminated superdiagonal
+    m[0] = m[n - 1] = 0.0
+    for k in range(1, n - 1):
+        pivot = 4.0 - ratio[k - 1]
+        ratio[k] = 1.0 / pivot
+        m[k] = (6.0 * (d[k + 1] - 2.0 * d[k] + d[k - 1]) - m[k - 1]) / pivot
+    for k in range(n - 3, 0, -1):
+        m[k] -= ratio[k] * m[k + 1]
+
+
 @njit(allocates=False)
-def density_factor(delta: NDArray[np.float64], start: int, altitude_ft: float) -> float:
-    """1 + delta(h): delta = delta[start:start + DENSITY_NODE_COUNT] at DENSITY_NODES_FT, linear between the nodes,
-    held below the first and above the last (and at a NaN altitude, the first)."""
+def density_factor(profile: NDArray[np.float64], start: int, altitude_ft: float) -> float:
+    """1 + delta(h), profile[start:start + 2 DENSITY_NODE_COUNT] a density_profile: the natural cubic spline through
+    delta at DENSITY_NODES_FT, held below the first node and above the last (and at a NaN altitude, the first); kept
+    above half the lower of the two nodes' factors where a spline through extreme nodes would dip towards zero."""
     x = altitude_ft / DENSITY_NODE_SPACING_FT
     last = DENSITY_NODE_COUNT - 1
     delta_h: float  # one return of a typed value (numpy types an array's item as Any)
     if not x > 0.0:
-        delta_h = delta[start]
+        delta_h = profile[start]
     elif x >= last:
-        delta_h = delta[start + last]
+        delta_h = profile[start + last]
     else:
         i = int(x)
         w = x - i
-        delta_h = delta[start + i] + w * (delta[start + i + 1] - delta[start + i])
+        d0, d1 = profile[start + i], profile[start + i + 1]
+        m0, m1 = profile[start + DENSITY_NODE_COUNT + i], profile[start + DENSITY_NODE_COUNT + i + 1]
+        # the chord, then the cubic terms (w^3 - w) m1 / 6 + ((1 - w)^3 - (1 - w)) m0 / 6, factored
+        delta_h = d0 + w * (d1 - d0) - w * (1.0 - w) * ((2.0 - w) * m0 + (1.0 + w) * m1) / 6.0
+        delta_h = max(delta_h, 0.5 * (1.0 + min(d0, d1)) - 1.0)
     return 1.0 + delta_h
 
 
@@ -331,15 +365,21 @@ def kink_between_ft(model: int, from_ft: float, to_ft: float) -> float:
 
 
 @njit(allocates=False)
-def density_kink_between_ft(delta: NDArray[np.float64], start: int, from_ft: float, to_ft: float) -> float:
-    """The node of DENSITY_NODES_FT strictly between from_ft and to_ft nearest from_ft where density_factor's slope
-    changes (delta[start:start + DENSITY_NODE_COUNT] as there); NaN if none (a profile linear there has no kink)."""
+def density_kink_between_ft(profile: NDArray[np.float64], start: int, from_ft: float, to_ft: float) -> float:
+    """The end node of DENSITY_NODES_FT (0 or 400,000 ft) strictly between from_ft and to_ft where density_factor's
+    spline meets its held value with a slope (profile[start:] a density_profile); NaN if none. The spline has no kink
+    at the inner nodes."""
     found = math.nan
-    for i in range(1, DENSITY_NODE_COUNT - 1):
+    n = DENSITY_NODE_COUNT
+    for i in (0, n - 1):
         node = DENSITY_NODES_FT[i]
         if not (from_ft < node < to_ft or to_ft < node < from_ft):
             continue
-        if delta[start + i + 1] - delta[start + i] == delta[start + i] - delta[start + i - 1]:
+        j = 0 if i == 0 else n - 2  # the interval next to the end node: the spline's slope there
+        d0, d1 = profile[start + j], profile[start + j + 1]
+        m0, m1 = profile[start + n + j], profile[start + n + j + 1]
+        slope = d1 - d0 - ((2.0 * m0 + m1) if i == 0 else -(m0 + 2.0 * m1)) / 6.0
+        if slope == 0.0:
             continue
         if not (abs(node - from_ft) >= abs(found - from_ft)):
             found = node
@@ -348,10 +388,10 @@ def density_kink_between_ft(delta: NDArray[np.float64], start: int, from_ft: flo
 
 @njit
 def _density_factor_fill(
-    delta: NDArray[np.float64], altitudes_ft: NDArray[np.float64], out: NDArray[np.float64]
+    profile: NDArray[np.float64], altitudes_ft: NDArray[np.float64], out: NDArray[np.float64]
 ) -> None:
     for k in range(altitudes_ft.shape[0]):
-        out[k] = density_factor(delta, 0, altitudes_ft[k])
+        out[k] = density_factor(profile, 0, altitudes_ft[k])
 
 
 def density_factor_table(delta: ArrayLike, altitudes_ft: ArrayLike) -> NDArray[np.float64]:
@@ -362,7 +402,7 @@ def density_factor_table(delta: ArrayLike, altitudes_ft: ArrayLike) -> NDArray[n
     altitudes = np.asarray(altitudes_ft, dtype=np.float64)
     flat = np.ascontiguousarray(altitudes.ravel())
     out = np.empty_like(flat)
-    _density_factor_fill(delta, flat, out)
+    _density_factor_fill(density_profile(delta), flat, out)
     return out.reshape(altitudes.shape)
 
 

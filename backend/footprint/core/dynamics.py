@@ -75,8 +75,9 @@ P_STOP_ENERGY = 23  # ft, energy height h + V^2/(2 g0) (NaN: none): a guided fli
 P_CL_MULTIPLIER = 24  # times the aero table's CL
 P_CD_MULTIPLIER = 25  # times the aero table's CD
 P_DENSITY_DISPERSED = 26  # 1.0: the model's density times 1 + delta(h) of the profile below; 0.0: as the model gives it
-P_DENSITY_DELTA = 27  # delta at atmosphere.DENSITY_NODES_FT, DENSITY_NODE_COUNT slots
-P_INTEGRATOR = P_DENSITY_DELTA + DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below
+# atmosphere.density_profile: delta at atmosphere.DENSITY_NODES_FT and its spline's second derivatives, 2 x 41 slots
+P_DENSITY_PROFILE = 27
+P_INTEGRATOR = P_DENSITY_PROFILE + 2 * DENSITY_NODE_COUNT  # core.integrate's method, INTEGRATOR_* below
 P_SIZE = P_INTEGRATOR + 1
 INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4), the default
 # Dormand-Prince 8(5,3), each step recorded at integrate.DOP853_ROWS_PER_STEP points. Not the default (issue 29 item 4):
@@ -205,7 +206,7 @@ def evaluate(
     alt = altitude_ft(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     rho, _, _, sound = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     if p[P_DENSITY_DISPERSED] != 0.0:
-        rho *= density_factor(p, P_DENSITY_DELTA, alt)
+        rho *= density_factor(p, P_DENSITY_PROFILE, alt)
     r = math.sqrt(x * x + y * y + z * z)
     v = math.sqrt(vx * vx + vy * vy + vz * vz)
     mach = v / sound

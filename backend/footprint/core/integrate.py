@@ -62,8 +62,8 @@ from footprint.core.dynamics import (
     M_TURN_DONE_DEG,
     M_TURNED_DEG,
     P_ATM,
-    P_DENSITY_DELTA,
     P_DENSITY_DISPERSED,
+    P_DENSITY_PROFILE,
     P_G0,
     P_INTEGRATOR,
     P_MAX_STEP,
@@ -723,7 +723,7 @@ def _kink_fraction(
     first = 2.0
     for z in (
         kink_between_ft(int(p[P_ATM]), alt0, alt1),
-        density_kink_between_ft(p, P_DENSITY_DELTA, alt0, alt1) if p[P_DENSITY_DISPERSED] != 0.0 else math.nan,
+        density_kink_between_ft(p, P_DENSITY_PROFILE, alt0, alt1) if p[P_DENSITY_DISPERSED] != 0.0 else math.nan,
         _aero.kink_between(aero, 2, alt0, alt1),
     ):
         if not math.isnan(z):

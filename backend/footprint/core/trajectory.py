@@ -19,7 +19,13 @@ from numpy.typing import NDArray
 from footprint.core import constants as c
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
-from footprint.core.atmosphere import DENSITY_NODE_COUNT, MODEL_IDS, density_factor_table, isothermal_temperature_R
+from footprint.core.atmosphere import (
+    DENSITY_NODE_COUNT,
+    MODEL_IDS,
+    density_factor_table,
+    density_profile,
+    isothermal_temperature_R,
+)
 from footprint.core.controls import C_START, C_START_ALT, START_ALTITUDE, START_ENTRY, steering_angle_deg
 from footprint.core.dynamics import (
     INTEGRATOR_IDS,
@@ -36,8 +42,8 @@ from footprint.core.dynamics import (
     P_ATM_T,
     P_CD_MULTIPLIER,
     P_CL_MULTIPLIER,
-    P_DENSITY_DELTA,
     P_DENSITY_DISPERSED,
+    P_DENSITY_PROFILE,
     P_G0,
     P_H,
     P_INTEGRATOR,
@@ -143,8 +149,8 @@ class Dispersion:
 
     cl_multiplier: float = 1.0  # times the aero table's CL (dynamics.flown_coefficients)
     cd_multiplier: float = 1.0  # times the aero table's CD
-    # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), linear
-    # between them; None: the model's density. It acts on the motion and on the heating alike (both use density).
+    # density times 1 + delta(h): delta at atmosphere.DENSITY_NODES_FT (0 to 400,000 ft every 10,000 ft), the natural
+    # cubic spline between them; None: the model's density. It acts on the motion and on the heating alike.
     # Given as any sequence of numbers, kept as a tuple of floats (a Dispersion compares and hashes by value).
     density_delta: Sequence[float] | NDArray[np.float64] | None = None
 
@@ -241,7 +247,7 @@ def pack_parameters(spec: FlightSpec) -> NDArray[np.float64]:
     p[P_CL_MULTIPLIER], p[P_CD_MULTIPLIER] = d.cl_multiplier, d.cd_multiplier
     if d.density_delta is not None:
         p[P_DENSITY_DISPERSED] = 1.0
-        p[P_DENSITY_DELTA : P_DENSITY_DELTA + DENSITY_NODE_COUNT] = d.density_delta
+        p[P_DENSITY_PROFILE:P_INTEGRATOR] = density_profile(d.density_delta)
     return p
 
 
@@ -503,7 +509,7 @@ def _heating(
         return None
     factor = None
     if p[P_DENSITY_DISPERSED] != 0.0:
-        factor = density_factor_table(p[P_DENSITY_DELTA : P_DENSITY_DELTA + DENSITY_NODE_COUNT], rows[:, R_ALT])
+        factor = density_factor_table(p[P_DENSITY_PROFILE : P_DENSITY_PROFILE + DENSITY_NODE_COUNT], rows[:, R_ALT])
     return trajectory_heating(
         spec.heating,
         rows[:, R_ALT],
