@@ -111,19 +111,35 @@ def radiation_equilibrium_R(heat_rate_btu_ft2_s: ArrayLike, emissivity: float) -
 def wall_equilibrium_R(
     coefficient_lbm_ft2_s: ArrayLike, recovery_enthalpy_btu_lbm: ArrayLike, emissivity: float, iterations: int = 60
 ) -> NDArray[np.float64]:
-    """Eqs. (6)-(7) together: the T with h (H_AW - c_p T) = 4.75e-13 eps T^4 (degR), vectorized Newton."""
-    h = np.maximum(np.asarray(coefficient_lbm_ft2_s, dtype=np.float64), 0.0)
-    haw = np.maximum(np.asarray(recovery_enthalpy_btu_lbm, dtype=np.float64), 0.0)
+    """Eqs. (6)-(7) together: the T with h (H_AW - c_p T) = 4.75e-13 eps T^4 (degR), Newton's method at each point
+    (compiled: the numpy loop over the whole history had been half a heated summary's cost after the integrator)."""
+    h, haw = np.broadcast_arrays(
+        np.maximum(np.asarray(coefficient_lbm_ft2_s, dtype=np.float64), 0.0),
+        np.maximum(np.asarray(recovery_enthalpy_btu_lbm, dtype=np.float64), 0.0),
+    )
+    out = np.empty(h.shape)
+    _wall_equilibrium_fill(
+        np.ascontiguousarray(h).ravel(), np.ascontiguousarray(haw).ravel(), float(emissivity), iterations, out.ravel()
+    )
+    return out
+
+
+@njit(allocates=False)
+def _wall_equilibrium_fill(
+    h: NDArray[np.float64], haw: NDArray[np.float64], emissivity: float, iterations: int, out: NDArray[np.float64]
+) -> None:
     es = SIGMA_REPORT_BTU_FT2_S_R4 * emissivity
-    t = np.minimum((h * haw / es) ** 0.25, haw / CP_AIR_BTU_LBM_R)  # both bound the root from above
-    for _ in range(iterations):
-        f = es * t**4 + h * CP_AIR_BTU_LBM_R * t - h * haw
-        df = 4.0 * es * t**3 + h * CP_AIR_BTU_LBM_R
-        step = np.where(df > 0.0, f / np.where(df > 0.0, df, 1.0), 0.0)
-        t = t - step
-        if np.all(np.abs(step) <= 1e-9 * np.maximum(t, 1.0)):
-            break
-    return t
+    for k in range(h.shape[0]):
+        hk, ak = h[k], haw[k]
+        t = min((hk * ak / es) ** 0.25, ak / CP_AIR_BTU_LBM_R)  # both bound the root from above
+        for _ in range(iterations):  # f convex and increasing in t: the iterates fall monotonically onto the root
+            f = es * t**4 + hk * CP_AIR_BTU_LBM_R * t - hk * ak
+            df = 4.0 * es * t**3 + hk * CP_AIR_BTU_LBM_R
+            step = f / df if df > 0.0 else 0.0
+            t -= step
+            if abs(step) <= 1e-9 * max(t, 1.0):
+                break
+        out[k] = t
 
 
 @njit
