@@ -82,8 +82,8 @@ P_SIZE = P_INTEGRATOR + 1
 INTEGRATOR_DOPRI5 = 0.0  # Dormand-Prince 5(4), the default
 # Dormand-Prince 8(5,3), each step recorded at integrate.DOP853_ROWS_PER_STEP points. Not the default (issue 29 item 4):
 # Table 2 in 2,677 right-hand sides against DOPRI5's 3,031 (summary path 0.93x), but the L/D 1.89 case 4,829 against
-# 4,010 and a dispersed density profile (linear between nodes 10,000 ft apart) 1.4-1.8x DOPRI5's: a high-order step
-# across a kink is rejected, retried up to it and regrown
+# 4,010: a high-order step across a kink (ARDC layer bases, aero table nodes) is rejected, retried up to it and
+# regrown (a dispersed density profile, a polyline through its nodes until issue 29, cost it 1.4-1.8x DOPRI5's)
 INTEGRATOR_DOP853 = 1.0
 INTEGRATOR_IDS = {"dopri5": INTEGRATOR_DOPRI5, "dop853": INTEGRATOR_DOP853}  # contracts' integrator.method
 

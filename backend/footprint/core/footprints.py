@@ -27,7 +27,7 @@ from footprint.core.sphere import (
     unit_vectors,
     wrap_longitude,
 )
-from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
+from footprint.core.trajectory import FlightSpec, Trajectory, simulate
 
 # a method's control settings: (the setting, make(spec, right) -> the spec it flies, whether it lands on the axis)
 Family = list[tuple[ControlSetting, Callable[..., FlightSpec], bool]]
@@ -349,11 +349,8 @@ def _fly(spec: FlightSpec, family: Family, mirror: bool, contours_fps: Sequence[
 
 
 def _landing(parameter: ControlSetting, side: str, spec: FlightSpec, contours_fps: Sequence[float]) -> FootprintPoint:
-    """One setting's footprint point: flown on the summary path (the same summary to the bit, no histories) unless
-    its iso-velocity contours need the histories."""
-    if contours_fps:
-        return point_of_trajectory(parameter, side, simulate(spec), contours_fps)
-    return point_of_trajectory(parameter, side, Trajectory(summary=simulate_summary(spec), history={}))
+    """One setting's footprint point: its histories are made only if its iso-velocity contours read them."""
+    return point_of_trajectory(parameter, side, simulate(spec), contours_fps)
 
 
 def _same_place(a: FootprintPoint, b: FootprintPoint) -> bool:
