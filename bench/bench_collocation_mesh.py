@@ -7,7 +7,7 @@ three ways in this process:
 - "before": one uniform 100-interval mesh, what the solver answered before the refinement (its re-flight agreed
   there, so the mesh was never doubled);
 - "refined": today's default (100 intervals, then the intervals where the linear controls bend most are halved
-  until the objective moves by less than 0.001 deg);
+  until the objective may move by less than 0.001 deg: collocation.remaining_move);
 - "converged": a uniform 400-interval mesh (the issue's reference) and a uniform 800-interval one.
 
     python3 bench/bench_collocation_mesh.py      # prints the table, writes bench/results/collocation_mesh.json
@@ -83,6 +83,7 @@ def main():
             "refined_s": refined_s,
             "refined_cpu_s": refined_cpu,
             "refined_last_change_deg": refined.mesh_change,
+            "refined_remaining_deg": refined.mesh_remaining,
             "uniform400_deg": ref400.objective,
             "uniform400_s": ref400_s,
             "uniform800_deg": ref800.objective,

@@ -250,6 +250,34 @@ def test_fly_there_lands_on_the_site_and_each_optimum_beats_the_other_on_its_own
     assert least_heat.refly["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-3)
 
 
+def least_heat_at_default_tolerance(**collocation):
+    from footprint.api import run
+
+    settings = {k: v for k, v in FLY_THERE["collocation"].items() if k != "mesh_tolerance"} | collocation
+    return run("optimize", FLY_THERE | {"collocation": settings})
+
+
+def test_a_heat_load_payoff_settles_at_the_default_tolerance():
+    """The least heat load moved 49, 12 and 3.1 Btu/ft^2 under the refinements to 118, 186 and 352 intervals: the
+    stop on the last move alone (<= 1e-4 of 24,022) wanted 684 intervals, past max_intervals 400, and answered
+    "not_converged". Its moves shrink fourfold a refinement, so 1.1 Btu/ft^2 may be left after 352: settled."""
+    r = least_heat_at_default_tolerance()
+    assert r.status == "optimal", r.message
+    assert r.intervals <= 400
+    assert r.mesh_remaining <= 1e-4 * r.objective < abs(r.mesh_change)  # settled by the rate, not the last move
+    assert abs(r.refly["final_latitude_deg"] - 15.0) <= col.AGREE_DEG
+
+
+@pytest.mark.slow
+def test_the_settled_heat_load_lies_within_its_estimate_of_a_converged_mesh():
+    """The same transcription refined to 1,354 intervals (132 s): the default answer's distance to it is within the
+    remaining move it estimated (1.07 Btu/ft^2 estimated, 0.08 found: the estimate is on the safe side)."""
+    settled = least_heat_at_default_tolerance()
+    finer = least_heat_at_default_tolerance(mesh_tolerance=0.05, max_intervals=1500)
+    assert finer.intervals > 1000
+    assert abs(settled.objective - finer.objective) <= settled.mesh_remaining + finer.mesh_remaining
+
+
 def test_a_site_outside_the_footprint_is_not_an_optimum_and_says_by_how_much():
     from footprint.api import run
 
@@ -309,6 +337,22 @@ def test_a_heat_limited_optimum_at_default_settings_is_that_of_a_converged_mesh(
     assert abs(refined.mesh_change) <= 1e-3  # settled: it moved by less than 0.001 deg under its last refinement
     # and its re-flight lands where the NLP ends
     assert refined.agreement["latitude_deg"] < col.AGREE_DEG
+
+
+def test_the_remaining_move_is_the_tail_of_a_geometric_sequence():
+    """An objective converging at a fixed rate, J_k = J* + C q^k: after two changes the estimate is the distance to
+    J* exactly (the geometric tail in closed form), for any q < 1 and either sign of C."""
+    for q in (0.25, 0.5, 0.8):
+        for c in (3.0, -0.7):
+            j = [30.0 + c * q**k for k in range(5)]
+            moves = list(np.diff(j))
+            for k in range(2, 5):
+                assert col.remaining_move(moves[:k]) == pytest.approx(abs(j[k] - 30.0), rel=1e-9)
+    # no rate to go by: nothing yet, one change, changes of opposite sign or growing: the last change itself
+    assert col.remaining_move([]) is None
+    assert col.remaining_move([-0.004]) == 0.004
+    assert col.remaining_move([0.004, -0.001]) == 0.001
+    assert col.remaining_move([0.001, 0.002]) == 0.002
 
 
 def test_the_controls_error_is_the_interpolation_bound_of_a_parabola():

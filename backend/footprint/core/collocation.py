@@ -260,6 +260,7 @@ class Result:
     intervals: int
     guess: Guess | None = field(repr=False, default=None)
     mesh_change: float | None = None  # the objective's change under the last mesh refinement (solve)
+    mesh_remaining: float | None = None  # how far it may still move (remaining_move of the refinements' changes)
     advice: str = ""  # what to change, when there is no optimum (NO_OPTIMUM_ADVICE unless said)
     solver_state: dict[str, NDArray[np.float64]] | None = field(
         repr=False, default=None
@@ -294,6 +295,7 @@ class Result:
             "seconds": self.seconds,
             "intervals": self.intervals,
             "mesh_change": self.mesh_change,
+            "mesh_remaining": self.mesh_remaining,
         }
 
 
@@ -1041,19 +1043,35 @@ def objective_tolerance(problem: Problem, objective: float) -> float:
     return 1e-4 * max(abs(objective), 1.0)
 
 
+def remaining_move(moves: Sequence[float]) -> float | None:
+    """How far the objective may still move after these successive changes under mesh refinement: the last change
+    extrapolated by the geometric series that its ratio q to the one before sets, |m_k| q / (1 - q), when the two have
+    one sign and shrink (Richardson's estimate for a rate of convergence that holds; exact for a geometric sequence);
+    else the last change itself, with no rate to go by. None before any refinement."""
+    if not moves:
+        return None
+    last = abs(moves[-1])
+    if len(moves) >= 2 and moves[-1] * moves[-2] > 0.0 and last < abs(moves[-2]):
+        q = last / abs(moves[-2])
+        return last * q / (1.0 - q)
+    return last
+
+
 def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress | None = None) -> Result:
     """Solve, re-fly, and refine the mesh from the last solution until the optimum is settled: the re-flight agrees
-    and the objective moved by less than objective_tolerance under the last refinement (or max_intervals is
-    reached, or a refined mesh ends without an optimum: then the result is "not_converged" and says by how much the
-    objective still moved). A refinement halves the intervals where the linear controls' error is largest
-    (control_errors), or every interval while the re-flight disagrees, and starts from the last optimum at the
-    narrowest corners. The meshes settle on the problem with the rates' penalty; the polish (Problem.polish) then
-    follows once, on the last mesh. on_progress(fraction, note) after every IPOPT iteration (True stops)."""
+    and the objective may move by less than objective_tolerance under further refinement (remaining_move of its
+    changes so far; or max_intervals is reached, or a refined mesh ends without an optimum: then the result is
+    "not_converged" and says by how much the objective may still move). A refinement halves the intervals where the
+    linear controls' error is largest (control_errors), or every interval while the re-flight disagrees, and starts
+    from the last optimum at the narrowest corners. The meshes settle on the problem with the rates' penalty; the
+    polish (Problem.polish) then follows once, on the last mesh. on_progress(fraction, note) after every IPOPT
+    iteration (True stops)."""
     if guess is None:
         guess = first_guess(problem)
     mesh: NDArray[np.float64] | None = None  # the first: uniform, problem.intervals
     total_s, total_it, rounds = 0.0, 0, 0
     previous: tuple[Result, Transcription] | None = None  # the last mesh's optimum
+    moves: list[float] = []  # the objective's change under each refinement
     while True:  # the k-th mesh reports within [1 - 2^-k, 1 - 2^-(k+1)] (how many there will be is not known)
         share, rounds = (1.0 - 0.5**rounds, 1.0 - 0.5 ** (rounds + 1)), rounds + 1
         transcription = Transcription(problem, mesh=mesh)
@@ -1073,7 +1091,8 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         if not result.ok:
             break
         if previous is not None:
-            result.mesh_change = result.objective - previous[0].objective
+            moves.append(result.objective - previous[0].objective)
+            result.mesh_change, result.mesh_remaining = moves[-1], remaining_move(moves)
         if agrees(result) and _settled(problem, result):
             break
         errors = control_errors(result.controls) if agrees(result) else np.ones(n)
@@ -1084,7 +1103,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         guess, mesh, previous = result.guess, finer, (result, transcription)
     if result.ok and problem.polish and problem.smoothing_weight > 0:
         assert result.guess is not None and result.solver_state is not None
-        change = result.mesh_change
+        change, remaining = result.mesh_change, result.mesh_remaining
         report = None if on_progress is None else iteration_progress(on_progress, (1.0 - 0.5**rounds, 1.0), "polish: ")
         stage = SMOOTHING_STAGES[-1:]
         polished = transcription.solve(
@@ -1093,7 +1112,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         total_s, total_it = total_s + polished.seconds, total_it + polished.iterations
         if polished.ok or polished.status == "stopped":
             result = polished
-            result.mesh_change = change
+            result.mesh_change, result.mesh_remaining = change, remaining
             refly(problem, result)
         else:  # said, as a stage that does not end is: the optimum before it is kept
             result.message += f"; the polish ended {polished.message}: the optimum before it is kept"
@@ -1101,7 +1120,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
     if result.ok and problem.max_intervals > problem.intervals and not _settled(problem, result):
         result.status = "not_converged"
         result.advice = "to change: a larger collocation.max_intervals"
-        if result.mesh_change is None:
+        if result.mesh_change is None or result.mesh_remaining is None:
             result.message = (
                 f"the mesh could not be refined within max_intervals ({problem.max_intervals}): how far the "
                 "objective may still move is not measured; " + result.message
@@ -1109,8 +1128,8 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         else:
             result.message = (
                 f"the mesh stopped at {result.intervals} intervals with the objective still moving by "
-                f"{abs(result.mesh_change):.3g} under the last refinement (tolerance "
-                f"{objective_tolerance(problem, result.objective):.3g}): it may move by about as much again; "
+                f"{abs(result.mesh_change):.3g} under the last refinement: it may move by about "
+                f"{result.mesh_remaining:.3g} more (tolerance {objective_tolerance(problem, result.objective):.3g}); "
                 + result.message
             )
     if result.ok and not agrees(result):  # said, not hidden: the mesh stopped at max_intervals
@@ -1124,4 +1143,5 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
 
 
 def _settled(problem: Problem, result: Result) -> bool:
-    return result.mesh_change is not None and abs(result.mesh_change) <= objective_tolerance(problem, result.objective)
+    left = result.mesh_remaining
+    return left is not None and left <= objective_tolerance(problem, result.objective)
