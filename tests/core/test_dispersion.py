@@ -10,7 +10,13 @@ from scipy.interpolate import CubicSpline
 
 from footprint.contracts import parse
 from footprint.core import dispersion as mc
-from footprint.core.atmosphere import DENSITY_NODE_COUNT, DENSITY_NODES_FT, density_factor_table
+from footprint.core.atmosphere import (
+    DENSITY_NODE_COUNT,
+    DENSITY_NODES_FT,
+    density_factor_table,
+    density_kink_between_ft,
+    density_profile,
+)
 from footprint.core.errors import InputError
 from footprint.core.trajectory import Dispersion, simulate
 from tests.authorities.report import example
@@ -93,20 +99,24 @@ def test_a_constant_density_profile_is_the_exponential_atmosphere_with_rho0_scal
     assert by_profile["heat_load_btu_ft2"] == pytest.approx(by_rho0["heat_load_btu_ft2"], rel=1e-6)
 
 
+def factor(delta, altitudes_ft):
+    return density_factor_table(density_profile(delta), altitudes_ft)
+
+
 def test_the_density_factor_is_the_natural_cubic_spline_through_the_nodes_held_beyond():
     rng = np.random.default_rng(7)
     delta = rng.normal(0.0, 0.1, DENSITY_NODE_COUNT)
     altitudes_ft = np.concatenate([rng.uniform(-5_000.0, 450_000.0, 500), DENSITY_NODES_FT])
     spline = CubicSpline(DENSITY_NODES_FT, delta, bc_type="natural")  # scipy's, an independent construction
     held = np.clip(altitudes_ft, DENSITY_NODES_FT[0], DENSITY_NODES_FT[-1])
-    np.testing.assert_allclose(density_factor_table(delta, altitudes_ft), 1.0 + spline(held), rtol=0.0, atol=1e-14)
-    assert np.array_equal(density_factor_table(delta, DENSITY_NODES_FT), 1.0 + delta)  # the drawn nodes, exactly
-    assert density_factor_table(delta, np.nan) == 1.0 + delta[0]  # a NaN altitude reads no node out of range
+    np.testing.assert_allclose(factor(delta, altitudes_ft), 1.0 + spline(held), rtol=0.0, atol=1e-14)
+    assert np.array_equal(factor(delta, DENSITY_NODES_FT), 1.0 + delta)  # the drawn nodes, exactly
+    assert factor(delta, np.nan) == 1.0 + delta[0]  # a NaN altitude reads no node out of range
     # no kink at an inner node: the slopes on either side agree to the differencing error (a polyline's jump by ~0.1)
     h = 1.0  # ft
     inner = DENSITY_NODES_FT[1:-1]
-    left = (density_factor_table(delta, inner) - density_factor_table(delta, inner - h)) / h
-    right = (density_factor_table(delta, inner + h) - density_factor_table(delta, inner)) / h
+    left = (factor(delta, inner) - factor(delta, inner - h)) / h
+    right = (factor(delta, inner + h) - factor(delta, inner)) / h
     assert np.max(np.abs(right - left)) * 10_000.0 < 1e-4  # per node spacing
 
 
@@ -116,8 +126,21 @@ def test_a_profile_with_extreme_nodes_keeps_the_density_positive_between_them():
     delta = np.where(np.arange(DENSITY_NODE_COUNT) == 20, 0.9, -0.9)
     altitudes_ft = np.linspace(0.0, 400_000.0, 40_001)
     assert np.min(1.0 + CubicSpline(DENSITY_NODES_FT, delta, bc_type="natural")(altitudes_ft)) < 0.0
-    assert np.min(density_factor_table(delta, altitudes_ft)) >= 0.05
-    assert np.array_equal(density_factor_table(delta, DENSITY_NODES_FT), 1.0 + delta)
+    assert np.min(factor(delta, altitudes_ft)) >= 0.05
+    assert np.array_equal(factor(delta, DENSITY_NODES_FT), 1.0 + delta)
+
+
+def test_the_profile_has_kinks_only_where_the_spline_meets_its_held_ends():
+    """DOP853 steps onto a kink (integrate._kink_fraction): none at the inner nodes; at an end node, where the spline
+    meets the held value, only if its slope there is not zero (scipy's spline's derivative is the reference)."""
+    delta = np.random.default_rng(3).normal(0.0, 0.05, DENSITY_NODE_COUNT)
+    profile = density_profile(delta)
+    slope = CubicSpline(DENSITY_NODES_FT, delta, bc_type="natural").derivative()
+    assert slope(DENSITY_NODES_FT[0]) != 0.0 and slope(DENSITY_NODES_FT[-1]) != 0.0
+    assert np.isnan(density_kink_between_ft(profile, 0, 15_000.0, 385_000.0))  # 37 inner nodes, no kink
+    assert density_kink_between_ft(profile, 0, 395_000.0, 405_000.0) == 400_000.0
+    assert density_kink_between_ft(profile, 0, 5_000.0, -5_000.0) == 0.0
+    assert np.isnan(density_kink_between_ft(density_profile(np.full(DENSITY_NODE_COUNT, 0.1)), 0, 395e3, 405e3))
 
 
 @pytest.mark.parametrize(

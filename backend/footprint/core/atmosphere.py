@@ -287,7 +287,7 @@ def density_profile(delta: ArrayLike) -> NDArray[np.float64]:
     cubic spline through them (per node spacing squared; zero at the end nodes). A spline, not the polyline through
     the nodes: its slope has no jump at the 39 inner nodes, where a DOPRI5 step across each had its error estimate
     spoiled and was rejected (issue 29: an L/D 1.89 flight with a 5 % profile took 1.34x the right-hand sides of the
-    undispersed one, with the spline 1.03x). The nodal values, which the Gauss-Markov draw sets, are the same."""
+    undispersed one, with the spline 1.04x). The nodal values, which the Gauss-Markov draw sets, are the same."""
     values = np.zeros(2 * DENSITY_NODE_COUNT)
     values[:DENSITY_NODE_COUNT] = delta
     _natural_spline_curvature(values)
@@ -394,15 +394,16 @@ def _density_factor_fill(
         out[k] = density_factor(profile, 0, altitudes_ft[k])
 
 
-def density_factor_table(delta: ArrayLike, altitudes_ft: ArrayLike) -> NDArray[np.float64]:
-    """density_factor at many altitudes (ft): an array shaped like `altitudes_ft`; `delta` at DENSITY_NODES_FT."""
-    delta = np.ascontiguousarray(delta, dtype=np.float64)
-    if delta.shape != (DENSITY_NODE_COUNT,):
-        raise ValueError(f"delta: {delta.shape} values, need {DENSITY_NODE_COUNT} (one per node of DENSITY_NODES_FT)")
+def density_factor_table(profile: ArrayLike, altitudes_ft: ArrayLike) -> NDArray[np.float64]:
+    """density_factor at many altitudes (ft): an array shaped like `altitudes_ft`; `profile` a density_profile (as
+    a flight's parameters hold it: the spline is not solved again)."""
+    profile = np.ascontiguousarray(profile, dtype=np.float64)
+    if profile.shape != (2 * DENSITY_NODE_COUNT,):
+        raise ValueError(f"profile: {profile.shape} values, need {2 * DENSITY_NODE_COUNT} (density_profile(delta))")
     altitudes = np.asarray(altitudes_ft, dtype=np.float64)
     flat = np.ascontiguousarray(altitudes.ravel())
     out = np.empty_like(flat)
-    _density_factor_fill(density_profile(delta), flat, out)
+    _density_factor_fill(profile, flat, out)
     return out.reshape(altitudes.shape)
 
 

@@ -509,7 +509,7 @@ def _heating(
         return None
     factor = None
     if p[P_DENSITY_DISPERSED] != 0.0:
-        factor = density_factor_table(p[P_DENSITY_PROFILE : P_DENSITY_PROFILE + DENSITY_NODE_COUNT], rows[:, R_ALT])
+        factor = density_factor_table(p[P_DENSITY_PROFILE:P_INTEGRATOR], rows[:, R_ALT])
     return trajectory_heating(
         spec.heating,
         rows[:, R_ALT],
