@@ -56,3 +56,53 @@ def test_a_coefficient_that_overflows_the_forces_is_refused_with_its_field(tmp_p
     line = proc.stderr.strip()
     assert "\n" not in line and field.removeprefix("vehicle.") in line and "100" in line, line
     assert "Infinity" not in proc.stdout and "overflow" not in proc.stderr
+
+
+def _json_values():
+    """Nested values as results hold them: Python and numpy numbers (NaN and infinities too), text, None, lists,
+    tuples, dicts with text or integer keys, and numpy arrays, C-contiguous, strided or of text."""
+    import numpy as np
+    from hypothesis import strategies as st
+
+    floats = st.floats(allow_nan=True, allow_infinity=True)
+    arrays = st.lists(floats, max_size=6).map(lambda v: np.array(v, dtype=np.float64))
+    leaves = st.one_of(
+        floats,
+        floats.map(np.float64),
+        st.integers(-(2**63), 2**63 - 1),
+        st.integers(-(2**63), 2**63 - 1).map(np.int64),
+        st.booleans(),
+        st.booleans().map(np.bool_),
+        st.none(),
+        st.text(max_size=8),
+        arrays,
+        arrays.map(lambda a: a[::2]),
+        st.lists(st.text(max_size=3), max_size=3).map(lambda v: np.array(v, dtype=str)),
+    )
+    return st.recursive(
+        leaves,
+        lambda inner: st.one_of(
+            st.lists(inner, max_size=4),
+            st.lists(inner, max_size=4).map(tuple),
+            st.dictionaries(st.one_of(st.text(max_size=6), st.integers(-5, 5)), inner, max_size=4),
+        ),
+        max_leaves=20,
+    )
+
+
+def test_the_one_writer_writes_what_plain_makes_to_the_bit():
+    """Issue 29 (the doors): json_bytes hands orjson the value itself, not plain()'s copy of it; the text must read
+    back as plain(value) does through json.dumps, every float to the bit (NaN and infinities null), and stay strict."""
+    from hypothesis import given, settings
+
+    from footprint.contracts.records import json_bytes, plain
+    from tests.test_doors import bits
+
+    @settings(max_examples=300, deadline=None)
+    @given(_json_values())
+    def check(value):
+        expected = bits(json.loads(json.dumps(plain(value))))
+        for indent in (None, 2):
+            assert bits(_strict(json_bytes(value, indent).decode())) == expected
+
+    check()

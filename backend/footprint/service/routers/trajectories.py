@@ -1,13 +1,12 @@
 """POST /api/trajectories: one trajectory, flown synchronously (in the threadpool, off the event loop)."""
 
 import numpy as np
-import orjson
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
 from numpy.typing import NDArray
 
 from footprint.contracts.case import Case
-from footprint.contracts.records import decimated, plain
+from footprint.contracts.records import decimated, json_bytes
 from footprint.service import deps
 from footprint.service.errors import ApiRoute
 from footprint.service.schemas import TrajectoryRead
@@ -25,9 +24,9 @@ def fly(request: Request, case: Case) -> Response:
 
 def trajectory_json(summary: dict, history: dict[str, NDArray[np.float64]]) -> bytes:
     """TrajectoryRead's JSON (NaN and infinities as null), made in one step: the histories' float64 columns written
-    by orjson straight from their memory, neither converted number by number nor validated again against the model
+    straight from their memory (json_bytes), neither converted number by number nor validated again against the model
     they are built to (pydantic's serializer over lists took twice as long: issue 29's doors)."""
     n = len(history["time_s"])
     keep = slice(None) if n <= MAX_HISTORY_ROWS else decimated(n, MAX_HISTORY_ROWS)
     columns = {k: np.ascontiguousarray(v[keep], dtype=np.float64) for k, v in history.items()}
-    return orjson.dumps({"summary": plain(summary), "history": columns}, option=orjson.OPT_SERIALIZE_NUMPY)
+    return json_bytes({"summary": summary, "history": columns})
