@@ -1,11 +1,11 @@
 """GET /api/jobs/{id}/dispersion: a succeeded dispersion job's result as GeoJSON or CSV."""
 
-import json
 from typing import Literal
 
 from fastapi import APIRouter, Query, Request, Response
 
 from footprint.contracts import dispersion
+from footprint.contracts.records import json_bytes
 from footprint.pictures import geojson
 from footprint.service import deps
 from footprint.service.db import queries as q
@@ -42,4 +42,4 @@ def get_dispersion(
             media_type="text/csv",
             headers={"Content-Disposition": f'attachment; filename="dispersion-{job_id}-sites.csv"'},
         )
-    return Response(json.dumps(geojson.dispersion_collection(result)), media_type="application/geo+json")
+    return Response(json_bytes(geojson.dispersion_collection(result)), media_type="application/geo+json")

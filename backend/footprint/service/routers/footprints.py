@@ -2,14 +2,13 @@
 
 import csv
 import io
-import json
 from typing import Literal
 
 from fastapi import APIRouter, Query, Request, Response
 from fastapi.responses import HTMLResponse
 
 from footprint.contracts.footprint import POINT_FIELDS, ground_track_at
-from footprint.contracts.records import csv_cell
+from footprint.contracts.records import csv_cell, json_bytes
 from footprint.core.errors import InputError
 from footprint.core.rotation import shift_error_nmi
 from footprint.pictures import geojson
@@ -102,7 +101,7 @@ async def get_footprint(
     def build(session):
         item, _ = _stored(session, footprint_id)
         if format == "geojson":
-            return read_cache.serialized(json.dumps(geojson.feature_collection(item)).encode(), "application/geo+json")
+            return read_cache.serialized(json_bytes(geojson.feature_collection(item)), "application/geo+json")
         if format == "csv":
             return read_cache.serialized(
                 _csv(item["points"]).encode(),

@@ -1,13 +1,13 @@
 """Jobs: submit (202), read, list, cancel, and progress as server-sent events."""
 
 import asyncio
-import json
 
 from fastapi import APIRouter, Depends, Query, Request, Response
 from fastapi.responses import StreamingResponse
 from starlette.concurrency import run_in_threadpool
 
 from footprint import contracts
+from footprint.contracts.records import strict_json
 from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
@@ -147,4 +147,4 @@ async def job_events(job_id: StoredId, request: Request) -> StreamingResponse:
 
 
 def _event(name: str, data: dict) -> str:
-    return f"event: {name}\ndata: {json.dumps(data)}\n\n"
+    return f"event: {name}\ndata: {strict_json(data)}\n\n"
