@@ -106,3 +106,14 @@ def test_the_one_writer_writes_what_plain_makes_to_the_bit():
             assert bits(_strict(json_bytes(value, indent).decode())) == expected
 
     check()
+
+
+def test_the_services_job_events_are_strict_json_too():
+    """The job event stream wrote its data with json.dumps, which writes a NaN as the bare word NaN that a browser's
+    JSON.parse refuses; it goes through the same writer as the CLI now (a progress note's text kept as it is)."""
+    from footprint.service.routers.jobs import _event
+
+    text = _event("progress", {"fraction": math.nan, "note": 'mesh 2: "113 intervals" — ü'})
+    name, data = text.removesuffix("\n\n").split("\n")
+    assert name == "event: progress" and data.startswith("data: ")
+    assert _strict(data.removeprefix("data: ")) == {"fraction": None, "note": 'mesh 2: "113 intervals" — ü'}
