@@ -47,10 +47,10 @@ JSON_OPTIONS = orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
 
 def json_bytes(value: Any, indent: int | None = None) -> bytes:
     """RFC 8259 JSON of `value` as plain() would make it (NaN and infinities as null, as the service writes them),
-    compact or indented by 2: what the CLI prints and writes, and the trajectory route's answer. orjson walks the
-    value in C, floats in their shortest round-trip digits as json.dumps writes them, numpy scalars and C-contiguous
-    numeric arrays from their memory (plain() first, over a summary's 25 values, was most of the JSON's cost);
-    anything else it does not know goes through plain(), or as its float or its text."""
+    compact or indented by 2: what the CLI prints and writes, and the service's trajectory answer, GeoJSON and job
+    events. orjson walks the value in C, floats in their shortest round-trip digits as json.dumps writes them, numpy
+    scalars and C-contiguous numeric arrays from their memory (plain() first, over a summary's 25 values, was most of
+    the JSON's cost); anything else it does not know goes through plain(), or as its float or its text."""
     if indent not in (None, 2):
         raise ValueError(f"indent={indent!r}: 2 or None")
     return orjson.dumps(value, default=_json_other, option=JSON_OPTIONS | (orjson.OPT_INDENT_2 if indent else 0))
