@@ -135,7 +135,7 @@ def main() -> None:
                 with unittest.mock.patch.object(fastapi.routing, "run_in_threadpool", called_here):
                     loop.run_until_complete(post())
 
-            one_loop_run_each = {
+            calls = {
                 "simulate(spec)": lambda: simulate(spec),
                 "simulate(spec).history": lambda: simulate(spec).history,
                 "api.fly(dict)": lambda: api.fly(CASE),
@@ -145,10 +145,10 @@ def main() -> None:
                 "POST /api/trajectories (TestClient)": test_client,
             }
             kernel = lambda: _fly(spec)  # noqa: E731
-            for fn in (kernel, *one_loop_run_each.values()):  # warm: numba, pydantic, the thread pool
+            for fn in (kernel, *calls.values()):  # warm: numba, pydantic, the thread pool
                 for _ in range(20):
                     fn()
-            doors = {name: functools.partial(batch_ms, fn) for name, fn in one_loop_run_each.items()}
+            doors = {name: functools.partial(batch_ms, fn) for name, fn in calls.items()}
             doors[SERVED] = lambda: loop.run_until_complete(served_batch_ms(post))
             times: dict[str, list[float]] = {"kernel": [], **{k: [] for k in doors}}
             ratios: dict[str, list[float]] = {k: [] for k in doors}

@@ -42,7 +42,7 @@ def plain(value: Any) -> Any:
     return value
 
 
-JSON_OPTIONS = orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
+_JSON_OPTIONS = orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
 
 
 def json_bytes(value: Any, indent: int | None = None) -> bytes:
@@ -53,7 +53,7 @@ def json_bytes(value: Any, indent: int | None = None) -> bytes:
     the JSON's cost); anything else it does not know goes through plain(), or as its float or its text."""
     if indent not in (None, 2):
         raise ValueError(f"indent={indent!r}: 2 or None")
-    return orjson.dumps(value, default=_json_other, option=JSON_OPTIONS | (orjson.OPT_INDENT_2 if indent else 0))
+    return orjson.dumps(value, default=_json_other, option=_JSON_OPTIONS | (orjson.OPT_INDENT_2 if indent else 0))
 
 
 def _json_other(o: Any) -> Any:
