@@ -4,8 +4,10 @@ collocation at stepped down-ranges.
 Five optima open the boundary: the maximum cross-range of each half with the down-range free, the maximum
 down-range, and each half's minimum down-range (the support function in the directions 0 and 180 deg: on the
 L/D 1.89 the nearest point is off the axis, 582 nmi at 292 nmi cross-range where the axis' own nearest is
-976 nmi). The maximum down-range is solved from two starts, the maximum cross-range and the support direction
-FAR_VIA_DEG on the way from it, and the farther kept (its local optima lie hundreds of miles apart). Between the
+976 nmi). The maximum cross-range is solved from two starts (the case's own flight, and a glide at the largest
+|L/D| banked 45 deg) and the maximum down-range from three (straight from the maximum cross-range, by way of the
+support direction FAR_VIA_DEG, and the glide at the largest |L/D|), the farthest kept: their local optima lie
+hundreds to thousands of miles apart. Between the
 extremes, down-ranges on a cosine grid (closer where the boundary turns, at both ends)
 are held as a terminal equality, and each half's cross-range is maximized (the right half's minimized), every
 solve warm-started from its neighbour's primal-dual point: IPOPT needs 8-60 iterations a point where a cold
@@ -22,12 +24,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footprint.core import collocation as col
+from footprint.core.aero import coefficients
+from footprint.core.controls import replace_controls
 from footprint.core.errors import NoOptimum
 from footprint.core.footprints import (
     Footprint,
@@ -79,17 +84,27 @@ def collocation_footprint(
     walk = _Walk(
         problem,
         col.SMOOTHING_STAGES if s.fine else col.SMOOTHING_STAGES[:1],
-        total=6 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
+        total=8 + points_per_half + (0 if mirror and mirror_is_exact(spec) else 2 + points_per_half),
         on_progress=on_progress,
     )
-    left = walk.first(col.guess_from_trajectory(spec, simulate(spec)), (0.0, 1.0), "the maximum cross-range")
-    # The maximum down-range has local optima (Betts' shuttle, 3 g: 11,274, 11,317 and 12,764 nmi) and a step
-    # straight from the maximum cross-range took the second or the third by the round-off of its start; by way of
-    # the support direction FAR_VIA_DEG it took the third from either. The farther of the two is kept.
+    # Each extreme also from a start of its own at the glide of the largest |L/D|: on Betts' shuttle (3 g) that
+    # glide flies inverted at -3.23 deg (|L/D| 2.87 against 1.89 upright), and the other starts found the
+    # farthest point among local optima flying inverted for a part (11,274 to 15,164 nmi, picked by round-off) and
+    # the widest upright (2,066 nmi) where from the glide they are 17,955 and 3,950 nmi, whatever the round-off.
+    flown = simulate(spec)
+    left = _wider(
+        walk.first(col.guess_from_trajectory(spec, flown), (0.0, 1.0), "the maximum cross-range"),
+        walk.cold(_glide_guess(problem, walk, flown, 45.0), (0.0, 1.0)),
+    )
+    # the maximum down-range straight from the maximum cross-range and by way of the support direction FAR_VIA_DEG
+    # (on the shuttle each took a different local optimum by round-off), and from the glide
     via = walk.step(left, _direction(FAR_VIA_DEG), "axis", point=False)
     far = _farther(
-        walk.step(left, (1.0, 0.0), "axis", point=False),
-        None if via is None else walk.step(via, (1.0, 0.0), "axis", point=False),
+        _farther(
+            walk.step(left, (1.0, 0.0), "axis", point=False),
+            None if via is None else walk.step(via, (1.0, 0.0), "axis", point=False),
+        ),
+        walk.cold(_glide_guess(problem, walk, flown, 0.0), (1.0, 0.0)),
     )
     # the minimum down-range by way of the support direction 135 deg: 35-45 + 42-59 IPOPT iterations, 300 in
     # one step
@@ -168,6 +183,10 @@ class _Walk:
             raise NoOptimum(f"collocation footprint: {what}: {self.last.one_line()}")
         return solved
 
+    def cold(self, guess: col.Guess, weights: tuple[float, float]) -> _Solved | None:
+        """A cold solve (each stage of the tables' corners); None where it ends without an optimum."""
+        return self._solve(guess, weights=weights, stages=self.stages)
+
     def step(
         self,
         seed: _Solved,
@@ -206,6 +225,28 @@ class _Walk:
         return [(None if d == d_free else d, solved[d]) for d in sorted(solved)]
 
 
+def _glide_guess(problem: col.Problem, walk: _Walk, flown: Trajectory, tilt_deg: float) -> col.Guess:
+    """The flight at the constant alpha of the largest |L/D| within the alpha bounds (at the entry's Mach and
+    altitude), its lift turned tilt_deg to the left of up: upside down where that lift is negative and the bank
+    bounds allow it (Betts' polynomial: |L/D| 2.87 at -3.23 deg, against (L/D)max 1.89 at 17.39)."""
+    spec = problem.base
+    lo, hi = walk.transcription.alpha_bounds_deg()
+    mach, altitude_ft = float(flown.history["mach"][0]), float(flown.history["altitude_ft"][0])
+    alphas = np.linspace(lo, hi, 1 + round(10 * (hi - lo)))
+    ld = np.array([cl / cd for cl, cd in (coefficients(spec.vehicle.blob, mach, a, altitude_ft) for a in alphas)])
+    inverted = problem.bank_bounds_deg[0] <= -180.0 or problem.bank_bounds_deg[1] >= 180.0
+    best = int(np.argmax(np.abs(ld) if inverted else ld))
+    ctrl = replace_controls(
+        spec.ctrl,
+        bank_law="constant",
+        bank_deg=tilt_deg if ld[best] > 0.0 else tilt_deg - 180.0,
+        bank_start="entry",
+        alpha_law="constant",
+        alpha_deg=float(alphas[best]),
+    )
+    return col.guess_from_trajectory(spec, simulate(replace(spec, ctrl=ctrl)))
+
+
 def _direction(xi_deg: float) -> tuple[float, float]:
     """The objective weights (down-range, cross-range) of the support direction xi_deg."""
     xi = math.radians(xi_deg)
@@ -218,11 +259,16 @@ def _mirrored_guess(problem: col.Problem, result: col.Result) -> col.Guess:
     return col.guess_from_trajectory(problem.base, simulate(col.control_tables_spec(problem.base, controls)))
 
 
-def _farther(a: _Solved | None, b: _Solved | None) -> _Solved | None:
-    """The solve whose re-flight lands farther down-range (either, if one ended without an optimum)."""
+def _farther(a: _Solved | None, b: _Solved | None, quantity: str = "downrange_nmi") -> _Solved | None:
+    """The solve whose re-flight reaches farther in `quantity` (either, if one ended without an optimum)."""
     if a is None or b is None:
         return a or b
-    return b if b[1].summary["downrange_nmi"] > a[1].summary["downrange_nmi"] else a
+    return b if b[1].summary[quantity] > a[1].summary[quantity] else a
+
+
+def _wider(a: _Solved, b: _Solved | None) -> _Solved:
+    """The solve whose re-flight reaches farther left."""
+    return _farther(a, b, "crossrange_nmi") or a
 
 
 def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> FootprintPoint:
