@@ -107,9 +107,9 @@ def test_an_optimal_footprint_job_is_stored_like_the_others(api, optimal_direct,
     notes = [(p, n) for p, n in seen if n is not None]
     assert notes and all(0.0 <= p < 1.0 for p, _ in notes) and max(p for p, _ in notes) > 0.0, seen
     assert [p for p, _ in seen] == sorted(p for p, _ in seen)
-    # 6 solves for the 4 extremes (the farthest from two starts, one by way of 20 deg) and 3 down-ranges, the right
-    # half mirrored
-    assert all(re.fullmatch(r"solve \d+ of 9: IPOPT iteration \d+", n) for _, n in notes), notes
+    # 8 solves for the 4 extremes (the widest from two starts, the farthest from three, one by way of 20 deg) and
+    # 3 down-ranges, the right half mirrored
+    assert all(re.fullmatch(r"solve \d+ of 11: IPOPT iteration \d+", n) for _, n in notes), notes
     assert job["progress"] == 1.0 and job["progress_note"] is None
     stored = api.get(f"/api/footprints/{job['result']['footprints'][0].rsplit('/', 1)[1]}").json()
     assert stored["method"] == "collocation" and len(stored["points"]) == 1 + 2 * 5
