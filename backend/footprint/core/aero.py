@@ -283,7 +283,8 @@ def _refine(nodes: ArrayLike, factor: int = GRID_REFINEMENT) -> NDArray[np.float
     return np.append(inner, nodes[-1])
 
 
-def _alpha_sweep(alpha_min: float, alpha_max: float) -> NDArray[np.float64]:
+def alpha_sweep_deg(alpha_min: float, alpha_max: float) -> NDArray[np.float64]:
+    """Alpha from alpha_min to alpha_max (deg) every SWEEP_STEP_DEG, both ends included."""
     n = int(round((alpha_max - alpha_min) / SWEEP_STEP_DEG)) + 1
     return np.linspace(alpha_min, alpha_max, max(n, 2))
 
@@ -328,7 +329,7 @@ def _table_on_grid(
 def _control_grids_tables(
     form: int, first: _Table, second: _Table, alpha_min: float, alpha_max: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.float64]], bool]:
-    sweep = _alpha_sweep(alpha_min, alpha_max)
+    sweep = alpha_sweep_deg(alpha_min, alpha_max)
     mach_axis = np.concatenate([first[0], second[0]])
     alt_axis = np.concatenate([first[2], second[2]])
     for factor in range(GRID_REFINEMENT, 0, -1):  # 8x; less only for big user tables (packing time)
@@ -420,7 +421,7 @@ def pack_polynomial(
     cl_coeffs = np.asarray(cl_coeffs, dtype=np.float64).ravel()
     cd_coeffs = np.asarray(cd_coeffs, dtype=np.float64).ravel()
     alpha_min, alpha_max = (float(a) for a in alpha_range_deg)
-    sweep = _alpha_sweep(alpha_min, alpha_max)
+    sweep = alpha_sweep_deg(alpha_min, alpha_max)
     cl = np.polynomial.polynomial.polyval(sweep, cl_coeffs)
     cd = np.polynomial.polynomial.polyval(sweep, cd_coeffs)
     *alphas, cd_positive = _grid_alphas(cl, cd, sweep)

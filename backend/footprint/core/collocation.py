@@ -84,10 +84,10 @@ AGREE_DEG = 0.01  # issue 12: flown final latitude and longitude within 0.01 deg
 AGREE_DOWNRANGE_REL = 1e-3  # and down-range within 0.1 %
 # state scales: r = R_e + H_SCALE x0, V = V_SCALE x3 (angles in rad); time T_SCALE; alpha, bank in these degrees
 H_SCALE_FT, V_SCALE_FPS, T_SCALE_S = 1e5, 1e4, 1e3
-# the floor along the way, above the stop altitude, tapering to it over the flight's last FLOOR_TAPER: the
+# the floor along the way, above the stop altitude, tapering to it over the flight's last FLOOR_TAPER_FRACTION: the
 # integrator ends the re-flight at the first touch, and an optimum that touched the stop altitude at a collocation
 # point and climbed again (Betts' shuttle flying inverted) dipped below it between the points (0.4 deg off)
-FLOOR_MARGIN_FT, FLOOR_TAPER = 1000.0, 0.02
+FLOOR_MARGIN_FT, FLOOR_TAPER_FRACTION = 1000.0, 0.02
 ALPHA_SCALE_DEG, BANK_SCALE_DEG = 10.0, 45.0
 # the tables' corners are rounded over this fraction of their shortest interval, stage by stage, each stage
 # started from the last: wide corners converge from a rough guess, narrow ones are the integrator's tables.
@@ -497,7 +497,7 @@ class Transcription:
         alt = path[0, :]
         stop_ft = spec.stop.altitude_ft
         assert stop_ft is not None  # _check refused a problem without a stop altitude
-        floor_ft = stop_ft + FLOOR_MARGIN_FT * np.minimum(1.0, (1.0 - self.tau[1:-1]) / FLOOR_TAPER)
+        floor_ft = stop_ft + FLOOR_MARGIN_FT * np.minimum(1.0, (1.0 - self.tau[1:-1]) / FLOOR_TAPER_FRACTION)
         add("altitude above the floor", (alt[1:-1] - floor_ft[None, :]) / H_SCALE_FT, 0.0, np.inf)
         add("final altitude", (alt[-1] - stop_ft) / H_SCALE_FT, 0.0, 0.0)
         self._path_rows: dict[str, object] = {}

@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footprint.core import collocation as col
-from footprint.core.aero import coefficients
+from footprint.core.aero import alpha_sweep_deg, coefficients
 from footprint.core.controls import replace_controls
 from footprint.core.errors import NoOptimum
 from footprint.core.footprints import (
@@ -92,9 +92,10 @@ def collocation_footprint(
     # farthest point among local optima flying inverted for a part (11,274 to 15,164 nmi, picked by round-off) and
     # the widest upright (2,066 nmi) where from the glide they are 17,955 and 3,950 nmi, whatever the round-off.
     flown = simulate(spec)
+    glide_banked, glide_level = _glide_guesses(problem, walk, flown, (45.0, 0.0))
     left = _wider(
         walk.first(col.guess_from_trajectory(spec, flown), (0.0, 1.0), "the maximum cross-range"),
-        walk.cold(_glide_guess(problem, walk, flown, 45.0), (0.0, 1.0)),
+        walk.cold(glide_banked, (0.0, 1.0)),
     )
     # the maximum down-range straight from the maximum cross-range and by way of the support direction FAR_VIA_DEG
     # (on the shuttle each took a different local optimum by round-off), and from the glide
@@ -104,7 +105,7 @@ def collocation_footprint(
             walk.step(left, (1.0, 0.0), "axis", point=False),
             None if via is None else walk.step(via, (1.0, 0.0), "axis", point=False),
         ),
-        walk.cold(_glide_guess(problem, walk, flown, 0.0), (1.0, 0.0)),
+        walk.cold(glide_level, (1.0, 0.0)),
     )
     # the minimum down-range by way of the support direction 135 deg: 35-45 + 42-59 IPOPT iterations, 300 in
     # one step
@@ -177,7 +178,7 @@ class _Walk:
 
     def first(self, guess: col.Guess, weights: tuple[float, float], what: str) -> _Solved:
         """A cold solve (each stage of the tables' corners); no optimum here ends the footprint, saying why."""
-        solved = self._solve(guess, weights=weights, stages=self.stages)
+        solved = self.cold(guess, weights)
         if solved is None:
             assert self.last is not None  # _solve keeps every result it returns None for
             raise NoOptimum(f"collocation footprint: {what}: {self.last.one_line()}")
@@ -225,26 +226,38 @@ class _Walk:
         return [(None if d == d_free else d, solved[d]) for d in sorted(solved)]
 
 
-def _glide_guess(problem: col.Problem, walk: _Walk, flown: Trajectory, tilt_deg: float) -> col.Guess:
-    """The flight at the constant alpha of the largest |L/D| within the alpha bounds (at the entry's Mach and
-    altitude), its lift turned tilt_deg to the left of up: upside down where that lift is negative and the bank
-    bounds allow it (Betts' polynomial: |L/D| 2.87 at -3.23 deg, against (L/D)max 1.89 at 17.39)."""
+def _glide_guesses(
+    problem: col.Problem, walk: _Walk, flown: Trajectory, tilts_deg: tuple[float, ...]
+) -> list[col.Guess]:
+    """Flights at the constant alpha of the largest |L/D| within the alpha bounds (at the entry's Mach and
+    altitude), the lift turned each of tilts_deg to the left of up: upside down where that lift is negative and the
+    bank bounds allow it (Betts' polynomial: |L/D| 2.87 at -3.23 deg, against (L/D)max 1.89 at 17.39)."""
     spec = problem.base
-    lo, hi = walk.transcription.alpha_bounds_deg()
     mach, altitude_ft = float(flown.history["mach"][0]), float(flown.history["altitude_ft"][0])
-    alphas = np.linspace(lo, hi, 1 + round(10 * (hi - lo)))
+    alphas = alpha_sweep_deg(*walk.transcription.alpha_bounds_deg())
     ld = np.array([cl / cd for cl, cd in (coefficients(spec.vehicle.blob, mach, a, altitude_ft) for a in alphas)])
     inverted = problem.bank_bounds_deg[0] <= -180.0 or problem.bank_bounds_deg[1] >= 180.0
     best = int(np.argmax(np.abs(ld) if inverted else ld))
-    ctrl = replace_controls(
-        spec.ctrl,
-        bank_law="constant",
-        bank_deg=tilt_deg if ld[best] > 0.0 else tilt_deg - 180.0,
-        bank_start="entry",
-        alpha_law="constant",
-        alpha_deg=float(alphas[best]),
-    )
-    return col.guess_from_trajectory(spec, simulate(replace(spec, ctrl=ctrl)))
+    upside_down_deg = 0.0 if ld[best] > 0.0 else 180.0
+    return [
+        col.guess_from_trajectory(
+            spec,
+            simulate(
+                replace(
+                    spec,
+                    ctrl=replace_controls(
+                        spec.ctrl,
+                        bank_law="constant",
+                        bank_deg=tilt - upside_down_deg,
+                        bank_start="entry",
+                        alpha_law="constant",
+                        alpha_deg=float(alphas[best]),
+                    ),
+                )
+            ),
+        )
+        for tilt in tilts_deg
+    ]
 
 
 def _direction(xi_deg: float) -> tuple[float, float]:
