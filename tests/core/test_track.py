@@ -1,8 +1,8 @@
-"""A flight's track (its histories' geodetic latitude, longitude, heading and ranges) against independent routes:
-the geodetic latitude against Vermeille's closed form (J. Geodesy 76, 2002, pp. 451-454) and against
-frames.geodetic_from_ecef (Bowring's iteration) row by row, the longitude and heading against frames' per-row
-routines, the ranges against sphere.downrange_crossrange_nmi of the latitudes and longitudes; over a pole, across
-the antimeridian, past half-way round the earth and on a spherical earth."""
+"""A flight's track, taken for every row at once (issue 29 item 3: trajectory._track_terms, then numpy's atan2 over
+the whole array): the geodetic latitude against Vermeille's closed form (J. Geodesy 76, 2002, pp. 451-454) and
+against the per-row routine it replaced (frames.geodetic_from_ecef, Bowring's iteration), the longitude and heading
+against frames' per-row routines, the ranges against sphere.downrange_crossrange_nmi of the latitudes and
+longitudes; over a pole, across the antimeridian, past half-way round the earth and on a spherical earth."""
 
 import copy
 import math

@@ -43,6 +43,31 @@ def geodetic_from_ecef(
 
 
 @njit
+def geodetic_latitude_terms(
+    x_ft: float, y_ft: float, z_ft: float, re_ft: float, rp_ft: float, oblate: bool, iterations: int = 2
+) -> tuple[float, float]:
+    """(s, c): the geodetic latitude is atan2(s, c), s and c its sine and cosine times one positive factor, by
+    geodetic_from_ecef's Bowring iterations with the reduced latitude's sine and cosine from normalized vectors (as
+    altitude_ft) in place of atan2, sin and cos: the same latitude to round-off (1e-15 rad), for every row of a
+    history (its atan2 taken over the whole column at once)."""
+    p = math.sqrt(x_ft * x_ft + y_ft * y_ft)
+    if not oblate:
+        return z_ft, p
+    e2 = 1.0 - (rp_ft * rp_ft) / (re_ft * re_ft)
+    ep2 = (re_ft * re_ft) / (rp_ft * rp_ft) - 1.0
+    bz, bp = re_ft * z_ft, rp_ft * p  # tan(beta) = Re z / (Rp p), beta the reduced latitude
+    s, c = z_ft, p
+    for _ in range(iterations):
+        ib = 1.0 / math.sqrt(bz * bz + bp * bp)
+        sb, cb = bz * ib, bp * ib
+        # Bowring: tan(lat) = (z + e'^2 Rp sin^3 beta) / (p - e^2 Re cos^3 beta); then tan(beta) = Rp tan(lat) / Re
+        s = z_ft + ep2 * rp_ft * sb * sb * sb
+        c = p - e2 * re_ft * cb * cb * cb
+        bz, bp = rp_ft * s, re_ft * c
+    return s, c
+
+
+@njit
 def altitude_ft(x_ft: float, y_ft: float, z_ft: float, re_ft: float, rp_ft: float, oblate: bool) -> float:
     """Geodetic altitude only: one Bowring step written with normalized vectors instead of trigonometry.
 
@@ -116,6 +141,18 @@ def flight_angles(x_ft: float, y_ft: float, z_ft: float, vx: float, vy: float, v
     if heading < 0.0:
         heading += 2.0 * math.pi
     return v, gamma, heading
+
+
+@njit
+def heading_terms(x_ft: float, y_ft: float, z_ft: float, vx: float, vy: float, vz: float) -> tuple[float, float]:
+    """(e, n): flight_angles' heading is atan2(e, n) (then taken into [0, 2 pi)), e and n the velocity's east and
+    north components in horizon_basis times one positive factor (r times the distance from the axis), without its
+    divisions: for every row of a history."""
+    p2 = x_ft * x_ft + y_ft * y_ft
+    r = math.sqrt(p2 + z_ft * z_ft)
+    if math.sqrt(p2) < 1e-12 * r:  # at a pole, as horizon_basis: east along +y, north = up x east
+        return vy, -(z_ft / r) * vx
+    return (x_ft * vy - y_ft * vx) * r, p2 * vz - z_ft * (x_ft * vx + y_ft * vy)
 
 
 @njit

@@ -186,23 +186,50 @@ def ranges_rad(
     corrected by whole turns) when `unwrap`. One compiled loop: every flight's track takes it."""
     m = latitude_rad.shape[0]
     down, cross = np.empty(m), np.empty(m)
+    axes = frame_axes(p0, d0, n)
     correction, previous = 0.0, 0.0
     for i in range(m):
         cl = math.cos(latitude_rad[i])
         x, y, z = cl * math.cos(longitude_rad[i]), cl * math.sin(longitude_rad[i]), math.sin(latitude_rad[i])
-        along_p0, along_d0 = x * p0[0] + y * p0[1] + z * p0[2], x * d0[0] + y * d0[1] + z * d0[2]
-        cross[i] = math.atan2(x * n[0] + y * n[1] + z * n[2], math.hypot(along_p0, along_d0))
+        along_d0, along_p0, along_n = range_terms(x, y, z, axes)
+        cross[i] = math.atan2(along_n, math.hypot(along_p0, along_d0))
         raw = math.atan2(along_d0, along_p0)
         if unwrap and i > 0:
-            step = raw - previous
-            folded = (step + math.pi) % (2.0 * math.pi) - math.pi
-            if folded == -math.pi and step > 0.0:
-                folded = math.pi
-            if abs(step) >= math.pi:
-                correction += folded - step
+            correction = unwrapped_correction(raw, previous, correction)
         previous = raw
         down[i] = raw + correction
     return down, cross
+
+
+FrameAxes = tuple[float, float, float, float, float, float, float, float, float]  # p0, d0, n: x, y, z of each
+
+
+@njit
+def frame_axes(p0: NDArray[np.float64], d0: NDArray[np.float64], n: NDArray[np.float64]) -> FrameAxes:
+    """great_circle_frame's three unit vectors as nine numbers (a compiled loop over points reads them from
+    registers: it vectorizes)."""
+    return p0[0], p0[1], p0[2], d0[0], d0[1], d0[2], n[0], n[1], n[2]
+
+
+@njit
+def range_terms(x: float, y: float, z: float, axes: FrameAxes) -> tuple[float, float, float]:
+    """(a, b, c) of the unit vector (x, y, z) about the frame (frame_axes): its down-range angle (rad, within
+    (-pi, pi]) is atan2(a, b), its cross-range angle atan2(c, |(a, b)|): eqs. (8)-(11) in closed form."""
+    p0x, p0y, p0z, d0x, d0y, d0z, nx, ny, nz = axes
+    return x * d0x + y * d0y + z * d0z, x * p0x + y * p0y + z * p0z, x * nx + y * ny + z * nz
+
+
+@njit
+def unwrapped_correction(raw: float, previous: float, correction: float) -> float:
+    """numpy.unwrap's running correction (whole turns) after the step from `previous` to `raw` (rad): a step of pi
+    or more is folded into [-pi, pi), +pi kept for a positive step."""
+    step = raw - previous
+    folded = (step + math.pi) % (2.0 * math.pi) - math.pi
+    if folded == -math.pi and step > 0.0:
+        folded = math.pi
+    if abs(step) >= math.pi:
+        correction += folded - step
+    return correction
 
 
 def close_half_along_axis(points: Iterable[tuple[Any, ...]]) -> list[tuple[Any, ...]]:

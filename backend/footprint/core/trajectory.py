@@ -73,7 +73,8 @@ from footprint.core.errors import InputError
 from footprint.core.frames import (
     ecef_from_geodetic,
     flight_angles,
-    geodetic_from_ecef,
+    geodetic_latitude_terms,
+    heading_terms,
     horizon_basis,
     velocity_from_angles,
 )
@@ -91,6 +92,9 @@ from footprint.core.integrate import (
     R_SIN_GAMMA,
     R_T,
     R_V,
+    R_VX,
+    R_VY,
+    R_VZ,
     R_X,
     R_Y,
     R_Z,
@@ -98,7 +102,7 @@ from footprint.core.integrate import (
     integrate,
 )
 from footprint.core.sampled import peak, step_integral
-from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, ranges_rad
+from footprint.core.sphere import MEAN_RADIUS_NMI, frame_axes, great_circle_frame, range_terms, unwrapped_correction
 
 
 @dataclass(frozen=True)
@@ -411,16 +415,57 @@ def _frame_of(latitude_deg: float, longitude_deg: float, heading_deg: float, sig
     return frame
 
 
+TRACK_ANGLES = 5  # _track_terms: geodetic latitude, longitude, heading, down-range, cross-range
+
+
 @njit
-def _geodetic_history(
-    rows: NDArray[np.float64], re_ft: float, rp_ft: float, oblate: bool
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+def _track_terms(
+    rows: NDArray[np.float64],
+    re_ft: float,
+    rp_ft: float,
+    oblate: bool,
+    p0: NDArray[np.float64],
+    d0: NDArray[np.float64],
+    pole: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """terms (2, TRACK_ANGLES, rows): the track's angles at each row are atan2(terms[0], terms[1]) (numpy's, over
+    the whole array at once): the geodetic latitude (frames.geodetic_latitude_terms), the longitude, the heading
+    (frames.heading_terms: then taken into [0, 2 pi)), and the down- and cross-range of the geodetic latitude and
+    longitude on the sphere (sphere.range_terms: the down-range then unwrapped), their sines and cosines from those
+    terms, without trigonometry."""
     n = rows.shape[0]
-    lat, lon, heading = np.empty(n), np.empty(n), np.empty(n)
+    t = np.empty((2, TRACK_ANGLES, n))
+    axes = frame_axes(p0, d0, pole)
     for i in range(n):
-        lat[i], lon[i], _ = geodetic_from_ecef(rows[i, 1], rows[i, 2], rows[i, 3], re_ft, rp_ft, oblate)
-        heading[i] = flight_angles(rows[i, 1], rows[i, 2], rows[i, 3], rows[i, 4], rows[i, 5], rows[i, 6])[2]
-    return lat, lon, heading
+        x, y, z = rows[i, R_X], rows[i, R_Y], rows[i, R_Z]
+        s, c = geodetic_latitude_terms(x, y, z, re_ft, rp_ft, oblate)
+        unit = 1.0 / math.sqrt(s * s + c * c)
+        sin_lat, cos_lat = s * unit, c * unit
+        p = math.sqrt(x * x + y * y)
+        cos_lon, sin_lon = (x / p, y / p) if p > 0.0 else (1.0, 0.0)  # on the axis: longitude atan2(0, 0) = 0
+        t[0, 0, i], t[1, 0, i] = s, c
+        t[0, 1, i], t[1, 1, i] = y, x
+        t[0, 2, i], t[1, 2, i] = heading_terms(x, y, z, rows[i, R_VX], rows[i, R_VY], rows[i, R_VZ])
+        along_d0, along_p0, along_n = range_terms(cos_lat * cos_lon, cos_lat * sin_lon, sin_lat, axes)
+        t[0, 3, i], t[1, 3, i] = along_d0, along_p0
+        t[0, 4, i], t[1, 4, i] = along_n, math.sqrt(along_p0 * along_p0 + along_d0 * along_d0)  # hypot: a call
+    return t
+
+
+@njit
+def _wrap_track(angles: NDArray[np.float64]) -> None:
+    """In place on _track_terms' angles: the heading into [0, 2 pi), the down-range unwrapped along the rows (as
+    numpy.unwrap: sphere.unwrapped_correction)."""
+    heading, down = angles[2], angles[3]
+    correction, previous = 0.0, 0.0
+    for i in range(angles.shape[1]):
+        if heading[i] < 0.0:
+            heading[i] += 2.0 * math.pi
+        raw = down[i]
+        if i > 0:
+            correction = unwrapped_correction(raw, previous, correction)
+        previous = raw
+        down[i] = raw + correction
 
 
 def _track(
@@ -432,13 +477,15 @@ def _track(
     """The track at `rows` (recorded rows, in order; frame: the initial great circle's, if at hand). Each value
     depends on its own row only, but the down-range's unwrapping on the rows before it: `_track_rows` says which
     rows keep it equal to the full history's."""
-    lat, lon, heading = _geodetic_history(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
     e = spec.entry
     p0, d0, n = _entry_frame(e.latitude_deg, e.longitude_deg, e.heading_deg) if frame is None else frame
-    down, cross = ranges_rad(lat, lon, p0, d0, n, True)
+    terms = _track_terms(rows, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0, p0, d0, n)
+    angles = np.arctan2(terms[0], terms[1])  # vectorized: per element as in any other call
+    _wrap_track(angles)
+    lat, lon, heading = np.degrees(angles[:3])
+    down, cross = MEAN_RADIUS_NMI * angles[3:]
     gamma = np.degrees(np.arcsin(np.clip(rows[:, R_SIN_GAMMA], -1, 1)))
-    radius = MEAN_RADIUS_NMI
-    return _Track(np.degrees(lat), np.degrees(lon), np.degrees(heading), gamma, radius * down, radius * cross)
+    return _Track(lat, lon, heading, gamma, down, cross)
 
 
 # _track_rows: bounds on the along-track angle of the geocentric direction against the down-range's (geodetic
