@@ -193,7 +193,7 @@ NARROW_ALPHA = {
         ),
         ({"bank_table": {"energy_ft": [1e5, 1e6, 1e7], "count": 8}}, "needs the first and last node"),
         ({"bank_table": {"bounds_deg": [-200, 89]}}, "bank_table.bounds_deg.0: -200 is outside the allowed range"),
-        ({"bank_table": {"bounds_deg": [89, -1]}}, "bounds_deg lower bound 89 is not below its upper bound -1"),
+        ({"bank_table": {"bounds_deg": [89, -1]}}, "bounds_deg: lower bound 89 is not below the upper bound -1"),
         ({"bank_table": {"initial_deg": [10, 20, 30]}}, "initial_deg has 3 values for 8 nodes"),
         ({"bank_table": {"bounds_deg": [-1, 89], "initial_deg": 95}}, "initial_deg 95 is outside bounds_deg -1 to 89"),
         ({"alpha_table": {"heading_deg": [0, 10]}}, "alpha_table.heading_deg: Extra inputs"),

@@ -112,6 +112,7 @@ const PARAMETER_WORDS = {
   bank0_deg: ["initial bank", "°"], bank_gain: ["K", ""], sigma_f_deg: ["σf", "°"], bank_deg: ["bank", "°"],
   turn_deg: ["wings level after a turn of", "°"], limit_deg: ["bank limit", "°"], downrange_target_nmi: ["down-range held at", " nmi"],
   agreement_deg: ["re-flown within", "°"], iterations: ["IPOPT iterations", ""], steps: ["steps", ""],
+  inverted_s: ["upside down at negative lift for", " s"],
 };
 const MIN_RANGE_WORDS = { zero_lift: "zero lift (shortest flight)", cl_max: "C_L max, no bank (shortest flight)" };
 

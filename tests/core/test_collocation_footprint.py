@@ -93,6 +93,15 @@ def test_an_optimal_study_names_what_it_lacks():
         parse("footprint", {"case": BETTS_CASE, "method": "collocation", "limit_R": 2550})
     with pytest.raises(ValueError, match="points_per_half"):
         parse("footprint", {"case": BETTS_CASE, "method": "collocation", "points_per_half": 500})
+    for bounds, message in (
+        ({"alpha_bounds_deg": [40, 8]}, "alpha_bounds_deg: lower bound 40 is not below the upper bound 8"),
+        ({"alpha_bounds_deg": [8, 120]}, "120 is outside the allowed range -90 to 90 deg"),
+        ({"bank_bounds_deg": [0, 90]}, r"bank_bounds_deg: a footprint banks both ways alike: give \(-b, b\)"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            parse("footprint", {"case": BETTS_CASE, "method": "collocation", **bounds})
+    bounded = parse("footprint", {"case": BETTS_CASE, "method": "collocation", "alpha_bounds_deg": [8, 40]})
+    assert bounded.to_settings().alpha_bounds_deg == (8.0, 40.0)
 
 
 @pytest.mark.slow
@@ -171,21 +180,57 @@ def test_the_boundary_does_not_hang_on_the_round_off_of_the_first_guess(shuttle,
         )
 
 
-def test_the_farthest_point_lies_beyond_the_best_glide(shuttle):
-    """A flight of the problem bounds its maximum from below: the glide at the angle of attack of the largest
-    |L/D| in closed form (a stationary point of CL/CD, a root of -a1 b2 x^2 - 2 a0 b2 x + a1 b0 - a0 b1 = 0),
-    inverted because its lift is negative, within the 3 g, flown by the integrator."""
+def glide(alpha_deg, bank_deg):
+    """Betts' shuttle flown by the integrator at a constant alpha and bank."""
     from footprint.api import fly as fly_case
 
-    optimal, _ = shuttle
+    controls = {"alpha": {"law": "constant", "alpha_deg": alpha_deg}, "bank": {"law": "constant", "bank_deg": bank_deg}}
+    return fly_case(BETTS_CASE | controls)
+
+
+def best_glides_deg():
+    """The polynomial's stationary points of CL/CD in closed form (roots of -a1 b2 x^2 - 2 a0 b2 x + a1 b0 - a0 b1
+    = 0), the zero-lift alpha -a0/a1, and L/D: (upright alpha, inverted alpha, zero-lift alpha, ld)."""
     a0, a1 = BETTS_CASE["vehicle"]["aero"]["polynomial"]["cl"]
     b0, b1, b2 = BETTS_CASE["vehicle"]["aero"]["polynomial"]["cd"]
-    roots = np.roots([-a1 * b2, -2.0 * a0 * b2, a1 * b0 - a0 * b1])
     ld = lambda x: (a0 + a1 * x) / (b0 + b1 * x + b2 * x * x)  # noqa: E731
-    alpha = max(roots, key=lambda x: abs(ld(x)))
+    inverted, upright = sorted(np.roots([-a1 * b2, -2.0 * a0 * b2, a1 * b0 - a0 * b1]))
+    return upright, inverted, -a0 / a1, ld
+
+
+def test_the_farthest_point_lies_beyond_the_best_glide(shuttle):
+    """A flight of the problem bounds its maximum from below: the glide at the angle of attack of the largest
+    |L/D|, inverted because its lift is negative, within the 3 g, flown by the integrator. That glide flies upside
+    down at negative lift all the way (constant controls), and so, nearly, does the farthest optimum: its point
+    says so."""
+    from footprint.core.collocation_footprint import inverted_s
+
+    optimal, _ = shuttle
+    upright, alpha, _, ld = best_glides_deg()
     assert alpha == pytest.approx(-3.23, abs=0.01) and ld(alpha) == pytest.approx(-2.874, abs=1e-3)
-    glide = fly_case(
-        dict(BETTS_CASE, alpha={"law": "constant", "alpha_deg": alpha}, bank={"law": "constant", "bank_deg": 180})
-    )
-    assert glide.summary["max_load_factor"] <= 3.0
-    assert optimal.max_downrange_nmi >= glide.summary["downrange_nmi"] > 17_000
+    assert abs(ld(alpha)) > ld(upright) == pytest.approx(1.89, abs=0.01)
+    inverted = glide(alpha, 180)
+    assert inverted.summary["max_load_factor"] <= 3.0
+    assert optimal.max_downrange_nmi >= inverted.summary["downrange_nmi"] > 17_000
+    assert inverted_s(inverted.history) == pytest.approx(inverted.summary["flight_time_s"], rel=1e-12)
+    assert inverted_s(glide(upright, 0).history) == 0.0
+    far = optimal.points[0]
+    assert far.parameter.inverted_s > 0.9 * far.flight_time_s
+
+
+def test_bounded_to_positive_lift_the_boundary_flies_upright(shuttle):
+    """alpha_bounds_deg from 8 deg, above the polynomial's zero-lift alpha (7.08 deg): no point flies upside down,
+    each is the re-flight of its optimum, the farthest at least the upright glide at (L/D)max wings level flown by
+    the integrator, and no point beyond the unbounded boundary (a bound only takes flights away)."""
+    unbounded, _ = shuttle
+    upright, _, zero_lift, _ = best_glides_deg()
+    assert zero_lift == pytest.approx(7.08, abs=0.01) and upright == pytest.approx(17.39, abs=0.01)
+    bounded = fly(SHUTTLE | {"alpha_bounds_deg": [8, 90]})
+    assert bounded.asymmetry is None and len(bounded.points) == len(unbounded.points)
+    for p in bounded.points:
+        assert p.parameter.inverted_s is None and p.parameter.agreement_deg <= 0.01, p
+    level = glide(upright, 0)
+    assert level.summary["max_load_factor"] <= 3.0
+    assert unbounded.max_downrange_nmi > bounded.max_downrange_nmi >= level.summary["downrange_nmi"]
+    assert bounded.max_crossrange_nmi < unbounded.max_crossrange_nmi
+    assert bounded.min_downrange_nmi > unbounded.min_downrange_nmi

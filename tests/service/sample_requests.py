@@ -63,6 +63,7 @@ OPTIMAL_FOOTPRINT = {
     "method": "collocation",
     "points_per_half": 3,
     "max_load_factor": 3,
+    "alpha_bounds_deg": [8, 90],  # the polynomial's lift positive: upright (unbounded: upside down, at 6x the time)
 }
 
 

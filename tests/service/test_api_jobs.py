@@ -113,6 +113,7 @@ def test_an_optimal_footprint_job_is_stored_like_the_others(api, optimal_direct,
     assert job["progress"] == 1.0 and job["progress_note"] is None
     stored = api.get(f"/api/footprints/{job['result']['footprints'][0].rsplit('/', 1)[1]}").json()
     assert stored["method"] == "collocation" and len(stored["points"]) == 1 + 2 * 5
+    assert not any("inverted_s" in p["parameter"] for p in stored["points"])  # alpha_bounds_deg reached the NLP
     same_numbers(
         [[p["downrange_nmi"], p["crossrange_nmi"], p["latitude_deg"], p["longitude_deg"]] for p in stored["points"]],
         [[p.downrange_nmi, p.crossrange_nmi, p.latitude_deg, p.longitude_deg] for p in optimal_direct.points],

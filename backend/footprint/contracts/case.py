@@ -23,6 +23,7 @@ from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import OnProgress, Work
 from footprint.core import constants as c
+from footprint.core.aero import ALPHA_LIMIT_DEG
 from footprint.core.controls import pack_controls
 from footprint.core.dynamics import energy_height_ft
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
@@ -271,6 +272,7 @@ BankCase = Annotated[
 ]
 
 Alpha = Annotated[float, Range(-30, 90, "deg")]
+AlphaBound = Annotated[float, Range(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")]  # an optimizer's alpha bound
 
 
 class AlphaMaxLD(_AlphaLaw):
@@ -343,6 +345,12 @@ def _check_table(x: Sequence[float], y: Sequence[float], xname: str, yname: str)
 def check_increasing(x: Sequence[float], name: str) -> None:
     if any(b <= a for a, b in zip(x, x[1:])):
         raise ValueError(f"{name} must be strictly increasing")
+
+
+def check_bounds(bounds: tuple[float, float] | None, name: str) -> None:
+    """A (lower, upper) pair, if given, with the lower bound below the upper."""
+    if bounds is not None and bounds[0] >= bounds[1]:
+        raise ValueError(f"{name}: lower bound {bounds[0]:g} is not below the upper bound {bounds[1]:g}")
 
 
 class BankStartAltitude(Strict):

@@ -12,7 +12,7 @@ from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts import stored_form
 from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
-from footprint.contracts.case import Case
+from footprint.contracts.case import AlphaBound, Case, check_bounds
 from footprint.contracts.doors import door_limit, synchronous, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.records import flown, plain
@@ -171,7 +171,7 @@ class CollocationStudy(_Study):
     """Beyond the report (issue 12): the true reachable boundary, cross-range maximized by direct collocation at
     points_per_half down-ranges between the maximum and minimum down-range (footprint.core.collocation_footprint);
     limit_R holds the radiation-equilibrium temperature along the path (needs case.heating), max_load_factor
-    the load."""
+    the load; alpha_bounds_deg and bank_bounds_deg bound the controls (bank both ways alike: (-b, b))."""
 
     method: Literal["collocation"]
     CORE: ClassVar[type] = Collocation
@@ -181,6 +181,10 @@ class CollocationStudy(_Study):
     max_load_factor: Annotated[float, Range(1, 50, "g")] | None = Collocation.max_load_factor
     fine: bool = Collocation.fine  # the tables' narrow corners too: the re-flight comes closer, at ~3x the time
     intervals: int = Field(default=Collocation.intervals, ge=20, le=400)  # collocation mesh intervals
+    # default: the vehicle's valid alpha range; a polynomial's lift may turn negative there and the optimum fly
+    # upside down (Betts' shuttle below 7.08 deg: its points say so, ControlSetting.inverted_s)
+    alpha_bounds_deg: tuple[AlphaBound, AlphaBound] | None = Collocation.alpha_bounds_deg
+    bank_bounds_deg: tuple[BankDeg, BankDeg] = Collocation.bank_bounds_deg
 
     def settings(self) -> tuple[str, int]:
         return "points_per_half", self.points_per_half + 1
@@ -197,6 +201,12 @@ class CollocationStudy(_Study):
             raise ValueError("contours_fps: not available with method 'collocation'")
         if self.case.stop.altitude_ft is None:
             raise ValueError("case.stop.altitude_ft: a collocation footprint ends at a stop altitude; give one")
+        check_bounds(self.alpha_bounds_deg, "alpha_bounds_deg")
+        lo, hi = self.bank_bounds_deg
+        if not 0.0 < hi == -lo:  # each half is the other's mirror image in bank
+            raise ValueError(
+                f"bank_bounds_deg: a footprint banks both ways alike: give (-b, b) with b > 0, not {lo:g}, {hi:g}"
+            )
         return self
 
 

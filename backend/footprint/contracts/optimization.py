@@ -31,12 +31,14 @@ from pydantic import BeforeValidator, Field, TypeAdapter, model_validator
 
 from footprint.contracts import parse
 from footprint.contracts.case import (
+    AlphaBound,
     Bank,
     Case,
     EnergyNode,
     HeadingNode,
     TimeNode,
     VelocityNode,
+    check_bounds,
     check_increasing,
     table_abscissa,
 )
@@ -47,7 +49,7 @@ from footprint.contracts.work import OnProgress, Stored, Work
 from footprint.core import collocation as col
 from footprint.core import constrained
 from footprint.core import optimize as opt
-from footprint.core.aero import ALPHA_LIMIT_DEG, SUMMARY_ALTITUDE_FT, SUMMARY_MACH, Vehicle, alpha_range_deg, ld_max
+from footprint.core.aero import SUMMARY_ALTITUDE_FT, SUMMARY_MACH, Vehicle, alpha_range_deg, ld_max
 from footprint.core.errors import InputError, NoOptimum
 from footprint.core.trajectory import Trajectory, simulate
 
@@ -77,7 +79,6 @@ DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R
 Scaling = Literal["tolerance", "none"]
 SCALINGS: tuple[str, ...] = get_args(Scaling)
 SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
-AlphaBound = Annotated[float, Range(-ALPHA_LIMIT_DEG, ALPHA_LIMIT_DEG, "deg")]
 
 
 class Term(Strict):
@@ -115,10 +116,8 @@ class CollocationOptions(Strict):
 
     @model_validator(mode="after")
     def _bounds(self) -> "CollocationOptions":
-        for name in ("alpha_bounds_deg", "bank_bounds_deg"):
-            b = getattr(self, name)
-            if b is not None and b[0] >= b[1]:
-                raise ValueError(f"{name}: lower bound {b[0]:g} is not below the upper bound {b[1]:g}")
+        check_bounds(self.alpha_bounds_deg, "alpha_bounds_deg")
+        check_bounds(self.bank_bounds_deg, "bank_bounds_deg")
         if self.max_intervals < self.intervals:
             raise ValueError(f"max_intervals {self.max_intervals} must be at least intervals {self.intervals}")
         return self
@@ -178,9 +177,7 @@ class _SearchTable(Strict):
             )
         if name is not None:
             check_increasing(x, name)
-        lo, hi = self.bounds_deg if self.bounds_deg is not None else (-np.inf, np.inf)
-        if lo >= hi:
-            raise ValueError(f"bounds_deg lower bound {lo:g} is not below its upper bound {hi:g}")
+        check_bounds(self.bounds_deg, "bounds_deg")
         n = len(self.nodes()[1])
         if self.initial_deg is not None and len(self.initial_deg) not in (1, n):
             raise ValueError(

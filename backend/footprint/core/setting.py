@@ -24,6 +24,7 @@ class ControlSetting:
     nlp_downrange_nmi: float | None = None  # collocation: the NLP's own landing
     nlp_crossrange_nmi: float | None = None
     agreement_deg: float | None = None  # collocation: the re-flight's largest departure from the NLP's landing
+    inverted_s: float | None = None  # collocation: time its re-flight flew upside down at negative lift (None: none)
 
     @property
     def collocated(self) -> bool:
@@ -63,6 +64,7 @@ WORDS = {  # name -> (word, unit), the settings a terminal or a popup names
     "downrange_target_nmi": ("down-range held at", " nmi"),
     "agreement_deg": ("re-flown within", "°"),
     "iterations": ("IPOPT iterations", ""),
+    "inverted_s": ("upside down at negative lift for", " s"),
 }
 MIN_RANGE_WORDS = {"zero_lift": "zero lift (shortest flight)", "cl_max": "C_L max, no bank (shortest flight)"}
 
