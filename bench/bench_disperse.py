@@ -2,10 +2,10 @@
 10,000 trajectories, flown in this process (the baseline, in the same run), then on a LocalCluster of 1 and of 2 workers
 (one task per chunk of ~1,000 trajectories, contracts.dispersion.CHUNK_FLIGHTS). Cluster start-up is timed apart (it
 includes the workers' warm-up, parallel.Warm: the contract modules imported, numba's cache loaded); a small run
-follows it. Then the call a user makes, run(workers=2) starting its
-own cluster ("cold": the workers import the package and load the compiled cache in their first chunk), at 10,000 and at
-100,000 trajectories (4,546 samples), the 100,000 with the resident set (psutil RSS) of this process and of each worker
-sampled every RSS_PERIOD_S and at each finished chunk: a run keeps the landing points only, so memory should stay flat.
+follows it. Then the call a user makes, run(workers=2) starting its own cluster ("cold": its wall time holds the
+cluster's start and the workers' warm-up), at 10,000 and at 100,000 trajectories (4,546 samples), the 100,000 with the
+resident set (psutil RSS) of this process and of each worker sampled every RSS_PERIOD_S and at each finished chunk: a
+run keeps the landing points only, so memory should stay flat.
 
 run()'s seconds end with the last chunk, before the statistics, in process as on Dask: in_process_statistics_s is
 wall minus seconds.
