@@ -138,7 +138,7 @@ def main():
         client, close = start_client(workers=workers)
         try:
             started = time.perf_counter() - t0
-            run(study | {"samples": 20}, client=client)  # warm the workers
+            run(study | {"samples": 20}, client=client)  # a small run first (the workers warmed as they started)
             before = load()
             _, info = run(study, client=client)
         finally:
