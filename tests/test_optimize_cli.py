@@ -274,3 +274,21 @@ def test_a_bad_collocation_study_is_one_line_and_exit_2(tmp_path, change, field)
     r = run(tmp_path, {**COLLOCATION, **change})
     assert r.returncode == 2
     assert field in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_an_optimum_flying_upside_down_says_so_in_its_lines():
+    """The collocation re-flight's time upside down at negative lift (collocation.inverted_s), in the CLI's words."""
+    from footprint.cli import _optimum_lines
+
+    optimum = {
+        "method": "collocation",
+        "feasible": True,
+        "iterations": 120,
+        "seconds": 2.0,
+        "summary": {"crossrange_nmi": 0.4, "downrange_nmi": 17_955.5, "flight_time_s": 5_786.0},
+        "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001},
+        "refly": {"inverted_s": 5_786.0},
+    }
+    lines = _optimum_lines(optimum)
+    assert "flies upside down at negative lift for 5,786 s (alpha_bounds_deg can rule it out)" in lines
+    assert not any("upside down" in line for line in _optimum_lines(optimum | {"refly": {"inverted_s": 0.0}}))

@@ -105,6 +105,7 @@ def test_the_optimum_flown_again_by_the_integrator_ends_where_the_nlp_ends(which
     # the flown trajectory meets the terminal conditions the NLP holds (Betts: within 1 ft/s, 0.01 deg)
     assert result.refly["final_velocity_fps"] == pytest.approx(2500.0, abs=1.0)
     assert result.refly["final_gamma_deg"] == pytest.approx(-5.0, abs=0.01)
+    assert result.refly["inverted_s"] == 0.0  # Betts' published optimum flies the right way up
 
 
 def test_the_flown_heat_rate_respects_the_limit_between_collocation_points(betts_heat):

@@ -203,7 +203,7 @@ def test_the_farthest_point_lies_beyond_the_best_glide(shuttle):
     |L/D|, inverted because its lift is negative, within the 3 g, flown by the integrator. That glide flies upside
     down at negative lift all the way (constant controls), and so, nearly, does the farthest optimum: its point
     says so."""
-    from footprint.core.collocation_footprint import inverted_s
+    from footprint.core.collocation import inverted_s
 
     optimal, _ = shuttle
     upright, alpha, _, ld = best_glides_deg()

@@ -294,14 +294,6 @@ def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> Fo
         nlp_downrange_nmi=result.summary["downrange_nmi"],
         nlp_crossrange_nmi=result.summary["crossrange_nmi"],
         agreement_deg=max(a["latitude_deg"], a["longitude_deg"]),
-        inverted_s=inverted_s(trajectory.history) or None,
+        inverted_s=result.refly["inverted_s"] if result.refly and result.refly["inverted_s"] > 0.0 else None,
     )
     return point_of_trajectory(parameter, side, trajectory)
-
-
-def inverted_s(history: dict[str, NDArray[np.float64]]) -> float:
-    """Time flown upside down at negative lift (C_L < 0 and |bank| > 90 deg: the lift still points up), the
-    trapezoidal rule over the rows. An optimum takes it where a polynomial's |L/D| is larger below its zero-lift
-    alpha (Betts' shuttle: 2.87 at -3.23 deg against 1.89 upright), which a planner may want to bound out."""
-    inverted = ((history["cl"] < 0.0) & (np.abs(history["bank_deg"]) > 90.0)).astype(float)
-    return float(np.sum(np.diff(history["time_s"]) * (inverted[1:] + inverted[:-1]) / 2.0))
