@@ -263,7 +263,7 @@ export class MapView {
                        { renderer: this.svgRenderer, radius: 4, color: fp.color, weight: 1.5,
                          fillColor: p.mirrored ? "#fff" : fp.color, fillOpacity: 1,
                          className: `fp-point ${copy}` })
-          .bindTooltip(pointTooltip(fp, p), { className: "point-tooltip", direction: "top" })
+          .bindTooltip(pointTooltip(fp, p), { className: "point-tooltip", direction: "auto" }) // the side with room
           .addTo(group);
       });
     }

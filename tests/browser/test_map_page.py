@@ -198,6 +198,25 @@ def test_stored_footprint_is_drawn_with_every_vertex(open_page, service):
     assert run.page.locator(".footprint-legend").inner_text().strip().startswith(fp["name"])
 
 
+def test_a_point_tooltip_at_the_maps_edge_stays_on_the_map(open_page, service):
+    """A boundary point 12 px from the map's right edge: its tooltip opens on the side with room, inside the map
+    (centred above the marker, as it was, a true optimal point's long control ran off the edge; rendered
+    2026-12-06)."""
+    run, fp = open_page(), service.footprint
+    marker = run.page.locator(f"path.fp-point.fp-{fp['id']}.fp-copy-0").first
+    edge = run.page.evaluate(
+        """(el) => { const m = window.footprintApp.mapView.map, box = m.getContainer().getBoundingClientRect(),
+        r = el.getBoundingClientRect(); m.panBy([r.x + r.width / 2 - (box.right - 12), 0], { animate: false });
+        return { left: box.left, right: box.right }; }""",
+        marker.element_handle(),
+    )
+    marker.hover(force=True)
+    tip = run.page.locator(".point-tooltip").first
+    tip.wait_for()
+    box = tip.bounding_box()
+    assert edge["left"] <= box["x"] and box["x"] + box["width"] <= edge["right"], (box, edge)
+
+
 def test_node_longitude_control_moves_the_polygon_east(open_page, service):
     run, fp = open_page(), service.footprint
     entry = fp["entry"]
