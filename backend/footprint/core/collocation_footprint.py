@@ -294,6 +294,6 @@ def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> Fo
         nlp_downrange_nmi=result.summary["downrange_nmi"],
         nlp_crossrange_nmi=result.summary["crossrange_nmi"],
         agreement_deg=max(a["latitude_deg"], a["longitude_deg"]),
-        inverted_s=result.refly["inverted_s"] if result.refly and result.refly["inverted_s"] > 0.0 else None,
+        inverted_s=(result.refly or {}).get("inverted_s") or None,  # left out when 0
     )
     return point_of_trajectory(parameter, side, trajectory)
