@@ -251,6 +251,26 @@ def test_fly_there_lands_on_the_site_and_each_optimum_beats_the_other_on_its_own
     assert least_heat.refly["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-3)
 
 
+def test_fly_there_across_the_antimeridian_is_the_same_optimum_turned(fly_there):
+    """The example turned about the axis on its non-rotating sphere: entered at 160 E, the site at 15 N 150 W (50 deg
+    east of the entry, as 50 E is in the example), across 180 deg. The same least heat load, landing on the site.
+    Before, the NLP's longitude ran on from the entry's (210 deg at the site, against -150) and the answer was
+    "infeasible" after 250 s."""
+    from footprint.api import run
+
+    least_heat, _ = fly_there
+    study = json.loads(json.dumps(FLY_THERE))
+    study["case"]["entry"]["longitude_deg"] = 160.0
+    (site,) = [k for k in study["constraints"] if k["quantity"] == "final_longitude_deg"]
+    site["equals"] = -150.0
+    turned = run("optimize", study)
+    assert turned.ok, turned.message
+    assert turned.summary["final_longitude_deg"] == pytest.approx(-150.0, abs=1e-6)
+    assert abs(turned.refly["final_latitude_deg"] - 15.0) <= col.AGREE_DEG
+    assert abs(turned.refly["final_longitude_deg"] + 150.0) <= col.AGREE_DEG
+    assert turned.summary["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-4)
+
+
 def least_heat_at_default_tolerance(**collocation):
     from footprint.api import run
 

@@ -218,14 +218,19 @@ def test_the_farthest_point_lies_beyond_the_best_glide(shuttle):
     assert far.parameter.inverted_s > 0.9 * far.flight_time_s
 
 
-def test_bounded_to_positive_lift_the_boundary_flies_upright(shuttle):
-    """alpha_bounds_deg from 8 deg, above the polynomial's zero-lift alpha (7.08 deg): no point flies upside down,
-    each is the re-flight of its optimum, the farthest at least the upright glide at (L/D)max wings level flown by
-    the integrator, and no point beyond the unbounded boundary (a bound only takes flights away)."""
+@pytest.fixture(scope="module")
+def bounded():
+    """The shuttle footprint with alpha_bounds_deg from 8 deg, above the polynomial's zero-lift alpha (7.08 deg)."""
+    return fly(SHUTTLE | {"alpha_bounds_deg": [8, 90]})
+
+
+def test_bounded_to_positive_lift_the_boundary_flies_upright(shuttle, bounded):
+    """No point flies upside down, each is the re-flight of its optimum, the farthest at least the upright glide at
+    (L/D)max wings level flown by the integrator, and no point beyond the unbounded boundary (a bound only takes
+    flights away)."""
     unbounded, _ = shuttle
     upright, _, zero_lift, _ = best_glides_deg()
     assert zero_lift == pytest.approx(7.08, abs=0.01) and upright == pytest.approx(17.39, abs=0.01)
-    bounded = fly(SHUTTLE | {"alpha_bounds_deg": [8, 90]})
     assert bounded.asymmetry is None and len(bounded.points) == len(unbounded.points)
     for p in bounded.points:
         assert p.parameter.inverted_s is None and p.parameter.agreement_deg <= 0.01, p
@@ -236,17 +241,20 @@ def test_bounded_to_positive_lift_the_boundary_flies_upright(shuttle):
     assert bounded.min_downrange_nmi > unbounded.min_downrange_nmi
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="the NLP's states are longitude, latitude and heading, singular at a pole: optima that fly over one do not "
-    "re-fly (found 2026-12-06; not mended)",
-)
-def test_over_the_pole_each_point_is_the_re_flight_of_its_optimum():
-    """The bounded shuttle on its non-rotating sphere from 40 N heading north: the same problem as from the equator
-    (every point there re-flies within 0.001 deg, the halves mirror images), turned. Measured: the far points that
-    pass over the pole re-fly 7.9 and 10.1 deg off (the axis 0.24 deg), their cross-ranges 1,304 and -1,214 nmi."""
+def test_over_the_pole_the_footprint_is_the_equators_turned(bounded):
+    """The bounded shuttle on its non-rotating sphere from 40 N, 150 E heading north, over the pole: the same
+    problem as from the equator, turned, so the same boundary (down- and cross-range of each point) and each point
+    the re-flight of its optimum. Before the NLP took the entry's frame (its longitude, latitude and heading were
+    geographic, singular at the pole) the far points re-flew 7.9 and 10.1 deg off, the halves unequal (1,304 and
+    -1,214 nmi)."""
     case = json.loads(json.dumps(BETTS_CASE))
     case["entry"].update(latitude_deg=40.0, longitude_deg=150.0, heading_deg=0.0)
     polar = fly(SHUTTLE | {"case": case, "alpha_bounds_deg": [8, 90]})
-    assert max(p.parameter.agreement_deg for p in polar.points) <= 0.01
+    assert polar.asymmetry is None and len(polar.points) == len(bounded.points)
+    for p, q in zip(polar.points, bounded.points):
+        assert p.parameter.agreement_deg <= 0.01, p
+        assert (p.side, p.downrange_nmi, p.crossrange_nmi) == (
+            q.side,
+            pytest.approx(q.downrange_nmi, abs=0.1),
+            pytest.approx(q.crossrange_nmi, abs=0.1),
+        ), (p, q)

@@ -50,6 +50,7 @@ from footprint.core.model_casadi import (
     radial_altitude_ft,
     smooth_table,
 )
+from footprint.core.sphere import great_circle_frame
 from footprint.core.trajectory import Entry, FlightSpec, Planet, pack_parameters
 
 LOD189 = builtin_vehicle("lod-1.89")
@@ -78,6 +79,12 @@ STATES = [
     (-35.0, -45.0, 105_000.0, 5_600.0, -3.0, 200.0, 13.9, 60.0),
 ]
 STATE_IDS = [f"lat{c[0]:+.0f}-hdg{c[5]:.0f}-bank{c[7]:+.0f}" for c in STATES]
+
+# frames for the spherical coordinates (rows: their axes in earth-fixed components): the geographic one, and the
+# entry great circle's of an entry at 40 N, 150 E heading north (the collocation's frame for a flight over the pole)
+IDENTITY = np.eye(3)
+POLAR_ENTRY_FRAME = np.array(great_circle_frame(40.0, 150.0, 0.0))
+NEAR_POLE = (89.95, 30.0, 210_000.0, 19_000.0, -2.0, 170.0, 22.3, 35.0)  # 0.05 deg from the north pole
 
 FD_STEP_S = 0.01
 # Rates relative to |rate| + its natural size (_rate_units): the Richardson difference has truncation
@@ -116,8 +123,10 @@ def _ecef_state(planet, lat_deg, lon_deg, alt_ft, v_fps, gamma_deg, heading_deg)
     )
 
 
-def _spherical(s):
-    """(r ft, longitude rad, geocentric latitude rad, V ft/s, gamma rad, heading rad) of an earth-fixed state."""
+def _spherical(s, frame=IDENTITY):
+    """(r ft, longitude rad, geocentric latitude rad, V ft/s, gamma rad, heading rad) of an earth-fixed state, in
+    the coordinates of `frame` (rows: its axes in earth-fixed components)."""
+    s = np.concatenate([frame @ s[:3], frame @ s[3:]])
     x, y, z = s[:3]
     return np.array(
         [math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), *flight_angles(*s)]
@@ -131,26 +140,27 @@ def _integrator(spec, s):
     return evaluate(0.0, s, pack_parameters(spec), spec.vehicle.blob, spec.ctrl, mode)
 
 
-def _central_difference(s, acceleration, dt):
+def _central_difference(s, acceleration, dt, frame):
     x, v = s[:3], s[3:]
-    plus = _spherical(np.concatenate([x + v * dt + 0.5 * acceleration * dt * dt, v + acceleration * dt]))
-    minus = _spherical(np.concatenate([x - v * dt + 0.5 * acceleration * dt * dt, v - acceleration * dt]))
+    plus = _spherical(np.concatenate([x + v * dt + 0.5 * acceleration * dt * dt, v + acceleration * dt]), frame)
+    minus = _spherical(np.concatenate([x - v * dt + 0.5 * acceleration * dt * dt, v - acceleration * dt]), frame)
     d = plus - minus
     d[[1, 5]] = (d[[1, 5]] + math.pi) % (2.0 * math.pi) - math.pi  # longitude, heading: across the cut
     return d / (2.0 * dt)
 
 
-def _integrator_rates(spec, s):
-    """d/dt of the spherical state under the integrator's acceleration (Richardson: error O(dt^4))."""
+def _integrator_rates(spec, s, frame=IDENTITY):
+    """d/dt of the spherical state (in `frame`) under the integrator's acceleration (Richardson: error O(dt^4))."""
     acceleration = np.array(_integrator(spec, s)[:3])
-    fine, coarse = (_central_difference(s, acceleration, dt) for dt in (FD_STEP_S, 2.0 * FD_STEP_S))
+    fine, coarse = (_central_difference(s, acceleration, dt, frame) for dt in (FD_STEP_S, 2.0 * FD_STEP_S))
     return (4.0 * fine - coarse) / 3.0
 
 
-def _model_point(spec, state, alpha_deg, bank_deg, smoothing):
-    """FlightModel.point as a CasADi Function of SX symbols (as the NLP builds it), evaluated at floats."""
+def _model_point(spec, state, alpha_deg, bank_deg, smoothing, frame=IDENTITY):
+    """FlightModel.point as a CasADi Function of SX symbols (as the NLP builds it), evaluated at floats; the
+    state's coordinates those of `frame`, where the planet's axis is frame @ z."""
     x, a, b, w = ca.SX.sym("x", 6), ca.SX.sym("alpha"), ca.SX.sym("bank"), ca.SX.sym("smoothing")
-    out = FlightModel(spec).point(x, a, b, w)
+    out = FlightModel(spec, axis=frame[:, 2]).point(x, a, b, w)
     f = ca.Function("point", [x, a, b, w], [ca.SX(v) for v in out.values()], ["x", "a", "b", "w"], list(out))
     values = f(x=state, a=alpha_deg, b=bank_deg, w=smoothing)
     return {k: np.asarray(v, dtype=float).ravel() if k == "rates" else float(v) for k, v in values.items()}
@@ -262,6 +272,23 @@ def test_rates_match_the_integrator_with_tables_and_ardc1959(case):
         assert _relative(model[key], res[i]) <= AERO_REL, key
 
 
+@pytest.mark.parametrize("planet", [OBLATE_UNIFORM_AIR, SPHERE], ids=["rotating-oblate", "sphere"])
+@pytest.mark.parametrize("case", [*STATES, NEAR_POLE], ids=[*STATE_IDS, "near-the-pole"])
+def test_rates_in_the_entry_frame_match_the_integrator(planet, case):
+    """The same equations in the coordinates of a frame whose poles are on the geographic equator: the planet's
+    rotation and oblateness about a general axis, checked by the integrator's cartesian forces differenced in that
+    frame, near the geographic north pole too."""
+    *where, alpha_deg, bank_deg = case
+    spec = _spec(POLYNOMIAL_VEHICLE, planet, alpha_deg, bank_deg)
+    s = _ecef_state(planet, *where)
+    state = _spherical(s, POLAR_ENTRY_FRAME)
+    model = _model_point(spec, state, alpha_deg, bank_deg, SMOOTHING, POLAR_ENTRY_FRAME)
+    reference = _integrator_rates(spec, s, POLAR_ENTRY_FRAME)
+    _assert_within(model["rates"], reference, RATE_REL * (np.abs(reference) + _rate_units(state)), "rates")
+    res = _integrator(spec, s)
+    assert -1e-6 <= model["altitude_ft"] - res[9] <= (ALTITUDE_GAP_FT if planet.oblate else 1e-6)
+
+
 # --- 2. altitude and latitude -------------------------------------------------------------------------------
 
 LATITUDES_DEG = np.linspace(-90.0, 90.0, 181)
@@ -282,7 +309,7 @@ def test_radial_altitude_is_within_3_ft_above_the_geodetic():
     shortest distance to the ellipsoid) by O(f^2 h): 2.2 ft at 45 deg, 400,000 ft."""
     pm = planet_model(_spec(LOD189, ARDC_EARTH, 0.0, 0.0))
     _, alt, r, lat_c, _ = _ellipsoid_points()
-    (radial,) = _casadi_map(lambda r_, l_: radial_altitude_ft(pm, r_, l_), r, lat_c)
+    (radial,) = _casadi_map(lambda r_, l_: radial_altitude_ft(pm, r_, ca.sin(l_)), r, lat_c)
     gap = radial - alt
     assert gap.min() >= -1e-6 and gap.max() <= ALTITUDE_GAP_FT
 

@@ -3,7 +3,9 @@
 Transcription: direct collocation on Legendre-Gauss-Radau points (Radau IIA, `degree` points per mesh
 interval, order 2 degree - 1; Betts, Practical Methods for Optimal Control, 2nd ed., sec. 4.5; Garg et al.,
 Automatica 46, 2010). States (core.model_casadi: r, longitude, geocentric latitude, V, gamma, psi, and the
-heat load when asked for) at every collocation point; alpha and bank at the mesh nodes, LINEAR in time
+heat load when asked for) at every collocation point, the angles those of the entry's frame (entry_frame: its
+equator is the entry's great circle, so that a flight over a geographic pole is regular; the answer's latitudes,
+longitudes and headings are geographic); alpha and bank at the mesh nodes, LINEAR in time
 between them, so the optimum is exactly the time tables that `fly` takes (bank and alpha tables against
 time): the re-flight by core.trajectory.simulate checks the transcription, not an interpolation of ours.
 Free final time; the stop altitude is the terminal condition (and a floor along the way, so that the
@@ -37,11 +39,19 @@ from numpy.typing import ArrayLike, NDArray
 from footprint.core import constants as c
 from footprint.core.controls import BANK_ZERO, C_BANK_LAW, pack_controls, replace_bank_law
 from footprint.core.errors import NoOptimum  # noqa: F401 (the collocation's failure, raised by its callers)
-from footprint.core.frames import ecef_from_geodetic, flight_angles
+from footprint.core.frames import ecef_from_geodetic, flight_angles, velocity_from_angles
 from footprint.core.model_casadi import Expr, FlightModel, geodetic
 from footprint.core.optimize import Constraint
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
-from footprint.core.trajectory import Dispersion, FlightSpec, Trajectory, initial_state, pack_parameters, simulate
+from footprint.core.trajectory import (
+    Dispersion,
+    Entry,
+    FlightSpec,
+    Trajectory,
+    initial_state,
+    pack_parameters,
+    simulate,
+)
 
 TERMINAL = (
     "crossrange_nmi",
@@ -229,8 +239,9 @@ class Problem:
 
 @dataclass
 class Guess:
-    """States (n x 6: r ft, lon rad, lat_c rad, V ft/s, gamma rad, psi rad) and controls (n x 2: alpha, bank deg)
-    at times tau * final_time_s, tau in [0, 1] increasing; optional heat load (n)."""
+    """States (n x 6: r ft, lon rad, lat_c rad, V ft/s, gamma rad, psi rad; the angles in entry_frame's
+    coordinates) and controls (n x 2: alpha, bank deg) at times tau * final_time_s, tau in [0, 1] increasing;
+    optional heat load (n)."""
 
     tau: NDArray[np.float64]
     states: NDArray[np.float64]
@@ -304,12 +315,69 @@ class Result:
 
 
 # ----------------------------------------------------------------------------------------------- guesses
-def spherical_state(x: float, y: float, z: float, vx: float, vy: float, vz: float) -> NDArray[np.float64]:
-    """(r, lon, lat_c, V, gamma, psi) of an earth-fixed cartesian state (core.frames conventions)."""
-    v, gamma, psi = flight_angles(x, y, z, vx, vy, vz)
-    return np.array(
-        [math.sqrt(x * x + y * y + z * z), math.atan2(y, x), math.atan2(z, math.hypot(x, y)), v, gamma, psi]
+def entry_frame(entry: Entry) -> NDArray[np.float64]:
+    """The frame of the NLP's spherical coordinates (rows: its axes in earth-fixed components): x to the entry
+    point, y along its heading, z to the left pole of its great circle (sphere.great_circle_frame). The
+    coordinates' poles, where longitude and heading are singular, then lie 90 deg across the flight, and a flight
+    over a geographic pole is as regular as one along the equator. Components under 1e-15 are round-off of the
+    angles' sines and cosines, set to 0: an equatorial entry heading east is the geographic frame turned about its
+    axis, whose equations keep their geographic form (model_casadi.FlightModel's axis)."""
+    frame = np.array(great_circle_frame(entry.latitude_deg, entry.longitude_deg, entry.heading_deg))
+    frame[np.abs(frame) < 1e-15] = 0.0
+    return frame
+
+
+def frame_states(
+    frame: NDArray[np.float64], positions_ft: NDArray[np.float64], velocities_fps: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """(r, lon, lat_c, V, gamma, psi) in `frame`'s coordinates (n x 6) of earth-fixed positions and velocities
+    (n x 3): core.frames' conventions applied to the vectors turned into the frame."""
+    rows = [
+        (math.sqrt(x @ x), math.atan2(x[1], x[0]), math.atan2(x[2], math.hypot(x[0], x[1])), *flight_angles(*x, *v))
+        for x, v in zip(positions_ft @ frame.T, velocities_fps @ frame.T)
+    ]
+    return np.array(rows)
+
+
+def geographic(
+    frame: NDArray[np.float64], lon: Expr, lat: Expr, psi: Expr, lon_ref: Expr = 0.0, heading_ref: Expr = 0.0
+) -> tuple[Expr, Expr, Expr]:
+    """(geocentric latitude, longitude, heading) rad of points given by their longitude, latitude and heading in
+    `frame`'s coordinates; the longitude within pi of lon_ref and the heading within pi of heading_ref (continuous
+    for the NLP away from the opposite meridian and heading). CasADi expressions, or numbers (then DMs)."""
+    so, co, sl, cl, sp, cp = ca.sin(lon), ca.cos(lon), ca.sin(lat), ca.cos(lat), ca.sin(psi), ca.cos(psi)
+    u = (cl * co, cl * so, sl)  # the position's and the horizontal heading's unit vectors in the frame
+    h = (-sp * so - cp * sl * co, sp * co - cp * sl * so, cp * cl)  # sin(psi) east + cos(psi) north
+    ux, uy, uz = (sum(frame[i, j] * u[i] for i in range(3)) for j in range(3))  # earth-fixed: frame^T u
+    hx, hy, hz = (sum(frame[i, j] * h[i] for i in range(3)) for j in range(3))
+    rho2 = ux * ux + uy * uy
+    # east = (-uy, ux, 0) / rho and north = (-uz ux, -uz uy, rho^2) / rho: the heading's atan2 without 1 / rho
+    east, north = -hx * uy + hy * ux, -uz * (hx * ux + hy * uy) + hz * rho2
+    c_lon, s_lon, c_hdg, s_hdg = ca.cos(lon_ref), ca.sin(lon_ref), ca.cos(heading_ref), ca.sin(heading_ref)
+    return (
+        ca.atan2(uz, ca.sqrt(rho2)),
+        lon_ref + ca.atan2(uy * c_lon - ux * s_lon, ux * c_lon + uy * s_lon),
+        heading_ref + ca.atan2(east * c_hdg - north * s_hdg, north * c_hdg + east * s_hdg),
     )
+
+
+def geographic_track(
+    frame: NDArray[np.float64], states: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """geographic() of a flight's states (n x 6 as frame_states, from the entry) as arrays: (geocentric
+    latitude, longitude, heading) rad, the longitude and heading continuous from the entry's (heading in [0, 2 pi)
+    there, as core.frames.flight_angles)."""
+    out = geographic(frame, states[:, 1], states[:, 2], states[:, 5])
+    lat_c, lon, heading = (np.asarray(v, dtype=float).ravel() for v in out)
+    heading[0] %= 2.0 * np.pi
+    return lat_c, np.unwrap(lon), np.unwrap(heading)
+
+
+def entry_state(spec: FlightSpec, frame: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The entry's (r, lon, lat_c, V, gamma, psi) in `frame`'s coordinates."""
+    s0 = initial_state(spec, pack_parameters(spec))
+    state: NDArray[np.float64] = frame_states(frame, s0[None, :3], s0[None, 3:])[0]
+    return state
 
 
 NO_OPTIMUM_ADVICE = (
@@ -346,30 +414,21 @@ def first_guess(problem: Problem) -> Guess:
 
 
 def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
-    """A guess from a flown trajectory (its histories, geodetic latitude turned geocentric)."""
+    """A guess from a flown trajectory: its histories' earth-fixed states in entry_frame's coordinates."""
     h = trajectory.history
-    p = pack_parameters(spec)
     pl = spec.planet
-    rows = []
-    for lat, lon, alt in zip(h["latitude_deg"], h["longitude_deg"], h["altitude_ft"]):
-        x, y, z = ecef_from_geodetic(
-            math.radians(lat), math.radians(lon), alt, pl.radius_ft, pl.polar_radius_ft, pl.oblate
-        )
-        rows.append((math.sqrt(x * x + y * y + z * z), math.atan2(z, math.hypot(x, y))))
-    r, lat_c = np.array(rows).T
+    lat, lon, gamma, heading = (np.radians(h[k]) for k in ("latitude_deg", "longitude_deg", "gamma_deg", "heading_deg"))
+    positions, velocities = [], []
+    for i, (alt, v) in enumerate(zip(h["altitude_ft"], h["velocity_fps"])):
+        x, y, z = ecef_from_geodetic(lat[i], lon[i], alt, pl.radius_ft, pl.polar_radius_ft, pl.oblate)
+        positions.append((x, y, z))
+        velocities.append(velocity_from_angles(x, y, z, v, gamma[i], heading[i]))
     t = np.asarray(h["time_s"], float)
     keep = np.concatenate(([True], np.diff(t) > 0))  # event rows repeat their time
-    states = np.column_stack(
-        [
-            r,
-            np.unwrap(np.radians(h["longitude_deg"])),
-            lat_c,
-            h["velocity_fps"],
-            np.radians(h["gamma_deg"]),
-            np.unwrap(np.radians(h["heading_deg"])),
-        ]
-    )[keep]
-    s0 = spherical_state(*initial_state(spec, p))
+    frame = entry_frame(spec.entry)
+    states = frame_states(frame, np.array(positions), np.array(velocities))[keep]
+    states[:, 1], states[:, 5] = np.unwrap(states[:, 1]), np.unwrap(states[:, 5])
+    s0 = entry_state(spec, frame)
     states[:, 1] += s0[1] - states[0, 1]  # the unwrapped longitude and heading continue from the entry's
     states[:, 5] += s0[5] - states[0, 5]
     states[0] = s0  # exactly the entry state
@@ -437,9 +496,9 @@ class Transcription:
         self.d = d = pr.degree
         spec = pr.base
         _check(pr)
-        self.model = FlightModel(spec)
-        p = pack_parameters(spec)
-        self.x0 = spherical_state(*initial_state(spec, p))
+        self.frame = entry_frame(spec.entry)
+        self.model = FlightModel(spec, axis=self.frame[:, 2])
+        self.x0 = entry_state(spec, self.frame)
         self.entry = spec.entry
         tau_c, dmat = _radau(d)
         h = np.full(n, 1.0 / n) if uniform else np.diff(mesh)  # each interval's share of the flight time
@@ -455,10 +514,11 @@ class Transcription:
         ts = ca.MX.sym("t")
         w = ca.vertcat(ca.vec(xs), ca.vec(us), ts)
         weights = ca.MX.sym("w", len(pr.objective))
-        theta_ref = ca.MX.sym("theta_ref")  # down-range angle of the guess: keeps atan2 away from its cut
+        # the guess's final down-range angle, longitude and heading: keep the atan2s away from their cuts
+        refs = ca.MX.sym("refs", 3)
         smoothing = ca.MX.sym("smoothing")  # SMOOTHING_STAGES
         regularization = ca.MX.sym("regularization")  # smoothing_weight, 0 in the polish
-        par = ca.vertcat(weights, theta_ref, smoothing, regularization)
+        par = ca.vertcat(weights, refs, smoothing, regularization)
         # linear controls: the values at the collocation points are weights of the node values
         lin = np.zeros((n + 1, m))
         for k in range(n):
@@ -505,7 +565,7 @@ class Transcription:
             if con.quantity in PATH:
                 expr = self._path_expression(con.quantity, con.target, path, smoothing)
                 add(con.quantity, expr, -np.inf, 0.0)
-        final = self._terminal(xs[:, -1], us[:, -1], t_f, theta_ref)
+        final = self._terminal(xs[:, -1], t_f, refs)
         self._final = ca.Function("final", [w, par], [ca.vertcat(*[final[q] for q in TERMINAL if q in final])])
         self._final_names = [q for q in TERMINAL if q in final]
         for con in pr.constraints:
@@ -597,11 +657,13 @@ class Transcription:
             return heat.temperature_margin(rho, v, t_inf, alpha, limit, smoothing)
         return heat.heat_rate(rho, v, t_inf, alpha) / limit - 1.0
 
-    def _terminal(self, xf: ca.MX, uf: ca.MX, t_f: ca.MX, theta_ref: ca.MX) -> dict[str, Expr]:
-        """Summary quantities of the final point (CasADi expressions in their units)."""
+    def _terminal(self, xf: ca.MX, t_f: ca.MX, refs: ca.MX) -> dict[str, Expr]:
+        """Summary quantities of the final point (CasADi expressions in their units); refs: _references."""
         pm = self.model.planet
         r = self.problem.base.planet.radius_ft + H_SCALE_FT * xf[0]
-        lon, lat_c, v, gam, psi = xf[1], xf[2], V_SCALE_FPS * xf[3], xf[4], xf[5]
+        v, gam = V_SCALE_FPS * xf[3], xf[4]
+        theta_ref = refs[0]
+        lat_c, lon, psi = geographic(self.frame, xf[1], xf[2], xf[5], refs[1], refs[2])
         lat, alt = geodetic(pm, r, lat_c)
         e = self.entry
         p0, d0, pole = great_circle_frame(e.latitude_deg, e.longitude_deg, e.heading_deg)
@@ -662,6 +724,18 @@ class Transcription:
             )
         return max(a, lo), min(b, hi)
 
+    def _references(self, guess: Guess) -> list[float]:
+        """The guess's final down-range angle (rad), geographic longitude and heading (rad, continued from the
+        entry's): the NLP's down-range, longitude and heading are measured within pi of them; but a longitude or
+        heading constraint's target is their reference, so that a target across 180 deg (or 360 deg) from the
+        guess's end is met where it is, not a turn of the earth away."""
+        _, lon, heading = geographic_track(self.frame, guess.states)
+        refs = {"final_longitude_deg": float(lon[-1]), "final_heading_deg": float(heading[-1])}
+        for con in self.problem.constraints:
+            if con.quantity in refs:
+                refs[con.quantity] = math.radians(con.target)
+        return [guess.downrange_nmi / MEAN_RADIUS_NMI, refs["final_longitude_deg"], refs["final_heading_deg"]]
+
     def _scaled_entry(self) -> NDArray[np.float64]:
         s = self.x0
         return np.array(
@@ -718,7 +792,7 @@ class Transcription:
         wts = np.array([wt for _, wt in pr.objective] if weights is None else weights, float)
         floor = self.entry_floor()
         if floor is not None:  # no iterate can meet it: said at once, in the limit's unit, without IPOPT
-            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, SMOOTHING_STAGES[-1], 0.0]])
+            par = np.concatenate([wts, self._references(guess), [SMOOTHING_STAGES[-1], 0.0]])
             x = self._scaled_guess(guess) if warm is None else warm["x"]
             result = self._result(x, par, "infeasible", floor, math.inf, 0, 0.0)
             result.advice = "to change: the limit (above the fixed entry state's least value) or the entry state"
@@ -754,7 +828,7 @@ class Transcription:
         listener.report, listener.stages = on_iteration, len(plan)
         for stage, (smoothing, reg) in enumerate(plan):
             listener.stage, listener.iteration = stage, iterations - 1
-            par = np.concatenate([wts, [guess.downrange_nmi / MEAN_RADIUS_NMI, smoothing, reg]])
+            par = np.concatenate([wts, self._references(guess), [smoothing, reg]])
             args = {"lbx": self.lbx, "ubx": self.ubx, "lbg": lbg, "ubg": ubg, "p": par}
             solver = self.solver
             if use_warm:
@@ -893,21 +967,25 @@ class Transcription:
         alpha_n, bank_n = us[0] * ALPHA_SCALE_DEG, us[1] * BANK_SCALE_DEG
         alpha_c = np.interp(times, node_t, alpha_n)
         bank_c = np.interp(times, node_t, bank_n)
-        lat_gd = np.array([float(geodetic(self.model.planet, r_i, lat_i)[0]) for r_i, lat_i in zip(r, xs[2])])
+        lat_c, lon, heading = geographic_track(self.frame, xs.T)
+        lat_gd = np.array([float(geodetic(self.model.planet, r_i, lat_i)[0]) for r_i, lat_i in zip(r, lat_c)])
         history = {
             "time_s": times,
             "altitude_ft": path[0],
             "velocity_fps": v,
             "gamma_deg": np.degrees(gam),
-            "heading_deg": np.degrees(psi),
+            "heading_deg": np.degrees(heading),
             "latitude_deg": np.degrees(lat_gd),
-            "longitude_deg": np.degrees(xs[1]),
+            "longitude_deg": np.degrees(lon),
             "alpha_deg": alpha_c,
             "bank_deg": bank_c,
             "dynamic_pressure_psf": path[1],
             "load_factor": path[2],
         }
         summary: dict[str, float | None] = dict(final)
+        # a trajectory summary's conventions (the NLP measures them about _references)
+        summary["final_longitude_deg"] = float(wrap_longitude(final["final_longitude_deg"], closed_above=True))
+        summary["final_heading_deg"] = final["final_heading_deg"] % 360.0
         summary["final_altitude_ft"] = float(path[0, -1])
         summary["max_dynamic_pressure_psf"] = float(path[1].max())
         summary["max_load_factor"] = float(path[2].max())
@@ -917,7 +995,7 @@ class Transcription:
             history["heat_rate_btu_ft2_s"], history["temperature_R"] = q, temp
             summary["max_heat_rate_btu_ft2_s"] = float(np.max(q))
             summary["max_temperature_R"] = float(np.max(temp)) if np.all(np.isfinite(temp)) else None
-        objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[:-3]))
+        objective = sum(wt * final[q] for (q, _), wt in zip(pr.objective, par[: len(pr.objective)]))
         after = Guess(
             tau=self.tau.copy(),
             states=np.column_stack([r, xs[1], xs[2], v, gam, psi]),

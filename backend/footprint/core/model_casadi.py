@@ -6,6 +6,10 @@ no side force; oblate gravity A10 through gravity.zonal_down_north; Coriolis and
 rotating frame). psi is the heading (azimuth from north, clockwise) and gamma the flight-path angle, both in
 the local geocentric horizon, as in App. A and core.frames; a positive bank turns left.
 
+The spherical coordinates may be those of any earth-fixed frame (FlightModel's `axis`: the planet's axis of
+rotation and symmetry in it): the collocation takes the frame whose equator is the entry's great circle, so that
+a flight over a geographic pole stays far from the coordinates' own poles, where longitude and heading are singular.
+
 Where this model differs from the integrator's (core.dynamics), and why:
   * tables (Appendix B aero in Mach x alpha [x altitude], Table 1) and the ARDC 1959 / US 1976 atmospheres
     are cubic B-spline interpolants through the same nodes (IPOPT needs continuous derivatives); the
@@ -105,14 +109,14 @@ def geodetic(pm: PlanetModel, r: Expr, lat_c: Expr) -> tuple[Expr, Expr]:
     return lat, p * cl + z * sl - re * ca.sqrt(1.0 - e2 * sl * sl)
 
 
-def radial_altitude_ft(pm: PlanetModel, r: Expr, lat_c: Expr) -> Expr:
-    """Height above the ellipsoid along the radius, r - R_e R_p / sqrt(R_p^2 cos^2 + R_e^2 sin^2): the
-    equations of motion's altitude (cheap for the NLP's derivatives). It differs from the geodetic altitude by
-    O(f^2 h): under 3 ft below 400,000 ft (tests/core/test_model_casadi.py)."""
+def radial_altitude_ft(pm: PlanetModel, r: Expr, sin_lat_c: Expr) -> Expr:
+    """Height above the ellipsoid along the radius, r - R_e R_p / sqrt(R_p^2 cos^2 + R_e^2 sin^2) of the
+    geocentric latitude: the equations of motion's altitude (cheap for the NLP's derivatives). It differs from the
+    geodetic altitude by O(f^2 h): under 3 ft below 400,000 ft (tests/core/test_model_casadi.py)."""
     if not pm.oblate:
         return r - pm.radius_ft
     re, rp = pm.radius_ft, pm.polar_radius_ft
-    return r - re * rp / ca.sqrt((rp * ca.cos(lat_c)) ** 2 + (re * ca.sin(lat_c)) ** 2)
+    return r - re * rp / ca.sqrt(rp * rp + (re * re - rp * rp) * sin_lat_c * sin_lat_c)
 
 
 def _clamped(x: Expr, lo: float, hi: float) -> Expr:
@@ -294,8 +298,11 @@ class Heating:
 class FlightModel:
     """Rates of the spherical state and the derived quantities, as CasADi expressions."""
 
-    def __init__(self, spec: FlightSpec) -> None:
+    def __init__(self, spec: FlightSpec, axis: ArrayLike = (0.0, 0.0, 1.0)) -> None:
+        """axis: the planet's axis (unit vector) in the frame of the state's spherical coordinates; the default is
+        the geographic frame. Components that are exactly 0 drop their terms from the expressions."""
         self.spec = spec
+        self.axis = tuple(float(k) for k in np.asarray(axis, dtype=float))
         self.planet = planet_model(spec)
         self.atmosphere = Atmosphere(spec)
         self.aero = Aerodynamics(spec.vehicle.blob)
@@ -307,15 +314,22 @@ class FlightModel:
     def point(self, state: Expr, alpha_deg: Expr, bank_deg: Expr, smoothing: Expr) -> dict[str, Expr]:
         """Everything at one state: a dict of CasADi expressions (rates under 'rates')."""
         pm = self.planet
-        r, _lon, lat, v, gam, psi = (state[i] for i in range(6))
+        r, lon, lat, v, gam, psi = (state[i] for i in range(6))
         s, cs = ca.sin(lat), ca.cos(lat)
+        # the planet's axis k in the (up, east, north) horizon of the state's frame; k_up is the sine of the
+        # geographic geocentric latitude (geographic frame: s, 0, cs)
+        kx, ky, kz = self.axis
+        so, co = ca.sin(lon), ca.cos(lon)
+        k_up = kx * cs * co + ky * cs * so + kz * s
+        k_east = -kx * so + ky * co
+        k_north = -kx * s * co - ky * s * so + kz * cs
         g0 = pm.mu_ft3_s2 / (r * r)
         if pm.oblate:
-            g_down, g_north_over_cos = _zonal(g0, s, pm.radius_ft / r, pm.j, pm.h, pm.k_zonal)
+            g_down, g_north_over_cos = _zonal(g0, k_up, pm.radius_ft / r, pm.j, pm.h, pm.k_zonal)
         else:
             g_down, g_north_over_cos = g0, 0.0
-        g_north = g_north_over_cos * cs  # App. A (A10): g = -g_down u + g_north n
-        alt = radial_altitude_ft(pm, r, lat)
+        # App. A (A10): g = -g_down u + g_north n_geographic, and cos(lat) n_geographic = k - k_up u
+        alt = radial_altitude_ft(pm, r, k_up)
         rho, t_inf, sound = self.atmosphere(alt)
         mach = v / sound
         cl, cd = self.aero(mach, alpha_deg, alt, smoothing)
@@ -324,10 +338,11 @@ class FlightModel:
         w = pm.omega_rad_s
         sg, cg, sp, cp = ca.sin(gam), ca.cos(gam), ca.sin(psi), ca.cos(psi)
         v_up, v_east, v_north = v * sg, v * cg * sp, v * cg * cp
-        # gravity, Coriolis -2 w x v and centrifugal -w x (w x r) in the (up, east, north) horizon, eqs. (1)-(2)
-        a_up = -g_down + 2.0 * w * cs * v_east + w * w * cs * cs * r
-        a_east = -2.0 * w * (cs * v_up - s * v_north)
-        a_north = g_north - 2.0 * w * s * v_east - w * w * s * cs * r
+        # gravity, Coriolis -2 w k x v and centrifugal w^2 r (u - k_up k) in the (up, east, north) horizon (a
+        # right-handed basis), eqs. (1)-(2)
+        a_up = -g_down - 2.0 * w * (k_east * v_north - k_north * v_east) + w * w * r * (1.0 - k_up * k_up)
+        a_east = g_north_over_cos * k_east - 2.0 * w * (k_north * v_up - k_up * v_north) - w * w * r * k_up * k_east
+        a_north = g_north_over_cos * k_north - 2.0 * w * (k_up * v_east - k_east * v_up) - w * w * r * k_up * k_north
         bank = bank_deg * (np.pi / 180.0)
         rates = ca.vertcat(
             v_up,  # dr/dt
