@@ -145,6 +145,16 @@ def test_a_warm_started_neighbour_moves_with_its_target(betts_free):
     assert second.iterations < first.iterations
 
 
+def test_a_warm_start_stops_at_its_own_iteration_limit(betts_free):
+    """max_iterations caps one warm-started solve below the problem's limit (a footprint's extra start that wanders);
+    the same neighbour unlimited ends optimal (the test above)."""
+    tr = col.Transcription(betts_problem())
+    first = tr.solve(betts_free.guess)
+    targets = {"final_velocity_fps": (2600.0, 2600.0)}
+    capped = tr.solve(first.guess, warm=first.solver_state, constraint_targets=targets, max_iterations=3)
+    assert capped.status == "not_converged" and capped.iterations == 3 and betts_problem().max_iterations > 3
+
+
 def test_a_down_range_beyond_reach_is_infeasible_with_the_violation_named():
     result = col.solve(
         betts_problem(

@@ -779,6 +779,7 @@ class Transcription:
         polish: bool | None = None,
         polish_only: bool = False,
         on_iteration: OnIteration | None = None,
+        max_iterations: int | None = None,
     ) -> Result:
         """Solve from `guess` (or from `warm`, a previous solution's solver state of this transcription).
 
@@ -787,7 +788,8 @@ class Transcription:
         started from the last (default SMOOTHING_STAGES, the last one alone from a warm start; one stage
         without tables); polish: a last stage at POLISH_WEIGHT (default: the problem's); polish_only: that stage
         alone, from `warm` (the optimum of this transcription's last stage, as solve() gives it);
-        on_iteration(iteration, stage, stages) after every IPOPT iteration (True stops)."""
+        on_iteration(iteration, stage, stages) after every IPOPT iteration (True stops); max_iterations: IPOPT's
+        limit for a warm start's stages, below the problem's (a start that one of several others may do better)."""
         pr = self.problem
         wts = np.array([wt for _, wt in pr.objective] if weights is None else weights, float)
         floor = self.entry_floor()
@@ -837,6 +839,7 @@ class Transcription:
                 args.update(x0=warm["x"], lam_x0=warm["lam_x"], lam_g0=warm["lam_g"])
                 polishing = reg < weight  # the entry after the stages
                 cap = min(POLISH_MAX_ITERATIONS, pr.max_iterations) if polishing else pr.max_iterations
+                cap = cap if max_iterations is None else min(cap, max_iterations)
                 solver = self._warm(cap)
             else:
                 x0 = x_start if warm is None else warm["x"]
