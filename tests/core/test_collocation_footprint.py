@@ -167,7 +167,7 @@ def test_the_boundary_does_not_hang_on_the_round_off_of_the_first_guess(shuttle,
 
         def rounded_otherwise(spec, trajectory, scale=scale):
             g = guess(spec, trajectory)
-            g.states[1:, 2] *= scale  # geocentric latitude (rad) after the entry point
+            g.states[1:, 2] *= scale  # the entry frame's latitude (rad: the cross-range angle) after the entry point
             return g
 
         monkeypatch.setattr(col, "guess_from_trajectory", rounded_otherwise)

@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from footprint.core import constants as c
 from footprint.core.controls import BANK_ZERO, C_BANK_LAW, pack_controls, replace_bank_law
 from footprint.core.errors import NoOptimum  # noqa: F401 (the collocation's failure, raised by its callers)
-from footprint.core.frames import ecef_from_geodetic, flight_angles, velocity_from_angles
+from footprint.core.frames import ecef_from_geodetic, velocity_from_angles
 from footprint.core.model_casadi import Expr, FlightModel, geodetic
 from footprint.core.optimize import Constraint
 from footprint.core.sphere import MEAN_RADIUS_NMI, great_circle_frame, wrap_longitude
@@ -331,12 +331,18 @@ def frame_states(
     frame: NDArray[np.float64], positions_ft: NDArray[np.float64], velocities_fps: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """(r, lon, lat_c, V, gamma, psi) in `frame`'s coordinates (n x 6) of earth-fixed positions and velocities
-    (n x 3): core.frames' conventions applied to the vectors turned into the frame."""
-    rows = [
-        (math.sqrt(x @ x), math.atan2(x[1], x[0]), math.atan2(x[2], math.hypot(x[0], x[1])), *flight_angles(*x, *v))
-        for x, v in zip(positions_ft @ frame.T, velocities_fps @ frame.T)
-    ]
-    return np.array(rows)
+    (n x 3); psi in the geocentric horizon, as core.frames.flight_angles."""
+    x, v = positions_ft @ frame.T, velocities_fps @ frame.T
+    r = np.linalg.norm(x, axis=1)
+    lon, lat = np.arctan2(x[:, 1], x[:, 0]), np.arctan2(x[:, 2], np.hypot(x[:, 0], x[:, 1]))
+    so, co, sl, cl = np.sin(lon), np.cos(lon), np.sin(lat), np.cos(lat)
+    v_up = (v * x).sum(axis=1) / r
+    v_east = -v[:, 0] * so + v[:, 1] * co
+    v_north = -v[:, 0] * sl * co - v[:, 1] * sl * so + v[:, 2] * cl
+    speed = np.linalg.norm(v, axis=1)
+    return np.column_stack(
+        [r, lon, lat, speed, np.arctan2(v_up, np.hypot(v_east, v_north)), np.arctan2(v_east, v_north)]
+    )
 
 
 def geographic(
@@ -345,6 +351,12 @@ def geographic(
     """(geocentric latitude, longitude, heading) rad of points given by their longitude, latitude and heading in
     `frame`'s coordinates; the longitude within pi of lon_ref and the heading within pi of heading_ref (continuous
     for the NLP away from the opposite meridian and heading). CasADi expressions, or numbers (then DMs)."""
+    # a frame turned about the axis (an equatorial entry heading east): the frame's own angles, the longitude offset,
+    # so the NLP has the geographic form it had (through the general turn, the most-final-energy fly-there took 250
+    # to 2,000 IPOPT iterations or none converged, by the round-off of its guess; so, 254 to 440, as before)
+    if frame[2, 0] == frame[2, 1] == 0.0 and frame[2, 2] == 1.0:
+        offset = math.atan2(frame[0, 1], frame[0, 0])
+        return lat, lon_ref + _within_pi(lon + offset - lon_ref), heading_ref + _within_pi(psi - heading_ref)
     so, co, sl, cl, sp, cp = ca.sin(lon), ca.cos(lon), ca.sin(lat), ca.cos(lat), ca.sin(psi), ca.cos(psi)
     u = (cl * co, cl * so, sl)  # the position's and the horizontal heading's unit vectors in the frame
     h = (-sp * so - cp * sl * co, sp * co - cp * sl * so, cp * cl)  # sin(psi) east + cos(psi) north
@@ -359,6 +371,11 @@ def geographic(
         lon_ref + ca.atan2(uy * c_lon - ux * s_lon, ux * c_lon + uy * s_lon),
         heading_ref + ca.atan2(east * c_hdg - north * s_hdg, north * c_hdg + east * s_hdg),
     )
+
+
+def _within_pi(angle: Expr) -> Expr:
+    """The angle moved by whole turns into (-pi, pi], smoothly away from the cut."""
+    return ca.atan2(ca.sin(angle), ca.cos(angle))
 
 
 def geographic_track(
