@@ -281,6 +281,30 @@ def test_fly_there_across_the_antimeridian_is_the_same_optimum_turned(fly_there)
     assert turned.summary["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-4)
 
 
+def test_fly_there_over_the_pole_is_the_same_optimum_turned(fly_there):
+    """The example turned to an entry at 40 N, 150 E heading north, the site 3,002 nmi down and 901 nmi to the left
+    as 15 N 50 E is from the example's entry (spherical geometry: core.sphere): 75 N 60 E, the flight's great circle
+    passing over the pole. The same least heat load on the non-rotating sphere, landing on the site. The NLP in
+    geographic angles ended at 27,927 Btu/ft^2 after 1,577 iterations (317 s), its re-flight 0.06 deg off at 400
+    intervals."""
+    from footprint.api import run
+    from footprint.core.sphere import downrange_crossrange_nmi, latlon_from_ranges
+
+    least_heat, _ = fly_there
+    down, cross = downrange_crossrange_nmi(15.0, 50.0, 0.0, 0.0, 90.0)
+    lat, lon = (float(np.ravel(a)[0]) for a in latlon_from_ranges(down, cross, 40.0, 150.0, 0.0))
+    assert lat > 74.0 and down > 3_000.0  # 50 deg down the great circle from 40 N heading north: the pole
+    study = json.loads(json.dumps(FLY_THERE))
+    study["case"]["entry"].update(latitude_deg=40.0, longitude_deg=150.0, heading_deg=0.0)
+    for k in study["constraints"]:
+        k["equals"] = lat if k["quantity"] == "final_latitude_deg" else lon
+    turned = run("optimize", study)
+    assert turned.ok, turned.message
+    assert abs(turned.refly["final_latitude_deg"] - lat) <= col.AGREE_DEG
+    assert abs(turned.refly["final_longitude_deg"] - lon) <= col.AGREE_DEG
+    assert turned.summary["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-4)
+
+
 def least_heat_at_default_tolerance(**collocation):
     from footprint.api import run
 
