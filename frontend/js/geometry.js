@@ -224,12 +224,28 @@ export function toCSV(footprints) {
   return rows.join("\n") + "\n";
 }
 
-/** A closed [lon, lat] ring wound as d3-geo wants (the smaller of the two regions it bounds inside). */
+/** Twice the signed area of the points' (down-range, cross-range) polygon: > 0 when its inside lies to the left of
+ * the points' order (the order of every footprint), 0 where the points carry no ranges. */
+function rangeTurn(points) {
+  let twice = 0;
+  points.forEach((p, i) => {
+    const q = points[(i + 1) % points.length];
+    twice += p.downrange_nmi * q.crossrange_nmi - q.downrange_nmi * p.crossrange_nmi;
+  });
+  return Number.isFinite(twice) ? twice : 0;
+}
+
+/** A closed [lon, lat] ring wound as d3-geo wants (clockwise: its inside to the right). The points' down- and
+ * cross-range say which side is inside (cross-range to the left of the flight, as north is left of east: the same
+ * turn on the map), so a footprint past half-way round and larger than a hemisphere keeps its side; points without
+ * ranges (a dispersion's rings) bound the smaller of their two regions. */
 export function sphericalRing(points, geoArea) {
-  const ring = openRing(points).map((p) => [p.longitude_deg, p.latitude_deg]);
+  const open = openRing(points);
+  const ring = open.map((p) => [p.longitude_deg, p.latitude_deg]);
   if (!ring.length) return ring;
   ring.push(ring[0]);
+  const turn = rangeTurn(open);
   const polygon = { type: "Polygon", coordinates: [ring] };
-  if (geoArea && geoArea(polygon) > 2 * Math.PI) ring.reverse();
+  if (turn !== 0 ? turn > 0 : geoArea && geoArea(polygon) > 2 * Math.PI) ring.reverse();
   return ring;
 }

@@ -1156,3 +1156,31 @@ def test_at_world_zoom_the_world_fills_the_maps_pane_on_a_full_hd_screen(open_pa
         const w = Math.min(s.x, b.x) - Math.max(0, a.x), h = Math.min(s.y, b.y) - Math.max(0, a.y);
         return (w * h) / (s.x * s.y); }""")
     assert share > 0.8, share
+
+
+def test_a_footprint_larger_than_a_hemisphere_is_filled_on_its_own_side_on_the_globe(open_page):
+    """Betts' shuttle flying inverted reaches 17,955 nmi and 3,950 across (its true optimal footprint, ~95 M nmi^2,
+    more than the hemisphere's 74 M): the globe and the GeoJSON ring must hold the antipode of the entry (10,800 nmi
+    down the axis) and not the point 600 nmi behind it (20,990 nmi round). The ring was wound to bound the smaller of
+    its two regions, which here is the unreachable one. The outline below is that footprint's, from the equator
+    heading east, in the order every footprint has (farthest, the left half inwards, the right half out); its points
+    placed by spherical geometry (core.sphere)."""
+    from footprint.core.sphere import latlon_from_ranges
+
+    left = [(15_300, 2_960), (9_000, 3_820), (5_400, 3_950), (2_600, 3_710), (100, 1_400)]
+    outline = [(17_955, 0)] + left + [(44, 0)] + [(d, -c) for d, c in reversed(left)]
+    down, cross = np.array(outline, float).T
+    lat, lon = latlon_from_ranges(down, cross, 0.0, 0.0, 90.0)
+    points = [
+        {"latitude_deg": float(a), "longitude_deg": float(o), "downrange_nmi": float(d), "crossrange_nmi": float(c)}
+        for a, o, d, c in zip(lat, lon, down, cross)
+    ]
+    run = open_page()
+    inside = run.page.evaluate(
+        """async (points) => { const { sphericalRing } = await import('/js/geometry.js');
+        const polygon = { type: 'Polygon', coordinates: [sphericalRing(points, d3.geoArea)] };
+        return [d3.geoContains(polygon, [180, 0]), d3.geoContains(polygon, [-10, 0]), d3.geoArea(polygon)]; }""",
+        points,
+    )
+    assert inside[:2] == [True, False] and inside[2] > 2 * math.pi, inside
+    assert not run.errors
