@@ -266,6 +266,7 @@ def test_an_unreachable_collocation_target_exits_1_with_one_line(tmp_path):
     [
         ({"collocation": {"intervals": 2}}, "collocation.intervals"),
         ({"collocation": {"bank_bounds_deg": [10, -10]}}, "bank_bounds_deg"),
+        ({"collocation": {"starts": 9}}, "collocation.starts"),
         ({"method": "creep_pattern"}, "collocation: options for method 'collocation'"),
         ({"payoff": {"quantity": "pullout_altitude_ft"}}, "pullout_altitude_ft: not available to the collocation"),
     ],
@@ -292,3 +293,20 @@ def test_an_optimum_flying_upside_down_says_so_in_its_lines():
     lines = _optimum_lines(optimum)
     assert "flies upside down at negative lift for 5,786 s (alpha_bounds_deg can rule it out)" in lines
     assert not any("upside down" in line for line in _optimum_lines(optimum | {"refly": {"inverted_s": 0.0}}))
+
+
+def test_an_optimum_of_several_starts_lists_their_objectives():
+    from footprint.cli import _optimum_lines
+
+    optimum = {
+        "method": "collocation",
+        "feasible": True,
+        "iterations": 1_567,
+        "seconds": 17.7,
+        "summary": {"crossrange_nmi": 901.0, "downrange_nmi": 3_002.0, "flight_time_s": 930.0},
+        "start_objectives": [5_439_674.27, None, 5_889_284.35],
+    }
+    assert "the best of 3 starts, whose first meshes ended at: 5,439,674.3, none, 5,889,284.3" in _optimum_lines(
+        optimum
+    )
+    assert not any("starts" in line for line in _optimum_lines(optimum | {"start_objectives": None}))

@@ -305,6 +305,50 @@ def test_fly_there_over_the_pole_is_the_same_optimum_turned(fly_there):
     assert turned.summary["heat_load_btu_ft2"] == pytest.approx(least_heat.summary["heat_load_btu_ft2"], rel=1e-4)
 
 
+def test_the_starts_are_constant_banks_spread_on_the_side_the_first_turns_to():
+    """Three starts of the fly-there example (its case flies 30 deg of bank to the left): the case's flight, then
+    constant banks of 30 and 60 deg to the left, the second held to the bank bound of 50."""
+    study = json.loads(json.dumps(FLY_THERE))
+    problem = replace(col_problem(study), starts=3, bank_bounds_deg=(-1.0, 50.0))
+    first, *spread = col.first_guesses(problem)
+    assert first.controls[:, 1] == pytest.approx(30.0)
+    assert [g.controls[:, 1] for g in spread] == [pytest.approx(30.0), pytest.approx(50.0)]
+    assert [g.states[-1, 2] > 0.0 for g in spread] == [True, True]  # to the left: cross-range angle positive
+
+
+def col_problem(study):
+    from footprint.contracts.optimization import collocation_problem
+
+    return collocation_problem(parse("optimize", study))
+
+
+def test_a_payoff_with_several_optima_keeps_the_best_of_its_starts():
+    """The most final energy at 15.5 N 50.5 E (the example's site moved 0.5 deg each way): from the case's 30 deg
+    flight alone IPOPT ends at a local optimum, three skips to 80,000 ft, and says "optimal"; from constant banks of
+    18, 36, 54 and 72 deg as well (starts: 5), the best is one skip out of the atmosphere. Both answers are held to
+    their re-flights by the integrator, which land on the site."""
+    from footprint.api import run
+
+    study = json.loads(json.dumps(FLY_THERE))
+    study["payoff"] = {"quantity": "final_energy_ft", "goal": "max"}
+    for k in study["constraints"]:
+        k["equals"] = 15.5 if k["quantity"] == "final_latitude_deg" else 50.5
+    one = run("optimize", study)
+    study["collocation"]["starts"] = 5
+    best = run("optimize", study)
+    for r in (one, best):
+        assert r.ok, r.message
+        assert abs(r.refly["final_latitude_deg"] - 15.5) <= col.AGREE_DEG
+        assert abs(r.refly["final_longitude_deg"] - 50.5) <= col.AGREE_DEG
+        assert r.refly["final_energy_ft"] == pytest.approx(r.summary["final_energy_ft"], rel=1e-3)
+    assert one.start_objectives is None and len(best.start_objectives) == 5
+    assert best.start_objectives[0] == pytest.approx(one.objective, rel=0.01)  # the first start is the case's
+    assert best.refly["final_energy_ft"] > 1.05 * one.refly["final_energy_ft"]
+    assert max(v for v in best.start_objectives if v is not None) == pytest.approx(best.objective, rel=0.01)
+    # one skip: a ballistic arc above the sensible atmosphere (Betts' exponential one: 0.002378 e^(-h/23,800))
+    assert max(best.history["altitude_ft"]) > 600_000.0 > max(one.history["altitude_ft"])
+
+
 def least_heat_at_default_tolerance(**collocation):
     from footprint.api import run
 

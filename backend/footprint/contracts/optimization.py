@@ -113,6 +113,9 @@ class CollocationOptions(Strict):
     bank_rate_deg_s: Annotated[float, Range(1e-3, 1e3, "deg/s")] | None = None
     max_iterations: int = Field(default=3_000, ge=1, le=100_000)
     max_seconds: Annotated[float, Range(1, 86_400, "s")] = 600.0  # IPOPT's wall time per solve
+    # first guesses solved on the first mesh, the best kept: the case's laws, then constant banks 90 k / starts deg
+    # (collocation.first_guesses), for a payoff with several local optima (the most final energy at a site)
+    starts: int = Field(default=1, ge=1, le=8)
 
     @model_validator(mode="after")
     def _bounds(self) -> "CollocationOptions":
@@ -439,6 +442,7 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
         mesh_tolerance=o.mesh_tolerance,
         max_iterations=o.max_iterations,
         max_seconds=o.max_seconds,
+        starts=o.starts,
     )
 
 

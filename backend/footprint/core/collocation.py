@@ -235,6 +235,7 @@ class Problem:
     tolerance: float = 1e-8  # IPOPT's tol (scaled NLP)
     smoothing_weight: float = 1e-4  # penalty on the controls' scaled rates before the polish (SMOOTHING_STAGES)
     polish: bool = True  # a last stage at POLISH_WEIGHT (an optimal footprint's points skip it: 0.05 % of range)
+    starts: int = 1  # first guesses solved on the first mesh, the best kept (first_guesses: a multi-modal payoff)
 
 
 @dataclass
@@ -280,6 +281,7 @@ class Result:
     solver_state: dict[str, NDArray[np.float64]] | None = field(
         repr=False, default=None
     )  # x, lam_x, lam_g for a warm start
+    start_objectives: list[float | None] | None = None  # each start's optimum on the first mesh (None: none found)
 
     @property
     def ok(self) -> bool:
@@ -311,6 +313,7 @@ class Result:
             "intervals": self.intervals,
             "mesh_change": self.mesh_change,
             "mesh_remaining": self.mesh_remaining,
+            "start_objectives": self.start_objectives,
         }
 
 
@@ -428,6 +431,26 @@ def first_guess(problem: Problem) -> Guess:
         else:
             high = bank
     return guess_from_trajectory(spec, flown)
+
+
+def first_guesses(problem: Problem) -> list[Guess]:
+    """problem.starts first guesses: first_guess, then flights of the base's alpha law at constant banks spread
+    over (0, 90) deg (90 k / starts), on the side the first one turns to, within the bank bounds. A payoff with
+    several local optima (the most final energy at a site: one skip or several) ends in the one its guess leads
+    to; from the fly-there example's guess, 15.5 N 50.5 E, 5.45 M ft where a 20 deg guess reaches 5.89 M."""
+    first = first_guess(problem)
+    side = 1.0 if first.states[-1, 2] >= 0.0 else -1.0  # the cross-range angle at its end (entry_frame's latitude)
+    lo, hi = problem.bank_bounds_deg
+    spec = problem.base
+    guesses = [first]
+    for k in range(1, problem.starts):
+        bank = min(max(side * 90.0 * k / problem.starts, lo), hi)
+        guesses.append(
+            guess_from_trajectory(
+                spec, simulate(replace(spec, ctrl=replace_bank_law(spec.ctrl, "constant", bank_deg=bank)))
+            )
+        )
+    return guesses
 
 
 def guess_from_trajectory(spec: FlightSpec, trajectory: Trajectory) -> Guess:
@@ -1170,16 +1193,16 @@ def remaining_move(moves: Sequence[float]) -> float | None:
 
 
 def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress | None = None) -> Result:
-    """Solve, re-fly, and refine the mesh from the last solution until the optimum is settled: the re-flight agrees
-    and the objective may move by less than objective_tolerance under further refinement (remaining_move of its
-    changes so far; or max_intervals is reached, or a refined mesh ends without an optimum: then the result is
-    "not_converged" and says by how much the objective may still move). A refinement halves the intervals where the
-    linear controls' error is largest (control_errors), or every interval while the re-flight disagrees, and starts
-    from the last optimum at the narrowest corners. The meshes settle on the problem with the rates' penalty; the
+    """Solve from `guess` (or from each of first_guesses, the best optimum kept), re-fly, and refine the mesh from
+    the last solution until the optimum is settled: the re-flight agrees and the objective may move by less than
+    objective_tolerance under further refinement (remaining_move of its changes so far; or max_intervals is
+    reached, or a refined mesh ends without an optimum: then the result is "not_converged" and says by how much the
+    objective may still move). A refinement halves the intervals where the linear controls' error is largest
+    (control_errors), or every interval while the re-flight disagrees, and starts from the last optimum at the
+    narrowest corners. The meshes settle on the problem with the rates' penalty; the
     polish (Problem.polish) then follows once, on the last mesh. on_progress(fraction, note) after every IPOPT
     iteration (True stops)."""
-    if guess is None:
-        guess = first_guess(problem)
+    starts = [guess] if guess is not None else first_guesses(problem)
     mesh: NDArray[np.float64] | None = None  # the first: uniform, problem.intervals
     total_s, total_it, rounds = 0.0, 0, 0
     previous: tuple[Result, Transcription] | None = None  # the last mesh's optimum
@@ -1188,12 +1211,17 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         share, rounds = (1.0 - 0.5**rounds, 1.0 - 0.5 ** (rounds + 1)), rounds + 1
         transcription = Transcription(problem, mesh=mesh)
         n = transcription.n
-        report = None if on_progress is None else iteration_progress(on_progress, share, f"{n} intervals: ")
-        # a refined mesh starts from the last optimum, at the narrowest corners: 5-40 iterations where a cold start
-        # from the case's flight takes hundreds (the polish cannot start there: from the L/D 1.89 polished optimum
-        # it ran out of 3,000 iterations, and from the finer mesh's own stage it did not always end within 300)
-        stages = None if previous is None else SMOOTHING_STAGES[-1:]
-        result = transcription.solve(guess, stages=stages, polish=False, on_iteration=report)
+        if previous is None:
+            result = _best_start(transcription, starts, share, on_progress)
+            start_objectives = result.start_objectives
+        else:
+            # a refined mesh starts from the last optimum, at the narrowest corners: 5-40 iterations where a cold
+            # start from the case's flight takes hundreds (the polish cannot start there: from the L/D 1.89 polished
+            # optimum it ran out of 3,000 iterations, and from the finer mesh's own stage it did not always end
+            # within 300)
+            report = None if on_progress is None else iteration_progress(on_progress, share, f"{n} intervals: ")
+            assert guess is not None  # the last mesh's optimum
+            result = transcription.solve(guess, stages=SMOOTHING_STAGES[-1:], polish=False, on_iteration=report)
         total_s, total_it = total_s + result.seconds, total_it + result.iterations
         if previous is not None and not result.ok and result.status != "stopped":
             previous[0].message += f"; a refinement to {n} intervals ended {result.status}: {result.message}"
@@ -1228,7 +1256,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
             refly(problem, result)
         else:  # said, as a stage that does not end is: the optimum before it is kept
             result.message += f"; the polish ended {polished.message}: the optimum before it is kept"
-    result.seconds, result.iterations = total_s, total_it
+    result.seconds, result.iterations, result.start_objectives = total_s, total_it, start_objectives
     if result.ok and problem.max_intervals > problem.intervals and not _settled(problem, result):
         result.status = "not_converged"
         result.advice = "to change: a larger collocation.max_intervals"
@@ -1252,6 +1280,29 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
             f"latitude, {a['longitude_deg']:.3g} deg longitude, {100 * a['downrange_rel']:.3g} % down-range"
         )
     return result
+
+
+def _best_start(
+    transcription: Transcription, starts: list[Guess], share: tuple[float, float], on_progress: OnProgress | None
+) -> Result:
+    """The first mesh solved from each start, the best optimum kept (the first start's result if none is one),
+    with every start's objective; a stopped solve ends the search."""
+    results: list[Result] = []
+    lo, hi = share
+    for k, start in enumerate(starts):
+        part = (lo + (hi - lo) * k / len(starts), lo + (hi - lo) * (k + 1) / len(starts))
+        what = f"{transcription.n} intervals" + (f", start {k + 1} of {len(starts)}" if len(starts) > 1 else "") + ": "
+        report = None if on_progress is None else iteration_progress(on_progress, part, what)
+        results.append(transcription.solve(start, polish=False, on_iteration=report))
+        if results[-1].status == "stopped":
+            return results[-1]
+    sign = 1.0 if transcription.problem.goal == "max" else -1.0
+    found = [r for r in results if r.ok]
+    best = max(found, key=lambda r: sign * r.objective) if found else results[0]
+    if len(results) > 1:
+        best.start_objectives = [r.objective if r.ok else None for r in results]
+        best.seconds, best.iterations = sum(r.seconds for r in results), sum(r.iterations for r in results)
+    return best
 
 
 def _settled(problem: Problem, result: Result) -> bool:
