@@ -267,6 +267,15 @@ def test_an_unreachable_collocation_target_exits_1_with_one_line(tmp_path):
         ({"collocation": {"intervals": 2}}, "collocation.intervals"),
         ({"collocation": {"bank_bounds_deg": [10, -10]}}, "bank_bounds_deg"),
         ({"collocation": {"starts": 9}}, "collocation.starts"),
+        (
+            {
+                "constraints": [
+                    {"quantity": "final_latitude_deg", "equals": 90},
+                    {"quantity": "final_longitude_deg", "equals": 0},
+                ]
+            },
+            "constraints.final_longitude_deg: a final latitude of +-90 deg is the pole",
+        ),
         ({"method": "creep_pattern"}, "collocation: options for method 'collocation'"),
         ({"payoff": {"quantity": "pullout_altitude_ft"}}, "pullout_altitude_ft: not available to the collocation"),
     ],
@@ -287,7 +296,7 @@ def test_an_optimum_flying_upside_down_says_so_in_its_lines():
         "iterations": 120,
         "seconds": 2.0,
         "summary": {"crossrange_nmi": 0.4, "downrange_nmi": 17_955.5, "flight_time_s": 5_786.0},
-        "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001},
+        "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001, "east_west_deg": 0.0001},
         "refly": {"inverted_s": 5_786.0},
     }
     lines = _optimum_lines(optimum)

@@ -135,7 +135,7 @@ def _optimum_lines(r: dict) -> list[str]:
     ]
     if r.get("method") == "collocation" and r.get("agreement"):
         g = r["agreement"]
-        out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['longitude_deg']):.4f} deg")
+        out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['east_west_deg']):.4f} deg")
     if starts := r.get("start_objectives"):
         found = ", ".join("none" if v is None else f"{v:,.8g}" for v in starts)
         out.append(f"the best of {len(starts)} starts, whose first meshes ended at: {found}")

@@ -289,6 +289,15 @@ class OptimizationStudy(Strict):
             )
         return self
 
+    def collocation_constraints(self) -> tuple[opt.Constraint, ...]:
+        """The constraints as the collocation takes them (a band's full width 0 unless given)."""
+        return tuple(
+            opt.Constraint(c.quantity, kind, float(getattr(c, kind)), c.tolerance or 0.0)
+            for c in self.constraints
+            for kind in ("equals", "at_most", "at_least")
+            if getattr(c, kind) is not None
+        )
+
     @model_validator(mode="after")
     def _method(self) -> "OptimizationStudy":
         if self.method == "collocation":
@@ -308,6 +317,9 @@ class OptimizationStudy(Strict):
                 raise ValueError(
                     f"{bad[0]}: not available to the collocation; allowed: {', '.join(COLLOCATION_QUANTITIES)}"
                 )
+            refused = col.pole_and_longitude(self.collocation_constraints())
+            if refused:
+                raise ValueError(refused)
         else:
             if self.collocation is not None:
                 raise ValueError(f"collocation: options for method 'collocation' (the method is {self.method!r})")
@@ -421,17 +433,11 @@ def collocation_problem(study: OptimizationStudy) -> col.Problem:
     """The study as an optimal-control problem: constraints exactly (equals within +- tolerance/2 only when a
     tolerance is given), the case's control laws flown as the first guess."""
     o = study.collocation or CollocationOptions()
-    constraints = tuple(
-        opt.Constraint(c.quantity, kind, float(getattr(c, kind)), c.tolerance or 0.0)
-        for c in study.constraints
-        for kind in ("equals", "at_most", "at_least")
-        if getattr(c, kind) is not None
-    )
     return col.Problem(
         base=study.case.to_spec(),
         objective=study.payoff.objective(),
         goal=study.payoff.goal,
-        constraints=constraints,
+        constraints=study.collocation_constraints(),
         alpha_bounds_deg=o.alpha_bounds_deg,
         bank_bounds_deg=o.bank_bounds_deg,
         alpha_rate_deg_s=o.alpha_rate_deg_s,
