@@ -314,20 +314,35 @@ def test_a_site_at_the_pole_is_reached_and_as_cheap_as_one_beside_it():
     end's earth-fixed x and y are held to 0, and the re-flight agrees by its arc along the parallel."""
     from footprint.api import run
 
-    def to(*site):
-        study = json.loads(json.dumps(FLY_THERE))
-        study["case"]["entry"].update(latitude_deg=40.0, longitude_deg=150.0, heading_deg=0.0)
-        quantities = ("final_latitude_deg", "final_longitude_deg")
-        study["constraints"] = [{"quantity": q, "equals": v} for q, v in zip(quantities, site)]
-        return run("optimize", study)
-
-    pole, beside = to(90.0), to(89.9, -30.0)
+    pole, beside = run("optimize", from_40n_to(90.0)), run("optimize", from_40n_to(89.9, -30.0))
     for r in (pole, beside):
         assert r.ok, r.message
         assert col.agrees(r) and r.intervals < 400
     assert pole.refly["final_latitude_deg"] >= 90.0 - col.AGREE_DEG
     assert pole.summary["final_latitude_deg"] == pytest.approx(90.0, abs=1e-6)
     assert pole.objective == pytest.approx(beside.objective, rel=0.01)
+
+
+def from_40n_to(*site):
+    """The fly-there example entered at 40 N 150 E heading north, to the site (latitude[, longitude])."""
+    study = json.loads(json.dumps(FLY_THERE))
+    study["case"]["entry"].update(latitude_deg=40.0, longitude_deg=150.0, heading_deg=0.0)
+    quantities = ("final_latitude_deg", "final_longitude_deg")
+    study["constraints"] = [{"quantity": q, "equals": v} for q, v in zip(quantities, site)]
+    return study
+
+
+@pytest.mark.slow
+def test_a_mesh_settles_on_two_refinements_at_least():
+    """To the pole at the example's mesh tolerance (25 Btu/ft^2) and at 1: within 25 of each other. The first
+    refinement moved 22.9 and the second 36.5; settled on the first, the answer stood 81 above the finer one."""
+    from footprint.api import run
+
+    study = from_40n_to(90.0)
+    settled = run("optimize", study)
+    finer = run("optimize", study | {"collocation": study["collocation"] | {"mesh_tolerance": 1.0}})
+    assert settled.ok and finer.ok
+    assert abs(settled.objective - finer.objective) <= 25.0
 
 
 def test_the_starts_are_constant_banks_spread_on_the_side_the_first_turns_to():
