@@ -1240,14 +1240,14 @@ def remaining_move(moves: Sequence[float]) -> float | None:
 
 def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress | None = None) -> Result:
     """Solve from `guess` (or from each of first_guesses, the best optimum kept), re-fly, and refine the mesh from
-    the last solution until the optimum is settled: the re-flight agrees and the objective may move by less than
-    objective_tolerance under further refinement (remaining_move of its changes so far; or max_intervals is
-    reached, or a refined mesh ends without an optimum: then the result is "not_converged" and says by how much the
-    objective may still move). A refinement halves the intervals where the linear controls' error is largest
-    (control_errors), or every interval while the re-flight disagrees, and starts from the last optimum at the
-    narrowest corners. The meshes settle on the problem with the rates' penalty; the
-    polish (Problem.polish) then follows once, on the last mesh. on_progress(fraction, note) after every IPOPT
-    iteration (True stops)."""
+    the last solution until the optimum is settled: the re-flight agrees and, after two refinements at least, the
+    objective may move by less than objective_tolerance under further refinement (remaining_move of its changes so
+    far; or max_intervals is reached, or a refined mesh ends without an optimum: then the result is "not_converged"
+    and says by how much the objective may still move). A refinement halves the intervals where the linear
+    controls' error is largest (control_errors), or every interval while the re-flight disagrees, and starts from
+    the last optimum at the narrowest corners. The meshes settle on the problem with the rates' penalty; the polish
+    (Problem.polish) then follows once, on the last mesh. on_progress(fraction, note) after every IPOPT iteration
+    (True stops)."""
     starts = [guess] if guess is not None else first_guesses(problem)
     mesh: NDArray[np.float64] | None = None  # the first: uniform, problem.intervals
     total_s, total_it, rounds = 0.0, 0, 0
