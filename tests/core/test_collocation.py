@@ -364,7 +364,7 @@ def col_problem(study):
 
 def test_a_payoff_with_several_optima_keeps_the_best_of_its_starts():
     """The most final energy at 15.5 N 50.5 E (the example's site moved 0.5 deg each way): from the case's 30 deg
-    flight alone IPOPT ends at a local optimum, three skips to 80,000 ft, and says "optimal"; from constant banks of
+    flight alone IPOPT ends at a local optimum, two skips to 80,000 ft, and says "optimal"; from constant banks of
     18, 36, 54 and 72 deg as well (starts: 5), the best is one skip out of the atmosphere. Both answers are held to
     their re-flights by the integrator, which land on the site."""
     from footprint.api import run
