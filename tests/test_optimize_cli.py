@@ -304,6 +304,25 @@ def test_an_optimum_flying_upside_down_says_so_in_its_lines():
     assert not any("upside down" in line for line in _optimum_lines(optimum | {"refly": {"inverted_s": 0.0}}))
 
 
+def test_an_optimum_says_its_payoff_unless_it_is_the_cross_range_of_the_first_line():
+    """The fly-there's least heat load was not in the lines at all (they gave the cross-range, 900.6 nmi)."""
+    from footprint.cli import _optimum_lines
+
+    optimum = {
+        "method": "collocation",
+        "feasible": True,
+        "iterations": 310,
+        "seconds": 3.6,
+        "objective": 24_022.61,
+        "summary": {"crossrange_nmi": 900.6, "downrange_nmi": 3_002.0, "heat_load_btu_ft2": 24_022.61},
+    }
+    heat = _optimum_lines(optimum, (("heat_load_btu_ft2", 1.0),), "min")
+    assert "minimized heat_load_btu_ft2: 24,022.61" in heat
+    weighted = _optimum_lines(optimum, (("heat_load_btu_ft2", 1.0), ("crossrange_nmi", -2.0)), "min")
+    assert "minimized heat_load_btu_ft2 + -2 x crossrange_nmi: 24,022.61" in weighted
+    assert len(_optimum_lines(optimum, (("crossrange_nmi", 1.0),))) == len(_optimum_lines(optimum))
+
+
 def test_an_optimum_of_several_starts_lists_their_objectives():
     from footprint.cli import _optimum_lines
 

@@ -1,5 +1,6 @@
 """The `footprint` command. A user's mistake gets one line on stderr and exit status 2, never a traceback."""
 
+import functools
 import json
 import sys
 from contextlib import contextmanager
@@ -121,7 +122,8 @@ def _reach_lines(r: dict) -> list[str]:
     return out + [f"note: {n}" for n in r.get("notes", [])]
 
 
-def _optimum_lines(r: dict) -> list[str]:
+def _optimum_lines(r: dict, payoff: tuple[tuple[str, float], ...] = (), goal: str = "max") -> list[str]:
+    """The answer in a few lines; the payoff's value unless it is the cross-range, which the first line gives."""
     s = r["summary"]
     verdict = "optimal" if r.get("feasible") else "NOT feasible"
     cost = (
@@ -133,6 +135,10 @@ def _optimum_lines(r: dict) -> list[str]:
         f"{verdict}: cross-range {s['crossrange_nmi']:,.1f} nmi at down-range {s['downrange_nmi']:,.1f} nmi, "
         f"flight {s.get('flight_time_s', float('nan')):,.0f} s ({cost})"
     ]
+    value = r.get("objective") if len(payoff) > 1 else s.get(payoff[0][0]) if payoff else None
+    if value is not None and payoff != (("crossrange_nmi", 1.0),):
+        said = " + ".join(q if w == 1.0 else f"{w:g} x {q}" for q, w in payoff)
+        out.append(f"{'maximized' if goal == 'max' else 'minimized'} {said}: {value:,.8g}")
     if r.get("method") == "collocation" and r.get("agreement"):
         g = r["agreement"]
         out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['east_west_deg']):.4f} deg")
@@ -615,7 +621,11 @@ def optimize(
         from footprint.pictures.figures import collocation_figure, optimization_figure, save
 
         save((collocation_figure if study.method == "collocation" else optimization_figure)(result), plot)
-    _answer(result.to_dict(), as_json, _optimum_lines)
+    _answer(
+        result.to_dict(),
+        as_json,
+        functools.partial(_optimum_lines, payoff=study.payoff.objective(), goal=study.payoff.goal),
+    )
     if study.method == "collocation" and not result.feasible:
         typer.echo(f"error: {result.one_line()}", err=True)
     if not result.feasible:
