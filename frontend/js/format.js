@@ -2,7 +2,8 @@
 
 export function fmt(value, digits = 0) {
   if (value == null || Number.isNaN(value)) return "–";
-  return Number(value).toLocaleString("en-US", { minimumFractionDigits: digits, maximumFractionDigits: digits });
+  const text = Number(value).toLocaleString("en-US", { minimumFractionDigits: digits, maximumFractionDigits: digits });
+  return /^-[0.]+$/.test(text) ? text.slice(1) : text; // -0.004 nmi at 0 digits reads "0", not "-0"
 }
 
 /** A new element: attributes set as properties or attributes (never parsed as markup), strings as text nodes.

@@ -9,10 +9,22 @@ const X_LABEL_PX = 14; // the bottom row's "Flight time (s)" under its ticks
 const TITLE_PX = 20;
 const TITLE_CHAR_PX = 7; // about a character of the title's 12 px bold: a longer title is cut with an ellipsis
 
-/** The four panels of a flight: [key, label, scale] (scale turns the stored unit into the plotted one). */
+/** The four panels of a flight: [key, label, scale] (scale turns the stored unit into the plotted one). A heating
+ * model with no wall temperature (a heat-rate correlation: every temperature null) plots the velocity. */
 export function historyPanels(flight) {
+  const hot = (flight.temperature_R ?? []).some(Number.isFinite);
   return [["alpha_deg", "α (deg)", 1], ["bank_deg", "Bank (deg)", 1], ["altitude_ft", "Altitude (1,000 ft)", 1e-3],
-          flight.temperature_R ? ["temperature_R", "Temperature (°R)", 1] : ["velocity_fps", "Velocity (ft/s)", 1]];
+          hot ? ["temperature_R", "Temperature (°R)", 1] : ["velocity_fps", "Velocity (ft/s)", 1]];
+}
+
+// the least span of a panel's axis, in its plotted unit: a bank held at 0 to 1e-4 deg is drawn flat, not as a
+// wave filling the panel under ticks that all read 0.000
+const MIN_SPAN = 1;
+
+/** The values' range, widened about its middle to MIN_SPAN. */
+export function axisRange(values) {
+  const lo = Math.min(...values), hi = Math.max(...values), half = Math.max(0, (MIN_SPAN - (hi - lo)) / 2);
+  return [lo - half, hi + half];
 }
 
 /** Tick labels with as many decimals as their spacing needs (an alpha that moves by tenths of a degree). */
@@ -23,9 +35,10 @@ const tickLabel = (ticks) => {
 };
 
 function panel(x, y, w, h, time, values, label, color, bottom) {
-  const xt = niceTicks(0, Math.max(...time), 4), yt = niceTicks(Math.min(...values), Math.max(...values), 4);
+  const [lo, hi] = axisRange(values);
+  const xt = niceTicks(0, Math.max(...time), 4), yt = niceTicks(lo, hi, 4);
   const [x0, x1] = [0, Math.max(xt[xt.length - 1], ...time)];
-  const [y0, y1] = [Math.min(yt[0], ...values), Math.max(yt[yt.length - 1], ...values)];
+  const [y0, y1] = [Math.min(yt[0], lo), Math.max(yt[yt.length - 1], hi)];
   const pw = w - MARGIN.left - MARGIN.right, ph = h - MARGIN.top - MARGIN.bottom - (bottom ? X_LABEL_PX : 0);
   const sx = (v) => x + MARGIN.left + ((v - x0) / (x1 - x0 || 1)) * pw;
   const sy = (v) => y + MARGIN.top + ph - ((v - y0) / (y1 - y0 || 1)) * ph;

@@ -529,6 +529,25 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     assert not run.errors, run.errors
 
 
+def test_an_optimums_histories_show_noise_flat_and_a_missing_temperature_as_velocity(open_page):
+    """Found rendering the least heat load to the north pole (Betts' correlation: a heat rate, no wall temperature):
+    its bank, held at 0 within 1e-4 deg, filled its panel under ticks that all read 0.000; its temperature panel was
+    empty (every value null); its title read "cross-range -0 nmi"."""
+    page = open_page().page
+    got = page.evaluate("""async () => {
+        const { axisRange, historyPanels } = await import('/js/histories.js');
+        const { fmt } = await import('/js/format.js');
+        const flight = { temperature_R: [null, null], velocity_fps: [25600, 2500] };
+        return { range: axisRange([-4e-5, 6e-5]), wide: axisRange([10, 80]),
+                 cold: historyPanels(flight)[3][0], hot: historyPanels({ temperature_R: [null, 2400] })[3][0],
+                 zero: fmt(-0.004), small: fmt(-0.04, 1), negative: fmt(-1234.5) }; }""")
+    low, high = got["range"]
+    assert high - low == pytest.approx(1.0) and low < -4e-5 and 6e-5 < high  # 1 deg about the values
+    assert got["wide"] == [10, 80]
+    assert (got["cold"], got["hot"]) == ("velocity_fps", "temperature_R")
+    assert (got["zero"], got["small"], got["negative"]) == ("0", "0.0", "-1,235")
+
+
 LABEL_BOXES_JS = """() => ({
     labels: [...document.querySelectorAll('.leaflet-pane .site-label')].map((e) => {
         const r = e.getBoundingClientRect(); return {x: r.x, y: r.y, w: r.width, h: r.height, text: e.textContent}; }),
