@@ -286,15 +286,15 @@ def test_a_bad_collocation_study_is_one_line_and_exit_2(tmp_path, change, field)
     assert field in r.stderr and len(r.stderr.strip().splitlines()) == 1
 
 
+# a collocation answer as to_dict gives it, with what the lines below read
+OPTIMUM = {"method": "collocation", "feasible": True, "iterations": 120, "seconds": 2.0}
+
+
 def test_an_optimum_flying_upside_down_says_so_in_its_lines():
     """The collocation re-flight's time upside down at negative lift (collocation.inverted_s), in the CLI's words."""
     from footprint.cli import _optimum_lines
 
-    optimum = {
-        "method": "collocation",
-        "feasible": True,
-        "iterations": 120,
-        "seconds": 2.0,
+    optimum = OPTIMUM | {
         "summary": {"crossrange_nmi": 0.4, "downrange_nmi": 17_955.5, "flight_time_s": 5_786.0},
         "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001, "east_west_deg": 0.0001},
         "refly": {"inverted_s": 5_786.0},
@@ -308,11 +308,7 @@ def test_an_optimum_says_its_payoff_unless_it_is_the_cross_range_of_the_first_li
     """The fly-there's least heat load was not in the lines at all (they gave the cross-range, 900.6 nmi)."""
     from footprint.cli import _optimum_lines
 
-    optimum = {
-        "method": "collocation",
-        "feasible": True,
-        "iterations": 310,
-        "seconds": 3.6,
+    optimum = OPTIMUM | {
         "objective": 24_022.61,
         "summary": {"crossrange_nmi": 900.6, "downrange_nmi": 3_002.0, "heat_load_btu_ft2": 24_022.61},
     }
@@ -326,11 +322,7 @@ def test_an_optimum_says_its_payoff_unless_it_is_the_cross_range_of_the_first_li
 def test_an_optimum_of_several_starts_lists_their_objectives():
     from footprint.cli import _optimum_lines
 
-    optimum = {
-        "method": "collocation",
-        "feasible": True,
-        "iterations": 1_567,
-        "seconds": 17.7,
+    optimum = OPTIMUM | {
         "summary": {"crossrange_nmi": 901.0, "downrange_nmi": 3_002.0, "flight_time_s": 930.0},
         "start_objectives": [5_439_674.27, None, 5_889_284.35],
     }
