@@ -4,6 +4,7 @@
 import { loadWorld } from "./basemap.js";
 import { listPoints, openRing, sphericalRing } from "./geometry.js";
 import { escapeHtml, fmt } from "./format.js";
+import { landingWords } from "./histories.js";
 import { confidenceOpacity, levelWords, percent } from "./dispersion.js";
 
 const KEY_STEP_DEG = 10;
@@ -37,6 +38,19 @@ export function dispersionFeatures(d) {
   };
 }
 
+/** A flight's ground track as [lon, lat] pairs. */
+export const flightLine = (f) => f.longitude_deg.map((lon, i) => [lon, f.latitude_deg[i]]);
+
+/** The point half-way along a line by its arc ([lon, lat]): centred there, a track up to half-way round the earth
+ * faces the viewer whole (each end within 90 deg), where the mean of its rows leans to its slow end. */
+export function lineMiddle(coordinates) {
+  if (coordinates.length < 2) return coordinates[0];
+  const steps = coordinates.slice(1).map((p, i) => d3.geoDistance(coordinates[i], p));
+  let left = steps.reduce((a, b) => a + b, 0) / 2, i = 0;
+  while (i < steps.length - 1 && left > steps[i]) left -= steps[i++];
+  return d3.geoInterpolate(coordinates[i], coordinates[i + 1])(steps[i] > 0 ? left / steps[i] : 0);
+}
+
 /** The globe's projection for a box of width x height pixels. */
 export function globeProjection(width, height, rotate, zoom = 1) {
   return d3.geoOrthographic().clipAngle(90).precision(0.2).rotate(rotate)
@@ -53,6 +67,7 @@ export class GlobeView {
     this.dispersion = null; // {name, features, sites, layers}
     this.guided = null; // {track, rings}: the guided panel's flight and footprint, [lon, lat] lines
     this.opportunity = null; // the landing opportunity shown: {track, coast, ring} lines, {burn, entry, site} points
+    this.optimum = null; // an optimization job's optimum: {name, color, result}
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -73,6 +88,9 @@ export class GlobeView {
   /** A landing opportunity ([lon, lat]: its revolution's ground track, coast arc and footprint as lines; the burn,
    * entry and site as points), or null. */
   setOpportunity(o) { this.opportunity = o; this.render(); }
+
+  /** An optimization job's optimum ({name, color, result}: the map's drawOptimum takes the same), or null. */
+  setOptimum(o) { this.optimum = o; this.render(); }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
 
@@ -107,6 +125,7 @@ export class GlobeView {
     if (this.dispersion) parts.push(...this._dispersionParts(path, projection));
     if (this.guided) parts.push(...this._guidedParts(path));
     if (this.opportunity) parts.push(...this._opportunityParts(path));
+    if (this.optimum) parts.push(...this._optimumParts(path));
     for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
       if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
       const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
@@ -119,6 +138,11 @@ export class GlobeView {
     this.footprints.forEach((fp, i) => parts.push( // the legend, as the map's
       `<rect class="globe-legend-swatch" x="12" y="${14 + 18 * i}" width="14" height="10" style="fill:${fp.color}"/>`
       + `<text class="globe-legend" x="32" y="${23 + 18 * i}">${escapeHtml(fp.name)}</text>`));
+    if (this.optimum) {
+      const y = 14 + 18 * this.footprints.length;
+      parts.push(`<rect class="globe-legend-swatch" x="12" y="${y + 4}" width="14" height="3" style="fill:${this.optimum.color}"/>`
+        + `<text class="globe-legend" x="32" y="${y + 9}">${escapeHtml(this.optimum.name)} (optimum)</text>`);
+    }
     this.svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
     this.svg.innerHTML = parts.join("");
   }
@@ -128,6 +152,20 @@ export class GlobeView {
     const parts = this.guided.rings.map((r) => `<path class="globe-guided-ring gr-${r.key}" style="stroke:${r.color}`
       + `${r.dash ? `;stroke-dasharray:${r.dash}` : ""}" d="${line(r.coordinates)}"/>`);
     if (this.guided.track) parts.push(`<path class="globe-guided-track" d="${line(this.guided.track)}"/>`);
+    return parts;
+  }
+
+  /** The optimum's ground track as one line (d3 carries it over a pole and cuts it at the limb), its landing point
+   * marked with the map's words. */
+  _optimumParts(path) {
+    const { name, color, result } = this.optimum, f = result.flight;
+    const track = { type: "LineString", coordinates: flightLine(f) };
+    const parts = [`<path class="globe-optimum-track" style="stroke:${color}" d="${path(track) || ""}"/>`];
+    const landing = path.pointRadius(6)({ type: "Point", coordinates: track.coordinates.at(-1) });
+    if (landing) {
+      parts.push(`<path class="globe-optimum-landing" style="fill:${color}" d="${landing}">`
+        + `<title>${escapeHtml(name)}: ${landingWords(result).join(", ")}</title></path>`);
+    }
     return parts;
   }
 

@@ -55,6 +55,13 @@ function panel(x, y, w, h, time, values, label, color, bottom) {
   return parts.join("");
 }
 
+/** Where an optimum's flight lands, for its marker on the map and on the globe: [its ranges, its place and time]. */
+export function landingWords(result) {
+  const f = result.flight, s = result.summary, last = f.time_s.length - 1;
+  return [`down-range ${fmt(s.downrange_nmi)} nmi, cross-range ${fmt(s.crossrange_nmi)} nmi`,
+          `${fmt(f.latitude_deg[last], 2)}°, ${fmt(f.longitude_deg[last], 2)}° after ${fmt(f.time_s[last])} s`];
+}
+
 /** Draw `optimum` ({name, color, result}: an optimization job's result with its flight) into the container. */
 export function drawHistories(container, optimum) {
   if (!optimum?.result?.flight) {

@@ -6,7 +6,7 @@ import { drawDispersionPlot } from "./dispersionplot.js";
 import { exportCSV, exportDispersion, exportGeoJSON, exportPNG } from "./exporting.js";
 import { el, fmt } from "./format.js";
 import { orbitOfEntry, transformRequest, wrapLongitude } from "./geometry.js";
-import { GlobeView } from "./globe.js";
+import { GlobeView, flightLine, lineMiddle } from "./globe.js";
 import { GuidedPanel, drawBankPlot } from "./guided.js";
 import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
@@ -229,6 +229,8 @@ function showOptimum(name, result) {
   mapView.drawOptimum(state.optimum);
   mapView.setLegend(visible());
   mapView.fitOptimum();
+  globe.setOptimum(state.optimum);
+  if (state.view === "globe") centerGlobeOnOptimum();
   $("plot-optimum").disabled = false;
   setPlot("optimum");
 }
@@ -366,6 +368,7 @@ function setView(view) {
   else {
     if (state.plot === "dispersion" && state.dispersion) centerGlobeOn(state.dispersion.dispersion.nominal);
     else if (state.plot === "opportunities" && opportunities.globeCenter) centerGlobeOnOpportunity();
+    else if (state.plot === "optimum" && state.optimum) centerGlobeOnOptimum();
     else if (selected()) centerGlobe(selected());
     globe.render();
   }
@@ -374,6 +377,9 @@ function setView(view) {
 const centerGlobe = (fp) => centerGlobeOn(fp.shown.points);
 // the chosen landing opportunity: between its entry and its site
 const centerGlobeOnOpportunity = () => { if (opportunities.globeCenter) globe.center(...opportunities.globeCenter); };
+
+// the optimum's ground track, whole in view (to a pole, over one and on past it)
+const centerGlobeOnOptimum = () => globe.center(...lineMiddle(flightLine(state.optimum.result.flight)));
 
 function centerGlobeOn(points) {
   // the middle of the footprint's points (mean of unit vectors), so the whole footprint faces the viewer

@@ -5,6 +5,7 @@ import { loadWorld, planarFeatures } from "./basemap.js";
 import { copyOffsets, describeParameter, openRing, planarOutline, sameSite, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { el, escapeHtml, fmt } from "./format.js";
+import { landingWords } from "./histories.js";
 import { DISPERSION_STYLE as STYLE, LAYERS, confidenceOpacity, flightWords, intervalWords, levelWords, percent,
          probabilityColor, sigmaNmi } from "./dispersion.js";
 import { placeLabels } from "./labels.js";
@@ -277,7 +278,7 @@ export class MapView {
     this.optimumLayer?.remove();
     const f = optimum.result.flight;
     const lons = unwrapLongitudes(f.longitude_deg, f.longitude_deg[0]);
-    const s = optimum.result.summary, last = f.time_s.length - 1;
+    const last = f.time_s.length - 1;
     const group = L.layerGroup();
     const svg = { renderer: this.svgRenderer, smoothFactor: 0, noClip: true };
     for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
@@ -287,9 +288,7 @@ export class MapView {
       L.circleMarker([f.latitude_deg[last], lons[last] + offset],
                      { renderer: this.svgRenderer, radius: 6, color: "#111", weight: 2, fillColor: optimum.color,
                        fillOpacity: 1, className: `optimum-landing opt-copy-${offset}` })
-        .bindTooltip(`<strong>${escapeHtml(optimum.name)}</strong><br>down-range ${fmt(s.downrange_nmi)} nmi, `
-                     + `cross-range ${fmt(s.crossrange_nmi)} nmi<br>${fmt(f.latitude_deg[last], 2)}°, `
-                     + `${fmt(f.longitude_deg[last], 2)}° after ${fmt(f.time_s[last])} s`)
+        .bindTooltip(`<strong>${escapeHtml(optimum.name)}</strong><br>${landingWords(optimum.result).join("<br>")}`)
         .addTo(group);
     }
     this.optimumLayer = group.addTo(this.map);

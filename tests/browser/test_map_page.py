@@ -548,6 +548,60 @@ def test_an_optimums_histories_show_noise_flat_and_a_missing_temperature_as_velo
     assert (got["zero"], got["small"], got["negative"]) == ("0", "0.0", "-1,235")
 
 
+def great_circle_deg(lat1, lon1, lat2, lon2) -> float:
+    """The angle between two places on the sphere (deg), by the haversine."""
+    p1, p2, dl = math.radians(lat1), math.radians(lat2), math.radians(lon2 - lon1)
+    h = math.sin((p2 - p1) / 2) ** 2 + math.cos(p1) * math.cos(p2) * math.sin(dl / 2) ** 2
+    return math.degrees(2 * math.asin(math.sqrt(h)))
+
+
+def path_vertices(d: str) -> list[tuple[float, float]]:
+    return [(float(x), float(y)) for x, y in re.findall(r"(-?[\d.]+),(-?[\d.]+)", d)]
+
+
+def test_an_optimum_over_the_pole_and_past_half_way_is_one_line_on_the_globe(open_page, service):
+    """Found rendering the least heat load to the north pole: the globe drew no optimum, so a track to a pole showed
+    only along the map's top edge. A flight from 60 deg N heading north at zero bank (the service's own, shown as an
+    optimum) passes 1.4 deg from the pole and lands 8,647 nmi on at 23.6 deg S: on the globe, centred on its track,
+    it is one line, its landing marked where the orthographic projection puts it (scale sin c from the disc's centre,
+    c its angle from the view's centre); centred on the pole, the track's nearest point lies scale cos(phi) from the
+    centre, phi the flight's highest latitude. The name is text, and the legend names the optimum."""
+    case = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
+    case["entry"].update(latitude_deg=60.0, heading_deg=0.0)
+    case["bank"] = {"law": "constant", "bank_deg": 0.0}
+    case.pop("bank_start")
+    flight = service.call("/api/trajectories", case)
+    history, summary = flight["history"], flight["summary"]
+    assert max(history["latitude_deg"]) > 88.0 and summary["final_latitude_deg"] < -20.0  # over the pole, past it
+    assert summary["downrange_nmi"] > 21_600 / 2 * 0.75  # three-quarters of half-way round, at least
+    run = open_page(1280, 800)
+    page = run.page
+    name = "Pole <b>run</b>"
+    page.evaluate(
+        "([name, result]) => { window.footprintApp.jobs.onOptimum(name, result); window.footprintApp.setView('globe'); }",
+        [name, {"flight": history, "summary": summary}],
+    )
+    track = page.locator("path.globe-optimum-track")
+    track.wait_for(state="attached", timeout=WAIT_MS)
+    assert track.get_attribute("d").count("M") == 1  # the whole track faces the viewer: not cut at the limb
+    rotate, disk = page.evaluate("""() => { const g = window.footprintApp.globe, p = g.projection();
+                                            return [g.rotate, [...p.translate(), p.scale()]]; }""")
+    centre_lon, centre_lat = -rotate[0], -rotate[1]
+    landing = page.locator("path.globe-optimum-landing")
+    x, y = path_vertices(landing.get_attribute("d"))[0]  # d3's circle: "M" its centre, then "m0,r" and two arcs
+    c = great_circle_deg(centre_lat, centre_lon, history["latitude_deg"][-1], history["longitude_deg"][-1])
+    assert math.hypot(x - disk[0], y - disk[1]) == pytest.approx(disk[2] * math.sin(math.radians(c)), abs=0.5)
+    assert landing.locator("title").text_content().startswith(f"{name}: down-range {summary['downrange_nmi']:,.0f} nmi")
+    assert page.locator("svg b").count() == 0
+    assert f"{name} (optimum)" in page.locator("text.globe-legend").all_text_contents()
+    page.evaluate("() => window.footprintApp.globe.center(0, 90)")
+    near = min(math.hypot(px - disk[0], py - disk[1]) for px, py in path_vertices(track.get_attribute("d")))
+    top = max(history["latitude_deg"])
+    assert near == pytest.approx(disk[2] * math.cos(math.radians(top)), abs=1.0)
+    assert landing.count() == 0  # 23.6 deg S: on the far side of the globe about the pole
+    assert not run.errors, run.errors
+
+
 LABEL_BOXES_JS = """() => ({
     labels: [...document.querySelectorAll('.leaflet-pane .site-label')].map((e) => {
         const r = e.getBoundingClientRect(); return {x: r.x, y: r.y, w: r.width, h: r.height, text: e.textContent}; }),
