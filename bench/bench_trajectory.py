@@ -8,6 +8,9 @@ stop altitude, as anyone would write it by hand, on the same right-hand side (dy
 - as plain Python (the same source, loaded a second time with FOOTPRINT_NO_JIT=1): the plain baseline;
 - compiled, called from Python: the ratio then measures only the integrator and its events.
 
+Where the integrator's time goes (issue 29 item 4's limit): the right-hand side alone at the flight's own rows, times
+the flight's count of right-hand sides, over the integrator alone; and each part of the right-hand side alone.
+
 Also timed: DOP853 against DOPRI5 on the summary path, the full flight and the integrator alone (interleaved rounds),
 on the Table 2 case, on it with a dispersed density profile and aero (a Monte Carlo sample) and on the L/D 1.89 case;
 a first `footprint fly` in a new process with numba's on-disk cache warm.
@@ -31,17 +34,32 @@ from _timing import median_ms, save_result  # noqa: E402
 from scipy.integrate import solve_ivp
 
 from footprint.contracts import parse
-from footprint.core.atmosphere import DENSITY_NODE_COUNT
+from footprint.core import aero as _aero
+from footprint.core._jit import njit
+from footprint.core.atmosphere import DENSITY_NODE_COUNT, atmosphere
 from footprint.core.dynamics import (
     M_BANK_ACTIVE,
     M_PULLED_OUT,
     M_REF_ANGLE,
+    P_ATM,
+    P_ATM_T,
+    P_H,
+    P_J,
+    P_K,
+    P_MU,
+    P_OBLATE,
     P_RE,
+    P_RHO0,
+    P_RP,
+    P_SCALE_H,
     P_STOP_ALT,
+    _steer_deg,
     evaluate,
     rhs,
 )
-from footprint.core.integrate import integrate
+from footprint.core.frames import altitude_ft
+from footprint.core.gravity import gravity_ecef
+from footprint.core.integrate import R_ALPHA, R_ALT, R_MACH, integrate
 from footprint.core.trajectory import Dispersion, flight_inputs, simulate, simulate_summary
 
 HERE = Path(__file__).resolve().parent
@@ -149,6 +167,71 @@ def integrator_methods(rounds=9, calls=20):
     return result
 
 
+RHS_PARTS = (
+    "right-hand side",
+    "geodetic altitude",
+    "atmosphere",
+    "gravity",
+    "aero coefficients",
+    "alpha of (L/D)max",
+    "steering angle",
+)
+
+
+@njit
+def _rhs_parts(rows, p, aero, ctrl, mode, part, reps):
+    """One part of the right-hand side (RHS_PARTS[part]) at every row's state, reps times: a sum, kept."""
+    acc = 0.0
+    for _ in range(reps):
+        for i in range(rows.shape[0]):
+            x, y, z, vx, vy, vz = rows[i, 1], rows[i, 2], rows[i, 3], rows[i, 4], rows[i, 5], rows[i, 6]
+            if part == 0:
+                acc += evaluate(rows[i, 0], rows[i, 1:7], p, aero, ctrl, mode)[0]
+            elif part == 1:
+                acc += altitude_ft(x, y, z, p[P_RE], p[P_RP], p[P_OBLATE] != 0.0)
+            elif part == 2:
+                acc += atmosphere(int(p[P_ATM]), rows[i, R_ALT], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])[0]
+            elif part == 3:
+                acc += gravity_ecef(x, y, z, p[P_MU], p[P_RE], p[P_J], p[P_H], p[P_K], p[P_OBLATE] != 0.0)[0]
+            elif part == 4:
+                acc += _aero.coefficients(aero, rows[i, R_MACH], rows[i, R_ALPHA], rows[i, R_ALT])[0]
+            elif part == 5:
+                acc += _aero.alpha_max_ld_deg(aero, rows[i, R_MACH], rows[i, R_ALT])
+            else:
+                r = math.sqrt(x * x + y * y + z * z)
+                acc += _steer_deg(x / r, y / r, z / r, vx, vy, vz, p, ctrl)
+    return acc
+
+
+def rhs_share(reps=50, rounds=7):
+    """The Table 2 flight's right-hand side (dynamics.evaluate) at its own rows, times its count of right-hand sides,
+    over the integrator alone (interleaved rounds, medians); each part of the right-hand side alone (ns a call)."""
+    spec = parse("case", json.loads(CASE.read_text())).to_spec()
+    p, s0, mode = flight_inputs(spec)
+    aero, ctrl = spec.vehicle.blob, spec.ctrl
+    rows, _, n_rhs = integrate(s0, p, aero, ctrl, mode.copy(), spec.max_steps)
+    rows = np.ascontiguousarray(rows)
+    flown = mode.copy()  # the mode at the flight's end: pulled out, banking
+    ns = {k: [] for k in RHS_PARTS}
+    alone = []
+    for part in range(len(RHS_PARTS)):
+        _rhs_parts(rows, p, aero, ctrl, flown, part, 1)
+    for _ in range(rounds):
+        alone.append(median_ms(lambda: integrate(s0, p, aero, ctrl, mode.copy(), spec.max_steps), 50))
+        for part, name in enumerate(RHS_PARTS):
+            t0 = time.perf_counter()
+            _rhs_parts(rows, p, aero, ctrl, flown, part, reps)
+            ns[name].append(1e9 * (time.perf_counter() - t0) / (reps * len(rows)))
+    per_rhs_ns = statistics.median(ns[RHS_PARTS[0]])
+    return {
+        "integrator_alone_ms": round(statistics.median(alone), 3),
+        "rhs_evaluations": int(n_rhs),
+        "rhs_ns": round(per_rhs_ns, 1),
+        "rhs_share_of_integrator": round(1e-6 * per_rhs_ns * n_rhs / statistics.median(alone), 3),
+        "parts_ns": {k: round(statistics.median(v), 1) for k, v in ns.items() if k != RHS_PARTS[0]},
+    }
+
+
 def first_cli_seconds():
     """Wall time of `footprint fly` in a new process (the numba cache was warmed by this process)."""
     t0 = time.perf_counter()
@@ -182,6 +265,7 @@ def main():
         },
         "first_cli_fly_new_process_s": round(cli_s, 2),
         "dop853_vs_dopri5": integrator_methods(),
+        "where_the_integrator_goes": rhs_share(),
         "load_average_1min": round(os.getloadavg()[0], 2),
     }
     save_result("trajectory", result)
