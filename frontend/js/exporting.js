@@ -9,6 +9,7 @@ import { fmt } from "./format.js";
 import { openRing, planarOutline, sameSite, sphericalRing, toCSV, unwrapLongitudes,
          unwrapRing } from "./geometry.js";
 import { GLOBE_SITE_PX, dispersionFeatures, globeProjection, siteOpacity } from "./globe.js";
+import { landingWords } from "./histories.js";
 import { LABEL_FONT, graticuleStepDeg, latWords, lonWords, scaleBar } from "./mapview.js";
 
 const PIXEL_RATIO = 2; // a PNG sharp enough for a report page
@@ -119,8 +120,8 @@ function penOn(ctx) {
 }
 
 /** Draw the current view to a canvas and return it (the caller turns it into a PNG); `dispersion` is the shown one
- * ({name, dispersion, placed, layers}) or null. */
-export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null }) {
+ * ({name, dispersion, placed, layers}) or null, `optimum` the shown optimization's ({name, color, result}) or null. */
+export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null, optimum = null }) {
   const globeView = view === "globe";
   const element = globeView ? globe.element : mapView.map.getContainer();
   const { width, height } = element.getBoundingClientRect();
@@ -158,6 +159,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   const dispersed = dispersion && !globeView ? dispersion.placed.offsets : [];
   if (dispersion?.layers.clouds) eachCopy(dispersed, () => drawClouds(ctx, pen.projection, dispersion.placed.clouds));
   eachCopy(offsets, () => { for (const fp of footprints) drawFootprint(pen, fp, !globeView); });
+  if (optimum) eachCopy(offsets, () => drawOptimum(pen, optimum, !globeView));
   if (dispersion && globeView) drawGlobeDispersion(pen, ctx, dispersion);
   eachCopy(dispersed, () => drawMapDispersion(pen, ctx, dispersion));
   if (dispersion && !globeView) eachCopy(offsets, () => drawMapDispersionSites(pen, dispersion, sites));
@@ -174,7 +176,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   if (!globeView) drawSiteLabels(ctx, mapView.siteLabelsWithin(crop));
   if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
   // the caption below the picture, where it covers nothing of the map
-  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites);
+  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites, optimum);
   const out = cropped(canvas, crop, legendHeight(blocks));
   const octx = out.getContext("2d");
   if (!globeView) drawGridAndScale(octx, mapView.map, crop);
@@ -242,6 +244,14 @@ function drawFootprint(pen, fp, planar) {
   if (shape.track.coordinates.length > 1) pen.draw(shape.track, { stroke: fp.color, width: 1.5, dash: [6, 5] });
   for (const q of shape.points) pen.draw(q, { fill: q.mirrored ? "#fff" : fp.color, stroke: fp.color, width: 1.2, radius: 3 });
   pen.draw(shape.entry, { fill: fp.color, stroke: "#fff", width: 2, radius: 6 });
+}
+
+/** An optimum's track and landing as the map (unwrapped from its entry, on each copy) or the globe draws them. */
+function drawOptimum(pen, { color, result }, planar) {
+  const f = result.flight, lons = planar ? unwrapLongitudes(f.longitude_deg, f.longitude_deg[0]) : f.longitude_deg;
+  const track = lons.map((lon, i) => [lon, f.latitude_deg[i]]);
+  pen.draw({ type: "LineString", coordinates: track }, { stroke: color, width: 3 });
+  pen.draw({ type: "Point", coordinates: track.at(-1) }, { fill: color, stroke: "#111", width: 2, radius: 6 });
 }
 
 const STYLE = DISPERSION_STYLE;
@@ -376,9 +386,11 @@ export function dispersionCaption({ name, dispersion: d, placed, layers }, globe
 
 const LEGEND_LINE_PX = 15, LEGEND_GAP_PX = 6;
 
-/** The caption's blocks: [colour, lines] per footprint, the dispersion's, and the sites' key (as the map's legend). */
-function captionBlocks(footprints, dispersionLines, sites) {
+/** The caption's blocks: [colour, lines] per footprint, the optimum's, the dispersion's, and the sites' key (as the map's
+ * legend). */
+function captionBlocks(footprints, dispersionLines, sites, optimum) {
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
+  if (optimum) blocks.push([optimum.color, [`${optimum.name} (optimum)`, landingWords(optimum.result).join(", ")]]);
   if (dispersionLines) blocks.push([STYLE.confidence.color, dispersionLines]);
   if (sites.length) {
     blocks.push(["#2e7d32", ["sites: green reached, red not reached, grey not checked (the last reach analysis)"

@@ -399,7 +399,8 @@ const shownDispersion = () => state.dispersion && { ...state.dispersion, layers:
 $("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown(), shownDispersion()).catch(fail));
 $("export-csv").addEventListener("click", () => exportCSV(visible()));
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
-                                                             sites: sites.shown(), dispersion: shownDispersion() }).catch(fail));
+                                                             sites: sites.shown(), dispersion: shownDispersion(),
+                                                             optimum: state.optimum }).catch(fail));
 new ResizeObserver(() => { drawPlot(); if (state.view === "globe") globe.render(); }).observe($("plot"));
 
 function fail(err) { console.error(err); toast(err.message || String(err), true); }

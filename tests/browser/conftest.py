@@ -5,6 +5,7 @@ Once per test module: the service on a free port of 127.0.0.1 with a new SQLite 
 here reaches the internet: chromium runs with its background networking off, and the tests assert that every
 request the page makes goes to the service."""
 
+import io
 import json
 import os
 import socket
@@ -18,6 +19,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from urllib.parse import urlparse
 
+import numpy as np
 import pytest
 
 from tests.authorities.report import table2_entry, table2_stop
@@ -237,6 +239,29 @@ PNG_CROP_JS = """() => { const m = window.footprintApp.mapView.map, s = m.getSiz
   const at = (a, o) => m.latLngToContainerPoint([a, o]);
   const x = Math.max(0, Math.floor(at(0, c - 180).x)), y = Math.max(0, Math.floor(at(90, c).y));
   return {x, y, w: Math.min(s.x, Math.ceil(at(0, c + 180).x)) - x, h: Math.min(s.y, Math.ceil(at(-90, c).y)) - y}; }"""
+
+
+PNG_PIXEL_RATIO = 2  # exporting.js PIXEL_RATIO
+COLOR_TOLERANCE = 8  # per channel, 0-255: the antialiasing and rounding of a canvas blend
+
+
+def close(a, b, tolerance=COLOR_TOLERANCE):
+    """Two colours alike within tolerance per channel."""
+    return bool(np.all(np.abs(np.array(a, float) - np.array(b, float)) <= tolerance))
+
+
+def download(page, selector):
+    """Click what downloads a file: (its suggested name, its bytes)."""
+    with page.expect_download() as info:
+        page.click(selector)
+    return info.value.suggested_filename, Path(info.value.path()).read_bytes()
+
+
+def png_export(page):
+    """The page's PNG export of its view, as an RGB image."""
+    from PIL import Image
+
+    return Image.open(io.BytesIO(download(page, "#export-png")[1])).convert("RGB")
 
 
 def refusal(service, path, body):

@@ -16,7 +16,7 @@ from footprint.core.outline import outline
 from footprint.core.sphere import Reference, downrange_crossrange_nmi
 from tests.authorities.report import example, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, PNG_CROP_JS, WAIT_MS
+from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, PNG_CROP_JS, PNG_PIXEL_RATIO, WAIT_MS, close, download, png_export
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = FIGURES_DIR  # docs/figures only with FOOTPRINT_WRITE_FIGURES=1, else a temporary folder
@@ -299,13 +299,6 @@ def set_layers(page, *shown):
         page.set_checked(f"#dispersion-layers input[data-layer={layer}]", layer in shown)
 
 
-def download(page, selector):
-    """Click what downloads a file: (its suggested name, its bytes)."""
-    with page.expect_download() as info:
-        page.click(selector)
-    return info.value.suggested_filename, Path(info.value.path()).read_bytes()
-
-
 def test_the_panel_downloads_the_shown_dispersion_as_geojson_and_a_sites_csv(open_page, dispersion_job):
     """The Dispersion panel's two buttons save GET /api/jobs/{id}/dispersion as files named after the job: the GeoJSON
     holds every shape of the job's result and each site with its probability, the CSV a row per site."""
@@ -368,13 +361,11 @@ def test_the_header_geojson_holds_the_dispersion_layers_that_are_shown(open_page
     assert not run.errors and run.violations() == []
 
 
-PNG_PIXEL_RATIO = 2  # exporting.js PIXEL_RATIO
 ABOVE_SITE_PX = 9  # a probe over a site: past the stored site's disc (5 px), above the labels beside it, inside
 # the dispersion's ring round it (11 px)
 CONFIDENCE_RGB = (0x6A, 0x3D, 0x9A)  # dispersion.js DISPERSION_STYLE.confidence
 ELLIPSE_RGB = (0xD9, 0x5F, 0x02)
 SITE_RGB = {1: (8, 81, 156), 0: (217, 217, 217)}  # dispersion.js probabilityColor at P 1 and 0: grey to blue
-COLOR_TOLERANCE = 8  # per channel, 0-255: the antialiasing and rounding of a canvas blend
 
 
 def over(background, rgb, alphas):
@@ -385,19 +376,9 @@ def over(background, rgb, alphas):
     return out
 
 
-def close(a, b, tolerance=COLOR_TOLERANCE):
-    return bool(np.all(np.abs(np.array(a, float) - np.array(b, float)) <= tolerance))
-
-
 def pixels_like(image, rgb, tolerance=30):
     """How many pixels of the image are within tolerance (per channel) of a colour: a line's, antialiased."""
     return int(np.all(np.abs(np.asarray(image, float) - rgb) <= tolerance, axis=-1).sum())
-
-
-def png_export(page):
-    from PIL import Image
-
-    return Image.open(io.BytesIO(download(page, "#export-png")[1])).convert("RGB")
 
 
 def png_probes(page, places, view):

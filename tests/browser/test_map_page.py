@@ -20,7 +20,17 @@ from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 from tests.authorities.report import REPORT, betts, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, PNG_CROP_JS, SEED_JOB, WAIT_MS, PageRun, running_service
+from .conftest import (
+    FIGURES_DIR,
+    PNG_CROP_JS,
+    PNG_PIXEL_RATIO,
+    SEED_JOB,
+    WAIT_MS,
+    PageRun,
+    close,
+    png_export,
+    running_service,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 LOCAL_HOSTS = {"127.0.0.1", "localhost"}
@@ -548,6 +558,9 @@ def test_an_optimums_histories_show_noise_flat_and_a_missing_temperature_as_velo
     assert (got["zero"], got["small"], got["negative"]) == ("0", "0.0", "-1,235")
 
 
+OPTIMUM_RGB = (0x11, 0x18, 0x27)  # main.js OPTIMUM_COLOR
+
+
 def great_circle_deg(lat1, lon1, lat2, lon2) -> float:
     """The angle between two places on the sphere (deg), by the haversine."""
     p1, p2, dl = math.radians(lat1), math.radians(lat2), math.radians(lon2 - lon1)
@@ -565,7 +578,8 @@ def test_an_optimum_over_the_pole_and_past_half_way_is_one_line_on_the_globe(ope
     optimum) passes 1.4 deg from the pole and lands 8,647 nmi on at 23.6 deg S: on the globe, centred on its track,
     it is one line, its landing marked where the orthographic projection puts it (scale sin c from the disc's centre,
     c its angle from the view's centre); centred on the pole, the track's nearest point lies scale cos(phi) from the
-    centre, phi the flight's highest latitude. The name is text, and the legend names the optimum."""
+    centre, phi the flight's highest latitude. The name is text, and the legend names the optimum. The PNG export of
+    either view drew no optimum: now its landing's disc is where the view has it."""
     case = json.loads((ROOT / "examples" / "table2_lod22.json").read_text())
     case["entry"].update(latitude_deg=60.0, heading_deg=0.0)
     case["bank"] = {"law": "constant", "bank_deg": 0.0}
@@ -594,11 +608,21 @@ def test_an_optimum_over_the_pole_and_past_half_way_is_one_line_on_the_globe(ope
     assert landing.locator("title").text_content().startswith(f"{name}: down-range {summary['downrange_nmi']:,.0f} nmi")
     assert page.locator("svg b").count() == 0
     assert f"{name} (optimum)" in page.locator("text.globe-legend").all_text_contents()
+    assert close(png_export(page).getpixel((round(x * PNG_PIXEL_RATIO), round(y * PNG_PIXEL_RATIO))), OPTIMUM_RGB)
     page.evaluate("() => window.footprintApp.globe.center(0, 90)")
     near = min(math.hypot(px - disk[0], py - disk[1]) for px, py in path_vertices(track.get_attribute("d")))
     top = max(history["latitude_deg"])
     assert near == pytest.approx(disk[2] * math.cos(math.radians(top)), abs=1.0)
     assert landing.count() == 0  # 23.6 deg S: on the far side of the globe about the pole
+    # the map's PNG too: the landing's disc in the optimum's colour where the map puts it
+    page.evaluate("() => window.footprintApp.setView('map')")
+    x, y = page.evaluate(
+        "(at) => { const p = window.footprintApp.mapView.map.latLngToContainerPoint(at); return [p.x, p.y]; }",
+        [history["latitude_deg"][-1], history["longitude_deg"][-1]],
+    )
+    crop = page.evaluate(PNG_CROP_JS)
+    at = (round((x - crop["x"]) * PNG_PIXEL_RATIO), round((y - crop["y"]) * PNG_PIXEL_RATIO))
+    assert close(png_export(page).getpixel(at), OPTIMUM_RGB)
     assert not run.errors, run.errors
 
 
