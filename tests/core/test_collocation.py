@@ -202,6 +202,36 @@ def test_a_limit_the_entry_meets_is_left_to_ipopt():
     assert col.Transcription(limited, 10).entry_floor() is None  # 21.4 is above the entry's least, 21.31
 
 
+def heat_limited_betts(limit: float) -> col.Problem:
+    pr = betts_problem()
+    return replace(
+        pr,
+        base=replace(pr.base, heating=BETTS_HEATING),
+        constraints=pr.constraints + (Constraint("max_heat_rate_btu_ft2_s", "at_most", limit),),
+    )
+
+
+def test_a_heat_limit_no_flight_meets_says_the_least_peak_and_that_peak_is_the_boundary():
+    """Betts' shuttle to 2,500 ft/s at -5 deg held to q <= 22 Btu/ft^2/s (the entry meets 21.31): IPOPT ended
+    "infeasible" after 196 iterations naming the collocation defects, "by 0.0073 (scaled)", nothing a user can act on
+    (issue 29 item 1: infeasibility in the constraint's own unit). Now the answer names the least peak heat rate a
+    flight to those final conditions reaches (the flight that least exceeds the limit, its excess minimized), and
+    that number is the boundary, by a second route: held to 0.5 % above it the same problem has an optimum, whose
+    peak lies between the two. A lower limit (21.4) finds the same least peak: it is the problem's, not the limit's."""
+    result = col.solve(heat_limited_betts(22.0))
+    assert result.status == "infeasible"
+    least = result.least_path_peaks["max_heat_rate_btu_ft2_s"]
+    assert least > 22.0
+    assert f"peaks at max_heat_rate_btu_ft2_s {least:.5g} Btu/ft^2/s (limit 22)" in result.message
+    assert result.one_line().startswith(f"infeasible: to change: max_heat_rate_btu_ft2_s to {least:.5g} or more")
+    lower = col.solve(heat_limited_betts(21.4))
+    assert lower.status == "infeasible"
+    assert lower.least_path_peaks["max_heat_rate_btu_ft2_s"] == pytest.approx(least, rel=1e-4)
+    above = col.solve(heat_limited_betts(1.005 * least))
+    assert above.ok, above.message
+    assert least * (1 - 1e-3) <= above.summary["max_heat_rate_btu_ft2_s"] <= 1.005 * least * (1 + 1e-6)
+
+
 def test_a_quantity_the_nlp_does_not_know_is_one_line():
     with pytest.raises(col.CollocationError, match="pullout_altitude_ft: not a quantity"):
         col.Transcription(betts_problem(objective=(("pullout_altitude_ft", 1.0),)))

@@ -113,6 +113,8 @@ POLISH_WEIGHT = 1e-2  # the polish's share of smoothing_weight
 # the polish's iterations: a refinement of an optimum that does not end within these keeps the stage before it
 # (on the L/D 1.89 tables it ran out of 3,000 iterations, 230 s, for 1.2 nmi of cross-range)
 POLISH_MAX_ITERATIONS = 300
+# a path limit's peak on the flight that least exceeds the limits counts as past it beyond this share of the limit
+EXCESS_RTOL = 1e-4
 ITERATIONS_HALF_WAY = 50  # a progress estimate: typical iterations of a stage (Betts 20-50, the L/D 1.89 50-120)
 STATUS_OF_IPOPT = {
     "Solve_Succeeded": "optimal",
@@ -282,6 +284,8 @@ class Result:
         repr=False, default=None
     )  # x, lam_x, lam_g for a warm start
     start_objectives: list[float | None] | None = None  # each start's optimum on the first mesh (None: none found)
+    # an infeasible end's diagnosis: each path limit's peak on the flight that least exceeds them (_path_limits_said)
+    least_path_peaks: dict[str, float | None] | None = None
 
     @property
     def ok(self) -> bool:
@@ -314,6 +318,7 @@ class Result:
             "mesh_change": self.mesh_change,
             "mesh_remaining": self.mesh_remaining,
             "start_objectives": self.start_objectives,
+            "least_path_peaks": self.least_path_peaks,
         }
 
 
@@ -533,10 +538,19 @@ def _radau(degree: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 class Transcription:
     """The NLP of one Problem on a uniform mesh of `intervals`; solve() may be called many times with other
-    objective weights, constraint targets and guesses (the continuation of an optimal footprint)."""
+    objective weights, constraint targets and guesses (the continuation of an optimal footprint). With
+    `least_excess`, the flight that least exceeds the path limits instead: the largest of their rows (each <= 0 where
+    its limit holds) minimized by one more variable, the excess, every other constraint held (_path_limits_said)."""
 
-    def __init__(self, problem: Problem, intervals: int | None = None, mesh: NDArray[np.float64] | None = None):
+    def __init__(
+        self,
+        problem: Problem,
+        intervals: int | None = None,
+        mesh: NDArray[np.float64] | None = None,
+        least_excess: bool = False,
+    ):
         self.problem = pr = problem
+        self.least_excess = least_excess
         uniform = mesh is None  # its NLP is written as before meshes could be refined (the same IPOPT path)
         if mesh is None:
             mesh = uniform_mesh(intervals or pr.intervals)
@@ -561,7 +575,8 @@ class Transcription:
         xs = ca.MX.sym("x", ns, m + 1)
         us = ca.MX.sym("u", 2, n + 1)
         ts = ca.MX.sym("t")
-        w = ca.vertcat(ca.vec(xs), ca.vec(us), ts)
+        excess = ca.MX.sym("excess", 1 if least_excess else 0)  # the path rows' largest, in their own scaling
+        w = ca.vertcat(ca.vec(xs), ca.vec(us), ts, excess)
         weights = ca.MX.sym("w", len(pr.objective))
         # the guess's final down-range angle, longitude and heading: keep the atan2s away from their cuts
         refs = ca.MX.sym("refs", 3)
@@ -613,7 +628,7 @@ class Transcription:
         for con in pr.constraints:
             if con.quantity in PATH:
                 expr = self._path_expression(con.quantity, con.target, path, smoothing)
-                add(con.quantity, expr, -np.inf, 0.0)
+                add(con.quantity, expr - excess if least_excess else expr, -np.inf, 0.0)
         final = self._terminal(xs[:, -1], t_f, refs)
         self._final = ca.Function("final", [w, par], [ca.vertcat(*[final[q] for q in TERMINAL if q in final])])
         self._final_names = [q for q in TERMINAL if q in final]
@@ -636,7 +651,7 @@ class Transcription:
                     0.0,
                 )
         objective = sum(weights[i] * final[q] / SCALE[q] for i, (q, _) in enumerate(pr.objective))
-        f = -objective if pr.goal == "max" else objective
+        f = excess if least_excess else -objective if pr.goal == "max" else objective
         # the rates' integral of squares, sum (du/h)^2 h
         du = us[:, 1:] - us[:, :-1]
         f = f + (
@@ -771,8 +786,9 @@ class Transcription:
         x_lo[:, 0] = x_hi[:, 0] = x_first
         u_lo = np.tile(np.array([lo_a / ALPHA_SCALE_DEG, lo_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
         u_hi = np.tile(np.array([hi_a / ALPHA_SCALE_DEG, hi_b / BANK_SCALE_DEG])[:, None], (1, n + 1))
-        self.lbx = np.concatenate([x_lo.ravel(order="F"), u_lo.ravel(order="F"), [1e-3]])
-        self.ubx = np.concatenate([x_hi.ravel(order="F"), u_hi.ravel(order="F"), [1e3]])
+        free = [np.inf] if self.least_excess else []  # the excess: unbounded
+        self.lbx = np.concatenate([x_lo.ravel(order="F"), u_lo.ravel(order="F"), [1e-3], np.negative(free)])
+        self.ubx = np.concatenate([x_hi.ravel(order="F"), u_hi.ravel(order="F"), [1e3], free])
 
     def alpha_bounds_deg(self) -> tuple[float, float]:
         """The problem's alpha bounds within the vehicle's valid alpha range (tables and polynomials alike)."""
@@ -827,7 +843,8 @@ class Transcription:
         us = np.column_stack(
             [np.clip(un[:, 0], lo_a, hi_a) / ALPHA_SCALE_DEG, np.clip(un[:, 1], lo_b, hi_b) / BANK_SCALE_DEG]
         )
-        return np.concatenate([xs.T.ravel(order="F"), us.T.ravel(order="F"), [guess.final_time_s / T_SCALE_S]])
+        excess = [0.0] if self.least_excess else []
+        return np.concatenate([xs.T.ravel(order="F"), us.T.ravel(order="F"), [guess.final_time_s / T_SCALE_S], excess])
 
     # -- solving -----------------------------------------------------------------------------------------
     def solve(
@@ -1259,6 +1276,7 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
         n = transcription.n
         if previous is None:
             result = _best_start(transcription, starts, share, on_progress)
+            result = _path_limits_said(problem, transcription, starts[0], result, share[1], on_progress)
             start_objectives = result.start_objectives
         else:
             # a refined mesh starts from the last optimum, at the narrowest corners: 5-40 iterations where a cold
@@ -1326,6 +1344,59 @@ def solve(problem: Problem, guess: Guess | None = None, on_progress: OnProgress 
             f"latitude, {a['east_west_deg']:.3g} deg east-west, {100 * a['downrange_rel']:.3g} % down-range"
         )
     return result
+
+
+def _path_limits_said(
+    problem: Problem,
+    transcription: Transcription,
+    guess: Guess,
+    failed: Result,
+    at: float,
+    on_progress: OnProgress | None,
+) -> Result:
+    """A first mesh that ended infeasible under path limits: the flight that least exceeds them (every other
+    constraint held; least_excess on the same mesh from the same guess). Past a limit, the answer names that flight's
+    peaks in their units (IPOPT's own words named the collocation defects); within every limit, the problem is solved
+    again from that flight (IPOPT had ended infeasible from its start); with no such flight, the final conditions are
+    out of reach whatever the limits. Progress is reported at `at`."""
+    limits = [con for con in problem.constraints if con.quantity in PATH]
+    if failed.status != "infeasible" or failed.advice or not limits:  # advice: the fixed entry's limit, said at once
+        return failed
+
+    def report(what: str) -> OnIteration | None:
+        return None if on_progress is None else iteration_progress(on_progress, (at, at), what)
+
+    least = Transcription(problem, mesh=transcription.mesh, least_excess=True).solve(
+        guess, polish=False, on_iteration=report("the least excess of the path limits: ")
+    )
+    failed.seconds, failed.iterations = failed.seconds + least.seconds, failed.iterations + least.iterations
+    if least.status == "stopped":
+        return failed
+    if not least.ok:
+        failed.advice = "to change: the final conditions (a target within the vehicle's reach)"
+        failed.message += f"; with the path limits lifted no flight meets the final conditions either ({least.message})"
+        return failed
+    peaks = {con.quantity: least.summary.get(con.quantity) for con in limits}
+    over = [(c, peaks[c.quantity]) for c in limits if (peaks[c.quantity] or 0.0) > c.target * (1.0 + EXCESS_RTOL)]
+    failed.least_path_peaks = peaks
+    if over:
+        failed.advice = (
+            "to change: "
+            + ", ".join(f"{c.quantity} to {v:.5g} or more" for c, v in over)
+            + (", or the final conditions")
+        )
+        failed.message = (
+            "the path limits cannot be met with the final conditions: the flight that least exceeds them peaks at "
+            + ", ".join(f"{c.quantity} {v:.5g} {PATH_UNITS[c.quantity]} (limit {c.target:g})" for c, v in over)
+            + f"; {failed.message}"
+        )
+        return failed
+    assert least.guess is not None  # a solved result carries its solution (Transcription._result)
+    again = transcription.solve(least.guess, polish=False, on_iteration=report("from within the path limits: "))
+    again.seconds, again.iterations = again.seconds + failed.seconds, again.iterations + failed.iterations
+    again.least_path_peaks = peaks
+    again.message += "; solved again from the flight that least exceeds the path limits, which meets them all"
+    return again
 
 
 def _best_start(
