@@ -232,6 +232,38 @@ def test_a_heat_limit_no_flight_meets_says_the_least_peak_and_that_peak_is_the_b
     assert least * (1 - 1e-3) <= above.summary["max_heat_rate_btu_ft2_s"] <= 1.005 * least * (1 + 1e-6)
 
 
+def test_within_the_limits_an_infeasible_end_is_solved_again_from_the_flight_that_least_exceeds_them():
+    """IPOPT can end infeasible from a poor first guess on a problem whose limits a flight can meet; then the
+    diagnosis finds such a flight and the problem is solved again from it: the same optimum as from the case's own
+    flight (q <= 30, a solve that ends optimal, its end taken as infeasible to reach the branch)."""
+    pr = heat_limited_betts(30.0)
+    tr, guess = col.Transcription(pr), col.first_guess(pr)
+    direct = tr.solve(guess, polish=False)
+    assert direct.ok
+    failed = tr.solve(guess, polish=False)
+    failed.status = "infeasible"
+    again = col._path_limits_said(pr, tr, guess, failed, 0.5, None)
+    assert again.ok and again.objective == pytest.approx(direct.objective, rel=1e-7)
+    assert again.least_path_peaks["max_heat_rate_btu_ft2_s"] < 30.0
+    assert "solved again from the flight that least exceeds the path limits" in again.message
+
+
+def test_with_no_flight_to_the_final_conditions_the_path_limits_are_not_blamed():
+    """20,000 nmi down-range is out of the shuttle's reach with or without a heat limit: the diagnosis finds no
+    flight to the final conditions even with the limits lifted, and says to change the final conditions."""
+    pr = heat_limited_betts(30.0)
+    beyond = Constraint("downrange_nmi", "equals", 20_000.0)
+    far = replace(pr, constraints=pr.constraints + (beyond,), max_iterations=300)
+    tr, guess = col.Transcription(far), col.first_guess(far)
+    failed = tr.solve(guess, polish=False)
+    assert not failed.ok
+    failed.status = "infeasible"
+    said = col._path_limits_said(far, tr, guess, failed, 0.5, None)
+    assert said.status == "infeasible" and said.least_path_peaks is None
+    assert said.advice.startswith("to change: the final conditions")
+    assert "with the path limits lifted no flight meets the final conditions either" in said.message
+
+
 def test_a_quantity_the_nlp_does_not_know_is_one_line():
     with pytest.raises(col.CollocationError, match="pullout_altitude_ft: not a quantity"):
         col.Transcription(betts_problem(objective=(("pullout_altitude_ft", 1.0),)))
