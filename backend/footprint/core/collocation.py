@@ -1377,14 +1377,11 @@ def _path_limits_said(
         failed.message += f"; with the path limits lifted no flight meets the final conditions either ({least.message})"
         return failed
     peaks = {con.quantity: least.summary.get(con.quantity) for con in limits}
-    over = [(c, peaks[c.quantity]) for c in limits if (peaks[c.quantity] or 0.0) > c.target * (1.0 + EXCESS_RTOL)]
+    over = [(c, v) for c in limits if (v := peaks[c.quantity]) is not None and v > c.target * (1.0 + EXCESS_RTOL)]
     failed.least_path_peaks = peaks
     if over:
-        failed.advice = (
-            "to change: "
-            + ", ".join(f"{c.quantity} to {v:.5g} or more" for c, v in over)
-            + (", or the final conditions")
-        )
+        failed.advice = "to change: " + ", ".join(f"{c.quantity} to {v:.5g} or more" for c, v in over)
+        failed.advice += ", or the final conditions"
         failed.message = (
             "the path limits cannot be met with the final conditions: the flight that least exceeds them peaks at "
             + ", ".join(f"{c.quantity} {v:.5g} {PATH_UNITS[c.quantity]} (limit {c.target:g})" for c, v in over)
