@@ -120,8 +120,11 @@ function penOn(ctx) {
 }
 
 /** Draw the current view to a canvas and return it (the caller turns it into a PNG); `dispersion` is the shown one
- * ({name, dispersion, placed, layers}) or null, `optimum` the shown optimization's ({name, color, result}) or null. */
-export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null, optimum = null }) {
+ * ({name, dispersion, placed, layers}) or null, `optimum` the shown optimization's ({name, color, result}) or null,
+ * `opportunity` the chosen landing opportunity's lines and points as the globe has them, with its `caption` and the
+ * map's `style` (opportunities.js OPPORTUNITY_STYLE), or null. */
+export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null, optimum = null,
+                                     opportunity = null }) {
   const globeView = view === "globe";
   const element = globeView ? globe.element : mapView.map.getContainer();
   const { width, height } = element.getBoundingClientRect();
@@ -160,6 +163,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   if (dispersion?.layers.clouds) eachCopy(dispersed, () => drawClouds(ctx, pen.projection, dispersion.placed.clouds));
   eachCopy(offsets, () => { for (const fp of footprints) drawFootprint(pen, fp, !globeView); });
   if (optimum) eachCopy(offsets, () => drawOptimum(pen, optimum, !globeView));
+  if (opportunity) eachCopy(offsets, () => drawOpportunity(pen, opportunity));
   if (dispersion && globeView) drawGlobeDispersion(pen, ctx, dispersion);
   eachCopy(dispersed, () => drawMapDispersion(pen, ctx, dispersion));
   if (dispersion && !globeView) eachCopy(offsets, () => drawMapDispersionSites(pen, dispersion, sites));
@@ -176,7 +180,8 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   if (!globeView) drawSiteLabels(ctx, mapView.siteLabelsWithin(crop));
   if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
   // the caption below the picture, where it covers nothing of the map
-  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites, optimum);
+  const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites, optimum,
+                               opportunity);
   const out = cropped(canvas, crop, legendHeight(blocks));
   const octx = out.getContext("2d");
   if (!globeView) drawGridAndScale(octx, mapView.map, crop);
@@ -252,6 +257,18 @@ function drawOptimum(pen, { color, result }, planar) {
   const track = lons.map((lon, i) => [lon, f.latitude_deg[i]]);
   pen.draw({ type: "LineString", coordinates: track }, { stroke: color, width: 3 });
   pen.draw({ type: "Point", coordinates: track.at(-1) }, { fill: color, stroke: "#111", width: 2, radius: 6 });
+}
+
+/** The chosen landing opportunity as the map draws it, from the globe's lines and points ([lon, lat], continuous on
+ * one copy of the map): the footprint's edge, the revolution's ground track, the coast, the burn, entry and site. */
+function drawOpportunity(pen, o) {
+  const S = o.style, point = (at) => ({ type: "Point", coordinates: at });
+  pen.draw(line(o.ring), { stroke: S.footprint, width: 2 });
+  pen.draw(line(o.track), { stroke: S.track, width: 1.6, alpha: 0.8 });
+  pen.draw(line(o.coast), { stroke: S.coast, width: 3 });
+  pen.draw(point(o.burn), { fill: S.coast, stroke: "#fff", width: 2, radius: 5.5 });
+  pen.draw(point(o.entry), { fill: S.footprint, stroke: "#fff", width: 2, radius: 5.5 });
+  pen.draw(point(o.site), { stroke: S.site, width: 2.5, radius: 10 });
 }
 
 const STYLE = DISPERSION_STYLE;
@@ -386,11 +403,12 @@ export function dispersionCaption({ name, dispersion: d, placed, layers }, globe
 
 const LEGEND_LINE_PX = 15, LEGEND_GAP_PX = 6;
 
-/** The caption's blocks: [colour, lines] per footprint, the optimum's, the dispersion's, and the sites' key (as the map's
- * legend). */
-function captionBlocks(footprints, dispersionLines, sites, optimum) {
+/** The caption's blocks: [colour, lines] per footprint, the optimum's, the opportunity's, the dispersion's, and the
+ * sites' key (as the map's legend). */
+function captionBlocks(footprints, dispersionLines, sites, optimum, opportunity) {
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
   if (optimum) blocks.push([optimum.color, [`${optimum.name} (optimum)`, landingWords(optimum.result).join(", ")]]);
+  if (opportunity?.caption) blocks.push([opportunity.style.coast, opportunity.caption]);
   if (dispersionLines) blocks.push([STYLE.confidence.color, dispersionLines]);
   if (sites.length) {
     blocks.push(["#2e7d32", ["sites: green reached, red not reached, grey not checked (the last reach analysis)"

@@ -10,7 +10,7 @@ import { GlobeView, flightLine, lineMiddle } from "./globe.js";
 import { GuidedPanel, drawBankPlot } from "./guided.js";
 import { JobsPanel } from "./jobs.js";
 import { MapView } from "./mapview.js";
-import { OpportunitiesPanel } from "./opportunities.js";
+import { OPPORTUNITY_STYLE, OpportunitiesPanel } from "./opportunities.js";
 import { drawHistories } from "./histories.js";
 import { drawRangePlot } from "./rangeplot.js";
 import { drawTimeline, siteColor } from "./timeline.js";
@@ -398,9 +398,13 @@ $("view-globe").addEventListener("click", () => setView("globe"));
 const shownDispersion = () => state.dispersion && { ...state.dispersion, layers: dispersionPanel.layers() };
 $("export-geojson").addEventListener("click", () => exportGeoJSON(visible(), sites.shown(), shownDispersion()).catch(fail));
 $("export-csv").addEventListener("click", () => exportCSV(visible()));
+// the chosen landing opportunity as the globe draws it (the map's places), with its words
+const shownOpportunity = () => globe.opportunity
+  && { ...globe.opportunity, caption: opportunities.caption(), style: OPPORTUNITY_STYLE };
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
                                                              sites: sites.shown(), dispersion: shownDispersion(),
-                                                             optimum: state.optimum }).catch(fail));
+                                                             optimum: state.optimum, opportunity: shownOpportunity() })
+  .catch(fail));
 new ResizeObserver(() => { drawPlot(); if (state.view === "globe") globe.render(); }).observe($("plot"));
 
 function fail(err) { console.error(err); toast(err.message || String(err), true); }

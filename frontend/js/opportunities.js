@@ -244,6 +244,14 @@ export class OpportunitiesPanel {
          + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"}.`));
   }
 
+  /** The chosen opportunity in words, for a PNG's caption (exporting.js), or null. */
+  caption() {
+    if (this.selected == null || !this.answer) return null;
+    const o = this.answer.opportunities[this.selected], wd = this.withDate();
+    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution}`,
+            `burn ${utcWords(o.burn_utc, wd)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi`];
+  }
+
   /** Whether times need their date: the answer's span covers more than one UTC day. */
   withDate() {
     const [t0, t1] = opportunitySpan(this.answer);

@@ -250,6 +250,11 @@ def close(a, b, tolerance=COLOR_TOLERANCE):
     return bool(np.all(np.abs(np.array(a, float) - np.array(b, float)) <= tolerance))
 
 
+def pixels_like(image, rgb, tolerance=30):
+    """How many pixels of the image are within tolerance (per channel) of a colour: a line's, antialiased."""
+    return int(np.all(np.abs(np.asarray(image, float) - rgb) <= tolerance, axis=-1).sum())
+
+
 def download(page, selector):
     """Click what downloads a file: (its suggested name, its bytes)."""
     with page.expect_download() as info:

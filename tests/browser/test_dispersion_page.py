@@ -16,7 +16,17 @@ from footprint.core.outline import outline
 from footprint.core.sphere import Reference, downrange_crossrange_nmi
 from tests.authorities.report import example, table2_entry, table2_stop
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, PNG_CROP_JS, PNG_PIXEL_RATIO, WAIT_MS, close, download, png_export
+from .conftest import (
+    FIGURES_DIR,
+    JOB_TIMEOUT_S,
+    PNG_CROP_JS,
+    PNG_PIXEL_RATIO,
+    WAIT_MS,
+    close,
+    download,
+    pixels_like,
+    png_export,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = FIGURES_DIR  # docs/figures only with FOOTPRINT_WRITE_FIGURES=1, else a temporary folder
@@ -374,11 +384,6 @@ def over(background, rgb, alphas):
     for a in alphas:
         out = out * (1 - a) + np.array(rgb) * a
     return out
-
-
-def pixels_like(image, rgb, tolerance=30):
-    """How many pixels of the image are within tolerance (per channel) of a colour: a line's, antialiased."""
-    return int(np.all(np.abs(np.asarray(image, float) - rgb) <= tolerance, axis=-1).sum())
 
 
 def png_probes(page, places, view):

@@ -13,7 +13,16 @@ from datetime import datetime
 
 import pytest
 
-from .conftest import FIGURES_DIR, JOB_TIMEOUT_S, ROOT, WAIT_MS, only_the_service, refusal
+from .conftest import (
+    FIGURES_DIR,
+    JOB_TIMEOUT_S,
+    ROOT,
+    WAIT_MS,
+    only_the_service,
+    pixels_like,
+    png_export,
+    refusal,
+)
 
 EXAMPLE = json.loads((ROOT / "examples" / "opportunities_iss_20_sites.json").read_text())
 TLE = EXAMPLE["tle"]
@@ -26,6 +35,7 @@ SITES = [  # Edwards lands at night in this window (an open mark), the others in
     {**BY_NAME["Christchurch International, New Zealand"], "name": HOSTILE},
 ]
 PX = 1.5  # a mark, a node or a night's edge from where the time puts it (SVG px)
+COAST_RGB = (0xE4, 0x57, 0x2E)  # opportunities.js OPPORTUNITY_STYLE.coast: the coast arc and the burn
 
 # the timeline as drawn: the frame, the time ticks (label, x), the marks, the nights and the nodes
 TIMELINE_JS = """() => { const svg = document.querySelector('#plot svg.opportunity-plot'), f = svg.querySelector('rect.frame');
@@ -253,7 +263,16 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
       .map((k) => [k, document.querySelector(`#globe path.globe-op-${k}`)?.getAttribute('d') ?? null]))""")
     assert all(paths[k] for k in ("track", "coast", "footprint", "entry", "site")), paths
     page.screenshot(path=str(FIGURES_DIR / "page_opportunities_globe.png"))
+    # the PNG export of either view draws it too (it drew none), its caption the chosen one's words
+    assert pixels_like(png_export(page), COAST_RGB) > 100
     page.click("#view-map")
+    assert pixels_like(png_export(page), COAST_RGB) > 100
+    o = found[best]
+    words = page.evaluate("() => window.footprintApp.opportunities.caption()")
+    assert words[0].startswith(f"{a['sites'][o['site']]['name']}: landing ") and words[0].endswith(
+        f" UTC, revolution {o['revolution']}"
+    )
+    assert o["landing_utc"][11:19] in words[0] and f"Δv {o['delta_v_fps']:,.1f} ft/s" in words[1]
 
     # no name became markup anywhere
     assert page.locator("#opportunities-panel img, #plot img, .leaflet-pane img[src=x]").count() == 0
