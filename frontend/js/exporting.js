@@ -122,9 +122,10 @@ function penOn(ctx) {
 /** Draw the current view to a canvas and return it (the caller turns it into a PNG); `dispersion` is the shown one
  * ({name, dispersion, placed, layers}) or null, `optimum` the shown optimization's ({name, color, result}) or null,
  * `opportunity` the chosen landing opportunity's lines and points as the globe has them, with its `caption` and the
- * map's `style` (opportunities.js OPPORTUNITY_STYLE), or null. */
+ * map's `style` (opportunities.js OPPORTUNITY_STYLE), or null; `reach` the landing windows as the globe has them
+ * ([{color, window}]) or null. */
 export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null, optimum = null,
-                                     opportunity = null }) {
+                                     opportunity = null, reach = null }) {
   const globeView = view === "globe";
   const element = globeView ? globe.element : mapView.map.getContainer();
   const { width, height } = element.getBoundingClientRect();
@@ -164,6 +165,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   eachCopy(offsets, () => { for (const fp of footprints) drawFootprint(pen, fp, !globeView); });
   if (optimum) eachCopy(offsets, () => drawOptimum(pen, optimum, !globeView));
   if (opportunity) eachCopy(offsets, () => drawOpportunity(pen, opportunity));
+  if (reach) eachCopy(offsets, () => drawReach(pen, reach, !globeView));
   if (dispersion && globeView) drawGlobeDispersion(pen, ctx, dispersion);
   eachCopy(dispersed, () => drawMapDispersion(pen, ctx, dispersion));
   if (dispersion && !globeView) eachCopy(offsets, () => drawMapDispersionSites(pen, dispersion, sites));
@@ -181,7 +183,7 @@ export async function renderCanvas({ view, mapView, globe, footprints, sites, di
   if (globeView) pen.draw({ type: "Sphere" }, { stroke: "#5f7385", width: 1.2 });
   // the caption below the picture, where it covers nothing of the map
   const blocks = captionBlocks(footprints, dispersion && dispersionCaption(dispersion, globeView), sites, optimum,
-                               opportunity);
+                               opportunity, reach);
   const out = cropped(canvas, crop, legendHeight(blocks));
   const octx = out.getContext("2d");
   if (!globeView) drawGridAndScale(octx, mapView.map, crop);
@@ -269,6 +271,17 @@ function drawOpportunity(pen, o) {
   pen.draw(point(o.burn), { fill: S.coast, stroke: "#fff", width: 2, radius: 5.5 });
   pen.draw(point(o.entry), { fill: S.footprint, stroke: "#fff", width: 2, radius: 5.5 });
   pen.draw(point(o.site), { stroke: S.site, width: 2.5, radius: 10 });
+}
+
+/** A reach result's landing windows as the map draws them: each window's deorbit points as a line along the orbit
+ * (unwrapped from its first point on the map's copies), or a dot for one point. */
+function drawReach(pen, reach, planar) {
+  for (const { color, window: w } of reach) {
+    const p = w.deorbit_points, lons = planar ? unwrapLongitudes(p.longitude_deg, p.longitude_deg[0]) : p.longitude_deg;
+    const at = lons.map((lon, i) => [lon, p.latitude_deg[i]]);
+    if (at.length > 1) pen.draw(line(at), { stroke: color, width: 3, alpha: 0.65 });
+    else pen.draw({ type: "Point", coordinates: at[0] }, { fill: color, alpha: 0.8, radius: 4 });
+  }
 }
 
 const STYLE = DISPERSION_STYLE;
@@ -405,7 +418,7 @@ const LEGEND_LINE_PX = 15, LEGEND_GAP_PX = 6;
 
 /** The caption's blocks: [colour, lines] per footprint, the optimum's, the opportunity's, the dispersion's, and the
  * sites' key (as the map's legend). */
-function captionBlocks(footprints, dispersionLines, sites, optimum, opportunity) {
+function captionBlocks(footprints, dispersionLines, sites, optimum, opportunity, reach) {
   const blocks = footprints.map((fp) => [fp.color, caption(fp)]);
   if (optimum) blocks.push([optimum.color, [`${optimum.name} (optimum)`, landingWords(optimum.result).join(", ")]]);
   if (opportunity?.caption) blocks.push([opportunity.style.coast, opportunity.caption]);
@@ -413,6 +426,9 @@ function captionBlocks(footprints, dispersionLines, sites, optimum, opportunity)
   if (sites.length) {
     blocks.push(["#2e7d32", ["sites: green reached, red not reached, grey not checked (the last reach analysis)"
                              + (dispersionLines ? "; a dispersion's P of reaching one: grey 0 to blue 1" : "")]]);
+  }
+  if (reach?.length) {
+    blocks.push(["#5b6b7b", ["coloured lines: where deorbiting reaches a site, in its colour in the timeline"]]);
   }
   return blocks;
 }

@@ -6,6 +6,7 @@ import { listPoints, openRing, sphericalRing } from "./geometry.js";
 import { escapeHtml, fmt } from "./format.js";
 import { landingWords } from "./histories.js";
 import { confidenceOpacity, levelWords, percent } from "./dispersion.js";
+import { windowWords } from "./timeline.js";
 
 const KEY_STEP_DEG = 10;
 const DRAG_DEG_PER_PX = 0.25;
@@ -68,6 +69,7 @@ export class GlobeView {
     this.guided = null; // {track, rings}: the guided panel's flight and footprint, [lon, lat] lines
     this.opportunity = null; // the landing opportunity shown: {track, coast, ring} lines, {burn, entry, site} points
     this.optimum = null; // an optimization job's optimum: {name, color, result}
+    this.reach = null; // a reach result's landing windows, each {color, window}
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -91,6 +93,9 @@ export class GlobeView {
 
   /** An optimization job's optimum ({name, color, result}: the map's drawOptimum takes the same), or null. */
   setOptimum(o) { this.optimum = o; this.render(); }
+
+  /** A reach result's landing windows, each {color, window} (timeline.coloredWindows, as the map draws them). */
+  setReach(windows) { this.reach = windows; this.render(); }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }
 
@@ -126,6 +131,7 @@ export class GlobeView {
     if (this.guided) parts.push(...this._guidedParts(path));
     if (this.opportunity) parts.push(...this._opportunityParts(path));
     if (this.optimum) parts.push(...this._optimumParts(path));
+    if (this.reach) parts.push(...this._reachParts(path));
     for (const s of this.sites) { // the map's marker: a diamond coloured by the reach verdict, and the site's name
       if (!path({ type: "Point", coordinates: [s.longitude_deg, s.latitude_deg] })) continue; // on the far side
       const [x, y] = projection([s.longitude_deg, s.latitude_deg]);
@@ -167,6 +173,18 @@ export class GlobeView {
         + `<title>${escapeHtml(name)}: ${landingWords(result).join(", ")}</title></path>`);
     }
     return parts;
+  }
+
+  /** Each landing window's deorbit points, as the map draws them: a line along the orbit (a dot for one point). */
+  _reachParts(path) {
+    return this.reach.map(({ color, window: w }) => {
+      const p = w.deorbit_points, line = p.longitude_deg.map((lon, i) => [lon, p.latitude_deg[i]]);
+      const d = line.length > 1 ? path({ type: "LineString", coordinates: line })
+        : path.pointRadius(4)({ type: "Point", coordinates: line[0] });
+      const style = line.length > 1 ? `stroke:${color}` : `stroke:${color};fill:${color}`;
+      return `<path class="globe-reach-deorbit${line.length > 1 ? "" : " dot"}" style="${style}" d="${d || ""}">`
+        + `<title>${escapeHtml(windowWords(w))}</title></path>`;
+    });
   }
 
   _opportunityParts(path) {

@@ -13,7 +13,7 @@ import { MapView } from "./mapview.js";
 import { OPPORTUNITY_STYLE, OpportunitiesPanel } from "./opportunities.js";
 import { drawHistories } from "./histories.js";
 import { drawRangePlot } from "./rangeplot.js";
-import { drawTimeline, siteColor } from "./timeline.js";
+import { coloredWindows, drawTimeline } from "./timeline.js";
 import { SitesPanel } from "./sites.js";
 
 const $ = (id) => document.getElementById(id);
@@ -216,7 +216,9 @@ function setPlot(which) {
 /** A reach analysis: the deorbit points of each window on the map, the windows in time in the plot. */
 function showReach(result) {
   state.reach = result;
-  mapView.drawReach(result, siteColor);
+  const windows = coloredWindows(result);
+  mapView.drawReach(windows);
+  globe.setReach(windows);
   mapView.setLegend(visible());
   $("plot-reach").disabled = false;
   setPlot("reach");
@@ -403,7 +405,8 @@ const shownOpportunity = () => globe.opportunity
   && { ...globe.opportunity, caption: opportunities.caption(), style: OPPORTUNITY_STYLE };
 $("export-png").addEventListener("click", () => exportPNG({ view: state.view, mapView, globe, footprints: visible(),
                                                              sites: sites.shown(), dispersion: shownDispersion(),
-                                                             optimum: state.optimum, opportunity: shownOpportunity() })
+                                                             optimum: state.optimum, opportunity: shownOpportunity(),
+                                                             reach: globe.reach })
   .catch(fail));
 new ResizeObserver(() => { drawPlot(); if (state.view === "globe") globe.render(); }).observe($("plot"));
 

@@ -9,6 +9,7 @@ import { landingWords } from "./histories.js";
 import { DISPERSION_STYLE as STYLE, LAYERS, confidenceOpacity, flightWords, intervalWords, levelWords, percent,
          probabilityColor, sigmaNmi } from "./dispersion.js";
 import { placeLabels } from "./labels.js";
+import { windowWords } from "./timeline.js";
 
 const GRATICULE_DEG = 30;
 const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world either way
@@ -295,19 +296,18 @@ export class MapView {
     this.optimum = optimum;
   }
 
-  /** The deorbit points of each landing window of a reach result: a line along the orbit where deorbiting reaches
-   * the site, in the site's colour (as the timeline), with its revolution, times and site. */
-  drawReach(reach, color) {
+  /** The deorbit points of each landing window of a reach result ({color, window}: timeline.coloredWindows): a line
+   * along the orbit where deorbiting reaches the site, in the site's colour (as the timeline), with its revolution,
+   * times and site. */
+  drawReach(windows) {
     this.reachLayer?.remove();
     const group = L.layerGroup();
-    const index = new Map(reach.sites.map((s, i) => [s.name, i]));
-    for (const w of reach.windows) {
+    for (const { color, window: w } of windows) {
       const p = w.deorbit_points, lons = unwrapLongitudes(p.longitude_deg, p.longitude_deg[0]);
-      const tip = `deorbit on revolution ${w.revolution}, ${fmt(w.deorbit_time_start_s / 3600, 2)}–`
-        + `${fmt(w.deorbit_time_end_s / 3600, 2)} h: reaches ${escapeHtml(w.site)}`;
+      const tip = escapeHtml(windowWords(w));
       for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {
         const latlngs = p.latitude_deg.map((lat, i) => [lat, lons[i] + offset]);
-        const style = { renderer: this.svgRenderer, color: color(index.get(w.site)), className: "reach-deorbit" };
+        const style = { renderer: this.svgRenderer, color, className: "reach-deorbit" };
         (latlngs.length > 1 ? L.polyline(latlngs, { ...style, weight: 3, opacity: 0.65 })
           : L.circleMarker(latlngs[0], { ...style, radius: 4, fillOpacity: 0.8 })).bindTooltip(tip).addTo(group);
       }

@@ -15,6 +15,18 @@ export const SITE_COLORS = ["#2e7d32", "#1f6fbf", "#d1495b", "#8e5dbf", "#e08a1e
 /** The colour of the i-th site of a reach result (the map's deorbit points use the same). */
 export const siteColor = (i) => SITE_COLORS[i % SITE_COLORS.length];
 
+/** Each landing window of a reach result with its site's colour (its row's in the timeline): the map's and the
+ * globe's deorbit lines. */
+export function coloredWindows(reach) {
+  const index = new Map(reach.sites.map((s, i) => [s.name, i]));
+  return reach.windows.map((w) => ({ color: siteColor(index.get(w.site)), window: w }));
+}
+
+/** A landing window in words: its site, revolution and deorbit hours (the timeline's bar, the deorbit line on the map
+ * and on the globe). */
+export const windowWords = (w) => `${w.site}: revolution ${w.revolution}, deorbit `
+  + `${fmt(w.deorbit_time_start_s / 3600, 2)}–${fmt(w.deorbit_time_end_s / 3600, 2)} h`;
+
 /** An SVG element: attributes set as attributes, strings appended as text. */
 export function svgNode(tag, attributes = {}, ...children) {
   const node = document.createElementNS(SVG_NS, tag);
@@ -73,8 +85,7 @@ export function drawTimeline(container, reach) {
     const x0 = sx(w.deorbit_time_start_s / 3600), x1 = sx(w.deorbit_time_end_s / 3600);
     svg.append(svgNode("rect", { class: "window", x: px(x0), y: px(y), width: px(Math.max(x1 - x0, 2)), height: px(row * 0.6),
                                  style: `fill:${siteColor(i)}` },
-      svgNode("title", {}, `${w.site}: revolution ${w.revolution}, deorbit ${fmt(w.deorbit_time_start_s / 3600, 2)}–`
-        + `${fmt(w.deorbit_time_end_s / 3600, 2)} h (u ${fmt(w.u_start_deg)}–${fmt(w.u_end_deg)}°), best margin `
+      svgNode("title", {}, `${windowWords(w)} (u ${fmt(w.u_start_deg)}–${fmt(w.u_end_deg)}°), best margin `
         + `${fmt(w.max_margin_nmi)} nmi`)));
   }
 }

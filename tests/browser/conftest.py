@@ -250,6 +250,19 @@ def close(a, b, tolerance=COLOR_TOLERANCE):
     return bool(np.all(np.abs(np.array(a, float) - np.array(b, float)) <= tolerance))
 
 
+def over(background, rgb, alphas):
+    """A colour painted over background at each opacity in turn (the confidence levels, one over the other)."""
+    out = np.array(background, float)
+    for a in alphas:
+        out = out * (1 - a) + np.array(rgb) * a
+    return out
+
+
+def hex_rgb(color: str) -> tuple[int, int, int]:
+    """#rrggbb as (r, g, b)."""
+    return int(color[1:3], 16), int(color[3:5], 16), int(color[5:7], 16)
+
+
 def pixels_like(image, rgb, tolerance=30):
     """How many pixels of the image are within tolerance (per channel) of a colour: a line's, antialiased."""
     return int(np.all(np.abs(np.asarray(image, float) - rgb) <= tolerance, axis=-1).sum())

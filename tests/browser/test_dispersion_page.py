@@ -24,6 +24,7 @@ from .conftest import (
     WAIT_MS,
     close,
     download,
+    over,
     pixels_like,
     png_export,
 )
@@ -376,14 +377,6 @@ ABOVE_SITE_PX = 9  # a probe over a site: past the stored site's disc (5 px), ab
 CONFIDENCE_RGB = (0x6A, 0x3D, 0x9A)  # dispersion.js DISPERSION_STYLE.confidence
 ELLIPSE_RGB = (0xD9, 0x5F, 0x02)
 SITE_RGB = {1: (8, 81, 156), 0: (217, 217, 217)}  # dispersion.js probabilityColor at P 1 and 0: grey to blue
-
-
-def over(background, rgb, alphas):
-    """A colour painted over background at each opacity in turn (the confidence levels, one over the other)."""
-    out = np.array(background, float)
-    for a in alphas:
-        out = out * (1 - a) + np.array(rgb) * a
-    return out
 
 
 def png_probes(page, places, view):

@@ -28,6 +28,8 @@ from .conftest import (
     WAIT_MS,
     PageRun,
     close,
+    hex_rgb,
+    over,
     png_export,
     running_service,
 )
@@ -394,6 +396,35 @@ def test_landing_sites_and_reach(open_page, service):
     assert page.locator("#plot svg.timeline-plot rect.window").count() == len(windows)
     assert page.locator("path.reach-deorbit").count() >= len(windows)  # one line per window (and its copies)
     page.screenshot(path=str(FIGURES / "map_reach_timeline.png"))
+    # the globe draws them too (it drew none): one line per window, named by its site and revolution; centred on a
+    # window's first deorbit point, its line starts at the disc's centre (the orthographic projection's); the PNG
+    # export of the globe draws it (it drew none): centred on a middle point, the line's colour at the map's opacity
+    # over what the PNG has there without it
+    page.click("#view-globe")
+    lines = page.locator("#globe path.globe-reach-deorbit")
+    assert lines.count() == len(windows)
+    titles = lines.evaluate_all("els => els.map(e => e.querySelector('title').textContent)")
+    assert [t.split(": revolution ")[0] for t in titles] == [w["site"] for w in windows]
+    assert all(f"revolution {w['revolution']}, deorbit " in t for t, w in zip(titles, windows))
+    k = next(i for i, w in enumerate(windows) if len(w["deorbit_points"]["latitude_deg"]) >= 3)
+    p = windows[k]["deorbit_points"]
+    centre = "(at) => window.footprintApp.globe.center(...at)"
+    page.evaluate(centre, [p["longitude_deg"][0], p["latitude_deg"][0]])
+    x, y = path_vertices(lines.nth(k).get_attribute("d"))[0]
+    disk = page.evaluate("() => window.footprintApp.globe.projection().translate()")
+    assert math.hypot(x - disk[0], y - disk[1]) < 0.5
+    mid = len(p["latitude_deg"]) // 2
+    page.evaluate(centre, [p["longitude_deg"][mid], p["latitude_deg"][mid]])
+    rgb = hex_rgb(re.search(r"stroke:(#[0-9a-fA-F]{6})", lines.nth(k).get_attribute("style")).group(1))
+    # that window alone (the windows of other sites lie along the same orbit), then none
+    page.evaluate("(k) => { const g = window.footprintApp.globe; g.shownReach = g.reach; g.reach = [g.reach[k]]; }", k)
+    shown = png_export(page)
+    page.evaluate("() => { window.footprintApp.globe.reach = null; }")
+    bare = png_export(page)
+    page.evaluate("() => { const g = window.footprintApp.globe; g.reach = g.shownReach; }")
+    at = (round(disk[0] * PNG_PIXEL_RATIO), round(disk[1] * PNG_PIXEL_RATIO))
+    assert close(shown.getpixel(at), over(bare.getpixel(at), rgb, [0.65]))
+    page.click("#view-map")
     # the verdicts are kept with the sites: after a reload the markers and the list still say them
     page.reload()
     page.wait_for_selector("body[data-ready=true]", timeout=WAIT_MS)
