@@ -296,7 +296,7 @@ def test_an_optimum_flying_upside_down_says_so_in_its_lines():
 
     optimum = OPTIMUM | {
         "summary": {"crossrange_nmi": 0.4, "downrange_nmi": 17_955.5, "flight_time_s": 5_786.0},
-        "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001, "east_west_deg": 0.0001},
+        "agreement": {"latitude_deg": 0.0007, "longitude_deg": 0.0001, "east_west_deg": 0.0001, "end_deg": 0.0007},
         "refly": {"inverted_s": 5_786.0},
     }
     lines = _optimum_lines(optimum)

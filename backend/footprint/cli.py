@@ -141,7 +141,7 @@ def _optimum_lines(r: dict, payoff: tuple[tuple[str, float], ...] = (), goal: st
         out.append(f"{'maximized' if goal == 'max' else 'minimized'} {said}: {value:,.8g}")
     if r.get("method") == "collocation" and r.get("agreement"):
         g = r["agreement"]
-        out.append(f"re-flown by the integrator within {max(g['latitude_deg'], g['east_west_deg']):.4f} deg")
+        out.append(f"re-flown by the integrator within {g['end_deg']:.4f} deg")
     if starts := r.get("start_objectives"):
         found = ", ".join("none" if v is None else f"{v:,.8g}" for v in starts)
         out.append(f"the best of {len(starts)} starts, whose first meshes ended at: {found}")

@@ -123,7 +123,7 @@ function penOn(ctx) {
  * ({name, dispersion, placed, layers}) or null, `optimum` the shown optimization's ({name, color, result}) or null,
  * `opportunity` the chosen landing opportunity's lines and points as the globe has them, with its `caption` and the
  * map's `style` (opportunities.js OPPORTUNITY_STYLE), or null; `reach` the landing windows as the globe has them
- * ([{color, window}]) or null. */
+ * (timeline.coloredWindows) or null. */
 export async function renderCanvas({ view, mapView, globe, footprints, sites, dispersion = null, optimum = null,
                                      opportunity = null, reach = null }) {
   const globeView = view === "globe";

@@ -69,7 +69,7 @@ export class GlobeView {
     this.guided = null; // {track, rings}: the guided panel's flight and footprint, [lon, lat] lines
     this.opportunity = null; // the landing opportunity shown: {track, coast, ring} lines, {burn, entry, site} points
     this.optimum = null; // an optimization job's optimum: {name, color, result}
-    this.reach = null; // a reach result's landing windows, each {color, window}
+    this.reach = null; // a reach result's landing windows, each {row, color, window}
     this.svg = d3svg(element);
     this.ready = loadWorld("110m").then((world) => { this.world = world; this.render(); });
     this._bindDrag();
@@ -94,7 +94,7 @@ export class GlobeView {
   /** An optimization job's optimum ({name, color, result}: the map's drawOptimum takes the same), or null. */
   setOptimum(o) { this.optimum = o; this.render(); }
 
-  /** A reach result's landing windows, each {color, window} (timeline.coloredWindows, as the map draws them). */
+  /** A reach result's landing windows, each {row, color, window} (timeline.coloredWindows, as the map draws them). */
   setReach(windows) { this.reach = windows; this.render(); }
 
   center(lonDeg, latDeg) { this.rotate = [-lonDeg, -latDeg, 0]; this.render(); }

@@ -296,7 +296,7 @@ export class MapView {
     this.optimum = optimum;
   }
 
-  /** The deorbit points of each landing window of a reach result ({color, window}: timeline.coloredWindows): a line
+  /** The deorbit points of each landing window of a reach result ({color, window}, timeline.coloredWindows): a line
    * along the orbit where deorbiting reaches the site, in the site's colour (as the timeline), with its revolution,
    * times and site. */
   drawReach(windows) {

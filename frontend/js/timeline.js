@@ -10,16 +10,16 @@ const SVG_NS = "http://www.w3.org/2000/svg";
 const MARGIN = { left: 150, right: 16, top: 28, bottom: 34 };
 const NAME_CHARS = 22; // a longer site name is cut in its row's label (its whole name is in the marks' titles)
 const TICK_PX = 80; // at least this far between two time ticks
-export const SITE_COLORS = ["#2e7d32", "#1f6fbf", "#d1495b", "#8e5dbf", "#e08a1e", "#2a9d8f", "#c2549b", "#5c7c2e"];
+const SITE_COLORS = ["#2e7d32", "#1f6fbf", "#d1495b", "#8e5dbf", "#e08a1e", "#2a9d8f", "#c2549b", "#5c7c2e"];
 
-/** The colour of the i-th site of a reach result (the map's deorbit points use the same). */
-export const siteColor = (i) => SITE_COLORS[i % SITE_COLORS.length];
-
-/** Each landing window of a reach result with its site's colour (its row's in the timeline): the map's and the
- * globe's deorbit lines. */
+/** Each landing window of a reach result with its site's row and colour (the i-th site's: SITE_COLORS in turn): the
+ * timeline's bars, the map's and the globe's deorbit lines. */
 export function coloredWindows(reach) {
   const index = new Map(reach.sites.map((s, i) => [s.name, i]));
-  return reach.windows.map((w) => ({ color: siteColor(index.get(w.site)), window: w }));
+  return reach.windows.map((w) => {
+    const row = index.get(w.site);
+    return { row, color: SITE_COLORS[row % SITE_COLORS.length], window: w };
+  });
 }
 
 /** A landing window in words: its site, revolution and deorbit hours (the timeline's bar, the deorbit line on the map
@@ -79,12 +79,11 @@ export function drawTimeline(container, reach) {
     axisLabel: "Deorbit time (h from the first node)", ariaLabel: "Landing windows against deorbit time",
     title: `Landing windows: ${reach.windows.length} over ${fmt(hours, 1)} h, `
       + `${sites.filter((s) => s.reachable).length} of ${sites.length} sites reached` });
-  const index = new Map(sites.map((s, i) => [s.name, i]));
-  for (const w of reach.windows) {
-    const i = index.get(w.site), y = box.top + i * row + row * 0.2;
+  for (const { row: i, color, window: w } of coloredWindows(reach)) {
+    const y = box.top + i * row + row * 0.2;
     const x0 = sx(w.deorbit_time_start_s / 3600), x1 = sx(w.deorbit_time_end_s / 3600);
     svg.append(svgNode("rect", { class: "window", x: px(x0), y: px(y), width: px(Math.max(x1 - x0, 2)), height: px(row * 0.6),
-                                 style: `fill:${siteColor(i)}` },
+                                 style: `fill:${color}` },
       svgNode("title", {}, `${windowWords(w)} (u ${fmt(w.u_start_deg)}–${fmt(w.u_end_deg)}°), best margin `
         + `${fmt(w.max_margin_nmi)} nmi`)));
   }

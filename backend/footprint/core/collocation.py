@@ -1197,11 +1197,14 @@ def refly(problem: Problem, result: Result) -> Trajectory:
         )
     }
     result.refly["inverted_s"] = inverted_s(trajectory.history)
+    d_lat = abs(s["final_latitude_deg"] - n["final_latitude_deg"])
+    # the arc along the parallel (deg of a great circle): the longitude's difference means nothing at a pole
+    east_west = abs(d_lon) * math.cos(math.radians(s["final_latitude_deg"]))
     result.agreement = {
-        "latitude_deg": abs(s["final_latitude_deg"] - n["final_latitude_deg"]),
+        "latitude_deg": d_lat,
         "longitude_deg": abs(d_lon),
-        # the arc along the parallel (deg of a great circle): the longitude's difference means nothing at a pole
-        "east_west_deg": abs(d_lon) * math.cos(math.radians(s["final_latitude_deg"])),
+        "east_west_deg": east_west,
+        "end_deg": max(d_lat, east_west),  # how far apart the two ends lie, in deg of arc (the larger of the two)
         "downrange_rel": abs(s["downrange_nmi"] - down) / max(abs(down), 1.0),
         "crossrange_nmi": abs(s["crossrange_nmi"] - n["crossrange_nmi"]),
         "flight_time_s": s["flight_time_s"] - n["flight_time_s"],
@@ -1223,12 +1226,7 @@ def inverted_s(history: dict[str, NDArray[np.float64]]) -> float:
 
 def agrees(result: Result) -> bool:
     a = result.agreement
-    return (
-        a is not None
-        and a["latitude_deg"] <= AGREE_DEG
-        and a["east_west_deg"] <= AGREE_DEG
-        and a["downrange_rel"] <= AGREE_DOWNRANGE_REL
-    )
+    return a is not None and a["end_deg"] <= AGREE_DEG and a["downrange_rel"] <= AGREE_DOWNRANGE_REL
 
 
 def objective_tolerance(problem: Problem, objective: float) -> float:
@@ -1351,20 +1349,20 @@ def _path_limits_said(
     transcription: Transcription,
     guess: Guess,
     failed: Result,
-    at: float,
+    progress_at: float,
     on_progress: OnProgress | None,
 ) -> Result:
     """A first mesh that ended infeasible under path limits: the flight that least exceeds them (every other
     constraint held; least_excess on the same mesh from the same guess). Past a limit, the answer names that flight's
     peaks in their units (IPOPT's own words named the collocation defects); within every limit, the problem is solved
     again from that flight (IPOPT had ended infeasible from its start); with no such flight, the final conditions are
-    out of reach whatever the limits. Progress is reported at `at`."""
+    out of reach whatever the limits. Progress is reported at the fraction `progress_at`."""
     limits = [con for con in problem.constraints if con.quantity in PATH]
     if failed.status != "infeasible" or failed.advice or not limits:  # advice: the fixed entry's limit, said at once
         return failed
 
     def report(what: str) -> OnIteration | None:
-        return None if on_progress is None else iteration_progress(on_progress, (at, at), what)
+        return None if on_progress is None else iteration_progress(on_progress, (progress_at, progress_at), what)
 
     least = Transcription(problem, mesh=transcription.mesh, least_excess=True).solve(
         guess, polish=False, on_iteration=report("the least excess of the path limits: ")

@@ -302,7 +302,7 @@ def _point(solved: _Solved, side: str, downrange_nmi: float | None = None) -> Fo
         iterations=result.iterations,
         nlp_downrange_nmi=result.summary["downrange_nmi"],
         nlp_crossrange_nmi=result.summary["crossrange_nmi"],
-        agreement_deg=max(a["latitude_deg"], a["east_west_deg"]),  # the end points' distance, in deg of arc
+        agreement_deg=a["end_deg"],
         inverted_s=(result.refly or {}).get("inverted_s") or None,  # left out when 0
     )
     return point_of_trajectory(parameter, side, trajectory)
