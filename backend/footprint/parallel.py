@@ -8,11 +8,13 @@ once (kept for the request's other parts) and reports progress as Dask events th
 whose future is cancelled stops at its next report.
 """
 
+import asyncio
 import importlib
 import json
 import logging
 import os
 import signal
+import threading
 import time
 import uuid
 from collections import OrderedDict
@@ -26,7 +28,13 @@ from footprint.contracts.work import OnProgress, RunInfo, Work
 
 Progress = Callable[[int, int], None]  # progress(parts done, parts) after each part
 PROGRESS_TOPIC = "footprint-progress"  # the Dask event topic of the tasks' progress (the job engine subscribes)
+SCHEDULER_TOPIC = "all"  # the scheduler's own events: a worker added or removed, and why (stimulus_id)
+KEEP_S = 1.0  # a kept cluster's size is looked at this often
+REPLACE_AFTER_S = 10.0  # a worker missing this long, its nanny closed or its process ended, is replaced
+START_GRACE_S = 180.0  # a worker whose nanny is still starting its process is given this long (a loaded machine)
+LOST_WORKER_TIMEOUT = "distributed.deploy.lost-worker-timeout"
 PROGRESS_EVERY_S = 0.5  # a task's progress events at most this often
+log = logging.getLogger("footprint.parallel")
 PARSED_KEPT = 4  # requests a worker keeps parsed (one job's parts share one parse)
 WARM_CASE = {
     "vehicle": {"builtin": "lod-2.2"},
@@ -188,6 +196,13 @@ def warm_worker() -> None:
     warm_numba()
 
 
+async def warm_numba_in_a_thread() -> float:
+    """warm_numba() for client.run: a plain function runs on the worker's event loop, whose heartbeats and connection
+    it holds meanwhile (a cold cache on a loaded machine compiled for minutes, and the worker did not see its scheduler
+    go away); a coroutine function is awaited there, and this one compiles in a thread."""
+    return await asyncio.to_thread(warm_numba)
+
+
 # ------------------------------------------------------------------------------------------ the cluster
 def default_workers() -> int:
     try:
@@ -262,6 +277,105 @@ def worker_count(client: Any) -> int:
     return len(client.scheduler_info(n_workers=-1)["workers"])
 
 
+# ------------------------------------------------------------------------- a local cluster kept at its size
+# why the scheduler removed a worker, by the start of its stimulus id (distributed.scheduler.remove_worker's callers)
+WHY_A_WORKER_LEFT = {
+    "handle-worker-cleanup": "its connection closed (its process ended or was killed)",
+    "check-worker-ttl": "it missed its heartbeats past distributed.scheduler.worker-ttl (a stalled process)",
+    "worker-send-comm-fail": "the scheduler could not reach it",
+    "send-all-comm-fail": "the scheduler could not reach it",
+    "worker-clos": "it closed itself",
+    "nanny-close": "its nanny closed it",
+    "retire-workers": "it was retired",
+    "restart": "it was restarted on request (a cancelled or timed-out job's task)",
+}
+
+
+def why_a_worker_left(stimulus_id: str) -> str:
+    """A worker's removal in words, from the scheduler's stimulus id."""
+    for start, words in WHY_A_WORKER_LEFT.items():
+        if stimulus_id.startswith(start) or f"-{start}" in stimulus_id:
+            return words
+    return f"the scheduler's reason: {stimulus_id or 'none given'}"
+
+
+class WorkerKeeper:
+    """Keeps a LocalCluster at the size of its spec: a worker the scheduler has not had for REPLACE_AFTER_S (its nanny
+    closed after a restart that failed or timed out, its process ended) gets a new nanny under its name; one whose
+    nanny is still starting its process is given START_GRACE_S first, so that a slow start on a loaded machine is not
+    cut short over and over. look() is one look, from any thread but the cluster's loop."""
+
+    def __init__(self, cluster: Any):
+        import dask
+
+        self.cluster = cluster
+        self._missing_since: dict[Any, float] = {}
+        # SpecCluster closes the nanny of a worker the scheduler has not had back for this long (read when one is
+        # lost, so set for the process): 15 s by default, which cut short every restart slower than that on a
+        # loaded machine (a cancel's restart took 20 s), and its worker never came back (issue 49 item 6)
+        dask.config.set({LOST_WORKER_TIMEOUT: f"{START_GRACE_S:g}s"})
+
+    def look(self) -> list[Any]:
+        """The names of the workers replaced now."""
+        present = {str(w.get("name")) for w in self.cluster.scheduler_info.get("workers", {}).values()}
+        now = time.monotonic()
+        missing = [n for n in self.cluster.worker_spec if str(n) not in present]
+        self._missing_since = {n: self._missing_since.get(n, now) for n in missing}
+        overdue = [n for n, t in self._missing_since.items() if now - t >= self._grace_s(n)]
+        if overdue:
+            log.warning("replacing %d worker(s) of the local cluster missing for %.0f s or more: %s", len(overdue),
+                        min(now - self._missing_since[n] for n in overdue), ", ".join(map(str, overdue)))  # fmt: skip
+            self.cluster.sync(_replace_workers, self.cluster, overdue)
+            for n in overdue:
+                self._missing_since.pop(n, None)
+        return overdue
+
+    def _grace_s(self, name: Any) -> float:
+        nanny = self.cluster.workers.get(name)
+        process = getattr(nanny, "process", None)
+        starting = (
+            nanny is not None
+            and getattr(nanny.status, "name", "") == "running"
+            and getattr(getattr(process, "status", None), "name", "") in ("init", "starting")
+        )
+        return START_GRACE_S if starting else REPLACE_AFTER_S
+
+
+async def _replace_workers(cluster: Any, names: list[Any]) -> None:
+    """Close the cluster's missing workers' nannies (if any is left) and start new ones under the same names
+    (SpecCluster._correct_state starts every worker of its spec that it does not hold)."""
+    for name in names:
+        nanny = cluster.workers.pop(name, None)
+        if nanny is not None:
+            try:
+                await nanny.close()
+            except Exception as exc:  # noqa: BLE001 -- a nanny already gone: its replacement starts all the same
+                log.info("closing a lost nanny: %s", exc)
+    await cluster._correct_state()
+
+
+@contextmanager
+def kept_at_size(cluster: Any) -> Iterator[WorkerKeeper]:
+    """A thread that keeps `cluster` at its size (WorkerKeeper) while the context lasts: for a LocalCluster that no
+    job engine watches (the tests' shared cluster)."""
+    keeper, stopped = WorkerKeeper(cluster), threading.Event()
+
+    def keep() -> None:
+        while not stopped.wait(KEEP_S):
+            try:
+                keeper.look()
+            except Exception as exc:  # noqa: BLE001 -- the next look tries again
+                log.warning("could not keep the cluster's workers: %s", exc)
+
+    thread = threading.Thread(target=keep, name="footprint-keeper", daemon=True)
+    thread.start()
+    try:
+        yield keeper
+    finally:
+        stopped.set()
+        thread.join()
+
+
 # -------------------------------------------------------------------- the local cluster's worker processes
 class Niceness:
     """Every thread of the worker's process at `niceness` or nicer (a flight can wait a few milliseconds, a reader of
@@ -290,8 +404,8 @@ class Warm:
     name = "footprint-warm"
     idempotent = True
 
-    def setup(self, worker: Any) -> None:
-        warm_worker()
+    async def setup(self, worker: Any) -> None:
+        await asyncio.to_thread(warm_worker)  # off the worker's event loop: its heartbeats go on meanwhile
 
 
 class ParentStops:

@@ -58,12 +58,21 @@ def database_url(kind: str, tmp_path):
 @pytest.fixture(scope="session")
 def scheduler_address():
     """One LocalCluster for every service test (two worker processes, one thread each), as an external
-    scheduler: the service connects to it the way it connects to a deployment's dask-scheduler."""
+    scheduler: the service connects to it the way it connects to a deployment's dask-scheduler; kept at its size."""
     from distributed import LocalCluster
 
-    with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0", scheduler_kwargs={"dashboard": False}
-    ) as cluster:
+    from footprint.parallel import kept_at_size
+
+    with (
+        LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            scheduler_kwargs={"dashboard": False},
+        ) as cluster,
+        kept_at_size(cluster),  # as the service keeps its own: a worker lost on a busy machine is replaced
+    ):
         yield cluster.scheduler_address
 
 
