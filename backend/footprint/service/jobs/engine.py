@@ -14,11 +14,12 @@ A cancel is a job's row: every watcher looks at it each CANCEL_POLL_S, so a canc
 """
 
 import logging
+import math
 import re
 import threading
 import time
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import ExitStack
 
 from sqlalchemy.orm import Session, sessionmaker
 
@@ -35,16 +36,21 @@ CLUSTER_ADDRESS = re.compile(r"\b(?:tcp|tls|ucx|inproc|wss?)://[^\s'\"]*[^\s'\".
 PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this often
 STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: parallel.progress_reporter) has its
 # worker restarted
-STATUS_S = 1.0  # the cluster's status is asked of the scheduler at most this often (/api/health under load)
+WATCH_S = 0.5  # the link looks at its scheduler this often (health's view, subscriptions, the local cluster's size)
+ASK_TIMEOUT_S = 5.0  # a look whose question gets no answer in this long finds the scheduler not answering
+STALE_S = 5.0  # health says "degraded" once the scheduler's last answer is this old (a hung scheduler)
+LOST_SUBMITS = 1  # a job whose tasks are lost with their scheduler is submitted again this many times
 CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
 QUEUE_POLL_S = 0.2  # a polling engine looks for the jobs other processes queued this often
-KEEP_POLL_S = 1.0  # the local cluster's size is looked at this often
-REPLACE_AFTER_S = 10.0  # a worker missing this long (a nanny's restart takes seconds) is replaced
 RESTART_TIMEOUT_S = 60.0  # a worker restart's wait for the nanny (a loaded machine starts a process slowly)
 
 
 class NoWorkers(RuntimeError):
-    """A queued job's cluster has had no worker for FOOTPRINT_NO_WORKERS_LIMIT_S."""
+    """A job's cluster could not run it (no scheduler answering, or no worker) for FOOTPRINT_NO_WORKERS_LIMIT_S."""
+
+
+class ClusterLost(RuntimeError):
+    """The job's tasks were lost with the Dask scheduler (killed, restarted or out of reach)."""
 
 
 class JobTimeLimit(RuntimeError):
@@ -63,19 +69,42 @@ def one_line(exc: BaseException) -> str:
 
 
 class ClusterLink:
-    """A Dask client of the service's cluster (footprint.parallel.start_client, the path `footprint sweep` takes:
-    the configured scheduler, or a new LocalCluster) and the cluster's status for /api/health."""
+    """A Dask client of the service's cluster (footprint.parallel.start_client, the path `footprint sweep` takes: the
+    configured scheduler, or a new LocalCluster) kept alive by one watching thread, which every WATCH_S asks the
+    scheduler who it is and which workers it has (the cluster's status for /api/health), builds a new client when
+    Dask's own gave up reconnecting, renews the event subscriptions on every new connection (a restarted scheduler
+    knows none of them: the jobs' progress never came again), says in the log why each worker left, and keeps a
+    local cluster at its size (parallel.WorkerKeeper)."""
 
     def __init__(self, *, settings: Settings):
         self._settings = settings
-        self._stack = ExitStack()
         self._lock = threading.Lock()
         self._closing = threading.Event()
-        self._status: tuple[float, dict] = (-STATUS_S, {})  # (when the scheduler was asked, what it said)
-        self._asking = False  # a thread of recent_status() is asking the scheduler
         self.client = None
+        self._close_client: Callable[[], None] = lambda: None
+        self._topics: dict[str, Callable] = {parallel.SCHEDULER_TOPIC: self._on_scheduler_event}  # renewed each link
+        self._seen: tuple | None = None  # (client, its scheduler connection, the scheduler's id) of the last look
+        self.generation = 0  # bumped at every new connection: tasks submitted before it are lost
         self.most_workers = 0  # the most workers the scheduler has had: an external cluster's size
-        self._workerless_since: float | None = None  # when the scheduler was first seen with no worker, since then
+        self._names: dict[str, str] = {}  # worker address -> name, for the log
+        self._looked: tuple[float, dict] = (-math.inf, {})  # (when, the status) of the last look that got an answer
+        self._runnable_at = time.monotonic()  # when a job could last run (a scheduler answering, a worker)
+        self._down_since: float | None = None  # when the scheduler was first found not answering, since then
+        self._keeper: parallel.WorkerKeeper | None = None
+
+    # ------------------------------------------------------------------------------------ the link
+    def start_link(self) -> None:
+        """Connect (a scheduler that does not answer now is an error: the service does not start), look once (the
+        subscriptions made before anything is submitted), and watch from a thread of its own."""
+        self.client, self._close_client = self._connect()
+        if getattr(self.client, "cluster", None) is not None:  # our LocalCluster: kept at its size
+            self._keeper = parallel.WorkerKeeper(self.client.cluster)
+        self._look()
+        threading.Thread(target=self._watch, name="footprint-cluster", daemon=True).start()
+
+    def close(self) -> None:
+        self._closing.set()
+        self._close_client()
 
     def expected_workers(self) -> int:
         """The cluster's size: the local cluster's FOOTPRINT_DASK_WORKERS, else the most an external one has had."""
@@ -83,62 +112,115 @@ class ClusterLink:
 
     def _connect(self):
         """Not the default client: the service's threads pass it."""
-        from footprint.parallel import start_client
-
         s = self._settings
-        client, close = start_client(
+        return parallel.start_client(
             workers=s.dask_workers, scheduler=s.dask_scheduler or None, set_as_default=False, niceness=s.worker_niceness
         )
-        self._stack.callback(close)
-        return client
 
-    def recent_status(self) -> dict | None:
-        """The scheduler's last answer, at once (None before its first): when it is STATUS_S old, one thread asks
-        again meanwhile. /api/health answers from it: asked in each request's turn, the once-a-second round trip
-        to a busy scheduler held the readers that came at that moment past a second (issue 24 item 7)."""
-        with self._lock:
-            asked, last = self._status
-            if time.monotonic() - asked >= STATUS_S and last and not self._asking:
-                self._asking = True
-                threading.Thread(target=self.status, name="footprint-cluster-status", daemon=True).start()
-            return dict(last) if last else None
+    def _watch(self) -> None:
+        while not self._closing.wait(WATCH_S):
+            try:
+                self._look()
+            except Exception as exc:  # noqa: BLE001 -- the watch never ends while the service runs
+                if not self._closing.is_set():
+                    log.warning("could not look at the Dask cluster: %s", one_line(exc))
 
-    def status(self) -> dict:
-        """The cluster's health: ok (running, and no worker missing), scheduler address, workers and the size expected
-        (as the scheduler said at most STATUS_S ago)."""
-        with self._lock:
-            asked, last = self._status
-            if time.monotonic() - asked < STATUS_S:
-                return dict(last)
+    def _look(self) -> None:
+        """One look: a new client if Dask's gave up, the scheduler asked, subscriptions renewed on a new connection,
+        the status kept, the local cluster's missing workers replaced."""
         try:
-            info = self.client.scheduler_info(n_workers=-1)
-            workers = len(info.get("workers", {}))
-            self.most_workers = max(self.most_workers, workers)
-            with self._lock:
-                self._workerless_since = None if workers else (self._workerless_since or time.monotonic())
-            expected = self.expected_workers()
-            now = {
-                "ok": self.client.status == "running" and workers >= max(expected, 1),
-                "scheduler": info.get("address", ""),
-                "workers": workers,
-                "expected_workers": expected,
-            }
-        except Exception as exc:  # noqa: BLE001 -- health reports, never raises
-            now = {
-                "ok": False,
-                "scheduler": self._settings.dask_scheduler or "local",
-                "workers": 0,
-                "error": one_line(exc),
-            }
+            if self.client.status in ("closed", "closing") and not self._closing.is_set():
+                self._reconnect()
+            info = self.client.sync(self.client.scheduler.identity, n_workers=-1, callback_timeout=ASK_TIMEOUT_S)
+            if self.client.status != "running":
+                raise ConnectionError("the Dask client is connecting to its scheduler again")
+        except Exception as exc:  # noqa: BLE001 -- a scheduler away: said by health, tried again at the next look
+            self._not_answering(exc)
+            return
+        link = (self.client, self.client.scheduler_comm, info.get("id"))
+        if not _same(link, self._seen):
+            self._renew(link)
+        workers = info.get("workers", {})
+        self._names.update((address, str(w.get("name", address))) for address, w in workers.items())
+        self.most_workers = max(self.most_workers, len(workers))
+        now = time.monotonic()
+        if workers:
+            self._runnable_at = now
         with self._lock:
-            self._status, self._asking = (time.monotonic(), now), False
-        return dict(now)
+            down_since, self._down_since = self._down_since, None
+            self._looked = (now, self._status_of(info.get("address", ""), len(workers)))
+        if down_since is not None:
+            log.warning("the Dask scheduler answers again, after %.0f s", now - down_since)
+        if self._keeper is not None and not self._closing.is_set():
+            self._keeper.look()
 
-    def workerless_s(self) -> float:
-        """How long the scheduler has had no worker, as last seen (0 while it has one)."""
-        self.status()
+    def _reconnect(self) -> None:
+        """A new client of the configured scheduler: Dask's own closes itself after trying for 10 s (start_client)."""
+        old = self._close_client
+        self.client, self._close_client = self._connect()
+        old()
+
+    def _renew(self, link: tuple) -> None:
+        """A connection not seen before (the first, a reconnection, a new scheduler): its subscriptions made again
+        (the scheduler keeps them per connection), and the tasks submitted before it counted lost (generation)."""
+        for topic, handler in self._topics.items():
+            self.client.subscribe_topic(topic, handler)
+        if self._seen is not None:
+            log.warning("a new connection to the Dask scheduler: subscriptions renewed, jobs in flight submitted again")
+        self._seen = link
+        self.generation += 1
+
+    def _not_answering(self, exc: BaseException) -> None:
         with self._lock:
-            return 0.0 if self._workerless_since is None else time.monotonic() - self._workerless_since
+            first = self._down_since is None
+            self._down_since = self._down_since or time.monotonic()
+        if first and not self._closing.is_set():
+            log.warning("the Dask scheduler does not answer: %s", one_line(exc))
+
+    def _status_of(self, address: str, workers: int) -> dict:
+        expected = self.expected_workers()
+        status = {
+            "ok": self.client.status == "running" and workers >= max(expected, 1),
+            "scheduler": address,
+            "workers": workers,
+            "expected_workers": expected,
+        }
+        if not status["ok"]:
+            status["error"] = f"{workers} of {expected} workers" if workers else "the scheduler has no worker"
+        return status
+
+    def _on_scheduler_event(self, event) -> None:
+        """The scheduler's own events (its "all" topic): a worker that left, and why, in the log."""
+        _, msg = event
+        if isinstance(msg, dict) and msg.get("action") == "remove-worker":
+            address = str(msg.get("worker", ""))
+            log.warning("Dask worker %s left the cluster: %s", self._names.get(address, address),
+                        parallel.why_a_worker_left(str(msg.get("stimulus_id", ""))))  # fmt: skip
+
+    # ------------------------------------------------------------------------------- what it says
+    def recent_status(self) -> dict:
+        """The cluster's health as last looked at (at most WATCH_S old while the scheduler answers): ok when the
+        client is connected, the scheduler answered within STALE_S and no worker is missing; else not ok, with why."""
+        return self._state()[0]
+
+    def unrunnable_s(self) -> float:
+        """How long no job could have run (no scheduler answering, or no worker), as last looked at; 0 while one can."""
+        status, answering = self._state()
+        return 0.0 if answering and status["workers"] else time.monotonic() - self._runnable_at
+
+    def _state(self) -> tuple[dict, bool]:
+        """(the status, whether the scheduler answers now)."""
+        with self._lock:
+            looked_at, status = self._looked
+            down_since = self._down_since
+        status = dict(status) or {"ok": False, "scheduler": "", "workers": 0, "expected_workers": 0}
+        now = time.monotonic()
+        answering = self.client is not None and self.client.status == "running" and now - looked_at <= STALE_S
+        if not answering:
+            since = down_since if down_since is not None else looked_at if math.isfinite(looked_at) else now
+            where = CLUSTER_ADDRESS.sub("<address>", self._settings.dask_scheduler) or "local"
+            status.update(ok=False, error=f"no answer from the Dask scheduler ({where}) for {now - since:.0f} s")
+        return status, answering
 
 
 class RemoteJobs(ClusterLink):
@@ -147,7 +229,7 @@ class RemoteJobs(ClusterLink):
     the synchronous trajectories itself."""
 
     def start(self) -> None:
-        self.client = self._connect()
+        self.start_link()
         threading.Thread(target=parallel.warm_numba, name="footprint-warm", daemon=True).start()
 
     def submit(self, *, job_id: str, request=None) -> None:
@@ -155,10 +237,6 @@ class RemoteJobs(ClusterLink):
 
     def cancel(self, *, job_id: str) -> None:
         """Nothing to do: the engine's watcher sees the cancelled row within CANCEL_POLL_S."""
-
-    def close(self) -> None:
-        self._closing.set()
-        self._stack.close()
 
 
 class JobEngine(ClusterLink):
@@ -181,8 +259,8 @@ class JobEngine(ClusterLink):
     # ------------------------------------------------------------------------------------ lifetime
     def start(self) -> None:
         """Connect to (or start) the cluster, warm numba in its workers, and submit the pending jobs again."""
-        self.client = self._connect()
-        self.client.subscribe_topic(parallel.PROGRESS_TOPIC, self._on_report)
+        self._topics[parallel.PROGRESS_TOPIC] = self._on_report
+        self.start_link()
         threading.Thread(target=self._warm, name="footprint-warm", daemon=True).start()
         with self._sessions.begin() as session:
             pending = q.pending_job_ids(session)
@@ -192,28 +270,6 @@ class JobEngine(ClusterLink):
             log.info("resubmitted %d pending jobs", len(pending))
         if self._polls:
             threading.Thread(target=self._poll_queue, name="footprint-queue", daemon=True).start()
-        if getattr(self.client, "cluster", None) is not None:  # our LocalCluster: kept at its size
-            threading.Thread(target=self._keep_size, name="footprint-cluster", daemon=True).start()
-
-    def _keep_size(self) -> None:
-        """Replace the local cluster's workers that are missing for REPLACE_AFTER_S: a nanny whose restart failed
-        (a loaded machine, a restart racing another) closes itself and its worker never comes back, and the queue
-        would wait for ever."""
-        missing_since: dict[str, float] = {}
-        while not self._closing.wait(KEEP_POLL_S):
-            try:
-                cluster = self.client.cluster
-                present = {w.get("name") for w in self.client.scheduler_info(n_workers=-1)["workers"].values()}
-                now = time.monotonic()
-                missing_since = {n: missing_since.get(n, now) for n in cluster.worker_spec if n not in present}
-                overdue = [n for n, t in missing_since.items() if now - t >= REPLACE_AFTER_S]
-                if overdue and not self._closing.is_set():
-                    log.warning("replacing %d missing worker(s) of the local cluster", len(overdue))
-                    cluster.sync(_replace_workers, cluster, overdue)
-                    missing_since = {n: t for n, t in missing_since.items() if n not in overdue}
-            except Exception as exc:  # noqa: BLE001 -- the next look tries again
-                if not self._closing.is_set():
-                    log.warning("could not check the cluster's workers: %s", one_line(exc))
 
     def _poll_queue(self) -> None:
         """Watch the jobs the API processes queue in the database."""
@@ -230,8 +286,8 @@ class JobEngine(ClusterLink):
     def _warm(self) -> None:
         t0 = time.perf_counter()
         try:
-            self.client.run(parallel.warm_numba)
-            parallel.warm_numba()  # this process flies the synchronous trajectories
+            parallel.warm_numba()  # this process flies the synchronous trajectories; and writes a cold cache first
+            self.client.run(parallel.warm_numba_in_a_thread)
             self.warm_seconds = time.perf_counter() - t0
             log.info("the workers' flight kernels are ready (%.0f s): jobs run at full speed", self.warm_seconds)
         except Exception as exc:  # noqa: BLE001 -- a cold cache only costs the first job time
@@ -246,7 +302,7 @@ class JobEngine(ClusterLink):
         if self.client is not None and futures:
             self.client.cancel(futures)
         self._pool.shutdown(wait=True, cancel_futures=True)
-        self._stack.close()
+        self._close_client()
 
     # ---------------------------------------------------------------------------------------- jobs
     def submit(self, *, job_id: str, request=None) -> None:
@@ -321,9 +377,7 @@ class JobEngine(ClusterLink):
             request = request or contracts.parse(kind, study)
             parts = list(work.split(request))
             t0 = time.perf_counter()
-            outputs = self._compute(
-                job_id, parallel.submit_parts(self.client, kind, request, parts, prefix=f"{kind}-{job_id}")
-            )
+            outputs = self._outputs(job_id, kind, request, parts)
             if outputs is None:
                 return
             info = RunInfo(tasks=len(parts), workers=self.expected_workers(), seconds=time.perf_counter() - t0)
@@ -342,8 +396,52 @@ class JobEngine(ClusterLink):
                 self._futures.pop(job_id, None)
                 self._watched.discard(job_id)
 
-    def _compute(self, job_id: str, futures: list) -> list | None:
-        """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile."""
+    def _outputs(self, job_id: str, kind: str, request, parts: list) -> list | None:
+        """The outputs of the job's parts, computed on the cluster once it can take them; submitted once more when the
+        cluster is lost under them (its scheduler killed or restarted), a job lost twice failing with one line; None
+        when the job was cancelled, or the service closes, meanwhile."""
+        for attempt in range(LOST_SUBMITS + 1):
+            generation = self._wait_for_link(job_id)
+            if generation is None:
+                return None
+            futures = parallel.submit_parts(self.client, kind, request, parts, prefix=f"{kind}-{job_id}")
+            try:
+                return self._compute(job_id, futures, generation)
+            except ClusterLost as exc:
+                if attempt == LOST_SUBMITS:
+                    raise ClusterLost(f"{exc} (for the {attempt + 1}th time): submit the job again") from None
+                log.warning("job %s: %s; submitted again once the cluster answers", job_id, exc)
+        return None  # not reached: the last attempt returns or raises
+
+    def _wait_for_link(self, job_id: str) -> int | None:
+        """The link's generation once a job's tasks can go to the cluster (a client connected, its subscriptions
+        made); None when the job is cancelled or the service closes meanwhile; NoWorkers past the limit."""
+        while not self._linked():
+            if self._closing.is_set() or self._cancelled(job_id):
+                return None
+            self._check_runnable()
+            time.sleep(WATCH_S)
+        return self.generation
+
+    def _linked(self) -> bool:
+        """The client is connected and the watch has renewed its subscriptions on this connection."""
+        client, seen = self.client, self._seen
+        return client.status == "running" and seen is not None and _same((client, client.scheduler_comm), seen[:2])
+
+    def _check_runnable(self) -> None:
+        """NoWorkers, saying why, once no job could have run for FOOTPRINT_NO_WORKERS_LIMIT_S."""
+        limit = self._settings.no_workers_limit_s
+        if self.unrunnable_s() > limit:
+            status, answering = self._state()
+            what = "had no worker" if answering else "not answered"
+            raise NoWorkers(
+                f"the Dask scheduler has {what} for {limit:g} s (FOOTPRINT_NO_WORKERS_LIMIT_S): "
+                f"{'start workers on it' if answering else 'start it'} and submit the job again"
+            )
+
+    def _compute(self, job_id: str, futures: list, generation: int) -> list | None:
+        """The outputs of the job's tasks in task order; None when the job was cancelled meanwhile; ClusterLost when the
+        link's generation moves on under them (the tasks are gone with their scheduler)."""
         index = {f.key: i for i, f in enumerate(futures)}
         with self._lock:
             self._futures[job_id] = futures
@@ -367,14 +465,16 @@ class JobEngine(ClusterLink):
                 if cancelled:
                     self.stop(futures)
                     return None
-                if self.workerless_s() > self._settings.no_workers_limit_s:  # a queue it cannot run
+                if self.generation != generation:
+                    raise ClusterLost("the job's tasks were lost with the Dask scheduler (killed or restarted)")
+                try:
+                    self._check_runnable()  # a queue it cannot run
+                except NoWorkers:
                     self.stop(futures)
-                    raise NoWorkers(
-                        "the Dask scheduler has had no worker for "
-                        f"{self._settings.no_workers_limit_s:g} s (FOOTPRINT_NO_WORKERS_LIMIT_S): start "
-                        "workers on it and submit the job again"
-                    )
-                if starts and not running:  # "queued" until a worker really runs it
+                    raise
+                finished = [f for f in pending if f.done()]
+                pending = [f for f in pending if not f.done()]
+                if (starts or finished) and not running:  # "queued" until a worker really runs it
                     with self._sessions.begin() as session:
                         q.mark_running(session, job_id=job_id)
                     running = True
@@ -384,12 +484,12 @@ class JobEngine(ClusterLink):
                         f"the job ran past its time limit of {self._settings.job_time_limit_s:g} s "
                         "(FOOTPRINT_JOB_TIME_LIMIT_S) and was stopped"
                     )
-                finished = [f for f in pending if f.done()]
-                pending = [f for f in pending if not f.done()]
                 for fut in finished:
-                    if fut.status == "cancelled" or self._cancelled(job_id):
+                    if self._cancelled(job_id):
                         self.stop(futures)
                         return None
+                    if fut.status == "cancelled":  # not by us: by Dask's client, which lost its scheduler
+                        raise ClusterLost("the job's tasks were lost with the Dask scheduler (killed or restarted)")
                     outputs[index[fut.key]] = fut.result()
                     fut.release()
                     done += 1
@@ -433,14 +533,6 @@ class JobEngine(ClusterLink):
             return job is None or job.status not in PENDING
 
 
-async def _replace_workers(cluster, names: list[str]) -> None:
-    """Close the cluster's missing workers' nannies (if any is left) and start new ones under the same names
-    (SpecCluster._correct_state starts every worker of its spec that it does not hold)."""
-    for name in names:
-        nanny = cluster.workers.pop(name, None)
-        if nanny is not None:
-            try:
-                await nanny.close()
-            except Exception as exc:  # noqa: BLE001 -- a nanny already gone: its replacement starts all the same
-                log.info("closing a lost nanny: %s", one_line(exc))
-    await cluster._correct_state()
+def _same(link: tuple, seen: tuple | None) -> bool:
+    """The same client, connection and scheduler (each the same object, or the same id)."""
+    return seen is not None and all(a is b or a == b for a, b in zip(link, seen, strict=True))

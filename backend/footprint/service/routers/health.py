@@ -1,7 +1,7 @@
 """GET /api/health: database, cluster, version. GET /api/config: what the map page needs to know."""
 
 from fastapi import APIRouter, Request
-from starlette.concurrency import run_in_threadpool
+from fastapi.responses import JSONResponse
 
 import footprint
 from footprint.service import deps
@@ -13,22 +13,29 @@ from footprint.service.schemas import Health, PageConfig
 router = APIRouter(tags=["health"], route_class=ApiRoute)
 
 
-@router.get("/health", response_model=Health)
-async def health(request: Request) -> dict:
-    """The service's state: database reachable, cluster up, version (the scheduler's address only to a caller with the
-    bearer token, so never when FOOTPRINT_API_TOKEN is unset). On the event loop, as deps.cached reads: the scheduler
-    is asked in the background (ClusterLink.recent_status), or in the thread pool before its first answer."""
+@router.get("/health", response_model=Health, responses={503: {"model": Health, "description": "degraded"}})
+async def health(request: Request) -> JSONResponse:
+    """The service's state: "ok" (200) when the database answers, the Dask scheduler answers and no worker is missing;
+    else "degraded" (503, so that a deployment's health check sees it) with what is wrong. The scheduler's address
+    only to a caller with the bearer token (so never when FOOTPRINT_API_TOKEN is unset). On the event loop, as
+    deps.cached reads: the cluster's state is the job engine's last look (ClusterLink.recent_status), at most half a
+    second old while the scheduler answers."""
     try:
         with deps.sessions(request).begin() as session:
             database = {"ok": True, "dialect": q.dialect(session)}
     except Exception as exc:  # noqa: BLE001 -- health reports, never raises
         database = {"ok": False, "dialect": request.app.state.dialect, "error": one_line(exc)}
-    jobs = deps.engine(request)
-    cluster = jobs.recent_status() or await run_in_threadpool(jobs.status)
+    cluster = deps.engine(request).recent_status()
     if not deps.has_token(request):  # the internal address is the operator's, not every caller's
         cluster.pop("scheduler", None)
-    status = "ok" if database["ok"] and cluster["ok"] else "degraded"
-    return {"status": status, "version": footprint.__version__, "database": database, "cluster": cluster}
+    ok = database["ok"] and cluster["ok"]
+    body = {
+        "status": "ok" if ok else "degraded",
+        "version": footprint.__version__,
+        "database": database,
+        "cluster": cluster,
+    }
+    return JSONResponse(body, status_code=200 if ok else 503)
 
 
 @router.get("/config", response_model=PageConfig)
