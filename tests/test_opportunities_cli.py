@@ -6,6 +6,7 @@ import json
 
 import pytest
 
+from tests.core.test_elements import with_check_digits
 from tests.core.test_opportunities import small_study
 from tests.test_cli import run
 
@@ -56,6 +57,10 @@ BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
     ("change", "words"),
     [
         ({"tle": BAD_TLE}, "tle: line 2: its check digit is"),
+        (
+            {"tle": with_check_digits(TLE.replace("15.72125391", "15.7X125391"))},  # sgp4 read 15.7 rev/day
+            "tle: line 2 columns 53-63 (mean motion): '15.7X125391' is not 'NN.NNNNNNNN'",
+        ),
         ({"window": {"start": "2008-10-21T00:00:00Z", "hours": 3}}, "window.start: 2008-10-21T00:00:00+00:00 is 30.5"),
         ({"window": {"start": "2008-09-21T00:00:00Z"}}, "give exactly one of 'end' or 'hours'"),
         ({"deorbit": {"delta_v_fps": 20}}, "deorbit: the coast does not reach the interface"),

@@ -5,6 +5,7 @@ import copy
 
 import pytest
 
+from tests.core.test_elements import with_check_digits
 from tests.core.test_opportunities import small_study
 from tests.service.conftest import wait_for_job
 
@@ -26,6 +27,7 @@ TLE = small_study()["tle"]
     ("change", "field"),
     [
         ({"tle": TLE[:-1] + str((int(TLE[-1]) + 1) % 10)}, "study.tle"),
+        ({"tle": with_check_digits(TLE.replace(" 51.6416", "999.6416"))}, "study.tle"),  # flown at 999 deg before
         ({"window": {"start": "2008-12-21T00:00:00Z", "hours": 3}}, "study.window.start"),
         ({"deorbit": {"delta_v_fps": 20}}, "study.deorbit"),
         ({"burn_step_s": 1, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24}}, "study.burn_step_s"),
