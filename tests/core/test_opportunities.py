@@ -8,16 +8,21 @@ the reported margin. Small windows: three hours, four sites."""
 import copy
 import json
 import math
-from datetime import datetime, timedelta
+from datetime import datetime, timedelta, timezone
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pydantic import ValidationError
 from scipy.integrate import solve_ivp
 
 from footprint import contracts, parallel
 from footprint.contracts.footprint import fly as fly_footprint
+from footprint.contracts.messages import error_line
 from footprint.core import constants as c
 from footprint.core.elements import gmst_deg
+from footprint.core.errors import InputError
 from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference
 from tests.core.test_guidance import distance_nmi
@@ -229,3 +234,32 @@ def test_the_drawn_footprint_lies_about_the_opportunitys_entry(answer):
         )
         assert gaps[0][1] <= 1.0, (o["site_name"], gaps[:4])  # the vertex nearest the site is one flown again
         assert all(gap <= 250.0 for _, gap in gaps)  # the rest: the scan's
+
+
+OFFSETS = st.integers(-1439, 1439).map(lambda m: timezone(timedelta(minutes=m)))  # as ISO 8601 writes them
+ANY_TIME = st.datetimes(timezones=OFFSETS)  # year 1 to 9999, any offset a time zone can have
+NEAR_TIME = st.datetimes(datetime(2008, 9, 10), datetime(2008, 10, 10), timezones=OFFSETS)  # about the TLE's epoch
+EDGE_TIME = st.datetimes(datetime(9999, 12, 30), timezones=OFFSETS) | st.datetimes(
+    max_value=datetime(1, 1, 2), timezones=OFFSETS
+)  # where a time zone's offset or an hour more leaves datetime's years
+TIMES = ANY_TIME | NEAR_TIME | EDGE_TIME
+
+
+@settings(max_examples=100, deadline=None)
+@given(start=TIMES, end=st.none() | TIMES, epoch=st.none() | TIMES)
+def test_any_aware_time_is_a_study_or_one_line_naming_its_field(start, end, epoch):
+    """Issue 49 item 2: a window's start or end, or a state's epoch, at any aware time is read or refused in one line
+    naming the field; never another exception (an OverflowError near year 9999 or 1 before)."""
+    window = {"start": start.isoformat()} | ({"end": end.isoformat()} if end else {"hours": 1})
+    study = small_study(window=window)
+    if epoch is not None:
+        study = {k: v for k, v in study.items() if k != "tle"} | {"state": STATE | {"epoch": epoch.isoformat()}}
+    try:
+        contracts.parse("opportunities", study)
+    except (ValidationError, InputError) as exc:
+        line = error_line(exc)
+        assert "\n" not in line and line.split(":")[0] in FIELDS, line
+
+
+STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "velocity_km_s": [0.0, 4.766, 6.01]}
+FIELDS = ("window", "window.start", "window.end", "window.hours", "state", "state.epoch", "deorbit", "tle")

@@ -19,7 +19,7 @@ from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
+from pydantic import AfterValidator, AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict
@@ -30,7 +30,14 @@ from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
 from footprint.core import sun
-from footprint.core.elements import MAX_EPOCH_AGE_DAYS, Orbit, check_window, parse_tle
+from footprint.core.elements import (
+    MAX_EPOCH_AGE_DAYS,
+    STATE_EPOCH_UTC,
+    WINDOW_UTC,
+    Orbit,
+    check_window,
+    parse_tle,
+)
 from footprint.core.errors import InputError
 from footprint.core.trajectory import FlightSpec
 
@@ -42,15 +49,23 @@ DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at 
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
 
+WindowTime = Annotated[AwareDatetime, AfterValidator(WINDOW_UTC.check)]
+
+
 class UtcWindow(Strict):
-    start: AwareDatetime
-    end: AwareDatetime | None = None
+    start: WindowTime
+    end: WindowTime | None = None
     hours: Annotated[float, Range(0.1, 24 * 2 * MAX_EPOCH_AGE_DAYS, "h")] | None = None
 
     @model_validator(mode="after")
     def _span(self) -> UtcWindow:
         if (self.end is None) == (self.hours is None):
             raise ValueError("give exactly one of 'end' or 'hours'")
+        if self.hours is not None:  # the start is in range: its end a few weeks on is a datetime
+            try:
+                WINDOW_UTC.check(self.bounds[1])
+            except ValueError as exc:
+                raise ValueError(f"hours: {self.hours:g} h after the start, the end {exc}") from exc
         return self
 
     @property
@@ -86,7 +101,7 @@ class StateVector(Strict):
     """The vehicle's state at a UTC epoch: in TEME (true equator, mean equinox of date, as SGP4 gives it) or
     earth-fixed (the velocity relative to the earth); propagated by our integrator without drag."""
 
-    epoch: AwareDatetime
+    epoch: Annotated[AwareDatetime, AfterValidator(STATE_EPOCH_UTC.check)]
     frame: Literal["teme", "earth_fixed"] = "teme"
     position_km: list[Annotated[float, Range(-100_000, 100_000, "km")]] = Field(min_length=3, max_length=3)
     velocity_km_s: list[Annotated[float, Range(-20, 20, "km/s")]] = Field(min_length=3, max_length=3)

@@ -343,12 +343,49 @@ def subsatellite_points(
     return np.degrees(out[:, 0]), np.degrees(out[:, 1]), out[:, 2]
 
 
+@dataclass(frozen=True)
+class UtcRange:
+    """The UTC times from `first` to before `end` that an orbit can be read at, and why these."""
+
+    first: datetime
+    end: datetime
+    why: str
+
+    def check(self, t: datetime) -> datetime:
+        """t as given when within the range; else ValueError, one line naming the range (an aware time near year 1
+        or 9999 whose offset carries it past datetime's years has no UTC: outside too)."""
+        try:
+            inside = self.first <= t.astimezone(UTC) < self.end
+        except OverflowError:
+            inside = False
+        if not inside:
+            last = (self.end - timedelta(seconds=1)).isoformat()
+            raise ValueError(
+                f"{t.isoformat()} is outside the allowed range {self.first.isoformat()} to {last} ({self.why})"
+            )
+        return t
+
+
+# SGP4's epochs have two-digit years, 57-99 for 1957-1999 and 00-56 for 2000-2056 (AIAA 2006-6753's reader): a window
+# lies in those years. skyfield's UTC follows its leap-second table from 1972 (before, it takes TAI - 10 s, 10.8 s
+# from UT1 in 1957): a state vector's epoch, turned earth-fixed by it, lies in 1972-2056. Its UT1 - UTC is measured
+# from 1973 to its table's end (2027-01-23 in skyfield 1.55, IERS predictions in the last year), extrapolated after.
+WINDOW_UTC = UtcRange(
+    datetime(1957, 1, 1, tzinfo=UTC), datetime(2057, 1, 1, tzinfo=UTC), "SGP4's two-digit epoch years"
+)
+STATE_EPOCH_UTC = UtcRange(datetime(1972, 1, 1, tzinfo=UTC), WINDOW_UTC.end, "skyfield's UTC: leap seconds from 1972")
+
 MAX_EPOCH_AGE_DAYS = 14.0  # SGP4's mean elements go stale: a window farther than this from the epoch is refused
 
 
 def check_window(orbit: Orbit, start: datetime, end: datetime, field: str = "window") -> None:
-    """A UTC window the orbit can answer for: in order, within MAX_EPOCH_AGE_DAYS of the epoch at both ends, and
-    the orbit not decayed before its end (its propagation says so); else one line naming `field`."""
+    """A UTC window the orbit can answer for: within WINDOW_UTC, in order, within MAX_EPOCH_AGE_DAYS of the epoch at
+    both ends, and the orbit not decayed before its end (its propagation says so); else one line naming `field`."""
+    for name, t in (("start", start), ("end", end)):
+        try:
+            WINDOW_UTC.check(t)
+        except ValueError as exc:
+            raise InputError(f"{field}.{name}", str(exc)) from exc
     if end <= start:
         raise InputError(f"{field}.end", f"{end.isoformat()} is not after the start {start.isoformat()}")
     for name, t in (("start", start), ("end", end)):
