@@ -143,27 +143,53 @@ def test_the_ascending_nodes_are_where_the_track_crosses_the_equator_northward(a
         assert _utc(track["utc"][i]) <= _utc(node) <= _utc(track["utc"][i + 1])
 
 
-def test_a_state_vector_gives_the_opportunities_its_tle_gives():
-    """The TLE's own TEME state at the window's start (sgp4), given as a state vector and propagated by our integrator
-    (no drag, the report's gravity), finds the same opportunities: the same sites and revolutions, burns within a
-    minute, margins within 20 nmi (SGP4's theory, its drag and its constants against ours over two hours)."""
+def _by_tle_and_by_state(hours):
+    """The opportunities of a window from 2008-09-21 00:00 UTC by the TLE, and by the TLE's own TEME state at the
+    window's start (sgp4) given as a state vector."""
     from sgp4.api import Satrec, jday
 
     sat = Satrec.twoline2rv(*EXAMPLE["tle"].splitlines()[1:])
     _, r_km, v_kms = sat.sgp4(*jday(2008, 9, 21, 0, 0, 0))
-    window = {"start": "2008-09-21T00:00:00Z", "hours": 2}
+    window = {"start": "2008-09-21T00:00:00Z", "hours": hours}
     state = {"epoch": "2008-09-21T00:00:00Z", "frame": "teme", "position_km": list(r_km), "velocity_km_s": list(v_kms)}
     by_tle = parallel.run("opportunities", small_study(window=window))
     by_state = parallel.run(
         "opportunities", {k: v for k, v in small_study(window=window, state=state).items() if k != "tle"}
     )
-    assert by_state["elements"]["inclination_deg"] == pytest.approx(51.64, abs=0.05)
+    return by_tle, by_state
+
+
+def _assert_the_same_opportunities(by_tle, by_state):
+    """The same sites and revolutions, burns within a minute, margins within 20 nmi (SGP4's theory, its drag and its
+    constants against ours over two hours)."""
     key = lambda o: (o["site"], o["revolution"])  # noqa: E731
     a, b = {key(o): o for o in by_tle["opportunities"]}, {key(o): o for o in by_state["opportunities"]}
     assert a.keys() == b.keys() and a
     for k in a:
         assert abs((_utc(a[k]["burn_utc"]) - _utc(b[k]["burn_utc"])).total_seconds()) <= 60.0
         assert b[k]["margin_nmi"] == pytest.approx(a[k]["margin_nmi"], abs=20.0)
+
+
+def test_a_state_vector_gives_the_opportunities_its_tle_gives():
+    """The TLE's own TEME state at the window's start (sgp4), given as a state vector and propagated by our integrator
+    (no drag, the report's gravity), finds the same opportunities over two hours."""
+    by_tle, by_state = _by_tle_and_by_state(2)
+    assert by_state["elements"]["inclination_deg"] == pytest.approx(51.64, abs=0.05)
+    _assert_the_same_opportunities(by_tle, by_state)
+
+
+def test_a_state_vector_plans_a_window_shorter_than_an_orbit():
+    """Issue 49 item 4: a state vector and a half-hour window (the orbit takes 92 min) failed in the worker, "outside
+    the propagated span of the state" (accepted, 202, over HTTP). Now the opportunities of the TLE's in that window,
+    each burn inside it, and its ascending node where the TLE's is."""
+    by_tle, by_state = _by_tle_and_by_state(0.5)
+    _assert_the_same_opportunities(by_tle, by_state)
+    start, end = _utc("2008-09-21T00:00:00Z"), _utc("2008-09-21T00:30:00Z")
+    assert all(start <= _utc(o["burn_utc"]) <= end for o in by_state["opportunities"])
+    nodes = [_utc(t) for t in by_state["ascending_nodes_utc"]]
+    assert len(nodes) == len(by_tle["ascending_nodes_utc"])
+    for ours, theirs in zip(nodes, by_tle["ascending_nodes_utc"]):
+        assert abs((ours - _utc(theirs)).total_seconds()) <= 5.0  # 40 km along the orbit: SGP4's drag and ours
 
 
 def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():

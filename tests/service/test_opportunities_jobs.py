@@ -53,6 +53,12 @@ STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "ve
             },
             "study.state.epoch",
         ),  # fmt: skip
+        # named "study.state" before, its propagation failing: at the earth's centre, and 30 days on (after 1 s)
+        ({"tle": None, "state": STATE | {"position_km": [0.0, 0.0, 0.0]}}, "study.state.position_km"),
+        (
+            {"tle": None, "state": STATE, "window": {"start": "2008-09-21T00:00:00Z", "end": "2008-10-21T00:00:00Z"}},
+            "study.window.end",
+        ),
     ],
 )
 def test_bad_opportunities_are_422_naming_the_field(api, change, field):

@@ -36,6 +36,7 @@ from footprint.core.elements import (
     WINDOW_UTC,
     Orbit,
     check_window,
+    check_window_times,
     parse_tle,
 )
 from footprint.core.errors import InputError
@@ -43,7 +44,6 @@ from footprint.core.trajectory import FlightSpec
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
-STATE_PAST_WINDOW_S = 60.0  # a state vector is propagated this far past the window's end
 NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
@@ -129,8 +129,12 @@ class OpportunitiesStudy(Strict):
         if (self.tle is None) == (self.state is None):
             raise ValueError("give exactly one of 'tle' or 'state'")
         start, end = self.window.bounds
-        if self.state is not None and start < self.state.epoch:
-            raise InputError("window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}")
+        if self.state is not None:  # the window checked against the epoch before the state is propagated over it
+            if start < self.state.epoch:
+                raise InputError(
+                    "window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}"
+                )
+            check_window_times(self.state.epoch, start, end, epoch_of="the state's")
         check_window(self.orbit, start, end)
         first = op.Plan(self.orbit, start, np.zeros(1), np.zeros(0))  # the first burn comes down to the interface
         states = op.burn_states(first, first.times_s, self.coast.omega_rad_s)
@@ -160,14 +164,16 @@ class OpportunitiesStudy(Strict):
 
     @functools.cached_property
     def orbit(self) -> Orbit:
-        """The TLE's elements, or the state vector propagated over the window."""
+        """The TLE's elements, or the state vector propagated over what the plan reads (op.orbit_span_s)."""
         if self.tle is not None:
             return parse_tle(self.tle)
         assert self.state is not None  # _checks: exactly one of tle or state
-        st, (_, end) = self.state, self.window.bounds
+        st, (start, end) = self.state, self.window.bounds
         epoch = st.epoch.astimezone(UTC)
         r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, self.coast.omega_rad_s)
-        return dorb.PropagatedState(epoch, r, v, self.coast, (end - epoch).total_seconds() + STATE_PAST_WINDOW_S)
+        n_rev_day = dorb.state_orbit(self.coast, r, v).mean_motion_rev_day
+        span_s = op.orbit_span_s((end - start).total_seconds(), n_rev_day)
+        return dorb.PropagatedState(epoch, r, v, self.coast, (start - epoch).total_seconds() + span_s)
 
 
 REQUEST = OpportunitiesStudy

@@ -378,9 +378,11 @@ STATE_EPOCH_UTC = UtcRange(datetime(1972, 1, 1, tzinfo=UTC), WINDOW_UTC.end, "sk
 MAX_EPOCH_AGE_DAYS = 14.0  # SGP4's mean elements go stale: a window farther than this from the epoch is refused
 
 
-def check_window(orbit: Orbit, start: datetime, end: datetime, field: str = "window") -> None:
-    """A UTC window the orbit can answer for: within WINDOW_UTC, in order, within MAX_EPOCH_AGE_DAYS of the epoch at
-    both ends, and the orbit not decayed before its end (its propagation says so); else one line naming `field`."""
+def check_window_times(
+    epoch: datetime, start: datetime, end: datetime, field: str = "window", epoch_of: str = "the elements'"
+) -> None:
+    """A UTC window within WINDOW_UTC, in order, and within MAX_EPOCH_AGE_DAYS of the epoch (`epoch_of` the elements
+    or a state) at both ends; else one line naming `field`."""
     for name, t in (("start", start), ("end", end)):
         try:
             WINDOW_UTC.check(t)
@@ -389,13 +391,19 @@ def check_window(orbit: Orbit, start: datetime, end: datetime, field: str = "win
     if end <= start:
         raise InputError(f"{field}.end", f"{end.isoformat()} is not after the start {start.isoformat()}")
     for name, t in (("start", start), ("end", end)):
-        days = abs((t - orbit.epoch).total_seconds()) / 86400.0
+        days = abs((t - epoch).total_seconds()) / 86400.0
         if days > MAX_EPOCH_AGE_DAYS:
             raise InputError(
                 f"{field}.{name}",
-                f"{t.isoformat()} is {days:,.1f} days from the elements' epoch {orbit.epoch.isoformat()} "
-                f"(at most {MAX_EPOCH_AGE_DAYS:g}: take a newer element set)",
+                f"{t.isoformat()} is {days:,.1f} days from {epoch_of} epoch {epoch.isoformat()} "
+                f"(at most {MAX_EPOCH_AGE_DAYS:g}: take a newer one)",
             )
+
+
+def check_window(orbit: Orbit, start: datetime, end: datetime, field: str = "window") -> None:
+    """A UTC window the orbit can answer for: its times (check_window_times) and the orbit not decayed before its
+    end (its propagation says so); else one line naming `field`."""
+    check_window_times(orbit.epoch, start, end, field)
     hours = max(1, math.ceil((end - start).total_seconds() / 3600.0))
     try:
         orbit.teme_km([start + (end - start) * k / hours for k in range(hours + 1)])
