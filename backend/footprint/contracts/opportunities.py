@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import functools
 import io
+import unicodedata
 from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
@@ -314,52 +315,44 @@ def opportunities_csv(answer: dict[str, Any]) -> str:
     return out.getvalue()
 
 
-def _ics_time(utc: str) -> str:
-    return datetime.fromisoformat(utc.replace("Z", "+00:00")).strftime("%Y%m%dT%H%M%SZ")
+def _utc(text: str) -> datetime:
+    return datetime.fromisoformat(text.replace("Z", "+00:00"))
 
 
-def _ics_text(text: str) -> str:
-    """RFC 5545 3.3.11: backslash, semicolon and comma escaped, new lines as \\n."""
-    return text.replace("\\", "\\\\").replace(";", "\\;").replace(",", "\\,").replace("\n", "\\n")
-
-
-def _ics_fold(line: str) -> list[str]:
-    """RFC 5545 3.1: lines of at most 75 octets, each continuation starting with a space."""
-    parts, chunk = [], ""
-    for ch in line:
-        if len((chunk + ch).encode()) > 75:
-            parts.append(chunk)
-            chunk = " "
-        chunk += ch
-    return parts + [chunk]
+def _calendar_text(text: str) -> str:
+    """Text for an iCalendar TEXT value: RFC 5545 (3.3.11) allows no control character but HTAB there. icalendar
+    escapes CR and LF (as \\n) but passes NUL, ESC, VT, FF, NEL (U+0085) and U+2028/2029 through, and a reader may
+    break a line at any of these: each is a space here (a lone surrogate too, which UTF-8 cannot write)."""
+    return "".join(" " if ch != "\t" and unicodedata.category(ch) in ("Cc", "Cs", "Zl", "Zp") else ch for ch in text)
 
 
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
-    """An iCalendar (RFC 5545) of the opportunities that meet the rules: one event per opportunity from the burn to
-    the landing, its summary the site and revolution, its description the Δv, margin and sun."""
-    stamp = (made_utc or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
-    sat = answer["elements"]["satellite_number"] or "state"
-    lines = ["BEGIN:VCALENDAR", "VERSION:2.0", "PRODID:-//Footprint//landing opportunities//EN", "CALSCALE:GREGORIAN"]
+    """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
+    meet the rules: one event per opportunity from the burn to the landing, its summary the site and revolution, its
+    description the Δv, margin and sun."""
+    from icalendar import Calendar, Event
+
+    calendar = Calendar()
+    calendar.add("version", "2.0")
+    calendar.add("prodid", "-//Footprint//landing opportunities//EN")
+    calendar.add("calscale", "GREGORIAN")
+    stamp, sat = made_utc or datetime.now(UTC), answer["elements"]["satellite_number"] or "state"
     for o in answer["opportunities"]:
         if not o["meets_rules"]:
             continue
-        uid = f"{sat}-{o['site']}-{_ics_time(o['burn_utc'])}@footprint"
-        summary = f"Landing at {o['site_name']}, revolution {o['revolution']}"
         about = (
             f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
             f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
             f"margin {o['margin_nmi']:.0f} nmi; sun {o['sun_elevation_deg']:.1f} deg, local solar time "
             f"{o['local_solar_time_h']:.2f} h"
         )
-        lines += [
-            "BEGIN:VEVENT",
-            f"UID:{uid}",
-            f"DTSTAMP:{stamp}",
-            f"DTSTART:{_ics_time(o['burn_utc'])}",
-            f"DTEND:{_ics_time(o['landing_utc'])}",
-            f"SUMMARY:{_ics_text(summary)}",
-            f"DESCRIPTION:{_ics_text(about)}",
-            "END:VEVENT",
-        ]
-    lines.append("END:VCALENDAR")
-    return "".join(part + "\r\n" for line in lines for part in _ics_fold(line))
+        event = Event()
+        event.add("uid", f"{sat}-{o['site']}-{_utc(o['burn_utc']).strftime('%Y%m%dT%H%M%SZ')}@footprint")
+        event.add("dtstamp", stamp)
+        event.add("dtstart", _utc(o["burn_utc"]))
+        event.add("dtend", _utc(o["landing_utc"]))
+        event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution']}"))
+        event.add("description", _calendar_text(about))
+        calendar.add_component(event)
+    ics: bytes = calendar.to_ical()
+    return ics.decode()
