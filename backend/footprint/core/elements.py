@@ -151,7 +151,9 @@ TLE_FIELDS = (
     TleField(2, 64, 68, "revolution number at epoch", r" *\d*", f"'NNNNN' ({_NUMBER})"),
 )
 BLANK_COLUMNS = {1: (9, 18, 33, 44, 53, 62, 64), 2: (8, 17, 26, 34, 43, 52)}  # the columns between fields
-EPOCH_DAY, ECCENTRICITY, MEAN_MOTION = TLE_FIELDS[4], TLE_FIELDS[13], TLE_FIELDS[16]
+_BY_NAME = {(f.line, f.name): f for f in TLE_FIELDS}
+EPOCH_DAY, ECCENTRICITY = _BY_NAME[1, "epoch day"], _BY_NAME[2, "eccentricity"]
+MEAN_MOTION = _BY_NAME[2, "mean motion"]
 
 
 def perigee_radius_km(mean_motion_rev_day: float, eccentricity: float) -> float:
@@ -163,8 +165,9 @@ def perigee_radius_km(mean_motion_rev_day: float, eccentricity: float) -> float:
 
 
 def mean_motion_range_rev_day(eccentricity: float) -> tuple[float, float]:
-    """The mean motions (rev/day) of an earth orbit at this eccentricity: its perigee within the Moon's distance
-    (slower, and the Moon takes it) and above the earth's surface (faster, and it is no orbit); WGS-72's radius."""
+    """The mean motions (rev/day) of an earth orbit at this eccentricity, n = sqrt(mu (1 - e)^3 / r_p^3) from r_p =
+    a (1 - e) and Kepler's third law: its perigee above the earth's surface (WGS-72's radius; faster, the orbit
+    meets the ground) and within the Moon's distance (slower, the Moon's pull rivals the earth's: no earth orbit)."""
 
     def at_perigee(radius_km: float) -> float:
         a_km = radius_km / (1.0 - eccentricity)
