@@ -6,6 +6,7 @@ import json
 
 import pytest
 
+from tests.core.test_elements import with_check_digits
 from tests.core.test_opportunities import small_study
 from tests.test_cli import run
 
@@ -48,6 +49,7 @@ def test_the_files_of_a_small_window(tmp_path):
         )
 
 
+YEARS = "is outside the allowed range 1957-01-01T00:00:00+00:00 to 2056-12-31T23:59:59+00:00"
 STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "velocity_km_s": [0.0, 4.766, 6.01]}
 BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
 
@@ -56,6 +58,10 @@ BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
     ("change", "words"),
     [
         ({"tle": BAD_TLE}, "tle: line 2: its check digit is"),
+        (
+            {"tle": with_check_digits(TLE.replace("15.72125391", "15.7X125391"))},  # sgp4 read 15.7 rev/day
+            "tle: line 2 columns 53-63 (mean motion): '15.7X125391' is not 'NN.NNNNNNNN'",
+        ),
         ({"window": {"start": "2008-10-21T00:00:00Z", "hours": 3}}, "window.start: 2008-10-21T00:00:00+00:00 is 30.5"),
         ({"window": {"start": "2008-09-21T00:00:00Z"}}, "give exactly one of 'end' or 'hours'"),
         ({"deorbit": {"delta_v_fps": 20}}, "deorbit: the coast does not reach the interface"),
@@ -66,6 +72,24 @@ BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
             {"tle": None, "state": STATE | {"epoch": "2008-09-21T01:00:00Z"}},
             "window.start: 2008-09-21T00:00:00Z is before",
         ),
+        # issue 49 item 2: an OverflowError's traceback before (the window's end past year 9999)
+        (
+            {"window": {"start": "9999-12-31T00:00:00Z", "hours": 24}},
+            f"window.start: 9999-12-31T00:00:00+00:00 {YEARS}",
+        ),
+        (
+            {"window": {"start": "0001-01-01T00:00:00+01:00", "hours": 1}},
+            f"window.start: 0001-01-01T00:00:00+01:00 {YEARS}",
+        ),
+        (
+            {
+                "tle": None,
+                "state": STATE | {"epoch": "9999-12-31T00:00:00Z"},
+                "window": {"start": "9999-12-31T01:00:00Z", "end": "9999-12-31T23:59:59Z"},
+            },
+            "state.epoch: 9999-12-31T00:00:00+00:00 is outside the allowed range 1972-01-01T00:00:00+00:00 to "
+            "2056-12-31T23:59:59+00:00",
+        ),  # fmt: skip
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path, change, words):

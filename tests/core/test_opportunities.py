@@ -8,16 +8,21 @@ the reported margin. Small windows: three hours, four sites."""
 import copy
 import json
 import math
-from datetime import datetime, timedelta
+from datetime import datetime, timedelta, timezone
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pydantic import ValidationError
 from scipy.integrate import solve_ivp
 
 from footprint import contracts, parallel
 from footprint.contracts.footprint import fly as fly_footprint
+from footprint.contracts.messages import error_line
 from footprint.core import constants as c
 from footprint.core.elements import gmst_deg
+from footprint.core.errors import InputError
 from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference
 from tests.core.test_guidance import distance_nmi
@@ -138,27 +143,53 @@ def test_the_ascending_nodes_are_where_the_track_crosses_the_equator_northward(a
         assert _utc(track["utc"][i]) <= _utc(node) <= _utc(track["utc"][i + 1])
 
 
-def test_a_state_vector_gives_the_opportunities_its_tle_gives():
-    """The TLE's own TEME state at the window's start (sgp4), given as a state vector and propagated by our integrator
-    (no drag, the report's gravity), finds the same opportunities: the same sites and revolutions, burns within a
-    minute, margins within 20 nmi (SGP4's theory, its drag and its constants against ours over two hours)."""
+def _by_tle_and_by_state(hours):
+    """The opportunities of a window from 2008-09-21 00:00 UTC by the TLE, and by the TLE's own TEME state at the
+    window's start (sgp4) given as a state vector."""
     from sgp4.api import Satrec, jday
 
     sat = Satrec.twoline2rv(*EXAMPLE["tle"].splitlines()[1:])
     _, r_km, v_kms = sat.sgp4(*jday(2008, 9, 21, 0, 0, 0))
-    window = {"start": "2008-09-21T00:00:00Z", "hours": 2}
+    window = {"start": "2008-09-21T00:00:00Z", "hours": hours}
     state = {"epoch": "2008-09-21T00:00:00Z", "frame": "teme", "position_km": list(r_km), "velocity_km_s": list(v_kms)}
     by_tle = parallel.run("opportunities", small_study(window=window))
     by_state = parallel.run(
         "opportunities", {k: v for k, v in small_study(window=window, state=state).items() if k != "tle"}
     )
-    assert by_state["elements"]["inclination_deg"] == pytest.approx(51.64, abs=0.05)
+    return by_tle, by_state
+
+
+def _assert_the_same_opportunities(by_tle, by_state):
+    """The same sites and revolutions, burns within a minute, margins within 20 nmi (SGP4's theory, its drag and its
+    constants against ours over two hours)."""
     key = lambda o: (o["site"], o["revolution"])  # noqa: E731
     a, b = {key(o): o for o in by_tle["opportunities"]}, {key(o): o for o in by_state["opportunities"]}
     assert a.keys() == b.keys() and a
     for k in a:
         assert abs((_utc(a[k]["burn_utc"]) - _utc(b[k]["burn_utc"])).total_seconds()) <= 60.0
         assert b[k]["margin_nmi"] == pytest.approx(a[k]["margin_nmi"], abs=20.0)
+
+
+def test_a_state_vector_gives_the_opportunities_its_tle_gives():
+    """The TLE's own TEME state at the window's start (sgp4), given as a state vector and propagated by our integrator
+    (no drag, the report's gravity), finds the same opportunities over two hours."""
+    by_tle, by_state = _by_tle_and_by_state(2)
+    assert by_state["elements"]["inclination_deg"] == pytest.approx(51.64, abs=0.05)
+    _assert_the_same_opportunities(by_tle, by_state)
+
+
+def test_a_state_vector_plans_a_window_shorter_than_an_orbit():
+    """Issue 49 item 4: a state vector and a half-hour window (the orbit takes 92 min) failed in the worker, "outside
+    the propagated span of the state" (accepted, 202, over HTTP). Now the opportunities of the TLE's in that window,
+    each burn inside it, and its ascending node where the TLE's is."""
+    by_tle, by_state = _by_tle_and_by_state(0.5)
+    _assert_the_same_opportunities(by_tle, by_state)
+    start, end = _utc("2008-09-21T00:00:00Z"), _utc("2008-09-21T00:30:00Z")
+    assert all(start <= _utc(o["burn_utc"]) <= end for o in by_state["opportunities"])
+    nodes = [_utc(t) for t in by_state["ascending_nodes_utc"]]
+    assert len(nodes) == len(by_tle["ascending_nodes_utc"])
+    for ours, theirs in zip(nodes, by_tle["ascending_nodes_utc"]):
+        assert abs((ours - _utc(theirs)).total_seconds()) <= 5.0  # 40 km along the orbit: SGP4's drag and ours
 
 
 def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():
@@ -229,3 +260,32 @@ def test_the_drawn_footprint_lies_about_the_opportunitys_entry(answer):
         )
         assert gaps[0][1] <= 1.0, (o["site_name"], gaps[:4])  # the vertex nearest the site is one flown again
         assert all(gap <= 250.0 for _, gap in gaps)  # the rest: the scan's
+
+
+OFFSETS = st.integers(-1439, 1439).map(lambda m: timezone(timedelta(minutes=m)))  # as ISO 8601 writes them
+ANY_TIME = st.datetimes(timezones=OFFSETS)  # year 1 to 9999, any offset a time zone can have
+NEAR_TIME = st.datetimes(datetime(2008, 9, 10), datetime(2008, 10, 10), timezones=OFFSETS)  # about the TLE's epoch
+EDGE_TIME = st.datetimes(datetime(9999, 12, 30), timezones=OFFSETS) | st.datetimes(
+    max_value=datetime(1, 1, 2), timezones=OFFSETS
+)  # where a time zone's offset or an hour more leaves datetime's years
+TIMES = ANY_TIME | NEAR_TIME | EDGE_TIME
+
+
+@settings(max_examples=100, deadline=None)
+@given(start=TIMES, end=st.none() | TIMES, epoch=st.none() | TIMES)
+def test_any_aware_time_is_a_study_or_one_line_naming_its_field(start, end, epoch):
+    """Issue 49 item 2: a window's start or end, or a state's epoch, at any aware time is read or refused in one line
+    naming the field; never another exception (an OverflowError near year 9999 or 1 before)."""
+    window = {"start": start.isoformat()} | ({"end": end.isoformat()} if end else {"hours": 1})
+    study = small_study(window=window)
+    if epoch is not None:
+        study = {k: v for k, v in study.items() if k != "tle"} | {"state": STATE | {"epoch": epoch.isoformat()}}
+    try:
+        contracts.parse("opportunities", study)
+    except (ValidationError, InputError) as exc:
+        line = error_line(exc)
+        assert "\n" not in line and line.split(":")[0] in FIELDS, line
+
+
+STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "velocity_km_s": [0.0, 4.766, 6.01]}
+FIELDS = ("window", "window.start", "window.end", "window.hours", "state", "state.epoch", "deorbit", "tle")

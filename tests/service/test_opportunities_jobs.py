@@ -5,6 +5,7 @@ import copy
 
 import pytest
 
+from tests.core.test_elements import with_check_digits
 from tests.core.test_opportunities import small_study
 from tests.service.conftest import wait_for_job
 
@@ -20,15 +21,44 @@ def test_an_opportunities_job_runs_revolution_by_revolution(api):
 
 
 TLE = small_study()["tle"]
+STATE = {"epoch": "2008-09-21T00:00:00Z", "position_km": [6778.0, 0.0, 0.0], "velocity_km_s": [0.0, 4.766, 6.01]}
 
 
 @pytest.mark.parametrize(
     ("change", "field"),
     [
         ({"tle": TLE[:-1] + str((int(TLE[-1]) + 1) % 10)}, "study.tle"),
+        ({"tle": with_check_digits(TLE.replace(" 51.6416", "999.6416"))}, "study.tle"),  # flown at 999 deg before
         ({"window": {"start": "2008-12-21T00:00:00Z", "hours": 3}}, "study.window.start"),
         ({"deorbit": {"delta_v_fps": 20}}, "study.deorbit"),
         ({"burn_step_s": 1, "window": {"start": "2008-09-21T00:00:00Z", "hours": 24}}, "study.burn_step_s"),
+        # issue 49 item 2: 500 (an OverflowError) or 202 and a failed job before
+        ({"window": {"start": "9999-12-31T00:00:00Z", "hours": 24}}, "study.window.start"),
+        ({"window": {"start": "2008-09-21T00:00:00Z", "end": "9999-12-31T23:59:59-23:59"}}, "study.window.end"),
+        ({"window": {"start": "0001-01-01T00:00:00+01:00", "hours": 1}}, "study.window.start"),
+        ({"window": {"start": "2056-12-31T12:00:00Z", "hours": 24}}, "study.window.hours"),
+        (
+            {
+                "tle": None,
+                "state": STATE | {"epoch": "9999-12-31T00:00:00Z"},
+                "window": {"start": "9999-12-31T01:00:00Z", "hours": 22},
+            },
+            "study.state.epoch",
+        ),  # fmt: skip
+        (
+            {
+                "tle": None,
+                "state": STATE | {"epoch": "1971-12-31T00:00:00Z"},
+                "window": {"start": "1971-12-31T01:00:00Z", "hours": 2},
+            },
+            "study.state.epoch",
+        ),  # fmt: skip
+        # named "study.state" before, its propagation failing: at the earth's centre, and 30 days on (after 1 s)
+        ({"tle": None, "state": STATE | {"position_km": [0.0, 0.0, 0.0]}}, "study.state.position_km"),
+        (
+            {"tle": None, "state": STATE, "window": {"start": "2008-09-21T00:00:00Z", "end": "2008-10-21T00:00:00Z"}},
+            "study.window.end",
+        ),
     ],
 )
 def test_bad_opportunities_are_422_naming_the_field(api, change, field):

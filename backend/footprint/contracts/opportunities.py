@@ -15,11 +15,12 @@ from __future__ import annotations
 import csv
 import functools
 import io
+import unicodedata
 from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
+from pydantic import AfterValidator, AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict
@@ -30,27 +31,42 @@ from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
 from footprint.core import sun
-from footprint.core.elements import MAX_EPOCH_AGE_DAYS, Orbit, check_window, parse_tle
+from footprint.core.elements import (
+    MAX_EPOCH_AGE_DAYS,
+    STATE_EPOCH_UTC,
+    WINDOW_UTC,
+    Orbit,
+    check_window,
+    check_window_times,
+    parse_tle,
+)
 from footprint.core.errors import InputError
 from footprint.core.trajectory import FlightSpec
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
-STATE_PAST_WINDOW_S = 60.0  # a state vector is propagated this far past the window's end
 NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
 
+WindowTime = Annotated[AwareDatetime, AfterValidator(WINDOW_UTC.check)]
+
+
 class UtcWindow(Strict):
-    start: AwareDatetime
-    end: AwareDatetime | None = None
+    start: WindowTime
+    end: WindowTime | None = None
     hours: Annotated[float, Range(0.1, 24 * 2 * MAX_EPOCH_AGE_DAYS, "h")] | None = None
 
     @model_validator(mode="after")
     def _span(self) -> UtcWindow:
         if (self.end is None) == (self.hours is None):
             raise ValueError("give exactly one of 'end' or 'hours'")
+        if self.hours is not None:  # the start is in range: its end a few weeks on is a datetime
+            try:
+                WINDOW_UTC.check(self.bounds[1])
+            except ValueError as exc:
+                raise ValueError(f"hours: {self.hours:g} h after the start, the end {exc}") from exc
         return self
 
     @property
@@ -86,7 +102,7 @@ class StateVector(Strict):
     """The vehicle's state at a UTC epoch: in TEME (true equator, mean equinox of date, as SGP4 gives it) or
     earth-fixed (the velocity relative to the earth); propagated by our integrator without drag."""
 
-    epoch: AwareDatetime
+    epoch: Annotated[AwareDatetime, AfterValidator(STATE_EPOCH_UTC.check)]
     frame: Literal["teme", "earth_fixed"] = "teme"
     position_km: list[Annotated[float, Range(-100_000, 100_000, "km")]] = Field(min_length=3, max_length=3)
     velocity_km_s: list[Annotated[float, Range(-20, 20, "km/s")]] = Field(min_length=3, max_length=3)
@@ -114,8 +130,12 @@ class OpportunitiesStudy(Strict):
         if (self.tle is None) == (self.state is None):
             raise ValueError("give exactly one of 'tle' or 'state'")
         start, end = self.window.bounds
-        if self.state is not None and start < self.state.epoch:
-            raise InputError("window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}")
+        if self.state is not None:  # the window checked against the epoch before the state is propagated over it
+            if start < self.state.epoch:
+                raise InputError(
+                    "window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}"
+                )
+            check_window_times(self.state.epoch, start, end, epoch_of="the state's")
         check_window(self.orbit, start, end)
         first = op.Plan(self.orbit, start, np.zeros(1), np.zeros(0))  # the first burn comes down to the interface
         states = op.burn_states(first, first.times_s, self.coast.omega_rad_s)
@@ -145,14 +165,16 @@ class OpportunitiesStudy(Strict):
 
     @functools.cached_property
     def orbit(self) -> Orbit:
-        """The TLE's elements, or the state vector propagated over the window."""
+        """The TLE's elements, or the state vector propagated over what the plan reads (op.orbit_span_s)."""
         if self.tle is not None:
             return parse_tle(self.tle)
         assert self.state is not None  # _checks: exactly one of tle or state
-        st, (_, end) = self.state, self.window.bounds
+        st, (start, end) = self.state, self.window.bounds
         epoch = st.epoch.astimezone(UTC)
         r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, self.coast.omega_rad_s)
-        return dorb.PropagatedState(epoch, r, v, self.coast, (end - epoch).total_seconds() + STATE_PAST_WINDOW_S)
+        n_rev_day = dorb.state_orbit(self.coast, r, v).mean_motion_rev_day
+        span_s = op.orbit_span_s((end - start).total_seconds(), n_rev_day)
+        return dorb.PropagatedState(epoch, r, v, self.coast, (start - epoch).total_seconds() + span_s)
 
 
 REQUEST = OpportunitiesStudy
@@ -293,52 +315,44 @@ def opportunities_csv(answer: dict[str, Any]) -> str:
     return out.getvalue()
 
 
-def _ics_time(utc: str) -> str:
-    return datetime.fromisoformat(utc.replace("Z", "+00:00")).strftime("%Y%m%dT%H%M%SZ")
+def _utc(text: str) -> datetime:
+    return datetime.fromisoformat(text.replace("Z", "+00:00"))
 
 
-def _ics_text(text: str) -> str:
-    """RFC 5545 3.3.11: backslash, semicolon and comma escaped, new lines as \\n."""
-    return text.replace("\\", "\\\\").replace(";", "\\;").replace(",", "\\,").replace("\n", "\\n")
-
-
-def _ics_fold(line: str) -> list[str]:
-    """RFC 5545 3.1: lines of at most 75 octets, each continuation starting with a space."""
-    parts, chunk = [], ""
-    for ch in line:
-        if len((chunk + ch).encode()) > 75:
-            parts.append(chunk)
-            chunk = " "
-        chunk += ch
-    return parts + [chunk]
+def _calendar_text(text: str) -> str:
+    """Text for an iCalendar TEXT value: RFC 5545 (3.3.11) allows no control character but HTAB there. icalendar
+    escapes CR and LF (as \\n) but passes NUL, ESC, VT, FF, NEL (U+0085) and U+2028/2029 through, and a reader may
+    break a line at any of these: each is a space here (a lone surrogate too, which UTF-8 cannot write)."""
+    return "".join(" " if ch != "\t" and unicodedata.category(ch) in ("Cc", "Cs", "Zl", "Zp") else ch for ch in text)
 
 
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
-    """An iCalendar (RFC 5545) of the opportunities that meet the rules: one event per opportunity from the burn to
-    the landing, its summary the site and revolution, its description the Δv, margin and sun."""
-    stamp = (made_utc or datetime.now(UTC)).strftime("%Y%m%dT%H%M%SZ")
-    sat = answer["elements"]["satellite_number"] or "state"
-    lines = ["BEGIN:VCALENDAR", "VERSION:2.0", "PRODID:-//Footprint//landing opportunities//EN", "CALSCALE:GREGORIAN"]
+    """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
+    meet the rules: one event per opportunity from the burn to the landing, its summary the site and revolution, its
+    description the Δv, margin and sun."""
+    from icalendar import Calendar, Event
+
+    calendar = Calendar()
+    calendar.add("version", "2.0")
+    calendar.add("prodid", "-//Footprint//landing opportunities//EN")
+    calendar.add("calscale", "GREGORIAN")
+    stamp, sat = made_utc or datetime.now(UTC), answer["elements"]["satellite_number"] or "state"
     for o in answer["opportunities"]:
         if not o["meets_rules"]:
             continue
-        uid = f"{sat}-{o['site']}-{_ics_time(o['burn_utc'])}@footprint"
-        summary = f"Landing at {o['site_name']}, revolution {o['revolution']}"
         about = (
             f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
             f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
             f"margin {o['margin_nmi']:.0f} nmi; sun {o['sun_elevation_deg']:.1f} deg, local solar time "
             f"{o['local_solar_time_h']:.2f} h"
         )
-        lines += [
-            "BEGIN:VEVENT",
-            f"UID:{uid}",
-            f"DTSTAMP:{stamp}",
-            f"DTSTART:{_ics_time(o['burn_utc'])}",
-            f"DTEND:{_ics_time(o['landing_utc'])}",
-            f"SUMMARY:{_ics_text(summary)}",
-            f"DESCRIPTION:{_ics_text(about)}",
-            "END:VEVENT",
-        ]
-    lines.append("END:VCALENDAR")
-    return "".join(part + "\r\n" for line in lines for part in _ics_fold(line))
+        event = Event()
+        event.add("uid", f"{sat}-{o['site']}-{_utc(o['burn_utc']).strftime('%Y%m%dT%H%M%SZ')}@footprint")
+        event.add("dtstamp", stamp)
+        event.add("dtstart", _utc(o["burn_utc"]))
+        event.add("dtend", _utc(o["landing_utc"]))
+        event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution']}"))
+        event.add("description", _calendar_text(about))
+        calendar.add_component(event)
+    ics: bytes = calendar.to_ical()
+    return ics.decode()

@@ -19,6 +19,12 @@ RADIUS_POLAR_AS_PRINTED_FT = 20_885_965.0
 OMEGA_EARTH_DEG_S = 0.004178  # Section IV.3, omega_p
 OMEGA_EARTH_RAD_S = math.radians(OMEGA_EARTH_DEG_S)
 
+# --- SGP4's earth: WGS-72, the constants SGP4's mean elements are fitted with (AIAA 2006-6753 sec. IV-A; `sgp4`'s
+# earth_gravity.wgs72) -------------------------------------------------------------------------------------------
+MU_WGS72_KM3_S2 = 398_600.8
+RADIUS_WGS72_KM = 6_378.135
+MOON_DISTANCE_KM = 384_400.0  # the Moon's mean distance, its orbit's semi-major axis (NASA's Moon fact sheet)
+
 # --- Sea level and unit conversions --------------------------------------------------------------
 G0_FT_S2 = 32.174048556430446  # 9.80665 m/s^2 standard gravity (defines the geopotential foot)
 FT_PER_M = 1.0 / 0.3048  # international foot

@@ -163,6 +163,38 @@ def coast_track(
 
 
 PROPAGATION_MAX_STEP_S = 10.0  # the states between steps are cubic (Hermite): 0.03 ft/s at this step in low orbit
+DATETIME_RESOLUTION_S = 1e-6  # a UTC time is a datetime, to the microsecond: a time at the horizon may round past it
+
+
+@dataclass(frozen=True)
+class TwoBody:
+    """The two-body orbit of a state about a point-mass earth (its inertial velocity): h = r x v, the energy
+    v^2/2 - mu/r, e = sqrt(1 + 2 E h^2 / mu^2), a = -mu / (2 E) (Vallado, Fundamentals, sec. 2.2)."""
+
+    inclination_deg: float
+    eccentricity: float
+    semi_major_axis_ft: float  # infinite for an orbit that is not bound
+    mu_ft3_s2: float
+
+    @property
+    def mean_motion_rev_day(self) -> float:
+        """Kepler's third law n^2 a^3 = mu (0 when not bound)."""
+        return math.sqrt(self.mu_ft3_s2 / self.semi_major_axis_ft**3) * 86_400.0 / (2.0 * math.pi)
+
+    @property
+    def perigee_radius_ft(self) -> float:
+        return self.semi_major_axis_ft * (1.0 - self.eccentricity)
+
+
+def two_body(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> TwoBody:
+    """The two-body orbit of an earth-fixed state (ft, earth-relative ft/s) on the coast's planet."""
+    v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
+    mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
+    h = np.cross(r_ft, v_in)
+    energy = 0.5 * float(v_in @ v_in) - mu / r
+    e = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
+    inclination = math.degrees(math.acos(max(-1.0, min(1.0, h[2] / max(float(np.linalg.norm(h)), 1e-300)))))
+    return TwoBody(inclination, e, -mu / (2.0 * energy) if energy < 0.0 else math.inf, mu)
 
 
 class PropagatedState:
@@ -183,20 +215,15 @@ class PropagatedState:
         if code != STOP_TIME:
             raise InputError("state", f"the orbit does not last {horizon_s / 3600:.1f} h ({STOP_REASONS[int(code)]})")
         self.rows = rows
-        v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
-        mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
-        h = np.cross(r_ft, v_in)
-        energy = 0.5 * float(v_in @ v_in) - mu / r
-        a = -mu / (2.0 * energy)
-        self.inclination_deg = math.degrees(math.acos(h[2] / np.linalg.norm(h)))
-        self.eccentricity = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
-        self.mean_motion_rev_day = math.sqrt(mu / a**3) * 86_400.0 / (2.0 * math.pi)
+        orbit = two_body(coast, r_ft, v_rel_fps)
+        self.inclination_deg, self.eccentricity = orbit.inclination_deg, orbit.eccentricity
+        self.mean_motion_rev_day = orbit.mean_motion_rev_day
 
     def earth_fixed(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each."""
         t = np.array([(u - self.epoch).total_seconds() for u in utc])
         rows = self.rows
-        if t.min() < 0.0 or t.max() > rows[-1, R_T]:
+        if t.min() < 0.0 or t.max() > rows[-1, R_T] + DATETIME_RESOLUTION_S:
             raise InputError("window", f"outside the propagated span of the state (epoch {self.epoch.isoformat()} "
                                        f"to {rows[-1, R_T] / 3600:.1f} h after)")  # fmt: skip
         i = np.clip(np.searchsorted(rows[:, R_T], t, side="right") - 1, 0, len(rows) - 2)
@@ -231,15 +258,22 @@ def state_earth_fixed(
     return r_ft[0], v_fps[0]
 
 
+def state_orbit(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> TwoBody:
+    """A state vector's two-body orbit, the state above the planet's polar radius and bound to it; else InputError
+    naming its position or velocity."""
+    radius_ft, polar_ft = float(np.linalg.norm(r_ft)), float(coast.p[P_RP])
+    if radius_ft <= polar_ft:
+        inside = f"{radius_ft / FT_PER_KM:,.0f} km from the earth's centre is inside the earth"
+        raise InputError("state.position_km", f"{inside} (its polar radius is {polar_ft / FT_PER_KM:,.0f} km)")
+    orbit = two_body(coast, r_ft, v_rel_fps)
+    if not math.isfinite(orbit.semi_major_axis_ft):
+        raise InputError("state.velocity_km_s", "the state is not bound to the earth (at or past escape speed)")
+    return orbit
+
+
 def perigee_altitude_ft(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64]) -> float:
     """The two-body perigee of an earth-fixed state, above the equatorial radius (ft): r_p = a (1 - e)."""
-    v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
-    mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
-    h = np.cross(r_ft, v_in)
-    energy = 0.5 * float(v_in @ v_in) - mu / r
-    e = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
-    a = -mu / (2.0 * energy) if energy < 0.0 else math.inf
-    return a * (1.0 - e) - float(coast.p[P_RE])
+    return two_body(coast, r_ft, v_rel_fps).perigee_radius_ft - float(coast.p[P_RE])
 
 
 def two_body_entry_gamma_deg(mu_ft3_s2: float, r_burn_ft: float, v_burn_fps: float, r_entry_ft: float) -> float:

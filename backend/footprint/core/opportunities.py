@@ -262,12 +262,22 @@ class RingTable:
         return dv
 
 
+def period_s(mean_motion_rev_day: float) -> float:
+    return 86_400.0 / mean_motion_rev_day
+
+
+def orbit_span_s(window_s: float, mean_motion_rev_day: float) -> float:
+    """How long after the window's start a plan reads the orbit (s): over the window (the burn grid, the nodes, the
+    ground track) and over one whole revolution from its start (ring_table's burns), however short the window."""
+    return max(window_s, period_s(mean_motion_rev_day))
+
+
 def ring_table(coast: dorb.Coast, p: Plan, deorbit: Deorbit, flier: Flier, step_deg: float) -> RingTable:
-    """The footprints of burns at u = 0, step, 2 step... (deg), each from the burn of the window's first orbit
-    nearest it (within 1 deg), with the Δv given or the one its target entry angle needs there."""
-    period_s = 86_400.0 / p.orbit.mean_motion_rev_day
+    """The footprints of burns at u = 0, step, 2 step... (deg), each from the burn of the first revolution from the
+    window's start nearest it (within 1 deg), with the Δv given or the one its target entry angle needs there."""
+    period = period_s(p.orbit.mean_motion_rev_day)
     u_grid = np.arange(0.0, 360.0 - 1e-9, step_deg)
-    seconds = np.arange(0.0, period_s, period_s / 360.0)
+    seconds = np.arange(0.0, period, period / 360.0)  # within orbit_span_s
     u = argument_of_latitude_deg(p, seconds)
     nearest = [int(np.argmin(np.abs((u - uk + 180.0) % 360.0 - 180.0))) for uk in u_grid]
     dvs, rows = entries(coast, *burn_states(p, seconds[nearest], coast.omega_rad_s), deorbit)
@@ -417,7 +427,7 @@ def revolution_opportunities(
     within a quarter of an orbit of the other's takes it (each part scans that far into its neighbours, so both
     decide alike)."""
     mine = np.flatnonzero(p.revolution == revolution)
-    reach_s = 0.25 * 86_400.0 / p.orbit.mean_motion_rev_day
+    reach_s = 0.25 * period_s(p.orbit.mean_motion_rev_day)
     lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - reach_s))
     hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + reach_s, side="right")) - 1
     times = p.times_s[lo : hi + 1]  # the revolution's burns and a quarter of an orbit of each neighbour's

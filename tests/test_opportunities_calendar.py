@@ -1,0 +1,75 @@
+"""The landing opportunities' iCalendar (issue 49 item 3): written by the `icalendar` package (RFC 5545's escaping and
+folding), a site's name unable to break a line. The hand-written writer escaped only backslash, semicolon, comma and
+LF: a CR, VT, FF, NEL or U+2028/2029 in a name reached the file, and a reader that breaks lines there read the
+name's SUMMARY: and ATTACH: as properties of their own."""
+
+import re
+from datetime import UTC, datetime
+
+import pytest
+from icalendar import Calendar
+
+from footprint.contracts.opportunities import opportunities_ics
+
+# each ends a line for some reader: CR and LF (RFC 5545), VT, FF, NEL, U+2028 and U+2029 (Unicode's line breaks)
+BREAKS = ("\r", "\n", "\x0b", "\x0c", "\x85", "\u2028", "\u2029")
+INJECTED = ("SUMMARY:evil", "ATTACH")
+
+
+def _lines(ics: str) -> list[str]:
+    """The file's lines as a reader that breaks at any of BREAKS reads them."""
+    return re.split("|".join(map(re.escape, ("\r\n", *BREAKS))), ics)
+
+
+def _opportunity(site: int, name: str, meets_rules: bool = True) -> dict:
+    return {
+        "site": site, "site_name": name, "revolution": 3, "meets_rules": meets_rules,
+        "burn_utc": f"2008-09-21T00:{10 + site:02d}:00Z", "entry_utc": f"2008-09-21T00:{30 + site:02d}:00Z",
+        "landing_utc": f"2008-09-21T00:{50 + site:02d}:30Z", "delta_v_fps": 409.1, "downrange_nmi": 4000.0,
+        "crossrange_nmi": 100.0, "margin_nmi": 250.0, "sun_elevation_deg": 12.5, "local_solar_time_h": 9.25,
+    }  # fmt: skip
+
+
+def _answer(names: list[str]) -> dict:
+    found = [_opportunity(i, name) for i, name in enumerate(names)] + [_opportunity(len(names), "Night", False)]
+    return {"elements": {"satellite_number": 25544}, "opportunities": found}
+
+
+HOSTILE = [f"Edwards{ch}SUMMARY:evil{ch}ATTACH:http://x" for ch in BREAKS] + [
+    "Edwards\r\nSUMMARY:evil\r\nEND:VCALENDAR",
+    "Moron Air Base, Spain; \\ and a long name past the fold: Base a\u00e9rienne d'\u00c9vreux \u2014 \u00e9t\u00e9",
+    "Edwards\x00\x1b[31m\x7fAFB",
+]
+
+
+def test_a_site_name_cannot_break_a_line_of_the_calendar():
+    ics = opportunities_ics(_answer(HOSTILE), made_utc=datetime(2026, 1, 2, 3, 4, 5, tzinfo=UTC))
+    data = ics.encode()
+    assert data.count(b"\n") == data.count(b"\r\n") == data.count(b"\r")  # CRLF only
+    for ch in BREAKS[2:] + ("\x00", "\x1b", "\x7f"):
+        assert ch not in ics, repr(ch)
+    lines = _lines(ics)
+    assert not [line for line in lines if line.startswith(INJECTED)]
+    assert lines.count("END:VCALENDAR") == 1 and sum(line.startswith("SUMMARY:") for line in lines) == len(HOSTILE)
+    assert all(len(line) <= 75 for line in data.split(b"\r\n"))  # RFC 5545 3.1: folded at 75 octets
+    events = Calendar.from_ical(ics).walk("VEVENT")
+    assert len(events) == len(HOSTILE)  # the one that does not meet the rules left out
+    for i, (event, name) in enumerate(zip(events, HOSTILE)):
+        summary = str(event["SUMMARY"])
+        visible = [part for part in re.split("[\x00-\x1f\x7f\x85\u2028\u2029]", name) if part]
+        assert all(part in summary for part in visible), (summary, visible)
+        assert summary.startswith("Landing at ") and summary.endswith(", revolution 3")
+        assert event["UID"] == f"25544-{i}-20080921T00{10 + i:02d}00Z@footprint"
+        assert event.decoded("DTSTART") == datetime(2008, 9, 21, 0, 10 + i, tzinfo=UTC)
+        assert event.decoded("DTEND") == datetime(2008, 9, 21, 0, 50 + i, 30, tzinfo=UTC)
+        assert event.decoded("DTSTAMP") == datetime(2026, 1, 2, 3, 4, 5, tzinfo=UTC)
+        assert "deorbit burn 409.1 ft/s at 2008-09-21T00:" in str(event["DESCRIPTION"])
+    calendar = Calendar.from_ical(ics)
+    assert (str(calendar["VERSION"]), str(calendar["CALSCALE"])) == ("2.0", "GREGORIAN")
+    assert str(calendar["PRODID"]) == "-//Footprint//landing opportunities//EN"
+
+
+@pytest.mark.parametrize("ch", BREAKS)
+def test_each_line_break_alone_is_no_line_of_its_own(ch):
+    ics = opportunities_ics(_answer([f"Edwards{ch}ATTACH:http://x"]))
+    assert not [line for line in _lines(ics) if line.startswith(INJECTED)], repr(ics)
