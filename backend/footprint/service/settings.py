@@ -38,8 +38,8 @@ class Settings(BaseSettings):
     api_processes: int = Field(default=1, ge=1, le=64)
     # a job's wall time from its first task's start; past it the job fails and its workers are restarted
     job_time_limit_s: float = Field(default=3_600.0, ge=1.0, le=7 * 86_400.0)
-    # a queued job fails, with the reason, when the scheduler has had no worker this long (an external cluster whose
-    # workers are gone; the local one's are replaced within seconds)
+    # a job fails, with the reason, when no scheduler has answered or it has had no worker this long (an external
+    # cluster that is gone; the local one's workers are replaced)
     no_workers_limit_s: float = Field(default=300.0, ge=1.0, le=7 * 86_400.0)
     # a request's line and headers, and then its body, are due within these of their start (408 and closed past them)
     header_timeout_s: float = Field(default=10.0, gt=0.0, le=3_600.0)

@@ -13,6 +13,7 @@ for the jobs they queue (JobEngine(polls=True)); each API process keeps only a R
 A cancel is a job's row: every watcher looks at it each CANCEL_POLL_S, so a cancel through any process stops it.
 """
 
+import functools
 import logging
 import math
 import re
@@ -20,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 from sqlalchemy.orm import Session, sessionmaker
 
@@ -40,6 +42,7 @@ WATCH_S = 0.5  # the link looks at its scheduler this often (health's view, subs
 ASK_TIMEOUT_S = 5.0  # a look whose question gets no answer in this long finds the scheduler not answering
 STALE_S = 5.0  # health says "degraded" once the scheduler's last answer is this old (a hung scheduler)
 LOST_SUBMITS = 1  # a job whose tasks are lost with their scheduler is submitted again this many times
+DATABASE_RETRY_S = 1.0  # a job's start and outcome are written again this often while the database is away
 CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
 QUEUE_POLL_S = 0.2  # a polling engine looks for the jobs other processes queued this often
 RESTART_TIMEOUT_S = 60.0  # a worker restart's wait for the nanny (a loaded machine starts a process slowly)
@@ -51,6 +54,10 @@ class NoWorkers(RuntimeError):
 
 class ClusterLost(RuntimeError):
     """The job's tasks were lost with the Dask scheduler (killed, restarted or out of reach)."""
+
+
+class DatabaseAway(RuntimeError):
+    """The database did not answer before the service closed."""
 
 
 class JobTimeLimit(RuntimeError):
@@ -368,11 +375,10 @@ class JobEngine(ClusterLink):
 
     def _run(self, job_id: str, request) -> None:
         try:
-            with self._sessions.begin() as session:
-                job = q.start_job(session, job_id=job_id)
-                if job is None:
-                    return
-                kind, study, name = job.kind, job.study, job.name
+            started = self._write(job_id, lambda session: _fields(q.start_job(session, job_id=job_id)))
+            if started is None:
+                return
+            kind, study, name = started
             work = contracts.module(kind).WORK
             request = request or contracts.parse(kind, study)
             parts = list(work.split(request))
@@ -382,15 +388,21 @@ class JobEngine(ClusterLink):
                 return
             info = RunInfo(tasks=len(parts), workers=self.expected_workers(), seconds=time.perf_counter() - t0)
             stored = work.store(request, work.combine(request, outputs, info), name)
-            with self._sessions() as session:
-                written = q.finish_job(session, job_id=job_id, result=stored.result, footprints=stored.footprints)
+            written = self._write(
+                job_id,
+                lambda s: q.finish_job(s, job_id=job_id, result=stored.result, footprints=stored.footprints),
+                begins=False,
+            )
             log.info("job %s %s", job_id, "succeeded" if written else "ended elsewhere (nothing written)")
         except Exception as exc:  # noqa: BLE001 -- a job that fails is that job's row, not the service's end
             if self._closing.is_set():
                 return  # shutting down: the job stays pending and is submitted again on the next start
-            log.info("job %s failed: %s", job_id, one_line(exc))
-            with self._sessions.begin() as session:
-                q.fail_job(session, job_id=job_id, error=one_line(exc))
+            error = one_line(exc)
+            log.info("job %s failed: %s", job_id, error)
+            try:
+                self._write(job_id, functools.partial(q.fail_job, job_id=job_id, error=error))
+            except DatabaseAway:  # the service closes meanwhile: the job stays pending for its next start
+                pass
         finally:
             with self._lock:
                 self._futures.pop(job_id, None)
@@ -475,9 +487,7 @@ class JobEngine(ClusterLink):
                 finished = [f for f in pending if f.done()]
                 pending = [f for f in pending if not f.done()]
                 if (starts or finished) and not running:  # "queued" until a worker really runs it
-                    with self._sessions.begin() as session:
-                        q.mark_running(session, job_id=job_id)
-                    running = True
+                    running = self._try(functools.partial(q.mark_running, job_id=job_id))[0]
                 if starts and time.monotonic() - min(starts) > self._settings.job_time_limit_s:
                     self.stop(futures)
                     raise JobTimeLimit(
@@ -496,9 +506,8 @@ class JobEngine(ClusterLink):
                 progress, note = self._progress(futures, done)
                 due = time.monotonic() - last_write >= PROGRESS_WRITE_S or written[1] is None
                 if (progress, note) != written and progress >= written[0] and due:  # never backwards
-                    with self._sessions.begin() as session:
-                        q.set_progress(session, job_id=job_id, progress=progress, note=note)
-                    written, last_write = (progress, note), time.monotonic()
+                    if self._try(functools.partial(q.set_progress, job_id=job_id, progress=progress, note=note))[0]:
+                        written, last_write = (progress, note), time.monotonic()
         finally:
             with self._lock:
                 self._cancels.discard(job_id)
@@ -527,10 +536,54 @@ class JobEngine(ClusterLink):
         return (done + sum(p for p, _ in reports)) / len(futures), note
 
     def _cancelled(self, job_id: str) -> bool:
-        """Cancelled (or deleted) in the database: by this process or another one over the same database."""
-        with self._sessions.begin() as session:
-            job = q.get_job(session, job_id=job_id)
-            return job is None or job.status not in PENDING
+        """Cancelled (or deleted) in the database: by this process or another one over the same database (not known
+        while the database is away: running on)."""
+        read, status = self._try(lambda s: _fields(q.get_job(s, job_id=job_id), "status"))
+        return read and (status is None or status[0] not in PENDING)
+
+    def _write(self, job_id: str, act: Callable[[Session], Any], *, begins: bool = True) -> Any:
+        """act(session) in one transaction (its own when not `begins`), tried again every DATABASE_RETRY_S while the
+        database is away (restarted, its connections dropped: not the job's failure), so that a job's start and
+        outcome are written once it is back; DatabaseAway if the service closes meanwhile."""
+        warned = False
+        while True:
+            written, value = self._try(act, begins=begins)
+            if written:
+                return value
+            if self._closing.is_set():
+                raise DatabaseAway("the database did not answer before the service closed")
+            if not warned:
+                log.warning("job %s: the database does not answer; its rows are written once it does", job_id)
+                warned = True
+            self._closing.wait(DATABASE_RETRY_S)
+
+    def _try(self, act: Callable[[Session], Any], *, begins: bool = True) -> tuple[bool, Any]:
+        """(True, act(session)) in one transaction; (False, None) when the database is away (a progress note
+        skipped, a cancel looked for at the next poll)."""
+        try:
+            with self._sessions() as session:
+                if not begins:
+                    return True, act(session)
+                with session.begin():
+                    return True, act(session)
+        except Exception as exc:
+            if _database_away(exc):
+                return False, None
+            raise
+
+
+def _fields(job, *names: str) -> tuple | None:
+    """The job row's fields read inside its transaction (kind, study and name by default); None without a row."""
+    return None if job is None else tuple(getattr(job, n) for n in names or ("kind", "study", "name"))
+
+
+def _database_away(exc: BaseException) -> bool:
+    """The database did not answer (its server restarted or unreachable, SQLite's lock held past its timeout)."""
+    from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError
+
+    return isinstance(exc, OperationalError | InterfaceError) or (
+        isinstance(exc, DBAPIError) and exc.connection_invalidated
+    )
 
 
 def _same(link: tuple, seen: tuple | None) -> bool:
