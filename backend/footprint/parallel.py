@@ -9,6 +9,7 @@ whose future is cancelled stops at its next report.
 """
 
 import asyncio
+import concurrent.futures
 import importlib
 import json
 import logging
@@ -300,23 +301,27 @@ def why_a_worker_left(stimulus_id: str) -> str:
 
 
 class WorkerKeeper:
-    """Keeps a LocalCluster at the size of its spec: a worker the scheduler has not had for REPLACE_AFTER_S (its nanny
-    closed after a restart that failed or timed out, its process ended) gets a new nanny under its name; one whose
-    nanny is still starting its process is given START_GRACE_S first, so that a slow start on a loaded machine is not
-    cut short over and over. look() is one look, from any thread but the cluster's loop."""
+    """Keeps a LocalCluster at the size of its spec. A worker the scheduler does not have while its nanny lives (a
+    restart, a process killed and started again) is the nanny's to bring back, given START_GRACE_S: a start on a
+    loaded machine is slow, and a replacement would only start over. A worker whose nanny is gone or closed (a restart
+    that failed closes it) gets a new nanny under its name after REPLACE_AFTER_S. look() is one look, from any thread
+    but the cluster's loop; a replacement runs on that loop, and the next one waits for it."""
 
     def __init__(self, cluster: Any):
         import dask
 
         self.cluster = cluster
         self._missing_since: dict[Any, float] = {}
+        self._replacing: concurrent.futures.Future[None] | None = None
         # SpecCluster closes the nanny of a worker the scheduler has not had back for this long (read when one is
         # lost, so set for the process): 15 s by default, which cut short every restart slower than that on a
         # loaded machine (a cancel's restart took 20 s), and its worker never came back (issue 49 item 6)
         dask.config.set({LOST_WORKER_TIMEOUT: f"{START_GRACE_S:g}s"})
 
     def look(self) -> list[Any]:
-        """The names of the workers replaced now."""
+        """The names of the workers whose replacement starts now."""
+        if self._replacing is not None and not self._replacing.done():
+            return []
         present = {str(w.get("name")) for w in self.cluster.scheduler_info.get("workers", {}).values()}
         now = time.monotonic()
         missing = [n for n in self.cluster.worker_spec if str(n) not in present]
@@ -325,20 +330,16 @@ class WorkerKeeper:
         if overdue:
             log.warning("replacing %d worker(s) of the local cluster missing for %.0f s or more: %s", len(overdue),
                         min(now - self._missing_since[n] for n in overdue), ", ".join(map(str, overdue)))  # fmt: skip
-            self.cluster.sync(_replace_workers, self.cluster, overdue)
+            loop = self.cluster.loop.asyncio_loop
+            self._replacing = asyncio.run_coroutine_threadsafe(_replace_workers(self.cluster, overdue), loop)
             for n in overdue:
                 self._missing_since.pop(n, None)
         return overdue
 
     def _grace_s(self, name: Any) -> float:
         nanny = self.cluster.workers.get(name)
-        process = getattr(nanny, "process", None)
-        starting = (
-            nanny is not None
-            and getattr(nanny.status, "name", "") == "running"
-            and getattr(getattr(process, "status", None), "name", "") in ("init", "starting")
-        )
-        return START_GRACE_S if starting else REPLACE_AFTER_S
+        alive = nanny is not None and getattr(nanny.status, "name", "") in ("init", "starting", "running")
+        return START_GRACE_S if alive else REPLACE_AFTER_S
 
 
 async def _replace_workers(cluster: Any, names: list[Any]) -> None:
@@ -351,7 +352,10 @@ async def _replace_workers(cluster: Any, names: list[Any]) -> None:
                 await nanny.close()
             except Exception as exc:  # noqa: BLE001 -- a nanny already gone: its replacement starts all the same
                 log.info("closing a lost nanny: %s", exc)
-    await cluster._correct_state()
+    try:
+        await cluster._correct_state()
+    except Exception as exc:  # noqa: BLE001 -- a start that failed: the next look tries again
+        log.warning("could not start a worker of the local cluster: %s", exc)
 
 
 @contextmanager

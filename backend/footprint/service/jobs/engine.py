@@ -340,7 +340,11 @@ class JobEngine(ClusterLink):
         that kept computing a cancelled job would hold its core for hours. The workers are asked: the scheduler
         forgets a task at its cancel while the worker's thread runs on, and the next task waits behind it."""
         keys = {str(f.key) for f in futures}
-        self.client.cancel(futures)
+        try:
+            self.client.cancel(futures)
+        except Exception as exc:  # noqa: BLE001 -- a client without its scheduler: the tasks are gone with it
+            log.info("could not cancel a job's tasks: %s", one_line(exc))
+            return
         deadline = time.monotonic() + STOP_GRACE_S
         while True:
             try:
@@ -421,7 +425,7 @@ class JobEngine(ClusterLink):
                 return self._compute(job_id, futures, generation)
             except ClusterLost as exc:
                 if attempt == LOST_SUBMITS:
-                    raise ClusterLost(f"{exc} (for the {attempt + 1}th time): submit the job again") from None
+                    raise ClusterLost(f"{exc}, {attempt + 1} times: submit the job again") from None
                 log.warning("job %s: %s; submitted again once the cluster answers", job_id, exc)
         return None  # not reached: the last attempt returns or raises
 
