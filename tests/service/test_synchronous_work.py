@@ -5,9 +5,14 @@ and a wall-time limit stops what the door cannot see."""
 
 import copy
 
+import pytest
+
 from footprint import contracts
 from footprint.contracts.doors import HTTP, HTTP_SYNC, context
 from tests.authorities.report import example
+
+from .conftest import database_url, running_service
+from .sample_requests import CASE, FOOTPRINT, REACH
 
 GUIDED = example("fly_guided_lod189")
 
@@ -40,3 +45,42 @@ def test_the_example_still_flies_and_each_setting_alone_passes_the_door(api):
         contracts.parse("case", guided_with(**alone), sync)
     contracts.parse("case", SLOW)  # the CLI and the Python API fly it
     contracts.parse("guided_dispersion", {"case": SLOW, "samples": 2}, context(HTTP))  # a job's worker may
+
+
+TINY_LIMIT_S = 1e-6  # passed before any flight starts: every computation below meets it
+
+
+@pytest.fixture(scope="module")
+def hurried(scheduler_address, tmp_path_factory):
+    """A service whose synchronous requests may compute for a microsecond."""
+    with (
+        database_url("sqlite", tmp_path_factory.mktemp("hurried")) as url,
+        running_service(url, scheduler_address, sync_time_limit_s=TINY_LIMIT_S) as client,
+    ):
+        yield client
+
+
+@pytest.mark.parametrize(
+    "path, body",
+    [
+        ("/api/trajectories", GUIDED),  # passes the door; stopped in its guidance loop
+        ("/api/trajectories", CASE),
+        ("/api/reach", REACH | {"footprint": {"study": FOOTPRINT}}),
+        (
+            "/api/transform",
+            {
+                "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+                "to": {"latitude_deg": 10, "longitude_deg": 20, "heading_deg": 45},
+                "earth_rotation": "exact",
+                "study": FOOTPRINT,
+            },
+        ),
+    ],
+)
+def test_a_synchronous_computation_past_the_time_limit_is_stopped_with_one_line(hurried, path, body):
+    r = hurried.post(path, json=body)
+    assert r.status_code == 422, r.text[:300]
+    detail = r.json()["detail"]
+    assert f"took longer than the synchronous limit of {TINY_LIMIT_S:g} s" in detail, detail
+    assert "FOOTPRINT_SYNC_TIME_LIMIT_S" in detail and "\n" not in detail
+    assert hurried.get("/api/health").status_code == 200  # the process answers on

@@ -21,7 +21,7 @@ from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Settled, Strict
 from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
-from footprint.contracts.work import OnProgress, Work
+from footprint.contracts.work import OnProgress, Work, stop_question
 from footprint.core import constants as c
 from footprint.core.aero import ALPHA_LIMIT_DEG
 from footprint.core.controls import pack_controls
@@ -514,10 +514,13 @@ def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> Case:
 
 
 def fly(case: Case, part: Any = None, on_progress: OnProgress | None = None) -> Trajectory:
-    """Fly the case: footprint.core.trajectory.Trajectory (summary and histories)."""
+    """Fly the case: footprint.core.trajectory.Trajectory (summary and histories); on_progress is asked before the
+    flight and each guidance prediction (True stops it: errors.Stopped)."""
+    from dataclasses import replace
+
     from footprint.core.trajectory import simulate
 
-    return simulate(case.to_spec())
+    return simulate(replace(case.to_spec(), stop_asked=stop_question(on_progress, "flying")))
 
 
 WORK = Work(run_part=fly, part_unit="flight")  # answered at once, never a job

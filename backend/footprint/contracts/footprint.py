@@ -5,7 +5,8 @@ method (footprint.core.method_settings, whose defaults these take). The case's o
 method's.
 """
 
-from dataclasses import fields
+from collections.abc import Callable
+from dataclasses import fields, replace
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
@@ -230,12 +231,18 @@ def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> _Study:
     return study
 
 
-def fly(study: _Study, part: Any = None, on_progress: OnProgress | None = None) -> "Footprint":
+def fly(
+    study: _Study,
+    part: Any = None,
+    on_progress: OnProgress | None = None,
+    stop_asked: Callable[[], bool] | None = None,
+) -> "Footprint":
     """Fly the study's footprint (footprint.core.footprints.Footprint); on_progress(fraction, note) where the
-    method reports (the collocation's IPOPT iterations)."""
+    method reports (the collocation's IPOPT iterations), stop_asked() before each flight (True stops: Stopped)."""
     from footprint.core.footprint_methods import footprint
 
-    return footprint(study.case.to_spec(), study.to_settings(), on_progress=on_progress)
+    spec = replace(study.case.to_spec(), stop_asked=stop_asked)
+    return footprint(spec, study.to_settings(), on_progress=on_progress)
 
 
 POINT_FIELDS = (
