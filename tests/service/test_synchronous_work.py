@@ -47,6 +47,34 @@ def test_the_example_still_flies_and_each_setting_alone_passes_the_door(api):
     contracts.parse("guided_dispersion", {"case": SLOW, "samples": 2}, context(HTTP))  # a job's worker may
 
 
+def exact_transform(study: dict) -> dict:
+    """POST /api/transform's body that flies `study` again from another place on the rotating earth."""
+    return {
+        "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
+        "to": {"latitude_deg": 10, "longitude_deg": 20, "heading_deg": 45},
+        "earth_rotation": "exact",
+        "study": study,
+    }
+
+
+def test_a_footprint_study_flown_synchronously_keeps_its_steps_long_enough(api):
+    """A footprint study's flights take steps of at most its case's integrator.max_step_s: at 0.01 s each of 100
+    flights takes the integrator's 200,000 steps (an exact transform ~100 s here, 12 s at 0.1 s, 0.9 s at the
+    default 50 s); the door of a synchronous request holds it to 1 s or more."""
+    fine = copy.deepcopy(FOOTPRINT)
+    fine["case"]["integrator"] = {"max_step_s": 0.01}
+    r = api.post("/api/transform", json=exact_transform(fine))
+    assert r.status_code == 422, r.text[:300]
+    assert r.json()["field"] == "study.case.integrator.max_step_s"
+    assert r.json()["detail"].startswith(
+        "study.case.integrator.max_step_s: 0.01 is outside the allowed range 1 to 1000 s in a synchronous request"
+    )
+    r = api.post("/api/reach", json=REACH | {"footprint": {"study": fine}})
+    assert r.status_code == 422 and r.json()["field"] == "footprint.study.case.integrator.max_step_s", r.text[:300]
+    contracts.parse("footprint", fine, context(HTTP))  # a job flies it
+    contracts.parse("reach", REACH | {"footprint": {"study": fine}}, context(HTTP))
+
+
 TINY_LIMIT_S = 1e-6  # passed before any flight starts: every computation below meets it
 
 
@@ -66,15 +94,7 @@ def hurried(scheduler_address, tmp_path_factory):
         ("/api/trajectories", GUIDED),  # passes the door; stopped in its guidance loop
         ("/api/trajectories", CASE),
         ("/api/reach", REACH | {"footprint": {"study": FOOTPRINT}}),
-        (
-            "/api/transform",
-            {
-                "from": {"latitude_deg": 0, "longitude_deg": 0, "heading_deg": 90},
-                "to": {"latitude_deg": 10, "longitude_deg": 20, "heading_deg": 45},
-                "earth_rotation": "exact",
-                "study": FOOTPRINT,
-            },
-        ),
+        ("/api/transform", exact_transform(FOOTPRINT)),
     ],
 )
 def test_a_synchronous_computation_past_the_time_limit_is_stopped_with_one_line(hurried, path, body):

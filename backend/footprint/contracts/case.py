@@ -408,9 +408,12 @@ class HeatingCorrelation(Strict):
 HeatingCase = Annotated[HeatingReference | HeatingCorrelation, Field(discriminator="model")]
 
 
+MAX_STEP_RANGE_S = (0.01, 1_000.0)
+
+
 class IntegratorCase(Settled):  # the default of every case that leaves it out
     rtol: Annotated[float, Range(1e-13, 1e-4)] = 1e-9
-    max_step_s: Annotated[float, Range(0.01, 1000, "s")] = 50.0
+    max_step_s: Annotated[float, Range(*MAX_STEP_RANGE_S, "s")] = 50.0
     # Dormand-Prince 5(4) or 8(5,3) (core.integrate): the same landing to 0.001 nmi; DOP853 takes fewer right-hand
     # sides on a smooth flight (Table 2) and more where the model has kinks (a dispersed density profile, L/D 1.89)
     method: Literal["dopri5", "dop853"] = "dopri5"

@@ -11,6 +11,7 @@ from pydantic import TypeAdapter, ValidationInfo
 
 HTTP = "http"
 HTTP_SYNC = "http-sync"
+IN_A_SYNCHRONOUS_REQUEST = " in a synchronous request (a job may ask for more: POST /api/jobs)"
 # the context of the bodies the service's framework validates: FastAPI passes none to pydantic, so the route's door
 # sets it for the request's task before the body is read (pydantic's own pattern for a context in __init__)
 _REQUEST_CONTEXT: ContextVar[dict[str, Any] | None] = ContextVar("footprint_request_context", default=None)
@@ -43,7 +44,7 @@ def door_limit(info: ValidationInfo, python: float, http: float, sync: float | N
     how to say it."""
     door = context_of(info).get("door")
     if door == HTTP_SYNC and sync is not None:
-        return sync, " in a synchronous request (a job may ask for more: POST /api/jobs)"
+        return sync, IN_A_SYNCHRONOUS_REQUEST
     if door in (HTTP, HTTP_SYNC):
         return http, " over HTTP"
     return python, ""
