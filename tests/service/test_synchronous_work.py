@@ -6,9 +6,11 @@ and a wall-time limit stops what the door cannot see."""
 import copy
 
 import pytest
+from pydantic import ValidationError
 
 from footprint import contracts
 from footprint.contracts.doors import HTTP, HTTP_SYNC, context
+from footprint.contracts.messages import error_line
 from tests.authorities.report import example
 
 from .conftest import database_url, running_service
@@ -73,6 +75,18 @@ def test_a_footprint_study_flown_synchronously_keeps_its_steps_long_enough(api):
     assert r.status_code == 422 and r.json()["field"] == "footprint.study.case.integrator.max_step_s", r.text[:300]
     contracts.parse("footprint", fine, context(HTTP))  # a job flies it
     contracts.parse("reach", REACH | {"footprint": {"study": fine}}, context(HTTP))
+
+
+def test_a_footprint_study_of_a_guided_case_is_refused_at_every_door():
+    """A footprint study replaces its case's bank law with its method's, but a guided case kept its guidance: every
+    point of the footprint flew guided to the case's target (three settings, three landings at 5,000 nmi), and a
+    synchronous reach or transform flew up to 100 guided flights. The guided vehicle's footprint is its own kind."""
+    study = {"case": GUIDED, "method": "single_parameter", "bank0_deg": [0, 45, 90]}
+    for ctx in (None, context(HTTP), context(HTTP_SYNC)):
+        with pytest.raises(ValidationError) as err:
+            contracts.parse("footprint", study, ctx)
+        assert error_line(err.value).startswith("case.bank.law: 'guided' ")
+        assert "guided_footprint" in error_line(err.value)
 
 
 TINY_LIMIT_S = 1e-6  # passed before any flight starts: every computation below meets it

@@ -74,6 +74,17 @@ class _Study(Strict):
                 f"{field}: {n} settings x {sides} sides = {n * sides} footprint points is "
                 f"outside the allowed range 1 to {limit}{where}"
             )
+        return self
+
+    @model_validator(mode="after")
+    def _flights(self, info: ValidationInfo) -> "_Study":
+        """The case's flights as the method flies them: not guided; steps not too short for the API process."""
+        if self.case.bank.law == "guided":  # its guidance would fly every point to the target
+            raise ValueError(
+                "case.bank.law: 'guided' is not flown by a footprint study (its method replaces the case's bank law, "
+                "but a guided case would fly every point to its target); give another law, or trace the guided "
+                "vehicle's footprint as a guided_footprint"
+            )
         step = self.case.integrator.max_step_s
         if synchronous(info) and step < MIN_STEP_SYNC_S:
             raise ValueError(
