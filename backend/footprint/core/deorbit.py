@@ -176,6 +176,9 @@ class PropagatedState:
     def __init__(self, epoch: datetime, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], coast: Coast,
                  horizon_s: float):  # fmt: skip
         self.epoch, self.coast = epoch, coast
+        v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
+        mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
+        energy = _bound_orbit_energy(mu, r, float(np.linalg.norm(v_in)))
         p = coast.p.copy()
         p[P_STOP_ALT], p[P_STOP_TIME], p[P_MAX_STEP] = 0.0, horizon_s, PROPAGATION_MAX_STEP_S
         rows, code, _ = integrate(np.concatenate([r_ft, v_rel_fps]), p, coast.aero, coast.ctrl, np.zeros(M_SIZE),
@@ -183,10 +186,7 @@ class PropagatedState:
         if code != STOP_TIME:
             raise InputError("state", f"the orbit does not last {horizon_s / 3600:.1f} h ({STOP_REASONS[int(code)]})")
         self.rows = rows
-        v_in = inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]
-        mu, r = coast.mu_ft3_s2, float(np.linalg.norm(r_ft))
         h = np.cross(r_ft, v_in)
-        energy = 0.5 * float(v_in @ v_in) - mu / r
         a = -mu / (2.0 * energy)
         self.inclination_deg = math.degrees(math.acos(h[2] / np.linalg.norm(h)))
         self.eccentricity = math.sqrt(max(0.0, 1.0 + 2.0 * energy * float(h @ h) / mu**2))
@@ -217,6 +217,23 @@ class PropagatedState:
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """TEME position (km) and velocity (km/s) at each UTC time."""
         return earth_fixed_to_teme(*self.earth_fixed(utc), utc, self.coast.omega_rad_s)
+
+
+def _bound_orbit_energy(mu_ft3_s2: float, r_ft: float, v_inertial_fps: float) -> float:
+    """The two-body energy per unit mass (ft^2/s^2) of a state of a bound orbit; a state at or past the escape speed
+    sqrt(2 mu / r) is not one (its semi-major axis and mean motion do not exist): an InputError naming the velocity.
+    A state at the earth's centre is left to the propagation, which refuses it."""
+    if not r_ft > 0.0:
+        return -math.inf
+    energy = 0.5 * v_inertial_fps**2 - mu_ft3_s2 / r_ft
+    if not energy < 0.0:
+        raise InputError(
+            "state.velocity_km_s",
+            f"{v_inertial_fps / FT_PER_KM:.3g} km/s inertial at {r_ft / FT_PER_KM:,.0f} km from the earth's centre is "
+            f"at or past the escape speed {math.sqrt(2.0 * mu_ft3_s2 / r_ft) / FT_PER_KM:.3g} km/s there: an orbit's "
+            "state is slower",
+        )
+    return energy
 
 
 def state_earth_fixed(
