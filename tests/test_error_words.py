@@ -48,3 +48,22 @@ def test_a_state_past_escape_speed_names_its_velocity_and_the_escape_speed(tmp_p
         [sys.executable, "-m", "footprint.cli", "opportunities", str(path)], capture_output=True, text=True, timeout=300
     )
     assert (cli.returncode, cli.stderr) == (2, f"error: {line}\n")
+
+
+def test_a_union_names_its_field_not_pydantics_members():
+    dispersion = copy.deepcopy(example("disperse_lod189"))
+    dispersion["density"]["std"] = 0.5
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("dispersion", dispersion)
+    assert error_line(err.value) == "density.std: 0.5 is outside the allowed range 0 to 0.2"
+    dispersion["density"]["std"] = [0.01] * 40 + [0.5]
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("dispersion", dispersion)
+    assert error_line(err.value) == "density.std.40: 0.5 is outside the allowed range 0 to 0.2"
+    case = example("table2_lod22")
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("case", case | {"bank_start": 5})
+    assert error_line(err.value).startswith("bank_start: ")
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("case", case | {"bank_start": {"altitude_ft": 5}})
+    assert error_line(err.value) == "bank_start.altitude_ft: 5 is outside the allowed range 1000 to 3e+06 ft"

@@ -18,7 +18,7 @@ from pydantic import (
 )
 
 from footprint.contracts.doors import validated
-from footprint.contracts.fields import Range, Settled, Strict
+from footprint.contracts.fields import Range, Settled, Strict, by_shape, shape_tag
 from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
 from footprint.contracts.work import OnProgress, Work, stop_question
@@ -357,6 +357,12 @@ class BankStartAltitude(Strict):
     altitude_ft: Annotated[float, Range(1_000, 3_000_000, "ft")]
 
 
+BankStart = Annotated[
+    Annotated[Literal["pullout", "entry"], shape_tag("string")] | Annotated[BankStartAltitude, shape_tag("object")],
+    by_shape("string", "object"),
+]
+
+
 class StopCase(Settled):  # the default of every case that leaves it out
     altitude_ft: Annotated[float, Range(0, 3_000_000, "ft")] | None = 50_000.0
     velocity_fps: Annotated[float, Range(0, 40_000, "ft/s")] | None = None
@@ -427,7 +433,7 @@ class Case(Strict):
     entry: EntryCase
     alpha: AlphaCase = AlphaMaxLD(law="max_ld")
     bank: BankCase = BankZero(law="zero")
-    bank_start: Literal["pullout", "entry"] | BankStartAltitude = "pullout"
+    bank_start: BankStart = "pullout"
     stop: StopCase = StopCase()
     integrator: IntegratorCase = IntegratorCase()
     heating: HeatingCase | None = None

@@ -37,6 +37,8 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
                 (after in (None, "bank", "alpha", "heating") or study) and x in tags or (study and x in _STUDY_TAGS)
             ):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
+            if _member_label(x) and not (err["type"] == "extra_forbidden" and i == len(err["loc"]) - 1):
+                continue  # a union member's tag or pydantic's label of it, not a field (an unknown key is the client's)
             loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
         msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it
@@ -70,6 +72,12 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
 
 
 _FIELD_FIRST = re.compile(r"^([A-Za-z_][\w.]*): ")
+
+
+def _member_label(x: object) -> bool:
+    """A union member in an error's location: its tag, "(number)" (contracts.fields.shape_tag), or pydantic's label
+    of an untagged one, "list[function-after[check(), ...]]"; no field's name holds a parenthesis or a bracket."""
+    return isinstance(x, str) and any(c in x for c in "([")
 
 
 # what of a bad request an error line echoes: never the whole of a 200 kB value
