@@ -11,10 +11,12 @@ import subprocess
 import sys
 
 import pytest
-from pydantic import ValidationError
+from pydantic import BaseModel, TypeAdapter, ValidationError, field_validator, model_validator
 
 from footprint import contracts
+from footprint.contracts.doors import validated
 from footprint.contracts.messages import error_line
+from footprint.core.errors import InputError
 from tests.authorities.report import example
 
 MU_WGS84_KM3_S2 = 398_600.4418  # the earth's gravitational parameter (WGS 84), independent of the report's
@@ -67,3 +69,68 @@ def test_a_union_names_its_field_not_pydantics_members():
     with pytest.raises(ValidationError) as err:
         contracts.parse("case", case | {"bank_start": {"altitude_ft": 5}})
     assert error_line(err.value) == "bank_start.altitude_ft: 5 is outside the allowed range 1000 to 3e+06 ft"
+
+
+class Computed(BaseModel):
+    """A model whose validator computes: Python's ValueError from math, the house's own, or an InputError."""
+
+    x: float
+
+    @field_validator("x")
+    @classmethod
+    def _root(cls, v: float) -> float:
+        if v == 1:
+            raise ValueError("1 is outside the allowed range 2 to 3")
+        if v == 2:
+            raise InputError("x", "2 is taken")
+        return math.sqrt(v)
+
+
+def test_a_value_error_python_raised_in_a_validator_is_said_as_such():
+    with pytest.raises(ValidationError) as err:
+        Computed(x=-1.0)
+    line = error_line(err.value)
+    assert line.startswith("x: these values cannot be computed (Python's ValueError: math domain error)"), line
+    assert "please report it" in line
+    with pytest.raises(ValidationError) as err:
+        Computed(x=1.0)
+    assert error_line(err.value) == "x: 1 is outside the allowed range 2 to 3"
+    with pytest.raises(ValidationError) as err:
+        Computed(x=2.0)
+    assert error_line(err.value).endswith("x: 2 is taken")  # the core's own line, as it was
+
+
+class Divided(BaseModel):
+    """A model whose validator breaks Python's arithmetic: pydantic passes a ZeroDivisionError on, unconverted."""
+
+    x: float
+
+    @model_validator(mode="after")
+    def _ratio(self) -> "Divided":
+        self.x = 1.0 / self.x
+        return self
+
+
+def test_arithmetic_that_breaks_in_a_validator_is_the_requests_mistake_not_a_traceback(tmp_path):
+    with pytest.raises(ZeroDivisionError):
+        Divided(x=0.0)  # pydantic's own behaviour: what the doors catch
+    with pytest.raises(ValidationError) as err:
+        validated(TypeAdapter(Divided), {"x": 0.0}, Divided)
+    assert error_line(err.value).startswith("these values cannot be computed (Python's ZeroDivisionError: ")
+    study = copy.deepcopy(example("opportunities_iss_20_sites"))
+    study["tle"] = OVERFLOWING_TLE
+    path = tmp_path / "overflow.json"
+    path.write_text(json.dumps(study))
+    cli = subprocess.run(
+        [sys.executable, "-m", "footprint.cli", "opportunities", str(path)], capture_output=True, text=True, timeout=300
+    )
+    assert cli.returncode == 2 and cli.stderr.startswith("error: ") and cli.stderr.count("\n") == 1, cli.stderr
+
+
+# the ISS's elements of examples/opportunities_iss_20_sites.json with the epoch's point made a 9 (its check digit
+# kept right): day 264,951,782,528 of 2008, past what a date holds (an OverflowError in the elements' reader)
+OVERFLOWING_TLE = (
+    "ISS (ZARYA)\n"
+    "1 25544U 98067A   08264951782528 -.00002182  00000-0 -11606-4 0  2926\n"
+    "2 25544  51.6416 247.4627 0006703 130.5360 325.0288 15.72125391563537"
+)

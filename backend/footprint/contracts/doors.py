@@ -7,7 +7,7 @@ from collections.abc import Callable
 from contextvars import ContextVar
 from typing import Any
 
-from pydantic import TypeAdapter, ValidationInfo
+from pydantic import TypeAdapter, ValidationError, ValidationInfo, ValidatorFunctionWrapHandler
 
 HTTP = "http"
 HTTP_SYNC = "http-sync"
@@ -57,7 +57,29 @@ def synchronous(info: ValidationInfo) -> bool:
 
 def validated(adapter: TypeAdapter[Any], data: Any, model: type, ctx: dict[str, Any] | None = None) -> Any:
     """One request of a kind: a model passes through; a dict is validated (pydantic's ValidationError names the
-    field, an InputError from the core too)."""
+    field, an InputError from the core too; Python's arithmetic failing in a validator is one too: computable)."""
     if isinstance(data, model):
         return data
-    return adapter.validate_python(data, context=ctx if ctx is not None else _REQUEST_CONTEXT.get() or context())
+    try:
+        return adapter.validate_python(data, context=ctx if ctx is not None else _REQUEST_CONTEXT.get() or context())
+    except ArithmeticError as exc:
+        raise _uncomputable(exc, data) from exc
+
+
+def computable(value: Any, handler: ValidatorFunctionWrapHandler) -> Any:
+    """A WrapValidator around a request (a job's study): an OverflowError or ZeroDivisionError inside its validators,
+    which pydantic passes on (the service answered 500, the CLI a traceback), as the request's mistake."""
+    from footprint.contracts.messages import uncomputed  # messages imports the contracts
+
+    try:
+        return handler(value)
+    except ArithmeticError as exc:
+        raise ValueError(uncomputed(exc)) from exc
+
+
+def _uncomputable(exc: ArithmeticError, data: Any) -> ValidationError:
+    """A validation that Python's arithmetic broke, as pydantic's error of the request as a whole."""
+    from footprint.contracts.messages import uncomputed
+
+    error = {"type": "value_error", "loc": (), "input": data, "ctx": {"error": ValueError(uncomputed(exc))}}
+    return ValidationError.from_exception_data("request", [error])  # type: ignore[list-item]

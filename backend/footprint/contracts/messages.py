@@ -1,9 +1,12 @@
 """A request's mistakes as the CLI and the service say them: one line naming each field and what is allowed, every
 echo of the client's text printable and clipped; the fields as data (error_parts) for the service's 422 body."""
 
+import dis
 import functools
 import re
+import sysconfig
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any, get_args
 
 from pydantic import ValidationError
@@ -41,6 +44,8 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
                 continue  # a union member's tag or pydantic's label of it, not a field (an unknown key is the client's)
             loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
         msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
+        if err["type"] == "value_error" and said_by_python(err.get("ctx", {}).get("error")):
+            msg = clip(printable(uncomputed(err["ctx"]["error"])), ERROR_MESSAGE_CHARS)
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it
             ctx = err.get("ctx", {})
             tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
@@ -72,6 +77,34 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
 
 
 _FIELD_FIRST = re.compile(r"^([A-Za-z_][\w.]*): ")
+
+
+PACKAGE_DIR = str(Path(__file__).resolve().parents[1])  # footprint/, wherever it is installed
+LIBRARY_DIRS = tuple({sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+_RAISES = {dis.opmap["RAISE_VARARGS"], dis.opmap["RERAISE"]}
+_UNCOMPUTED = (
+    "these values cannot be computed (Python's {0.__class__.__name__}: {0}); the check that would name the allowed "
+    "range is missing here: please report it"
+)
+
+
+def uncomputed(exc: BaseException) -> str:
+    """The line for values Python's arithmetic could not compute (the exception's own words in parentheses)."""
+    return _UNCOMPUTED.format(exc)
+
+
+def said_by_python(exc: object) -> bool:
+    """A ValueError in a validator that no `raise` of a validator's code wrote, but a call it made (math.sqrt's domain
+    error, int()'s) or a library (numpy's): its words are Python's, not a reason the user can act on. An InputError
+    is always the core's."""
+    if not isinstance(exc, ValueError) or isinstance(exc, InputError) or exc.__traceback__ is None:
+        return False
+    tb = exc.__traceback__
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    file = tb.tb_frame.f_code.co_filename
+    ours = file.startswith(PACKAGE_DIR) or not file.startswith(LIBRARY_DIRS)
+    return not (ours and tb.tb_frame.f_code.co_code[tb.tb_lasti] in _RAISES)
 
 
 def _member_label(x: object) -> bool:
