@@ -66,11 +66,17 @@ def validated(adapter: TypeAdapter[Any], data: Any, model: type, ctx: dict[str, 
         raise _uncomputable(exc, data) from exc
 
 
+def uncomputed(exc: BaseException) -> str:
+    """The line for values Python could not compute in a check (the exception's own words in parentheses)."""
+    return (
+        f"these values cannot be computed (Python's {type(exc).__name__}: {exc}); the check that would name the "
+        "allowed range is missing here: please report it"
+    )
+
+
 def computable(value: Any, handler: ValidatorFunctionWrapHandler) -> Any:
     """A WrapValidator around a request (a job's study): an OverflowError or ZeroDivisionError inside its validators,
     which pydantic passes on (the service answered 500, the CLI a traceback), as the request's mistake."""
-    from footprint.contracts.messages import uncomputed  # messages imports the contracts
-
     try:
         return handler(value)
     except ArithmeticError as exc:
@@ -79,7 +85,5 @@ def computable(value: Any, handler: ValidatorFunctionWrapHandler) -> Any:
 
 def _uncomputable(exc: ArithmeticError, data: Any) -> ValidationError:
     """A validation that Python's arithmetic broke, as pydantic's error of the request as a whole."""
-    from footprint.contracts.messages import uncomputed
-
     error = {"type": "value_error", "loc": (), "input": data, "ctx": {"error": ValueError(uncomputed(exc))}}
     return ValidationError.from_exception_data("request", [error])  # type: ignore[list-item]

@@ -11,6 +11,7 @@ from typing import Any, get_args
 
 from pydantic import ValidationError
 
+from footprint.contracts.doors import uncomputed
 from footprint.core.errors import InputError
 
 
@@ -82,15 +83,6 @@ _FIELD_FIRST = re.compile(r"^([A-Za-z_][\w.]*): ")
 PACKAGE_DIR = str(Path(__file__).resolve().parents[1])  # footprint/, wherever it is installed
 LIBRARY_DIRS = tuple({sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
 _RAISES = {dis.opmap["RAISE_VARARGS"], dis.opmap["RERAISE"]}
-_UNCOMPUTED = (
-    "these values cannot be computed (Python's {0.__class__.__name__}: {0}); the check that would name the allowed "
-    "range is missing here: please report it"
-)
-
-
-def uncomputed(exc: BaseException) -> str:
-    """The line for values Python's arithmetic could not compute (the exception's own words in parentheses)."""
-    return _UNCOMPUTED.format(exc)
 
 
 def said_by_python(exc: object) -> bool:
