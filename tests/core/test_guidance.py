@@ -4,6 +4,7 @@ model's inverse."""
 
 import copy
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -11,8 +12,10 @@ import pytest
 from footprint.api import fly
 from footprint.contracts import parse
 from footprint.core import guidance as gd
+from footprint.core.errors import Stopped
 from footprint.core.heating import CorrelationHeating, ReferenceHeating
 from footprint.core.sphere import MEAN_RADIUS_NMI, latlon_from_ranges
+from footprint.core.trajectory import simulate
 from tests.authorities.report import example
 
 LOD189 = example("footprint_lod189")["case"]  # the L/D 1.89 vehicle, Table 2 entry (eastbound at the equator)
@@ -52,6 +55,32 @@ def test_the_guided_vehicle_lands_within_a_mile_of_its_target(flight_5000_600):
     assert s["stop_reason"] == "energy"  # at the terminal energy: 80,000 ft and 2,500 ft/s by default
     assert s["final_energy_ft"] == pytest.approx(80_000 + 2_500**2 / (2 * 32.174048556430446), abs=1.0)
     assert s["guidance"]["reversals"] >= 2  # a 600 nmi cross-range flown with bank reversals, not one turn
+
+
+class Questions:
+    """A flight's stop_asked that counts the questions and says stop at the `stop_at`-th (0: never)."""
+
+    def __init__(self, stop_at: int = 0) -> None:
+        self.count, self.stop_at = 0, stop_at
+
+    def __call__(self) -> bool:
+        self.count += 1
+        return self.count == self.stop_at
+
+
+def test_a_guided_flight_asks_before_each_prediction_and_stops_at_the_first_yes(flight_5000_600):
+    """The question a synchronous request's time limit asks (issue 49): a flight told to go on is the same flight to
+    the bit, having been asked before it started and before each of its predictions; told to stop at the k-th
+    question, it stops there."""
+    spec = parse("case", guided(5000.0, 600.0)).to_spec()
+    go_on = Questions()
+    assert simulate(replace(spec, stop_asked=go_on)).summary == flight_5000_600.summary
+    assert go_on.count >= 1 + flight_5000_600.summary["guidance"]["predictions"]
+    for k in (1, 2, 40):
+        stop = Questions(stop_at=k)
+        with pytest.raises(Stopped):
+            simulate(replace(spec, stop_asked=stop))
+        assert stop.count == k
 
 
 def test_the_bank_flown_flies_again_open_loop_to_the_same_landing():

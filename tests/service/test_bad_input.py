@@ -7,6 +7,9 @@ import re
 
 import pytest
 
+from tests.authorities.report import example
+from tests.test_error_words import OVERFLOWING_TLE
+
 from .conftest import database_url, running_service
 from .sample_requests import FOOTPRINT, SHUTTLE, UNKNOWN_ID
 
@@ -216,3 +219,12 @@ def test_every_path_of_the_api_document_names_its_methods_in_allow(api):
         r = api.request("TRACE", path)
         assert r.status_code == 405, (template, r.text)
         assert r.headers["allow"] == ", ".join(m for m in order if m in methods), template
+
+
+def test_a_study_whose_validation_breaks_pythons_arithmetic_is_422_naming_the_study(api):
+    """Issue 49 item 2: an OverflowError inside a study's validator (elements whose epoch has lost its point) passed
+    through pydantic and the service answered 500."""
+    study = copy.deepcopy(example("opportunities_iss_20_sites")) | {"tle": OVERFLOWING_TLE}
+    r = api.post("/api/jobs", json={"kind": "opportunities", "study": study})
+    assert r.status_code == 422, r.text[:300]
+    assert r.json()["field"].startswith("study") and "\n" not in r.json()["detail"]

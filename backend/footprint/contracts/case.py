@@ -18,10 +18,10 @@ from pydantic import (
 )
 
 from footprint.contracts.doors import validated
-from footprint.contracts.fields import Range, Settled, Strict
+from footprint.contracts.fields import Range, Settled, Strict, by_shape, shape_tag
 from footprint.contracts.guidance import BankGuided
 from footprint.contracts.vehicle import VehicleCase
-from footprint.contracts.work import OnProgress, Work
+from footprint.contracts.work import OnProgress, Work, stop_question
 from footprint.core import constants as c
 from footprint.core.aero import ALPHA_LIMIT_DEG
 from footprint.core.controls import pack_controls
@@ -357,6 +357,12 @@ class BankStartAltitude(Strict):
     altitude_ft: Annotated[float, Range(1_000, 3_000_000, "ft")]
 
 
+BankStart = Annotated[
+    Annotated[Literal["pullout", "entry"], shape_tag("string")] | Annotated[BankStartAltitude, shape_tag("object")],
+    by_shape("string", "object"),
+]
+
+
 class StopCase(Settled):  # the default of every case that leaves it out
     altitude_ft: Annotated[float, Range(0, 3_000_000, "ft")] | None = 50_000.0
     velocity_fps: Annotated[float, Range(0, 40_000, "ft/s")] | None = None
@@ -408,9 +414,12 @@ class HeatingCorrelation(Strict):
 HeatingCase = Annotated[HeatingReference | HeatingCorrelation, Field(discriminator="model")]
 
 
+MAX_STEP_RANGE_S = (0.01, 1_000.0)
+
+
 class IntegratorCase(Settled):  # the default of every case that leaves it out
     rtol: Annotated[float, Range(1e-13, 1e-4)] = 1e-9
-    max_step_s: Annotated[float, Range(0.01, 1000, "s")] = 50.0
+    max_step_s: Annotated[float, Range(*MAX_STEP_RANGE_S, "s")] = 50.0
     # Dormand-Prince 5(4) or 8(5,3) (core.integrate): the same landing to 0.001 nmi; DOP853 takes fewer right-hand
     # sides on a smooth flight (Table 2) and more where the model has kinks (a dispersed density profile, L/D 1.89)
     method: Literal["dopri5", "dop853"] = "dopri5"
@@ -424,7 +433,7 @@ class Case(Strict):
     entry: EntryCase
     alpha: AlphaCase = AlphaMaxLD(law="max_ld")
     bank: BankCase = BankZero(law="zero")
-    bank_start: Literal["pullout", "entry"] | BankStartAltitude = "pullout"
+    bank_start: BankStart = "pullout"
     stop: StopCase = StopCase()
     integrator: IntegratorCase = IntegratorCase()
     heating: HeatingCase | None = None
@@ -514,10 +523,13 @@ def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> Case:
 
 
 def fly(case: Case, part: Any = None, on_progress: OnProgress | None = None) -> Trajectory:
-    """Fly the case: footprint.core.trajectory.Trajectory (summary and histories)."""
+    """Fly the case: footprint.core.trajectory.Trajectory (summary and histories); on_progress is asked before the
+    flight and each guidance prediction (True stops it: errors.Stopped)."""
+    from dataclasses import replace
+
     from footprint.core.trajectory import simulate
 
-    return simulate(case.to_spec())
+    return simulate(replace(case.to_spec(), stop_asked=stop_question(on_progress, "flying")))
 
 
 WORK = Work(run_part=fly, part_unit="flight")  # answered at once, never a job

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.doors import door_limit, synchronous, validated
-from footprint.contracts.fields import Range, Strict
+from footprint.contracts.fields import Range, Strict, by_shape, shape_tag
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
@@ -120,9 +120,11 @@ class VehicleDispersion(Strict):
 
 
 class DensityDispersion(Strict):
-    std: (
-        Annotated[float, Range(0, disp.DENSITY_STD_MAX)] | list[Annotated[float, Range(0, disp.DENSITY_STD_MAX)]]
-    )  # a fraction of the density
+    std: Annotated[  # a fraction of the density: one, or one per node
+        Annotated[Annotated[float, Range(0, disp.DENSITY_STD_MAX)], shape_tag("number")]
+        | Annotated[list[Annotated[float, Range(0, disp.DENSITY_STD_MAX)]], shape_tag("array")],
+        by_shape("number", "array"),
+    ]
     correlation_length_ft: Annotated[float, Range(1_000, 1_000_000, "ft")] = disp.CORRELATION_LENGTH_DEFAULT_FT
 
     @model_validator(mode="after")

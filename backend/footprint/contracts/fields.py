@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from annotated_types import GroupedMetadata
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
 
 
 @dataclass(frozen=True)
@@ -49,6 +49,28 @@ class Settled(Strict):
 
     def __deepcopy__(self, memo: dict[int, Any] | None = None) -> "Settled":
         return self
+
+
+# A union told apart by the input's JSON shape (a number or a list, a name or an object): its errors name the member the
+# input's shape picks, under that member's tag, "(number)", which footprint.contracts.messages leaves out of the
+# field's path (a smart union named each member by pydantic's label, "function-after[check(), ...]", and said all)
+JSON_SHAPES: dict[str, Any] = {"object": (dict, BaseModel), "array": list, "string": str, "number": (int, float)}
+
+
+def shape_tag(shape: str) -> Tag:
+    """A union member's tag: the JSON shape (a key of JSON_SHAPES) that picks it."""
+    return Tag(f"({shape})")
+
+
+def by_shape(*shapes: str) -> Discriminator:
+    """The discriminator of a union whose members are tagged shape_tag(shape): the input's shape picks its member,
+    the first when none fits (its error says what was wanted)."""
+
+    def shape(v: Any) -> str:
+        fits = (s for s in shapes if isinstance(v, JSON_SHAPES[s]) and not isinstance(v, bool))
+        return f"({next(fits, shapes[0])})"
+
+    return Discriminator(shape)
 
 
 def model_fields(model: type[BaseModel], exclude: tuple[str, ...] = (), **replace: Any) -> dict[str, Any]:

@@ -8,7 +8,7 @@ import dataclasses
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import ValidationInfo
+from pydantic import ValidationInfo, model_validator
 
 from footprint.contracts.doors import synchronous
 from footprint.contracts.fields import Range, Strict
@@ -32,6 +32,21 @@ class GuidedTerminal(Strict):
 
 
 Magnitude = Annotated[float, Range(0, 180, "deg")]
+MIN_CYCLE_S, MAX_CYCLE_S = 0.5, 120.0
+MIN_PREDICTOR_RTOL, MAX_PREDICTOR_RTOL = 1e-12, 1e-3
+
+# A guided flight's work over the defaults' (5 s cycles, predictor_rtol 3e-5), in right-hand sides, measured with
+# `footprint fly` on examples/fly_guided_lod189.json (5,000/600 nmi: 154,792 right-hand sides, 0.062 s, 2 shared
+# cores, load 2; the issue's HTTP answer 0.63 s):
+#   cycle_s          0.5 s: 8.2x, 1 s: 4.1x, 2 s: 2.2x, 10 s: 0.58x (3,801, 1,915, 979, 259 cycles; 430 at 5 s)
+#   predictor_rtol   1e-12: 21.9x, 1e-10: 10.3x, 1e-8: 4.4x, 1e-6: 1.7x, 1e-4: 0.93x, 1e-3: 1.06x
+#   both             0.5 s and 1e-12: 194x (12.5 s; 89 s over HTTP in the issue), 2 s and 1e-10: 23.7x,
+#                    1 s and 1e-8: 19.2x
+#   iterations 20    1.0x (1.1x with tolerance_nmi 0.001): the corrector stops at the first prediction that does not
+#                    improve the miss, 1.4 to 3.3 predictions a cycle whatever the iterations
+# modelled from above: (5 s / cycle_s) x max(1, (3e-5 / predictor_rtol)^0.18)
+RTOL_WORK_EXPONENT = 0.18
+SYNC_WORK = 25.0  # the most a synchronous request may ask, in the defaults' work: ~1.6 s of flight on this machine
 
 
 class BankGuided(Strict):
@@ -41,7 +56,7 @@ class BankGuided(Strict):
     law: Literal["guided"]
     target: GuidedTarget
     terminal: GuidedTerminal = GuidedTerminal()
-    cycle_s: Annotated[float, Range(0.5, 120, "s")] = _default("cycle_s")
+    cycle_s: Annotated[float, Range(MIN_CYCLE_S, MAX_CYCLE_S, "s")] = _default("cycle_s")
     initial_bank_deg: Magnitude = _default("initial_bank_deg")
     final_bank_deg: Magnitude = _default("final_bank_deg")
     min_bank_deg: Magnitude = _default("min_bank_deg")
@@ -56,7 +71,7 @@ class BankGuided(Strict):
     bank_acceleration_deg_s2: Annotated[float, Range(0.1, 10_000, "deg/s^2")] | None = _default(
         "bank_acceleration_deg_s2"
     )
-    predictor_rtol: Annotated[float, Range(1e-12, 1e-3)] = _default("predictor_rtol")
+    predictor_rtol: Annotated[float, Range(MIN_PREDICTOR_RTOL, MAX_PREDICTOR_RTOL)] = _default("predictor_rtol")
     filter_gain: Annotated[float, Range(0, 1)] = _default("filter_gain")
     max_heat_rate_btu_ft2_s: Annotated[float, Range(0.1, 10_000, "Btu/(ft^2 s)")] | None = None
     max_temperature_R: Annotated[float, Range(100, 10_000, "degR")] | None = None
@@ -64,6 +79,12 @@ class BankGuided(Strict):
     max_dynamic_pressure_psf: Annotated[float, Range(1, 100_000, "lb/ft^2")] | None = None
     limit_damping: Annotated[float, Range(0, 10)] = _default("limit_damping")
     reach_nmi: Annotated[float, Range(0.001, 10_000, "nmi")] = _default("reach_nmi")
+
+    @model_validator(mode="after")
+    def _synchronous_work(self, info: ValidationInfo) -> "BankGuided":
+        if synchronous(info):
+            check_synchronous_work(self.cycle_s, self.predictor_rtol)
+        return self
 
     def controls(self) -> dict[str, Any]:
         return {"bank_law": "zero"}  # the guidance flies the bank (core.guidance.guided_controls)
@@ -93,3 +114,35 @@ def check_guided_study(bank: Any, info: ValidationInfo, what: str) -> None:
         raise ValueError(f"a {what} is run as a job; submit it with POST /api/jobs")
     if not isinstance(bank, BankGuided):
         raise ValueError(f"case.bank.law: a {what} flies the 'guided' law, not {bank.law!r}")
+
+
+def work_factors(cycle_s: float, predictor_rtol: float) -> tuple[float, float]:
+    """(the cycles', the predictor's) factor of a guided flight's work over the defaults' (the model above)."""
+    cycles = _default("cycle_s") / cycle_s
+    return cycles, max(1.0, (_default("predictor_rtol") / predictor_rtol) ** RTOL_WORK_EXPONENT)
+
+
+def check_synchronous_work(cycle_s: float, predictor_rtol: float) -> None:
+    """A guided flight the API process may fly itself: at most SYNC_WORK times the defaults' work; else one line
+    naming the setting that asks more of the two, and its range with the other as given."""
+    cycles, predictor = work_factors(cycle_s, predictor_rtol)
+    if cycles * predictor <= SYNC_WORK:
+        return
+    if predictor >= cycles:
+        least = _default("predictor_rtol") / (SYNC_WORK / cycles) ** (1.0 / RTOL_WORK_EXPONENT)
+        said = f"predictor_rtol: {predictor_rtol:g} with cycle_s {cycle_s:g} s"
+        allowed = f"{_up(least):g} to {MAX_PREDICTOR_RTOL:g} with this cycle_s"
+    else:
+        said = f"cycle_s: {cycle_s:g} s with predictor_rtol {predictor_rtol:g}"
+        allowed = f"{_up(_default('cycle_s') * predictor / SYNC_WORK):g} to {MAX_CYCLE_S:g} s with this predictor_rtol"
+    raise ValueError(
+        f"{said} is about {cycles * predictor:.3g} times the work of the default settings, past the {SYNC_WORK:g} "
+        f"times a synchronous request may ask: allowed {allowed}; or fly it with the CLI (footprint fly) or the "
+        "Python API (footprint.fly)"
+    )
+
+
+def _up(x: float) -> float:
+    """x rounded up to two significant digits (a bound said so still passes)."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return math.ceil(x / scale) * scale

@@ -1,13 +1,17 @@
 """A request's mistakes as the CLI and the service say them: one line naming each field and what is allowed, every
 echo of the client's text printable and clipped; the fields as data (error_parts) for the service's 422 body."""
 
+import dis
 import functools
 import re
+import sysconfig
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any, get_args
 
 from pydantic import ValidationError
 
+from footprint.contracts.doors import uncomputed
 from footprint.core.errors import InputError
 
 
@@ -37,8 +41,12 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
                 (after in (None, "bank", "alpha", "heating") or study) and x in tags or (study and x in _STUDY_TAGS)
             ):
                 continue  # a discriminated union's tag (a law, a study's method), not a field
+            if _member_label(x) and not (err["type"] == "extra_forbidden" and i == len(err["loc"]) - 1):
+                continue  # a union member's tag or pydantic's label of it, not a field (an unknown key is the client's)
             loc.append(clip(printable(str(x)), ECHO_CHARS))  # a key is the client's text too
         msg = clip(printable(err["msg"].removeprefix("Value error, ")), ERROR_MESSAGE_CHARS)  # may quote the input
+        if err["type"] == "value_error" and said_by_python(err.get("ctx", {}).get("error")):
+            msg = clip(printable(uncomputed(err["ctx"]["error"])), ERROR_MESSAGE_CHARS)
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):  # a law's or a study's tag: name it
             ctx = err.get("ctx", {})
             tag, allowed = ctx.get("discriminator", "").strip("'"), ctx.get("expected_tags", "")
@@ -70,6 +78,31 @@ def errors_parts(errs: Sequence[Any]) -> list[tuple[str | None, str]]:
 
 
 _FIELD_FIRST = re.compile(r"^([A-Za-z_][\w.]*): ")
+
+
+PACKAGE_DIR = str(Path(__file__).resolve().parents[1])  # footprint/, wherever it is installed
+LIBRARY_DIRS = tuple({sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+_RAISES = {dis.opmap["RAISE_VARARGS"], dis.opmap["RERAISE"]}
+
+
+def said_by_python(exc: object) -> bool:
+    """A ValueError in a validator that no `raise` of a validator's code wrote, but a call it made (math.sqrt's domain
+    error, int()'s) or a library (numpy's): its words are Python's, not a reason the user can act on. An InputError
+    is always the core's."""
+    if not isinstance(exc, ValueError) or isinstance(exc, InputError) or exc.__traceback__ is None:
+        return False
+    tb = exc.__traceback__
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    file = tb.tb_frame.f_code.co_filename
+    ours = file.startswith(PACKAGE_DIR) or not file.startswith(LIBRARY_DIRS)
+    return not (ours and tb.tb_frame.f_code.co_code[tb.tb_lasti] in _RAISES)
+
+
+def _member_label(x: object) -> bool:
+    """A union member in an error's location: its tag, "(number)" (contracts.fields.shape_tag), or pydantic's label
+    of an untagged one, "list[function-after[check(), ...]]"; no field's name holds a parenthesis or a bracket."""
+    return isinstance(x, str) and any(c in x for c in "([")
 
 
 # what of a bad request an error line echoes: never the whole of a 200 kB value

@@ -31,7 +31,7 @@ from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.footprint import fly as fly_study
 from footprint.contracts.records import csv_cell, plain
-from footprint.contracts.work import OnProgress, Stored, Work
+from footprint.contracts.work import OnProgress, Stored, Work, stop_question
 from footprint.core import constants as c
 from footprint.core.orbits import J2, CircularOrbit
 from footprint.core.reach import Window, reach
@@ -205,13 +205,14 @@ def parse_request(data: Any, ctx: dict[str, Any] | None = None) -> ReachRequest:
 
 
 def footprint_polygon(
-    req: ReachRequest,
+    req: ReachRequest, on_progress: OnProgress | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], dict[str, Any]]:
-    """(down-range nmi, cross-range nmi, flight time s) of the closed boundary, and a description."""
+    """(down-range nmi, cross-range nmi, flight time s) of the closed boundary, and a description; a study's flights
+    ask on_progress before each (True stops them: errors.Stopped)."""
     fp = req.footprint
     if fp.study is not None:
         study = fp.study
-        flown = fly_study(study)
+        flown = fly_study(study, stop_asked=stop_question(on_progress, "flying the footprint"))
         pts = [(p.downrange_nmi, p.crossrange_nmi, p.flight_time_s) for p in flown.points]
         info: dict[str, Any] = {
             "source": "study",
@@ -242,7 +243,7 @@ def analysis(req: ReachRequest, part: Any = None, on_progress: OnProgress | None
     the placements (True stops)."""
     orbit = req.orbit.to_orbit()
     revs, span_end_s = req.revolutions.span(orbit)
-    down, cross, flight_time, info = footprint_polygon(req)
+    down, cross, flight_time, info = footprint_polygon(req, on_progress)
     notes: list[str] = []
     if info.get("planet_rotating") and req.earth_rotation == "approximate":
         notes.append(

@@ -32,6 +32,8 @@ down-range is its flown one where the request gives it (a move keeps the ranges 
 
 import csv
 import os
+from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -42,7 +44,7 @@ from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
 from footprint.contracts.records import csv_cell
-from footprint.contracts.work import OnProgress, Work
+from footprint.contracts.work import OnProgress, Work, stop_question
 from footprint.core.constants import OMEGA_EARTH_DEG_S
 from footprint.core.errors import InputError
 from footprint.core.rotation import ranges_near
@@ -193,7 +195,7 @@ def transform(req: TransformRequest, part: Any = None, on_progress: OnProgress |
 
     dst = stepped_reference(dst0, req.step_downrange_nmi)
     if req.earth_rotation == "exact":
-        points = _exact_points(req, dst)
+        points = _exact_points(req, dst, stop_question(on_progress, "flying the footprint again"))
     else:
         points = _moved_points(req, src, dst0, dst)
     return {
@@ -233,12 +235,14 @@ def _moved_points(req: TransformRequest, src: Reference, dst0: Reference, dst: R
     return rows
 
 
-def _exact_points(req: TransformRequest, dst: Reference) -> list[dict[str, Any]]:
+def _exact_points(
+    req: TransformRequest, dst: Reference, stop_asked: Callable[[], bool] | None = None
+) -> list[dict[str, Any]]:
     from footprint.core.rotation import all_points, fly_at
 
     study = req.study
     assert study is not None  # an exact transform carries its study (the request's check)
-    spec = study.case.to_spec()
+    spec = replace(study.case.to_spec(), stop_asked=stop_asked)
     fp = fly_at(spec, study.to_settings(), dst, rotating=True)
     return [
         {

@@ -11,6 +11,14 @@ from typing import Any, Generic, TypeVar
 OnProgress = Callable[[float, str], bool | None]
 
 
+def stop_question(on_progress: OnProgress | None, note: str, fraction: float = 0.0) -> Callable[[], bool] | None:
+    """The core's question before each flight and guidance prediction (FlightSpec.stop_asked) from a part's
+    on_progress, asked at `fraction` of the part with `note`: True stops the flight (errors.Stopped)."""
+    if on_progress is None:
+        return None
+    return lambda: bool(on_progress(fraction, note))
+
+
 @dataclass(frozen=True)
 class RunInfo:
     """How a run went: its tasks, the workers it had (0: this process), and its seconds (first part submitted to last

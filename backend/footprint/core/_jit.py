@@ -10,9 +10,11 @@ that compiled code reads, so they are left out of the hash.
 """
 
 import hashlib
+import itertools
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, TypeVar, overload
 
@@ -78,3 +80,46 @@ def njit(f: _F, /) -> _F: ...
 def njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Callable[[_F], _F]: ...
 def njit(*args: Any, allocates: bool = True, **kwargs: Any) -> Any:
     return _njit(*args, allocates=allocates, **kwargs)
+
+
+# A compiled loop that runs long (the guidance's cycles) asks Python "stop now?" (a time limit, a cancel) through a
+# token it is given, 0 when no one asks: asks_stop(token) calls what `asking` holds under it, in numba's object mode,
+# which takes the GIL for the call (a few microseconds; a guided flight asks once a prediction).
+_ASKED: dict[int, Callable[[], bool]] = {}
+_TOKENS = itertools.count(1)
+
+
+@contextmanager
+def asking(stop: Callable[[], bool] | None) -> Iterator[int]:
+    """The token asks_stop takes to ask `stop` while the block runs (0: none to ask)."""
+    if stop is None:
+        yield 0
+        return
+    token = next(_TOKENS)
+    _ASKED[token] = stop
+    try:
+        yield token
+    finally:
+        del _ASKED[token]
+
+
+def _stop_asked(token: int) -> bool:
+    return bool(_ASKED[token]())
+
+
+if NO_JIT:
+
+    def asks_stop(token: int) -> bool:
+        """Whether what `asking` holds under token (none: 0) asks to stop."""
+        return token != 0 and _stop_asked(token)
+
+else:
+
+    @numba.njit(cache=True)  # not nogil: object mode holds the GIL for the call
+    def asks_stop(token: int) -> bool:
+        """Whether what `asking` holds under token (none: 0) asks to stop."""
+        if token == 0:
+            return False
+        with numba.objmode(stop="boolean"):
+            stop = _stop_asked(token)
+        return stop

@@ -266,8 +266,14 @@ def state_orbit(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.f
         inside = f"{radius_ft / FT_PER_KM:,.0f} km from the earth's centre is inside the earth"
         raise InputError("state.position_km", f"{inside} (its polar radius is {polar_ft / FT_PER_KM:,.0f} km)")
     orbit = two_body(coast, r_ft, v_rel_fps)
-    if not math.isfinite(orbit.semi_major_axis_ft):
-        raise InputError("state.velocity_km_s", "the state is not bound to the earth (at or past escape speed)")
+    if not math.isfinite(orbit.semi_major_axis_ft):  # at or past the escape speed sqrt(2 mu / r): no a, no n
+        v_in = float(np.linalg.norm(inertial_velocity(r_ft[None, :], v_rel_fps[None, :], coast.omega_rad_s)[0]))
+        escape_fps = math.sqrt(2.0 * coast.mu_ft3_s2 / radius_ft)
+        raise InputError(
+            "state.velocity_km_s",
+            f"{v_in / FT_PER_KM:.3g} km/s inertial at {radius_ft / FT_PER_KM:,.0f} km from the earth's centre is at or "
+            f"past the escape speed {escape_fps / FT_PER_KM:.3g} km/s there: an orbit's state is slower",
+        )
     return orbit
 
 

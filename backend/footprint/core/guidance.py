@@ -18,10 +18,12 @@ J. Guidance, Control, and Dynamics 37(3), 2014, 713-728), written for this integ
 * The flown bank follows the command through a rate- and acceleration-limited actuator (time-optimal tracking),
   tabulated in time for each cycle.
 
-The guidance runs entirely inside one compiled function (`_fly_guided`): no Python between cycles.
+The guidance runs entirely inside one compiled function (`_fly_guided`): no Python between cycles, except the question
+"stop now?" before each prediction when someone asks it (fly_guided's stop_asked: a synchronous request's time limit).
 """
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from footprint.core import constants as c
-from footprint.core._jit import njit
+from footprint.core._jit import asking, asks_stop, njit
 from footprint.core.atmosphere import atmosphere
 from footprint.core.controls import C_BANK_TABLE, replace_controls
 from footprint.core.dynamics import (
@@ -79,7 +81,7 @@ from footprint.core.heating import (
     CorrelationHeating,
     ReferenceHeating,
 )
-from footprint.core.integrate import N_COLS, R_T, R_X, STOP_MAX_STEPS, STOP_TIME, integrate
+from footprint.core.integrate import N_COLS, R_T, R_X, STOP_ASKED, STOP_MAX_STEPS, STOP_NONE, STOP_TIME, integrate
 from footprint.core.sphere import MEAN_RADIUS_NMI
 
 ACTUATOR_STEP_S = 0.25  # s between the nodes of a cycle's bank table (the actuator's sub-step)
@@ -168,6 +170,7 @@ K_TIME, K_ENERGY, K_RANGE_TO_GO, K_SIGMA0, K_BOUND, K_COMMAND, K_MISS, K_PREDICT
 K_LIFT_RATIO, K_DRAG_RATIO, K_FIRST_MISS = 9, 10, 11  # K_FIRST_MISS: the cycle's first prediction's
 N_CYCLE_COLS = 12
 F_CONVERGED, F_SATURATED, F_BOUND, F_REVERSAL, F_UNCONVERGED, F_HELD = 1, 2, 4, 8, 16, 32
+F_ASKED_TO_STOP = 64  # the corrector's question was answered "stop": the flight ends there
 # --- per row records ---
 A_COMMAND, A_MISS = 0, 1
 N_AUX = 2
@@ -549,9 +552,11 @@ def _correct(
     to_go: float,
     iterations: int,
     max_steps: int,
+    stop_token: int,
 ) -> tuple[float, float, float, float, int, int, int]:
     """FNPEG's corrector: secant steps on sigma0 for z = predicted range flown - range to go, from the last cycle's
-    sigma0 and slope dz/dsigma0 (a finite difference when there is none). Keeps the best sigma0 found.
+    sigma0 and slope dz/dsigma0 (a finite difference when there is none). Keeps the best sigma0 found; asks before
+    each further prediction whether to stop (stop_token, core._jit.asks_stop: F_ASKED_TO_STOP).
     Returns (sigma0, z, slope, first z, predictions, F_* flags, right-hand sides)."""
     flown, n_rhs = _predict(s, t, p_pred, aero, ctrl_pred, mode, work, sigma0, sign, energy, g, max_steps)
     z = flown - to_go
@@ -561,6 +566,8 @@ def _correct(
     for _ in range(iterations):
         if abs(z) <= tolerance:
             break
+        if asks_stop(stop_token):
+            return sigma0, z, slope, first, predictions, F_ASKED_TO_STOP, n_rhs
         fresh = not slope < -SLOPE_MIN_NMI_DEG
         if fresh:  # a finite difference, away from the upper limit
             trial = sigma0 + PROBE_STEP_DEG if sigma0 + PROBE_STEP_DEG <= g[G_MAX_BANK] else sigma0 - PROBE_STEP_DEG
@@ -616,13 +623,15 @@ def _fly_guided(
     g: NDArray[np.float64],
     heat: NDArray[np.float64],
     max_steps: int,
+    stop_token: int,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, int]:
     """The guided flight: (rows, per-row command and predicted miss, per-cycle records, the bank flown as (time,
     bank) nodes, stop code, right-hand sides).
 
     p: the flown world (its dispersions); p_nominal: what the guidance believes (no dispersion, the predictor's
     tolerance); both stop at the terminal energy. Each cycle: measure, steer (lateral), correct (longitudinal),
-    bound (path limits), then fly the cycle through the actuator."""
+    bound (path limits), then fly the cycle through the actuator. Asked to stop (stop_token), it ends with STOP_ASKED
+    before its next cycle."""
     lat_t, lon_t, e_f = g[G_TARGET_LAT], g[G_TARGET_LON], g[G_TERMINAL_ENERGY]
     capacity = int(g[G_TABLE_NODES])
     p_pred = p_nominal.copy()
@@ -643,7 +652,11 @@ def _fly_guided(
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
     n_rhs_total = 0
     steps_left = max_steps
+    stop = STOP_NONE
     while True:
+        if asks_stop(stop_token):
+            stop = STOP_ASKED
+            break
         res = evaluate(t, s, p, aero, ctrl_fly, mode)
         v = res[EV_SPEED_FPS]
         energy = energy_height_ft(res[EV_ALTITUDE_FT], v, p[P_G0])
@@ -667,9 +680,27 @@ def _fly_guided(
         sign = new_sign
         iterations = FIRST_CYCLE_ITERATIONS if nc == 0 else int(g[G_ITERATIONS])
         sigma0, z, slope, first, predictions, flags, used = _correct(
-            s, t, p_pred, aero, ctrl_pred, mode, work, g, sigma0, slope, sign, energy, to_go, iterations, steps_left
+            s,
+            t,
+            p_pred,
+            aero,
+            ctrl_pred,
+            mode,
+            work,
+            g,
+            sigma0,
+            slope,
+            sign,
+            energy,
+            to_go,
+            iterations,
+            steps_left,
+            stop_token,
         )
         n_rhs_total += used
+        if flags & F_ASKED_TO_STOP:
+            stop = STOP_ASKED
+            break
         if reversed_now:
             flags |= F_REVERSAL
         bound = bank_bound_deg(g, heat, p, s, res)
@@ -787,8 +818,10 @@ def fly_guided(
     guidance: Guidance,
     heating: ReferenceHeating | CorrelationHeating | None,
     max_steps: int,
+    stop_asked: Callable[[], bool] | None = None,
 ) -> GuidedRecord:
-    """Set up the guided flight's arrays (p of the flown world, already stopping at the terminal energy) and fly it."""
+    """Set up the guided flight's arrays (p of the flown world, already stopping at the terminal energy) and fly it;
+    stop_asked() before each prediction, True ends the flight (stop_code STOP_ASKED)."""
     g = pack_guidance(guidance)
     p_nominal = p.copy()
     p_nominal[P_CL_MULTIPLIER] = p_nominal[P_CD_MULTIPLIER] = 1.0
@@ -797,7 +830,8 @@ def fly_guided(
     p_nominal[P_MAX_STEP] = PREDICTOR_MAX_STEP_S
     ctrl_fly = guided_controls(ctrl, guidance.table_nodes, "time")
     ctrl_pred = guided_controls(ctrl, 2, "energy")
-    rows, aux, cycles, nodes, stop, n_rhs = _fly_guided(
-        s0, p, p_nominal, aero, ctrl_fly, ctrl_pred, mode, g, heating_table(heating), max_steps
-    )
+    with asking(stop_asked) as token:
+        rows, aux, cycles, nodes, stop, n_rhs = _fly_guided(
+            s0, p, p_nominal, aero, ctrl_fly, ctrl_pred, mode, g, heating_table(heating), max_steps, token
+        )
     return GuidedRecord(guidance, rows, aux, cycles, nodes, int(stop), int(n_rhs))

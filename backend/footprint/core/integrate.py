@@ -100,7 +100,8 @@ STOP_SKIP_OUT = 4
 STOP_MAX_STEPS = 5
 STOP_STEP_UNDERFLOW = 6
 STOP_ENERGY = 7
-STOP_REASONS = ("none", "altitude", "velocity", "time", "skip_out", "max_steps", "step_underflow", "energy")
+STOP_ASKED = 8  # a loop's asks_stop said stop (core._jit): a guided flight raises errors.Stopped on it
+STOP_REASONS = ("none", "altitude", "velocity", "time", "skip_out", "max_steps", "step_underflow", "energy", "stopped")
 
 # recorded columns
 R_T, R_X, R_Y, R_Z, R_VX, R_VY, R_VZ = 0, 1, 2, 3, 4, 5, 6

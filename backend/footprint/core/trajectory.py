@@ -69,7 +69,7 @@ from footprint.core.dynamics import (
     energy_height_ft,
     steering_angles,
 )
-from footprint.core.errors import InputError
+from footprint.core.errors import InputError, Stopped
 from footprint.core.frames import (
     ecef_from_geodetic,
     flight_angles,
@@ -98,6 +98,7 @@ from footprint.core.integrate import (
     R_X,
     R_Y,
     R_Z,
+    STOP_ASKED,
     STOP_REASONS,
     integrate,
 )
@@ -192,6 +193,8 @@ class FlightSpec:
     heating: ReferenceHeating | CorrelationHeating | None = None  # core.heating; None: no heating histories
     dispersion: Dispersion = field(default_factory=Dispersion)
     guidance: Guidance | None = None  # core.guidance: the bank flown by the predictor-corrector, to its terminal energy
+    # asked before the flight and each guidance prediction: True stops it (errors.Stopped; a time limit, a cancel)
+    stop_asked: Callable[[], bool] | None = None
 
 
 class Trajectory:
@@ -315,9 +318,15 @@ def flight_inputs(spec: FlightSpec) -> tuple[NDArray[np.float64], NDArray[np.flo
 
 
 def _fly(spec: FlightSpec) -> _Flight:
+    if spec.stop_asked is not None and spec.stop_asked():
+        raise Stopped("stopped before a flight")
     p, s0, mode = flight_inputs(spec)
     if spec.guidance is not None:
-        guided = fly_guided(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.guidance, spec.heating, spec.max_steps)
+        guided = fly_guided(
+            s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.guidance, spec.heating, spec.max_steps, spec.stop_asked
+        )
+        if guided.stop_code == STOP_ASKED:
+            raise Stopped(f"stopped at guidance cycle {len(guided.cycles) + 1:,}")
         return _Flight(p, guided.rows, guided.stop_code, guided.n_rhs, mode, guided)
     rows, stop_code, n_rhs = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
     return _Flight(p, rows, int(stop_code), int(n_rhs), mode)

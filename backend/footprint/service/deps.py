@@ -1,6 +1,7 @@
 """What the routers take from the running app: the session factory, the job engine and the settings."""
 
 import hmac
+import time
 from collections.abc import Callable, Iterator
 from typing import Annotated
 
@@ -116,13 +117,39 @@ def parse_body(request: Request, kind: str, data, prefix: str = "", *, synchrono
 def answer_now(request: Request, kind: str, data, prefix: str = ""):
     """A contract kind's answer computed in this process (footprint.parallel.run) for a body, with the synchronous
     door's limits: a mistake, in the body or one only the numbers show (an inclination the latitude cannot fly), is a
-    422 naming the field."""
+    422 naming the field; a computation past the synchronous time limit is stopped, and a 422 says what to do."""
     from footprint import parallel
-    from footprint.core.errors import InputError
-    from footprint.service.errors import invalid
+    from footprint.core.errors import InputError, Stopped
+    from footprint.service.errors import RequestInvalid, invalid
 
     parsed = parse_body(request, kind, data, prefix, synchronous=True)
     try:
-        return parallel.run(kind, parsed)
+        return parallel.run(kind, parsed, on_progress=_within_time_limit(request))
     except InputError as exc:
         raise invalid(exc, prefix) from None
+    except Stopped:
+        limit_s = request.app.state.settings.sync_time_limit_s
+        raise RequestInvalid(
+            f"the request took longer than the synchronous limit of {limit_s:g} s (FOOTPRINT_SYNC_TIME_LIMIT_S) and "
+            f"was stopped: {TOO_LONG_ADVICE.get(kind, 'ask for less work')}",
+            None,
+        ) from None
+
+
+# what a request stopped by the synchronous time limit can do instead, by its kind
+TOO_LONG_ADVICE = {
+    "case": "a guided case asks less with a longer bank.cycle_s or a looser bank.predictor_rtol; the CLI (footprint "
+    "fly) and the Python API (footprint.fly) fly it whole",
+    "transform": "fewer footprint points or a longer study.case.integrator.max_step_s ask less; a footprint job from "
+    "the destination's entry (POST /api/jobs) flies it whole",
+    "reach": "the same request as a reach job (POST /api/jobs) runs whole",
+}
+
+
+def _within_time_limit(request: Request) -> Callable[[float, str], bool]:
+    """on_progress of a synchronous computation: True (stop) once the request has computed for the synchronous time
+    limit, counted from its first computation (a route may compute several)."""
+    deadline = getattr(request.state, "sync_deadline", None)
+    if deadline is None:
+        deadline = request.state.sync_deadline = time.monotonic() + request.app.state.settings.sync_time_limit_s
+    return lambda fraction, note: time.monotonic() > deadline

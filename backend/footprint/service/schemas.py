@@ -5,10 +5,11 @@ footprint.contracts.reach.Site."""
 
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints, create_model
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints, WrapValidator, create_model
 
 from footprint import contracts
 from footprint.contracts.bounds import FOOTPRINT_NAME_CHARS, JOB_NAME_CHARS, VEHICLE_ID_CHARS
+from footprint.contracts.doors import computable
 from footprint.contracts.fields import model_fields
 from footprint.contracts.reach import Site
 from footprint.contracts.vehicle import VehicleCase
@@ -47,7 +48,7 @@ def _typed_job(kind: str) -> type[BaseModel]:
         f"{kind.capitalize()}Job",
         __base__=_Strict,
         kind=(Literal[kind], ...),
-        study=(contracts.module(kind).REQUEST, ...),
+        study=(Annotated[contracts.module(kind).REQUEST, WrapValidator(computable)], ...),
         name=(str | None, Field(default=None, max_length=JOB_NAME_CHARS)),
     )
 

@@ -44,6 +44,9 @@ class Settings(BaseSettings):
     # a request's line and headers, and then its body, are due within these of their start (408 and closed past them)
     header_timeout_s: float = Field(default=10.0, gt=0.0, le=3_600.0)
     body_timeout_s: float = Field(default=30.0, gt=0.0, le=3_600.0)
+    # what a synchronous request (a trajectory, a transform, a reach) may compute in the API process; past it the
+    # computation stops at its next flight or guidance prediction and the request is a 422 (docs/api.md)
+    sync_time_limit_s: float = Field(default=10.0, gt=0.0, le=3_600.0)
 
     @field_validator("dask_scheduler")
     @classmethod
