@@ -1,9 +1,9 @@
 """Landing opportunities from a TLE (issue 28): an opportunity re-flown end to end by other routes than the scan's.
 
-The burn state comes from `sgp4` itself and the coast from an inertial Kepler + J2 propagation written here
-(tests.core.test_deorbit), and must meet the reported entry point; the footprint flown again from the reported entry
-by the footprint study's own door, and placed by the reach module's placement (core.reach.placement_margins), gives
-the reported margin. Small windows: three hours, four sites."""
+The burn state comes from `sgp4` itself and the coast from an inertial propagation in WGS-72's gravity written apart
+from the package (tests.core.orbit_routes), and must meet the reported entry point; the footprint flown again from
+the reported entry by the footprint study's own door, and placed by the reach module's placement
+(core.reach.placement_margins), gives the reported margin. Small windows: three hours, four sites."""
 
 import copy
 import json
@@ -15,16 +15,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from pydantic import ValidationError
-from scipy.integrate import solve_ivp
 
 from footprint import contracts, parallel
 from footprint.contracts.footprint import fly as fly_footprint
 from footprint.contracts.messages import error_line
-from footprint.core import constants as c
-from footprint.core.elements import gmst_deg
 from footprint.core.errors import InputError
 from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference
+from tests.core.orbit_routes import WGS72, independent_entry, sgp4_teme_km
 from tests.core.test_guidance import distance_nmi
 
 EXAMPLE = json.loads(open("examples/opportunities_iss_20_sites.json").read())
@@ -38,7 +36,6 @@ SITES = [
 def small_study(**change):
     study = copy.deepcopy(EXAMPLE) | {"sites": SITES, "burn_step_s": 60, "ring_step_deg": 30}
     study["window"] = {"start": "2008-09-21T00:00:00Z", "hours": 3}
-    study["footprint"]["case"]["planet"] |= {"h": 0.0, "k": 0.0}  # J2 only: the independent coast's gravity
     return study | change
 
 
@@ -51,49 +48,17 @@ def _utc(text):
     return datetime.fromisoformat(text.replace("Z", "+00:00"))
 
 
-def _j2_coast(r0_ft, v0_fps, seconds):
-    """Point mass + J2 in inertial axes (Vallado eq. 8-30), DOP853: the position after `seconds`."""
-    mu, re, j2 = c.MU_EARTH_FT3_S2, c.RADIUS_EQUATORIAL_FT, c.J_ZONAL / 1.5
-
-    def f(_t, s):
-        x, y, z = s[:3]
-        r2 = x * x + y * y + z * z
-        r = math.sqrt(r2)
-        k = 1.5 * j2 * re * re / r2
-        a = -mu / r**3
-        return [*s[3:], a * x * (1 + k * (1 - 5 * z * z / r2)), a * y * (1 + k * (1 - 5 * z * z / r2)),
-                a * z * (1 + k * (3 - 5 * z * z / r2))]  # fmt: skip
-
-    sol = solve_ivp(f, (0.0, seconds), np.concatenate([r0_ft, v0_fps]), method="DOP853", rtol=1e-12, atol=1e-6)
-    return sol.y[:3, -1]
-
-
 def test_an_opportunity_reflown_end_to_end_meets_its_stated_entry_and_margin(answer):
-    from sgp4.api import Satrec, jday
-
     taken = [o for o in answer["opportunities"] if o["meets_rules"]]
     assert taken, answer["sites"]
     o = max(taken, key=lambda o: o["margin_nmi"] < 1_000)  # one near the boundary, where the margin means most
-    # 1. the burn state from sgp4 itself, the retrograde Δv in inertial axes, the coast by Kepler + J2
-    sat = Satrec.twoline2rv(*EXAMPLE["tle"].splitlines()[1:])
+    # 1. the burn state from sgp4 itself, the retrograde Δv in inertial axes, the coast in WGS-72 to the interface
     burn = _utc(o["burn_utc"])
-    burn_exact = burn  # printed to the second, the coast below starts there too
-    jd, fr = jday(burn_exact.year, burn_exact.month, burn_exact.day, burn_exact.hour, burn_exact.minute,
-                  burn_exact.second)  # fmt: skip
-    _, r_km, v_kms = sat.sgp4(jd, fr)
-    theta0 = math.radians(float(gmst_deg([burn_exact])[0]))
-    r_teme, v_teme = np.array(r_km) * 1000 / 0.3048, np.array(v_kms) * 1000 / 0.3048
-    v_after = v_teme * (1.0 - o["delta_v_fps"] / np.linalg.norm(v_teme))
-    end = _j2_coast(r_teme, v_after, o["coast_s"])
-    theta = theta0 + c.OMEGA_EARTH_RAD_S * o["coast_s"]  # TEME to earth-fixed at the entry: the earth turned on
-    x, y = math.cos(theta) * end[0] + math.sin(theta) * end[1], -math.sin(theta) * end[0] + math.cos(theta) * end[1]
-    lat = math.degrees(math.atan2(end[2], math.hypot(x, y)))  # geocentric: within 0.2 deg of geodetic, see below
+    r, v = sgp4_teme_km(EXAMPLE["tle"].splitlines()[1:], burn)
+    _, lat, lon = independent_entry(r, v, o["delta_v_fps"], WGS72, burn)
     e = o["entry"]
-    geocentric = math.degrees(
-        math.atan((c.RADIUS_POLAR_FT / c.RADIUS_EQUATORIAL_FT) ** 2 * math.tan(math.radians(e["latitude_deg"])))
-    )
     # the reported burn time is rounded to the second: along the orbit that is up to 4 nmi
-    assert distance_nmi(lat, math.degrees(math.atan2(y, x)), geocentric, e["longitude_deg"]) <= 4.5
+    assert distance_nmi(lat, lon, e["latitude_deg"], e["longitude_deg"]) <= 4.5
     # 2. the footprint flown again from the reported entry, the site placed by the reach module
     study = contracts.parse("footprint", small_study()["footprint"] | {})
     spec_entry = study.case.entry.model_copy(update={**e, "velocity_frame": "relative"})
@@ -198,11 +163,14 @@ def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():
     (v^2/2 - omega^2 (x^2 + y^2)/2 - mu/r, a point-mass earth) to 1e-9 of its size."""
     from footprint.core import deorbit as dorb
     from footprint.core.aero import builtin_vehicle
+    from footprint.core.constants import Earth
     from footprint.core.trajectory import Planet
 
     epoch = _utc("2008-09-21T00:00:00Z")
     r_km, v_kms = np.array([6778.0, 0.0, 0.0]), np.array([0.0, 4.766, 6.010])  # 400 km, 51.6 deg, circular
-    coast = dorb.Coast.of(builtin_vehicle("lod-1.89"), Planet(oblate=False))
+    mu_km3_s2, omega_rad_s = 398_600.4418, 7.292115e-5  # WGS-84's (NIMA TR8350.2 table 3.1), as a point mass
+    point_mass = Earth("a point mass", mu_km3_s2, 6_378.137, 0.0, 0.0, 0.0, omega_rad_s)
+    coast = dorb.Coast.of(builtin_vehicle("lod-1.89"), Planet(oblate=False), earth=point_mass)
     r, v = dorb.state_earth_fixed(epoch, "teme", r_km, v_kms, coast.omega_rad_s)
     for frame, position, velocity in (("teme", r_km, v_kms), ("earth_fixed", r / dorb.FT_PER_KM, v / dorb.FT_PER_KM)):
         r0, v0 = dorb.state_earth_fixed(epoch, frame, position, velocity, coast.omega_rad_s)
@@ -211,7 +179,7 @@ def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():
         assert np.allclose(back_r[0], r_km, rtol=0, atol=1e-9) and np.allclose(back_v[0], v_kms, rtol=0, atol=1e-12)
     times = [epoch + timedelta(seconds=s) for s in np.arange(0.0, 6_000.0, 37.3)]  # mostly between steps
     rr, vv = orbit.earth_fixed(times)
-    w, mu = coast.omega_rad_s, coast.mu_ft3_s2
+    w, mu = omega_rad_s, mu_km3_s2 * (1000.0 / 0.3048) ** 3
     jacobi = (
         0.5 * np.sum(vv**2, axis=1) - 0.5 * w**2 * (rr[:, 0] ** 2 + rr[:, 1] ** 2) - mu / np.linalg.norm(rr, axis=1)
     )

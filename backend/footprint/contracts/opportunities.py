@@ -31,6 +31,7 @@ from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
 from footprint.core import sun
+from footprint.core.constants import WGS84, Earth
 from footprint.core.elements import (
     MAX_EPOCH_AGE_DAYS,
     STATE_EPOCH_UTC,
@@ -47,6 +48,7 @@ MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
 NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
+STATE_EARTH = WGS84  # a given state vector's: the earth of GPS and of most state vectors handed on
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
 
@@ -100,7 +102,8 @@ class Rules(Strict):
 
 class StateVector(Strict):
     """The vehicle's state at a UTC epoch: in TEME (true equator, mean equinox of date, as SGP4 gives it) or
-    earth-fixed (the velocity relative to the earth); propagated by our integrator without drag."""
+    earth-fixed (the velocity relative to the earth); propagated by our integrator in WGS-84's gravity (its point
+    mass and EGM96's J2-J4) and rotation, without drag."""
 
     epoch: Annotated[AwareDatetime, AfterValidator(STATE_EPOCH_UTC.check)]
     frame: Literal["teme", "earth_fixed"] = "teme"
@@ -158,10 +161,14 @@ class OpportunitiesStudy(Strict):
         """The footprint study's case, as the core flies it (built once)."""
         return self.footprint.case.to_spec()
 
+    def coast_in(self, earth: Earth) -> dorb.Coast:
+        """A coast's packed parameters: the footprint's vehicle and planet, the air removed, in an orbit's earth."""
+        return dorb.Coast.of(self.spec.vehicle, self.spec.planet, self.deorbit.interface_altitude_ft, earth)
+
     @functools.cached_property
     def coast(self) -> dorb.Coast:
-        """The coast's packed parameters: the footprint's vehicle and planet, the air removed."""
-        return dorb.Coast.of(self.spec.vehicle, self.spec.planet, self.deorbit.interface_altitude_ft)
+        """The coast of the orbit's burns, in the orbit's earth (SGP4's WGS-72, or a state vector's WGS-84)."""
+        return self.coast_in(self.orbit.earth)
 
     @functools.cached_property
     def orbit(self) -> Orbit:
@@ -169,12 +176,12 @@ class OpportunitiesStudy(Strict):
         if self.tle is not None:
             return parse_tle(self.tle)
         assert self.state is not None  # _checks: exactly one of tle or state
-        st, (start, end) = self.state, self.window.bounds
+        st, (start, end), coast = self.state, self.window.bounds, self.coast_in(STATE_EARTH)
         epoch = st.epoch.astimezone(UTC)
-        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, self.coast.omega_rad_s)
-        n_rev_day = dorb.state_orbit(self.coast, r, v).mean_motion_rev_day
+        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, coast.omega_rad_s)
+        n_rev_day = dorb.state_orbit(coast, r, v).mean_motion_rev_day
         span_s = op.orbit_span_s((end - start).total_seconds(), n_rev_day)
-        return dorb.PropagatedState(epoch, r, v, self.coast, (start - epoch).total_seconds() + span_s)
+        return dorb.PropagatedState(epoch, r, v, coast, (start - epoch).total_seconds() + span_s)
 
 
 REQUEST = OpportunitiesStudy

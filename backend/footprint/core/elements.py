@@ -59,6 +59,11 @@ class Elements:
     mean_motion_rev_day: float
     bstar: float
 
+    @property
+    def earth(self) -> c.Earth:
+        """SGP4's earth: the elements are fitted with WGS-72's constants, and its states belong with them."""
+        return c.WGS72
+
     @functools.cached_property
     def satrec(self) -> Any:
         from sgp4.api import Satrec
@@ -79,8 +84,9 @@ class Elements:
 
 
 class Orbit(Protocol):
-    """What the landing opportunities read of an orbit: its epoch and a few of its elements, and its TEME state at
-    any UTC time of a window (Elements by SGP4; deorbit.PropagatedState by our integrator)."""
+    """What the landing opportunities read of an orbit: its epoch and a few of its elements, its TEME state at any UTC
+    time of a window (Elements by SGP4; deorbit.PropagatedState by our integrator), and the earth it belongs to (its
+    coast is flown in that earth's gravity)."""
 
     @property
     def name(self) -> str | None: ...
@@ -94,6 +100,8 @@ class Orbit(Protocol):
     def eccentricity(self) -> float: ...
     @property
     def mean_motion_rev_day(self) -> float: ...
+    @property
+    def earth(self) -> c.Earth: ...
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
 
@@ -160,7 +168,7 @@ def perigee_radius_km(mean_motion_rev_day: float, eccentricity: float) -> float:
     """The two-body perigee radius a (1 - e) (km), a by Kepler's third law n^2 a^3 = mu with SGP4's WGS-72 mu (the
     Kozai mean motion taken as two-body's: within 3 km of SGP4's own perigee, J2's share of a)."""
     n_rad_s = mean_motion_rev_day * 2.0 * math.pi / 86_400.0
-    radius_km: float = (c.MU_WGS72_KM3_S2 / n_rad_s**2) ** (1.0 / 3.0) * (1.0 - eccentricity)
+    radius_km: float = (c.WGS72.mu_km3_s2 / n_rad_s**2) ** (1.0 / 3.0) * (1.0 - eccentricity)
     return radius_km
 
 
@@ -171,9 +179,9 @@ def mean_motion_range_rev_day(eccentricity: float) -> tuple[float, float]:
 
     def at_perigee(radius_km: float) -> float:
         a_km = radius_km / (1.0 - eccentricity)
-        return math.sqrt(c.MU_WGS72_KM3_S2 / a_km**3) * 86_400.0 / (2.0 * math.pi)
+        return math.sqrt(c.WGS72.mu_km3_s2 / a_km**3) * 86_400.0 / (2.0 * math.pi)
 
-    return at_perigee(c.MOON_DISTANCE_KM), at_perigee(c.RADIUS_WGS72_KM)
+    return at_perigee(c.MOON_DISTANCE_KM), at_perigee(c.WGS72.radius_km)
 
 
 def _not_ascii(text: str, label: str) -> str | None:
@@ -228,7 +236,7 @@ def _orbit_error(line2: str) -> str | None:
     perigee = f"{perigee_radius_km(n, e):,.0f} km" if n > 0.0 else "infinite"
     return (
         f"{MEAN_MOTION.where}: {n:.8f} is outside the allowed range {slowest:.6g} to {fastest:.6g} rev/day at the "
-        f"eccentricity {e:.7f} (a perigee above the earth's surface, {c.RADIUS_WGS72_KM:,.3f} km from its centre, and "
+        f"eccentricity {e:.7f} (a perigee above the earth's surface, {c.WGS72.radius_km:,.3f} km from its centre, and "
         f"within the Moon's distance, {c.MOON_DISTANCE_KM:,.0f} km; this one's is {perigee})"
     )
 
