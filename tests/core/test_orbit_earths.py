@@ -61,11 +61,11 @@ def tle_table():
 def test_a_tles_coast_against_an_independent_wgs72_propagation(tle_table, delta_v_fps):
     """From sgp4's own state at the burn, the Δv against the inertial velocity, the coast in WGS-72's gravity to the
     interface: the entry point and the coast's time. J2 alone (the issue's check, 1.5 nmi) leaves J3 and J4 out, up to
-    0.15 nmi here; with them the two routes agree to the integrators' tolerance (measured 0.001 nmi, 0.0003 s)."""
+    0.15 nmi here; with them the two routes agree to the integrators' tolerance (measured 2e-5 nmi, 7e-6 s)."""
     start, table = tle_table
     row = next(row for row in table if row["delta_v_fps"] == delta_v_fps)
     r, v = sgp4_teme_km(EXAMPLE["tle"].splitlines()[1:], start)
-    for earth, nmi, seconds in ((WGS72, 0.01, 0.003), (j2_only(WGS72), 1.5, 0.5)):
+    for earth, nmi, seconds in ((WGS72, 0.001, 1e-4), (j2_only(WGS72), 1.5, 0.5)):
         coast_s, lat, lon = independent_entry(r, v, delta_v_fps, earth, start)
         assert distance_nmi(lat, lon, row["latitude_deg"], row["longitude_deg"]) < nmi
         assert row["coast_s"] == pytest.approx(coast_s, abs=seconds)
