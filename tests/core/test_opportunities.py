@@ -8,7 +8,8 @@ the reported entry by the footprint study's own door, and placed by the reach mo
 import copy
 import json
 import math
-from datetime import datetime, timedelta, timezone
+import re
+from datetime import UTC, datetime, timedelta, timezone
 
 import numpy as np
 import pytest
@@ -23,7 +24,9 @@ from footprint.core.errors import InputError
 from footprint.core.reach import placement_margins
 from footprint.core.sphere import Reference
 from tests.core.orbit_routes import WGS72, independent_entry, sgp4_teme_km
+from tests.core.test_elements import with_check_digits
 from tests.core.test_guidance import distance_nmi
+from tests.core.test_utc import AFTER_LEAP, tai_minus_utc_s
 
 EXAMPLE = json.loads(open("examples/opportunities_iss_20_sites.json").read())
 SITES = [
@@ -57,8 +60,7 @@ def test_an_opportunity_reflown_end_to_end_meets_its_stated_entry_and_margin(ans
     r, v = sgp4_teme_km(EXAMPLE["tle"].splitlines()[1:], burn)
     _, lat, lon = independent_entry(r, v, o["delta_v_fps"], WGS72, burn)
     e = o["entry"]
-    # the reported burn time is rounded to the second: along the orbit that is up to 4 nmi
-    assert distance_nmi(lat, lon, e["latitude_deg"], e["longitude_deg"]) <= 4.5
+    assert distance_nmi(lat, lon, e["latitude_deg"], e["longitude_deg"]) < 0.001  # the burn flown is the one written
     # 2. the footprint flown again from the reported entry, the site placed by the reach module
     study = contracts.parse("footprint", small_study()["footprint"] | {})
     spec_entry = study.case.entry.model_copy(update={**e, "velocity_frame": "relative"})
@@ -77,9 +79,58 @@ def test_an_opportunity_reflown_end_to_end_meets_its_stated_entry_and_margin(ans
     assert nearest >= o["margin_nmi"] - 1.0
     # 3. the landing time follows from the entry and the flight time, and lies within the footprint's times
     elapsed = (_utc(o["landing_utc"]) - _utc(o["entry_utc"])).total_seconds()
-    assert elapsed == pytest.approx(o["flight_time_s"], abs=1.0)  # times printed to the second
+    assert elapsed == pytest.approx(o["flight_time_s"], abs=0.001)  # each written to the nearest millisecond
     times = [p.flight_time_s for p in again.points]
     assert min(times) <= o["flight_time_s"] <= max(times)
+
+
+MILLISECONDS = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z")
+
+
+def test_every_burn_is_written_to_the_millisecond_it_is_flown_at(answer):
+    """Issue 52 item 2: the burn times were cut to the whole second, 0-1 s early (up to 3.8 nmi along the orbit).
+    Each burn now carries its milliseconds, and from the time written sgp4's own state, the Δv and the coast in
+    WGS-72 written apart (tests.core.orbit_routes) meet the entry written within 0.001 nmi (measured 3e-5) and its
+    coast within 1e-4 s; the entry's time is the burn's plus the coast to the millisecond."""
+    lines = EXAMPLE["tle"].splitlines()[1:]
+    assert len(answer["opportunities"]) >= 5
+    for o in answer["opportunities"]:
+        times = [o[k] for k in o if k.endswith("_utc")]
+        assert all(MILLISECONDS.fullmatch(t) for t in times), times
+        burn = _utc(o["burn_utc"])
+        coast_s, lat, lon = independent_entry(*sgp4_teme_km(lines, burn), o["delta_v_fps"], WGS72, burn)
+        assert distance_nmi(lat, lon, o["entry"]["latitude_deg"], o["entry"]["longitude_deg"]) < 0.001
+        assert o["coast_s"] == pytest.approx(coast_s, abs=1e-4)
+        assert (_utc(o["entry_utc"]) - burn).total_seconds() == pytest.approx(o["coast_s"], abs=0.001)
+
+
+@pytest.mark.parametrize("given", ["tle", "state"])
+def test_a_landing_across_the_leap_second_is_labelled_by_the_true_utc(given):
+    """The ISS's elements moved to 2016-12-30 12:00 UTC (check digits recomputed), or their SGP4 state at 22:00 as a
+    state vector, a window from 22:00 to past midnight: some coasts and flights span the leap second 2016-12-31
+    23:59:60. Each time written is a UTC label; TAI is that label plus 36 s before the leap and 37 s after (IERS
+    Bulletin C 52, tests.core.test_utc), so the seconds from the burn to the entry and to the landing are the coast's
+    and the coast's plus the flight's, to the millisecond (the labels were 1 s late across it: measured +1.03 and
+    +1.02 s)."""
+    tle = with_check_digits(EXAMPLE["tle"].replace("08264.51782528", "16365.50000000"))
+    study = small_study(tle=tle, window={"start": "2016-12-31T22:00:00Z", "hours": 2.5})
+    if given == "state":
+        r, v = sgp4_teme_km(tle.splitlines()[1:], datetime(2016, 12, 31, 22, tzinfo=UTC))
+        del study["tle"]
+        study["state"] = {"epoch": "2016-12-31T22:00:00Z", "position_km": r.tolist(), "velocity_km_s": v.tolist()}
+    opportunities = parallel.run("opportunities", study)["opportunities"]
+
+    def tai(text):
+        label = _utc(text)
+        return label + timedelta(seconds=tai_minus_utc_s(label))
+
+    across = [o for o in opportunities if _utc(o["burn_utc"]) < AFTER_LEAP <= _utc(o["landing_utc"])]
+    assert across, [o["landing_utc"] for o in opportunities]
+    for o in opportunities:
+        burn = tai(o["burn_utc"])
+        assert (tai(o["entry_utc"]) - burn).total_seconds() == pytest.approx(o["coast_s"], abs=0.001)
+        since_burn = (tai(o["landing_utc"]) - burn).total_seconds()
+        assert since_burn == pytest.approx(o["coast_s"] + o["flight_time_s"], abs=0.001)
 
 
 def test_the_rules_rank_and_filter(answer):
@@ -108,6 +159,20 @@ def test_the_ascending_nodes_are_where_the_track_crosses_the_equator_northward(a
         assert _utc(track["utc"][i]) <= _utc(node) <= _utc(track["utc"][i + 1])
 
 
+def test_the_ascending_nodes_to_the_millisecond_against_sgp4(answer):
+    """Each node where sgp4's own z crosses zero upward (brentq to a microsecond about the node written), within the
+    half millisecond of its writing (they were cut to the second, 0.1-0.98 s early; a linear crossing on the 60 s grid
+    is 4 ms off)."""
+    from scipy.optimize import brentq
+
+    lines = EXAMPLE["tle"].splitlines()[1:]
+    assert answer["ascending_nodes_utc"]
+    for node in answer["ascending_nodes_utc"]:
+        t = _utc(node)
+        root_s = brentq(lambda s: sgp4_teme_km(lines, t + timedelta(seconds=s))[0][2], -30.0, 30.0, xtol=1e-6)
+        assert abs(root_s) <= 0.0005 + 1e-6
+
+
 def _by_tle_and_by_state(hours):
     """The opportunities of a window from 2008-09-21 00:00 UTC by the TLE, and by the TLE's own TEME state at the
     window's start (sgp4) given as a state vector."""
@@ -125,19 +190,20 @@ def _by_tle_and_by_state(hours):
 
 
 def _assert_the_same_opportunities(by_tle, by_state):
-    """The same sites and revolutions, burns within a minute, margins within 20 nmi (SGP4's theory, its drag and its
-    constants against ours over two hours)."""
+    """The same sites and revolutions, burns within 5 s (the peak of a flat margin curve) and margins within 0.2 nmi
+    (measured 0.035 s and 0.01 nmi over two hours: SGP4's theory and drag in WGS-72 against our propagation in WGS-84;
+    1.4 nmi in the report's gravity, when the burns were compared to a minute and the margins to 20 nmi)."""
     key = lambda o: (o["site"], o["revolution"])  # noqa: E731
     a, b = {key(o): o for o in by_tle["opportunities"]}, {key(o): o for o in by_state["opportunities"]}
     assert a.keys() == b.keys() and a
     for k in a:
-        assert abs((_utc(a[k]["burn_utc"]) - _utc(b[k]["burn_utc"])).total_seconds()) <= 60.0
-        assert b[k]["margin_nmi"] == pytest.approx(a[k]["margin_nmi"], abs=20.0)
+        assert abs((_utc(a[k]["burn_utc"]) - _utc(b[k]["burn_utc"])).total_seconds()) <= 5.0
+        assert b[k]["margin_nmi"] == pytest.approx(a[k]["margin_nmi"], abs=0.2)
 
 
 def test_a_state_vector_gives_the_opportunities_its_tle_gives():
     """The TLE's own TEME state at the window's start (sgp4), given as a state vector and propagated by our integrator
-    (no drag, the report's gravity), finds the same opportunities over two hours."""
+    (no drag, WGS-84's gravity), finds the same opportunities over two hours."""
     by_tle, by_state = _by_tle_and_by_state(2)
     assert by_state["elements"]["inclination_deg"] == pytest.approx(51.64, abs=0.05)
     _assert_the_same_opportunities(by_tle, by_state)
@@ -154,7 +220,7 @@ def test_a_state_vector_plans_a_window_shorter_than_an_orbit():
     nodes = [_utc(t) for t in by_state["ascending_nodes_utc"]]
     assert len(nodes) == len(by_tle["ascending_nodes_utc"])
     for ours, theirs in zip(nodes, by_tle["ascending_nodes_utc"]):
-        assert abs((ours - _utc(theirs)).total_seconds()) <= 5.0  # 40 km along the orbit: SGP4's drag and ours
+        assert abs((ours - _utc(theirs)).total_seconds()) <= 0.1  # measured 0.004 s (SGP4's theory and drag, ours)
 
 
 def test_a_state_vector_round_trips_and_keeps_its_jacobi_constant():

@@ -34,6 +34,7 @@ from footprint.core.errors import InputError
 from footprint.core.frames import flight_angles, geodetic_from_ecef
 from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, STOP_TIME, integrate
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, pack_parameters
+from footprint.core.utc import elapsed_s, iso
 
 INTERFACE_ALTITUDE_FT = 400_000.0  # the entry interface of the report's cases (Table 2 enters at 364,800 ft)
 COAST_RTOL = 1e-10  # 0.002 ft a step on the planet's radius: the coast is smooth and cheap
@@ -253,11 +254,12 @@ class PropagatedState:
         self.mean_motion_rev_day = orbit.mean_motion_rev_day
 
     def earth_fixed(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each."""
-        t = np.array([(u - self.epoch).total_seconds() for u in utc])
+        """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each (the SI seconds
+        from the epoch: a leap second between counts)."""
+        t = elapsed_s(self.epoch, utc)
         rows = self.rows
-        if t.min() < 0.0 or t.max() > rows[-1, R_T] + DATETIME_RESOLUTION_S:
-            raise InputError("window", f"outside the propagated span of the state (epoch {self.epoch.isoformat()} "
+        if t.min() < -DATETIME_RESOLUTION_S or t.max() > rows[-1, R_T] + DATETIME_RESOLUTION_S:
+            raise InputError("window", f"outside the propagated span of the state (epoch {iso(self.epoch)} "
                                        f"to {rows[-1, R_T] / 3600:.1f} h after)")  # fmt: skip
         i = np.clip(np.searchsorted(rows[:, R_T], t, side="right") - 1, 0, len(rows) - 2)
         h = rows[i + 1, R_T] - rows[i, R_T]

@@ -2,9 +2,9 @@
 maintained `sgp4` package: Vallado, Crawford, Hujsak & Kelso, "Revisiting Spacetrack Report #3", AIAA 2006-6753),
 its TEME position turned earth-fixed by Greenwich mean sidereal time, and the sub-satellite point.
 
-Time scales from skyfield's bundled data (leap seconds, UT1 - UTC; `load.timescale(builtin=True)`: nothing is
-fetched at run time). TEME to earth-fixed is the rotation by GMST about the pole (AIAA 2006-6753 sec. IV-C, polar
-motion neglected: under 20 m); skyfield's GMST is IAU 2006's, within 1e-5 deg of the 1982 formula SGP4 assumes.
+Time scales from skyfield's bundled data (core.utc: leap seconds, UT1 - UTC; nothing is fetched at run time). TEME
+to earth-fixed is the rotation by GMST about the pole (AIAA 2006-6753 sec. IV-C, polar motion neglected: under
+20 m); skyfield's GMST is IAU 2006's, within 1e-5 deg of the 1982 formula SGP4 assumes.
 """
 
 from __future__ import annotations
@@ -23,18 +23,11 @@ from numpy.typing import NDArray
 from footprint.core import constants as c
 from footprint.core.errors import InputError
 from footprint.core.frames import geodetic_from_ecef
+from footprint.core.utc import iso, times
 
 FT_PER_KM = 1000.0 * c.FT_PER_M
 LINE_CHARS = 69  # a TLE line, its checksum digit last
 J2000_JD = 2451545.0
-
-
-@functools.cache
-def timescale() -> Any:
-    """skyfield's time scale from the files it ships (no download)."""
-    from skyfield.api import load
-
-    return load.timescale(builtin=True)
 
 
 def checksum(line: str) -> int:
@@ -72,14 +65,15 @@ class Elements:
 
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """SGP4's TEME position (km, n x 3) and velocity (km/s) at each UTC time; an error of SGP4 (a decayed orbit)
-        names the first time it happens."""
+        names the first time it happens. SGP4 counts time from its epoch in UTC's Julian dates (AIAA 2006-6753), so
+        a leap second's 23:59:60 is its 23:59:59."""
         from sgp4.api import SGP4_ERRORS, jday
 
         days = np.array([jday(t.year, t.month, t.day, t.hour, t.minute, t.second + t.microsecond * 1e-6) for t in utc])
         err, r, v = self.satrec.sgp4_array(np.ascontiguousarray(days[:, 0]), np.ascontiguousarray(days[:, 1]))
         bad = np.flatnonzero(err)
         if bad.size:
-            raise InputError("tle", f"SGP4 fails at {utc[bad[0]].isoformat()}: {SGP4_ERRORS[int(err[bad[0]])]}")
+            raise InputError("tle", f"SGP4 fails at {iso(utc[bad[0]])}: {SGP4_ERRORS[int(err[bad[0]])]}")
         return r, v
 
 
@@ -302,8 +296,7 @@ def parse_tle(text: str, field: str = "tle") -> Elements:
 
 def gmst_deg(utc: Sequence[datetime]) -> NDArray[np.float64]:
     """Greenwich mean sidereal time (deg) at each UTC time, from UT1 (skyfield's bundled IERS data)."""
-    t = timescale().from_datetimes([u.astimezone(UTC) for u in utc])
-    return np.asarray(t.gmst, float) * 15.0
+    return np.asarray(times(utc).gmst, float) * 15.0
 
 
 def _turned(a: NDArray[np.float64], theta_rad: NDArray[np.float64]) -> NDArray[np.float64]:
