@@ -183,7 +183,7 @@ def plan(orbit: Orbit, start: datetime, end: datetime, burn_step_s: float) -> Pl
     nodes = times[up] + burn_step_s * (-z[up]) / (z[up + 1] - z[up])
     if nodes.size:
         r, v = orbit.teme_km(after_s(start, nodes))
-        nodes = nodes - r[:, 2] / v[:, 2]
+        nodes = np.clip(nodes - r[:, 2] / v[:, 2], times[up], times[up + 1])  # the root stays in its bracket
     return Plan(orbit, start, times, nodes)
 
 
