@@ -73,3 +73,21 @@ def test_a_site_name_cannot_break_a_line_of_the_calendar():
 def test_each_line_break_alone_is_no_line_of_its_own(ch):
     ics = opportunities_ics(_answer([f"Edwards{ch}ATTACH:http://x"]))
     assert not [line for line in _lines(ics) if line.startswith(INJECTED)], repr(ics)
+
+
+def test_the_events_are_to_the_nearest_second_and_their_words_to_the_millisecond():
+    """RFC 5545's DATE-TIME (3.3.5) has no fraction of a second: DTSTART and DTEND are the burn and the landing rounded
+    to the nearest second (they were cut); the description keeps the milliseconds. A landing in a leap second is
+    written 23:59:59 (no datetime holds second 60; its nearest second is 23:59:60)."""
+    day = "2016-12-31T23:"
+    o = _opportunity(0, "Edwards") | {"burn_utc": f"{day}10:00.600Z", "entry_utc": f"{day}34:00.250Z",
+                                       "landing_utc": f"{day}59:60.300Z"}  # fmt: skip
+    late = _opportunity(1, "Woomera") | {"burn_utc": f"{day}20:00.499Z", "landing_utc": f"{day}59:60.700Z"}
+    ics = opportunities_ics({"elements": {"satellite_number": 25544}, "opportunities": [o, late]})
+    first, second = Calendar.from_ical(ics).walk("VEVENT")
+    assert first.decoded("DTSTART") == datetime(2016, 12, 31, 23, 10, 1, tzinfo=UTC)
+    assert first.decoded("DTEND") == datetime(2016, 12, 31, 23, 59, 59, tzinfo=UTC)
+    assert second.decoded("DTSTART") == datetime(2016, 12, 31, 23, 20, 0, tzinfo=UTC)
+    assert second.decoded("DTEND") == datetime(2017, 1, 1, 0, 0, 0, tzinfo=UTC)
+    words = str(first["DESCRIPTION"])
+    assert all(t in words for t in ("2016-12-31T23:10:00.600Z", "2016-12-31T23:34:00.250Z", "2016-12-31T23:59:60.300Z"))

@@ -2,7 +2,11 @@
 one line with exit 2 for each of the issue's bad inputs."""
 
 import copy
+import csv
+import io
 import json
+import re
+from datetime import datetime, timedelta
 
 import pytest
 
@@ -31,8 +35,13 @@ def test_the_files_of_a_small_window(tmp_path):
     unfolded = "\r\n".join(lines).replace("\r\n ", "").split("\r\n")
     assert unfolded.count("BEGIN:VEVENT") == len(taken)
     first = taken[0]
-    start = first["burn_utc"].replace("-", "").replace(":", "")
-    assert f"DTSTART:{start}" in unfolded
+    burn = datetime.fromisoformat(first["burn_utc"].replace("Z", "+00:00"))
+    assert re.fullmatch(r".*T\d\d:\d\d:\d\d\.\d{3}Z", first["burn_utc"])  # to the millisecond
+    nearest = (burn + timedelta(milliseconds=500)).replace(microsecond=0)
+    assert f"DTSTART:{nearest:%Y%m%dT%H%M%SZ}" in unfolded  # the nearest second
+    assert first["burn_utc"] in "".join(unfolded)  # the description's, to the millisecond
+    table = list(csv.DictReader(io.StringIO(files["--csv"].read_text())))
+    assert [r["burn_utc"] for r in table] == [o["burn_utc"] for o in got["opportunities"]]
     assert any(u.startswith("SUMMARY:Landing at ") and "\\," in u for u in unfolded)  # the site's comma escaped
     kinds = [f["properties"]["kind"] for f in json.loads(files["--geojson"].read_text())["features"]]
     assert kinds.count("coast") == kinds.count("footprint") == len(got["opportunities"])
@@ -70,7 +79,7 @@ BAD_TLE = TLE[:-1] + str((int(TLE[-1]) + 1) % 10)
         ({"state": STATE}, "give exactly one of 'tle' or 'state'"),
         (
             {"tle": None, "state": STATE | {"epoch": "2008-09-21T01:00:00Z"}},
-            "window.start: 2008-09-21T00:00:00Z is before",
+            "window.start: 2008-09-21T00:00:00.000Z is before",
         ),
         # issue 49 item 2: an OverflowError's traceback before (the window's end past year 9999)
         (

@@ -1,8 +1,9 @@
 """The deorbit burn and vacuum coast to the entry interface (core/deorbit.py) against independent routes: on a
 spherical, non-rotating, J-free earth the two-body closed forms (energy and angular momentum for the entry speed and
 flight-path angle, Kepler's equation for the coast time, the perigee of the message, the Δv for a target angle) and
-energy conservation; on the rotating earth with J2 a scipy DOP853 propagation in inertial axes with the point-mass
-and J2 acceleration written out here (J2 = J / 1.5, the report's J of eq. A10)."""
+energy conservation; on the rotating earth with J2 (J2 = J / 1.5, the report's J of eq. A10) and in WGS-84's
+gravity (an orbit's earth: its point mass and J2-J4) a scipy DOP853 propagation in inertial axes with the acceleration
+written out (tests.core.orbit_routes). The constants are typed from the report, not imported from the package."""
 
 import math
 import re
@@ -14,11 +15,17 @@ from scipy.optimize import brentq
 
 from footprint.core import deorbit as d
 from footprint.core.aero import builtin_vehicle
-from footprint.core.constants import FT_PER_M, FT_PER_NMI, MU_EARTH_FT3_S2, OMEGA_EARTH_RAD_S, RADIUS_EQUATORIAL_FT
+from footprint.core.constants import WGS84 as WGS84_RECORD
 from footprint.core.errors import InputError
 from footprint.core.trajectory import Planet
+from tests.authorities.report import REPORT
+from tests.core.orbit_routes import WGS84, zonal_acceleration
 
-MU, RE = MU_EARTH_FT3_S2, RADIUS_EQUATORIAL_FT
+FT_PER_M, FT_PER_NMI = 1.0 / 0.3048, 1852.0 / 0.3048  # the international foot
+MU, RE = 1.407698e16, 20_925_631.0  # ft^3/s^2, ft: AFWAL-TR-82-3036 App. A, the planet's defaults
+J_REPORT = 1623.41e-6  # App. A's J = 1.5 J2
+OMEGA_REPORT_RAD_S = math.radians(REPORT["sec4.omega_deg_s"].value)  # Section IV.3's omega_p
+OMEGA_WGS84_RAD_S = 7.292115e-5  # NIMA TR8350.2 table 3.1
 R1 = RE + 420_000.0 * FT_PER_M  # an ISS-like circular orbit, 420 km up
 R_ENTRY = RE + d.INTERFACE_ALTITUDE_FT
 V_CIRCULAR = math.sqrt(MU / R1)
@@ -44,16 +51,6 @@ def kepler_time_from_apoapsis_s(v1: float) -> float:
     return (ecc_anomaly - e * math.sin(ecc_anomaly) - math.pi) / math.sqrt(MU / a**3)
 
 
-def j2_inertial(j2: float):
-    def rhs(_t: float, s: np.ndarray) -> list[float]:
-        x, y, z = s[:3]
-        r2 = x * x + y * y + z * z
-        k, q, zz = -MU / r2**1.5, 1.5 * j2 * RE**2 / r2, 5.0 * z * z / r2
-        return [s[3], s[4], s[5], k * x * (1 + q * (1 - zz)), k * y * (1 + q * (1 - zz)), k * z * (1 + q * (3 - zz))]
-
-    return rhs
-
-
 @pytest.mark.parametrize("delta_v", [300.0, 450.0, 600.0, 900.0])
 def test_entry_against_the_two_body_closed_form_on_a_spherical_earth(delta_v):
     row = d.entry_states(SPHERE, R_BURN, d.burn(R_BURN, V_INERTIAL, delta_v, 0.0))[0]
@@ -74,23 +71,31 @@ def test_the_coast_conserves_energy_on_a_spherical_earth(delta_v):
     assert energy_entry == pytest.approx(energy_burn, rel=1e-6)  # measured 2e-10
 
 
-def test_the_coast_on_the_rotating_j2_earth_against_an_inertial_propagation():
-    coast = d.Coast.of(VEHICLE, J2_PLANET)
-    omega = np.array([0.0, 0.0, OMEGA_EARTH_RAD_S])
+REPORT_J2 = {"mu_km3_s2": MU / (1000.0 * FT_PER_M) ** 3, "radius_km": RE / (1000.0 * FT_PER_M), "j2": J_REPORT / 1.5}
+
+
+@pytest.mark.parametrize(
+    ("coast", "earth", "omega_rad_s"),
+    [(d.Coast.of(VEHICLE, J2_PLANET), REPORT_J2, OMEGA_REPORT_RAD_S),
+     (d.Coast.of(VEHICLE, Planet(), earth=WGS84_RECORD), WGS84, OMEGA_WGS84_RAD_S)],
+    ids=["the report's planet, J2", "an orbit's earth, WGS-84"],
+)  # fmt: skip
+def test_the_coast_on_the_rotating_oblate_earth_against_an_inertial_propagation(coast, earth, omega_rad_s):
+    omega = np.array([0.0, 0.0, omega_rad_s])
     v_relative = V_INERTIAL - np.cross(omega, R_BURN)  # earth-fixed = inertial axes at the burn
-    v_after = d.burn(R_BURN, v_relative, 450.0, OMEGA_EARTH_RAD_S)
+    v_after = d.burn(R_BURN, v_relative, 450.0, coast.omega_rad_s)
     row = d.entry_states(coast, R_BURN, v_after)[0]
     t = row[d.E_COAST_S]
     start = np.concatenate([R_BURN[0], v_after[0] + np.cross(omega, R_BURN[0])])
 
-    def earth_fixed_miss_ft(j2: float) -> float:
-        sol = solve_ivp(j2_inertial(j2), (0.0, t), start, method="DOP853", rtol=1e-12, atol=1e-6)
+    def earth_fixed_miss_ft(constants: dict) -> float:
+        sol = solve_ivp(zonal_acceleration(**constants), (0.0, t), start, method="DOP853", rtol=1e-12, atol=1e-6)
         x, y, z = sol.y[:3, -1]
-        c, s = math.cos(OMEGA_EARTH_RAD_S * t), math.sin(OMEGA_EARTH_RAD_S * t)  # rotate by -omega t about z
+        c, s = math.cos(omega_rad_s * t), math.sin(omega_rad_s * t)  # rotate by -omega t about z
         return float(np.linalg.norm(np.array([c * x + s * y, -s * x + c * y, z]) - row[d.E_X : d.E_Z + 1]))
 
-    assert earth_fixed_miss_ft(J2_PLANET.j / 1.5) < 0.5 * FT_PER_NMI  # measured 0.01 ft
-    assert earth_fixed_miss_ft(0.0) > 3.0 * FT_PER_NMI  # the check sees J2: 45,700 ft without it
+    assert earth_fixed_miss_ft(earth) < 0.5 * FT_PER_NMI  # measured 0.01 ft
+    assert earth_fixed_miss_ft(earth | {"j2": 0.0, "j3": 0.0, "j4": 0.0}) > 3.0 * FT_PER_NMI  # it sees J2: 45,700 ft
 
 
 @pytest.mark.parametrize("coast", [SPHERE, d.Coast.of(VEHICLE, J2_PLANET)], ids=["sphere", "rotating J2"])

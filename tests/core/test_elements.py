@@ -13,6 +13,7 @@ from sgp4.earth_gravity import wgs72
 
 from footprint.core import elements as el
 from footprint.core.errors import InputError
+from footprint.core.utc import timescale
 from tests.core.test_guidance import distance_nmi
 
 # Vallado et al., AIAA 2006-6753, the verification set's satellite 00005 (Vanguard 2: e = 0.186)
@@ -82,7 +83,7 @@ def test_the_subsatellite_point_agrees_with_skyfields_own_route():
     e = el.parse_tle(iss)
     times = [e.epoch + timedelta(minutes=m) for m in (0.0, 47.0, 1234.5)]
     lat, lon, _ = el.subsatellite_points(e, times, *WGS84_FT)
-    ts = el.timescale()
+    ts = timescale()
     sat = EarthSatellite(e.line1, e.line2, e.name, ts)
     for t, a, o in zip(times, lat, lon):
         point = wgs84.subpoint_of(sat.at(ts.from_datetime(t)))

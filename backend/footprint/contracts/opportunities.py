@@ -31,6 +31,7 @@ from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
 from footprint.core import deorbit as dorb
 from footprint.core import opportunities as op
 from footprint.core import sun
+from footprint.core.constants import WGS84, Earth
 from footprint.core.elements import (
     MAX_EPOCH_AGE_DAYS,
     STATE_EPOCH_UTC,
@@ -42,11 +43,13 @@ from footprint.core.elements import (
 )
 from footprint.core.errors import InputError
 from footprint.core.trajectory import FlightSpec
+from footprint.core.utc import elapsed_s, iso, isos, parse_iso, rounded
 
 MAX_WORK = 2e6  # burn times x sites, from the CLI or Python (14 days every 10 s for 200 sites: 2.4e7 is too many)
 MAX_WORK_HTTP = 2e5  # a day every 30 s for 69 sites
 NIGHT_PAST_WINDOW = timedelta(hours=3)  # a site's nights are given this far past the window: its last landings
 DELTA_V_TABLE_FPS = tuple(range(250, 1_001, 50))  # the entry each Δv gives at the window's start (ft/s)
+STATE_EARTH = WGS84  # a given state vector's: the earth of GPS and of most state vectors handed on
 FAST_METHODS = ("single_parameter", "constant_bank", "staged", "two_parameter", "constant_altitude")
 
 
@@ -100,7 +103,8 @@ class Rules(Strict):
 
 class StateVector(Strict):
     """The vehicle's state at a UTC epoch: in TEME (true equator, mean equinox of date, as SGP4 gives it) or
-    earth-fixed (the velocity relative to the earth); propagated by our integrator without drag."""
+    earth-fixed (the velocity relative to the earth); propagated by our integrator in WGS-84's gravity (its point
+    mass and EGM96's J2-J4) and rotation, without drag."""
 
     epoch: Annotated[AwareDatetime, AfterValidator(STATE_EPOCH_UTC.check)]
     frame: Literal["teme", "earth_fixed"] = "teme"
@@ -132,9 +136,7 @@ class OpportunitiesStudy(Strict):
         start, end = self.window.bounds
         if self.state is not None:  # the window checked against the epoch before the state is propagated over it
             if start < self.state.epoch:
-                raise InputError(
-                    "window.start", f"{op.iso(start)} is before the state's epoch {op.iso(self.state.epoch)}"
-                )
+                raise InputError("window.start", f"{iso(start)} is before the state's epoch {iso(self.state.epoch)}")
             check_window_times(self.state.epoch, start, end, epoch_of="the state's")
         check_window(self.orbit, start, end)
         first = op.Plan(self.orbit, start, np.zeros(1), np.zeros(0))  # the first burn comes down to the interface
@@ -158,10 +160,14 @@ class OpportunitiesStudy(Strict):
         """The footprint study's case, as the core flies it (built once)."""
         return self.footprint.case.to_spec()
 
+    def coast_in(self, earth: Earth) -> dorb.Coast:
+        """A coast's packed parameters: the footprint's vehicle and planet, the air removed, in an orbit's earth."""
+        return dorb.Coast.of(self.spec.vehicle, self.spec.planet, self.deorbit.interface_altitude_ft, earth)
+
     @functools.cached_property
     def coast(self) -> dorb.Coast:
-        """The coast's packed parameters: the footprint's vehicle and planet, the air removed."""
-        return dorb.Coast.of(self.spec.vehicle, self.spec.planet, self.deorbit.interface_altitude_ft)
+        """The coast of the orbit's burns, in the orbit's earth (SGP4's WGS-72, or a state vector's WGS-84)."""
+        return self.coast_in(self.orbit.earth)
 
     @functools.cached_property
     def orbit(self) -> Orbit:
@@ -169,12 +175,12 @@ class OpportunitiesStudy(Strict):
         if self.tle is not None:
             return parse_tle(self.tle)
         assert self.state is not None  # _checks: exactly one of tle or state
-        st, (start, end) = self.state, self.window.bounds
+        st, (start, end), coast = self.state, self.window.bounds, self.coast_in(STATE_EARTH)
         epoch = st.epoch.astimezone(UTC)
-        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, self.coast.omega_rad_s)
-        n_rev_day = dorb.state_orbit(self.coast, r, v).mean_motion_rev_day
-        span_s = op.orbit_span_s((end - start).total_seconds(), n_rev_day)
-        return dorb.PropagatedState(epoch, r, v, self.coast, (start - epoch).total_seconds() + span_s)
+        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, coast.omega_rad_s)
+        n_rev_day = dorb.state_orbit(coast, r, v).mean_motion_rev_day
+        span_s = op.orbit_span_s(float(elapsed_s(start, [end])[0]), n_rev_day)  # SI: a leap second counts
+        return dorb.PropagatedState(epoch, r, v, coast, float(elapsed_s(epoch, [start])[0]) + span_s)
 
 
 REQUEST = OpportunitiesStudy
@@ -252,8 +258,8 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
                 "first_landing_utc": taken[0]["landing_utc"] if taken else None,
                 "best_margin_nmi": max((o["margin_nmi"] for o in taken), default=None),
                 "night_utc": [
-                    [op.iso(a), op.iso(b)]
-                    for a, b in sun.night_intervals(
+                    isos(pair)
+                    for pair in sun.night_intervals(
                         start, end + NIGHT_PAST_WINDOW, site.latitude_deg, site.longitude_deg
                     )
                 ],
@@ -264,13 +270,13 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
             "elements": {
                 "name": elements.name,
                 "satellite_number": elements.satellite_number,
-                "epoch_utc": op.iso(elements.epoch),
+                "epoch_utc": iso(elements.epoch),
                 "inclination_deg": elements.inclination_deg,
                 "eccentricity": elements.eccentricity,
                 "period_min": 1440.0 / elements.mean_motion_rev_day,
             },
-            "window": {"start_utc": op.iso(start), "end_utc": op.iso(end)},
-            "ascending_nodes_utc": [op.iso(t) for t in plan.plan.utc(plan.plan.node_s)],
+            "window": {"start_utc": iso(start), "end_utc": iso(end)},
+            "ascending_nodes_utc": isos(plan.plan.utc(plan.plan.node_s)),
             "ground_track": op.ground_track(plan.plan),
             "delta_v_table": op.delta_v_table(plan.coast, plan.plan, DELTA_V_TABLE_FPS),
             "deorbit": study.deorbit.model_dump(exclude_none=True),
@@ -315,8 +321,10 @@ def opportunities_csv(answer: dict[str, Any]) -> str:
     return out.getvalue()
 
 
-def _utc(text: str) -> datetime:
-    return datetime.fromisoformat(text.replace("Z", "+00:00"))
+def _calendar_time(text: str) -> datetime:
+    """A time of the answer to the second, rounded to the nearest: RFC 5545's DATE-TIME (3.3.5) has no fraction. A
+    time in a leap second is written 23:59:59 (datetime, and so the icalendar package, has no second 60)."""
+    return rounded(parse_iso(text), 1.0).replace(fold=0)
 
 
 def _calendar_text(text: str) -> str:
@@ -328,8 +336,8 @@ def _calendar_text(text: str) -> str:
 
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
     """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
-    meet the rules: one event per opportunity from the burn to the landing, its summary the site and revolution, its
-    description the Δv, margin and sun."""
+    meet the rules: one event per opportunity from the burn to the landing (to the nearest second), its summary the
+    site and revolution, its description the times to the millisecond, the Δv, margin and sun."""
     from icalendar import Calendar, Event
 
     calendar = Calendar()
@@ -347,10 +355,11 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
             f"{o['local_solar_time_h']:.2f} h"
         )
         event = Event()
-        event.add("uid", f"{sat}-{o['site']}-{_utc(o['burn_utc']).strftime('%Y%m%dT%H%M%SZ')}@footprint")
+        burn = _calendar_time(o["burn_utc"])
+        event.add("uid", f"{sat}-{o['site']}-{burn.strftime('%Y%m%dT%H%M%SZ')}@footprint")
         event.add("dtstamp", stamp)
-        event.add("dtstart", _utc(o["burn_utc"]))
-        event.add("dtend", _utc(o["landing_utc"]))
+        event.add("dtstart", burn)
+        event.add("dtend", _calendar_time(o["landing_utc"]))
         event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution']}"))
         event.add("description", _calendar_text(about))
         calendar.add_component(event)

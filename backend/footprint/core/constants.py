@@ -5,6 +5,7 @@ degrees at the edges.
 """
 
 import math
+from dataclasses import dataclass
 
 # --- Earth, AFWAL-TR-82-3036 Appendix A (eq. A10 constants) -------------------------------------
 MU_EARTH_FT3_S2 = 1.407698e16  # App. A, universal gravity constant times earth mass
@@ -19,10 +20,39 @@ RADIUS_POLAR_AS_PRINTED_FT = 20_885_965.0
 OMEGA_EARTH_DEG_S = 0.004178  # Section IV.3, omega_p
 OMEGA_EARTH_RAD_S = math.radians(OMEGA_EARTH_DEG_S)
 
-# --- SGP4's earth: WGS-72, the constants SGP4's mean elements are fitted with (AIAA 2006-6753 sec. IV-A; `sgp4`'s
-# earth_gravity.wgs72) -------------------------------------------------------------------------------------------
-MU_WGS72_KM3_S2 = 398_600.8
-RADIUS_WGS72_KM = 6_378.135
+# --- The earths orbits are propagated in ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Earth:
+    """An earth an orbit belongs to, named for its source: its gravity (the point mass and the zonal harmonics J2-J4,
+    unnormalized, of U = mu/r [1 - sum J_n (R/r)^n P_n(sin phi)]) and its rotation."""
+
+    name: str
+    mu_km3_s2: float
+    radius_km: float  # equatorial: the harmonics' reference radius
+    j2: float
+    j3: float
+    j4: float
+    rotation_rad_s: float
+
+    @property
+    def mu_ft3_s2(self) -> float:
+        return self.mu_km3_s2 * (1000.0 * FT_PER_M) ** 3
+
+    @property
+    def radius_ft(self) -> float:
+        return self.radius_km * 1000.0 * FT_PER_M
+
+
+# SGP4's earth, the constants its mean elements are fitted with: WGS-72 as `sgp4` has it (earth_gravity.wgs72,
+# getgravconst('wgs72'): AIAA 2006-6753 sec. IV-A); its rotation the rate sgp4's deep-space code uses (rptim,
+# 4.37526908801129966e-3 rad/min)
+WGS72 = Earth("WGS-72", 398_600.8, 6_378.135, 0.001082616, -0.00000253881, -0.00000165597, 7.29211514668855e-5)
+# A given state vector's earth: WGS-84 (NIMA TR8350.2, 3rd ed., table 3.1: GM, a, omega) with EGM96's zonal harmonics
+# (its coefficient file's normalized C20, C30, C40: -0.484165371736e-3, 0.957254173792e-6, 0.539873863789e-6;
+# J_n = -sqrt(2n + 1) C_n0)
+WGS84 = Earth("WGS-84", 398_600.4418, 6_378.137, 1.0826266835531513e-3, -2.5326564853e-6, -1.6196215914e-6, 7.292115e-5)
 MOON_DISTANCE_KM = 384_400.0  # the Moon's mean distance, its orbit's semi-major axis (NASA's Moon fact sheet)
 
 # --- Sea level and unit conversions --------------------------------------------------------------

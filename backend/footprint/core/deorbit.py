@@ -1,7 +1,9 @@
 """The deorbit (issue 28 item 2): an impulsive retrograde burn on an orbit's state and the vacuum coast from the burn
 to the entry interface, flown by our own integrator (eqs. (1)-(3) on the rotating oblate earth, gravity A10) with
 the drag off: the entry state (altitude, earth-relative speed, flight-path angle, heading, latitude, longitude) and
-the time the coast took.
+the time the coast took. The coast of an orbit is flown in the gravity and rotation of the orbit's earth (SGP4's
+WGS-72 for a TLE, WGS-84 for a state vector: core.constants.Earth), the interface's altitude measured on the flight's
+ellipsoid (the report's, App. A), as the flight after it measures it.
 
 The burn is along the inertial velocity (retrograde: it slows the vehicle in inertial space, the only direction a
 deorbit thruster aims); a target flight-path angle at the interface sets the Δv by a secant search on flown coasts,
@@ -24,6 +26,7 @@ from numpy.typing import NDArray
 
 from footprint.core._jit import njit
 from footprint.core.aero import Vehicle
+from footprint.core.constants import Earth
 from footprint.core.controls import pack_controls
 from footprint.core.dynamics import M_SIZE, P_MAX_STEP, P_MU, P_OBLATE, P_OMEGA, P_RE, P_RP, P_STOP_ALT, P_STOP_TIME
 from footprint.core.elements import FT_PER_KM, earth_fixed_to_teme, teme_to_earth_fixed
@@ -31,6 +34,7 @@ from footprint.core.errors import InputError
 from footprint.core.frames import flight_angles, geodetic_from_ecef
 from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, STOP_ALTITUDE, STOP_REASONS, STOP_TIME, integrate
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, pack_parameters
+from footprint.core.utc import elapsed_s, iso
 
 INTERFACE_ALTITUDE_FT = 400_000.0  # the entry interface of the report's cases (Table 2 enters at 364,800 ft)
 COAST_RTOL = 1e-10  # 0.002 ft a step on the planet's radius: the coast is smooth and cheap
@@ -42,19 +46,47 @@ N_ENTRY = 10  # entry_states' columns, below
 E_COAST_S, E_ALT, E_V, E_GAMMA, E_HEADING, E_LAT, E_LON, E_X, E_Y, E_Z = range(N_ENTRY)
 
 
+def earth_planet(planet: Planet, earth: Earth) -> Planet:
+    """The planet with an orbit's earth's gravity and rotation, its ellipsoid kept (a spherical planet's sphere): the
+    interface's altitude measured as the flight after it measures it. Eq. (A10)'s J, H, K are 1.5 J2, 2.5 J3 and
+    -3.75 J4 on the planet's radius (core.gravity: the gradient of the zonal potential), so each J_n of the earth's
+    radius is scaled by (R_earth / R_planet)^n: the same field."""
+    ratio = earth.radius_ft / planet.radius_ft
+    return replace(
+        planet,
+        mu_ft3_s2=earth.mu_ft3_s2,
+        rotating=True,
+        rotation_rate_deg_s=math.degrees(earth.rotation_rad_s),
+        oblate=True,
+        polar_radius_ft=planet.polar_radius_ft if planet.oblate else planet.radius_ft,
+        j=1.5 * earth.j2 * ratio**2,
+        h=2.5 * earth.j3 * ratio**3,
+        k=-3.75 * earth.j4 * ratio**4,
+    )
+
+
 @dataclass(frozen=True)
 class Coast:
     """What every coast of one study flies with, packed once: the integrator's parameters (the planet with its air
-    removed, stopping at the interface), a vehicle's tables (their forces are zero in vacuum) and zero-lift controls."""
+    removed, stopping at the interface; an orbit's earth's gravity and rotation when given: earth_planet), a
+    vehicle's tables (their forces are zero in vacuum) and zero-lift controls."""
 
     p: NDArray[np.float64]
     aero: NDArray[np.float64]
     ctrl: NDArray[np.float64]
     interface_altitude_ft: float
+    earth: Earth | None = None  # None: the planet's own gravity (the flight's)
 
     @classmethod
-    def of(cls, vehicle: Vehicle, planet: Planet, interface_altitude_ft: float = INTERFACE_ALTITUDE_FT) -> Coast:
-        vacuum = replace(planet, atmosphere="exponential", rho0_slug_ft3=0.0)
+    def of(
+        cls,
+        vehicle: Vehicle,
+        planet: Planet,
+        interface_altitude_ft: float = INTERFACE_ALTITUDE_FT,
+        earth: Earth | None = None,
+    ) -> Coast:
+        gravity = planet if earth is None else earth_planet(planet, earth)
+        vacuum = replace(gravity, atmosphere="exponential", rho0_slug_ft3=0.0)
         spec = FlightSpec(
             vehicle=vehicle,
             planet=vacuum,
@@ -64,7 +96,7 @@ class Coast:
             rtol=COAST_RTOL,
             max_step_s=COAST_MAX_STEP_S,
         )
-        return cls(pack_parameters(spec), vehicle.blob, spec.ctrl, interface_altitude_ft)
+        return cls(pack_parameters(spec), vehicle.blob, spec.ctrl, interface_altitude_ft, earth)
 
     @property
     def omega_rad_s(self) -> float:
@@ -198,8 +230,8 @@ def two_body(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.floa
 
 
 class PropagatedState:
-    """An orbit given by one state at its UTC epoch, propagated by our integrator on the coast's planet with the air
-    removed (gravity A10, no drag: for the days of a window), forward to `horizon_s` after the epoch; the states in
+    """An orbit given by one state at its UTC epoch, propagated by our integrator in the coast's earth (its point mass,
+    J2-J4 and rotation; no drag: for the days of a window), forward to `horizon_s` after the epoch; the states in
     between by cubic Hermite interpolation of the steps' positions and velocities. Satisfies elements.Orbit."""
 
     name: str | None = None
@@ -207,7 +239,9 @@ class PropagatedState:
 
     def __init__(self, epoch: datetime, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], coast: Coast,
                  horizon_s: float):  # fmt: skip
-        self.epoch, self.coast = epoch, coast
+        if coast.earth is None:
+            raise ValueError("a state is propagated in an earth's gravity: Coast.of(..., earth=...)")
+        self.epoch, self.coast, self.earth = epoch, coast, coast.earth
         p = coast.p.copy()
         p[P_STOP_ALT], p[P_STOP_TIME], p[P_MAX_STEP] = 0.0, horizon_s, PROPAGATION_MAX_STEP_S
         rows, code, _ = integrate(np.concatenate([r_ft, v_rel_fps]), p, coast.aero, coast.ctrl, np.zeros(M_SIZE),
@@ -220,11 +254,12 @@ class PropagatedState:
         self.mean_motion_rev_day = orbit.mean_motion_rev_day
 
     def earth_fixed(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each."""
-        t = np.array([(u - self.epoch).total_seconds() for u in utc])
+        """Earth-fixed position (ft) and earth-relative velocity (ft/s) at each UTC time, n x 3 each (the SI seconds
+        from the epoch: a leap second between counts)."""
+        t = elapsed_s(self.epoch, utc)
         rows = self.rows
-        if t.min() < 0.0 or t.max() > rows[-1, R_T] + DATETIME_RESOLUTION_S:
-            raise InputError("window", f"outside the propagated span of the state (epoch {self.epoch.isoformat()} "
+        if t.min() < -DATETIME_RESOLUTION_S or t.max() > rows[-1, R_T] + DATETIME_RESOLUTION_S:
+            raise InputError("window", f"outside the propagated span of the state (epoch {iso(self.epoch)} "
                                        f"to {rows[-1, R_T] / 3600:.1f} h after)")  # fmt: skip
         i = np.clip(np.searchsorted(rows[:, R_T], t, side="right") - 1, 0, len(rows) - 2)
         h = rows[i + 1, R_T] - rows[i, R_T]

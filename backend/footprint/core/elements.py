@@ -2,9 +2,9 @@
 maintained `sgp4` package: Vallado, Crawford, Hujsak & Kelso, "Revisiting Spacetrack Report #3", AIAA 2006-6753),
 its TEME position turned earth-fixed by Greenwich mean sidereal time, and the sub-satellite point.
 
-Time scales from skyfield's bundled data (leap seconds, UT1 - UTC; `load.timescale(builtin=True)`: nothing is
-fetched at run time). TEME to earth-fixed is the rotation by GMST about the pole (AIAA 2006-6753 sec. IV-C, polar
-motion neglected: under 20 m); skyfield's GMST is IAU 2006's, within 1e-5 deg of the 1982 formula SGP4 assumes.
+Time scales from skyfield's bundled data (core.utc: leap seconds, UT1 - UTC; nothing is fetched at run time). TEME
+to earth-fixed is the rotation by GMST about the pole (AIAA 2006-6753 sec. IV-C, polar motion neglected: under
+20 m); skyfield's GMST is IAU 2006's, within 1e-5 deg of the 1982 formula SGP4 assumes.
 """
 
 from __future__ import annotations
@@ -23,18 +23,11 @@ from numpy.typing import NDArray
 from footprint.core import constants as c
 from footprint.core.errors import InputError
 from footprint.core.frames import geodetic_from_ecef
+from footprint.core.utc import iso, times
 
 FT_PER_KM = 1000.0 * c.FT_PER_M
 LINE_CHARS = 69  # a TLE line, its checksum digit last
 J2000_JD = 2451545.0
-
-
-@functools.cache
-def timescale() -> Any:
-    """skyfield's time scale from the files it ships (no download)."""
-    from skyfield.api import load
-
-    return load.timescale(builtin=True)
 
 
 def checksum(line: str) -> int:
@@ -59,6 +52,11 @@ class Elements:
     mean_motion_rev_day: float
     bstar: float
 
+    @property
+    def earth(self) -> c.Earth:
+        """SGP4's earth: the elements are fitted with WGS-72's constants, and its states belong with them."""
+        return c.WGS72
+
     @functools.cached_property
     def satrec(self) -> Any:
         from sgp4.api import Satrec
@@ -67,20 +65,22 @@ class Elements:
 
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """SGP4's TEME position (km, n x 3) and velocity (km/s) at each UTC time; an error of SGP4 (a decayed orbit)
-        names the first time it happens."""
+        names the first time it happens. SGP4 counts time from its epoch in UTC's Julian dates (AIAA 2006-6753), so
+        a leap second's 23:59:60 is its 23:59:59."""
         from sgp4.api import SGP4_ERRORS, jday
 
         days = np.array([jday(t.year, t.month, t.day, t.hour, t.minute, t.second + t.microsecond * 1e-6) for t in utc])
         err, r, v = self.satrec.sgp4_array(np.ascontiguousarray(days[:, 0]), np.ascontiguousarray(days[:, 1]))
         bad = np.flatnonzero(err)
         if bad.size:
-            raise InputError("tle", f"SGP4 fails at {utc[bad[0]].isoformat()}: {SGP4_ERRORS[int(err[bad[0]])]}")
+            raise InputError("tle", f"SGP4 fails at {iso(utc[bad[0]])}: {SGP4_ERRORS[int(err[bad[0]])]}")
         return r, v
 
 
 class Orbit(Protocol):
-    """What the landing opportunities read of an orbit: its epoch and a few of its elements, and its TEME state at
-    any UTC time of a window (Elements by SGP4; deorbit.PropagatedState by our integrator)."""
+    """What the landing opportunities read of an orbit: its epoch and a few of its elements, its TEME state at any UTC
+    time of a window (Elements by SGP4; deorbit.PropagatedState by our integrator), and the earth it belongs to (its
+    coast is flown in that earth's gravity)."""
 
     @property
     def name(self) -> str | None: ...
@@ -94,6 +94,8 @@ class Orbit(Protocol):
     def eccentricity(self) -> float: ...
     @property
     def mean_motion_rev_day(self) -> float: ...
+    @property
+    def earth(self) -> c.Earth: ...
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
 
@@ -160,7 +162,7 @@ def perigee_radius_km(mean_motion_rev_day: float, eccentricity: float) -> float:
     """The two-body perigee radius a (1 - e) (km), a by Kepler's third law n^2 a^3 = mu with SGP4's WGS-72 mu (the
     Kozai mean motion taken as two-body's: within 3 km of SGP4's own perigee, J2's share of a)."""
     n_rad_s = mean_motion_rev_day * 2.0 * math.pi / 86_400.0
-    radius_km: float = (c.MU_WGS72_KM3_S2 / n_rad_s**2) ** (1.0 / 3.0) * (1.0 - eccentricity)
+    radius_km: float = (c.WGS72.mu_km3_s2 / n_rad_s**2) ** (1.0 / 3.0) * (1.0 - eccentricity)
     return radius_km
 
 
@@ -171,9 +173,9 @@ def mean_motion_range_rev_day(eccentricity: float) -> tuple[float, float]:
 
     def at_perigee(radius_km: float) -> float:
         a_km = radius_km / (1.0 - eccentricity)
-        return math.sqrt(c.MU_WGS72_KM3_S2 / a_km**3) * 86_400.0 / (2.0 * math.pi)
+        return math.sqrt(c.WGS72.mu_km3_s2 / a_km**3) * 86_400.0 / (2.0 * math.pi)
 
-    return at_perigee(c.MOON_DISTANCE_KM), at_perigee(c.RADIUS_WGS72_KM)
+    return at_perigee(c.MOON_DISTANCE_KM), at_perigee(c.WGS72.radius_km)
 
 
 def _not_ascii(text: str, label: str) -> str | None:
@@ -228,7 +230,7 @@ def _orbit_error(line2: str) -> str | None:
     perigee = f"{perigee_radius_km(n, e):,.0f} km" if n > 0.0 else "infinite"
     return (
         f"{MEAN_MOTION.where}: {n:.8f} is outside the allowed range {slowest:.6g} to {fastest:.6g} rev/day at the "
-        f"eccentricity {e:.7f} (a perigee above the earth's surface, {c.RADIUS_WGS72_KM:,.3f} km from its centre, and "
+        f"eccentricity {e:.7f} (a perigee above the earth's surface, {c.WGS72.radius_km:,.3f} km from its centre, and "
         f"within the Moon's distance, {c.MOON_DISTANCE_KM:,.0f} km; this one's is {perigee})"
     )
 
@@ -294,8 +296,7 @@ def parse_tle(text: str, field: str = "tle") -> Elements:
 
 def gmst_deg(utc: Sequence[datetime]) -> NDArray[np.float64]:
     """Greenwich mean sidereal time (deg) at each UTC time, from UT1 (skyfield's bundled IERS data)."""
-    t = timescale().from_datetimes([u.astimezone(UTC) for u in utc])
-    return np.asarray(t.gmst, float) * 15.0
+    return np.asarray(times(utc).gmst, float) * 15.0
 
 
 def _turned(a: NDArray[np.float64], theta_rad: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -19,6 +19,10 @@ the down-range and cross-range the site needs, the margin to the footprint's bou
    crossings, interpolated).
 4. The sun at the site at landing (core.sun): its elevation and the local apparent solar time; `daylight` when the
    sun is up (above -0.833 deg), `meets_rules` when it is at least the rule's elevation and the margin the rule's.
+
+Times (core.utc): the burn grid and every elapsed time are SI seconds from the window's start, labelled in UTC across
+leap seconds; a candidate's burn is taken on the whole millisecond it is written with, so the time written is the
+burn flown; entry and landing follow by the coast's and the flight's seconds.
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, astuple, dataclass, field, replace
-from datetime import datetime, timedelta
+from datetime import datetime
 from typing import Any, Literal
 
 import numpy as np
@@ -45,6 +49,7 @@ from footprint.core.sampled import parabola_peak
 from footprint.core.setting import ControlSetting
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, great_circle_frame, latlon_from_ranges, unit_vectors
 from footprint.core.trajectory import FlightSpec, simulate_summary
+from footprint.core.utc import after_s, elapsed_s, isos, rounded
 
 
 @dataclass(frozen=True)
@@ -126,9 +131,8 @@ class Opportunity:
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
-        for k, v in d.items():
-            if isinstance(v, datetime):
-                d[k] = iso(v)
+        stamps = [k for k, v in d.items() if isinstance(v, datetime)]
+        d.update(zip(stamps, isos([d[k] for k in stamps])))
         return d
 
 
@@ -150,7 +154,8 @@ class Plan:
         return sorted({int(r) for r in self.revolution})
 
     def utc(self, seconds: Sequence[float] | NDArray[np.float64]) -> list[datetime]:
-        return [self.start + timedelta(seconds=float(s)) for s in seconds]
+        """The UTC time of each SI `seconds` from the window's start."""
+        return after_s(self.start, seconds) if len(seconds) else []
 
 
 def ground_track(p: Plan, every_s: float = 60.0) -> dict[str, list[Any]]:
@@ -159,26 +164,26 @@ def ground_track(p: Plan, every_s: float = 60.0) -> dict[str, list[Any]]:
     seconds = np.arange(0.0, p.times_s[-1] + 1e-9, every_s)
     lat, lon, _ = subsatellite_points(p.orbit, p.utc(seconds))
     return {
-        "utc": [iso(t) for t in p.utc(seconds)],
+        "utc": isos(p.utc(seconds)),
         "latitude_deg": lat.tolist(),
         "longitude_deg": lon.tolist(),
         "revolution": (1 + np.searchsorted(p.node_s, seconds, side="right")).tolist(),
     }
 
 
-def iso(t: datetime) -> str:
-    return t.isoformat(timespec="seconds").replace("+00:00", "Z")
-
-
 def plan(orbit: Orbit, start: datetime, end: datetime, burn_step_s: float) -> Plan:
-    """The burn grid over [start, end] and the ascending nodes (the sub-satellite point's z crossing upward,
-    interpolated linearly on the grid)."""
-    span = (end - start).total_seconds()
+    """The burn grid over [start, end] (SI seconds) and the ascending nodes: where the satellite's z crosses zero
+    upward, linear on the grid, then one Newton step on the orbit's own z and its rate (4 ms off on a 60 s grid before
+    it, a microsecond after)."""
+    span = float(elapsed_s(start, [end])[0])
     times = np.arange(0.0, span + 1e-9, burn_step_s)
-    r, _ = orbit.teme_km([start + timedelta(seconds=float(s)) for s in times])
+    r, _ = orbit.teme_km(after_s(start, times))
     z = r[:, 2]
     up = np.flatnonzero((z[:-1] < 0.0) & (z[1:] >= 0.0))
     nodes = times[up] + burn_step_s * (-z[up]) / (z[up + 1] - z[up])
+    if nodes.size:
+        r, v = orbit.teme_km(after_s(start, nodes))
+        nodes = np.clip(nodes - r[:, 2] / v[:, 2], times[up], times[up + 1])  # the root stays in its bracket
     return Plan(orbit, start, times, nodes)
 
 
@@ -186,8 +191,14 @@ def burn_states(
     p: Plan, seconds: NDArray[np.float64], omega_rad_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Earth-fixed position (ft) and earth-relative velocity (ft/s) before the burn at each time."""
-    utc = p.utc(seconds)
-    return teme_to_earth_fixed(*p.orbit.teme_km(utc), utc, omega_rad_s)
+    return states_at(p.orbit, p.utc(seconds), omega_rad_s)
+
+
+def states_at(
+    orbit: Orbit, utc: Sequence[datetime], omega_rad_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Earth-fixed position (ft) and earth-relative velocity (ft/s) of the orbit at each UTC time."""
+    return teme_to_earth_fixed(*orbit.teme_km(utc), utc, omega_rad_s)
 
 
 def entries(
@@ -496,6 +507,9 @@ def _rounded(value: Any) -> Any:
     return value
 
 
+BURN_TIME_STEP_S = 1e-3  # a candidate's burn is flown at the millisecond it is written with (4 m along the orbit)
+
+
 def _opportunity(
     p: Plan,
     revolution: int,
@@ -512,7 +526,8 @@ def _opportunity(
 ) -> Opportunity | None:
     """The candidate burn flown again: its entry, its footprint, the site's place in it and the sun at landing;
     None when the site is outside that footprint."""
-    r, v = burn_states(p, np.array([burn_s]), coast.omega_rad_s)
+    burn_utc = rounded(p.utc([burn_s])[0], BURN_TIME_STEP_S)
+    r, v = states_at(p.orbit, [burn_utc], coast.omega_rad_s)
     dvs, rows = entries(coast, r, v, deorbit)
     row = rows[0]
     _, track_lat, track_lon = dorb.coast_track(coast, r[0], dorb.burn(r, v, dvs, coast.omega_rad_s)[0])
@@ -529,9 +544,7 @@ def _opportunity(
         return None
     down, cross, _ = site_in_chart(row, ring, lat, lon)
     flight_s = flight_time_at(ring, down, cross)
-    burn_utc = p.utc([burn_s])[0]
-    entry_utc = burn_utc + timedelta(seconds=float(row[dorb.E_COAST_S]))
-    landing_utc = entry_utc + timedelta(seconds=flight_s)
+    entry_utc, landing_utc = after_s(burn_utc, [row[dorb.E_COAST_S], row[dorb.E_COAST_S] + flight_s])
     elevation = float(sun.elevation_deg([landing_utc], lat, lon)[0])
     sunlit = settings.sun_elevation_min_deg is None or elevation >= settings.sun_elevation_min_deg
     return Opportunity(

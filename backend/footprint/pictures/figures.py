@@ -271,10 +271,7 @@ def opportunities_timeline_figure(result: dict, title=None) -> Figure:
     """Landing opportunities (contracts.opportunities) on a UTC timeline, one row per site: night at the site shaded
     (its night_utc: the sun below -0.833 deg, core.sun), each opportunity at its landing time (filled where it meets
     the rules, open where not), the orbit's ascending nodes as thin lines."""
-    from datetime import datetime
-
-    def utc(text: str) -> datetime:
-        return datetime.fromisoformat(text.replace("Z", "+00:00"))
+    from footprint.core.utc import parse_iso as utc  # reads a leap second's 23:59:60 too
 
     start, end = utc(result["window"]["start_utc"]), utc(result["window"]["end_utc"])
     span_h = (end - start).total_seconds() / 3600.0
