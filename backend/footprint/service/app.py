@@ -37,6 +37,13 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     """The service for these settings (nothing starts until the app's lifespan begins); without `runs_jobs`, an API
     process whose jobs an engine in another process runs (service.processes)."""
     db = make_engine(settings.database_url)
+    # the job engine's threads connect through a pool of their own: no number of requests can leave a job waiting for
+    # a connection (issue 49: two dispersions failed after 30 s of "QueuePool limit ... reached" under 200 readers)
+    jobs_db = (
+        make_engine(settings.database_url, pool_size=settings.job_threads + 2, max_overflow=settings.job_threads)
+        if runs_jobs
+        else None
+    )
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):
@@ -61,6 +68,8 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
         finally:
             await run_in_threadpool(app.state.jobs.close)
             db.dispose()
+            if jobs_db is not None:
+                jobs_db.dispose()
 
     app = FastAPI(
         title="Footprint",
@@ -74,10 +83,14 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
     app.state.settings, app.state.dialect = settings, db.dialect.name
     app.state.sessions = make_sessions(db)
     app.state.read_sessions = make_sessions(db, reads_only=True)
+    app.state.read_limiter = deps.read_limiter()
     app.state.jobs = (
-        JobEngine(sessions=app.state.sessions, settings=settings) if runs_jobs else RemoteJobs(settings=settings)
+        JobEngine(sessions=make_sessions(jobs_db), settings=settings)
+        if jobs_db is not None
+        else RemoteJobs(settings=settings)
     )
     app.state.read_cache = read_cache.ReadCache()
+    app.state.revisions = deps.revisions(app)
     errors.install(app)
     routers = [
         module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)

@@ -3,11 +3,12 @@ and a strong ETag of its bytes, answered again from memory while the revision ho
 names it). A write bumps the revision in its own transaction, so every API process over the database sees a
 cached response go stale at the write's commit."""
 
+import asyncio
 import functools
 import hashlib
 import threading
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
 from pydantic import TypeAdapter
@@ -103,6 +104,47 @@ class ReadCache:
             return len(self._entries), self._bytes
 
 
+class Revisions:
+    """The stored revisions (db.models.REVISIONS) as the cached reads check them, one read for every request waiting
+    together. A request waits for a read begun after it came, so it sees every write committed before it (through any
+    process); the requests that come while a read runs share the next one. At 200 readers one query answers dozens,
+    and none runs on the event loop: each cached read had read its revision row there, a Postgres round trip or four
+    (checkout, BEGIN, SELECT, COMMIT) during which the loop answered nothing, and a wait of up to the pool's 30 s
+    when the pool was empty (issue 49)."""
+
+    def __init__(self, read: Callable[[], Awaitable[dict[str, int]]]):
+        self._read = read
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._next: asyncio.Future[dict[str, int]] | None = None  # the read the requests now coming wait for
+        self._reading: asyncio.Task[None] | None = None
+
+    async def current(self) -> dict[str, int]:
+        """{kind: revision}, read after this call began."""
+        loop = asyncio.get_running_loop()
+        if loop is not self._loop:  # an app served again on another loop (tests): nothing of the old one is kept
+            self._loop, self._next, self._reading = loop, None, None
+        if self._next is None:
+            self._next = loop.create_future()
+        if self._reading is None:
+            self._reading = loop.create_task(self._reads())
+        return await asyncio.shield(self._next)
+
+    async def _reads(self) -> None:
+        try:
+            while self._next is not None:
+                waiting, self._next = self._next, None  # from here on, a request that comes waits for the next read
+                try:
+                    waiting.set_result(await self._read())
+                except asyncio.CancelledError:
+                    waiting.cancel()
+                    raise
+                except Exception as exc:  # noqa: BLE001 -- each waiter gets the error (health says the database's)
+                    waiting.set_exception(exc)
+                    waiting.exception()  # retrieved: waiters that have gone leave no "never retrieved" warning
+        finally:
+            self._reading = None
+
+
 def response(request: Request, value: Serialized) -> Response:
     """200 with the body, or 304 when the request's If-None-Match names its ETag or is "*" (RFC 9110 13.1.2: the
     weak comparison, so a W/ tag matches too)."""
@@ -111,3 +153,8 @@ def response(request: Request, value: Serialized) -> Response:
     if value.etag in tags or "*" in tags:
         return Response(status_code=304, headers=headers)
     return Response(value.body, media_type=value.media_type, headers=headers | dict(value.headers))
+
+
+def plain(value: Serialized) -> Response:
+    """200 with the body, no ETag: an answer read anew for each request."""
+    return Response(value.body, media_type=value.media_type, headers=dict(value.headers))

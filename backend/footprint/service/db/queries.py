@@ -4,7 +4,7 @@
 import uuid
 from datetime import UTC, datetime
 
-from sqlalchemy import delete, func, select, text, update
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
@@ -28,16 +28,15 @@ SUMMARY_FIELDS = ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_d
 ENTRY_FIELDS = ("latitude_deg", "longitude_deg", "heading_deg", "velocity_fps", "gamma_deg", "altitude_ft")
 
 
-# ------------------------------------------------------------------------------------------- health
-def dialect(session: Session) -> str:
-    """Run a trivial query; the database's dialect name ("sqlite", "postgresql")."""
-    session.execute(text("SELECT 1"))
-    return session.get_bind().dialect.name
-
-
+# ---------------------------------------------------------------------------------------- revisions
 def revision(session: Session, *, name: str) -> int:
     """How many writes the stored `name`s (models.REVISIONS) have had."""
     return session.scalar(select(Revision.value).where(Revision.name == name)) or 0
+
+
+def revisions(session: Session) -> dict[str, int]:
+    """Every kind's revision (models.REVISIONS) in one query: {name: writes}."""
+    return {name: int(value) for name, value in session.execute(select(Revision.name, Revision.value))}
 
 
 def _changed(session: Session, name: str) -> None:
