@@ -102,6 +102,7 @@ def create_app(settings: Settings, *, runs_jobs: bool = True) -> FastAPI:
         [(r.path, r.methods) for r in app.routes if isinstance(r, Route)]
         + [("/api" + r.path, r.methods) for router in routers for r in router.routes]
     )
+    app.add_middleware(read_cache.CachedGets, state=app.state)  # inside the guard: its checks come first
     app.add_middleware(
         GuardMiddleware,
         paths=app.state.api_paths,

@@ -79,6 +79,7 @@ async def cached(
     response is never older than the revision it is kept for). A hit waits only for the revisions' shared read (no
     query of its own, nothing on the event loop but the answer: issue 49); a miss builds in a read thread."""
     hit = await cached_hit(request, key, shows)
+    answered(request, key, shows)
     if hit is not None:
         return read_cache.response(request, hit)
     cache, key = request.app.state.read_cache, (shows, *key)
@@ -87,6 +88,12 @@ async def cached(
         return cache.get(key, q.revision(session, name=shows), lambda: build(session))
 
     return read_cache.response(request, await read(request, load))
+
+
+def answered(request: Request, key: tuple, shows: str) -> None:
+    """Note that this GET's answer is the read cache's `key` whenever the cache holds it at the current revision:
+    read_cache.CachedGets answers the same path and query from there next time."""
+    request.scope[read_cache.ANSWERED] = (shows, (shows, *key))
 
 
 def bearer_matches(authorization: str, token: str) -> bool:

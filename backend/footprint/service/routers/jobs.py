@@ -93,6 +93,7 @@ async def get_job(job_id: StoredId, request: Request) -> Response:
     it is unchanged)."""
     key = ("job", job_id)
     hit = await deps.cached_hit(request, key, "footprints")
+    deps.answered(request, key, "footprints")
     if hit is not None:
         return read_cache.response(request, hit)
     cache = request.app.state.read_cache
