@@ -212,3 +212,12 @@ def test_footprint_serve_freezes_its_start_up_heap(scheduler_address, tmp_path):
     with TestClient(create_app(settings)) as api:
         assert api.get("/api/health").status_code == 200
         assert gc.get_freeze_count() == 0
+
+
+def test_the_job_list_reads_no_study(api, stored):
+    """A list shows none of its jobs' studies (a few kB of JSON each, parsed for every row before)."""
+    watch = Watch(api.app.state.sessions.kw["bind"])
+    listed = api.get("/api/jobs", params={"limit": 50}).json()
+    assert listed["total"] >= 1 and "study" not in listed["items"][0]
+    selects = [s for _, s in watch.statements if "FROM jobs" in s]
+    assert selects and not [s for s in selects if "jobs.study" in s]

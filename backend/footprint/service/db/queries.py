@@ -6,7 +6,7 @@ from datetime import UTC, datetime
 
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, defer
 
 from footprint.contracts.bounds import PROGRESS_NOTE_CHARS
 from footprint.contracts.footprint import POINT_FIELDS
@@ -69,11 +69,16 @@ def get_job(session: Session, *, job_id: str) -> Job | None:
 
 
 def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: int, offset: int):
-    """(jobs newest first, total count) under the filters."""
+    """(jobs newest first, without their studies; total count) under the filters."""
     where = [c for c in (Job.status == status if status else None, Job.kind == kind if kind else None) if c is not None]
     total = session.scalar(select(func.count()).select_from(Job).where(*where))
     rows = session.scalars(
-        select(Job).where(*where).order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
+        select(Job)
+        .options(defer(Job.study, raiseload=True))  # a list shows none (each a few kB of JSON)
+        .where(*where)
+        .order_by(Job.created_at.desc(), Job.id)
+        .limit(limit)
+        .offset(offset)
     ).all()
     return list(rows), int(total)
 
