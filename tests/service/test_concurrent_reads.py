@@ -123,6 +123,23 @@ def test_concurrent_cached_reads_share_their_revision_reads(reader_app, stored):
     assert not [s for _, s in watch.statements if "footprint_points" in s]  # the footprints answered from memory
 
 
+def test_concurrent_reads_of_a_pending_job_and_the_job_list_share_their_reads(api, reader_app):
+    """What no revision covers (a pending job, a job list) is read anew for each request that comes, but the requests
+    that wait together share one read begun after they came: each read its own before, dozens a second."""
+    own = create_engine(api.database_url)
+    try:
+        with Session(own) as session, session.begin():
+            queued = q.create_job(session, kind="footprint", study=FOOTPRINT, name="never run").id  # no engine has it
+    finally:
+        own.dispose()
+    paths = [f"/api/jobs/{queued}", "/api/jobs?limit=50"] * (READERS // 2)
+    answers, watch, _ = served_at_once(reader_app, paths)
+    assert [r.status_code for r in answers] == [200] * READERS
+    assert {r.json()["status"] for r in answers[::2]} == {"queued"}
+    reads = [s for _, s in watch.statements if "FROM jobs" in s]
+    assert 1 <= len(reads) < len(paths) / 2, len(reads)
+
+
 def test_a_finished_job_is_answered_from_memory_until_its_footprints_change(api, stored):
     job_id, footprint_id = stored
     first = api.get(f"/api/jobs/{job_id}")

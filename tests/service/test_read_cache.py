@@ -167,7 +167,7 @@ def test_ids_that_cannot_be_ids_are_refused_and_kept_nowhere(api):
 
 
 def test_a_revision_read_begun_before_a_request_never_answers_it():
-    """Issue 49: the cached reads share their revision reads (read_cache.Revisions). A read that began before a write
+    """Issue 49: the cached reads share their revision reads (read_cache.SharedRead). A read that began before a write
     committed must not answer a request that came after the commit (it would be served the old answer: a client that
     wrote through another process and then read would not see its write); the requests that come while one read runs
     share the next one."""
@@ -185,7 +185,7 @@ def test_a_revision_read_begun_before_a_request_never_answers_it():
         return snapshot
 
     async def scenario():
-        revisions = read_cache.Revisions(read)
+        revisions = read_cache.SharedRead(read)
         first = asyncio.create_task(revisions.current())
         await asyncio.sleep(0)
         await asyncio.sleep(0)
@@ -217,7 +217,7 @@ def test_a_failed_revision_read_reaches_its_waiters_and_the_next_read_is_tried()
         return {"footprints": 7}
 
     async def scenario():
-        revisions = read_cache.Revisions(read)
+        revisions = read_cache.SharedRead(read)
         with pytest.raises(ConnectionError):
             await revisions.current()
         assert await revisions.current() == {"footprints": 7}

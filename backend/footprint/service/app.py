@@ -95,6 +95,7 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
     )
     app.state.read_cache = read_cache.ReadCache()
     app.state.revisions = deps.revisions(app)
+    app.state.shared_reads = read_cache.SharedReads()
     errors.install(app)
     routers = [
         module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)

@@ -57,16 +57,22 @@ def read_limiter() -> anyio.CapacityLimiter:
     return anyio.CapacityLimiter(READ_THREADS)
 
 
-def revisions(app: FastAPI) -> read_cache.Revisions:
+def revisions(app: FastAPI) -> read_cache.SharedRead[dict[str, int]]:
     """The stored revisions as the app's cached reads check them: one query for the requests waiting together, in a
     thread of its own (never queued behind the routes' reads; one connection more than theirs)."""
     own = anyio.CapacityLimiter(1)
-    return read_cache.Revisions(lambda: read_on(app, q.revisions, own))
+    return read_cache.SharedRead(lambda: read_on(app, q.revisions, own))
+
+
+async def shared(request: Request, key: tuple, work: Callable[[Session], T]) -> T:
+    """`work(session)`'s answer, read after the request came, by one read for all the requests of the same `key` that
+    wait together (read_cache.SharedReads): a GET that no revision covers (a job list, a pending job)."""
+    return await request.app.state.shared_reads.current(key, lambda: read(request, work))
 
 
 async def cached_hit(request: Request, key: tuple, shows: str) -> read_cache.Serialized | None:
     """This process's cached answer for `key` if it is current: the stored `shows` (db.models.REVISIONS) unchanged
-    since the request came (read_cache.Revisions: one revision read answers every request that waits for it)."""
+    since the request came (read_cache.SharedRead: one revision read answers every request that waits for it)."""
     current = await request.app.state.revisions.current()
     return request.app.state.read_cache.hit((shows, *key), current.get(shows, 0))
 

@@ -10,11 +10,13 @@ import threading
 from collections import OrderedDict
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
+from typing import Generic, TypeVar
 
 from pydantic import TypeAdapter
 from starlette.requests import Request
 from starlette.responses import Response
 
+T = TypeVar("T")
 MAX_BYTES = 64 * 1024 * 1024  # the cached bodies and keys of one process, least recently used dropped first
 MAX_ENTRIES = 4_096  # and at most this many responses: a key's overhead is not only its text
 REVALIDATE = "no-cache"  # a browser keeps the body but asks again (If-None-Match) before each use
@@ -104,22 +106,22 @@ class ReadCache:
             return len(self._entries), self._bytes
 
 
-class Revisions:
-    """The stored revisions (db.models.REVISIONS) as the cached reads check them, one read for every request waiting
-    together. A request waits for a read begun after it came, so it sees every write committed before it (through any
-    process); the requests that come while a read runs share the next one. At 200 readers one query answers dozens,
-    and none runs on the event loop: each cached read had read its revision row there, a Postgres round trip or four
-    (checkout, BEGIN, SELECT, COMMIT) during which the loop answered nothing, and a wait of up to the pool's 30 s
-    when the pool was empty (issue 49)."""
+class SharedRead(Generic[T]):
+    """One read for every request that waits together. A request waits for a read begun after it came, so it sees
+    every write committed before it (through any process); the requests that come while a read runs share the next
+    one. At 200 readers one query answers dozens, and none runs on the event loop. The stored revisions are read so
+    for the cached answers (app.state.revisions): each cached read had read its revision row on the event loop, a
+    Postgres round trip or four (checkout, BEGIN, SELECT, COMMIT) during which the loop answered nothing, and a wait
+    of up to the pool's 30 s when the pool was empty (issue 49)."""
 
-    def __init__(self, read: Callable[[], Awaitable[dict[str, int]]]):
-        self._read = read
+    def __init__(self, read: Callable[[], Awaitable[T]], on_idle: Callable[[], object] | None = None):
+        self._read, self._on_idle = read, on_idle  # on_idle: called when no read runs and none is awaited
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._next: asyncio.Future[dict[str, int]] | None = None  # the read the requests now coming wait for
+        self._next: asyncio.Future[T] | None = None  # the read the requests now coming wait for
         self._reading: asyncio.Task[None] | None = None
 
-    async def current(self) -> dict[str, int]:
-        """{kind: revision}, read after this call began."""
+    async def current(self) -> T:
+        """The read's answer, read after this call began."""
         loop = asyncio.get_running_loop()
         if loop is not self._loop:  # an app served again on another loop (tests): nothing of the old one is kept
             self._loop, self._next, self._reading = loop, None, None
@@ -143,6 +145,23 @@ class Revisions:
                     waiting.exception()  # retrieved: waiters that have gone leave no "never retrieved" warning
         finally:
             self._reading = None
+            if self._next is None and self._on_idle is not None:
+                self._on_idle()
+
+
+class SharedReads:
+    """A SharedRead per request key while its reads run (the uncached GETs: the job lists, a pending job), dropped when
+    idle: at 200 readers of the page, the few jobs and lists read dozens of times a second each, once per batch."""
+
+    def __init__(self):
+        self._reads: dict[tuple, SharedRead] = {}
+
+    async def current(self, key: tuple, read: Callable[[], Awaitable[T]]) -> T:
+        """`read()`'s answer for `key`, read after this call began (by this request's `read` or an equal one)."""
+        shared = self._reads.get(key)
+        if shared is None:
+            shared = self._reads[key] = SharedRead(read, on_idle=lambda: self._reads.pop(key, None))
+        return await shared.current()
 
 
 ANSWERED = "footprint.read_cache"  # the scope's note of a GET answered from the read cache: (kind shown, key)

@@ -16,7 +16,7 @@ router = APIRouter(tags=["health"], route_class=ApiRoute)
 async def health(request: Request) -> dict:
     """The service's state: database reachable, cluster up, version (the scheduler's address only to a caller with the
     bearer token, so never when FOOTPRINT_API_TOKEN is unset). The database answered when the cached reads' shared
-    revision read, begun after this request came, did (read_cache.Revisions: no query of its own, none on the event
+    revision read, begun after this request came, did (read_cache.SharedRead: no query of its own, none on the event
     loop); the scheduler is asked in the background (ClusterLink.recent_status), or in the thread pool before its
     first answer."""
     try:

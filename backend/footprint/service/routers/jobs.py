@@ -84,7 +84,7 @@ async def list_jobs(
         jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
         return read_cache.as_json(JobList, {"items": [summary(j) for j in jobs], "total": total})
 
-    return read_cache.plain(await deps.read(request, build))
+    return read_cache.plain(await deps.shared(request, ("jobs", status, kind, limit, offset), build))
 
 
 @router.get("/jobs/{job_id}", response_model=JobRead, responses=read_cache.NOT_MODIFIED)
@@ -105,10 +105,11 @@ async def get_job(job_id: StoredId, request: Request) -> Response:
             raise NotFound(f"no job {job_id!r}")
         answer = lambda: read_cache.as_json(JobRead, _read(session, job))  # noqa: E731
         # a job that has ended changes no more (every write of a job's row is to a pending one): its answer is kept
-        # while its footprints' links are, i.e. until a footprint is written or deleted; a pending one is read anew
+        # while its footprints' links are, i.e. until a footprint is written or deleted; a pending one is read anew,
+        # once for the requests that wait together (deps.shared)
         return answer() if job.status in PENDING else cache.get(("footprints", *key), revision, answer)
 
-    return read_cache.response(request, await deps.read(request, load))
+    return read_cache.response(request, await deps.shared(request, key, load))
 
 
 @router.delete("/jobs/{job_id}", response_model=JobRead)
