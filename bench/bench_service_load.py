@@ -14,23 +14,36 @@ Starts the real service as a subprocess (`footprint serve --port FREE --database
    stored footprint with its points. A read that is not a 200 or fails in transport is counted as an
    error (by kind), not raised;
 3. with --long-jobs N, for each readers count: N dispersion jobs (one task each, so each holds a worker for
-   a minute or more), and once all of them run, that many readers for WINDOW_S (20 s); no job may end inside the
-   window; then they are cancelled, must end `cancelled`, and the cluster must be back at 2 workers.
+   a minute or more), and once all of them run, each read of the mix one at a time (the service time beside the
+   jobs), then that many readers for --window-s (20 s); no job may end inside the window (one that does, or a
+   service that stops answering, is reported with the figures so far, and the run fails after writing them); then
+   they are cancelled, must end `cancelled`, and the cluster must be back at 2 workers; then the baseline in the same
+   process: the same readers on the same paths for the same window with no job running (during_over_no_job). Beside
+   each window: the 1-minute load average at its start and its end (the machine is shared), the serving process's
+   CPU seconds (a core's worth is 1 per second) and the readers' own.
+
+--mix page (issue 49): the reads the map page does instead of the four above, each route an equal share: the
+footprint list (limit=200), a footprint as JSON, GeoJSON and CSV (three stored, one after another), the job list and
+the page's succeeded-dispersions list, a running long job and a succeeded one (GET /api/jobs/{id}), /api/health and
+/api/vehicles. In step 1 its bursts count a failed read as an error too (issue 49's "before" answered none).
 
 No job may be lost. Reported: p50/p99/max latency of the reads (alone, and while the jobs run) with the
 error counts, the job throughput (jobs and trajectories per second from the first submission to the last
-success), and each endpoint's reads one at a time (the service time without queueing). Baseline, in this process
-after the server has stopped: the same reads (bursts and one at a time) sent to the same app (create_app on a copy of
-the same database) through httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and no uvicorn; the ratios
-(loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded: the whole run stops
-with an error past TOTAL_BUDGET_S (4 min).
+success), and each endpoint's reads one at a time (the service time without queueing). Baseline of the issue 24
+mix, in this process after the server has stopped: the same reads (bursts and one at a time) sent to the same app
+(create_app on a copy of the same database) through httpx.ASGITransport, i.e. with no sockets, no HTTP parsing and
+no uvicorn; the ratios (loopback_over_in_process) say what the loopback HTTP server in its own process adds. Bounded:
+the whole run stops with an error past TOTAL_BUDGET_S (8 min; a guard against a hang on a loaded machine, not a
+bound on speed).
 
     python3 bench/bench_service_load.py [--api-processes N] [--code DIR] [--label NAME] [--readers N ...]
-                                        [--jobs N] [--long-jobs N] [--postgres-url URL]
+                                        [--jobs N] [--long-jobs N] [--window-s S] [--mix issue24|page]
+                                        [--postgres-url URL]
         # prints the figures, writes bench/results/service_load[-NAME].json; --code: serve another checkout's
         # backend/ (the "before" of a change, measured by this same script; its migrations/ beside it);
         # --postgres-url: a new database on that server for the run, dropped afterwards (else a SQLite file)
         # the issue 24 figures: --readers 200 --jobs 0 --long-jobs 2 [--postgres-url ...]
+        # the issue 49 figures: --readers 200 --jobs 0 --long-jobs 2 --window-s 40 --mix page [--postgres-url ...]
 
 tests/service/test_load.py runs the same code, smaller (50 reads, 5 jobs).
 """
@@ -62,15 +75,18 @@ READERS = (100, 200)  # closed-loop readers while the jobs run
 ROUNDS = 3
 SEQUENTIAL_REPEAT = 10  # one-at-a-time reads of each endpoint (the service time without queueing)
 JOBS = 20
-TOTAL_BUDGET_S = 240.0
-START_BUDGET_S = 60.0
-JOBS_BUDGET_S = 60.0
-WINDOW_S = 20.0  # readers measured while the long jobs are running
-# examples/disperse_lod189.json in one task (~45,000 flights, a minute or two on one core): each long job runs on a
-# worker of its own, and none ends inside the window
+TOTAL_BUDGET_S = 480.0
+START_BUDGET_S = 180.0  # a local cluster started at load 12 took over a minute
+JOBS_BUDGET_S = 120.0
+WINDOW_S = 20.0  # readers measured while the long jobs are running (--window-s)
+SEQUENTIAL_BESIDE_JOBS = 5  # one-at-a-time reads of each path while the long jobs run
+SEEDED_FOOTPRINTS = 3  # stored before the page mix's reads (one job each)
+MIXES = ("issue24", "page")
+# examples/disperse_lod189.json in one task (~90,000 flights, minutes on one core at the workers' nice 10): each long
+# job runs on a worker of its own, and none ends inside the window
 LONG_DISPERSION = json.loads((ROOT / "examples" / "disperse_lod189.json").read_text()) | {
-    "samples": 2048,
-    "chunk_samples": 2048,
+    "samples": 4096,
+    "chunk_samples": 4096,
 }
 
 
@@ -235,14 +251,47 @@ async def check_jobs(client: httpx.AsyncClient, final: dict[str, dict]) -> dict[
     return out
 
 
-def _template(path: str, paths: list[str]) -> str:
-    """The path with the footprint's id as {id} (the mix's second path holds it)."""
-    return path.replace(paths[1].rsplit("/", 1)[1], "{id}")
+def _route(path: str, names: dict[str, str]) -> str:
+    """The path with each id in `names` replaced by its name ({id}, {running}...): the route it reads."""
+    for stored_id, name in names.items():
+        path = path.replace(stored_id, name)
+    return path
 
 
 def read_paths(footprint_id: str, n: int) -> list[str]:
     mix = ["/api/footprints", f"/api/footprints/{footprint_id}", "/api/vehicles", "/api/health"]
     return [mix[i % len(mix)] for i in range(n)]
+
+
+def page_paths(footprint_ids: list[str], running_ids: list[str], succeeded_id: str, n: int) -> list[str]:
+    """`n` GETs of the map page's reads, each route an equal share, its ids taken in turn (--mix page)."""
+    routes = [
+        lambda k: "/api/footprints?limit=200",
+        lambda k: f"/api/footprints/{footprint_ids[k % len(footprint_ids)]}",
+        lambda k: f"/api/footprints/{footprint_ids[k % len(footprint_ids)]}?format=geojson",
+        lambda k: f"/api/footprints/{footprint_ids[k % len(footprint_ids)]}?format=csv",
+        lambda k: f"/api/jobs/{running_ids[k % len(running_ids)]}",
+        lambda k: f"/api/jobs/{succeeded_id}",
+        lambda k: "/api/jobs?limit=50",
+        lambda k: "/api/jobs?kind=dispersion&status=succeeded&limit=50",
+        lambda k: "/api/health",
+        lambda k: "/api/vehicles",
+    ]
+    return [routes[i % len(routes)](i // len(routes)) for i in range(n)]
+
+
+def _say(what: str) -> None:
+    """A line of progress on stderr."""
+    print(f"{time.strftime('%H:%M:%S')} {what}", file=sys.stderr, flush=True)
+
+
+def _cpu_s(pid: int) -> float:
+    """The process's CPU seconds so far, user and system, all its threads (/proc; 0 where there is none)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime: fields 14 and 15
 
 
 def httpx_get(client: httpx.AsyncClient):
@@ -277,15 +326,20 @@ async def aiohttp_get(base_url: str, concurrency: int):
         yield get
 
 
-async def read_burst(get, paths: list[str]) -> list[float]:
-    """All GETs at once; their latencies in seconds. Any non-200 answer or transport error raises."""
+async def read_burst(get, paths: list[str], errors: dict[str, int] | None = None) -> list[float | None]:
+    """All GETs at once; their latencies in seconds. Any non-200 answer or transport error raises, or with `errors`
+    is counted there by kind (its latency None)."""
 
     async def one(path):
         t0 = time.perf_counter()
         status = await get(path)
         dt = time.perf_counter() - t0
         if status != 200:
-            raise AssertionError(f"GET {path}: {status}")
+            if errors is None:
+                raise AssertionError(f"GET {path}: {status}")
+            kind = f"HTTP {status}" if isinstance(status, int) else status
+            errors[kind] = errors.get(kind, 0) + 1
+            return None
         return dt
 
     return list(await asyncio.gather(*(one(p) for p in paths)))
@@ -355,11 +409,71 @@ async def readers_during_jobs(
     }
 
 
+async def reading_window(get, paths: list[str], readers: int, window_s: float, names: dict, pid: int | None) -> dict:
+    """`readers` closed-loop readers of `paths` for `window_s`: percentiles overall and by route, reads a second, the
+    load average at the start and the end, and the CPU the serving process (`pid`) and these readers used."""
+    load_start, cpu_start, own_start = os.getloadavg()[0], _cpu_s(pid) if pid else 0.0, time.process_time()
+    _say(f"{readers} readers for {window_s:g} s at load {load_start:.1f}")
+    done = asyncio.Event()
+    reading = asyncio.create_task(readers_until(get, paths, readers, done))
+    t0 = time.perf_counter()
+    await asyncio.sleep(window_s)
+    done.set()
+    by_path, errors = await reading
+    wall = time.perf_counter() - t0
+    cpu, own = (_cpu_s(pid) - cpu_start if pid else None), time.process_time() - own_start
+    latencies = [x for v in by_path.values() for x in v]
+    by_route: dict[str, list[float]] = {}
+    for path, lat in by_path.items():
+        by_route.setdefault(_route(path, names), []).extend(lat)
+    return {
+        "readers": readers,
+        "window_s": window_s,
+        "errors": sum(errors.values()),
+        "error_kinds": errors,
+        **percentiles_ms(latencies),
+        "reads_per_s": round(len(latencies) / wall, 1),
+        "load_average_1min": {"start": round(load_start, 2), "end": round(os.getloadavg()[0], 2)},
+        "serving_process_cpu_s_per_s": None if cpu is None else round(cpu / wall, 2),
+        "serving_process_cpu_ms_per_read": None if cpu is None else round(1e3 * cpu / max(len(latencies), 1), 2),
+        "readers_cpu_s_per_s": round(own / wall, 2),
+        "by_path": {route: percentiles_ms(v) for route, v in by_route.items()},
+    }
+
+
+async def one_at_a_time_by_route(get, paths: list[str], repeat: int, names: dict) -> dict:
+    """Each distinct path `repeat` times, one request at a time: each route's service time without queueing."""
+    by_route: dict[str, list[float]] = {}
+    for _ in range(repeat):
+        for path in dict.fromkeys(paths):
+            by_route.setdefault(_route(path, names), []).extend(await read_burst(get, [path]))
+    return {route: percentiles_ms(v) for route, v in by_route.items()}
+
+
 async def readers_during_long_jobs(
-    client: httpx.AsyncClient, get, paths: list[str], readers: int, jobs: int, window_s: float
+    client: httpx.AsyncClient, get, paths_for, readers: int, jobs: int, window_s: float, pid: int | None
 ) -> dict:
-    """`jobs` dispersion jobs (minutes each on 2 workers) and, once all of them run, `readers` readers for
-    `window_s`; then the jobs are cancelled: each must end `cancelled` and the cluster keep its workers."""
+    """`jobs` dispersion jobs (minutes each on 2 workers) and, once all of them run, each path one at a time, then
+    `readers` readers for `window_s`; then the jobs are cancelled (each must end `cancelled` and the cluster keep its
+    workers), and the same readers read the same paths for as long with no job: the baseline. `paths_for(running
+    ids)`: (the paths, {id: its name in a route})."""
+    try:
+        ids = await _start_long_jobs(client, jobs)
+    except (httpx.TransportError, AssertionError, TimeoutError) as exc:  # a service stuck before the window
+        return {"jobs_running": 0, "after_window_error": f"before the window: {type(exc).__name__}: {exc}"[:300]}
+    _say(f"{jobs} long jobs running")
+    paths, names = paths_for(ids)
+    beside_jobs = await one_at_a_time_by_route(get, paths, SEQUENTIAL_BESIDE_JOBS, names)
+    during = await reading_window(get, paths, readers, window_s, names, pid)
+    figures = {"jobs_running": jobs, **during, "one_at_a_time_beside_jobs": beside_jobs}
+    try:
+        return figures | await _after_long_jobs(client, get, ids, paths, names, readers, window_s, pid, during)
+    except (httpx.TransportError, AssertionError, TimeoutError) as exc:  # the figures so far, and what went wrong
+        return figures | {"after_window_error": f"{type(exc).__name__}: {exc}"[:300]}
+
+
+async def _start_long_jobs(client: httpx.AsyncClient, jobs: int) -> list[str]:
+    """`jobs` long dispersion jobs submitted; their ids once all of them run."""
     ids = []
     for i in range(jobs):
         r = await client.post(
@@ -373,29 +487,31 @@ async def readers_during_long_jobs(
         if time.perf_counter() - t0 > START_BUDGET_S:
             raise TimeoutError(f"{jobs} long jobs not all running after {START_BUDGET_S} s")
         await asyncio.sleep(0.2)
-    done = asyncio.Event()
-    reading = asyncio.create_task(readers_until(get, paths, readers, done))
-    await asyncio.sleep(window_s)
-    done.set()
-    by_path, errors = await reading
-    latencies = [x for v in by_path.values() for x in v]
-    running = [(await client.get(f"/api/jobs/{i}")).json()["status"] for i in ids]
-    if running != ["running"] * jobs:
-        raise AssertionError(f"a long job ended inside the window ({running}): the window did not run beside {jobs}")
-    for i in ids:
-        _check(await client.delete(f"/api/jobs/{i}"), 200, f"DELETE /api/jobs/{i}")
+    return ids
+
+
+async def _after_long_jobs(client, get, ids, paths, names, readers, window_s, pid, during) -> dict:
+    """The long jobs' state after the window, their cancel, and the window with no job (the baseline)."""
+    after = {i: _check(await client.get(f"/api/jobs/{i}"), 200, f"GET /api/jobs/{i}") for i in ids}
+    # a job that ended inside the window is reported (main fails the run after writing the figures): the window did
+    # not run beside all the jobs, and a job that failed there (issue 49: the connection pool) is a finding
+    ended = [f"{d['status']}: {d['error']}" for d in after.values() if d["status"] != "running"]
+    for i, d in after.items():
+        if d["status"] == "running":
+            _check(await client.delete(f"/api/jobs/{i}"), 200, f"DELETE /api/jobs/{i}")
     final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
-    assert all(d["status"] == "cancelled" for d in final.values()), [d["status"] for d in final.values()]
+    cancelled = [final[i]["status"] for i, d in after.items() if d["status"] == "running"]
+    assert cancelled == ["cancelled"] * len(cancelled), cancelled
     await wait_healthy(client, None, START_BUDGET_S, workers=2)  # a stopped task's worker is replaced
+    alone = await reading_window(get, paths, readers, window_s, names, pid)
     return {
-        "readers": readers,
-        "jobs_running": jobs,
-        "window_s": window_s,
-        "errors": sum(errors.values()),
-        "error_kinds": errors,
-        **percentiles_ms(latencies),
-        "reads_per_s": round(len(latencies) / window_s, 1),
-        "by_path": {_template(p, paths): percentiles_ms(v) for p, v in by_path.items()},
+        "jobs_ended_inside_window": ended,
+        "no_job_after_them": alone,
+        "during_over_no_job": {
+            "p50": round(during["p50_ms"] / alone["p50_ms"], 2),
+            "p99": round(during["p99_ms"] / alone["p99_ms"], 2),
+            "reads_per_s": round(during["reads_per_s"] / alone["reads_per_s"], 2),
+        },
     }
 
 
@@ -410,6 +526,8 @@ async def sequential_reads(get, paths: list[str], repeat: int) -> list[float]:
 
 def percentiles_ms(latencies_s: list[float]) -> dict:
     ms = sorted(1e3 * x for x in latencies_s)
+    if len(ms) < 2:  # a route that answered once or never in its window (a loaded machine): what there is
+        return {"n": len(ms), **dict.fromkeys(("p50_ms", "p99_ms", "max_ms"), round(ms[0], 2) if ms else None)}
     q = statistics.quantiles(ms, n=100, method="inclusive")
     return {
         "n": len(ms),
@@ -424,16 +542,16 @@ def http_client(base_url=None, transport=None, concurrency=CONCURRENT_READS) -> 
     # server side: reusing a connection the server is closing at that moment is a client race, not an error
     limits = httpx.Limits(max_connections=concurrency, max_keepalive_connections=concurrency, keepalive_expiry=4.0)
     return httpx.AsyncClient(
-        base_url=base_url or "http://localhost", transport=transport, limits=limits, timeout=httpx.Timeout(30.0)
+        base_url=base_url or "http://localhost", transport=transport, limits=limits, timeout=httpx.Timeout(120.0)
     )
 
 
-async def seed(client: httpx.AsyncClient) -> tuple[str, str]:
-    """One footprint job run to success; (job id, footprint id)."""
-    ids, _ = await submit_jobs(client, [small_study(100)], "seed")
+async def seed(client: httpx.AsyncClient, n: int = 1) -> tuple[list[str], list[str]]:
+    """`n` footprint jobs run to success; (their job ids, their footprint ids)."""
+    ids, _ = await submit_jobs(client, [small_study(100 + i) for i in range(n)], "seed")
     final, _ = await wait_jobs(client, ids, JOBS_BUDGET_S)
     fps = await check_jobs(client, final)
-    return ids[0], fps[ids[0]]["id"]
+    return ids, [fps[i]["id"] for i in ids]
 
 
 async def load(
@@ -447,42 +565,62 @@ async def load(
     readers: tuple[int, ...] = READERS,
     long_jobs: int = 0,
     window_s: float = WINDOW_S,
+    mix: str = "issue24",
+    pid: int | None = None,
 ) -> dict:
-    """The measured run against a started service; raises on a lost job (read errors are counted)."""
+    """The measured run against a started service (`pid`: its serving process, whose CPU is reported beside the long
+    jobs' windows); raises on a lost job (read errors are counted)."""
     async with (
         http_client(base_url, concurrency=jobs + 2) as client,
         aiohttp_get(base_url, max((reads, *readers))) as get,
     ):
         start_s, health = await wait_healthy(client, proc, START_BUDGET_S)
+        _say(f"healthy after {start_s:.1f} s")
         t_seed = time.perf_counter()
-        _, footprint_id = await seed(client)
+        job_ids, footprint_ids = await seed(client, SEEDED_FOOTPRINTS if mix == "page" else 1)
         seed_s = time.perf_counter() - t_seed
-        paths = read_paths(footprint_id, reads)
+        footprint_id = footprint_ids[0]
+        names = {i: "{id}" for i in footprint_ids} | {job_ids[0]: "{succeeded}"}
+
+        def paths_for(running: list[str], n: int = reads) -> tuple[list[str], dict[str, str]]:
+            if mix == "issue24":
+                return read_paths(footprint_id, n), names
+            return page_paths(footprint_ids, running, job_ids[0], n), names | {i: "{running}" for i in running}
+
+        paths, _ = paths_for(job_ids[:1])
         # each endpoint once, one at a time: its first answer fills the service's caches (the built-in
         # vehicles' (L/D)max is computed on first use); reported apart, not in the percentiles
         first = {}
         for path in dict.fromkeys(paths):
-            first[path.replace(footprint_id, "{id}")] = round(1e3 * (await read_burst(get, [path]))[0], 1)
+            first[_route(path, names)] = round(1e3 * (await read_burst(get, [path]))[0], 1)
         load_before = os.getloadavg()[0]
         one_at_a_time = await sequential_reads(get, paths, sequential)
-        await read_burst(get, paths)  # open the connections (not measured)
+        one_at_a_time_by_path = await one_at_a_time_by_route(get, paths, sequential, names)
+        burst_errors: dict[str, int] = {}
+        await read_burst(get, paths, burst_errors)  # open the connections (not measured)
+        burst_errors.clear()
         t_reads = time.perf_counter()
-        alone = []
+        bursts: list[float | None] = []
         for _ in range(rounds):
-            alone += await read_burst(get, paths)
+            bursts += await read_burst(get, paths, burst_errors)
         reads_s = time.perf_counter() - t_reads
-        by_path = {}
-        for lat, path in zip(alone, paths * rounds):
-            by_path.setdefault(path.replace(footprint_id, "{id}"), []).append(lat)
+        by_path: dict[str, list[float]] = {}
+        for lat, path in zip(bursts, paths * rounds):
+            if lat is not None:
+                by_path.setdefault(_route(path, names), []).append(lat)
+        alone = [x for v in by_path.values() for x in v]
         during = {str(n): await readers_during_jobs(client, get, paths, n, jobs, f"load-{n}") for n in readers if jobs}
         during_long = {
-            str(n): await readers_during_long_jobs(client, get, paths, n, long_jobs, window_s)
+            str(n): await readers_during_long_jobs(
+                client, get, lambda running, n=n: paths_for(running, n), n, long_jobs, window_s, pid
+            )
             for n in readers
             if long_jobs
         }
-        total = _check(await client.get("/api/jobs", params={"limit": 1}), 200, "GET /api/jobs")["total"]
-        expected = (jobs + long_jobs) * len(readers) + 1
-        assert total == expected, f"{total} jobs stored, expected {expected}"
+        if not any("after_window_error" in w for w in during_long.values()):  # else the service may be stuck
+            total = _check(await client.get("/api/jobs", params={"limit": 1}), 200, "GET /api/jobs")["total"]
+            expected = (jobs + long_jobs) * len(readers) + len(job_ids)
+            assert total == expected, f"{total} jobs stored, expected {expected}"
     return {
         "service_start_to_healthy_s": round(start_s, 2),
         "seed_job_s": round(seed_s, 2),
@@ -493,12 +631,14 @@ async def load(
         "reads": {
             "concurrent": reads,
             "rounds": rounds,
-            "mix": sorted(set(p.replace(footprint_id, "{id}") for p in paths)),
-            "errors": 0,
+            "mix": sorted(set(_route(p, names) for p in paths)),
+            "errors": sum(burst_errors.values()),
+            "error_kinds": burst_errors,
             **percentiles_ms(alone),
             "by_path": {k: percentiles_ms(v) for k, v in by_path.items()},
         },
         "reads_one_at_a_time": percentiles_ms(one_at_a_time),
+        "reads_one_at_a_time_by_path": one_at_a_time_by_path,
         "readers_while_jobs_run": during,
         "readers_while_long_jobs_run": during_long,
     }
@@ -540,6 +680,7 @@ def run(
     long_jobs: int = 0,
     window_s: float = WINDOW_S,
     postgres_url: str | None = None,
+    mix: str = "issue24",
 ) -> dict:
     t0 = time.perf_counter()
     with (
@@ -565,6 +706,8 @@ def run(
                             readers=readers,
                             long_jobs=long_jobs,
                             window_s=window_s,
+                            mix=mix,
+                            pid=proc.pid if api_processes == 1 else None,
                         ),
                         budget_s,
                     )
@@ -600,6 +743,15 @@ def run(
     return figures
 
 
+def _cpu_model() -> str:
+    """The CPU's model name (/proc/cpuinfo, as lscpu's "Model name")."""
+    try:
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        return platform.processor()
+    return next((line.split(":", 1)[1].strip() for line in lines if line.startswith("model name")), "")
+
+
 def main():
     import argparse
 
@@ -618,33 +770,48 @@ def main():
         "--long-jobs",
         type=int,
         default=0,
-        help=f"dispersion jobs that run through a {WINDOW_S:.0f} s window of readers, then are cancelled (0: none)",
+        help="dispersion jobs that run through a window of readers, then are cancelled (0: none)",
     )
+    parser.add_argument("--window-s", type=float, default=WINDOW_S, help="the readers' window beside the long jobs")
+    parser.add_argument("--mix", choices=MIXES, default=MIXES[0], help="the reads: issue 24's four, or the page's")
     args = parser.parse_args()
+    in_process = args.code is None and args.mix == "issue24"  # the page mix's baseline is its window with no job
     figures = run(
         api_processes=args.api_processes,
         code=args.code,
-        baseline=args.code is None,
+        baseline=in_process,
         readers=tuple(args.readers),
         jobs=args.jobs,
         long_jobs=args.long_jobs,
+        window_s=args.window_s,
         postgres_url=args.postgres_url,
-        budget_s=TOTAL_BUDGET_S + len(args.readers) * (WINDOW_S + 40),
+        mix=args.mix,
+        budget_s=TOTAL_BUDGET_S + len(args.readers) * (2 * args.window_s + 60),
     )
     database = "Postgres" if args.postgres_url else "SQLite"
     result = {
         "what": f"footprint serve (uvicorn in {args.api_processes} process(es), {database}, LocalCluster of 2 workers) "
-        "on 127.0.0.1, aiohttp readers",
+        f"on 127.0.0.1, aiohttp readers, the {args.mix} mix",
         "code": str(args.code or "this checkout"),
-        "baseline": "the same reads through httpx.ASGITransport into create_app() in-process (no socket, no uvicorn)",
+        "baseline": "the same reads through httpx.ASGITransport into create_app() in-process (no socket, no uvicorn)"
+        if in_process
+        else "the same readers on the same paths with no job running (no_job_after_them)",
+        "date": time.strftime("%Y-%m-%d"),
         "cores": os.cpu_count(),
         "machine": platform.machine(),
+        "cpu": _cpu_model(),
         **figures,
     }
     from _timing import save_result  # run as a script: bench/ is on the path (the tests import this module)
 
     save_result("service_load" + (f"-{args.label}" if args.label else ""), result)
     print(json.dumps(result, indent=2))
+    wrong = {
+        n: w.get("after_window_error") or w.get("jobs_ended_inside_window")
+        for n, w in figures["readers_while_long_jobs_run"].items()
+    }
+    if any(wrong.values()):
+        sys.exit(f"the long jobs' windows went wrong (figures written all the same): {wrong}")
 
 
 if __name__ == "__main__":

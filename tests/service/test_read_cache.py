@@ -164,3 +164,62 @@ def test_ids_that_cannot_be_ids_are_refused_and_kept_nowhere(api):
         assert api.app.state.read_cache.size[0] == 50
     finally:
         api.app.state.read_cache = cache
+
+
+def test_a_revision_read_begun_before_a_request_never_answers_it():
+    """Issue 49: the cached reads share their revision reads (read_cache.SharedRead). A read that began before a write
+    committed must not answer a request that came after the commit (it would be served the old answer: a client that
+    wrote through another process and then read would not see its write); the requests that come while one read runs
+    share the next one."""
+    import asyncio
+
+    stored = {"footprints": 0}
+    began: list[int] = []
+    gates: list[asyncio.Event] = []
+
+    async def read():  # a transaction's snapshot is taken when it begins: the value read then is what it returns
+        snapshot = dict(stored)
+        began.append(snapshot["footprints"])
+        gates.append(asyncio.Event())
+        await gates[-1].wait()
+        return snapshot
+
+    async def scenario():
+        revisions = read_cache.SharedRead(read)
+        first = asyncio.create_task(revisions.current())
+        await asyncio.sleep(0)
+        await asyncio.sleep(0)
+        assert began == [0]  # the first read runs
+        stored["footprints"] = 1  # a write commits while it runs
+        later = [asyncio.create_task(revisions.current()) for _ in range(5)]  # requests after the commit
+        await asyncio.sleep(0)
+        assert began == [0]  # they wait for the next read, not the running one
+        gates[0].set()
+        assert (await first) == {"footprints": 0}  # it came before the commit
+        while len(gates) < 2:
+            await asyncio.sleep(0)
+        gates[1].set()
+        assert [await t for t in later] == [{"footprints": 1}] * 5  # all five from one read begun after the commit
+        assert began == [0, 1]
+
+    asyncio.run(scenario())
+
+
+def test_a_failed_revision_read_reaches_its_waiters_and_the_next_read_is_tried():
+    import asyncio
+
+    calls = []
+
+    async def read():
+        calls.append(1)
+        if len(calls) == 1:
+            raise ConnectionError("the database is away")
+        return {"footprints": 7}
+
+    async def scenario():
+        revisions = read_cache.SharedRead(read)
+        with pytest.raises(ConnectionError):
+            await revisions.current()
+        assert await revisions.current() == {"footprints": 7}
+
+    asyncio.run(scenario())

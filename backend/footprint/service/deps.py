@@ -3,17 +3,24 @@
 import hmac
 import time
 from collections.abc import Callable, Iterator
-from typing import Annotated
+from typing import Annotated, TypeVar
 
-from fastapi import Depends
+import anyio
+from fastapi import Depends, FastAPI
 from sqlalchemy.orm import Session, sessionmaker
-from starlette.concurrency import run_in_threadpool
 from starlette.requests import Request
 from starlette.responses import Response
 
 from footprint.service import read_cache
 from footprint.service.db import queries as q
 from footprint.service.jobs.engine import JobEngine
+
+# a GET's database work runs in one of this many threads at once (its own limiter, not the thread pool's 40): each
+# holds one connection, well within the pool (db.engine.REQUEST_POOL_SIZE), and on 2 cores more threads only wait
+# for the GIL. Issue 49: sync routes held their connection across FastAPI's hops (route, response model, the
+# dependency's exit), so 200 readers held more than the pool's 50; requests and jobs waited 30 s for one and failed.
+READ_THREADS = 8
+T = TypeVar("T")
 
 
 def sessions(request: Request) -> sessionmaker[Session]:
@@ -32,25 +39,68 @@ def _transaction(request: Request) -> Iterator[Session]:
 Transaction = Annotated[Session, Depends(_transaction, scope="function")]
 
 
+async def read(request: Request, work: Callable[[Session], T]) -> T:
+    """`work(session)` in a read transaction of its own, in one of the READ_THREADS: a GET holds its connection there
+    only, never on the event loop nor between threads."""
+    return await read_on(request.app, work)
+
+
+async def read_on(app: FastAPI, work: Callable[[Session], T], limiter: anyio.CapacityLimiter | None = None) -> T:
+    def run() -> T:
+        with app.state.read_sessions.begin() as session:
+            return work(session)
+
+    return await anyio.to_thread.run_sync(run, limiter=limiter or app.state.read_limiter)
+
+
+def read_limiter() -> anyio.CapacityLimiter:
+    """The READ_THREADS tokens of an app's GET reads."""
+    return anyio.CapacityLimiter(READ_THREADS)
+
+
+def revisions(app: FastAPI) -> read_cache.SharedRead[dict[str, int]]:
+    """The stored revisions as the app's cached reads check them: one query for the requests waiting together, in a
+    thread of its own (never queued behind the routes' reads; one connection more than theirs)."""
+    own = anyio.CapacityLimiter(1)
+    return read_cache.SharedRead(lambda: read_on(app, q.revisions, own))
+
+
+async def shared(request: Request, key: tuple, work: Callable[[Session], T]) -> T:
+    """`work(session)`'s answer, read after the request came, by one read for all the requests of the same `key` that
+    wait together (read_cache.SharedReads): a GET that no revision covers (a job list, a pending job)."""
+    return await request.app.state.shared_reads.current(key, lambda: read(request, work))
+
+
+async def cached_hit(request: Request, key: tuple, shows: str) -> read_cache.Serialized | None:
+    """This process's cached answer for `key` if it is current: the stored `shows` (db.models.REVISIONS) unchanged
+    since the request came (read_cache.SharedRead: one revision read answers every request that waits for it)."""
+    current = await request.app.state.revisions.current()
+    return request.app.state.read_cache.hit((shows, *key), current.get(shows, 0))
+
+
 async def cached(
     request: Request, key: tuple, shows: str, build: Callable[[Session], read_cache.Serialized]
 ) -> Response:
     """A GET answered from this process's read cache while the stored `shows` (db.models.REVISIONS) are unchanged;
     `build` serializes it from the database otherwise (in the transaction that read the revision, after it: a
-    response is never older than the revision it is kept for). A hit runs on the event loop (one indexed row read:
-    the thread pool's hop cost more than the read at 200 readers, issue 24 item 7); a miss builds in the pool."""
-    cache, key = request.app.state.read_cache, (shows, *key)
-    with sessions(request).begin() as session:
-        hit = cache.hit(key, q.revision(session, name=shows))
+    response is never older than the revision it is kept for). A hit waits only for the revisions' shared read (no
+    query of its own, nothing on the event loop but the answer: issue 49); a miss builds in a read thread."""
+    hit = await cached_hit(request, key, shows)
+    answered(request, key, shows)
     if hit is not None:
         return read_cache.response(request, hit)
+    cache, key = request.app.state.read_cache, (shows, *key)
 
-    def load() -> read_cache.Serialized:
-        with sessions(request).begin() as session:
-            revision = q.revision(session, name=shows)
-            return cache.get(key, revision, lambda: build(session))
+    def load(session: Session) -> read_cache.Serialized:
+        return cache.get(key, q.revision(session, name=shows), lambda: build(session))
 
-    return read_cache.response(request, await run_in_threadpool(load))
+    return read_cache.response(request, await read(request, load))
+
+
+def answered(request: Request, key: tuple, shows: str) -> None:
+    """Note that this GET's answer is the read cache's `key` whenever the cache holds it at the current revision:
+    read_cache.CachedGets answers the same path and query from there next time."""
+    request.scope[read_cache.ANSWERED] = (shows, (shows, *key))
 
 
 def bearer_matches(authorization: str, token: str) -> bool:

@@ -90,6 +90,7 @@ def config(settings: Settings, app, **options) -> uvicorn.Config:
             "host": settings.host,
             "port": settings.port,
             "log_level": "info",
+            "access_log": settings.access_log,
             "http": "footprint.service.server:DeadlineProtocol",  # by name: --api-processes pickles it
             "h11_max_incomplete_event_size": MAX_HEADER_BYTES + MAX_URL_BYTES,
             "timeout_worker_healthcheck": HEALTHCHECK_TIMEOUT_S,

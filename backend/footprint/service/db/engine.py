@@ -4,27 +4,36 @@ from pathlib import Path
 
 from alembic import command
 from alembic.config import Config
-from sqlalchemy import Engine, create_engine, event
+from sqlalchemy import Engine, create_engine, event, make_url
 from sqlalchemy.orm import Session, sessionmaker
 
 SQLITE_BUSY_TIMEOUT_S = 30.0  # writers wait for each other this long before "database is locked"
 POSTGRES_CONNECT_TIMEOUT_S = 5  # a new connection to an unreachable server fails after this (libpq connect_timeout)
+# a request process's connections: its read threads (deps.READ_THREADS) and the thread pool's writes and event
+# streams (anyio's 40 threads) with room to spare, opened as they are needed
+REQUEST_POOL_SIZE, REQUEST_POOL_OVERFLOW = 10, 40
 
 
-def make_engine(database_url: str) -> Engine:
-    """An engine for SQLite (a file, foreign keys on, write transactions serialized) or Postgres."""
+def make_engine(
+    database_url: str, *, pool_size: int = REQUEST_POOL_SIZE, max_overflow: int = REQUEST_POOL_OVERFLOW
+) -> Engine:
+    """An engine for SQLite (a file, foreign keys on, write transactions serialized) or Postgres, whose pool opens
+    up to `pool_size` + `max_overflow` connections (SQLAlchemy's own default, 5 + 10, is fewer than the thread pool's
+    40 threads: issue 49's requests waited 30 s for one and failed, and the jobs beside them)."""
     if database_url.startswith("sqlite"):
+        in_memory = make_url(database_url).database in (None, "", ":memory:")  # one connection (SingletonThreadPool)
         engine = create_engine(
-            database_url, connect_args={"check_same_thread": False, "timeout": SQLITE_BUSY_TIMEOUT_S}
+            database_url,
+            connect_args={"check_same_thread": False, "timeout": SQLITE_BUSY_TIMEOUT_S},
+            **({} if in_memory else {"pool_size": pool_size, "max_overflow": max_overflow}),
         )
         _sqlite_pragmas(engine)
         return engine
-    # request + job threads; a bounded connect: a cached read checks its revision on the event loop (deps.cached)
     return create_engine(
         database_url,
         pool_pre_ping=True,
-        pool_size=10,
-        max_overflow=40,
+        pool_size=pool_size,
+        max_overflow=max_overflow,
         connect_args={"connect_timeout": POSTGRES_CONNECT_TIMEOUT_S},
     )
 

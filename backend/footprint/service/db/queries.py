@@ -4,9 +4,9 @@
 import uuid
 from datetime import UTC, datetime
 
-from sqlalchemy import delete, func, select, text, update
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, defer
 
 from footprint.contracts.bounds import PROGRESS_NOTE_CHARS
 from footprint.contracts.footprint import POINT_FIELDS
@@ -28,16 +28,15 @@ SUMMARY_FIELDS = ("area_nmi2", "max_crossrange_nmi", "max_downrange_nmi", "min_d
 ENTRY_FIELDS = ("latitude_deg", "longitude_deg", "heading_deg", "velocity_fps", "gamma_deg", "altitude_ft")
 
 
-# ------------------------------------------------------------------------------------------- health
-def dialect(session: Session) -> str:
-    """Run a trivial query; the database's dialect name ("sqlite", "postgresql")."""
-    session.execute(text("SELECT 1"))
-    return session.get_bind().dialect.name
-
-
+# ---------------------------------------------------------------------------------------- revisions
 def revision(session: Session, *, name: str) -> int:
     """How many writes the stored `name`s (models.REVISIONS) have had."""
     return session.scalar(select(Revision.value).where(Revision.name == name)) or 0
+
+
+def revisions(session: Session) -> dict[str, int]:
+    """Every kind's revision (models.REVISIONS) in one query: {name: writes}."""
+    return {name: int(value) for name, value in session.execute(select(Revision.name, Revision.value))}
 
 
 def _changed(session: Session, name: str) -> None:
@@ -70,11 +69,16 @@ def get_job(session: Session, *, job_id: str) -> Job | None:
 
 
 def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: int, offset: int):
-    """(jobs newest first, total count) under the filters."""
+    """(jobs newest first, without their studies; total count) under the filters."""
     where = [c for c in (Job.status == status if status else None, Job.kind == kind if kind else None) if c is not None]
     total = session.scalar(select(func.count()).select_from(Job).where(*where))
     rows = session.scalars(
-        select(Job).where(*where).order_by(Job.created_at.desc(), Job.id).limit(limit).offset(offset)
+        select(Job)
+        .options(defer(Job.study, raiseload=True))  # a list shows none (each a few kB of JSON)
+        .where(*where)
+        .order_by(Job.created_at.desc(), Job.id)
+        .limit(limit)
+        .offset(offset)
     ).all()
     return list(rows), int(total)
 

@@ -5,7 +5,6 @@ from fastapi.responses import JSONResponse
 
 import footprint
 from footprint.service import deps
-from footprint.service.db import queries as q
 from footprint.service.errors import ApiRoute
 from footprint.service.jobs.engine import one_line
 from footprint.service.schemas import Health, PageConfig
@@ -17,12 +16,13 @@ router = APIRouter(tags=["health"], route_class=ApiRoute)
 async def health(request: Request) -> JSONResponse:
     """The service's state: "ok" (200) when the database answers, the Dask scheduler answers and no worker is missing;
     else "degraded" (503, so that a deployment's health check sees it) with what is wrong. The scheduler's address
-    only to a caller with the bearer token (so never when FOOTPRINT_API_TOKEN is unset). On the event loop, as
-    deps.cached reads: the cluster's state is the job engine's last look (ClusterLink.recent_status), at most half a
-    second old while the scheduler answers."""
+    only to a caller with the bearer token (so never when FOOTPRINT_API_TOKEN is unset). Nothing read on the event
+    loop: the database answered when the cached reads' shared revision read, begun after this request came, did
+    (read_cache.SharedRead); the cluster's state is the job engine's last look (ClusterLink.recent_status), at most
+    half a second old while the scheduler answers."""
     try:
-        with deps.sessions(request).begin() as session:
-            database = {"ok": True, "dialect": q.dialect(session)}
+        await request.app.state.revisions.current()
+        database = {"ok": True, "dialect": request.app.state.dialect}
     except Exception as exc:  # noqa: BLE001 -- health reports, never raises
         database = {"ok": False, "dialect": request.app.state.dialect, "error": one_line(exc)}
     cluster = deps.engine(request).recent_status()
@@ -39,6 +39,6 @@ async def health(request: Request) -> JSONResponse:
 
 
 @router.get("/config", response_model=PageConfig)
-def config(request: Request) -> dict:
+async def config(request: Request) -> dict:
     """The page's configuration: the optional online tile layer (FOOTPRINT_TILE_URL), the version."""
     return {"tile_url": request.app.state.settings.tile_url or None, "version": footprint.__version__}

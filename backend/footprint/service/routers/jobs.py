@@ -8,7 +8,7 @@ from starlette.concurrency import run_in_threadpool
 
 from footprint import contracts
 from footprint.contracts.records import strict_json
-from footprint.service import deps
+from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import ApiRoute, NotFound
@@ -71,25 +71,45 @@ def submit_router() -> APIRouter:
 
 
 @router.get("/jobs", response_model=JobList)
-def list_jobs(
-    session: deps.Transaction,
+async def list_jobs(
+    request: Request,
     status: str | None = Query(None, pattern=f"^({'|'.join(JOB_STATUSES)})$"),
     kind: JobKind | None = Query(None),
     limit: int = Query(50, ge=1, le=500),
     offset: int = Query(0, ge=0, le=MAX_INTEGER),
-) -> dict:
+) -> Response:
     """Jobs newest first, filtered by status and kind."""
-    jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
-    return {"items": [summary(j) for j in jobs], "total": total}
+
+    def build(session) -> read_cache.Serialized:
+        jobs, total = q.list_jobs(session, status=status, kind=kind, limit=limit, offset=offset)
+        return read_cache.as_json(JobList, {"items": [summary(j) for j in jobs], "total": total})
+
+    return read_cache.plain(await deps.shared(request, ("jobs", status, kind, limit, offset), build))
 
 
-@router.get("/jobs/{job_id}", response_model=JobRead)
-def get_job(job_id: StoredId, session: deps.Transaction) -> dict:
-    """A job: status, progress, error, its study and its result links."""
-    job = q.get_job(session, job_id=job_id)
-    if job is None:
-        raise NotFound(f"no job {job_id!r}")
-    return _read(session, job)
+@router.get("/jobs/{job_id}", response_model=JobRead, responses=read_cache.NOT_MODIFIED)
+async def get_job(job_id: StoredId, request: Request) -> Response:
+    """A job: status, progress, error, its study and its result links (with an ETag: If-None-Match answers 304 while
+    it is unchanged)."""
+    key = ("job", job_id)
+    hit = await deps.cached_hit(request, key, "footprints")
+    deps.answered(request, key, "footprints")
+    if hit is not None:
+        return read_cache.response(request, hit)
+    cache = request.app.state.read_cache
+
+    def load(session) -> read_cache.Serialized:
+        revision = q.revision(session, name="footprints")
+        job = q.get_job(session, job_id=job_id)
+        if job is None:
+            raise NotFound(f"no job {job_id!r}")
+        answer = lambda: read_cache.as_json(JobRead, _read(session, job))  # noqa: E731
+        # a job that has ended changes no more (every write of a job's row is to a pending one): its answer is kept
+        # while its footprints' links are, i.e. until a footprint is written or deleted; a pending one is read anew,
+        # once for the requests that wait together (deps.shared)
+        return answer() if job.status in PENDING else cache.get(("footprints", *key), revision, answer)
+
+    return read_cache.response(request, await deps.shared(request, key, load))
 
 
 @router.delete("/jobs/{job_id}", response_model=JobRead)

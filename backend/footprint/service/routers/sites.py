@@ -41,9 +41,9 @@ def _site(row) -> dict:
 
 
 @router.get("/sites", response_model=list[SiteRead])
-def list_sites(session: deps.Transaction) -> list[dict]:
+async def list_sites(request: Request) -> list[dict]:
     """Every stored landing site."""
-    return [_read(r) for r in q.list_sites(session)]
+    return await deps.read(request, lambda session: [_read(r) for r in q.list_sites(session)])
 
 
 @router.post("/sites", response_model=SiteRead, status_code=201)
@@ -99,9 +99,9 @@ def _parse_csv(body: bytes) -> list[dict]:
 
 
 @router.get("/sites/{site_id:int}", response_model=SiteRead)
-def get_site(site_id: SiteId, session: deps.Transaction) -> dict:
+async def get_site(site_id: SiteId, request: Request) -> dict:
     """One landing site."""
-    row = q.get_site(session, site_id=site_id)
+    row = await deps.read(request, lambda session: q.get_site(session, site_id=site_id))
     if row is None:
         raise NotFound(f"no site {site_id}")
     return _read(row)

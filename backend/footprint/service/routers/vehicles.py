@@ -3,6 +3,7 @@
 import threading
 
 from fastapi import APIRouter, Request, Response
+from starlette.concurrency import run_in_threadpool
 
 from footprint.contracts.vehicle import user_vehicle
 from footprint.core.aero import (
@@ -124,15 +125,17 @@ async def list_vehicles(request: Request) -> Response:
 
 
 @router.get("/vehicles/{vehicle_id}", response_model=VehicleDetail)
-def get_vehicle(vehicle_id: str, session: deps.Transaction) -> dict:
+async def get_vehicle(vehicle_id: str, request: Request) -> dict:
     """One vehicle with its aero summary at 200,000 ft."""
-    items, aero = BUILTINS.get()
+    items, aero = BUILTINS.get()  # computed at start-up (app.lifespan)
     if vehicle_id in items:
         return items[vehicle_id] | {"definition": None, "aero": aero[vehicle_id]}
-    row = q.get_vehicle(session, vehicle_id=vehicle_id)
+    row = await deps.read(request, lambda session: q.get_vehicle(session, vehicle_id=vehicle_id))
     if row is None:
         raise NotFound(f"no vehicle {vehicle_id!r}")
-    return _custom_item(row) | {"definition": row.definition, "aero": _aero(_custom_vehicle(row.definition))}
+    return await run_in_threadpool(
+        lambda: _custom_item(row) | {"definition": row.definition, "aero": _aero(_custom_vehicle(row.definition))}
+    )
 
 
 @router.post("/vehicles", response_model=VehicleDetail, status_code=201, responses={409: {}})
