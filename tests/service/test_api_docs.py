@@ -52,6 +52,9 @@ def test_the_openapi_document_declares_the_error_body_the_service_sends(api):
         for method, op in operations.items():
             errors = {c: r for c, r in op["responses"].items() if c.startswith(("4", "5"))}
             assert "422" in errors, (method, path)
+            if path == "/api/health":  # a degraded service's 503 is its health, for a deployment's check to read
+                health = errors.pop("503")["content"]["application/json"]["schema"]
+                assert health == {"$ref": "#/components/schemas/Health"}
             assert all(r["content"]["application/json"]["schema"] == ref for r in errors.values()), (method, path)
             if "{" in path:
                 assert "404" in errors, (method, path)

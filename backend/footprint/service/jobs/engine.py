@@ -13,6 +13,7 @@ for the jobs they queue (JobEngine(polls=True)); each API process keeps only a R
 A cancel is a job's row: every watcher looks at it each CANCEL_POLL_S, so a cancel through any process stops it.
 """
 
+import contextlib
 import functools
 import logging
 import math
@@ -111,6 +112,15 @@ class ClusterLink:
 
     def close(self) -> None:
         self._closing.set()
+        self._close_link()
+
+    def _close_link(self) -> None:
+        """The topics left, then the client closed: the scheduler logs a client's removal to its "all" topic, and
+        wrote it to this very client, closed by then (a CRITICAL CommClosedError with its traceback at every stop)."""
+        if self.client is not None and self.client.status == "running":
+            for topic in self._topics:
+                with contextlib.suppress(Exception):
+                    self.client.unsubscribe_topic(topic)
         self._close_client()
 
     def expected_workers(self) -> int:
@@ -309,7 +319,7 @@ class JobEngine(ClusterLink):
         if self.client is not None and futures:
             self.client.cancel(futures)
         self._pool.shutdown(wait=True, cancel_futures=True)
-        self._close_client()
+        self._close_link()
 
     # ---------------------------------------------------------------------------------------- jobs
     def submit(self, *, job_id: str, request=None) -> None:
