@@ -41,7 +41,14 @@ WARM_CASE = {
     "vehicle": {"builtin": "lod-2.2"},
     "entry": {"altitude_ft": 364_800, "velocity_fps": 24_480, "gamma_deg": -2.0},
     "stop": {"altitude_ft": 250_000},
-}  # a short flight that loads every compiled kernel
+}  # a short flight that loads every compiled kernel of an open-loop flight
+WARM_GUIDED_CASE = WARM_CASE | {
+    "bank": {
+        "law": "guided",
+        "target": {"latitude_deg": 0.0, "longitude_deg": 60.0},
+        "terminal": {"altitude_ft": 80_000, "velocity_fps": 2_500},
+    }
+}  # and the guidance's: compiled in a synchronous request, they took 18 s of its 10 s limit (CI of 2026-12-07)
 # Dask's nanny starts each worker with glibc's MALLOC_TRIM_THRESHOLD_=65536, which also fixes glibc's mmap threshold:
 # every flight's arrays of over 128 kB (its rows) were then new pages from the kernel, and a worker flew a dispersion
 # chunk ~8 % slower than this process (a process started with it: 3.39-3.44 s against 3.15-3.16 s for five chunks)
@@ -183,9 +190,11 @@ def running_keys(dask_worker: Any) -> list[str]:
 
 
 def warm_numba() -> float:
-    """Fly one short trajectory so this process has loaded (or compiled) numba's cache; the seconds taken."""
+    """Fly two short trajectories, open-loop and guided, so this process has loaded (or compiled) numba's cache;
+    the seconds taken."""
     t0 = time.perf_counter()
-    run("case", WARM_CASE)
+    for case in (WARM_CASE, WARM_GUIDED_CASE):
+        run("case", case)
     return time.perf_counter() - t0
 
 

@@ -426,7 +426,7 @@ def col_problem(study):
 
 def test_a_payoff_with_several_optima_keeps_the_best_of_its_starts():
     """The most final energy at 15.5 N 50.5 E (the example's site moved 0.5 deg each way): from the case's 30 deg
-    flight alone IPOPT ends at a local optimum, two skips to 80,000 ft, and says "optimal"; from constant banks of
+    flight alone IPOPT may end at a local optimum, two skips to 80,000 ft, and say "optimal"; from constant banks of
     18, 36, 54 and 72 deg as well (starts: 5), the best is one skip out of the atmosphere. Both answers are held to
     their re-flights by the integrator, which land on the site."""
     from footprint.api import run
@@ -445,7 +445,10 @@ def test_a_payoff_with_several_optima_keeps_the_best_of_its_starts():
         assert r.refly["final_energy_ft"] == pytest.approx(r.summary["final_energy_ft"], rel=1e-3)
     assert one.start_objectives is None and len(best.start_objectives) == 5
     assert best.start_objectives[0] == pytest.approx(one.objective, rel=0.01)  # the first start is the case's
-    assert best.refly["final_energy_ft"] > 1.05 * one.refly["final_energy_ft"]
+    # the starts end at different optima, and the answer is the best of them; which start finds the best depends on
+    # the machine's rounding (here the fifth; on the CPU of CI's run of 2026-12-07 the case's own start found it)
+    assert max(best.start_objectives) > 1.05 * min(best.start_objectives)
+    assert best.refly["final_energy_ft"] >= (1 - 1e-3) * max(one.refly["final_energy_ft"], *best.start_objectives)
     assert max(v for v in best.start_objectives if v is not None) == pytest.approx(best.objective, rel=0.01)
     # one skip: a ballistic arc above the sensible atmosphere (Betts' exponential one: 0.002378 e^(-h/23,800))
     assert max(best.history["altitude_ft"]) > 600_000.0 > max(one.history["altitude_ft"])

@@ -15,7 +15,7 @@ import httpx
 
 from .sample_requests import CASE, FOOTPRINT
 
-START_TIMEOUT_S = 120.0  # a cold numba cache compiles for up to a minute
+START_TIMEOUT_S = 300.0  # a cold numba cache compiles for a minute, longer on a loaded machine
 # a few seconds of one worker's time (fine integrator steps): still running when the server is killed, now that a job
 # shows "running" only once a worker has started it
 OPTIMIZE_1S = {
@@ -31,11 +31,12 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start(tmp_path, port: int) -> subprocess.Popen:
-    """`footprint serve` in its own process group (so SIGKILL reaches its Dask workers too, as a crash would)."""
+def start(tmp_path, port: int, **env_extra: str) -> subprocess.Popen:
+    """`footprint serve` in its own process group (so SIGKILL reaches its Dask workers too, as a crash would), with
+    no FOOTPRINT_ setting of the test's environment but `env_extra`."""
     log_path = tmp_path / f"serve-{time.monotonic_ns()}.log"
     log = open(log_path, "w")
-    env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
+    env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")} | env_extra
     cmd = [
         sys.executable,
         "-c",

@@ -20,6 +20,7 @@ from starlette.routing import Route
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 import footprint
+from footprint import parallel
 from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
 from footprint.service import deps, errors, nul, page, read_cache
 from footprint.service.db.engine import make_engine, make_sessions, migrate
@@ -63,7 +64,10 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
             "load them from its cache in seconds"
         )
         t0 = time.perf_counter()
-        await run_in_threadpool(vehicles.warm_builtins)  # before ready: the first /api/vehicles answers at once
+        # before ready: a synchronous request is timed on its flight, not on compiling (a first guided one was
+        # stopped by the 10 s limit while its kernels compiled), and the first /api/vehicles answers at once
+        await run_in_threadpool(parallel.warm_numba)
+        await run_in_threadpool(vehicles.warm_builtins)
         log.info("ready (the flight kernels took %.0f s)", time.perf_counter() - t0)
         if freezes_heap:
             freeze_heap()

@@ -247,7 +247,6 @@ class RemoteJobs(ClusterLink):
 
     def start(self) -> None:
         self.start_link()
-        threading.Thread(target=parallel.warm_numba, name="footprint-warm", daemon=True).start()
 
     def submit(self, *, job_id: str, request=None) -> None:
         """Nothing to do: the engine finds the queued row within QUEUE_POLL_S."""
@@ -303,7 +302,6 @@ class JobEngine(ClusterLink):
     def _warm(self) -> None:
         t0 = time.perf_counter()
         try:
-            parallel.warm_numba()  # this process flies the synchronous trajectories; and writes a cold cache first
             self.client.run(parallel.warm_numba_in_a_thread)
             self.warm_seconds = time.perf_counter() - t0
             log.info("the workers' flight kernels are ready (%.0f s): jobs run at full speed", self.warm_seconds)
