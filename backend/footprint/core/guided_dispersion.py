@@ -22,6 +22,7 @@ from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
 from footprint.core.guidance import Guidance
 from footprint.core.integrate import STOP_REASONS
+from footprint.core.limits import tally_columns
 from footprint.core.monte_carlo import CONFIDENCE_INTERVAL, Landings, clopper_pearson, ellipse, spread
 from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges, unit_vectors
 from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
@@ -230,6 +231,7 @@ def _mode(
     out["saturated_samples"] = int(np.sum(values[:, col["saturated_cycles"]] > 0))
     out["limit_bound_samples"] = int(np.sum(values[:, col["limit_bound_cycles"]] > 0))
     out["unconverged_samples"] = int(np.sum(values[:, col["unconverged_cycles"]] > 0))
+    out["limits"] = tally_columns(values, COLUMNS, spec.vehicle.limits)  # the vehicle's, every sample flown
     out["violations"] = {
         name: int(np.sum(values[:, col[peak]] > limit))
         for name, peak in LIMITS.items()
