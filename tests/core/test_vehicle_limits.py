@@ -112,3 +112,13 @@ def test_a_footprint_and_a_dispersion_count_the_flights_that_broke_a_limit():
         "by_limit": {"load_factor_g": flights},
     }
     assert all(f["limits"]["broke_a_limit"] == 3 for f in result.flights)
+
+
+def test_an_opportunitys_ring_keeps_each_vertexs_broken_limits_when_flown_again():
+    from footprint.core.opportunities import Ring
+
+    ring = Ring(np.zeros(3), np.zeros(3), np.zeros(3), limits_broken=((), ("load_factor_g",), ()))
+    again = Ring(np.ones(1), np.ones(1), np.ones(1), limits_broken=(("dynamic_pressure_psf",),))
+    moved = ring.replaced([1], [again])
+    assert moved.limits_broken == ((), ("dynamic_pressure_psf",), ())
+    assert tally(moved.limits_broken) == {"flights": 3, "broke_a_limit": 1, "by_limit": {"dynamic_pressure_psf": 1}}
