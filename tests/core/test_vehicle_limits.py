@@ -122,3 +122,13 @@ def test_an_opportunitys_ring_keeps_each_vertexs_broken_limits_when_flown_again(
     moved = ring.replaced([1], [again])
     assert moved.limits_broken == ((), ("dynamic_pressure_psf",), ())
     assert tally(moved.limits_broken) == {"flights": 3, "broke_a_limit": 1, "by_limit": {"dynamic_pressure_psf": 1}}
+
+
+def test_a_vehicles_definition_keeps_a_lifted_limit_lifted():
+    """A stored vehicle or a sweep's case is the definition dumped and read again: a null dropped from it would come
+    back as the default."""
+    given = {"builtin": "lod-1.89", "limits": {"temperature_R": None, "load_factor_g": 3.0}}
+    again = VehicleCase.model_validate(VehicleCase.model_validate(given).definition()).to_vehicle().limits
+    assert (again.temperature_R, again.load_factor_g, again.dynamic_pressure_psf) == (None, 3.0, 375.0)
+    lifted = VehicleCase.model_validate({"builtin": "lod-1.89", "limits": None}).definition()
+    assert VehicleCase.model_validate(lifted).to_vehicle().limits.load_factor_g is None

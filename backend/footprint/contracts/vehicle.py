@@ -188,6 +188,12 @@ class VehicleCase(Strict):
             raise ValueError(f"{below}: {exc.message}" if below else exc.message) from None
         return self
 
+    def definition(self) -> dict[str, Any]:
+        """As plain data: what was given (None left out) and the limits always, a lifted one as null (left out, it
+        would come back as its default)."""
+        out = self.model_dump(exclude_none=True)
+        return out | {"limits": None if self.limits is None else self.limits.model_dump()}
+
     def loading_psf(self) -> float | None:
         """The wing loading asked for: given, or weight over reference area (None: the built-in's own)."""
         if self.weight_lb is not None and self.reference_area_ft2 is not None:
