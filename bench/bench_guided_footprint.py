@@ -1,4 +1,4 @@
-"""The guided footprint (issue 27 item 4): examples/guided_footprint_lod189.json (24 rays, 200 dispersed samples per
+"""The guided footprint (issue 27 item 4): examples/guided_footprint_lod189.json (24 rays, 300 dispersed samples per
 candidate target, R 5 nmi, p 0.99, the true optimal footprint beside it) on a LocalCluster of 2 workers, against the
 report's single-parameter footprint of the same vehicle flown open loop in this process (the baseline of the ratio).
 The 1-minute load average is recorded before and after; the answer is kept for docs/guidance.md's figure.

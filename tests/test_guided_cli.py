@@ -51,7 +51,7 @@ def test_disperse_a_guided_study_writes_its_figure_geojson_and_csv(tmp_path):
 
 
 def test_guided_footprint_traces_its_rays_and_says_its_margin(tmp_path):
-    study = small("guided_footprint_lod189.json", rays=4, samples=2, probability=0.5, optimal=False)
+    study = small("guided_footprint_lod189.json", rays=4, samples=2, probability=0.2, optimal=False)
     path = tmp_path / "study.json"
     path.write_text(json.dumps(study))
     png, geo = tmp_path / "f.png", tmp_path / "f.geojson"

@@ -24,7 +24,8 @@ STUDY = {
     "case": guided(5000.0, 600.0),
     "rays": 4,
     "samples": 8,
-    "probability": 0.75,  # two misses of eight allowed
+    # two misses of eight allowed: the one-sided 95 % Clopper-Pearson bound of 6 of 8 is 0.39, of 5 of 8 0.27
+    "probability": 0.35,
     "radius_nmi": RADIUS_NMI,
     "optimal": False,  # the collocation footprint: the slow test below
     "seed": 5,
@@ -48,6 +49,57 @@ def study():
     return s, parallel.run("guided_footprint", s)
 
 
+def binomial_lower_bound(reached, samples, alpha=0.05):
+    """The one-sided Clopper-Pearson lower bound by its definition, not scipy's beta: the P at which reaching
+    `reached` or more of `samples` has probability alpha, P(X >= k) = sum C(n, j) P^j (1 - P)^(n - j), by bisection."""
+
+    def tail(p):
+        return sum(math.comb(samples, j) * p**j * (1 - p) ** (samples - j) for j in range(reached, samples + 1))
+
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if tail(mid) < alpha else (lo, mid)
+    return lo
+
+
+def allowed_misses(samples, probability):
+    """The most misses whose bound (binomial_lower_bound) is still >= probability (it falls with each miss)."""
+    misses = 0
+    while misses <= samples and binomial_lower_bound(samples - misses, samples) >= probability:
+        misses += 1
+    return misses - 1
+
+
+def test_reachable_with_p_means_the_clopper_pearson_lower_bound_is_at_least_p():
+    """Issue 50 item 6: 198 of 200 is a point estimate of 0.99, not P >= 0.99 with 95 % confidence. The one-sided
+    95 % bound is 0.9689 (the issue's 0.964 is the two-sided 95 % interval's lower end, alpha 0.025)."""
+    assert gfp.lower_bound(198, 200) == pytest.approx(binomial_lower_bound(198, 200), abs=1e-9)
+    assert binomial_lower_bound(198, 200) == pytest.approx(0.96886, abs=1e-5)
+    assert binomial_lower_bound(198, 200, alpha=0.025) == pytest.approx(0.96435, abs=1e-5)
+    assert gfp.allowed_misses(200, 0.99) == allowed_misses(200, 0.99) == -1  # even 200 of 200 cannot show it
+    assert gfp.fewest_samples(0.99) == 299 and allowed_misses(299, 0.99) == 0 and allowed_misses(298, 0.99) == -1
+    for n, p in ((8, 0.35), (50, 0.9), (300, 0.95), (1000, 0.99)):
+        assert gfp.allowed_misses(n, p) == allowed_misses(n, p), (n, p)
+
+
+def test_a_study_whose_samples_cannot_show_p_is_refused_in_one_line():
+    from pydantic import ValidationError
+
+    from footprint.contracts.messages import error_line
+
+    for change, words in (
+        ({"samples": 200, "probability": 0.99}, "samples: 200 cannot show P >= 0.99 with 95 % confidence; give 299"),
+        ({"samples": 8, "probability": 1.0}, "probability: 1 cannot be shown with 95 % confidence"),
+    ):
+        with pytest.raises(ValidationError) as info:
+            parse("guided_footprint", {**copy.deepcopy(STUDY), **change})
+        assert error_line(info.value).startswith(words), error_line(info.value)
+    ok = parse("guided_footprint", {**copy.deepcopy(STUDY), "samples": 300, "probability": 0.99})
+    assert ok.criterion().startswith("reached within 5 nmi: P >= 0.99 with 95 % confidence")
+    assert ok.criterion().endswith("at most 0 of 300 samples missing")
+
+
 def lands_within(spec, down_nmi, cross_nmi, radius_nmi):
     """Whether the flight aimed at (down, cross) lands within R of that point, by haversine on the sphere of R'."""
     s = simulate_summary(gfp.targeted(spec, down_nmi, cross_nmi))
@@ -65,7 +117,8 @@ def test_the_frame_is_the_undispersed_reach_on_the_axis(spec, frame):
 
 
 def test_with_no_dispersion_the_guided_boundary_is_the_undispersed_one(spec, frame):
-    settings = gfp.GuidedFootprintSettings(rays=4, samples=3, radius_nmi=RADIUS_NMI, probability=1.0)
+    # no miss allowed: the bound of 3 of 3 is 0.37, of 2 of 3 0.14
+    settings = gfp.GuidedFootprintSettings(rays=4, samples=3, radius_nmi=RADIUS_NMI, probability=0.3)
     for angle_deg in (0.0, 90.0):
         ray = gfp.trace_ray(spec, frame, math.radians(angle_deg), disp.draw({}, 3, 0), settings)
         resolution = (1.0 - gfp.LOWER_FRACTION) * ray["s_nominal"] / 2**gfp.GUIDED_BISECTIONS
@@ -76,7 +129,8 @@ def test_each_boundary_point_is_reached_in_p_of_the_samples_flown_again(study):
     s, answer = study
     spec = s.case.to_spec()
     samples = s.draw(spec)
-    allowed = math.floor((1.0 - s.probability) * s.samples + 1e-9)
+    allowed = allowed_misses(s.samples, s.probability)
+    assert allowed == 2
     for r in answer["rays"]:
         point = gfp.targeted(spec, r["guided"]["downrange_nmi"], r["guided"]["crossrange_nmi"])
         t = point.guidance

@@ -75,6 +75,7 @@ def test_a_footprint_job_equals_the_python_door(footprint_job, same_numbers):
         [direct.area_nmi2, direct.max_crossrange_nmi, direct.max_downrange_nmi, direct.min_downrange_nmi],
     )
     assert stored["trajectories"] == direct.trajectories and stored["name"] == "lod-1.89 small"
+    assert job["result"]["limits"] == direct.limits()  # the flights that broke a vehicle limit, counted
     assert stored["entry"] == {
         "latitude_deg": 10.0,
         "longitude_deg": 0.0,

@@ -52,6 +52,8 @@ def test_builtin_vehicles_carry_the_reports_lift_to_drag(api):
     items = {v["id"]: v for v in api.get("/api/vehicles").json()}
     assert {"lod-1.89", "lod-2.2", "lod-2.6"} <= set(items) and all(items[i]["builtin"] for i in items)
     assert items["lod-2.2"]["ld_max"] == pytest.approx(2.2, abs=0.01)  # Table B-3 at Mach 20, 200,000 ft
+    glider = {"load_factor_g": 2.5, "dynamic_pressure_psf": 375.0, "heat_rate_btu_ft2_s": 70.0, "temperature_R": 3460.0}
+    assert all(items[i]["limits"] == glider for i in items)  # a crewed glider's (core.limits)
     assert items["lod-1.89"]["ld_max"] == pytest.approx(REPORT["vehicle.lod-1.89.ld_max"].value, abs=0.01)
     detail = api.get("/api/vehicles/lod-2.2").json()
     aero = detail["aero"]
@@ -88,6 +90,7 @@ def test_listing_custom_vehicles_rebuilds_none_of_them(api, monkeypatch):
 
     for i, ld in enumerate((1.5, 2.0, 3.0)):
         glider = {"aero": {"constant": {"cl": 0.5, "cd": 0.5 / ld}}, "wing_loading_psf": 40 + i}
+        glider |= {"limits": {"load_factor_g": 3.0 + i}} if i < 2 else {"limits": None}
         assert api.post("/api/vehicles", json={"id": f"listed-{i}", "vehicle": glider}).status_code == 201
 
     def rebuilt(*_a, **_k):
@@ -98,6 +101,9 @@ def test_listing_custom_vehicles_rebuilds_none_of_them(api, monkeypatch):
     listed = {v["id"]: v for v in api.get("/api/vehicles").json()}
     assert [listed[f"listed-{i}"]["ld_max"] for i in range(3)] == pytest.approx([1.5, 2.0, 3.0], rel=1e-9)
     assert [listed[f"listed-{i}"]["wing_loading_psf"] for i in range(3)] == [40, 41, 42]
+    assert [listed[f"listed-{i}"]["limits"]["load_factor_g"] for i in range(3)] == [3.0, 4.0, None]
+    assert listed["listed-0"]["limits"]["dynamic_pressure_psf"] == 375.0  # the others kept
+    assert set(listed["listed-2"]["limits"].values()) == {None}  # "limits": null lifts them all
     monkeypatch.undo()
     for i in range(3):
         assert api.delete(f"/api/vehicles/listed-{i}").status_code == 204

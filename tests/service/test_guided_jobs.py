@@ -24,7 +24,7 @@ FOOTPRINT_STUDY = {
     "case": guided(5000.0, 600.0),
     "rays": 4,
     "samples": 4,
-    "probability": 0.75,
+    "probability": 0.45,  # 4 of 4 show it with 95 % confidence (Clopper-Pearson bound 0.47)
     "optimal": False,
     "seed": 2,
     "entry": STUDY["entry"],

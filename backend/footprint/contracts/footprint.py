@@ -336,11 +336,11 @@ def _point(p: "FootprintPoint") -> dict[str, Any]:
 
 
 def store(study: _Study, fp: "Footprint", name: str | None) -> Stored:
-    """A footprint job's rows: the footprint and its zero-bank ground track."""
+    """A footprint job's rows: the footprint and its zero-bank ground track; its result, the broken limits."""
     e = study.case.entry
     entry = {"velocity_fps": e.velocity_fps, "gamma_deg": e.gamma_deg, "altitude_ft": e.altitude_ft}
     return Stored(
-        result={},
+        result={"limits": fp.limits()},  # its flights that broke a vehicle limit, beside the stored footprint
         footprints=[
             record(
                 fp,

@@ -3,7 +3,7 @@ dispersed samples (footprint.core.guided_footprint), one part per ray, beside th
 flown to the same end: the report's (Sec. II.6, single parameter) and the true optimal one (collocation), one part.
 
     {"case": CASE whose bank law is "guided" (its target is replaced along each ray),
-     "rays": 24, "samples": 200, "radius_nmi": 5, "probability": 0.99, "optimal": true,
+     "rays": 24, "samples": 300, "radius_nmi": 5, "probability": 0.99, "optimal": true,
      "entry", "vehicle", "density" (as a dispersion study's), "seed", "design"}
 """
 
@@ -45,7 +45,23 @@ class GuidedFootprintStudy(DispersedInputs):
         samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
         if self.samples > samples:
             raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")
+        fewest, p = gfp.fewest_samples(self.probability), self.probability
+        if fewest is None:
+            raise ValueError("probability: 1 cannot be shown with 95 % confidence by any number of samples; give < 1")
+        if self.samples < fewest:
+            raise ValueError(
+                f"samples: {self.samples:,} cannot show P >= {p:g} with 95 % confidence; give {fewest:,} or more"
+            )
         return self
+
+    def criterion(self) -> str:
+        """What a guided boundary point means, in words."""
+        misses = gfp.allowed_misses(self.samples, self.probability)
+        return (
+            f"reached within {self.radius_nmi:g} nmi: P >= {self.probability:g} with {100 * gfp.CONFIDENCE:g} % "
+            f"confidence (one-sided Clopper-Pearson lower bound): at most {misses:,} of "
+            f"{self.samples:,} samples missing"
+        )
 
     def settings(self) -> gfp.GuidedFootprintSettings:
         return gfp.GuidedFootprintSettings(self.rays, self.samples, self.radius_nmi, self.probability)
@@ -104,6 +120,7 @@ def combine(study: GuidedFootprintStudy, outputs: list[dict[str, Any]], info: Ru
     answer: dict[str, Any] = {
         "frame": f._asdict(),
         "settings": study.settings().__dict__,
+        "criterion": study.criterion(),
         "guided": guided,
         "nominal_guided": gfp.boundary(spec, rays, "nominal"),
         "flights": sum(r["flights"] for r in rays),

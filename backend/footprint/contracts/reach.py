@@ -220,6 +220,7 @@ def footprint_polygon(
             "trajectories": flown.trajectories,
             "reference": flown.entry,
             "planet_rotating": study.case.planet.rotating,
+            "limits": flown.limits(),  # its flights that broke a vehicle limit
         }
     else:
         assert fp.points is not None  # _one_source: the points or a study, exactly one

@@ -134,7 +134,7 @@ class _Sweep(Strict):
     def case_dict(self, vehicle: VehicleCase, velocity_fps: float, gamma_deg: float) -> dict[str, Any]:
         base = self.base.model_dump()
         base["entry"] |= {"velocity_fps": velocity_fps, "gamma_deg": gamma_deg, "velocity_frame": self.velocity_frame}
-        return {"vehicle": vehicle.model_dump(exclude_none=True), **base}
+        return {"vehicle": vehicle.definition(), **base}
 
     def jobs(self) -> list[dict[str, Any]]:
         """One job per footprint, in sweep order (vehicle, velocity, angle): plain data, small to ship."""

@@ -13,7 +13,7 @@ from pydantic import AfterValidator, ConfigDict, Field, ValidationInfo, model_va
 
 from footprint.contracts.bounds import VEHICLE_ID_CHARS, VEHICLE_NAME_CHARS
 from footprint.contracts.doors import context_of
-from footprint.contracts.fields import Range, Strict
+from footprint.contracts.fields import Range, Settled, Strict
 from footprint.core.aero import (
     ALPHA_LIMIT_DEG,
     MAX_AXIS_NODES,
@@ -25,6 +25,7 @@ from footprint.core.aero import (
     vehicle_from_definition,
 )
 from footprint.core.errors import InputError
+from footprint.core.limits import NO_LIMITS, Limits
 
 
 def _positive(v: float) -> float:
@@ -115,6 +116,21 @@ class Aero(Strict):
         return self
 
 
+_GLIDER = Limits()  # core.limits: each default's source
+
+
+class VehicleLimits(Settled):
+    """The limits each flight's summary checks (core.limits): a crewed glider's unless changed; null lifts one."""
+
+    load_factor_g: Annotated[float, Range(0.1, 100, "g")] | None = _GLIDER.load_factor_g
+    dynamic_pressure_psf: Annotated[float, Range(1, 100_000, "lb/ft^2")] | None = _GLIDER.dynamic_pressure_psf
+    heat_rate_btu_ft2_s: Annotated[float, Range(0.1, 10_000, "Btu/(ft^2 s)")] | None = _GLIDER.heat_rate_btu_ft2_s
+    temperature_R: Annotated[float, Range(100, 10_000, "degR")] | None = _GLIDER.temperature_R
+
+    def to_limits(self) -> Limits:
+        return Limits(**self.model_dump())
+
+
 class VehicleCase(Strict):
     """A built-in vehicle (with an optional wing-loading change), an inline aero definition, or (over HTTP) a vehicle
     stored in the service, {"stored": id}."""
@@ -130,6 +146,7 @@ class VehicleCase(Strict):
     weight_lb: Annotated[float, Range(1, 1e7, "lb")] | None = None
     reference_area_ft2: Annotated[float, Range(0.01, 1e5, "ft^2")] | None = None
     aero: Aero | None = None
+    limits: VehicleLimits | None = VehicleLimits()  # null: no limits at all
 
     @model_validator(mode="before")
     @classmethod
@@ -171,6 +188,12 @@ class VehicleCase(Strict):
             raise ValueError(f"{below}: {exc.message}" if below else exc.message) from None
         return self
 
+    def definition(self) -> dict[str, Any]:
+        """As plain data: what was given (None left out) and the limits always, a lifted one as null (left out, it
+        would come back as its default)."""
+        out = self.model_dump(exclude_none=True)
+        return out | {"limits": None if self.limits is None else self.limits.model_dump()}
+
     def loading_psf(self) -> float | None:
         """The wing loading asked for: given, or weight over reference area (None: the built-in's own)."""
         if self.weight_lb is not None and self.reference_area_ft2 is not None:
@@ -179,11 +202,13 @@ class VehicleCase(Strict):
 
     def to_vehicle(self) -> Vehicle:
         ws = self.loading_psf()
+        limits = NO_LIMITS if self.limits is None else self.limits.to_limits()
         if self.builtin is not None:
             v = builtin_vehicle(self.builtin)
-            return v if ws is None else replace(v, wing_loading_psf=ws)
+            return replace(v, limits=limits) if ws is None else replace(v, wing_loading_psf=ws, limits=limits)
         assert self.aero is not None and ws is not None  # _one_source: an inline vehicle has both
-        return _inline_vehicle(self.aero.model_dump_json(exclude_none=True), ws, self.name or "custom vehicle")
+        v = _inline_vehicle(self.aero.model_dump_json(exclude_none=True), ws, self.name or "custom vehicle")
+        return replace(v, limits=limits)
 
     def label(self) -> str:
         """The vehicle's name in tables and keys: its `name`, else the built-in id with any wing-loading change."""

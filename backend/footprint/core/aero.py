@@ -56,6 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from footprint.core._jit import njit
 from footprint.core.errors import InputError
+from footprint.core.limits import Limits
 
 FORM_LIFT_DRAG = 0
 FORM_NORMAL_AXIAL = 1
@@ -456,6 +457,7 @@ class Vehicle:
     readings: tuple[str, ...] = ()
     reported_ld_max: float | None = None
     note: str = ""
+    limits: Limits = Limits()  # what the summary checks each flight against (core.limits: a glider's by default)
 
 
 # --- validation helpers ---------------------------------------------------------------------------

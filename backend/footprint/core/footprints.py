@@ -11,12 +11,14 @@ the footprint says how far the two halves are from mirror images.
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field, replace
+from itertools import chain
 from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footprint.core.controls import replace_alpha_law, replace_bank_law
+from footprint.core.limits import tally
 from footprint.core.method_settings import ConstantAltitude, ConstantBank, SingleParameter, Staged, TwoParameter
 from footprint.core.plane import inside_points
 from footprint.core.setting import ControlSetting
@@ -58,6 +60,7 @@ class FootprintPoint:
     # where the flight passed each requested velocity (Appendix C iso-velocity contours)
     contours: tuple[dict[str, float], ...] = ()
     mirrored: bool = False  # True: reflected from the left half, not flown
+    limits_broken: tuple[str, ...] = ()  # the vehicle's limits its flight broke (core.limits)
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self) | {"parameter": self.parameter.as_dict()}
@@ -87,6 +90,12 @@ class Footprint:
     def min_downrange_nmi(self) -> float:
         return min(p.downrange_nmi for p in self.points)
 
+    def limits(self) -> dict[str, Any]:
+        """The flown points' broken limits (core.limits.tally): a footprint shows them, never drops them."""
+        every = (*self.points, *self.interior, *chain(*self.sets.values()))  # a set's points are also the boundary's
+        flown = {id(p): p for p in every if not p.mirrored}
+        return tally(p.limits_broken for p in flown.values())
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "method": self.method,
@@ -101,6 +110,7 @@ class Footprint:
             "interior": [p.to_dict() for p in self.interior],
             "outer_boundary": [list(b) for b in self.outer_boundary],
             "asymmetry": self.asymmetry,
+            "limits": self.limits(),
         }
 
 
@@ -305,6 +315,7 @@ def point_of_trajectory(
         pullout_time_s=s["pullout_time_s"],
         turn_deg=s["turn_deg"],
         contours=velocity_crossings(traj, contours_fps) if contours_fps else (),
+        limits_broken=tuple(s["limits_broken"]),
     )
 
 

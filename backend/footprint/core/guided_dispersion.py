@@ -1,5 +1,6 @@
 """Guided dispersions: every Monte Carlo sample flown closed loop by its entry guidance (core.guidance), and the same
-samples flown open loop with the nominal guided flight's bank (its time table): where each lands against the target.
+samples flown open loop with the nominal guided flight's bank against energy height (open_loop): where each lands
+against the target.
 
 What a run says, for each of the two: the miss distance's mean, CEP (its median), 90th and 99th percentiles and
 maximum; the probability of landing within R of the target for each R asked, with its Clopper-Pearson interval;
@@ -17,11 +18,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from footprint.core.constants import G0_FT_S2
 from footprint.core.controls import replace_bank_table
 from footprint.core.dispersion import Samples, sample_spec
+from footprint.core.dynamics import energy_height_ft
 from footprint.core.errors import Stopped
 from footprint.core.guidance import Guidance
 from footprint.core.integrate import STOP_REASONS
+from footprint.core.limits import tally_columns
 from footprint.core.monte_carlo import CONFIDENCE_INTERVAL, Landings, clopper_pearson, ellipse, spread
 from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges, unit_vectors
 from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
@@ -56,15 +60,30 @@ LIMITS = {  # a guidance limit -> the summary's peak it bounds
 
 
 def open_loop(spec: FlightSpec, nominal: Trajectory) -> FlightSpec:
-    """The guided spec flown open loop: the nominal guided flight's bank as a time table, to the terminal energy."""
+    """The guided spec flown open loop: the nominal guided flight's bank against energy height h + V^2/(2 g0), to
+    the terminal energy. Against energy, not time: in a dispersed world time slides and a time table flies the
+    nominal's bank at the wrong point of the entry (issue 50 item 5: CEP 773 against time, 293 against energy)."""
     assert spec.guidance is not None and nominal.bank_table is not None
-    table = nominal.bank_table
+    energy_ft, bank_deg = bank_against_energy(nominal)
     return replace(
         spec,
         guidance=None,
-        ctrl=replace_bank_table(spec.ctrl, table["bank_deg"], table["time_s"], "time"),
+        ctrl=replace_bank_table(spec.ctrl, bank_deg, energy_ft, "energy"),
         stop=replace(spec.stop, energy_ft=spec.guidance.terminal_energy_ft),
     )
+
+
+def bank_against_energy(nominal: Trajectory) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The nominal's bank nodes against the energy height it had then, ascending for the table: energy falls in
+    flight but for a climb or the thin air's rounding, so each node takes the lowest energy reached by its time
+    and only the nodes where that falls strictly are kept (the first of a flat run)."""
+    table, h = nominal.bank_table, nominal.history
+    assert table is not None
+    # the table's abscissa, the integrator's own function over every row (numba compiles it for arrays too)
+    energy = energy_height_ft(h["altitude_ft"], h["velocity_fps"], G0_FT_S2)  # type: ignore[arg-type]
+    at_nodes = np.minimum.accumulate(np.interp(table["time_s"], h["time_s"], energy))
+    keep = np.concatenate(([True], np.diff(at_nodes) < 0.0))
+    return at_nodes[keep][::-1], table["bank_deg"][keep][::-1]
 
 
 def _row(summary: dict[str, Any]) -> list[float]:
@@ -230,6 +249,7 @@ def _mode(
     out["saturated_samples"] = int(np.sum(values[:, col["saturated_cycles"]] > 0))
     out["limit_bound_samples"] = int(np.sum(values[:, col["limit_bound_cycles"]] > 0))
     out["unconverged_samples"] = int(np.sum(values[:, col["unconverged_cycles"]] > 0))
+    out["limits"] = tally_columns(values, COLUMNS, spec.vehicle.limits)  # the vehicle's, every sample flown
     out["violations"] = {
         name: int(np.sum(values[:, col[peak]] > limit))
         for name, peak in LIMITS.items()

@@ -6,9 +6,11 @@ down-ranges the undispersed guided vehicle reaches on it (`frame`: bisections on
 at the centre for the rays' scale). A ray at angle theta holds the targets centre + s (a cos theta, b sin theta),
 a the half length and b the half width so found. Along each ray (one part of a run each):
   1. s_nominal: the farthest s the undispersed guided flight reaches within R (bisection);
-  2. s_guided: the farthest s in [LOWER_FRACTION s_nominal, s_nominal] reached within R in >= p of the samples
-     (bisection; a candidate fails as soon as more samples missed than p allows, the samples that missed before
-     flying first, so a failure costs a few flights and a pass every sample).
+  2. s_guided: the farthest s in [LOWER_FRACTION s_nominal, s_nominal] reached within R with P >= p at 95 %
+     confidence: the one-sided Clopper-Pearson lower bound on the fraction of samples reached is at least p
+     (`allowed_misses`; issue 50: 198 of 200 is a point estimate of 0.99 whose bound is only 0.964) (bisection; a
+     candidate fails as soon as more samples missed than that allows, the samples that missed before flying first,
+     so a failure costs a few flights and a pass every sample).
 The guided footprint lies inside the undispersed one by construction; the area between the guided footprint and
 an outer one (the report's, or the true optimal) is the guidance's margin.
 """
@@ -26,6 +28,7 @@ from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprints import ring_area_nmi2
 from footprint.core.guided_reach import aimed_at, landed_miss_nmi
+from footprint.core.monte_carlo import clopper_pearson
 from footprint.core.outline import outline
 from footprint.core.sphere import MEAN_RADIUS_NMI, Reference, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, Stop, simulate_summary
@@ -36,12 +39,13 @@ NOMINAL_BISECTIONS = 8  # s_nominal to 1/256 of the ray's first bracket
 GUIDED_BISECTIONS = 4  # s_guided to 1/16 of (1 - LOWER_FRACTION) s_nominal
 LOWER_FRACTION = 0.8  # s_guided's bracket starts here (lowered by this factor again while it fails)
 FAR_S = 1.6  # the rays' first bracket: 0 to FAR_S half-axes
+CONFIDENCE = 0.95  # a target is reached "with P >= p at 95 % confidence" (one-sided)
 
 
 @dataclass(frozen=True)
 class GuidedFootprintSettings:
     rays: int = 24
-    samples: int = 200  # of the dispersion, per candidate target
+    samples: int = 300  # of the dispersion, per candidate target: 299 is the fewest that can show P >= 0.99
     radius_nmi: float = 5.0
     probability: float = 0.99
 
@@ -114,6 +118,28 @@ def ray_point(f: Frame, angle_rad: float, s: float) -> tuple[float, float]:
     return f.center_nmi + s * f.half_length_nmi * math.cos(angle_rad), s * f.half_width_nmi * math.sin(angle_rad)
 
 
+def lower_bound(reached: int, samples: int, confidence: float = CONFIDENCE) -> float:
+    """The one-sided Clopper-Pearson lower bound on P(reach) (Clopper & Pearson, Biometrika 26, 1934): the two-sided
+    interval of level 2 confidence - 1 has the same lower end, beta.ppf(1 - confidence, k, n - k + 1)."""
+    return clopper_pearson(reached, samples, 2.0 * confidence - 1.0)[0]
+
+
+def allowed_misses(samples: int, probability: float, confidence: float = CONFIDENCE) -> int:
+    """The most misses of `samples` that still show P(reach) >= probability with `confidence`; -1 when even no miss
+    cannot (the bound of n of n is (1 - confidence)^(1/n): 299 samples for 0.99, none for 1)."""
+    misses = 0
+    while misses <= samples and lower_bound(samples - misses, samples, confidence) >= probability:
+        misses += 1
+    return misses - 1
+
+
+def fewest_samples(probability: float, confidence: float = CONFIDENCE) -> int | None:
+    """The fewest samples that can show P >= probability with `confidence` (all reached); None for probability 1."""
+    if probability >= 1.0:
+        return None
+    return math.ceil(math.log(1.0 - confidence) / math.log(probability) - 1e-12)
+
+
 def dispersed_ok(
     spec: FlightSpec,
     samples: Samples,
@@ -121,12 +147,15 @@ def dispersed_ok(
     counter: list[int],
     hard: list[int] | None = None,
 ) -> bool:
-    """Whether the target is reached within R in >= p of the samples: stops at the first miss too many. The samples
+    """Whether the target is reached within R with P >= p at 95 % confidence (allowed_misses): stops at the first miss
+    too many. The samples
     in `hard` (those that missed a neighbouring target) fly first and each new miss joins them, so a failing target
     is found in a few flights; the verdict does not depend on the order. counter[0] counts the flights."""
     hard = [] if hard is None else hard
     known = set(hard)
-    allowed = math.floor((1.0 - settings.probability) * len(samples) + 1e-9)
+    allowed = allowed_misses(len(samples), settings.probability)
+    if allowed < 0:
+        return False
     misses = 0
     for i in [*hard, *(j for j in range(len(samples)) if j not in known)]:
         counter[0] += 1

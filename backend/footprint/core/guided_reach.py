@@ -13,6 +13,7 @@ import numpy as np
 
 from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
+from footprint.core.limits import tally
 from footprint.core.monte_carlo import CONFIDENCE_INTERVAL, clopper_pearson
 from footprint.core.trajectory import FlightSpec, simulate_summary
 
@@ -43,10 +44,13 @@ def site_reach(
     aimed = aimed_at(spec, latitude_deg, longitude_deg)
     nominal = simulate_summary(aimed)
     misses = np.empty(len(samples))
+    broken: list[list[str]] = []
     for i in range(len(samples)):
         if on_progress is not None and on_progress(i / len(samples), f"{name}: sample {i + 1:,}"):
             raise Stopped(f"stopped at {name}, sample {i + 1:,}")
-        misses[i] = landed_miss_nmi(simulate_summary(sample_spec(aimed, samples, i)))
+        summary = simulate_summary(sample_spec(aimed, samples, i))
+        misses[i] = landed_miss_nmi(summary)
+        broken.append(summary["limits_broken"])
     n, k = len(samples), int(np.count_nonzero(misses <= radius_nmi))
     low, high = clopper_pearson(k, n)
     landed = misses[np.isfinite(misses)]
@@ -63,4 +67,6 @@ def site_reach(
         "landed": int(landed.size),
         "nominal_miss_nmi": float(nominal["guidance"]["miss_nmi"]),
         "nominal_status": nominal["guidance"]["status"],
+        "nominal_limits_broken": nominal["limits_broken"],
+        "limits": tally(broken),  # the samples' flights that broke a vehicle limit
     }

@@ -36,6 +36,7 @@ from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.errors import Stopped
 from footprint.core.footprints import boundary_order
 from footprint.core.integrate import STOP_REASONS
+from footprint.core.limits import tally_columns
 from footprint.core.outline import outline
 from footprint.core.plane import inside_polygon
 from footprint.core.setting import ControlSetting
@@ -59,6 +60,7 @@ KEPT = (
     "heat_load_btu_ft2",
     "max_load_factor",
     "max_dynamic_pressure_psf",
+    "max_heat_rate_btu_ft2_s",
 )
 LAT, LON, OWN_DOWN, OWN_CROSS, TIME, TEMPERATURE, HEAT_LOAD = range(7)
 OUTCOME_NAMES = {
@@ -282,6 +284,7 @@ class DispersedFootprint:
     # per site: probability, its interval, samples reaching it, inside the nominal footprint
     sites: list[dict[str, Any]]
     outcomes: dict[str, int]  # every flight's end over the run, by what happened
+    limits: dict[str, Any]  # every flight of the run that broke a vehicle limit (core.limits.tally), by limit
     # down-range and cross-range (samples, flights), NaN where a flight did not land
     clouds: dict[str, NDArray[np.float64]]
     entry: dict[str, float]
@@ -293,6 +296,7 @@ class DispersedFootprint:
             "samples": self.samples,
             "entry": self.entry,
             "outcomes": self.outcomes,
+            "limits": self.limits,
             "nominal": self.nominal,
             "nominal_boundary": self.nominal_boundary,
             "flights": self.flights,
@@ -366,6 +370,7 @@ def statistics(
         confidence=[_confidence(base, px, py, counts, p, n, grid_nodes) for p in levels],
         sites=[_site(base, px, py, counts, npx, npy, ncounts, name, la, lo) for name, la, lo in sites],
         outcomes={"flights": int(landings.stops.size), **reasons},
+        limits=tally_columns(landings.values, KEPT, base.vehicle.limits),
         clouds={"downrange_nmi": down, "crossrange_nmi": cross, "latitude_deg": lat, "longitude_deg": lon},
         entry={"latitude_deg": e.latitude_deg, "longitude_deg": e.longitude_deg, "heading_deg": e.heading_deg},
     )
@@ -391,6 +396,7 @@ def _flight(
             OUTCOME_NAMES[STOP_REASONS[c]]: np.flatnonzero(~landed & (stops == c))[:OUTCOME_SAMPLES_LISTED].tolist()
             for c in ended
         },
+        "limits": tally_columns(values, KEPT, base.vehicle.limits),
     }
     if k >= 2:
         xy = np.stack([down[landed], cross[landed]])

@@ -41,6 +41,7 @@ from footprint.core import sun
 from footprint.core.elements import Orbit, subsatellite_points, teme_to_earth_fixed
 from footprint.core.errors import InputError, Stopped
 from footprint.core.footprint_methods import FAMILIES, control_family, footprint
+from footprint.core.limits import tally
 from footprint.core.method_settings import MethodSettings
 from footprint.core.outline import outline
 from footprint.core.plane import inside_points
@@ -60,14 +61,18 @@ class Ring:
     crossrange_nmi: NDArray[np.float64]
     flight_time_s: NDArray[np.float64]
     settings: tuple[tuple[ControlSetting, str], ...] = ()  # each vertex's control setting and side
+    limits_broken: tuple[tuple[str, ...], ...] = ()  # each vertex's flight's broken limits (core.limits)
 
     def replaced(self, idx: Sequence[int], points: Sequence[Ring]) -> Ring:
         """This ring with vertices idx replaced by the one-point rings `points` (their settings kept)."""
         columns = {k: getattr(self, k).copy() for k in RING_COLUMNS}
+        broken = list(self.limits_broken)
         for i, q in zip(idx, points):
             for k in RING_COLUMNS:
                 columns[k][i] = getattr(q, k)[0]
-        return Ring(**columns, settings=self.settings)
+            if broken:
+                broken[i] = q.limits_broken[0]
+        return Ring(**columns, settings=self.settings, limits_broken=tuple(broken))
 
 
 RING_COLUMNS = ("downrange_nmi", "crossrange_nmi", "flight_time_s")
@@ -128,6 +133,7 @@ class Opportunity:
     scan_margin_nmi: float  # the scan's footprint's margin at this burn
     coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
     footprint_ring: dict[str, Any]  # the footprint about this entry (placed): ranges, places, outline
+    limits: dict[str, Any]  # its vertices' flights that broke a vehicle limit (core.limits.tally)
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -332,7 +338,8 @@ class Flier:
         """The whole footprint from this entry."""
         pts = footprint(self.at_entry(row), self.settings).points
         columns = {k: np.array([getattr(q, k) for q in pts]) for k in RING_COLUMNS}
-        return Ring(**columns, settings=tuple((q.parameter, q.side) for q in pts))
+        settings = tuple((q.parameter, q.side) for q in pts)
+        return Ring(**columns, settings=settings, limits_broken=tuple(q.limits_broken for q in pts))
 
     def vertices(self, row: NDArray[np.float64], ring: Ring, idx: Sequence[int]) -> Ring:
         """`ring` with its vertices idx flown again from this entry (each by its own setting and side)."""
@@ -347,6 +354,7 @@ class Flier:
                     np.array([s["downrange_nmi"]]),
                     np.array([s["crossrange_nmi"]]),
                     np.array([s["flight_time_s"]]),
+                    limits_broken=(tuple(s["limits_broken"]),),
                 )
             )
         return ring.replaced(idx, flown)
@@ -577,4 +585,5 @@ def _opportunity(
         scan_margin_nmi=scan_margin,
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
         footprint_ring=placed(ring, row),
+        limits=tally(ring.limits_broken),
     )

@@ -102,6 +102,7 @@ from footprint.core.integrate import (
     STOP_REASONS,
     integrate,
 )
+from footprint.core.limits import flight_limits
 from footprint.core.sampled import peak, step_integral
 from footprint.core.sphere import MEAN_RADIUS_NMI, frame_axes, great_circle_frame, range_terms, unwrapped_correction
 
@@ -624,6 +625,7 @@ def _summary(
         "steps": int(rows.shape[0] - 1),
         "rhs_evaluations": f.n_rhs,
     }
+    summary |= flight_limits(summary, spec.vehicle.limits)  # each limit, its margin, and whether it held
     if f.guided is not None:
         summary["guidance"] = f.guided.summary(float(track.latitude_deg[-1]), float(track.longitude_deg[-1]))
     return summary

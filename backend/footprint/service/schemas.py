@@ -118,6 +118,7 @@ class VehicleItem(BaseModel):
     ld_max: float | None  # at Mach 20, 200,000 ft
     alpha_ld_max_deg: float | None
     reported_ld_max: float | None
+    limits: dict[str, float | None]  # contracts.vehicle.VehicleLimits: what each flight is checked against (None: none)
 
 
 class AeroSummary(BaseModel):

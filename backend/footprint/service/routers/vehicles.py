@@ -5,7 +5,7 @@ import threading
 from fastapi import APIRouter, Request, Response
 from starlette.concurrency import run_in_threadpool
 
-from footprint.contracts.vehicle import user_vehicle
+from footprint.contracts.vehicle import VehicleLimits, user_vehicle
 from footprint.core.aero import (
     SUMMARY_ALTITUDE_FT,
     SUMMARY_MACH,
@@ -57,6 +57,7 @@ class BuiltinSummaries:
                 "ld_max": r["ld_max_m20_200kft"],
                 "alpha_ld_max_deg": r["alpha_ld_max_deg"],
                 "reported_ld_max": r["reported_ld_max"],
+                "limits": VehicleLimits().model_dump(),  # a built-in's are the defaults
             }
             for r in vehicle_summaries()
         }
@@ -97,7 +98,15 @@ def _summary(vehicle) -> dict:
 def _custom_item(row) -> dict:
     """A stored vehicle's list item from its stored summary (one stored before it had one is summarized now)."""
     summary = row.summary or _summary(_custom_vehicle(row.definition))
-    return {"id": row.id, "builtin": False, "description": row.description, **summary, "reported_ld_max": None}
+    item = {"id": row.id, "builtin": False, "description": row.description, **summary, "reported_ld_max": None}
+    return item | {"limits": _limits(row.definition)}
+
+
+def _limits(definition: dict) -> dict[str, float | None]:
+    """A stored definition's limits (read from it: nothing packed); "limits": null lifts them all."""
+    given = definition.get("limits", {})
+    lifted = dict.fromkeys(VehicleLimits.model_fields)
+    return lifted if given is None else VehicleLimits.model_validate(given).model_dump()
 
 
 def _aero(vehicle) -> dict:
@@ -144,7 +153,7 @@ def create_vehicle(body: VehicleCreate, session: deps.Transaction) -> dict:
     if body.id in builtin_vehicle_ids():
         raise Conflict(f"id: {body.id!r} is a built-in vehicle; choose another id")
     vehicle = body.vehicle.to_vehicle()  # packed once, as the body was read (contracts.vehicle: cached)
-    definition = body.vehicle.model_dump(exclude_none=True)
+    definition = body.vehicle.definition()
     definition.setdefault("name", body.id)
     if q.get_vehicle(session, vehicle_id=body.id) is not None:
         raise Conflict(f"id: a vehicle {body.id!r} is stored already")
