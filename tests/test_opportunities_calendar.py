@@ -27,7 +27,8 @@ def _opportunity(site: int, name: str, meets_rules: bool = True) -> dict:
         "site": site, "site_name": name, "revolution": 3, "revolution_number": 56358, "meets_rules": meets_rules,
         "burn_utc": f"2008-09-21T00:{10 + site:02d}:00Z", "entry_utc": f"2008-09-21T00:{30 + site:02d}:00Z",
         "landing_utc": f"2008-09-21T00:{50 + site:02d}:30Z", "delta_v_fps": 409.1, "downrange_nmi": 4000.0,
-        "crossrange_nmi": 100.0, "margin_nmi": 250.0, "sun_elevation_deg": 12.5, "local_solar_time_h": 9.25,
+        "crossrange_nmi": 100.0, "margin_nmi": 250.0, "downrange_margin_nmi": 120.0, "crossrange_margin_nmi": 80.0,
+        "sun_elevation_deg": 12.5, "local_solar_time_h": 9.25,
     }  # fmt: skip
 
 
@@ -64,6 +65,7 @@ def test_a_site_name_cannot_break_a_line_of_the_calendar():
         assert event.decoded("DTEND") == datetime(2008, 9, 21, 0, 50 + i, 30, tzinfo=UTC)
         assert event.decoded("DTSTAMP") == datetime(2026, 1, 2, 3, 4, 5, tzinfo=UTC)
         assert "deorbit burn 409.1 ft/s at 2008-09-21T00:" in str(event["DESCRIPTION"])
+        assert "margin 250 nmi (120 nmi along the down-range, 80 nmi across)" in str(event["DESCRIPTION"])
     calendar = Calendar.from_ical(ics)
     assert (str(calendar["VERSION"]), str(calendar["CALSCALE"])) == ("2.0", "GREGORIAN")
     assert str(calendar["PRODID"]) == "-//Footprint//landing opportunities//EN"

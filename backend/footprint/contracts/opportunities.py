@@ -381,6 +381,14 @@ def event_sequence(elements: dict[str, Any]) -> int:
     return int((parse_iso(elements["epoch_utc"]) - CALENDAR_EPOCH).total_seconds() // 60)
 
 
+def _axis_words(o: dict[str, Any]) -> str:
+    """The margins along the chart's axes, where the answer has them."""
+    down, cross = o.get("downrange_margin_nmi"), o.get("crossrange_margin_nmi")
+    if down is None or cross is None:
+        return ""
+    return f" ({down:.0f} nmi along the down-range, {cross:.0f} nmi across)"
+
+
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
     """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
     meet the rules: one event per opportunity from the burn to the landing (to the nearest second), its summary the
@@ -399,8 +407,9 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
         about = (
             f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
             f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
-            f"margin {o['margin_nmi']:.0f} nmi; sun {o['sun_elevation_deg']:.1f} deg, local solar time "
-            f"{o['local_solar_time_h']:.2f} h"
+            f"margin {o['margin_nmi']:.0f} nmi{_axis_words(o)}; sun {o['sun_elevation_deg']:.1f} deg, local solar "
+            f"time {o['local_solar_time_h']:.2f} h; revolution {o['revolution_number']}"
+            + ("; the burn window is cut by the search's edge" if o.get("burn_window_clipped") else "")
         )
         event = Event()
         event.add("uid", event_uid(elements["satellite_number"], o))
