@@ -123,3 +123,11 @@ def test_a_uid_is_the_site_revolution_and_landing_day_and_its_sequence_the_eleme
     assert int(events[0]["SEQUENCE"]) == 27_202_345
     later = _answer(names[:1]) | {"elements": {"satellite_number": 25544, "epoch_utc": "2008-09-21T12:25:40Z"}}
     assert int(Calendar.from_ical(opportunities_ics(later)).walk("VEVENT")[0]["SEQUENCE"]) == 27_202_345 + 1_440
+
+
+def test_two_passes_in_one_revolution_have_two_uids():
+    """Two passes of one site whose burns fall in one revolution, landing the same day (Mataveri on the example's
+    day: burns 09:23:01 and 10:54:17, 9 s after and 8 s before the revolution's nodes): one UID each."""
+    answer = _answer(["Mataveri", "Mataveri"])
+    uids = [str(e["UID"]) for e in Calendar.from_ical(opportunities_ics(answer)).walk("VEVENT")]
+    assert len(uids) == len(set(uids)) == 2

@@ -18,6 +18,7 @@ import hashlib
 import io
 import re
 import unicodedata
+from collections import Counter
 from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
@@ -400,10 +401,14 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
     calendar.add("version", "2.0")
     calendar.add("prodid", "-//Footprint//landing opportunities//EN")
     calendar.add("calscale", "GREGORIAN")
-    stamp, elements = made_utc or datetime.now(UTC), answer["elements"]
+    stamp, elements, uids = made_utc or datetime.now(UTC), answer["elements"], Counter[str]()
     for o in answer["opportunities"]:
         if not o["meets_rules"]:
             continue
+        uid = event_uid(elements["satellite_number"], o)
+        uids[uid] += 1  # two passes whose burns fall in one revolution (each seconds from its nodes): the later's -2
+        if uids[uid] > 1:
+            uid = uid.replace("@", f"-{uids[uid]}@")
         about = (
             f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
             f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
@@ -412,7 +417,7 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
             + ("; the burn window is cut by the search's edge" if o.get("burn_window_clipped") else "")
         )
         event = Event()
-        event.add("uid", event_uid(elements["satellite_number"], o))
+        event.add("uid", uid)
         event.add("sequence", event_sequence(elements))
         event.add("dtstamp", stamp)
         event.add("dtstart", _calendar_time(o["burn_utc"]))

@@ -487,7 +487,7 @@ class Pass:
     burn_s: float  # the burn window's middle (the peak's when the site is never held), s from start
     scan_margin_nmi: float  # the scan's margin there (linear on the grid)
     window: tuple[float, float]  # where the scan's footprints start and stop holding the site, s from start
-    clipped: bool  # the site still held at the search's first or last burn: the window, and the burn, cut there
+    clipped: bool  # the site still held at the first or last burn scanned: the window, and the burn, cut there
 
 
 # The burn is the middle of its window, not the peak of the margin curve: the curve is flat at its top (the
@@ -495,10 +495,10 @@ class Pass:
 # ends (the landing moves at about the orbit's ground speed), so its peak wanders with any small change while the ends
 # do not. Measured (6 h, 4 sites of the example): a 60 s grid and 30 deg rings against 20 s and 10 deg moved the peak
 # up to 315 s and the window's middle <= 30 s (half the grid step); the margin there is 0.72-1.0 of the peak's.
-def _pass(times: NDArray[np.float64], m: NDArray[np.float64], a: int, b: int, edges: tuple[bool, bool]) -> Pass:
+def _pass(times: NDArray[np.float64], m: NDArray[np.float64], a: int, b: int) -> Pass:
     """The pass of run a..b of a site's scan margins m (the run of burns holding the site about its peak gives the
-    window, its ends the zero crossings linear on the grid); `edges`: whether times' first and last are the
-    search's."""
+    window, its ends the zero crossings linear on the grid); clipped when that run reaches the first or last of
+    `times` (the search's edge, or a window longer than a part scans)."""
     best = a + int(np.argmax(m[a : b + 1]))
     if m[best] < 0.0:
         burn, scan = parabola_peak(times, m, best)
@@ -512,7 +512,7 @@ def _pass(times: NDArray[np.float64], m: NDArray[np.float64], a: int, b: int, ed
     window = (_crossing(times, m, max(i - 1, 0), i), _crossing(times, m, min(j + 1, last), j))
     burn = 0.5 * (window[0] + window[1])
     scan = float(np.interp(burn, times[i : j + 1], m[i : j + 1]))
-    return Pass(burn, scan, window, (edges[0] and i == 0) or (edges[1] and j == last))
+    return Pass(burn, scan, window, i == 0 or j == last)
 
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
@@ -535,12 +535,13 @@ def revolution_opportunities(
     """One revolution's opportunities at every site (the scan, then each candidate flown again). A run of burns that
     reaches a site across an ascending node is one pass: the revolution whose part of it holds the better peak
     within a quarter of an orbit of the other's takes it (each part scans that far into its neighbours, so both
-    decide alike)."""
+    decide alike). Each part scans half an orbit into its neighbours so that a pass's whole window is seen (this
+    vehicle's are up to 45 min: a quarter orbit cut them, and their middles, at the part's edge)."""
     mine = np.flatnonzero(p.revolution == revolution)
     reach_s = 0.25 * period_s(p.orbit.mean_motion_rev_day)
-    lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - reach_s))
-    hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + reach_s, side="right")) - 1
-    times = p.times_s[lo : hi + 1]  # the revolution's burns and a quarter of an orbit of each neighbour's
+    lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - 2.0 * reach_s))
+    hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + 2.0 * reach_s, side="right")) - 1
+    times = p.times_s[lo : hi + 1]  # the revolution's burns and half an orbit of each neighbour's
     first, last = int(mine[0]) - lo, int(mine[-1]) - lo
     u = argument_of_latitude_deg(p, times)
     _, rows = entries(coast, *burn_states(p, times, coast.omega_rad_s), deorbit, table.delta_v_at(u))
@@ -562,7 +563,7 @@ def revolution_opportunities(
             continue  # the pass peaks better in the neighbouring revolution, close by: that one's opportunity
         found = _opportunity(
             p, coast, deorbit, table, flier, sites, settings, s,
-            _pass(times, m[:, s], a, b, (lo == 0, hi == len(p.times_s) - 1)),
+            _pass(times, m[:, s], a, b),
         )  # fmt: skip
         out.append(found)
     return out
