@@ -327,7 +327,7 @@ export class OpportunitiesPanel {
         .bindTooltip(el("div", {}, el("strong", {}, p.site.name), el("br"), `landing ${utcWords(o.landing_utc, wd)} UTC, `
                         + `margin ${fmt(o.margin_nmi)} nmi`)));
     }
-    this.legendRevolution.textContent = `ground track, revolution ${o.revolution}`;
+    this.legendRevolution.textContent = `ground track, revolution ${o.revolution_number}`;
     this.legend.getContainer().hidden = false;
     const bounds = L.latLngBounds([]);
     for (const l of main) bounds.extend(l.getBounds?.() ?? l.getLatLng());
