@@ -612,6 +612,8 @@ def _shortfall_nmi(ring: Ring, down: float, cross: float) -> float | None:
 
 
 FIX_STEPS = (5.0, -0.05)  # a Δv (ft/s) and a target entry angle (deg) step, each the way that still comes down
+FIX_SECANTS = 2  # secant steps after the first difference: the entry's down-range is not linear in the angle (a
+# 0.64 deg change fell 12% short of Banjul's 1,087 nmi on the first difference alone)
 
 
 def needed_change(
@@ -623,22 +625,24 @@ def needed_change(
     shortfall_nmi: float | None,
 ) -> dict[str, float]:
     """The change of the deorbit (`delta_v_change_fps`, or `entry_gamma_change_deg` for a target angle) that moves
-    the entry point down-range by the shortfall, the footprint carried with it (first order: a forward difference
-    of the flown coast; the footprint's own change with the entry angle neglected); {} when the cross-range misses
-    (a burn's Δv does not move the footprint across its track)."""
+    the entry point down-range by the shortfall, the footprint carried with it (a difference of flown coasts, then
+    FIX_SECANTS secant steps through no change; the footprint's own change with the entry angle neglected); {} when
+    the cross-range misses (a burn's Δv does not move the footprint across its track)."""
     if shortfall_nmi is None:
         return {}
-    if deorbit.entry_gamma_deg is None:
-        key, step = "delta_v_change_fps", FIX_STEPS[0]
-        changed = Deorbit(float(deorbit.delta_v_fps or 0.0) + step)
-    else:
-        key, step = "entry_gamma_change_deg", FIX_STEPS[1]
-        changed = Deorbit(None, deorbit.entry_gamma_deg + step)
-    moved = entries(coast, r, v, changed)[1][0]
+    gamma = deorbit.entry_gamma_deg
+    key, change = ("delta_v_change_fps", FIX_STEPS[0]) if gamma is None else ("entry_gamma_change_deg", FIX_STEPS[1])
     p0, d0, _ = great_circle_frame(row[dorb.E_LAT], row[dorb.E_LON], row[dorb.E_HEADING])
-    u = unit_vectors(moved[dorb.E_LAT], moved[dorb.E_LON])
-    slope = math.atan2(float(d0 @ u), float(p0 @ u)) * MEAN_RADIUS_NMI / step  # nmi down-range per unit
-    return {key: shortfall_nmi / slope}
+    dv = float(deorbit.delta_v_fps or 0.0)
+    for _ in range(1 + FIX_SECANTS):
+        changed = Deorbit(dv + change) if gamma is None else Deorbit(None, gamma + change)
+        try:
+            moved = entries(coast, r, v, changed)[1][0]
+        except InputError:
+            break  # a Δv that no longer comes down: the last estimate stands
+        u = unit_vectors(moved[dorb.E_LAT], moved[dorb.E_LON])
+        change *= shortfall_nmi / (math.atan2(float(d0 @ u), float(p0 @ u)) * MEAN_RADIUS_NMI)
+    return {key: change}
 
 
 def _opportunity(
