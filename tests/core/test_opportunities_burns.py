@@ -87,6 +87,24 @@ def _nodes_since_epoch(utc):
     return sum(a < 0.0 <= b for a, b in zip(z, z[1:]))
 
 
+@pytest.mark.parametrize("hours", [-30.0, -0.5, 0.0, 7.25])
+def test_the_revolution_number_before_and_after_the_epoch_is_sgp4s_count(hours):
+    """The elements' revolution at a time before or after their epoch: the number at epoch plus (minus) sgp4's
+    ascending nodes between, counted on a 20 s grid from either end."""
+    from sgp4.api import Satrec
+
+    from footprint.core.elements import parse_tle
+    from footprint.core.opportunities import revolution_number_at
+
+    elements = parse_tle(EXAMPLE["tle"])
+    sat = Satrec.twoline2rv(*TLE)
+    t = elements.epoch + timedelta(hours=hours)
+    a, b = sorted((elements.epoch, t))
+    z = [sgp4_teme_km(TLE, a + timedelta(seconds=s))[0][2] for s in np.arange(0.0, (b - a).total_seconds() + 1, 20.0)]
+    nodes = sum(p < 0.0 <= q for p, q in zip(z, z[1:]))
+    assert revolution_number_at(elements, t) == sat.revnum + (nodes if hours >= 0 else -nodes)
+
+
 def test_the_revolution_is_the_elements_count_from_their_epoch(plans):
     """The TLE's revolution number at epoch (line 2 columns 64-68) plus sgp4's ascending nodes since, at each burn."""
     coarse, _ = plans

@@ -246,7 +246,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
     """The opportunities in landing order, each ranked within its site (1: the largest margin of those that meet
     the rules), a summary per site and the elements' facts."""
     flown = sorted((o for part in parts for o in part), key=lambda o: o["landing_utc"])
-    found = [o for o in flown if o["margin_nmi"] >= 0.0]
+    found = [{k: v for k, v in o.items() if k != "needed_change"} for o in flown if o["margin_nmi"] >= 0.0]
     near_misses = [_near_miss(o) for o in flown if o["margin_nmi"] < 0.0]
     for s in range(len(study.sites)):
         mine = sorted((o for o in found if o["site"] == s and o["meets_rules"]), key=lambda o: -o["margin_nmi"])
