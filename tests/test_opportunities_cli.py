@@ -48,7 +48,10 @@ def test_the_files_of_a_small_window(tmp_path):
     sequences = [u for u in unfolded if u.startswith("SEQUENCE:")]  # its value: test_opportunities_calendar
     assert len(sequences) == len(taken) and len(set(sequences)) == 1
     assert any(u.startswith("SUMMARY:Landing at ") and "\\," in u for u in unfolded)  # the site's comma escaped
-    kinds = [f["properties"]["kind"] for f in json.loads(files["--geojson"].read_text())["features"]]
+    features = json.loads(files["--geojson"].read_text())["features"]
+    kinds = [f["properties"]["kind"] for f in features]
+    coasts = [f["properties"] for f in features if f["properties"]["kind"] == "coast"]
+    assert [c["revolution_number"] for c in coasts] == [o["revolution_number"] for o in got["opportunities"]]
     assert kinds.count("coast") == kinds.count("footprint") == len(got["opportunities"])
     assert kinds.count("site") == len(got["sites"]) and "ground_track" in kinds
     assert files["--figure"].read_bytes().startswith(b"\x89PNG")
