@@ -234,7 +234,7 @@ export class OpportunitiesPanel {
   renderDetail(o) {
     const e = o.entry, wd = this.withDate();
     $("op-detail").replaceChildren(
-      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number}: land at ${utcWords(o.landing_utc, wd)} UTC`),
+      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: land at ${utcWords(o.landing_utc, wd)} UTC`),
       el("p", {}, `Burn ${utcWords(o.burn_utc, wd)} UTC, the middle of its window ${utcWords(o.burn_window_start_utc, wd)}–`
          + `${utcWords(o.burn_window_end_utc, wd)}${o.burn_window_clipped ? " (cut by the search's edge: no optimum)" : ""}, `
          + `at ${fmt(o.burn_altitude_ft)} ft over ${fmt(o.burn_latitude_deg, 2)}°, ${fmt(o.burn_longitude_deg, 2)}°; `
@@ -251,7 +251,7 @@ export class OpportunitiesPanel {
   caption() {
     if (this.selected == null || !this.answer) return null;
     const o = this.answer.opportunities[this.selected], wd = this.withDate();
-    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution_number}`,
+    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution_number ?? o.revolution}`,
             `burn ${utcWords(o.burn_utc, wd)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi`];
   }
 
@@ -327,7 +327,7 @@ export class OpportunitiesPanel {
         .bindTooltip(el("div", {}, el("strong", {}, p.site.name), el("br"), `landing ${utcWords(o.landing_utc, wd)} UTC, `
                         + `margin ${fmt(o.margin_nmi)} nmi`)));
     }
-    this.legendRevolution.textContent = `ground track, revolution ${o.revolution_number}`;
+    this.legendRevolution.textContent = `ground track, revolution ${o.revolution_number ?? o.revolution}`;
     this.legend.getContainer().hidden = false;
     const bounds = L.latLngBounds([]);
     for (const l of main) bounds.extend(l.getBounds?.() ?? l.getLatLng());
