@@ -27,7 +27,8 @@ def test_the_files_of_a_small_window(tmp_path):
     got = json.loads(r.stdout)
     taken = [o for o in got["opportunities"] if o["meets_rules"]]
     rows = files["--csv"].read_text().splitlines()
-    assert rows[0].startswith("site_name,rank,revolution,burn_utc") and len(rows) == 1 + len(got["opportunities"])
+    assert rows[0].startswith("site_name,rank,revolution_number,burn_utc,burn_altitude_ft")
+    assert len(rows) == 1 + len(got["opportunities"])
     ics = files["--ics"].read_bytes()
     assert ics.startswith(b"BEGIN:VCALENDAR\r\n") and ics.endswith(b"END:VCALENDAR\r\n")
     lines = ics.decode().split("\r\n")[:-1]
@@ -42,8 +43,15 @@ def test_the_files_of_a_small_window(tmp_path):
     assert first["burn_utc"] in "".join(unfolded)  # the description's, to the millisecond
     table = list(csv.DictReader(io.StringIO(files["--csv"].read_text())))
     assert [r["burn_utc"] for r in table] == [o["burn_utc"] for o in got["opportunities"]]
+    for column in ("burn_altitude_ft", "downrange_margin_nmi", "crossrange_margin_nmi", "revolution_number"):
+        assert [float(r[column]) for r in table] == pytest.approx([o[column] for o in got["opportunities"]], rel=1e-9)
+    sequences = [u for u in unfolded if u.startswith("SEQUENCE:")]  # its value: test_opportunities_calendar
+    assert len(sequences) == len(taken) and len(set(sequences)) == 1
     assert any(u.startswith("SUMMARY:Landing at ") and "\\," in u for u in unfolded)  # the site's comma escaped
-    kinds = [f["properties"]["kind"] for f in json.loads(files["--geojson"].read_text())["features"]]
+    features = json.loads(files["--geojson"].read_text())["features"]
+    kinds = [f["properties"]["kind"] for f in features]
+    coasts = [f["properties"] for f in features if f["properties"]["kind"] == "coast"]
+    assert [c["revolution_number"] for c in coasts] == [o["revolution_number"] for o in got["opportunities"]]
     assert kinds.count("coast") == kinds.count("footprint") == len(got["opportunities"])
     assert kinds.count("site") == len(got["sites"]) and "ground_track" in kinds
     assert files["--figure"].read_bytes().startswith(b"\x89PNG")

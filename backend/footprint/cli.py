@@ -590,13 +590,14 @@ def _opportunities_lines(r: dict) -> list[str]:
     out = [
         f"{e['name'] or e['satellite_number']}: {e['inclination_deg']:.2f} deg, {e['period_min']:.1f} min; "
         f"{r['window']['start_utc']} to {r['window']['end_utc']}, {len(r['ascending_nodes_utc'])} ascending nodes; "
-        f"{len(r['opportunities'])} opportunities in {run['seconds']:.1f} s {where}",
-        f"  {'site':<36} {'found':>5} {'taken':>5}  {'first landing (UTC)':<24} {'best margin':>11}",
+        f"{len(r['opportunities'])} opportunities and {len(r['near_misses'])} near misses in {run['seconds']:.1f} s "
+        f"{where}",
+        f"  {'site':<36} {'found':>5} {'taken':>5} {'near':>5}  {'first landing (UTC)':<24} {'best margin':>11}",
     ]
     for s in r["sites"]:
         best = "-" if s["best_margin_nmi"] is None else f"{s['best_margin_nmi']:,.0f} nmi"
         out.append(
-            f"  {s['name'][:36]:<36} {s['opportunities']:>5} {s['meeting_rules']:>5}  "
+            f"  {s['name'][:36]:<36} {s['opportunities']:>5} {s['meeting_rules']:>5} {s['near_misses']:>5}  "
             f"{s['first_landing_utc'] or '-':<24} {best:>11}"
         )
     return out

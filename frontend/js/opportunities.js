@@ -234,13 +234,16 @@ export class OpportunitiesPanel {
   renderDetail(o) {
     const e = o.entry, wd = this.withDate();
     $("op-detail").replaceChildren(
-      el("p", { class: "guided-line" }, `Revolution ${o.revolution}: land at ${utcWords(o.landing_utc, wd)} UTC`),
-      el("p", {}, `Burn ${utcWords(o.burn_utc, wd)} UTC (window ${utcWords(o.burn_window_start_utc, wd)}–`
-         + `${utcWords(o.burn_window_end_utc, wd)}), Δv ${fmt(o.delta_v_fps, 1)} ft/s; coast ${fmt(o.coast_s)} s to the entry at `
+      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: land at ${utcWords(o.landing_utc, wd)} UTC`),
+      el("p", {}, `Burn ${utcWords(o.burn_utc, wd)} UTC, the middle of its window ${utcWords(o.burn_window_start_utc, wd)}–`
+         + `${utcWords(o.burn_window_end_utc, wd)}${o.burn_window_clipped ? " (cut by the search's edge: no optimum)" : ""}, `
+         + `at ${fmt(o.burn_altitude_ft)} ft over ${fmt(o.burn_latitude_deg, 2)}°, ${fmt(o.burn_longitude_deg, 2)}°; `
+         + `Δv ${fmt(o.delta_v_fps, 1)} ft/s; coast ${fmt(o.coast_s)} s to the entry at `
          + `${utcWords(o.entry_utc, wd)}: ${fmt(e.latitude_deg, 2)}°, ${fmt(e.longitude_deg, 2)}°, γ ${signed(e.gamma_deg, 2)}°, `
          + `heading ${fmt(e.heading_deg, 1)}°, ${fmt(e.velocity_fps)} ft/s.`),
       el("p", {}, `Flight ${fmt(o.flight_time_s)} s: ${fmt(o.downrange_nmi)} nmi down-range, ${fmt(o.crossrange_nmi)} nmi `
-         + `cross-range, ${fmt(o.margin_nmi)} nmi inside the footprint; sun ${signed(o.sun_elevation_deg, 1)}°, local solar time `
+         + `cross-range, ${fmt(o.margin_nmi)} nmi inside the footprint (${fmt(o.downrange_margin_nmi)} along its down-range, `
+         + `${fmt(o.crossrange_margin_nmi)} across); sun ${signed(o.sun_elevation_deg, 1)}°, local solar time `
          + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"}.`));
   }
 
@@ -248,7 +251,7 @@ export class OpportunitiesPanel {
   caption() {
     if (this.selected == null || !this.answer) return null;
     const o = this.answer.opportunities[this.selected], wd = this.withDate();
-    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution}`,
+    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution_number ?? o.revolution}`,
             `burn ${utcWords(o.burn_utc, wd)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi`];
   }
 
@@ -324,7 +327,7 @@ export class OpportunitiesPanel {
         .bindTooltip(el("div", {}, el("strong", {}, p.site.name), el("br"), `landing ${utcWords(o.landing_utc, wd)} UTC, `
                         + `margin ${fmt(o.margin_nmi)} nmi`)));
     }
-    this.legendRevolution.textContent = `ground track, revolution ${o.revolution}`;
+    this.legendRevolution.textContent = `ground track, revolution ${o.revolution_number ?? o.revolution}`;
     this.legend.getContainer().hidden = false;
     const bounds = L.latLngBounds([]);
     for (const l of main) bounds.extend(l.getBounds?.() ?? l.getLatLng());

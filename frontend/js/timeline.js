@@ -163,7 +163,7 @@ export function drawOpportunityTimeline(container, answer, { selected = null, on
   const withDate = new Date(t0).toISOString().slice(0, 10) !== new Date(t1).toISOString().slice(0, 10);
   const marks = answer.opportunities.map((o, k) => ({ o, k })).sort((a, b) => (a.k === selected) - (b.k === selected));
   for (const { o, k } of marks) { // the selected one last: on top
-    const words = `${o.site_name}: landing ${utcWords(o.landing_utc, withDate)} UTC, revolution ${o.revolution}; burn `
+    const words = `${o.site_name}: landing ${utcWords(o.landing_utc, withDate)} UTC, revolution ${o.revolution_number ?? o.revolution}; burn `
       + `${utcWords(o.burn_utc, withDate)}, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi, sun `
       + `${fmt(o.sun_elevation_deg, 1)}°${o.meets_rules ? "" : " (fails a rule)"}`;
     svg.append(svgNode("circle", { class: `op-mark ${o.meets_rules ? "meets" : "fails"}${k === selected ? " selected" : ""}`,

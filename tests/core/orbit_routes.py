@@ -88,9 +88,9 @@ def sgp4_teme_km(tle_lines, utc: datetime):
     return np.array(r), np.array(v)
 
 
-def independent_entry(r_km, v_km_s, delta_v_fps, earth, burn_utc):
+def interface_state(r_km, v_km_s, delta_v_fps, earth):
     """The burn (Δv against the inertial velocity) and the coast to 400,000 ft above the report's ellipsoid in TEME
-    axes: (the coast's seconds, the entry's geodetic latitude and longitude, deg)."""
+    axes: (the coast's seconds, the TEME position (ft) and inertial velocity (ft/s) there)."""
     r, v = np.asarray(r_km) * FT_PER_KM, np.asarray(v_km_s) * FT_PER_KM
     v = v * (1.0 - delta_v_fps / np.linalg.norm(v))
 
@@ -100,7 +100,13 @@ def independent_entry(r_km, v_km_s, delta_v_fps, earth, burn_utc):
     interface.terminal, interface.direction = True, -1
     sol = solve_ivp(zonal_acceleration(**earth), (0.0, 20_000.0), np.concatenate([r, v]), method="DOP853",
                     rtol=1e-12, atol=1e-6, events=interface)  # fmt: skip
-    t, (x, y, z) = float(sol.t_events[0][0]), sol.y_events[0][0][:3]
+    return float(sol.t_events[0][0]), sol.y_events[0][0][:3], sol.y_events[0][0][3:]
+
+
+def independent_entry(r_km, v_km_s, delta_v_fps, earth, burn_utc):
+    """The burn and the coast to the interface (interface_state): (the coast's seconds, the entry's geodetic latitude
+    and longitude, deg)."""
+    t, (x, y, z), _ = interface_state(r_km, v_km_s, delta_v_fps, earth)
     theta = gmst_rad(burn_utc, t)  # TEME to earth-fixed: turned by -GMST about the pole (AIAA 2006-6753 sec. IV-C)
     xe, ye = math.cos(theta) * x + math.sin(theta) * y, -math.sin(theta) * x + math.cos(theta) * y
     return t, geodetic_ft(xe, ye, z)[0], math.degrees(math.atan2(ye, xe))

@@ -14,8 +14,11 @@ from __future__ import annotations
 
 import csv
 import functools
+import hashlib
 import io
+import re
 import unicodedata
+from collections import Counter
 from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
@@ -110,6 +113,10 @@ class StateVector(Strict):
     frame: Literal["teme", "earth_fixed"] = "teme"
     position_km: list[Annotated[float, Range(-100_000, 100_000, "km")]] = Field(min_length=3, max_length=3)
     velocity_km_s: list[Annotated[float, Range(-20, 20, "km/s")]] = Field(min_length=3, max_length=3)
+    # the satellite and its revolution at the epoch, as its elements number them: the calendar's UIDs and the
+    # opportunities' revolutions match its TLE's (without them, revolutions count from 1 at the epoch)
+    satellite_number: Annotated[int, Range(0, 999_999_999, "")] | None = None
+    revolution_number: Annotated[int, Range(0, 999_999_999, "")] | None = None
 
 
 class OpportunitiesStudy(Strict):
@@ -180,7 +187,8 @@ class OpportunitiesStudy(Strict):
         r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, coast.omega_rad_s)
         n_rev_day = dorb.state_orbit(coast, r, v).mean_motion_rev_day
         span_s = op.orbit_span_s(float(elapsed_s(start, [end])[0]), n_rev_day)  # SI: a leap second counts
-        return dorb.PropagatedState(epoch, r, v, coast, float(elapsed_s(epoch, [start])[0]) + span_s)
+        horizon_s = float(elapsed_s(epoch, [start])[0]) + span_s
+        return dorb.PropagatedState(epoch, r, v, coast, horizon_s, st.satellite_number, st.revolution_number)
 
 
 REQUEST = OpportunitiesStudy
@@ -237,7 +245,9 @@ def revolution(study: OpportunitiesStudy, number: int, on_progress: OnProgress |
 def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: RunInfo) -> dict[str, Any]:
     """The opportunities in landing order, each ranked within its site (1: the largest margin of those that meet
     the rules), a summary per site and the elements' facts."""
-    found = sorted((o for part in parts for o in part), key=lambda o: o["landing_utc"])
+    flown = sorted((o for part in parts for o in part), key=lambda o: o["landing_utc"])
+    found = [{k: v for k, v in o.items() if k != "needed_change"} for o in flown if o["margin_nmi"] >= 0.0]
+    near_misses = [_near_miss(o) for o in flown if o["margin_nmi"] < 0.0]
     for s in range(len(study.sites)):
         mine = sorted((o for o in found if o["site"] == s and o["meets_rules"]), key=lambda o: -o["margin_nmi"])
         for rank, o in enumerate(mine, 1):
@@ -255,6 +265,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
                 "longitude_deg": site.longitude_deg,
                 "opportunities": len(mine),
                 "meeting_rules": len(taken),
+                "near_misses": sum(o["site"] == s for o in near_misses),
                 "first_landing_utc": taken[0]["landing_utc"] if taken else None,
                 "best_margin_nmi": max((o["margin_nmi"] for o in taken), default=None),
                 "night_utc": [
@@ -271,6 +282,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
                 "name": elements.name,
                 "satellite_number": elements.satellite_number,
                 "epoch_utc": iso(elements.epoch),
+                "revolution_number": elements.revolution_number,  # at epoch (None: a state vector's, not given)
                 "inclination_deg": elements.inclination_deg,
                 "eccentricity": elements.eccentricity,
                 "period_min": 1440.0 / elements.mean_motion_rev_day,
@@ -283,6 +295,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
             "rules": study.rules.model_dump(),
             "sites": sites,
             "opportunities": found,
+            "near_misses": near_misses,
             "settings": {
                 "burn_step_s": study.burn_step_s,
                 "ring_step_deg": study.ring_step_deg,
@@ -296,6 +309,16 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
     return answer
 
 
+NEAR_MISS_DROPPED = ("footprint_ring", "coast_track", "rank", "needed_change")
+
+
+def _near_miss(o: dict[str, Any]) -> dict[str, Any]:
+    """A near miss as the answer lists it: a screened pass whose burn, flown again, leaves the site outside its
+    footprint, with the change that would take it in (core.opportunities.needed_change) and without the drawing."""
+    near: dict[str, Any] = {k: v for k, v in o.items() if k not in NEAR_MISS_DROPPED} | o["needed_change"]
+    return near
+
+
 def store(study: OpportunitiesStudy, answer: dict[str, Any], name: str | None) -> Stored:
     return Stored(result={"opportunities": answer})
 
@@ -305,9 +328,11 @@ WORK = Work(split=OpportunitiesStudy.parts, run_part=revolution, combine=combine
 
 # ------------------------------------------------------------------------------------------------ outputs
 CSV_COLUMNS = (
-    "site_name", "rank", "revolution", "burn_utc", "delta_v_fps", "entry_utc", "landing_utc", "flight_time_s",
-    "downrange_nmi", "crossrange_nmi", "margin_nmi", "sun_elevation_deg", "local_solar_time_h", "daylight",
-    "meets_rules", "burn_window_start_utc", "burn_window_end_utc",
+    "site_name", "rank", "revolution_number", "burn_utc", "burn_altitude_ft", "burn_latitude_deg",
+    "burn_longitude_deg", "delta_v_fps", "entry_utc", "landing_utc", "flight_time_s", "downrange_nmi",
+    "crossrange_nmi", "margin_nmi", "downrange_margin_nmi", "crossrange_margin_nmi", "sun_elevation_deg",
+    "local_solar_time_h", "daylight", "meets_rules", "burn_window_start_utc", "burn_window_end_utc",
+    "burn_window_clipped", "revolution",
 )  # fmt: skip
 
 
@@ -334,33 +359,70 @@ def _calendar_text(text: str) -> str:
     return "".join(" " if ch != "\t" and unicodedata.category(ch) in ("Cc", "Cs", "Zl", "Zp") else ch for ch in text)
 
 
+CALENDAR_EPOCH = datetime(1957, 1, 1, tzinfo=UTC)  # SEQUENCE counts minutes of elements' epochs from here (WINDOW_UTC)
+
+
+def event_uid(satellite: int | None, opportunity: dict[str, Any]) -> str:
+    """An opportunity's iCalendar UID, the same across re-plans of the pass (RFC 5545 3.8.4.7: a calendar updates the
+    event it already has): the satellite, the elements' revolution of the burn, the landing's UTC date and the site's
+    name (an ASCII form, and a digest of the whole name so that names alike in ASCII stay apart); not the burn's
+    second, the site's place in the list or whether the orbit came as a TLE or a state vector."""
+    name = opportunity["site_name"]
+    ascii_name = unicodedata.normalize("NFKD", name).encode("ascii", "ignore").decode()
+    slug = re.sub(r"[^a-z0-9]+", "-", ascii_name.lower()).strip("-")[:40] or "site"
+    digest = hashlib.sha256(name.encode()).hexdigest()[:8]
+    day = parse_iso(opportunity["landing_utc"]).strftime("%Y%m%d")
+    return f"{satellite or 'satellite'}-rev{opportunity['revolution_number']}-{day}-{slug}-{digest}@footprint"
+
+
+def event_sequence(elements: dict[str, Any]) -> int:
+    """The events' SEQUENCE (RFC 5545 3.8.7.4, a revision's number): the elements' epoch in whole minutes from
+    CALENDAR_EPOCH, so a plan from newer elements supersedes an older one's events (a re-plan from the same elements
+    is told apart by its DTSTAMP)."""
+    return int((parse_iso(elements["epoch_utc"]) - CALENDAR_EPOCH).total_seconds() // 60)
+
+
+def _axis_words(o: dict[str, Any]) -> str:
+    """The margins along the chart's axes, where the answer has them."""
+    down, cross = o.get("downrange_margin_nmi"), o.get("crossrange_margin_nmi")
+    if down is None or cross is None:
+        return ""
+    return f" ({down:.0f} nmi along the down-range, {cross:.0f} nmi across)"
+
+
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
     """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
     meet the rules: one event per opportunity from the burn to the landing (to the nearest second), its summary the
-    site and revolution, its description the times to the millisecond, the Δv, margin and sun."""
+    site and revolution, its description the times to the millisecond, the Δv, margins and sun; its UID and
+    SEQUENCE stable across re-plans (event_uid, event_sequence)."""
     from icalendar import Calendar, Event
 
     calendar = Calendar()
     calendar.add("version", "2.0")
     calendar.add("prodid", "-//Footprint//landing opportunities//EN")
     calendar.add("calscale", "GREGORIAN")
-    stamp, sat = made_utc or datetime.now(UTC), answer["elements"]["satellite_number"] or "state"
+    stamp, elements, uids = made_utc or datetime.now(UTC), answer["elements"], Counter[str]()
     for o in answer["opportunities"]:
         if not o["meets_rules"]:
             continue
+        uid = event_uid(elements["satellite_number"], o)
+        uids[uid] += 1  # two passes whose burns fall in one revolution (each seconds from its nodes): the later's -2
+        if uids[uid] > 1:
+            uid = uid.replace("@", f"-{uids[uid]}@")
         about = (
             f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
             f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
-            f"margin {o['margin_nmi']:.0f} nmi; sun {o['sun_elevation_deg']:.1f} deg, local solar time "
-            f"{o['local_solar_time_h']:.2f} h"
+            f"margin {o['margin_nmi']:.0f} nmi{_axis_words(o)}; sun {o['sun_elevation_deg']:.1f} deg, local solar "
+            f"time {o['local_solar_time_h']:.2f} h; revolution {o['revolution_number']}"
+            + ("; the burn window is cut by the search's edge" if o.get("burn_window_clipped") else "")
         )
         event = Event()
-        burn = _calendar_time(o["burn_utc"])
-        event.add("uid", f"{sat}-{o['site']}-{burn.strftime('%Y%m%dT%H%M%SZ')}@footprint")
+        event.add("uid", uid)
+        event.add("sequence", event_sequence(elements))
         event.add("dtstamp", stamp)
-        event.add("dtstart", burn)
+        event.add("dtstart", _calendar_time(o["burn_utc"]))
         event.add("dtend", _calendar_time(o["landing_utc"]))
-        event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution']}"))
+        event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution_number']}"))
         event.add("description", _calendar_text(about))
         calendar.add_component(event)
     ics: bytes = calendar.to_ical()

@@ -236,9 +236,12 @@ class PropagatedState:
 
     name: str | None = None
     satellite_number: int | None = None
+    revolution_number: int | None = None  # at the epoch, when the state's giver says (else counted from it)
 
     def __init__(self, epoch: datetime, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.float64], coast: Coast,
-                 horizon_s: float):  # fmt: skip
+                 horizon_s: float, satellite_number: int | None = None,
+                 revolution_number: int | None = None):  # fmt: skip
+        self.satellite_number, self.revolution_number = satellite_number, revolution_number
         if coast.earth is None:
             raise ValueError("a state is propagated in an earth's gravity: Coast.of(..., earth=...)")
         self.epoch, self.coast, self.earth = epoch, coast, coast.earth

@@ -51,6 +51,7 @@ class Elements:
     mean_anomaly_deg: float
     mean_motion_rev_day: float
     bstar: float
+    revolution_number: int | None = None  # at epoch (line 2 columns 64-68)
 
     @property
     def earth(self) -> c.Earth:
@@ -94,6 +95,8 @@ class Orbit(Protocol):
     def eccentricity(self) -> float: ...
     @property
     def mean_motion_rev_day(self) -> float: ...
+    @property
+    def revolution_number(self) -> int | None: ...
     @property
     def earth(self) -> c.Earth: ...
     def teme_km(self, utc: Sequence[datetime]) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
@@ -291,6 +294,7 @@ def parse_tle(text: str, field: str = "tle") -> Elements:
         mean_anomaly_deg=math.degrees(sat.mo),
         mean_motion_rev_day=sat.no_kozai * 1440.0 / (2.0 * math.pi),
         bstar=float(sat.bstar),
+        revolution_number=int(sat.revnum),
     )
 
 

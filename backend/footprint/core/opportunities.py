@@ -11,12 +11,16 @@ the down-range and cross-range the site needs, the margin to the footprint's bou
    carried to the burn's own) to its entry; each site's margin to its boundary (nmi, positive inside) per burn
    time. A revolution runs from one ascending node of the orbit to the next (the first and last cut by the window).
 3. The opportunities: per revolution and site, each run of burn times within `screen_nmi` of the boundary gives
-   one candidate, at its largest margin (a parabola through the grid's three best). That burn is flown again from
-   its own state (its Δv solved again for a target entry angle) and its footprint from its own entry state
-   (`refly`: the vertices about the edge nearest the site, or all of them), which sets the margin, the site's
-   down-range and cross-range and the flight time (linear in the footprint's boundary along the site's down-range
-   line, between its two crossings). The burn window is where the scan's footprints hold the site (the grid's zero
-   crossings, interpolated).
+   one candidate. Its burn window (where the scan's footprints hold the site: the zero crossings about its peak,
+   linear on the grid) leads, and the burn is the window's middle, where the outcome is least sensitive (_pass; the
+   peak's when the site is never held); a window still open at the search's first or last burn is flagged
+   `burn_window_clipped`. That burn is flown again from its own state (its Δv solved again for a target entry angle)
+   and its footprint from its own entry state (`refly`: the vertices about the edge nearest the site, or all of
+   them), which sets the margin (the nearest way, and along each axis of the chart), the site's down-range and
+   cross-range and the flight time (linear in the footprint's boundary along the site's down-range line, between
+   its two crossings). A burn that, flown again, leaves the site outside is a near miss, given with the change of
+   the deorbit that would take the site in (needed_change). Revolutions are the elements' (revolution_number_at:
+   NORAD's count from their epoch).
 4. The sun at the site at landing (core.sun): its elevation and the local apparent solar time; `daylight` when the
    sun is up (above -0.833 deg), `meets_rules` when it is at least the rule's elevation and the margin the rule's.
 
@@ -113,8 +117,12 @@ class Settings:
 class Opportunity:
     site: int
     site_name: str
-    revolution: int
+    revolution: int  # the window's (1 from its start: its part and ground track)
+    revolution_number: int  # the elements' (their number at epoch and the ascending nodes since) at the burn
     burn_utc: datetime
+    burn_altitude_ft: float  # geodetic, on the report's ellipsoid (as the ground track)
+    burn_latitude_deg: float
+    burn_longitude_deg: float
     delta_v_fps: float
     coast_s: float
     entry_utc: datetime
@@ -123,14 +131,19 @@ class Opportunity:
     landing_utc: datetime
     downrange_nmi: float
     crossrange_nmi: float
-    margin_nmi: float
+    margin_nmi: float  # to the footprint's boundary, the nearest way (positive inside)
+    downrange_margin_nmi: float | None  # along the chart's down-range, the cross-range held (axis_margins)
+    crossrange_margin_nmi: float | None  # along its cross-range, the down-range held
     sun_elevation_deg: float
     local_solar_time_h: float
     daylight: bool
     meets_rules: bool
     burn_window_start_utc: datetime
     burn_window_end_utc: datetime
+    burn_window_clipped: bool  # the site still held at the search's first or last burn: not an optimum
     scan_margin_nmi: float  # the scan's footprint's margin at this burn
+    # a near miss's (margin < 0) change of the deorbit that would take the site in (needed_change); None: reached
+    needed_change: dict[str, float] | None
     coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
     footprint_ring: dict[str, Any]  # the footprint about this entry (placed): ranges, places, outline
     limits: dict[str, Any]  # its vertices' flights that broke a vehicle limit (core.limits.tally)
@@ -150,10 +163,19 @@ class Plan:
     start: datetime
     times_s: NDArray[np.float64]  # burn grid, s from start
     node_s: NDArray[np.float64]  # ascending node crossings in the window, s from start
+    first_revolution_number: int = 1  # the elements' revolution at the window's start (revolution_number_at)
     revolution: NDArray[np.int64] = field(init=False)
 
     def __post_init__(self) -> None:
-        self.revolution = 1 + np.searchsorted(self.node_s, self.times_s, side="right")
+        self.revolution = self.revolution_at(self.times_s)
+
+    def revolution_at(self, seconds: ArrayLike) -> NDArray[np.int64]:
+        """The window's revolution (1 from its start, a new one at each ascending node) at each time."""
+        return 1 + np.searchsorted(self.node_s, seconds, side="right")
+
+    def revolution_number(self, seconds: float) -> int:
+        """The elements' revolution number at a time: their count at the window's start plus the nodes since."""
+        return self.first_revolution_number + int(self.revolution_at([seconds])[0]) - 1
 
     @property
     def revolutions(self) -> list[int]:
@@ -190,7 +212,23 @@ def plan(orbit: Orbit, start: datetime, end: datetime, burn_step_s: float) -> Pl
     if nodes.size:
         r, v = orbit.teme_km(after_s(start, nodes))
         nodes = np.clip(nodes - r[:, 2] / v[:, 2], times[up], times[up + 1])  # the root stays in its bracket
-    return Plan(orbit, start, times, nodes)
+    return Plan(orbit, start, times, nodes, revolution_number_at(orbit, start))
+
+
+def revolution_number_at(orbit: Orbit, utc: datetime) -> int:
+    """The elements' revolution number at a time: the number at their epoch (a TLE's line 2 columns 64-68; a state
+    vector's when given, else 1 at its epoch) plus the ascending nodes between (NORAD's count: a revolution starts at
+    an ascending node), found as z's upward sign changes in TEME every eighth of an orbit (one per node)."""
+    at_epoch = 1 if orbit.revolution_number is None else orbit.revolution_number
+    span = float(elapsed_s(orbit.epoch, [utc])[0])
+    if span == 0.0:
+        return at_epoch
+    step = period_s(orbit.mean_motion_rev_day) / 8.0
+    seconds = np.linspace(0.0, span, max(2, math.ceil(abs(span) / step) + 1))
+    z = orbit.teme_km(after_s(orbit.epoch, seconds))[0][:, 2]
+    near, far = z[:-1], z[1:]  # each step's ends, nearer the epoch and farther towards utc
+    nodes = int(np.count_nonzero((near < 0.0) & (far >= 0.0) if span > 0 else (far < 0.0) & (near >= 0.0)))
+    return at_epoch + nodes if span > 0 else at_epoch - nodes
 
 
 def burn_states(
@@ -396,17 +434,23 @@ def site_in_chart(
     return (ds * radius_nmi if best is None else best[1]), cs, False
 
 
+def _line_crossings(
+    u: NDArray[np.float64], w: NDArray[np.float64], t: NDArray[np.float64], value: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Where a ring's boundary (its vertices' chart coordinates u and w, and a quantity t at each) crosses the line
+    u = value: w and t at each crossing, linear along its edge."""
+    u2, w2, t2 = np.roll(u, -1), np.roll(w, -1), np.roll(t, -1)
+    straddle = ((u - value) * (u2 - value) <= 0.0) & (u != u2)
+    f = (value - u[straddle]) / (u2[straddle] - u[straddle])
+    return w[straddle] + f * (w2[straddle] - w[straddle]), t[straddle] + f * (t2[straddle] - t[straddle])
+
+
 def flight_time_at(ring: Ring, downrange_nmi: float, crossrange_nmi: float) -> float:
     """The flight time (s) to a point of the footprint: along the line of its down-range, linear between the
     boundary's two crossings that bracket it in cross-range (each crossing's time linear along its edge); the
     nearest boundary point's time where no crossing brackets it."""
     d, c, t = ring.downrange_nmi, ring.crossrange_nmi, ring.flight_time_s
-    d2, c2, t2 = np.roll(d, -1), np.roll(c, -1), np.roll(t, -1)
-    straddle = (d - downrange_nmi) * (d2 - downrange_nmi) <= 0.0
-    straddle &= d != d2
-    f = (downrange_nmi - d[straddle]) / (d2[straddle] - d[straddle])
-    cx = c[straddle] + f * (c2[straddle] - c[straddle])
-    tx = t[straddle] + f * (t2[straddle] - t[straddle])
+    cx, tx = _line_crossings(d, c, t, downrange_nmi)
     below, above = cx <= crossrange_nmi, cx >= crossrange_nmi
     if below.any() and above.any():
         i, j = np.flatnonzero(below)[np.argmax(cx[below])], np.flatnonzero(above)[np.argmin(cx[above])]
@@ -417,11 +461,66 @@ def flight_time_at(ring: Ring, downrange_nmi: float, crossrange_nmi: float) -> f
     return float(t[nearest])
 
 
+def _line_margin(crossings: NDArray[np.float64], at: float) -> float | None:
+    """The distance along a line from `at` to the nearest of the boundary's crossings of it: positive between two
+    that bracket it (inside), negative outside them; None where the line misses the footprint."""
+    if not crossings.size:
+        return None
+    below, above = crossings[crossings <= at], crossings[crossings >= at]
+    if below.size and above.size:
+        return float(min(at - below.max(), above.min() - at))
+    return -float(np.abs(crossings - at).min())
+
+
+def axis_margins(ring: Ring, downrange_nmi: float, crossrange_nmi: float) -> tuple[float | None, float | None]:
+    """(down-range, cross-range) margins (nmi) of a chart point: how far the landing can move along each axis of the
+    chart (the other held) before it leaves the footprint; negative: how far it must move to come in."""
+    d, c, t = ring.downrange_nmi, ring.crossrange_nmi, ring.flight_time_s
+    along_down, _ = _line_crossings(c, d, t, crossrange_nmi)
+    along_cross, _ = _line_crossings(d, c, t, downrange_nmi)
+    return _line_margin(along_down, downrange_nmi), _line_margin(along_cross, crossrange_nmi)
+
+
 def _crossing(times: NDArray[np.float64], m: NDArray[np.float64], i: int, j: int) -> float:
     """Where the margin crosses zero between grid indices i and j (linear), or times[j] if it does not."""
     if m[i] < 0.0 <= m[j] or m[j] < 0.0 <= m[i]:
         return float(times[i] + (times[j] - times[i]) * (-m[i]) / (m[j] - m[i]))
     return float(times[j])
+
+
+@dataclass(frozen=True)
+class Pass:
+    """A run of the scan's burns that bring a site near: the burn chosen in it and the window that holds the site."""
+
+    burn_s: float  # the burn window's middle (the peak's when the site is never held), s from start
+    scan_margin_nmi: float  # the scan's margin there (linear on the grid)
+    window: tuple[float, float]  # where the scan's footprints start and stop holding the site, s from start
+    clipped: bool  # the site still held at the first or last burn scanned: the window, and the burn, cut there
+
+
+# The burn is the middle of its window, not the peak of the margin curve: the curve is flat at its top (the
+# cross-range bounds it while the burn time moves the landing along the footprint's length) and steep at the window's
+# ends (the landing moves at about the orbit's ground speed), so its peak wanders with any small change while the ends
+# do not. Measured (6 h, 4 sites of the example): a 60 s grid and 30 deg rings against 20 s and 10 deg moved the peak
+# up to 315 s and the window's middle <= 30 s (half the grid step); the margin there is 0.72-1.0 of the peak's.
+def _pass(times: NDArray[np.float64], m: NDArray[np.float64], a: int, b: int) -> Pass:
+    """The pass of run a..b of a site's scan margins m (the run of burns holding the site about its peak gives the
+    window, its ends the zero crossings linear on the grid); clipped when that run reaches the first or last of
+    `times` (the search's edge, or a window longer than a part scans)."""
+    best = a + int(np.argmax(m[a : b + 1]))
+    if m[best] < 0.0:
+        burn, scan = parabola_peak(times, m, best)
+        return Pass(burn, scan, (burn, burn), False)
+    i, j = best, best
+    while i > a and m[i - 1] >= 0.0:
+        i -= 1
+    while j < b and m[j + 1] >= 0.0:
+        j += 1
+    last = len(times) - 1
+    window = (_crossing(times, m, max(i - 1, 0), i), _crossing(times, m, min(j + 1, last), j))
+    burn = 0.5 * (window[0] + window[1])
+    scan = float(np.interp(burn, times[i : j + 1], m[i : j + 1]))
+    return Pass(burn, scan, window, i == 0 or j == last)
 
 
 def _runs(mask: NDArray[np.bool_]) -> list[tuple[int, int]]:
@@ -444,12 +543,13 @@ def revolution_opportunities(
     """One revolution's opportunities at every site (the scan, then each candidate flown again). A run of burns that
     reaches a site across an ascending node is one pass: the revolution whose part of it holds the better peak
     within a quarter of an orbit of the other's takes it (each part scans that far into its neighbours, so both
-    decide alike)."""
+    decide alike). Each part scans half an orbit into its neighbours so that a pass's whole window is seen (this
+    vehicle's are up to 45 min: a quarter orbit cut them, and their middles, at the part's edge)."""
     mine = np.flatnonzero(p.revolution == revolution)
     reach_s = 0.25 * period_s(p.orbit.mean_motion_rev_day)
-    lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - reach_s))
-    hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + reach_s, side="right")) - 1
-    times = p.times_s[lo : hi + 1]  # the revolution's burns and a quarter of an orbit of each neighbour's
+    lo = int(np.searchsorted(p.times_s, p.times_s[mine[0]] - 2.0 * reach_s))
+    hi = int(np.searchsorted(p.times_s, p.times_s[mine[-1]] + 2.0 * reach_s, side="right")) - 1
+    times = p.times_s[lo : hi + 1]  # the revolution's burns and half an orbit of each neighbour's
     first, last = int(mine[0]) - lo, int(mine[-1]) - lo
     u = argument_of_latitude_deg(p, times)
     _, rows = entries(coast, *burn_states(p, times, coast.omega_rad_s), deorbit, table.delta_v_at(u))
@@ -469,19 +569,11 @@ def revolution_opportunities(
         theirs = [i for i in range(a, b + 1) if not first <= i <= last]
         if any(m[i, s] > m[best, s] and abs(times[i] - times[best]) <= reach_s for i in theirs):
             continue  # the pass peaks better in the neighbouring revolution, close by: that one's opportunity
-        inside = np.flatnonzero(m[a : b + 1, s] >= 0.0) + a
-        window = (times[inside[0]], times[inside[-1]]) if inside.size else (times[best], times[best])
-        if inside.size:  # the zero crossings next to the first and last burns inside
-            window = (
-                _crossing(times, m[:, s], max(inside[0] - 1, 0), inside[0]),
-                _crossing(times, m[:, s], min(inside[-1] + 1, len(times) - 1), inside[-1]),
-            )
         found = _opportunity(
-            p, revolution, coast, deorbit, table.rings[which[best]], flier, sites, settings, s,
-            parabola_peak(times, m[:, s], best)[0], float(m[best, s]), window,
+            p, coast, deorbit, table, flier, sites, settings, s,
+            _pass(times, m[:, s], a, b),
         )  # fmt: skip
-        if found is not None:
-            out.append(found)
+        out.append(found)
     return out
 
 
@@ -518,28 +610,70 @@ def _rounded(value: Any) -> Any:
 BURN_TIME_STEP_S = 1e-3  # a candidate's burn is flown at the millisecond it is written with (4 m along the orbit)
 
 
+def _shortfall_nmi(ring: Ring, down: float, cross: float) -> float | None:
+    """How far down-range the footprint must move to take a chart point in, its cross-range held (positive: farther);
+    None when the point lies between two crossings of that line (the cross-range misses) or the line misses it."""
+    along, _ = _line_crossings(ring.crossrange_nmi, ring.downrange_nmi, ring.flight_time_s, cross)
+    if not along.size or (along.min() <= down <= along.max()):
+        return None
+    return float(down - along[np.argmin(np.abs(along - down))])
+
+
+FIX_STEPS = (5.0, -0.05)  # a Δv (ft/s) and a target entry angle (deg) step, each the way that still comes down
+FIX_SECANTS = 2  # secant steps after the first difference: the entry's down-range is not linear in the angle (a
+# 0.64 deg change fell 12% short of Banjul's 1,087 nmi on the first difference alone)
+
+
+def needed_change(
+    coast: dorb.Coast,
+    r: NDArray[np.float64],
+    v: NDArray[np.float64],
+    deorbit: Deorbit,
+    row: NDArray[np.float64],
+    shortfall_nmi: float | None,
+) -> dict[str, float]:
+    """The change of the deorbit (`delta_v_change_fps`, or `entry_gamma_change_deg` for a target angle) that moves
+    the entry point down-range by the shortfall, the footprint carried with it (a difference of flown coasts, then
+    FIX_SECANTS secant steps through no change; the footprint's own change with the entry angle neglected); {} when
+    the cross-range misses (a burn's Δv does not move the footprint across its track)."""
+    if shortfall_nmi is None:
+        return {}
+    gamma = deorbit.entry_gamma_deg
+    key, change = ("delta_v_change_fps", FIX_STEPS[0]) if gamma is None else ("entry_gamma_change_deg", FIX_STEPS[1])
+    p0, d0, _ = great_circle_frame(row[dorb.E_LAT], row[dorb.E_LON], row[dorb.E_HEADING])
+    dv = float(deorbit.delta_v_fps or 0.0)
+    for _ in range(1 + FIX_SECANTS):
+        changed = Deorbit(dv + change) if gamma is None else Deorbit(None, gamma + change)
+        try:
+            moved = entries(coast, r, v, changed)[1][0]
+        except InputError:
+            break  # a Δv that no longer comes down: the last estimate stands
+        u = unit_vectors(moved[dorb.E_LAT], moved[dorb.E_LON])
+        change *= shortfall_nmi / (math.atan2(float(d0 @ u), float(p0 @ u)) * MEAN_RADIUS_NMI)
+    return {key: change}
+
+
 def _opportunity(
     p: Plan,
-    revolution: int,
     coast: dorb.Coast,
     deorbit: Deorbit,
-    scanned: Ring,
+    table: RingTable,
     flier: Flier,
     sites: Sites,
     settings: Settings,
     s: int,
-    burn_s: float,
-    scan_margin: float,
-    window: tuple[float, float],
-) -> Opportunity | None:
-    """The candidate burn flown again: its entry, its footprint, the site's place in it and the sun at landing;
-    None when the site is outside that footprint."""
-    burn_utc = rounded(p.utc([burn_s])[0], BURN_TIME_STEP_S)
+    found: Pass,
+) -> Opportunity:
+    """The pass's burn flown again: its entry, its footprint, the site's place in it and the sun at landing; a near
+    miss (the site outside that footprint) with the change that would take it in."""
+    burn_utc = rounded(p.utc([found.burn_s])[0], BURN_TIME_STEP_S)
+    burn_s = float(elapsed_s(p.start, [burn_utc])[0])
     r, v = states_at(p.orbit, [burn_utc], coast.omega_rad_s)
     dvs, rows = entries(coast, r, v, deorbit)
     row = rows[0]
     _, track_lat, track_lon = dorb.coast_track(coast, r[0], dorb.burn(r, v, dvs, coast.omega_rad_s)[0])
     lat, lon = float(sites.latitude_deg[s]), float(sites.longitude_deg[s])
+    scanned = table.rings[int(table.index(argument_of_latitude_deg(p, np.array([burn_s])))[0])]
     if settings.refly == "full" or (settings.refly == "near" and flier.makers is None):
         ring = flier.ring(row)
     elif settings.refly == "near":
@@ -548,18 +682,23 @@ def _opportunity(
     else:
         ring = scanned
     margin = float(scan_margins(rows, ring, Sites((sites.names[s],), np.array([lat]), np.array([lon])))[0, 0])
-    if margin < 0.0:
-        return None
     down, cross, _ = site_in_chart(row, ring, lat, lon)
+    down_margin, cross_margin = axis_margins(ring, down, cross)
+    needed = None if margin >= 0.0 else needed_change(coast, r, v, deorbit, row, _shortfall_nmi(ring, down, cross))
     flight_s = flight_time_at(ring, down, cross)
     entry_utc, landing_utc = after_s(burn_utc, [row[dorb.E_COAST_S], row[dorb.E_COAST_S] + flight_s])
     elevation = float(sun.elevation_deg([landing_utc], lat, lon)[0])
     sunlit = settings.sun_elevation_min_deg is None or elevation >= settings.sun_elevation_min_deg
+    burn_lat, burn_lon, burn_alt = subsatellite_points(p.orbit, [burn_utc])
     return Opportunity(
         site=s,
         site_name=sites.names[s],
-        revolution=revolution,
+        revolution=int(p.revolution_at([burn_s])[0]),
+        revolution_number=p.revolution_number(burn_s),
         burn_utc=burn_utc,
+        burn_altitude_ft=float(burn_alt[0]),
+        burn_latitude_deg=float(burn_lat[0]),
+        burn_longitude_deg=float(burn_lon[0]),
         delta_v_fps=float(dvs[0]),
         coast_s=float(row[dorb.E_COAST_S]),
         entry_utc=entry_utc,
@@ -576,13 +715,17 @@ def _opportunity(
         downrange_nmi=down,
         crossrange_nmi=cross,
         margin_nmi=margin,
+        downrange_margin_nmi=down_margin,
+        crossrange_margin_nmi=cross_margin,
         sun_elevation_deg=elevation,
         local_solar_time_h=float(sun.local_solar_time_h([landing_utc], lon)[0]),
         daylight=elevation >= sun.DAYLIGHT_ELEVATION_DEG,
         meets_rules=sunlit and margin >= settings.min_margin_nmi,
-        burn_window_start_utc=p.utc([window[0]])[0],
-        burn_window_end_utc=p.utc([window[1]])[0],
-        scan_margin_nmi=scan_margin,
+        burn_window_start_utc=p.utc([found.window[0]])[0],
+        burn_window_end_utc=p.utc([found.window[1]])[0],
+        burn_window_clipped=found.clipped,
+        scan_margin_nmi=found.scan_margin_nmi,
+        needed_change=needed,
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
         footprint_ring=placed(ring, row),
         limits=tally(ring.limits_broken),

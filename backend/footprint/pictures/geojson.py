@@ -231,17 +231,21 @@ def opportunities_collection(result: dict) -> dict:
         )
     sites = result["sites"]
     for o in result["opportunities"]:
-        about = {
-            k: o[k]
-            for k in ("site_name", "revolution", "burn_utc", "entry_utc", "landing_utc", "margin_nmi", "meets_rules")
-        }
+        about = {  # an answer stored before issue 52 lacks the revolution number, the margins by axis, the flag
+            k: o.get(k)
+            for k in (
+                "site_name", "revolution", "revolution_number", "burn_utc", "entry_utc", "landing_utc", "margin_nmi",
+                "downrange_margin_nmi", "crossrange_margin_nmi", "meets_rules", "burn_window_clipped",
+            )
+        }  # fmt: skip
         arc = np.asarray(o["coast_track"])
         burn_point = {"latitude_deg": arc[0, 0], "longitude_deg": arc[0, 1]}
+        burn_alt = o.get("burn_altitude_ft")
         features += [
             {
                 "type": "Feature",
                 "geometry": _point(burn_point),
-                "properties": {"kind": "burn", "delta_v_fps": o["delta_v_fps"], **about},
+                "properties": {"kind": "burn", "delta_v_fps": o["delta_v_fps"], "altitude_ft": burn_alt, **about},
             },
             {"type": "Feature", "geometry": line(arc[:, 0], arc[:, 1]), "properties": {"kind": "coast", **about}},
             {"type": "Feature", "geometry": _point(o["entry"]), "properties": {"kind": "entry", **o["entry"], **about}},
