@@ -95,6 +95,8 @@ MIN_CYCLE_S = 0.5
 NO_LIMIT_RHO = 1e9  # slug/ft^3: no path limit binds
 BOUNDARY_DV_FPS = 10.0  # ft/s: the finite difference of the limit's density in speed
 PREDICTOR_MAX_STEP_S = 200.0  # s: the predictor's steps are bounded by its tolerance only
+LIMIT_LOOKAHEAD_S = 60.0  # s of flight whose alpha law the path limits' bound anticipates (the law's step: ~10 s)
+LOOKAHEAD_SAMPLES = 8  # speeds sampled over it
 FINAL_TOLERANCE_NMI = 0.02  # nmi: the corrector's tolerance with the bank's sign held to the end
 FINAL_ITERATIONS = 4  # ... and its predictions after the first
 
@@ -373,14 +375,51 @@ def _vertical_excess(s: NDArray[np.float64], p: NDArray[np.float64], r: float) -
 
 
 @njit
+def _aero_ahead(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    t: float,
+    s: NDArray[np.float64],
+    res: tuple[float, ...],
+    t_inf: float,
+) -> tuple[float, float, float]:
+    """(alpha deg, C_L, C_D) of the alpha law at the speeds of the next LIMIT_LOOKAHEAD_S (the speed lost at today's
+    drag), the one whose limit density at today's speed is the lowest: a step of the law ahead (lod-1.89's max L/D,
+    12.5 to 17.4 deg between Mach 6.45 and 6.14, C_L +56 %) bounds the bank before the vehicle reaches it (issue 50;
+    constrained FNPEG bounds with the coefficients it will fly, Lu 2014)."""
+    v, ws = res[EV_SPEED_FPS], p[P_WS]
+    alpha, cl, cd = res[EV_ALPHA_DEG], res[EV_CL], res[EV_CD]
+    lowest = density_limit(g, heat, v, alpha, t_inf, cl, cd, ws)
+    if lowest >= NO_LIMIT_RHO:  # no limit set
+        return alpha, cl, cd
+    window = res[EV_CD] * res[EV_Q_PSF] * p[P_G0] / ws * LIMIT_LOOKAHEAD_S
+    ahead = s.copy()
+    for k in range(1, LOOKAHEAD_SAMPLES + 1):
+        scale = max(v - window * k / LOOKAHEAD_SAMPLES, 1.0) / v
+        for i in range(3, 6):
+            ahead[i] = s[i] * scale
+        r = evaluate(t, ahead, p, aero, ctrl, mode)
+        rho = density_limit(g, heat, v, r[EV_ALPHA_DEG], t_inf, r[EV_CL], r[EV_CD], ws)
+        if rho < lowest:
+            lowest, alpha, cl, cd = rho, r[EV_ALPHA_DEG], r[EV_CL], r[EV_CD]
+    return alpha, cl, cd
+
+
+@njit
 def bank_bound_deg(
     g: NDArray[np.float64],
     heat: NDArray[np.float64],
     p: NDArray[np.float64],
     s: NDArray[np.float64],
     res: tuple[float, ...],
+    ahead: tuple[float, float, float],
 ) -> float:
-    """The largest bank magnitude (deg) that keeps the path limits (180: none binds), from the measured state.
+    """The largest bank magnitude (deg) that keeps the path limits (180: none binds), from the measured state and
+    the alpha, C_L and C_D ahead (_aero_ahead) that the limits' density is evaluated with.
 
     The quasi-equilibrium glide at the limit's boundary (constrained FNPEG): with L_lim = L rho_lim / rho the lift
     there, cos(bank) <= (G - 2 zeta w h') / L_lim, G = g - V^2/r, keeps the glide's equilibrium above the boundary;
@@ -391,7 +430,8 @@ def bank_bound_deg(
     rho_here, _, t_inf, _ = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     rho_up, _, _, _ = atmosphere(int(p[P_ATM]), alt + 1000.0, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     lift_per_cl = res[EV_Q_PSF] * p[P_G0] / p[P_WS]
-    rho_lim = density_limit(g, heat, v, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS])
+    alpha_a, cl_a, cd_a = ahead
+    rho_lim = density_limit(g, heat, v, alpha_a, t_inf, cl_a, cd_a, p[P_WS])
     if rho_lim >= NO_LIMIT_RHO or rho <= 0.0 or lift_per_cl <= 0.0 or res[EV_CL] <= 0.0:
         return 180.0
     scale_h = 1000.0 / math.log(rho_here / rho_up) if rho_here > rho_up > 0.0 else p[P_SCALE_H]
@@ -400,9 +440,7 @@ def bank_bound_deg(
     w = math.sqrt(max(excess, 0.0) / scale_h)
     lift_at_limit = res[EV_CL] * lift_per_cl * rho_lim / rho
     # the boundary moves as the vehicle slows: h_min' = -H dln(rho_lim)/dV V', V' = -D - g sin(gamma)
-    rho_lim_slower = density_limit(
-        g, heat, v - BOUNDARY_DV_FPS, res[EV_ALPHA_DEG], t_inf, res[EV_CL], res[EV_CD], p[P_WS]
-    )
+    rho_lim_slower = density_limit(g, heat, v - BOUNDARY_DV_FPS, alpha_a, t_inf, cl_a, cd_a, p[P_WS])
     v_dot = -res[EV_CD] * lift_per_cl - p[P_MU] / (r * r) * res[EV_SIN_GAMMA]
     boundary_rate = -scale_h * math.log(rho_lim / rho_lim_slower) / BOUNDARY_DV_FPS * v_dot
     cos_bank = (excess - 2.0 * g[G_LIMIT_DAMPING] * w * (v * res[EV_SIN_GAMMA] - boundary_rate)) / lift_at_limit
@@ -807,7 +845,9 @@ def _fly_guided(
             break
         if reversed_now:
             flags |= F_REVERSAL
-        bound = bank_bound_deg(g, heat, p, s, res)
+        _, _, t_inf, _ = atmosphere(int(p[P_ATM]), res[EV_ALTITUDE_FT], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+        ahead = _aero_ahead(g, heat, p, aero, ctrl_fly, mode, t, s, res, t_inf)
+        bound = bank_bound_deg(g, heat, p, s, res, ahead)
         if bound < sigma0:
             flags |= F_BOUND
         command = sign * min(sigma0, bound)
