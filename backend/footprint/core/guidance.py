@@ -736,6 +736,7 @@ def _fly_guided(
     to_go_s, last_t, reversed_at, final_reversed = math.inf, 0.0, -math.inf, False  # lateral: predicted time to go
     last_cross, last_cross_t = 0.0, math.inf  # the other sign's predicted landing left of the line of sight (nmi)
     reversal_due = False  # the last cycle ended where the final reversal is due
+    own_cross = 0.0  # the last prediction's landing left of the line of sight (nmi)
     lift_ratio, drag_ratio = 1.0, 1.0
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
     n_rhs_total = 0
@@ -801,11 +802,13 @@ def _fly_guided(
             if other[5] & F_ASKED_TO_STOP:
                 stop = STOP_ASKED
                 break
-            # the landing moves at cross_rate; the actuator passes wings level some seconds after the command: lead it
+            # the landing moves at cross_rate; the actuator passes wings level ~|bank|/rate after the command: lead it
+            # (or, at the last chance before the inhibit, reverse if the other sign lands closer)
             cross_rate = (other[8] - last_cross) / (t - last_cross_t) if last_cross_t < t else 0.0
             lead = other[8] + cross_rate * abs(bank) / g[G_RATE]
             last_cross, last_cross_t = other[8], t
-            if sign * lead >= 0.0 or reversal_due:
+            last_chance = to_go_s - g[G_CYCLE] <= g[G_REVERSAL_INHIBIT]
+            if sign * lead >= 0.0 or reversal_due or (last_chance and abs(other[8]) < abs(own_cross)):
                 new_sign, final_reversed, corrected = -sign, True, True
                 sigma0, z, slope, first, predictions, flags, _, to_go_s, _ = other
             elif sign * cross_rate > 0.0 and -lead / cross_rate < g[G_CYCLE]:
@@ -819,7 +822,7 @@ def _fly_guided(
             reversed_at = t
         sign = new_sign
         if not corrected:
-            sigma0, z, slope, first, predictions, flags, used, to_go_s, _ = _correct(
+            sigma0, z, slope, first, predictions, flags, used, to_go_s, own_cross = _correct(
                 s,
                 t,
                 p_pred,
