@@ -118,11 +118,13 @@ class Guidance:
     tolerance_nmi: float = 0.1  # |predicted range - range to go| that needs no correction, near the target
     tolerance_fraction: float = 1e-3  # ... and far from it: this fraction of the range to go, when larger
     corridor_entry_deg: float = 12.0  # heading-error corridor at the entry speed
-    corridor_terminal_deg: float = 6.0  # ... and at the terminal speed, linear in velocity between (2: chatter)
+    corridor_terminal_deg: float = 2.0  # ... and at the terminal speed, linear in velocity between
     lateral_freeze_nmi: float = 5.0  # no reversal within this range to go
-    min_reversal_interval_s: float = 60.0  # s between two reversals at least
-    final_reversal_window_s: float = 300.0  # s: predicted time to go in which the last reversal is chosen
-    reversal_inhibit_s: float = 130.0  # s: no reversal in the predicted time to go below this
+    # the calm lateral logic (issue 50: 6 deg, 60 s, 300 s, 130 s) is asked for, not the default: under the example's
+    # dispersions its landings spread to p99 6.3 nmi against 0.50 (docs/guidance.md)
+    min_reversal_interval_s: float = 0.0  # s between two reversals at least
+    final_reversal_window_s: float = 0.0  # s: predicted time to go in which the last reversal is chosen (0: none)
+    reversal_inhibit_s: float = 0.0  # s: no reversal in the predicted time to go below this (0: none)
     bank_rate_deg_s: float = 10.0  # actuator limits; None-like values are given as math.inf
     bank_acceleration_deg_s2: float = 5.0
     predictor_rtol: float = 3e-5  # looser: fewer steps; tighter (1e-5) was slower and no closer (bench_guidance)
@@ -609,7 +611,8 @@ def _corridor_sign(g: NDArray[np.float64], sign: float, heading_error_deg: float
 def _may_reverse(g: NDArray[np.float64], to_go_nmi: float, to_go_s: float, final: bool, active: bool) -> bool:
     """A reversal is allowed: the bank law has taken over, the final one is not made, and the end is farther than
     the lateral freeze range and the inhibit time."""
-    return active and not final and to_go_nmi > g[G_LATERAL_FREEZE] and to_go_s > g[G_REVERSAL_INHIBIT]
+    inhibited = g[G_REVERSAL_INHIBIT] > 0.0 and to_go_s <= g[G_REVERSAL_INHIBIT]
+    return active and not final and to_go_nmi > g[G_LATERAL_FREEZE] and not inhibited
 
 
 @njit
@@ -769,14 +772,15 @@ def _fly_guided(
         to_go_s -= t - last_t
         last_t = t
         free = _may_reverse(g, to_go, to_go_s, final_reversed, mode[M_BANK_ACTIVE] != 0.0)
+        in_window = g[G_FINAL_REVERSAL_WINDOW] > 0.0 and to_go_s <= g[G_FINAL_REVERSAL_WINDOW]
         new_sign = sign
         if sign == 0.0:  # the first cycle: toward the target
             new_sign = 1.0 if heading_error >= 0.0 else -1.0
-        elif free and to_go_s > g[G_FINAL_REVERSAL_WINDOW] and t - reversed_at >= g[G_MIN_REVERSAL_INTERVAL]:
+        elif free and not in_window and t - reversed_at >= g[G_MIN_REVERSAL_INTERVAL]:
             new_sign = _corridor_sign(g, sign, heading_error, v, v0)
         iterations = FIRST_CYCLE_ITERATIONS if nc == 0 else int(g[G_ITERATIONS])
         corrected, lateral_cycle = False, math.inf
-        if free and new_sign == sign and to_go_s <= g[G_FINAL_REVERSAL_WINDOW]:
+        if free and new_sign == sign and in_window:
             # the other sign, corrected: held from now, does it land on or past the line of sight? Then reverse to it
             # for the last time (else the flight would end on the far side, the sign held or reversed later)
             other = _correct(
