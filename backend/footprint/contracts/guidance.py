@@ -67,6 +67,9 @@ class BankGuided(Strict):
     corridor_entry_deg: Annotated[float, Range(0.1, 90, "deg")] = _default("corridor_entry_deg")
     corridor_terminal_deg: Annotated[float, Range(0.1, 90, "deg")] = _default("corridor_terminal_deg")
     lateral_freeze_nmi: Annotated[float, Range(0, 10_000, "nmi")] = _default("lateral_freeze_nmi")
+    min_reversal_interval_s: Annotated[float, Range(0, 10_000, "s")] = _default("min_reversal_interval_s")
+    final_reversal_window_s: Annotated[float, Range(0, 10_000, "s")] = _default("final_reversal_window_s")
+    reversal_inhibit_s: Annotated[float, Range(0, 10_000, "s")] = _default("reversal_inhibit_s")
     bank_rate_deg_s: Annotated[float, Range(0.1, 1000, "deg/s")] | None = _default("bank_rate_deg_s")  # None: unlimited
     bank_acceleration_deg_s2: Annotated[float, Range(0.1, 10_000, "deg/s^2")] | None = _default(
         "bank_acceleration_deg_s2"
