@@ -33,7 +33,7 @@ def run(tmp_path, study, *args):
         [sys.executable, "-m", "footprint.cli", "optimize", str(path), *args],
         capture_output=True,
         text=True,
-        timeout=300,
+        timeout=900,
     )
 
 

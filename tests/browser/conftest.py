@@ -43,8 +43,8 @@ CHROMIUM_ARGS = [
     "--disable-component-update",
     "--disable-sync",
 ]
-START_TIMEOUT_S = 180.0  # migrations, the Dask cluster and the first compile of the flight kernel
-JOB_TIMEOUT_S = 180.0
+START_TIMEOUT_S = 600.0  # migrations, the Dask cluster and the first compile of the flight kernel
+JOB_TIMEOUT_S = 600.0
 WAIT_MS = 120_000  # every wait for the page (Playwright's default too): a loaded machine is slow, not wrong
 
 # A single-parameter footprint of 4 bank settings (7 trajectories with the mirror), entered at 150 E heading

@@ -15,7 +15,7 @@ POSTGRES_URL = os.environ.get("FOOTPRINT_TEST_POSTGRES_URL", "postgresql+psycopg
 REQUIRE_POSTGRES = os.environ.get("FOOTPRINT_REQUIRE_POSTGRES", "") not in ("", "0")
 DATABASES = ("sqlite", "postgresql")
 TERMINAL = ("succeeded", "failed", "cancelled")
-JOB_TIMEOUT_S = 120.0  # a test job's footprint takes well under a second once numba is warm; a loaded machine is slow
+JOB_TIMEOUT_S = 600.0  # a test job's footprint takes well under a second once numba is warm; a loaded machine is slow
 WAIT_S = 120.0  # how long a test waits for any state it polls for: generous, never a bound on speed
 
 

@@ -17,7 +17,7 @@ from footprint.api import footprint as fly_footprint
 from footprint.contracts.footprint import POINT_FIELDS
 from tests.authorities.report import betts
 
-from .conftest import wait_for_job
+from .conftest import wait_for_job, wait_until
 from .sample_requests import (
     FOOTPRINT,
     LONG_FOOTPRINT,
@@ -393,7 +393,7 @@ def test_a_job_the_core_fails_ends_failed_and_the_service_goes_on(api, scheduler
             client.run(_mend_core)
     assert job["status"] == "failed" and job["result"] is None
     assert job["error"] == "FloatingPointError: the integrator diverged (injected in the worker)"
-    assert api.get("/api/health").json()["status"] == "ok"
+    wait_until(lambda: api.get("/api/health").json()["status"] == "ok", "health ok after the failed job")
     assert run_job(api, "footprint", FOOTPRINT)["status"] == "succeeded"
 
 

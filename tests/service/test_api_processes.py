@@ -14,7 +14,7 @@ from tests.service.sample_requests import FOOTPRINT
 from tests.service.test_job_limits import LONG
 from tests.service.test_restart import free_port, kill
 
-START_TIMEOUT_S = 120.0
+START_TIMEOUT_S = 300.0
 
 
 @pytest.fixture(scope="module")

@@ -40,8 +40,9 @@ PROGRESS_WRITE_S = 1.0  # a running job's progress row is written at most this o
 STOP_GRACE_S = 1.0  # a cancelled task still running after this (no report since: parallel.progress_reporter) has its
 # worker restarted
 WATCH_S = 0.5  # the link looks at its scheduler this often (health's view, subscriptions, the local cluster's size)
-ASK_TIMEOUT_S = 5.0  # a look whose question gets no answer in this long finds the scheduler not answering
-STALE_S = 5.0  # health says "degraded" once the scheduler's last answer is this old (a hung scheduler)
+ASK_TIMEOUT_S = 10.0  # a look whose question gets no answer in this long finds the scheduler not answering
+STALE_S = 15.0  # health says "degraded" once the scheduler's last answer is this old (a hung scheduler; a killed one
+# at once, its connection closed): at 5 s a machine at load 15 delayed the looks past it and health said degraded
 LOST_SUBMITS = 1  # a job whose tasks are lost with their scheduler is submitted again this many times
 DATABASE_RETRY_S = 1.0  # a job's start and outcome are written again this often while the database is away
 CANCEL_POLL_S = 1.0  # a running job's row is looked at this often for a cancel through another process
