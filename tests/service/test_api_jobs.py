@@ -253,7 +253,9 @@ def test_a_job_may_name_a_stored_vehicle(api):
     assert api.post("/api/vehicles", json={"id": "job-glider", "vehicle": glider}).status_code == 201
     study = {**FOOTPRINT, "case": {**FOOTPRINT["case"], "vehicle": {"stored": "job-glider"}}}
     job = run_job(api, "footprint", study)
-    assert job["study"]["case"]["vehicle"] == glider | {"name": "job-glider"}  # resolved when submitted
+    # resolved when submitted, with the limits every vehicle carries unless its definition changes them (issue 50)
+    limits = {"load_factor_g": 2.5, "dynamic_pressure_psf": 375.0, "heat_rate_btu_ft2_s": 70.0, "temperature_R": 3460.0}
+    assert job["study"]["case"]["vehicle"] == glider | {"name": "job-glider", "limits": limits}
     stored = api.get(job["result"]["footprints"][0]).json()
     direct = fly_footprint({**FOOTPRINT, "case": {**FOOTPRINT["case"], "vehicle": glider}})
     assert stored["vehicle"] == "job-glider"
