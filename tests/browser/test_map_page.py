@@ -545,7 +545,7 @@ def test_an_optimum_is_drawn_with_its_ground_track_and_histories(open_page, serv
     study = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
     job_id = service.call("/api/jobs", {"kind": "optimize", "study": study})["id"]
     page.evaluate("(id) => window.footprintApp.jobs.follow(id, 'Betts shuttle, IPOPT')", job_id)
-    page.locator("path.optimum-track.opt-copy-0").wait_for(state="attached", timeout=WAIT_MS)
+    page.locator("path.optimum-track.opt-copy-0").wait_for(state="attached", timeout=OPTIMUM_TIMEOUT_MS)  # an IPOPT job
     flight = service.call(f"/api/jobs/{job_id}")["result"]["optimization"]["flight"]
     landing = page.evaluate("""() => window.footprintApp.mapView.optimumLayer.getLayers()
         .filter((l) => l.getLatLng && l.options.className.includes('opt-copy-0'))[0].getLatLng()""")
