@@ -92,7 +92,13 @@ def interface_state(r_km, v_km_s, delta_v_fps, earth):
     """The burn (Δv against the inertial velocity) and the coast to 400,000 ft above the report's ellipsoid in TEME
     axes: (the coast's seconds, the TEME position (ft) and inertial velocity (ft/s) there)."""
     r, v = np.asarray(r_km) * FT_PER_KM, np.asarray(v_km_s) * FT_PER_KM
-    v = v * (1.0 - delta_v_fps / np.linalg.norm(v))
+    return coast_to_interface(r, v * (1.0 - delta_v_fps / np.linalg.norm(v)), earth)
+
+
+def coast_to_interface(r_ft, v_ft_s, earth):
+    """The coast from a TEME state after its burn (ft, ft/s) to 400,000 ft above the report's ellipsoid: (the coast's
+    seconds, the TEME position (ft) and inertial velocity (ft/s) there)."""
+    r, v = np.asarray(r_ft, float), np.asarray(v_ft_s, float)
 
     def interface(_t, s):  # the altitude does not depend on the earth's turning: p and z do not
         return geodetic_ft(*s[:3])[1] - INTERFACE_FT

@@ -3,31 +3,110 @@ guided_dispersion), and, for the same samples, open loop with the nominal guided
 
     {"case": CASE whose bank law is "guided",
      "samples": 1000, "design", "seed", "entry", "vehicle", "density" (as a dispersion study's),
-     "radius_nmi": [1, 5, 10], "open_loop": true, "chunk_samples": 20}
+     "radius_nmi": [1, 5, 10], "open_loop": true, "chunk_samples": 20,
+     "burn": {"tle" | "state", "burn_utc", "delta_v_fps", "interface_altitude_ft", "errors": {...}}}
+
+With "burn" (an opportunity's deorbit burn, issue 52 item 5) the entry is the burn's: the nominal flight starts where
+the planned burn's coast reaches the interface (the case's entry is replaced by it), and each sample where its
+executed burn's does (core.burn_errors: magnitude, pointing and time dispersed, each coasted); the entry spreads are
+then not given.
 """
 
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
+from dataclasses import replace
+from datetime import UTC
 from typing import Annotated, Any
 
-from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts.case import Case
 from footprint.contracts.dispersion import DispersedInputs
 from footprint.contracts.doors import door_limit, validated
-from footprint.contracts.fields import Range
+from footprint.contracts.fields import Range, Strict
 from footprint.contracts.guidance import check_guided_study
+from footprint.contracts.opportunities import STATE_EARTH, StateVector
 from footprint.contracts.records import plain
 from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
+from footprint.core import burn_errors as be
+from footprint.core import deorbit as dorb
 from footprint.core import dispersion as disp
 from footprint.core import guided_dispersion as gdisp
+from footprint.core.constants import Earth
+from footprint.core.elements import Orbit, parse_tle
 from footprint.core.monte_carlo import Landings
+from footprint.core.trajectory import FlightSpec
 
 MAX_SAMPLES = 1_000_000  # from the CLI or Python
 MAX_SAMPLES_HTTP = 20_000  # ~50 ms each guided, twice with the open loop: ~15 min on the two workers of a small server
 CHUNK_SAMPLES = 20  # a task flies about this many samples (~1-2 s): progress, balance
 CLOUD_SAMPLES_STORED = 1_000  # the landing points a job's stored result keeps of each mode
+
+
+_ERRORS = be.BurnErrors()
+BURN_SPAN_S = 120.0  # s past the planned burn a state vector is propagated: its executed burns' times (sigma <= 10 s)
+
+
+class BurnExecutionErrors(Strict):
+    """One standard deviation of each execution error (core.burn_errors.BurnErrors: the defaults' source)."""
+
+    delta_v_fps: Annotated[float, Range(0, 100, "ft/s")] = _ERRORS.delta_v_fps
+    pitch_deg: Annotated[float, Range(0, 10, "deg")] = _ERRORS.pitch_deg
+    yaw_deg: Annotated[float, Range(0, 10, "deg")] = _ERRORS.yaw_deg
+    time_s: Annotated[float, Range(0, 10, "s")] = _ERRORS.time_s
+
+
+class ExecutedBurn(Strict):
+    """An opportunity's deorbit burn (its orbit, time and Δv, as the opportunities' answer gives them) and the errors
+    of its execution: the guided dispersion's entries (module docstring)."""
+
+    tle: str | None = Field(default=None, min_length=1, max_length=400)
+    state: StateVector | None = None
+    burn_utc: AwareDatetime
+    delta_v_fps: Annotated[float, Range(1, 10_000, "ft/s")]
+    interface_altitude_ft: Annotated[float, Range(150_000, 1_000_000, "ft")] = dorb.INTERFACE_ALTITUDE_FT
+    errors: BurnExecutionErrors = BurnExecutionErrors()
+
+    @model_validator(mode="after")
+    def _one(self) -> ExecutedBurn:
+        if (self.tle is None) == (self.state is None):
+            raise ValueError("give exactly one of 'tle' or 'state'")
+        if self.state is not None and self.burn_utc < self.state.epoch:
+            raise ValueError("burn_utc: before the state's epoch")
+        return self
+
+    def orbit(self, coast_in: Callable[[Earth], dorb.Coast]) -> Orbit:
+        if self.tle is not None:
+            return parse_tle(self.tle)
+        assert self.state is not None  # _one
+        return self.state.propagated(coast_in(STATE_EARTH), self.burn_utc.astimezone(UTC), BURN_SPAN_S)
+
+    def entries(self, spec: FlightSpec, z: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The entry rows (core.deorbit E_*) of the burn executed with errors errors x z (z: rows of normals)."""
+
+        def coast_in(earth: Earth) -> dorb.Coast:
+            return dorb.Coast.of(spec.vehicle, spec.planet, self.interface_altitude_ft, earth)
+
+        orbit = self.orbit(coast_in)
+        errors = be.BurnErrors(**self.errors.model_dump())
+        return be.executed_entries(coast_in(orbit.earth), orbit, self.burn_utc.astimezone(UTC), self.delta_v_fps,
+                                   errors, z)  # fmt: skip
+
+
+ENTRY_COLUMNS = {  # the dispersion's entry inputs and the entry rows' columns
+    "altitude_ft": dorb.E_ALT, "velocity_fps": dorb.E_V, "gamma_deg": dorb.E_GAMMA, "heading_deg": dorb.E_HEADING,
+    "latitude_deg": dorb.E_LAT, "longitude_deg": dorb.E_LON,
+}  # fmt: skip
+
+
+def entered(spec: FlightSpec, row: NDArray[np.float64]) -> FlightSpec:
+    """The spec entering at an entry row (its speed relative to the earth)."""
+    values = {name: float(row[col]) for name, col in ENTRY_COLUMNS.items()}
+    return replace(spec, entry=replace(spec.entry, velocity_frame="relative", **values))
 
 
 class GuidedDispersionStudy(DispersedInputs):
@@ -37,6 +116,7 @@ class GuidedDispersionStudy(DispersedInputs):
         default=[1.0, 5.0, 10.0], min_length=1, max_length=10
     )
     open_loop: bool = True  # the same samples flown with the nominal guided flight's bank, open loop
+    burn: ExecutedBurn | None = None  # the entries from an executed deorbit burn (module docstring)
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo) -> GuidedDispersionStudy:
@@ -44,6 +124,8 @@ class GuidedDispersionStudy(DispersedInputs):
         samples, where = door_limit(info, MAX_SAMPLES, MAX_SAMPLES_HTTP)
         if self.samples > samples:
             raise ValueError(f"samples: {self.samples:,} is outside the allowed range 1 to {samples:,.0f}{where}")
+        if self.burn is not None and self.entry.model_dump(exclude_none=True):
+            raise ValueError("entry: with 'burn' the executed burns set the entries; give no entry spreads")
         return self
 
     def chunks(self) -> list[tuple[int, int]]:
@@ -67,13 +149,20 @@ class Plan:
 
     def __init__(self, study: GuidedDispersionStudy) -> None:
         self.study = study
-        self.spec = study.case.to_spec()
+        spec = study.case.to_spec()
+        self.spec = spec if study.burn is None else entered(spec, study.burn.entries(spec, np.zeros((1, 4)))[0])
         self.nominal = gdisp.nominal_flight(self.spec)
         self.open_spec = gdisp.open_loop(self.spec, self.nominal) if study.open_loop else None
 
     @functools.cached_property
     def samples(self) -> disp.Samples:
-        return self.study.draw(self.spec)
+        drawn = self.study.draw(self.spec)
+        burn = self.study.burn
+        if burn is None:
+            return drawn
+        rows = burn.entries(self.spec, be.normals(self.study.samples, self.study.seed))
+        entries = {name: rows[:, col] for name, col in ENTRY_COLUMNS.items()}
+        return disp.Samples(drawn.n, drawn.values | entries, drawn.density_delta)
 
 
 _plan = PerStudy(Plan)  # this process's plan of the study it flies (a study's parts share one draw)

@@ -118,6 +118,18 @@ class StateVector(Strict):
     satellite_number: Annotated[int, Range(0, 999_999_999, "")] | None = None
     revolution_number: Annotated[int, Range(0, 999_999_999, "")] | None = None
 
+    def earth_fixed(self, coast: dorb.Coast) -> tuple[Any, Any]:
+        """The state as the integrator flies it: earth-fixed position (ft) and earth-relative velocity (ft/s)."""
+        epoch = self.epoch.astimezone(UTC)
+        return dorb.state_earth_fixed(epoch, self.frame, self.position_km, self.velocity_km_s, coast.omega_rad_s)
+
+    def propagated(self, coast: dorb.Coast, start: datetime, span_s: float) -> dorb.PropagatedState:
+        """The orbit propagated in the coast's earth (STATE_EARTH) from the epoch to span_s (SI) after start."""
+        r, v = self.earth_fixed(coast)
+        horizon_s = float(elapsed_s(self.epoch, [start])[0]) + span_s
+        return dorb.PropagatedState(self.epoch.astimezone(UTC), r, v, coast, horizon_s, self.satellite_number,
+                                    self.revolution_number)  # fmt: skip
+
 
 class OpportunitiesStudy(Strict):
     description: str | None = Field(default=None, max_length=4_000)
@@ -182,13 +194,11 @@ class OpportunitiesStudy(Strict):
         if self.tle is not None:
             return parse_tle(self.tle)
         assert self.state is not None  # _checks: exactly one of tle or state
-        st, (start, end), coast = self.state, self.window.bounds, self.coast_in(STATE_EARTH)
-        epoch = st.epoch.astimezone(UTC)
-        r, v = dorb.state_earth_fixed(epoch, st.frame, st.position_km, st.velocity_km_s, coast.omega_rad_s)
+        (start, end), coast = self.window.bounds, self.coast_in(STATE_EARTH)
+        r, v = self.state.earth_fixed(coast)
         n_rev_day = dorb.state_orbit(coast, r, v).mean_motion_rev_day
         span_s = op.orbit_span_s(float(elapsed_s(start, [end])[0]), n_rev_day)  # SI: a leap second counts
-        horizon_s = float(elapsed_s(epoch, [start])[0]) + span_s
-        return dorb.PropagatedState(epoch, r, v, coast, horizon_s, st.satellite_number, st.revolution_number)
+        return self.state.propagated(coast, start, span_s)
 
 
 REQUEST = OpportunitiesStudy
