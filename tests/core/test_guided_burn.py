@@ -39,8 +39,9 @@ def _study(samples=24, **change):
     planned = parse("guided_dispersion", {"case": case | {"bank": _bank(0.0, 0.0)}, "samples": 1, "burn": BURN})
     e = module("guided_dispersion").Plan(planned).spec.entry  # where the planned burn enters: the target ahead of it
     target = _ahead(e.latitude_deg, e.longitude_deg, e.heading_deg, DOWNRANGE_NMI)
+    errors = {"delta_v_fps": 2.0, "pitch_deg": 1.0, "yaw_deg": 1.0, "time_s": 1.0}
     study = {"case": case | {"bank": _bank(*target)}, "samples": samples, "seed": 5, "radius_nmi": [5.0, 50.0],
-             "burn": BURN | {"errors": {"delta_v_fps": 2.0, "pitch_deg": 1.0, "yaw_deg": 1.0, "time_s": 1.0}}}  # fmt: skip
+             "burn": BURN | {"errors": errors}}  # fmt: skip
     return study | change
 
 
@@ -79,6 +80,8 @@ def test_the_executed_burns_spread_the_entries_and_the_guidance_absorbs_them(run
         ({"entry": {"gamma_deg": {"normal": {"std": 0.05}}}}, "entry"),
         ({"burn": BURN | {"errors": {"pitch_deg": -1.0}}}, "burn.errors.pitch_deg"),
         ({"burn": {k: v for k, v in BURN.items() if k != "tle"}}, "burn"),
+        ({"burn": BURN | {"burn_utc": "2009-09-21T00:00:00Z"}}, "burn.burn_utc"),
+        ({"burn": BURN | {"tle": "ISS\n1 25544U\n2 25544"}}, "burn.tle"),
     ],
 )
 def test_a_bad_burn_names_its_field(change, field):

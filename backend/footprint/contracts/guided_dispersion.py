@@ -17,7 +17,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 from dataclasses import replace
-from datetime import UTC
+from datetime import UTC, timedelta
 from typing import Annotated, Any
 
 import numpy as np
@@ -37,7 +37,7 @@ from footprint.core import deorbit as dorb
 from footprint.core import dispersion as disp
 from footprint.core import guided_dispersion as gdisp
 from footprint.core.constants import Earth
-from footprint.core.elements import Orbit, parse_tle
+from footprint.core.elements import Orbit, check_window, check_window_times, parse_tle
 from footprint.core.monte_carlo import Landings
 from footprint.core.trajectory import FlightSpec
 
@@ -75,8 +75,15 @@ class ExecutedBurn(Strict):
     def _one(self) -> ExecutedBurn:
         if (self.tle is None) == (self.state is None):
             raise ValueError("give exactly one of 'tle' or 'state'")
-        if self.state is not None and self.burn_utc < self.state.epoch:
-            raise ValueError("burn_utc: before the state's epoch")
+        burn = self.burn_utc.astimezone(UTC)
+        span = (burn, burn + timedelta(seconds=BURN_SPAN_S))  # the executed burns' times
+        if self.tle is not None:
+            check_window(parse_tle(self.tle), *span, field="burn_utc")
+        else:
+            assert self.state is not None
+            if burn < self.state.epoch:
+                raise ValueError("burn_utc: before the state's epoch")
+            check_window_times(self.state.epoch, *span, field="burn_utc", epoch_of="the state's")
         return self
 
     def orbit(self, coast_in: Callable[[Earth], dorb.Coast]) -> Orbit:
