@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from dataclasses import replace
 from datetime import UTC, timedelta
 from typing import Annotated, Any
 
@@ -104,18 +103,6 @@ class ExecutedBurn(Strict):
                                    errors, z)  # fmt: skip
 
 
-ENTRY_COLUMNS = {  # the dispersion's entry inputs and the entry rows' columns
-    "altitude_ft": dorb.E_ALT, "velocity_fps": dorb.E_V, "gamma_deg": dorb.E_GAMMA, "heading_deg": dorb.E_HEADING,
-    "latitude_deg": dorb.E_LAT, "longitude_deg": dorb.E_LON,
-}  # fmt: skip
-
-
-def entered(spec: FlightSpec, row: NDArray[np.float64]) -> FlightSpec:
-    """The spec entering at an entry row (its speed relative to the earth)."""
-    values = {name: float(row[col]) for name, col in ENTRY_COLUMNS.items()}
-    return replace(spec, entry=replace(spec.entry, velocity_frame="relative", **values))
-
-
 class GuidedDispersionStudy(DispersedInputs):
     description: str | None = Field(default=None, max_length=4_000)
     case: Case
@@ -157,7 +144,7 @@ class Plan:
     def __init__(self, study: GuidedDispersionStudy) -> None:
         self.study = study
         spec = study.case.to_spec()
-        self.spec = spec if study.burn is None else entered(spec, study.burn.entries(spec, np.zeros((1, 4)))[0])
+        self.spec = spec if study.burn is None else dorb.entered(spec, study.burn.entries(spec, np.zeros((1, 4)))[0])
         self.nominal = gdisp.nominal_flight(self.spec)
         self.open_spec = gdisp.open_loop(self.spec, self.nominal) if study.open_loop else None
 
@@ -168,7 +155,7 @@ class Plan:
         if burn is None:
             return drawn
         rows = burn.entries(self.spec, be.normals(self.study.samples, self.study.seed))
-        entries = {name: rows[:, col] for name, col in ENTRY_COLUMNS.items()}
+        entries = {name: rows[:, col] for name, col in dorb.ENTRY_INPUT_COLUMNS.items()}
         return disp.Samples(drawn.n, drawn.values | entries, drawn.density_delta)
 
 

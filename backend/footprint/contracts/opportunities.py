@@ -25,6 +25,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import AfterValidator, AwareDatetime, Field, TypeAdapter, ValidationInfo, model_validator
 
+from footprint.contracts.case import Case
 from footprint.contracts.doors import door_limit, validated
 from footprint.contracts.fields import Range, Strict
 from footprint.contracts.footprint import FootprintStudy
@@ -144,6 +145,9 @@ class OpportunitiesStudy(Strict):
     ring_step_deg: Annotated[float, Range(1, 90, "deg")] = 10.0
     screen_nmi: Annotated[float, Range(0, 5_000, "nmi")] = 200.0
     refly: Literal["near", "full", "none"] = "near"
+    # each opportunity also flown guided to its site from its entry, within the limits the guidance holds (the
+    # footprint case's vehicle's, its alpha law, the guided law's defaults): issue 52 item 5
+    guided: bool = True
 
     @model_validator(mode="after")
     def _checks(self, info: ValidationInfo) -> OpportunitiesStudy:
@@ -178,6 +182,13 @@ class OpportunitiesStudy(Strict):
     def spec(self) -> FlightSpec:
         """The footprint study's case, as the core flies it (built once)."""
         return self.footprint.case.to_spec()
+
+    def guided_specs(self) -> list[FlightSpec]:
+        """Per site, the footprint study's case with the guided bank law to it (its entry each burn's)."""
+        case = self.footprint.case.model_dump(mode="json", exclude_unset=True)
+        targets = [{"latitude_deg": s.latitude_deg, "longitude_deg": (s.longitude_deg + 180.0) % 360.0 - 180.0}
+                   for s in self.sites]  # fmt: skip
+        return [Case.model_validate(case | {"bank": {"law": "guided", "target": t}}).to_spec() for t in targets]
 
     def coast_in(self, earth: Earth) -> dorb.Coast:
         """A coast's packed parameters: the footprint's vehicle and planet, the air removed, in an orbit's earth."""
@@ -220,7 +231,7 @@ class Plan:
         self.spec = study.spec
         self.coast = study.coast
         self.deorbit = op.Deorbit(study.deorbit.delta_v_fps, study.deorbit.entry_gamma_deg)
-        self.flier = op.Flier(self.spec, study.footprint.to_settings())
+        self.flier = op.Flier(self.spec, study.footprint.to_settings(), study.guided_specs() if study.guided else ())
         self.sites = op.Sites(
             tuple(s.name for s in study.sites),
             np.array([s.latitude_deg for s in study.sites]),
@@ -311,6 +322,7 @@ def combine(study: OpportunitiesStudy, parts: list[list[dict[str, Any]]], info: 
                 "ring_step_deg": study.ring_step_deg,
                 "screen_nmi": study.screen_nmi,
                 "refly": study.refly,
+                "guided": study.guided,
                 "footprint_method": study.footprint.method,
             },
             "run": {"tasks": info.tasks, "workers": info.workers, "seconds": info.seconds},

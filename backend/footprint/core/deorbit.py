@@ -44,6 +44,10 @@ MAX_STEPS = 20_000
 GAMMA_TOLERANCE_DEG = 1e-6  # the secant's stop on a target flight-path angle
 N_ENTRY = 10  # entry_states' columns, below
 E_COAST_S, E_ALT, E_V, E_GAMMA, E_HEADING, E_LAT, E_LON, E_X, E_Y, E_Z = range(N_ENTRY)
+ENTRY_INPUT_COLUMNS = {  # a dispersion's entry inputs (core.dispersion.ENTRY_INPUTS) and their columns
+    "altitude_ft": E_ALT, "velocity_fps": E_V, "gamma_deg": E_GAMMA, "heading_deg": E_HEADING, "latitude_deg": E_LAT,
+    "longitude_deg": E_LON,
+}  # fmt: skip
 
 
 def earth_planet(planet: Planet, earth: Earth) -> Planet:
@@ -177,6 +181,12 @@ def entry_states(coast: Coast, r_ft: NDArray[np.float64], v_rel_fps: NDArray[np.
         v, gamma, heading = flight_angles(x, y, z, vx, vy, vz)
         out[i] = (t, alt, v, math.degrees(gamma), math.degrees(heading), math.degrees(lat), math.degrees(lon), x, y, z)
     return out
+
+
+def entered(spec: FlightSpec, row: NDArray[np.float64]) -> FlightSpec:
+    """The spec entering at an entry row (entry_states): its altitude, earth-relative speed, angles and place."""
+    values = {name: float(row[col]) for name, col in ENTRY_INPUT_COLUMNS.items()}
+    return replace(spec, entry=replace(spec.entry, velocity_frame="relative", **values))
 
 
 def coast_track(

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, astuple, dataclass, field, replace
+from dataclasses import asdict, astuple, dataclass, field
 from datetime import datetime
 from typing import Any, Literal
 
@@ -80,6 +80,9 @@ class Ring:
 
 
 RING_COLUMNS = ("downrange_nmi", "crossrange_nmi", "flight_time_s")
+GUIDED_KEYS = ("flight_time_s", "final_latitude_deg", "final_longitude_deg", "final_altitude_ft", "final_velocity_fps",
+               "max_load_factor", "max_dynamic_pressure_psf", "max_heat_rate_btu_ft2_s", "max_temperature_R",
+               "limits_held", "limits_broken", "limits_unchecked")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -147,6 +150,7 @@ class Opportunity:
     coast_track: list[list[float]]  # [latitude, longitude] deg from the burn to the entry interface
     footprint_ring: dict[str, Any]  # the footprint about this entry (placed): ranges, places, outline
     limits: dict[str, Any]  # its vertices' flights that broke a vehicle limit (core.limits.tally)
+    guided: dict[str, Any] | None = None  # the flight guided to the site from this entry (Flier.guided_flight)
 
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
@@ -353,24 +357,23 @@ class Flier:
     altitude, earth-relative speed, flight-path angle, heading and place) on the spec's planet: the whole footprint,
     or, for a method whose points are fixed control laws (footprint_methods.FAMILIES), some of its vertices."""
 
-    def __init__(self, spec: FlightSpec, settings: MethodSettings):
+    def __init__(self, spec: FlightSpec, settings: MethodSettings, guided: Sequence[FlightSpec] = ()):
         self.spec, self.settings = spec, settings
         self.makers = (
             {p.key(): make for p, make, _ in control_family(settings)[0]} if type(settings) in FAMILIES else None
         )
+        self.guided = tuple(guided)  # per site, the spec flown guided to it (none: no guided flights)
 
     def at_entry(self, row: NDArray[np.float64]) -> FlightSpec:
-        entry = replace(
-            self.spec.entry,
-            altitude_ft=float(row[dorb.E_ALT]),
-            velocity_fps=float(row[dorb.E_V]),
-            gamma_deg=float(row[dorb.E_GAMMA]),
-            heading_deg=float(row[dorb.E_HEADING]),
-            latitude_deg=float(row[dorb.E_LAT]),
-            longitude_deg=float(row[dorb.E_LON]),
-            velocity_frame="relative",
-        )
-        return replace(self.spec, entry=entry)
+        return dorb.entered(self.spec, row)
+
+    def guided_flight(self, row: NDArray[np.float64], site: int) -> dict[str, Any] | None:
+        """The flight from this entry guided to the site (issue 52 item 5), within the limits its guidance holds:
+        where and when it ends, its peaks and limits, and the guidance's own summary (its miss and status)."""
+        if not self.guided:
+            return None
+        summary = simulate_summary(dorb.entered(self.guided[site], row))
+        return {k: summary[k] for k in GUIDED_KEYS} | {"guidance": summary["guidance"]}
 
     def ring(self, row: NDArray[np.float64]) -> Ring:
         """The whole footprint from this entry."""
@@ -729,4 +732,5 @@ def _opportunity(
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
         footprint_ring=placed(ring, row),
         limits=tally(ring.limits_broken),
+        guided=flier.guided_flight(row, s),
     )
