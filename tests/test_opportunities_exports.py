@@ -154,3 +154,18 @@ def test_an_index_outside_the_answer_is_one_line_naming_it(planned):
     study, answer = planned
     with pytest.raises(InputError, match=r"^opportunity: 99 is outside the allowed range of 0 to \d+$"):
         files.opportunity_oem(study, answer, 99)
+
+
+def test_an_epoch_in_a_leap_second_is_written_as_second_60():
+    """UTC across the leap second of 2016-12-31 (SI seconds from the burn, labelled by the true UTC): the OEM's
+    epochs to the millisecond, 23:59:60.500 between 23:59:59.500 and 00:00:00.500, as CCSDS 301 writes UTC."""
+    from footprint.core.utc import parse_iso
+
+    burn = parse_iso("2016-12-31T23:59:58.500Z")
+    got = files._epochs(burn, np.array([0.0, 1.0, 2.0, 3.0]))
+    assert got == [
+        "2016-12-31T23:59:58.500",
+        "2016-12-31T23:59:59.500",
+        "2016-12-31T23:59:60.500",
+        "2017-01-01T00:00:00.500",
+    ]

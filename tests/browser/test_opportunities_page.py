@@ -426,6 +426,10 @@ def test_the_timeline_grows_with_its_sites_and_names_them_whole(open_page, servi
     else:
         page.evaluate("(a) => window.footprintApp.opportunities.show(a)", answer)
         assert page.locator("#op-downloads").is_hidden()  # an answer without its job: no files to fetch
+        # the first to land is chosen though it fails a rule (the first meeting the rules was, issue 53 item 7)
+        assert not answer["opportunities"][0]["meets_rules"]
+        page.locator("#plot circle.op-mark.selected[data-index='0']").wait_for(state="attached", timeout=WAIT_MS)
+        assert page.locator("#op-table tbody tr").first.get_attribute("data-index") == "0"
     page.locator("#plot circle.op-mark[data-index]").first.wait_for(state="attached", timeout=WAIT_MS)
     got = page.evaluate(ROWS_JS)
     table = page.evaluate(
@@ -453,3 +457,32 @@ def test_the_timeline_grows_with_its_sites_and_names_them_whole(open_page, servi
         page.evaluate("() => { const p = document.getElementById('plot'); p.scrollTop = p.scrollHeight; }")
         page.screenshot(path=str(FIGURES_DIR / "page_opportunities_20_sites_scrolled.png"))
     assert not run.errors and run.violations() == [], (run.errors, run.violations())
+
+
+def test_the_landing_window_timeline_grows_with_its_sites_too(open_page, service):
+    """Issue 53 item 5: the reach's landing-window timeline shares the rows: 20 sites at least 18 px each, no name
+    over another, each whole in its title, the plot scrolled in its pane."""
+    run = open_page(1280, 800)
+    names = [s["name"] for s in EXAMPLE["sites"]]
+    reach = {
+        "analysis": {"time_span_end_s": 6 * 3600},
+        "sites": [{"name": n, "reachable": i % 3 != 0} for i, n in enumerate(names)],
+        "windows": [
+            {"site": n, "revolution": 1 + i % 4, "deorbit_time_start_s": 600.0 * i, "deorbit_time_end_s": 600.0 * i + 300,
+             "u_start_deg": 10.0, "u_end_deg": 20.0, "max_margin_nmi": 100.0}
+            for i, n in enumerate(names) if i % 3
+        ],
+    }  # fmt: skip
+    got = run.page.evaluate(
+        """async (reach) => { const m = await import('./js/timeline.js'), plot = document.getElementById('plot');
+        m.drawTimeline(plot, reach); const svg = plot.querySelector('svg.timeline-plot');
+        return { boxes: [...svg.querySelectorAll('text.site-label')].map((t) => { const b = t.getBBox(); return [b.y, b.y + b.height]; }),
+          names: [...svg.querySelectorAll('g.site-row-label > title')].map((t) => t.textContent),
+          frame: +svg.querySelector('rect.frame').getAttribute('height'), pane: plot.clientHeight,
+          scrolls: plot.scrollHeight, width: +svg.getAttribute('width'), paneWidth: plot.clientWidth }; }""",
+        reach,
+    )
+    assert got["names"] == names and got["frame"] / len(names) >= 18.0
+    assert all(b[1] <= c[0] for b, c in zip(got["boxes"], got["boxes"][1:])), got["boxes"]
+    assert got["scrolls"] > got["pane"] and got["width"] <= got["paneWidth"]
+    assert not run.errors and run.violations() == []

@@ -126,6 +126,10 @@ def test_an_opportunitys_oem_and_czml_round_trip_through_the_route(api, finished
     missing = api.get(f"/api/jobs/{finished['id']}/opportunities/{last + 1}")
     assert missing.status_code == 404 and f"no opportunity {last + 1}" in missing.json()["detail"]
     assert api.get(f"/api/jobs/{finished['id']}/opportunities/-1").status_code == 422
+    from tests.service.sample_requests import UNKNOWN_ID
+
+    gone = api.get(f"/api/jobs/{UNKNOWN_ID}/opportunities")
+    assert gone.status_code == 404 and gone.json()["detail"] == f"no job {UNKNOWN_ID!r}"
 
 
 def datetime_of(text):

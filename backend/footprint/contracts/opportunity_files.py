@@ -99,12 +99,12 @@ def opportunity_oem(
     coast_utc = after_s(burn, coast.seconds)
     r_teme, v_teme = earth_fixed_to_teme(coast.r_ft, coast.v_rel_fps, coast_utc, study.coast.omega_rad_s)
     segments = [
-        _oem_segment(
+        _oem_segment(  # TEME: the coast is an orbit, in its elements' own frame (SGP4's), its velocity inertial
             "coast", "TEME", f"deorbit burn {o['delta_v_fps']:.3f} ft/s retrograde at {o['burn_utc']} to the entry "
             f"interface at {study.deorbit.interface_altitude_ft:,.0f} ft (vacuum, the orbit's earth's gravity)",
             _epochs(burn, coast.seconds), r_teme, v_teme, meta,
         ),
-        _oem_segment(
+        _oem_segment(  # GRC: the entry is flown on the rotating earth (TEME turned by GMST, no polar motion)
             "entry", "GRC", f"the footprint study's case flown from the entry state to its stop, for {o['site_name']} "
             "(its own controls, not guided to the site); earth-fixed, the velocity relative to the earth",
             _epochs(burn, entry.seconds), entry.r_ft / FT_PER_KM, entry.v_rel_fps / FT_PER_KM, meta,
