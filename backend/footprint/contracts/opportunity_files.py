@@ -94,7 +94,7 @@ def opportunity_oem(
     number = elements["satellite_number"]
     meta = {
         "object_name": elements["name"] or f"satellite {number or 'unnumbered'}",
-        "object_id": str(number or "UNKNOWN"),
+        "object_id": str(number or "UNKNOWN"),  # the catalogue number: the elements carry no international designator
     }
     coast_utc = after_s(burn, coast.seconds)
     r_teme, v_teme = earth_fixed_to_teme(coast.r_ft, coast.v_rel_fps, coast_utc, study.coast.omega_rad_s)
@@ -147,7 +147,8 @@ def opportunity_czml(study: OpportunitiesStudy, answer: dict[str, Any], index: i
         ),
         Packet(
             id=f"opportunity-{index}", name=name, availability=TimeInterval(start=start, end=end),
-            description=f"burn {o['burn_utc']}, entry {o['entry_utc']}, landing {o['landing_utc']}",
+            description=f"burn {o['burn_utc']}, entry {o['entry_utc']}, landing {o['landing_utc']}; after the entry, "
+            "the footprint study's case flown to its stop (its own controls, not guided to the site)",
             position=Position(epoch=start, referenceFrame="FIXED", cartesian=samples,
                               interpolationAlgorithm=InterpolationAlgorithms.LAGRANGE, interpolationDegree=5),
             path=Path(show=True, width=2, leadTime=0, trailTime=float(seconds[-1]) + 1.0, resolution=10,
