@@ -117,3 +117,26 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, change, words):
     assert r.returncode == 2, r.stdout + r.stderr
     said = r.stderr.strip().splitlines()
     assert len(said) == 1 and words in said[0] and "Traceback" not in r.stderr, r.stderr
+
+
+def test_the_chosen_opportunitys_oem_and_czml(tmp_path):
+    """Issue 52: --oem and --czml write the opportunity at --opportunity (its index in landing order), read back by
+    ccsds-ndm and as JSON; an index the answer does not hold is one line naming the option."""
+    from ccsds_ndm.ndm_io import NdmIo
+
+    path = tmp_path / "study.json"
+    path.write_text(json.dumps(small_study()))
+    oem, czml = tmp_path / "o.oem", tmp_path / "o.czml"
+    r = run("opportunities", path, "--workers", 0, "--opportunity", 1, "--oem", oem, "--czml", czml, "--json")
+    assert r.returncode == 0, r.stderr
+    chosen = json.loads(r.stdout)["opportunities"][1]
+    segments = NdmIo().from_string(oem.read_text()).body.segment
+    assert [s.metadata.ref_frame for s in segments] == ["TEME", "GRC"]
+    assert segments[0].data.state_vector[0].epoch + "Z" == chosen["burn_utc"]
+    vehicle = json.loads(czml.read_text())[1]
+    assert vehicle["availability"].startswith(chosen["burn_utc"] + "/")
+    r = run("opportunities", path, "--workers", 0, "--opportunity", 99, "--oem", oem)
+    last = r.stderr.splitlines()[-1]  # after the run's progress: the answer sets the range
+    assert r.returncode == 2 and re.fullmatch(
+        r"error: --opportunity: 99 is outside the allowed range of 0 to \d+", last
+    )

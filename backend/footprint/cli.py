@@ -549,6 +549,19 @@ def opportunities(
     figure: Path | None = typer.Option(
         None, "--figure", metavar="FILE.png", help="the opportunities on a UTC timeline, night at each site shaded"
     ),
+    oem_out: Path | None = typer.Option(
+        None, "--oem", metavar="FILE.oem", help="the chosen opportunity's coast (TEME) and entry (GRC) as a CCSDS OEM"
+    ),
+    czml_out: Path | None = typer.Option(
+        None, "--czml", metavar="FILE.czml", help="the chosen opportunity's coast and entry as CZML for Cesium"
+    ),
+    chosen: int = typer.Option(
+        0,
+        "--opportunity",
+        min=0,
+        metavar="N",
+        help="the opportunity --oem and --czml write: its index in landing order",
+    ),
     as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
 ):
     """Landing opportunities in UTC: for each revolution of the window and each site, the deorbit burns (time, Δv)
@@ -556,7 +569,8 @@ def opportunities(
     margin and the sun at the site; one Dask task per revolution."""
     from contextlib import ExitStack
 
-    for path, option in ((csv_out, "--csv"), (ics_out, "--ics"), (geojson_out, "--geojson"), (figure, "--figure")):
+    outputs = ((csv_out, "--csv"), (ics_out, "--ics"), (geojson_out, "--geojson"), (figure, "--figure"))
+    for path, option in (*outputs, (oem_out, "--oem"), (czml_out, "--czml")):
         _writable(path, option)
     study = _request("opportunities", study_file)
     dask = _dask_options(workers, scheduler, parallel.default_workers())
@@ -581,7 +595,24 @@ def opportunities(
         from footprint.pictures.figures import opportunities_timeline_figure, save
 
         save(opportunities_timeline_figure(result), figure)
+    _write_opportunity_files(study, result, chosen, oem_out, czml_out)
     _answer(result, as_json, _opportunities_lines)
+
+
+def _write_opportunity_files(study, result: dict, index: int, oem_out: Path | None, czml_out: Path | None) -> None:
+    """--oem and --czml of the opportunity at --opportunity (one line naming the option when it is not there)."""
+    from footprint.contracts import opportunity_files
+
+    if oem_out is None and czml_out is None:
+        return
+    try:
+        opportunity_files.opportunity_at(result, index)
+    except InputError as exc:
+        _fail(f"--opportunity: {exc.message}")
+    if oem_out is not None:
+        oem_out.write_text(opportunity_files.opportunity_oem(study, result, index))
+    if czml_out is not None:
+        czml_out.write_text(opportunity_files.opportunity_czml(study, result, index))
 
 
 def _opportunities_lines(r: dict) -> list[str]:

@@ -10,7 +10,7 @@ import { el, fmt } from "./format.js";
 import { copyOffsets, listPoints, openRing, placeOnRing, planarOutline, unwrapLongitudes, unwrapRing, wrapLongitude }
   from "./geometry.js";
 import { asFootprintField, buildFootprintStudy, followJob } from "./jobs.js";
-import { drawOpportunityTimeline, opportunitySpan, utcMs, utcWords } from "./timeline.js";
+import { drawOpportunityTimeline, utcMs, utcWords } from "./timeline.js";
 
 const $ = (id) => document.getElementById(id);
 /** The chosen opportunity's colours on the map and the globe (styles.css has the globe's and the legend's). */
@@ -42,9 +42,11 @@ function footprintStudy() {
   return study;
 }
 
-/** A table's UTC time ("01:08:00"), its date ("09-21") on a line above when the answer spans days. */
-const timeCell = (iso, withDate) => el("td", {}, withDate ? el("span", { class: "op-day" }, iso.slice(5, 10)) : null,
-                                       utcWords(iso));
+/** A table's UTC time: its date ("2026-09-21") on a line above the time to the millisecond ("01:18:21.374"). */
+const timeCell = (iso) => {
+  const [day, time] = utcWords(iso).split(" ");
+  return el("td", {}, el("span", { class: "op-day" }, day), time);
+};
 /** Hours of the clock as "HH:MM" (a local solar time). */
 const hoursMinutes = (h) => {
   const m = Math.round(h * 60) % 1440, two = (n) => String(n).padStart(2, "0");
@@ -63,6 +65,7 @@ export class OpportunitiesPanel {
     this.form = $("opportunities-form");
     this.sites = [];
     this.answer = null; // result.opportunities of the job shown
+    this.jobId = null; // its job, whose files the downloads fetch (null: an answer not from a job of this page)
     this.selected = null; // the chosen opportunity's index in answer.opportunities
     this.globeCenter = null; // [lon, lat] between the chosen one's entry and its site
     this.layer = L.layerGroup().addTo(this.map);
@@ -156,16 +159,18 @@ export class OpportunitiesPanel {
       const met = a.opportunities.filter((o) => o.meets_rules).length;
       li.append(el("div", { class: "succeeded" }, `${fmt(a.opportunities.length)} opportunities over ${fmt(a.run.tasks)} `
         + `revolution${a.run.tasks === 1 ? "" : "s"}, ${fmt(met)} meet the rules`));
-      this.show(a);
+      this.show(a, job.id);
     } else if (job.error) {
       li.append(el("div", { class: "failed" }, job.error));
     }
   }
 
   // ------------------------------------------------------------------------------------------- the answer
-  /** An answer in the panel and the plot; the first opportunity that meets the rules (else the first) chosen. */
-  show(answer) {
+  /** An answer in the panel and the plot, the first to land chosen (the first row of its site's table); the
+   * calendar's download its job's. */
+  show(answer, jobId = null) {
     this.answer = answer;
+    this.jobId = jobId;
     const e = answer.elements, rules = answer.rules;
     const sun = rules.sun_elevation_min_deg;
     const ruleWords = `${sun == null ? "the sun anywhere" : `the sun at least ${asGiven(sun)}°`} and a margin of at least `
@@ -173,17 +178,17 @@ export class OpportunitiesPanel {
     $("op-summary").replaceChildren(
       el("p", { class: "guided-line" }, `${e.name || `Satellite ${e.satellite_number}`} `,
          el("span", { class: "muted" }, `(${e.satellite_number}, ${fmt(e.inclination_deg, 2)}°, ${fmt(e.period_min, 1)} min; `
-           + `elements of ${utcWords(e.epoch_utc, true)} UTC)`)),
-      el("p", {}, `${utcWords(answer.window.start_utc, true)} to ${utcWords(answer.window.end_utc, true)} UTC: `
+           + `elements of ${utcWords(e.epoch_utc)} UTC)`)),
+      el("p", {}, `${utcWords(answer.window.start_utc)} to ${utcWords(answer.window.end_utc)} UTC: `
          + `${fmt(answer.opportunities.length)} opportunities at ${answer.sites.filter((s) => s.opportunities).length} of `
          + `${answer.sites.length} sites, ${fmt(answer.opportunities.filter((o) => o.meets_rules).length)} with ${ruleWords}.`));
     $("op-site").replaceChildren(...answer.sites.map((s, i) => el("option", { value: String(i) },
       `${s.name} · ${fmt(s.meeting_rules)} of ${fmt(s.opportunities)}`)));
     $("op-result").hidden = false;
-    const first = answer.opportunities.findIndex((o) => o.meets_rules);
     this.onResult?.();
-    if (answer.opportunities.length) this.select(first >= 0 ? first : 0);
+    if (answer.opportunities.length) this.select(0);
     else { this.selected = null; this.clearDrawing(); this.renderTable(); }
+    this.setDownloads();
   }
 
   /** The timeline of the answer shown in `container` (the plot area). */
@@ -199,47 +204,62 @@ export class OpportunitiesPanel {
     $("op-site").value = String(o.site);
     this.renderTable();
     this.renderDetail(o);
+    this.setDownloads();
     this.draw(o);
     this.onSelect?.(k);
     if (fromTimeline) document.querySelector(`#plot .op-mark[data-index="${k}"]`)?.focus();
   }
 
-  /** The chosen site's opportunities: those that meet the rules by rank, then the others in landing order. */
+  /** The job's files: its calendar, and the chosen opportunity's coast and entry as a CCSDS OEM and as CZML (the
+   * service's, GET /api/jobs/{id}/opportunities...); hidden for an answer without its job. */
+  setDownloads() {
+    const base = this.jobId && `/api/jobs/${encodeURIComponent(this.jobId)}/opportunities`;
+    $("op-downloads").hidden = !base;
+    if (!base) return;
+    $("op-ics").href = `${base}?format=ics`;
+    const chosen = this.selected != null && this.answer?.opportunities[this.selected];
+    for (const [id, format] of [["op-oem", "oem"], ["op-czml", "czml"]]) {
+      $(id).hidden = !chosen;
+      if (chosen) $(id).href = `${base}/${this.selected}?format=${format}`;
+    }
+  }
+
+  /** The chosen site's opportunities in landing order, each with its rank by margin among those that meet the
+   * rules. */
   renderTable() {
     const a = this.answer, site = Number($("op-site").value);
     if (!a) return;
-    const withDate = this.withDate();
     const mine = a.opportunities.map((o, k) => ({ o, k })).filter(({ o }) => o.site === site)
-      .sort((x, y) => (x.o.rank ?? Infinity) - (y.o.rank ?? Infinity) || utcMs(x.o.landing_utc) - utcMs(y.o.landing_utc));
+      .sort((x, y) => utcMs(x.o.landing_utc) - utcMs(y.o.landing_utc) || x.k - y.k);
     if (!mine.length) {
       $("op-table").replaceChildren(el("p", { class: "muted" }, "No opportunity at this site in the window."));
       return;
     }
-    const head = ["#", "Burn", "Δv", "Landing", "Margin", "Sun", "Solar"];
+    const head = ["Rank", "Burn", "Δv", "Landing", "Margin", "Sun", "Solar"];
     const rows = mine.map(({ o, k }) => el("tr", {
       class: `${o.meets_rules ? "meets" : "fails"}${k === this.selected ? " selected" : ""}`, dataset: { index: String(k) },
       "aria-selected": String(k === this.selected) },
       el("td", {}, el("button", { type: "button", class: "op-show",
-                                  "aria-label": `Show the opportunity landing at ${utcWords(o.landing_utc, withDate)} UTC` },
+                                  "aria-label": `Show the opportunity landing at ${utcWords(o.landing_utc)} UTC` },
                       o.rank == null ? "–" : String(o.rank))),
-      timeCell(o.burn_utc, withDate), el("td", {}, fmt(o.delta_v_fps, 1)),
-      timeCell(o.landing_utc, withDate), el("td", {}, fmt(o.margin_nmi)),
+      timeCell(o.burn_utc), el("td", {}, fmt(o.delta_v_fps, 1)),
+      timeCell(o.landing_utc), el("td", {}, fmt(o.margin_nmi)),
       el("td", {}, signed(o.sun_elevation_deg, 1)), el("td", {}, hoursMinutes(o.local_solar_time_h))));
     $("op-table").replaceChildren(el("table", { class: "reach op-opportunities" },
-      el("caption", { class: "small muted" }, "Ranked by margin among those that meet the rules (–: fails a rule). Burn and "
-         + "landing UTC, Δv ft/s, margin nmi, sun elevation ° and local solar time at the site."),
+      el("caption", { class: "small muted" }, "In landing order; rank by margin among those that meet the rules (–: fails a "
+         + "rule). Burn and landing UTC, Δv ft/s, margin nmi, sun elevation ° and local solar time at the site."),
       el("thead", {}, el("tr", {}, ...head.map((h) => el("th", { scope: "col" }, h)))), el("tbody", {}, ...rows)));
   }
 
   renderDetail(o) {
-    const e = o.entry, wd = this.withDate();
+    const e = o.entry;
     $("op-detail").replaceChildren(
-      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: land at ${utcWords(o.landing_utc, wd)} UTC`),
-      el("p", {}, `Burn ${utcWords(o.burn_utc, wd)} UTC, the middle of its window ${utcWords(o.burn_window_start_utc, wd)}–`
-         + `${utcWords(o.burn_window_end_utc, wd)}${o.burn_window_clipped ? " (cut by the search's edge: no optimum)" : ""}, `
+      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: land at ${utcWords(o.landing_utc)} UTC`),
+      el("p", {}, `Burn ${utcWords(o.burn_utc)} UTC, the middle of its window ${utcWords(o.burn_window_start_utc)}–`
+         + `${utcWords(o.burn_window_end_utc)}${o.burn_window_clipped ? " (cut by the search's edge: no optimum)" : ""}, `
          + `at ${fmt(o.burn_altitude_ft)} ft over ${fmt(o.burn_latitude_deg, 2)}°, ${fmt(o.burn_longitude_deg, 2)}°; `
          + `Δv ${fmt(o.delta_v_fps, 1)} ft/s; coast ${fmt(o.coast_s)} s to the entry at `
-         + `${utcWords(o.entry_utc, wd)}: ${fmt(e.latitude_deg, 2)}°, ${fmt(e.longitude_deg, 2)}°, γ ${signed(e.gamma_deg, 2)}°, `
+         + `${utcWords(o.entry_utc)}: ${fmt(e.latitude_deg, 2)}°, ${fmt(e.longitude_deg, 2)}°, γ ${signed(e.gamma_deg, 2)}°, `
          + `heading ${fmt(e.heading_deg, 1)}°, ${fmt(e.velocity_fps)} ft/s.`),
       el("p", {}, `Flight ${fmt(o.flight_time_s)} s: ${fmt(o.downrange_nmi)} nmi down-range, ${fmt(o.crossrange_nmi)} nmi `
          + `cross-range, ${fmt(o.margin_nmi)} nmi inside the footprint (${fmt(o.downrange_margin_nmi)} along its down-range, `
@@ -250,15 +270,9 @@ export class OpportunitiesPanel {
   /** The chosen opportunity in words, for a PNG's caption (exporting.js), or null. */
   caption() {
     if (this.selected == null || !this.answer) return null;
-    const o = this.answer.opportunities[this.selected], wd = this.withDate();
-    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc, wd)} UTC, revolution ${o.revolution_number ?? o.revolution}`,
-            `burn ${utcWords(o.burn_utc, wd)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi`];
-  }
-
-  /** Whether times need their date: the answer's span covers more than one UTC day. */
-  withDate() {
-    const [t0, t1] = opportunitySpan(this.answer);
-    return new Date(t0).toISOString().slice(0, 10) !== new Date(t1).toISOString().slice(0, 10);
+    const o = this.answer.opportunities[this.selected];
+    return [`${this.answer.sites[o.site].name}: landing ${utcWords(o.landing_utc)} UTC, revolution ${o.revolution_number ?? o.revolution}`,
+            `burn ${utcWords(o.burn_utc)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi`];
   }
 
   // ------------------------------------------------------------------------------------------- the map
@@ -296,7 +310,7 @@ export class OpportunitiesPanel {
 
   draw(o) {
     this.layer.clearLayers();
-    const p = this.place(o), wd = this.withDate();
+    const p = this.place(o);
     const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true };
     const lons = [...p.track.lon, ...p.coast.lon, ...p.footprint.line.map(([lon]) => lon), p.site.longitude_deg];
     const S = OPPORTUNITY_STYLE, main = [];
@@ -317,14 +331,14 @@ export class OpportunitiesPanel {
                      { ...svg, color: S.coast, weight: 3, interactive: false, className: cls("op-coast") }));
       L.circleMarker([p.coast.lat[0], p.coast.lon[0] + offset],
                      { ...svg, radius: 5.5, color: "#fff", weight: 2, fillColor: S.coast, fillOpacity: 1, className: cls("op-burn") })
-        .bindTooltip(`Burn ${utcWords(o.burn_utc, wd)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s`).addTo(this.layer);
+        .bindTooltip(`Burn ${utcWords(o.burn_utc)} UTC, Δv ${fmt(o.delta_v_fps, 1)} ft/s`).addTo(this.layer);
       L.circleMarker([p.entry.latitude_deg, p.entry.longitude_deg + offset],
                      { ...svg, radius: 5.5, color: "#fff", weight: 2, fillColor: S.footprint, fillOpacity: 1, className: cls("op-entry") })
-        .bindTooltip(`Entry ${utcWords(o.entry_utc, wd)} UTC at ${fmt(o.entry.altitude_ft)} ft, γ ${signed(o.entry.gamma_deg, 2)}°`)
+        .bindTooltip(`Entry ${utcWords(o.entry_utc)} UTC at ${fmt(o.entry.altitude_ft)} ft, γ ${signed(o.entry.gamma_deg, 2)}°`)
         .addTo(this.layer);
       add(L.circleMarker([p.site.latitude_deg, p.site.longitude_deg + offset],
                          { ...svg, radius: 10, color: S.site, weight: 2.5, fill: false, className: cls("op-site") })
-        .bindTooltip(el("div", {}, el("strong", {}, p.site.name), el("br"), `landing ${utcWords(o.landing_utc, wd)} UTC, `
+        .bindTooltip(el("div", {}, el("strong", {}, p.site.name), el("br"), `landing ${utcWords(o.landing_utc)} UTC, `
                         + `margin ${fmt(o.margin_nmi)} nmi`)));
     }
     this.legendRevolution.textContent = `ground track, revolution ${o.revolution_number ?? o.revolution}`;

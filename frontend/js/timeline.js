@@ -10,6 +10,8 @@ const SVG_NS = "http://www.w3.org/2000/svg";
 const MARGIN = { left: 150, right: 16, top: 28, bottom: 34 };
 const NAME_CHARS = 22; // a longer site name is cut in its row's label (its whole name is in the marks' titles)
 const TICK_PX = 80; // at least this far between two time ticks
+const ROW_MIN_PX = 18; // a site's row: its name (12 px) and a mark clear of the next row's
+const SCROLL_BAR_PX = 16; // a taller plot scrolls in its pane: its width leaves the bar room
 const SITE_COLORS = ["#2e7d32", "#1f6fbf", "#d1495b", "#8e5dbf", "#e08a1e", "#2a9d8f", "#c2549b", "#5c7c2e"];
 
 /** Each landing window of a reach result with its site's row and colour (the i-th site's: SITE_COLORS in turn): the
@@ -36,10 +38,12 @@ export function svgNode(tag, attributes = {}, ...children) {
 }
 const px = (v) => +v.toFixed(2);
 
-/** The frame both timelines share: one row per site (its name, cut to fit), vertical grid lines at the ticks
- * ([{at, label, cls}], at in the scale's units) and their labels. Returns the svg, the rows' geometry and the box. */
-function siteRows(container, { names, dimmed = [], ticks, sx, title, axisLabel, ariaLabel, cls, top = MARGIN.top }) {
-  const width = Math.max(container.clientWidth, 320), height = Math.max(container.clientHeight, 160);
+/** The frame both timelines share: one row per site (its name, cut to fit, whole on hover), vertical grid lines at
+ * the ticks ([{at, label, cls}], at in the scale's units) and their labels. The rows share the container's height
+ * but are never under ROW_MIN_PX: more sites make the plot taller, the pane scrolling (styles.css), not the names
+ * overlap. Returns the svg, the rows' geometry and the box. */
+function siteRows(container, { names, dimmed = [], ticks, sx, title, axisLabel, ariaLabel, cls, top = MARGIN.top, ...given }) {
+  const { height, ...size } = plotSize(container, names.length, top), width = given.width ?? size.width; // sx's width
   const box = { left: MARGIN.left, top, width: width - MARGIN.left - MARGIN.right, height: height - top - MARGIN.bottom };
   const row = box.height / Math.max(names.length, 1);
   const svg = svgNode("svg", { xmlns: SVG_NS, class: `range-plot timeline-plot ${cls ?? ""}`.trim(),
@@ -51,9 +55,10 @@ function siteRows(container, { names, dimmed = [], ticks, sx, title, axisLabel, 
                        t.label));
   }
   names.forEach((name, i) => {
-    svg.append(svgNode("text", { class: `tick site-label${dimmed[i] ? " missed" : ""}`, x: box.left - 6,
-                                 y: px(box.top + i * row + row / 2 + 4), "text-anchor": "end" },
-                       name.length > NAME_CHARS ? name.slice(0, NAME_CHARS - 1) + "…" : name));
+    svg.append(svgNode("g", { class: "site-row-label" }, svgNode("title", {}, name),
+      svgNode("text", { class: `tick site-label${dimmed[i] ? " missed" : ""}`, x: box.left - 6,
+                        y: px(box.top + i * row + row / 2 + 4), "text-anchor": "end" },
+              name.length > NAME_CHARS ? name.slice(0, NAME_CHARS - 1) + "…" : name)));
   });
   svg.append(svgNode("rect", { class: "frame", x: box.left, y: box.top, width: px(box.width), height: px(box.height) }),
              svgNode("text", { class: "axis-label", x: px(box.left + box.width / 2), y: height - 6, "text-anchor": "middle" },
@@ -63,6 +68,14 @@ function siteRows(container, { names, dimmed = [], ticks, sx, title, axisLabel, 
   return { svg, box, row, width, height };
 }
 
+/** A timeline's size: the container's, taller when its rows would be under ROW_MIN_PX (then narrower by the
+ * scroll bar the taller plot brings). */
+export function plotSize(container, rows, top = MARGIN.top) {
+  const needed = top + MARGIN.bottom + rows * ROW_MIN_PX, fits = needed <= Math.max(container.clientHeight, 160);
+  return { width: Math.max(container.clientWidth - (fits ? 0 : SCROLL_BAR_PX), 320),
+           height: Math.max(container.clientHeight, 160, needed) };
+}
+
 export function drawTimeline(container, reach) {
   if (!reach) {
     container.innerHTML = '<p class="empty">Run a reach analysis to see the landing windows in time.</p>';
@@ -70,7 +83,7 @@ export function drawTimeline(container, reach) {
   }
   const hours = reach.analysis.time_span_end_s / 3600;
   const sites = reach.sites;
-  const width = Math.max(container.clientWidth, 320);
+  const { width } = plotSize(container, sites.length);
   const pw = width - MARGIN.left - MARGIN.right;
   const sx = (h) => MARGIN.left + (h / (hours || 1)) * pw;
   const { svg, box, row } = siteRows(container, {
@@ -93,7 +106,15 @@ export function drawTimeline(container, reach) {
 const MINUTE_MS = 60_000;
 const TICK_STEPS_MIN = [1, 2, 5, 10, 15, 20, 30, 60, 120, 180, 360, 720, 1440, 2880, 10080];
 
-export const utcMs = (iso) => Date.parse(iso);
+const ISO_UTC = /^(\d{4}-\d\d-\d\d)T(\d\d:\d\d):(\d\d)(?:\.(\d+))?Z$/; // as the service writes a time
+
+/** A UTC time's ms since 1970 (POSIX: no leap second). One in a leap second ("23:59:60.250Z", which Date.parse
+ * refuses) is put where POSIX puts it, on the next day's first second. */
+export function utcMs(iso) {
+  const m = ISO_UTC.exec(iso);
+  if (!m || +m[3] < 60) return Date.parse(iso);
+  return Date.parse(`${m[1]}T${m[2]}:59${m[4] ? `.${m[4]}` : ""}Z`) + 1000;
+}
 
 /** Clock-time ticks over [t0, t1] (ms, UTC) at least `minMs` apart, at whole steps from midnight: "HH:MM", and the
  * date ("2008-09-22") at midnight. */
@@ -107,10 +128,13 @@ export function utcTicks(t0, t1, minMs) {
   return ticks;
 }
 
-/** "01:08:00", with the date ("09-21 01:08:00") when the answer spans more than one UTC day. */
-export function utcWords(iso, withDate = false) {
+/** A UTC time in words, with its year and to the millisecond: "2026-09-21 01:18:21.374" (the caller says UTC); a
+ * leap second's 60 as written. */
+export function utcWords(iso) {
+  const m = ISO_UTC.exec(iso);
+  if (m) return `${m[1]} ${m[2]}:${m[3]}.${(m[4] ?? "").padEnd(3, "0").slice(0, 3)}`;
   const t = new Date(utcMs(iso)).toISOString();
-  return withDate ? `${t.slice(5, 10)} ${t.slice(11, 19)}` : t.slice(11, 19);
+  return `${t.slice(0, 10)} ${t.slice(11, 23)}`;
 }
 
 /** The time span a landing-opportunities answer is drawn over (ms): the window, on to the last landing, and a
@@ -131,16 +155,17 @@ export function drawOpportunityTimeline(container, answer, { selected = null, on
     return;
   }
   const [t0, t1] = opportunitySpan(answer);
-  const width = Math.max(container.clientWidth, 320), pw = width - MARGIN.left - MARGIN.right;
+  const top0 = MARGIN.top + 18; // the key under the title: the most the plot's top can be
+  const width = plotSize(container, answer.sites.length, top0).width, pw = width - MARGIN.left - MARGIN.right;
   const sx = (t) => MARGIN.left + ((t - t0) / (t1 - t0)) * pw;
   const met = answer.opportunities.filter((o) => o.meets_rules).length;
   const title = `Landing opportunities from ${answer.elements.name || `satellite ${answer.elements.satellite_number}`}: `
     + `${answer.opportunities.length}, ${met} meet the rules`;
   // the key beside the title when both fit on one line, else under it
-  const top = TITLE_CHAR_PX * title.length + legendWidth() + 20 > width ? MARGIN.top + 18 : MARGIN.top;
+  const top = TITLE_CHAR_PX * title.length + legendWidth() + 20 > width ? top0 : MARGIN.top;
   const { svg, box, row } = siteRows(container, {
     names: answer.sites.map((s) => s.name), dimmed: answer.sites.map((s) => !s.opportunities), sx, cls: "opportunity-plot",
-    ticks: utcTicks(t0, t1, (TICK_PX / pw) * (t1 - t0)), top, title,
+    ticks: utcTicks(t0, t1, (TICK_PX / pw) * (t1 - t0)), top, title, width,
     axisLabel: `Landing time (UTC) from ${answer.window.start_utc.slice(0, 10)} · grey: night at the site`,
     ariaLabel: "Landing opportunities against UTC" });
   const clip = (t) => Math.min(Math.max(t, t0), t1);
@@ -160,11 +185,10 @@ export function drawOpportunityTimeline(container, answer, { selected = null, on
                        svgNode("title", {}, `ascending node ${utcWords(iso)} UTC`)));
   }
   const radius = Math.max(2.5, Math.min(5.5, row * 0.3));
-  const withDate = new Date(t0).toISOString().slice(0, 10) !== new Date(t1).toISOString().slice(0, 10);
   const marks = answer.opportunities.map((o, k) => ({ o, k })).sort((a, b) => (a.k === selected) - (b.k === selected));
   for (const { o, k } of marks) { // the selected one last: on top
-    const words = `${o.site_name}: landing ${utcWords(o.landing_utc, withDate)} UTC, revolution ${o.revolution_number ?? o.revolution}; burn `
-      + `${utcWords(o.burn_utc, withDate)}, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi, sun `
+    const words = `${o.site_name}: landing ${utcWords(o.landing_utc)} UTC, revolution ${o.revolution_number ?? o.revolution}; burn `
+      + `${utcWords(o.burn_utc)}, Δv ${fmt(o.delta_v_fps, 1)} ft/s; margin ${fmt(o.margin_nmi)} nmi, sun `
       + `${fmt(o.sun_elevation_deg, 1)}°${o.meets_rules ? "" : " (fails a rule)"}`;
     svg.append(svgNode("circle", { class: `op-mark ${o.meets_rules ? "meets" : "fails"}${k === selected ? " selected" : ""}`,
                                    cx: px(sx(utcMs(o.landing_utc))), cy: px(box.top + o.site * row + row / 2),

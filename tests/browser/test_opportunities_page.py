@@ -10,6 +10,7 @@ import json
 import re
 import time
 from datetime import datetime
+from pathlib import Path
 
 import pytest
 
@@ -42,7 +43,10 @@ TIMELINE_JS = """() => { const svg = document.querySelector('#plot svg.opportuni
   const n = (e, a) => +e.getAttribute(a);
   return { frame: { x: n(f, 'x'), y: n(f, 'y'), w: n(f, 'width'), h: n(f, 'height') },
     ticks: [...svg.querySelectorAll(':scope > text.tick:not(.site-label)')].map((t) => [t.textContent, n(t, 'x')]),
-    labels: [...svg.querySelectorAll(':scope > text.site-label')].map((t) => t.textContent),
+    labels: [...svg.querySelectorAll('text.site-label')].map((t) => t.textContent),
+    names: [...svg.querySelectorAll('g.site-row-label > title')].map((t) => t.textContent),
+    boxes: [...svg.querySelectorAll('text.site-label')].map((t) => { const b = t.getBBox(); return [b.y, b.y + b.height]; }),
+    height: n(svg, 'height'), pane: svg.parentElement.clientHeight, scrolls: svg.parentElement.scrollHeight,
     marks: [...svg.querySelectorAll('circle.op-mark[data-index]')].map((c) => ({ index: +c.dataset.index,
       site: +c.dataset.site, x: n(c, 'cx'), y: n(c, 'cy'), cls: c.getAttribute('class'), fill: getComputedStyle(c).fill })),
     nights: [...svg.querySelectorAll('rect.op-night[data-site]')].map((r) => ({ site: +r.dataset.site, x: n(r, 'x'),
@@ -144,6 +148,40 @@ def assert_drawn(page, answer, k):
     return drawn
 
 
+def downloaded(page, selector):
+    with page.expect_download(timeout=WAIT_MS) as download:
+        page.click(selector)
+    return download.value.suggested_filename, Path(download.value.path()).read_bytes()
+
+
+def assert_downloads(page, job_id, answer, k):
+    """The panel's files, as a planner saves them: the job's calendar read back by icalendar (an event per
+    opportunity that meets the rules, the answer's UIDs and burn seconds), the chosen one's OEM by ccsds-ndm and its
+    CZML as JSON, each starting at its burn."""
+    from ccsds_ndm.ndm_io import NdmIo
+    from icalendar import Calendar
+
+    from footprint.contracts.opportunities import event_uid
+
+    name, ics = downloaded(page, "#op-ics")
+    assert name == f"opportunities-{job_id}.ics"
+    events = Calendar.from_ical(ics).walk("VEVENT")
+    taken = [o for o in answer["opportunities"] if o["meets_rules"]]
+    assert [str(e["UID"]) for e in events] == [event_uid(answer["elements"]["satellite_number"], o) for o in taken]
+    for e, o in zip(events, taken):
+        assert (
+            abs((e.decoded("DTSTART") - datetime.fromisoformat(o["burn_utc"].replace("Z", "+00:00"))).total_seconds())
+            <= 0.5
+        )
+    burn = answer["opportunities"][k]["burn_utc"]
+    name, oem = downloaded(page, "#op-oem")
+    assert name == f"opportunity-{job_id}-{k}.oem"
+    coast, entry = NdmIo().from_string(oem.decode()).body.segment
+    assert coast.data.state_vector[0].epoch + "Z" == burn and entry.metadata.ref_frame == "GRC"
+    name, czml = downloaded(page, "#op-czml")
+    assert name == f"opportunity-{job_id}-{k}.czml" and json.loads(czml)[1]["availability"].startswith(burn + "/")
+
+
 def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, service, stored_sites):
     t0 = time.monotonic()
     run = open_page(1280, 800)
@@ -174,6 +212,13 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
     assert 0 < met < len(found)  # filled marks and open ones
     assert f"{len(found)} opportunities over {a['run']['tasks']} revolution" in item.inner_text()
 
+    # the first to land chosen, the first row of its site's table (issue 53 item 7: the first meeting the rules
+    # before, not the first row); the job's calendar and its coast and entry downloaded from the panel (issue 52)
+    page.locator("#plot circle.op-mark.selected[data-index='0']").wait_for(state="attached", timeout=WAIT_MS)
+    assert page.locator("#op-table tbody tr").first.get_attribute("data-index") == "0"
+    assert page.locator("#op-table tbody tr.selected").get_attribute("data-index") == "0"
+    assert_downloads(page, job["id"], a, 0)
+
     # the timeline: a mark per opportunity at its landing time in its site's row, filled when it meets the rules
     assert page.get_attribute("#plot-opportunities", "aria-pressed") == "true"
     page.locator("#plot circle.op-mark[data-index]").first.wait_for(state="attached", timeout=WAIT_MS)
@@ -182,6 +227,7 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
     f, rows = t["frame"], len(a["sites"])
     row = f["h"] / rows
     assert t["labels"][2] == HOSTILE[:21] + "…" and t["labels"][:2] == [s["name"][:21] + "…" for s in SITES[:2]]
+    assert t["names"] == [s["name"] for s in a["sites"]]  # whole on hover (issue 53 item 5)
     assert t["title"] == f"Landing opportunities from ISS (ZARYA): {len(found)}, {met} meet the rules"
     assert sorted(m["index"] for m in t["marks"]) == list(range(len(found)))
     for m in t["marks"]:
@@ -220,17 +266,21 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
     page.click(f"#plot circle.op-mark[data-index='{k}']")
     page.locator(f"#plot circle.op-mark.selected[data-index='{k}']").wait_for(state="attached", timeout=WAIT_MS)
     assert_drawn(page, a, k)
+    assert page.get_attribute("#op-oem", "href").endswith(f"/opportunities/{k}?format=oem")
     assert page.input_value("#op-site") == str(found[k]["site"])
     selected = page.locator("#op-table tr.selected")
     assert selected.count() == 1 and selected.get_attribute("data-index") == str(k)
     o = found[k]
     cells = selected.locator("td").all_inner_texts()
-    assert cells[1:5] == [
-        o["burn_utc"][11:19],
-        f"{o['delta_v_fps']:,.1f}",
-        o["landing_utc"][11:19],
-        f"{o['margin_nmi']:,.0f}",
-    ]
+    assert (
+        cells[1:5]
+        == [  # the date with its year above the time to the millisecond (issue 53 item 7)
+            f"{o['burn_utc'][:10]}\n{o['burn_utc'][11:23]}",
+            f"{o['delta_v_fps']:,.1f}",
+            f"{o['landing_utc'][:10]}\n{o['landing_utc'][11:23]}",
+            f"{o['margin_nmi']:,.0f}",
+        ]
+    )
     sun = f"{abs(o['sun_elevation_deg']):,.1f}"
     assert cells[5] == (f"−{sun}" if o["sun_elevation_deg"] < 0 else sun)
     h = round(o["local_solar_time_h"] * 60) % 1440
@@ -243,17 +293,21 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
     FIGURES_DIR.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(FIGURES_DIR / "page_opportunities.png"))
 
-    # another site's best one, clicked in its table: each site's rows ranked first, the others after
+    # another site's best one, clicked in its table: each site's rows in landing order, the rank a column (issue 53
+    # item 7: ranked by margin before, the rows jumping in time)
     page.select_option("#op-site", "2")
     assert HOSTILE in page.locator("#op-site option").nth(2).inner_text()  # the name as text
     mine = [i for i, o in enumerate(found) if o["site"] == 2]
     rows_shown = [
         int(x) for x in page.eval_on_selector_all("#op-table tbody tr", "(rs) => rs.map((r) => r.dataset.index)")
     ]
-    assert sorted(rows_shown) == mine
+    assert rows_shown == mine  # the answer's order: landing order
     ranks = [found[i].get("rank") for i in rows_shown]
-    assert [r for r in ranks if r is not None] == list(range(1, 1 + sum(r is not None for r in ranks)))
-    best = rows_shown[0]
+    assert sorted(r for r in ranks if r is not None) == list(range(1, 1 + sum(r is not None for r in ranks)))
+    shown_ranks = page.eval_on_selector_all("#op-table tbody tr td:first-child", "(cs) => cs.map((c) => c.textContent)")
+    assert shown_ranks == ["–" if r is None else str(r) for r in ranks]
+    assert page.eval_on_selector_all("#op-table thead th", "(hs) => hs.map((h) => h.textContent)")[0] == "Rank"
+    best = next((i for i in rows_shown if found[i].get("rank") == 1), rows_shown[0])
     page.click(f"#op-table tr[data-index='{best}'] button.op-show")
     assert_drawn(page, a, best)
     assert page.locator(f"#plot circle.op-mark.selected[data-index='{best}']").count() == 1
@@ -273,7 +327,9 @@ def test_opportunities_are_found_put_in_time_and_drawn_on_the_map(open_page, ser
     assert words[0].startswith(f"{a['sites'][o['site']]['name']}: landing ") and words[0].endswith(
         f" UTC, revolution {o['revolution_number']}"
     )
-    assert o["landing_utc"][11:19] in words[0] and f"Δv {o['delta_v_fps']:,.1f} ft/s" in words[1]
+    assert f"landing {o['landing_utc'][:10]} {o['landing_utc'][11:23]} UTC" in words[0]
+    assert f"burn {o['burn_utc'][:10]} {o['burn_utc'][11:23]} UTC" in words[1]
+    assert f"Δv {o['delta_v_fps']:,.1f} ft/s" in words[1]
 
     # no name became markup anywhere
     assert page.locator("#opportunities-panel img, #plot img, .leaflet-pane img[src=x]").count() == 0
@@ -320,4 +376,113 @@ def test_an_opportunities_job_is_cancelled(open_page, service, stored_sites):
     item.locator(".job-status", has_text="cancelled").wait_for(timeout=WAIT_MS)
     assert service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["status"] == "cancelled"
     assert re.fullmatch(r"\d+ %", item.locator(".job-percent").inner_text()) and item.locator(".job-cancel").is_hidden()
+    assert not run.errors and run.violations() == []
+
+
+def test_a_time_in_a_leap_second_is_written_as_it_is(open_page, service):
+    """Issue 52/53: times with the year and to the millisecond; 23:59:60 (a leap second, as the service writes it)
+    threw "Invalid time value" from Date before, and the timeline drew nothing."""
+    run = open_page()
+    got = run.page.evaluate("""async () => { const m = await import('./js/timeline.js');
+      const t = ['2016-12-31T23:59:59.900Z', '2016-12-31T23:59:60.250Z', '2017-01-01T00:00:00.500Z'];
+      return { words: t.map(m.utcWords), ms: t.map(m.utcMs), plain: m.utcWords('2026-09-21T01:18:21.374Z') }; }""")
+    assert got["plain"] == "2026-09-21 01:18:21.374"
+    assert got["words"] == ["2016-12-31 23:59:59.900", "2016-12-31 23:59:60.250", "2017-01-01 00:00:00.500"]
+    assert got["ms"][0] < got["ms"][1] < got["ms"][2]  # drawn in their order (POSIX time has no second 60)
+    assert not run.errors and run.violations() == []
+
+
+def twenty_site_answer():
+    """A two-hour answer at the worked example's 20 sites, planned in this process."""
+    from footprint import parallel
+
+    study = copy.deepcopy(EXAMPLE) | {"window": {"start": START, "hours": HOURS}, "burn_step_s": STEP_S}
+    study["ring_step_deg"] = 30
+    return parallel.run("opportunities", study)
+
+
+ROWS_JS = """() => { const svg = document.querySelector('#plot svg.opportunity-plot');
+  const boxes = [...svg.querySelectorAll('text.site-label')].map((t) => { const b = t.getBBox(); return [b.y, b.y + b.height]; });
+  const marks = [...svg.querySelectorAll('circle.op-mark[data-index]')].map((c) => +c.getAttribute('cy'));
+  return { boxes, marks, names: [...svg.querySelectorAll('g.site-row-label > title')].map((t) => t.textContent),
+    frame: +svg.querySelector('rect.frame').getAttribute('height'), height: +svg.getAttribute('height'),
+    width: +svg.getAttribute('width'), pane: svg.parentElement.clientHeight, paneWidth: svg.parentElement.clientWidth,
+    scrolls: svg.parentElement.scrollHeight }; }"""
+
+
+@pytest.mark.parametrize("sites", [3, 20])
+def test_the_timeline_grows_with_its_sites_and_names_them_whole(open_page, service, stored_sites, sites):
+    """Issue 53 item 5: 20 sites' rows were squeezed into the pane (~6 px a row: the names overlapping, cut, and
+    the pane could not grow); now each row is at least 18 px, the plot taller than its pane and scrolled there,
+    each name whole in its row's title. Screenshots of the panel with 3 and 20 sites."""
+    answer = twenty_site_answer() if sites == 20 else None
+    run = open_page(1280, 800)
+    page = run.page
+    if answer is None:  # the three stored sites' answer, as the page's job gives it
+        fill(page)
+        find(page)
+        item = page.locator("#op-jobs li").first
+        item.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    else:
+        page.evaluate("(a) => window.footprintApp.opportunities.show(a)", answer)
+        assert page.locator("#op-downloads").is_hidden()  # an answer without its job: no files to fetch
+        # the first to land is chosen though it fails a rule (the first meeting the rules was, issue 53 item 7)
+        assert not answer["opportunities"][0]["meets_rules"]
+        page.locator("#plot circle.op-mark.selected[data-index='0']").wait_for(state="attached", timeout=WAIT_MS)
+        assert page.locator("#op-table tbody tr").first.get_attribute("data-index") == "0"
+    page.locator("#plot circle.op-mark[data-index]").first.wait_for(state="attached", timeout=WAIT_MS)
+    got = page.evaluate(ROWS_JS)
+    table = page.evaluate(
+        "() => { const t = document.getElementById('op-table'); return [t.scrollWidth, t.clientWidth]; }"
+    )
+    assert table[0] <= table[1], table  # the times with their year and milliseconds fit the sidebar's table
+    assert len(got["names"]) == len(got["boxes"]) == sites
+    row = got["frame"] / sites
+    assert row >= 18.0, row
+    assert all(b[1] <= c[0] for b, c in zip(got["boxes"], got["boxes"][1:])), got["boxes"]  # no name over another
+    if sites == 20:
+        assert got["names"] == [s["name"] for s in EXAMPLE["sites"]]
+        assert got["height"] > got["pane"] and got["scrolls"] > got["pane"]  # taller than its pane: scrolled
+        assert got["width"] <= got["paneWidth"]  # no sideways scroll
+    page.evaluate("""async () => { const app = window.footprintApp; // the opportunity alone on the map
+        for (const fp of app.state.footprints.values()) if (fp.visible) await app.setVisible(fp, false); }""")
+    page.evaluate("""() => { for (const id of ['job-panel', 'dispersion-panel', 'guided-panel'])
+        document.getElementById(id).open = false; document.getElementById('opportunities-panel').scrollIntoView(); }""")
+    page.wait_for_timeout(400)
+    FIGURES_DIR.mkdir(parents=True, exist_ok=True)
+    if sites == 3:  # the panel's answer: the table, the words, the downloads (the page: page_opportunities.png)
+        page.locator("#op-result").screenshot(path=str(FIGURES_DIR / "panel_opportunities_3_sites.png"))
+    else:  # the page, and the timeline scrolled to its last rows
+        page.screenshot(path=str(FIGURES_DIR / "page_opportunities_20_sites.png"))
+        page.evaluate("() => { const p = document.getElementById('plot'); p.scrollTop = p.scrollHeight; }")
+        page.screenshot(path=str(FIGURES_DIR / "page_opportunities_20_sites_scrolled.png"))
+    assert not run.errors and run.violations() == [], (run.errors, run.violations())
+
+
+def test_the_landing_window_timeline_grows_with_its_sites_too(open_page, service):
+    """Issue 53 item 5: the reach's landing-window timeline shares the rows: 20 sites at least 18 px each, no name
+    over another, each whole in its title, the plot scrolled in its pane."""
+    run = open_page(1280, 800)
+    names = [s["name"] for s in EXAMPLE["sites"]]
+    reach = {
+        "analysis": {"time_span_end_s": 6 * 3600},
+        "sites": [{"name": n, "reachable": i % 3 != 0} for i, n in enumerate(names)],
+        "windows": [
+            {"site": n, "revolution": 1 + i % 4, "deorbit_time_start_s": 600.0 * i, "deorbit_time_end_s": 600.0 * i + 300,
+             "u_start_deg": 10.0, "u_end_deg": 20.0, "max_margin_nmi": 100.0}
+            for i, n in enumerate(names) if i % 3
+        ],
+    }  # fmt: skip
+    got = run.page.evaluate(
+        """async (reach) => { const m = await import('./js/timeline.js'), plot = document.getElementById('plot');
+        m.drawTimeline(plot, reach); const svg = plot.querySelector('svg.timeline-plot');
+        return { boxes: [...svg.querySelectorAll('text.site-label')].map((t) => { const b = t.getBBox(); return [b.y, b.y + b.height]; }),
+          names: [...svg.querySelectorAll('g.site-row-label > title')].map((t) => t.textContent),
+          frame: +svg.querySelector('rect.frame').getAttribute('height'), pane: plot.clientHeight,
+          scrolls: plot.scrollHeight, width: +svg.getAttribute('width'), paneWidth: plot.clientWidth }; }""",
+        reach,
+    )
+    assert got["names"] == names and got["frame"] / len(names) >= 18.0
+    assert all(b[1] <= c[0] for b, c in zip(got["boxes"], got["boxes"][1:])), got["boxes"]
+    assert got["scrolls"] > got["pane"] and got["width"] <= got["paneWidth"]
     assert not run.errors and run.violations() == []

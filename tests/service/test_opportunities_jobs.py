@@ -65,3 +65,80 @@ def test_bad_opportunities_are_422_naming_the_field(api, change, field):
     r = api.post("/api/jobs", json={"kind": "opportunities", "study": copy.deepcopy(small_study()) | change})
     assert r.status_code == 422 and r.json()["field"] == field, r.json()
     assert "Traceback" not in r.json()["detail"]
+
+
+@pytest.fixture(scope="module")
+def finished(api):
+    study = small_study(window={"start": "2008-09-21T00:00:00Z", "hours": 2})
+    job = wait_for_job(api, api.post("/api/jobs", json={"kind": "opportunities", "study": study}).json()["id"])
+    assert job["status"] == "succeeded", job["error"]
+    return job
+
+
+def test_the_calendar_of_a_job_is_its_opportunities_that_meet_the_rules(api, finished):
+    """Issue 52/53: the calendar from the API (the CLI's only before), read back by icalendar: an event per
+    opportunity meeting the rules, from its burn to its landing to the nearest second, UIDs the answer's."""
+    from datetime import datetime, timedelta
+
+    from icalendar import Calendar
+
+    from footprint.contracts.opportunities import event_uid
+
+    r = api.get(f"/api/jobs/{finished['id']}/opportunities")
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/calendar")
+    assert r.headers["content-disposition"] == f'attachment; filename="opportunities-{finished["id"]}.ics"'
+    events = Calendar.from_ical(r.content).walk("VEVENT")
+    answer = finished["result"]["opportunities"]
+    taken = [o for o in answer["opportunities"] if o["meets_rules"]]
+    assert taken and len(events) == len(taken)
+
+    def nearest(text):
+        t = datetime.fromisoformat(text.replace("Z", "+00:00"))
+        return (t + timedelta(milliseconds=500)).replace(microsecond=0)
+
+    for event, o in zip(events, taken):
+        assert str(event["UID"]) == event_uid(answer["elements"]["satellite_number"], o)
+        assert f"-rev{o['revolution_number']}-" in str(event["UID"])
+        assert event.decoded("DTSTART") == nearest(o["burn_utc"])
+        assert event.decoded("DTEND") == nearest(o["landing_utc"])
+    csv_rows = api.get(f"/api/jobs/{finished['id']}/opportunities?format=csv").text.splitlines()
+    assert len(csv_rows) == 1 + len(answer["opportunities"])
+
+
+def test_an_opportunitys_oem_and_czml_round_trip_through_the_route(api, finished):
+    from ccsds_ndm.ndm_io import NdmIo
+
+    answer = finished["result"]["opportunities"]
+    last = len(answer["opportunities"]) - 1
+    o = answer["opportunities"][last]
+    for fmt, media in (("oem", "text/plain"), ("oem-xml", "application/xml")):
+        r = api.get(f"/api/jobs/{finished['id']}/opportunities/{last}?format={fmt}")
+        assert r.status_code == 200 and r.headers["content-type"].startswith(media), r.text
+        assert "attachment" in r.headers["content-disposition"]
+        coast, entry = NdmIo().from_string(r.text).body.segment
+        assert coast.data.state_vector[0].epoch + "Z" == o["burn_utc"]
+        assert abs(datetime_of(entry.data.state_vector[0].epoch) - datetime_of(o["entry_utc"][:-1])) <= timedelta_ms(
+            0.5
+        )
+    r = api.get(f"/api/jobs/{finished['id']}/opportunities/{last}?format=czml")
+    assert r.status_code == 200 and r.headers["content-type"].startswith("application/json")
+    assert r.json()[1]["availability"].startswith(o["burn_utc"] + "/")
+    missing = api.get(f"/api/jobs/{finished['id']}/opportunities/{last + 1}")
+    assert missing.status_code == 404 and f"no opportunity {last + 1}" in missing.json()["detail"]
+    assert api.get(f"/api/jobs/{finished['id']}/opportunities/-1").status_code == 422
+    from tests.service.sample_requests import UNKNOWN_ID
+
+    gone = api.get(f"/api/jobs/{UNKNOWN_ID}/opportunities")
+    assert gone.status_code == 404 and gone.json()["detail"] == f"no job {UNKNOWN_ID!r}"
+
+
+def datetime_of(text):
+    from datetime import UTC, datetime
+
+    return datetime.fromisoformat(text).replace(tzinfo=UTC)
+
+
+def timedelta_ms(ms):
+    from datetime import timedelta
+
+    return timedelta(milliseconds=ms)

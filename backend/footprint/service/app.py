@@ -25,7 +25,17 @@ from footprint.csp import SECURITY_HEADERS, inline_script_hashes, page_policy
 from footprint.service import deps, errors, nul, page, read_cache
 from footprint.service.db.engine import make_engine, make_sessions, migrate
 from footprint.service.jobs.engine import JobEngine, RemoteJobs
-from footprint.service.routers import dispersion, footprints, geometry, health, jobs, sites, trajectories, vehicles
+from footprint.service.routers import (
+    dispersion,
+    footprints,
+    geometry,
+    health,
+    jobs,
+    opportunities,
+    sites,
+    trajectories,
+    vehicles,
+)
 from footprint.service.settings import MAX_BODY_BYTES, MAX_HEADER_BYTES, MAX_URL_BYTES, Settings
 
 WRITE_METHODS = {"POST", "PUT", "PATCH", "DELETE"}
@@ -102,7 +112,8 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
     app.state.shared_reads = read_cache.SharedReads()
     errors.install(app)
     routers = [
-        module.router for module in (health, vehicles, trajectories, jobs, dispersion, footprints, geometry, sites)
+        module.router
+        for module in (health, vehicles, trajectories, jobs, dispersion, opportunities, footprints, geometry, sites)
     ] + [jobs.submit_router()]
     for router in routers:
         app.include_router(router, prefix="/api")
