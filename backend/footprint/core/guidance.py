@@ -642,15 +642,15 @@ def _prediction_interval(
     its rate (z_rate, nmi/s, between the last two predictions' first misses). The calm lateral logic (a final
     reversal window) predicts every cycle: its last reversal, timed by prediction, moved its landing by 0.1 to 5 nmi
     with the schedule (tests/core/test_guidance_lateral.py's targets, waits of 10-40 s)."""
+    base, longest = float(g[G_CYCLE]), float(g[G_MAX_PREDICTION_INTERVAL])
     if g[G_FINAL_REVERSAL_WINDOW] > 0.0:  # the calm lateral logic's landing moved 0.1-5 nmi with the schedule
-        return g[G_CYCLE]
-    tolerance = max(g[G_TOLERANCE], g[G_TOLERANCE_FRACTION] * to_go)
-    if abs(first_miss) <= tolerance:
-        return min(2.0 * interval, g[G_MAX_PREDICTION_INTERVAL])
+        return base
+    if abs(first_miss) <= max(g[G_TOLERANCE], g[G_TOLERANCE_FRACTION] * to_go):
+        return min(2.0 * interval, longest)
     if flags & F_SATURATED != 0:
         turning = abs(first_miss) / abs(z_rate) if first_miss * z_rate < 0.0 else math.inf
-        return max(g[G_CYCLE], min(2.0 * interval, g[G_MAX_PREDICTION_INTERVAL], 0.5 * turning))
-    return g[G_CYCLE]
+        return max(base, min(2.0 * interval, longest, 0.5 * turning))
+    return base
 
 
 @njit
