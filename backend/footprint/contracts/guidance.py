@@ -57,6 +57,7 @@ class BankGuided(Strict):
     target: GuidedTarget
     terminal: GuidedTerminal = GuidedTerminal()
     cycle_s: Annotated[float, Range(MIN_CYCLE_S, MAX_CYCLE_S, "s")] = _default("cycle_s")
+    max_prediction_interval_s: Annotated[float, Range(MIN_CYCLE_S, 600, "s")] = _default("max_prediction_interval_s")
     initial_bank_deg: Magnitude = _default("initial_bank_deg")
     final_bank_deg: Magnitude = _default("final_bank_deg")
     min_bank_deg: Magnitude = _default("min_bank_deg")

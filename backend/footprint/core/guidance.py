@@ -99,6 +99,7 @@ LIMIT_LOOKAHEAD_S = 60.0  # s of flight whose alpha law the path limits' bound a
 LOOKAHEAD_SAMPLES = 8  # speeds sampled over it
 FINAL_TOLERANCE_NMI = 0.02  # nmi: the corrector's tolerance with the bank's sign held to the end
 FINAL_ITERATIONS = 4  # ... and its predictions after the first
+QUIET_BOUND_MARGIN_DEG = 15.0  # a prediction is skipped only with the limits' bound this far above the command
 
 
 @dataclass(frozen=True)
@@ -110,6 +111,9 @@ class Guidance:
     terminal_altitude_ft: float = 80_000.0  # e_f = h_f + V_f^2/(2 g0): the flight ends at this energy
     terminal_velocity_fps: float = 2_500.0
     cycle_s: float = 5.0  # s of flight between guidance cycles
+    # at most this long between predictions (issue 51): after a quiet prediction (its first miss within tolerance, or
+    # the command pinned at a bank limit the target lies beyond) the next waits twice as long (cycle_s: every cycle)
+    max_prediction_interval_s: float = 40.0
     initial_bank_deg: float = 45.0  # the corrector's first guess of sigma0
     final_bank_deg: float = 25.0  # sigma_f, the profile's magnitude at e_f (lower: more authority left at the end)
     min_bank_deg: float = 0.0  # the corrector's range of sigma0
@@ -174,7 +178,8 @@ G_TOLERANCE_FRACTION = 23
 G_MIN_REVERSAL_INTERVAL = 24  # s
 G_FINAL_REVERSAL_WINDOW = 25  # s
 G_REVERSAL_INHIBIT = 26  # s
-G_SIZE = 27
+G_MAX_PREDICTION_INTERVAL = 27  # s
+G_SIZE = 28
 
 # --- the heating model array H (the path limits' density bound) ---
 H_NONE, H_REFERENCE, H_CORRELATION = 0, 1, 2
@@ -185,6 +190,7 @@ K_LIFT_RATIO, K_DRAG_RATIO, K_FIRST_MISS = 9, 10, 11  # K_FIRST_MISS: the cycle'
 N_CYCLE_COLS = 12
 F_CONVERGED, F_SATURATED, F_BOUND, F_REVERSAL, F_UNCONVERGED, F_HELD = 1, 2, 4, 8, 16, 32
 F_ASKED_TO_STOP = 64  # the corrector's question was answered "stop": the flight ends there
+F_UNPREDICTED = 2048  # no prediction this cycle (_prediction_interval): the profile flown on
 # --- per row records ---
 A_COMMAND, A_MISS = 0, 1
 N_AUX = 2
@@ -213,6 +219,7 @@ def pack_guidance(g: Guidance) -> NDArray[np.float64]:
     out[G_TOLERANCE_FRACTION] = g.tolerance_fraction
     out[G_MIN_REVERSAL_INTERVAL] = g.min_reversal_interval_s
     out[G_FINAL_REVERSAL_WINDOW], out[G_REVERSAL_INHIBIT] = g.final_reversal_window_s, g.reversal_inhibit_s
+    out[G_MAX_PREDICTION_INTERVAL] = max(g.max_prediction_interval_s, g.cycle_s)
     return out
 
 
@@ -608,6 +615,45 @@ def _corridor_sign(g: NDArray[np.float64], sign: float, heading_error_deg: float
 
 
 @njit
+def _bound(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    p: NDArray[np.float64],
+    aero: NDArray[np.float64],
+    ctrl: NDArray[np.float64],
+    mode: NDArray[np.float64],
+    t: float,
+    s: NDArray[np.float64],
+    res: tuple[float, ...],
+) -> float:
+    """The path limits' bank bound now (bank_bound_deg with the alpha law ahead)."""
+    _, _, t_inf, _ = atmosphere(int(p[P_ATM]), res[EV_ALTITUDE_FT], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    return bank_bound_deg(g, heat, p, s, res, _aero_ahead(g, heat, p, aero, ctrl, mode, t, s, res, t_inf))
+
+
+@njit
+def _prediction_interval(
+    g: NDArray[np.float64], interval: float, first_miss: float, z_rate: float, to_go: float, flags: int
+) -> float:
+    """The time to the next prediction (an event-triggered predictor-corrector, issue 51): after a quiet one twice
+    the last, up to G_MAX_PREDICTION_INTERVAL, else every cycle (G_CYCLE). Quiet: its first miss, before any
+    correction, within the corrector's tolerance (the flight follows the last prediction), or the command pinned at a
+    bank limit that the target lies beyond, the next prediction then before half the time the miss takes to turn at
+    its rate (z_rate, nmi/s, between the last two predictions' first misses). The calm lateral logic (a final
+    reversal window) predicts every cycle: its last reversal, timed by prediction, moved its landing by 0.1 to 5 nmi
+    with the schedule (tests/core/test_guidance_lateral.py's targets, waits of 10-40 s)."""
+    base, longest = float(g[G_CYCLE]), float(g[G_MAX_PREDICTION_INTERVAL])
+    if g[G_FINAL_REVERSAL_WINDOW] > 0.0:  # the calm lateral logic's landing moved 0.1-5 nmi with the schedule
+        return base
+    if abs(first_miss) <= max(g[G_TOLERANCE], g[G_TOLERANCE_FRACTION] * to_go):
+        return min(2.0 * interval, longest)
+    if flags & F_SATURATED != 0:
+        turning = abs(first_miss) / abs(z_rate) if first_miss * z_rate < 0.0 else math.inf
+        return max(base, min(2.0 * interval, longest, 0.5 * turning))
+    return base
+
+
+@njit
 def _may_reverse(g: NDArray[np.float64], to_go_nmi: float, to_go_s: float, final: bool, active: bool) -> bool:
     """A reversal is allowed: the bank law has taken over, the final one is not made, and the end is farther than
     the lateral freeze range and the inhibit time."""
@@ -741,6 +787,8 @@ def _fly_guided(
     reversal_due = False  # the last cycle ended where the final reversal is due
     own_cross = 0.0  # the last prediction's landing left of the line of sight (nmi)
     lift_ratio, drag_ratio = 1.0, 1.0
+    interval, predicted_at, z_rate = g[G_CYCLE], -math.inf, 0.0  # event-triggered predictions (_prediction_interval)
+    first, last_first = math.nan, math.nan
     v0 = math.sqrt(s0[3] ** 2 + s0[4] ** 2 + s0[5] ** 2)
     n_rhs_total = 0
     steps_left = max_steps
@@ -825,7 +873,16 @@ def _fly_guided(
         if reversed_now:
             reversed_at = t
         sign = new_sign
-        if not corrected:
+        bound = _bound(g, heat, p, aero, ctrl_fly, mode, t, s, res)
+        end_phase = to_go * c.FT_PER_NMI / v / FINAL_CYCLES < g[G_CYCLE]
+        # predicted every cycle: the first, a reversal's, the final reversal's window and after it (its cross-track
+        # converged to FINAL_TOLERANCE_NMI), the end, and near a limit
+        must = nc == 0 or reversed_now or in_window or final_reversed or end_phase
+        must = must or bound < sigma0 + QUIET_BOUND_MARGIN_DEG
+        if not corrected and not must and t - predicted_at < interval - 0.5 * MIN_CYCLE_S:  # (a cycle's rounding)
+            first, predictions, flags = math.nan, 0, F_UNPREDICTED  # the profile flown on, the last z kept
+        elif not corrected:
+            last_first = first
             sigma0, z, slope, first, predictions, flags, used, to_go_s, own_cross = _correct(
                 s,
                 t,
@@ -846,15 +903,16 @@ def _fly_guided(
                 final_reversed,
             )
             n_rhs_total += used
+            if predicted_at > -math.inf and t > predicted_at:
+                z_rate = (first - last_first) / (t - predicted_at)
+            interval = _prediction_interval(g, interval, first, z_rate, to_go, flags)
+            predicted_at = t
         predictions += lateral_predictions
         if flags & F_ASKED_TO_STOP:
             stop = STOP_ASKED
             break
         if reversed_now:
             flags |= F_REVERSAL
-        _, _, t_inf, _ = atmosphere(int(p[P_ATM]), res[EV_ALTITUDE_FT], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
-        ahead = _aero_ahead(g, heat, p, aero, ctrl_fly, mode, t, s, res, t_inf)
-        bound = bank_bound_deg(g, heat, p, s, res, ahead)
         if bound < sigma0:
             flags |= F_BOUND
         command = sign * min(sigma0, bound)
