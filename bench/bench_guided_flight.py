@@ -30,7 +30,10 @@ def main() -> None:
     print(
         f"{LABEL}: guided {f['guided_ms']['median']:.1f} ms, open loop {f['open_loop_ms']['median']:.2f} ms: "
         f"x{f['ratio_median']:.1f}; {f['predictions']} predictions, {f['rhs_evaluations']:,} right-hand sides, "
-        f"miss {f['miss_nmi']:.2f} nmi; load {load_before} -> {out['load_after']}"
+        f"miss {f['miss_nmi']:.2f} nmi; predicting every cycle {f['every_cycle_ms']['median']:.1f} ms "
+        f"(x{f['every_cycle_ratio_median']:.1f}, {f['every_cycle_predictions']} predictions, "
+        f"{f['every_cycle_rhs_evaluations']:,} right-hand sides, miss {f['every_cycle_miss_nmi']:.2f} nmi); load "
+        f"{load_before} -> {out['load_after']}"
     )
     save_result(f"guided_flight_{LABEL}", out)
 
