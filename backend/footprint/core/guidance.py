@@ -95,7 +95,8 @@ MIN_CYCLE_S = 0.5
 NO_LIMIT_RHO = 1e9  # slug/ft^3: no path limit binds
 BOUNDARY_DV_FPS = 10.0  # ft/s: the finite difference of the limit's density in speed
 PREDICTOR_MAX_STEP_S = 200.0  # s: the predictor's steps are bounded by its tolerance only
-LIMIT_LOOKAHEAD_S = 60.0  # s of flight whose alpha law the path limits' bound anticipates (the law's step: ~10 s)
+LIMIT_LOOKAHEAD_S = 90.0  # s of flight whose alpha law the path limits' bound anticipates (the law's step: ~10 s;
+# 60 s with the critical damping below let 2.18 g through a 2.0 g limit across it, 90 s 1.95 g)
 LOOKAHEAD_SAMPLES = 8  # speeds sampled over it
 FINAL_TOLERANCE_NMI = 0.02  # nmi: the corrector's tolerance with the bank's sign held to the end
 FINAL_ITERATIONS = 4  # ... and its predictions after the first
@@ -133,7 +134,9 @@ class Guidance:
     max_temperature_R: float | None = None
     max_load_factor: float | None = None
     max_dynamic_pressure_psf: float | None = None
-    limit_damping: float = 0.75  # zeta of the bound's approach to a limit (bank_bound_deg)
+    # zeta of the bound's approach to a limit (bank_bound_deg): critical, as the vehicle's q-bar limit held by default
+    # showed (issue 50: 3,000 nmi ahead, 375 psf: 0.75 overshot to 385 psf, +2.7 %; 1.0 peaked at 373)
+    limit_damping: float = 1.0
     reach_nmi: float = 5.0  # a landing within this of the target reached it
 
     @property
@@ -185,6 +188,13 @@ K_LIFT_RATIO, K_DRAG_RATIO, K_FIRST_MISS = 9, 10, 11  # K_FIRST_MISS: the cycle'
 N_CYCLE_COLS = 12
 F_CONVERGED, F_SATURATED, F_BOUND, F_REVERSAL, F_UNCONVERGED, F_HELD = 1, 2, 4, 8, 16, 32
 F_ASKED_TO_STOP = 64  # the corrector's question was answered "stop": the flight ends there
+F_BOUND_LOAD, F_BOUND_QBAR, F_BOUND_HEAT_RATE, F_BOUND_TEMPERATURE = 128, 256, 512, 1024  # the limit that bound
+BOUND_LIMITS = (  # its flag, its setting in G, its name in core.limits
+    (F_BOUND_LOAD, G_MAX_LOAD, "load_factor_g"),
+    (F_BOUND_QBAR, G_MAX_QBAR, "dynamic_pressure_psf"),
+    (F_BOUND_HEAT_RATE, G_MAX_HEAT_RATE, "heat_rate_btu_ft2_s"),
+    (F_BOUND_TEMPERATURE, G_MAX_TEMPERATURE, "temperature_R"),
+)
 # --- per row records ---
 A_COMMAND, A_MISS = 0, 1
 N_AUX = 2
@@ -361,6 +371,29 @@ def density_limit(
     if not math.isnan(g[G_MAX_QBAR]):
         rho = min(rho, 2.0 * g[G_MAX_QBAR] / (v * v))
     return rho
+
+
+@njit
+def binding_flags(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    v: float,
+    ahead: tuple[float, float, float],
+    t_inf: float,
+    ws: float,
+) -> int:
+    """The F_BOUND_* flags of the limits whose own density is density_limit's, the lowest: the ones that bound."""
+    alpha, cl, cd = ahead
+    lowest = density_limit(g, heat, v, alpha, t_inf, cl, cd, ws)
+    flags = 0
+    for flag, index, _ in BOUND_LIMITS:
+        if math.isnan(g[index]):
+            continue
+        one = np.full_like(g, math.nan)
+        one[index] = g[index]
+        if density_limit(one, heat, v, alpha, t_inf, cl, cd, ws) <= lowest * (1.0 + 1e-9):
+            flags |= flag
+    return flags
 
 
 @njit
@@ -856,7 +889,7 @@ def _fly_guided(
         ahead = _aero_ahead(g, heat, p, aero, ctrl_fly, mode, t, s, res, t_inf)
         bound = bank_bound_deg(g, heat, p, s, res, ahead)
         if bound < sigma0:
-            flags |= F_BOUND
+            flags |= F_BOUND | binding_flags(g, heat, v, ahead, t_inf, p[P_WS])
         command = sign * min(sigma0, bound)
         # shorter cycles near the target, where a cycle's turn would leave the corridor
         cycle = min(g[G_CYCLE], max(MIN_CYCLE_S, min(to_go * c.FT_PER_NMI / v / FINAL_CYCLES, lateral_cycle)))
@@ -940,12 +973,17 @@ class GuidedRecord:
         )
         miss = float(_range_nmi(lat[0], lon[0], lat[1], lon[1]))
         bound = self.count(F_BOUND)
+        binding = [name for flag, _, name in BOUND_LIMITS if self.count(flag)]
+        reached = miss <= g.reach_nmi
         return {
             "target_latitude_deg": g.target_latitude_deg,
             "target_longitude_deg": g.target_longitude_deg,
             "miss_nmi": miss,
-            "reached": miss <= g.reach_nmi,
-            "status": "reached" if miss <= g.reach_nmi else "not reachable",
+            "reached": reached,
+            "status": "reached" if reached else "not reachable",
+            # why not: the best miss that holds the limits, when one bound the bank (issue 50)
+            "status_reason": None if reached or not binding else "within the limits: " + ", ".join(binding),
+            "binding_limits": binding,  # the limits (core.limits names) that bound the bank in some cycle
             "cycles": int(self.cycles.shape[0]),
             "predictions": int(np.sum(self.cycles[:, K_PREDICTIONS])),
             "reversals": self.count(F_REVERSAL),
