@@ -10,7 +10,11 @@ import pytest
 
 from footprint.api import fly
 from footprint.contracts import parse
+from footprint.core import guided_dispersion as gdisp
+from tests.authorities.report import example, guided_spreads
 from tests.core.test_guidance import LOD189, guided
+
+SPREADS = guided_spreads()  # the example's dispersions
 
 MARGIN = 1.01  # the flown peak within 1 % of the limit
 
@@ -112,3 +116,47 @@ def test_heat_rate_and_temperature_are_held_only_where_the_case_evaluates_them()
     assert (reference.max_heat_rate_btu_ft2_s, reference.max_temperature_R) == (70.0, 3460.0)
     correlation = _guidance_of(heating={"model": "correlation", "coefficient": 9.3e-9, "velocity_exponent": 3.07})
     assert correlation.max_heat_rate_btu_ft2_s == 70.0 and correlation.max_temperature_R is None
+
+
+# --- the vehicle's limits held under dispersion (issue 50: the dispersed example peaked at 4.66 g, p99 4.15 g) ---
+def _dispersed_peaks(case, samples):
+    """Each sample's peak load factor and q-bar (the summary's, checked against the history in test_vehicle_limits),
+    flown guided under the example's dispersions (tests/authorities/report.guided_spreads)."""
+    study = parse("guided_dispersion", {"case": case, "samples": samples, "seed": 1, "open_loop": False, **SPREADS})
+    spec = study.case.to_spec()
+    values = gdisp.fly_samples(spec, None, study.draw(spec)).values[:, 0]
+    return {k: values[:, gdisp.COLUMNS.index(k)] for k in ("max_load_factor", "max_dynamic_pressure_psf")}
+
+
+def _fraction_past(peaks, limit):
+    return float(np.mean(peaks > limit * MARGIN))
+
+
+DISPERSED = [pytest.param(60, id="60"), pytest.param(300, id="300", marks=pytest.mark.slow)]
+# (the case, the limits it holds): measured with 300 samples, seed 1, 2026-12-08 (before: no limit held, the
+# example peaked at 4.66 g, p99 4.15 g, and past 375 psf in every sample)
+HELD = {
+    # the example as examples/ gives it, 2.5 g held and 375 psf lifted: max 2.33 g, every landing within 0.60 nmi
+    "example": (lambda: example("disperse_guided_lod189")["case"], ["max_load_factor"]),
+    # the example's target with every vehicle limit: max 1.99 g, 377.4 psf (385.2 psf p99 before the bound took the
+    # scale height of the air flown, not the model's), not reachable (miss p50 283 nmi)
+    "example, vehicle's limits": (
+        lambda: guided(5000.0, 600.0, copy.deepcopy(LOD189), lifted={}),
+        ["max_load_factor", "max_dynamic_pressure_psf"],
+    ),
+    # 6,000 nmi straight ahead, reached within every vehicle limit: max 1.94 g, 372.6 psf, miss p99 0.61 nmi
+    "6000/0, vehicle's limits": (
+        lambda: guided(6000.0, 0.0, copy.deepcopy(LOD189), lifted={}),
+        ["max_load_factor", "max_dynamic_pressure_psf"],
+    ),
+}
+LIMIT_OF = {"max_load_factor": VEHICLE_G, "max_dynamic_pressure_psf": VEHICLE_PSF}
+
+
+@pytest.mark.parametrize("samples", DISPERSED)
+@pytest.mark.parametrize("name", list(HELD))
+def test_the_dispersed_peaks_hold_the_limits_in_99_percent_of_samples(name, samples):
+    case, held = HELD[name]
+    peaks = _dispersed_peaks(case(), samples)
+    for key in held:
+        assert _fraction_past(peaks[key], LIMIT_OF[key]) <= 0.01, (key, np.max(peaks[key]))

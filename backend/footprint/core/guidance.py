@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from footprint.core import constants as c
 from footprint.core._jit import asking, asks_stop, njit
-from footprint.core.atmosphere import atmosphere
+from footprint.core.atmosphere import atmosphere, density_factor
 from footprint.core.controls import C_BANK_TABLE, replace_controls
 from footprint.core.dynamics import (
     EV_ALPHA_DEG,
@@ -51,6 +51,7 @@ from footprint.core.dynamics import (
     P_CD_MULTIPLIER,
     P_CL_MULTIPLIER,
     P_DENSITY_DISPERSED,
+    P_DENSITY_PROFILE,
     P_G0,
     P_H,
     P_J,
@@ -464,6 +465,9 @@ def bank_bound_deg(
     alt, v, rho = res[EV_ALTITUDE_FT], res[EV_SPEED_FPS], res[EV_RHO_SLUG_FT3]
     rho_here, _, t_inf, _ = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     rho_up, _, _, _ = atmosphere(int(p[P_ATM]), alt + 1000.0, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    if p[P_DENSITY_DISPERSED] != 0.0:  # the scale height of the air flown, as its density (rho) is
+        rho_here *= density_factor(p, P_DENSITY_PROFILE, alt)
+        rho_up *= density_factor(p, P_DENSITY_PROFILE, alt + 1000.0)
     lift_per_cl = res[EV_Q_PSF] * p[P_G0] / p[P_WS]
     alpha_a, cl_a, cd_a = ahead
     rho_lim = density_limit(g, heat, v, alpha_a, t_inf, cl_a, cd_a, p[P_WS])
