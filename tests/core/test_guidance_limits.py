@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from footprint.api import fly
-from footprint.contracts import parse
+from footprint.contracts import parse, stored_form
 from footprint.core import guided_dispersion as gdisp
 from tests.authorities.report import example, guided_spreads
 from tests.core.test_guidance import LOD189, guided
@@ -160,3 +160,11 @@ def test_the_dispersed_peaks_hold_the_limits_in_99_percent_of_samples(name, samp
     peaks = _dispersed_peaks(case(), samples)
     for key in held:
         assert _fraction_past(peaks[key], LIMIT_OF[key]) <= 0.01, (key, np.max(peaks[key]))
+
+
+def test_a_job_stores_unset_limits_unset_and_lifted_ones_lifted():
+    """A job's workers parse the study's stored form (contracts.stored_form): an unset limit must stay the vehicle's
+    there and a null one lifted, not come back as the null default."""
+    case = guided(5000.0, 600.0, copy.deepcopy(LOD189), lifted={}, max_dynamic_pressure_psf=None)
+    again = parse("case", stored_form(parse("case", case))).to_spec().guidance
+    assert again.max_load_factor == VEHICLE_G and again.max_dynamic_pressure_psf is None
