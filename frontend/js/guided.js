@@ -180,9 +180,11 @@ export class GuidedPanel {
   }
 
   // ------------------------------------------------------------------------------------------- requests
-  /** The job form's case (vehicle, entry, alpha law, stop) with the guided bank law to the target. */
+  /** The job form's case (vehicle, entry, alpha law, stop) with the guided bank law to the target, holding the
+   *  vehicle's limits but its dynamic pressure, as examples/fly_guided_lod189.json does: within the 375 psf of a
+   *  crewed glider the L/D 1.89 vehicle at (L/D)max reaches none of its usual targets (docs/guidance.md). */
   guidedCase(target) {
-    return { ...buildCase(), bank: { law: "guided", target } };
+    return { ...buildCase(), bank: { law: "guided", target, max_dynamic_pressure_psf: null } };
   }
 
   clearErrors() {

@@ -54,7 +54,12 @@ def guided_case(lat, lon, **entry):
         "alpha": {"law": "max_ld"},
         "bank_start": "pullout",
         "stop": table2_stop(),
-        "bank": {"law": "guided", "target": {"latitude_deg": lat, "longitude_deg": lon}},
+        # the vehicle's limits held but its 375 psf (the page's, as the guided examples)
+        "bank": {
+            "law": "guided",
+            "target": {"latitude_deg": lat, "longitude_deg": lon},
+            "max_dynamic_pressure_psf": None,
+        },
     }
 
 

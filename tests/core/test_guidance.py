@@ -11,6 +11,7 @@ import pytest
 
 from footprint.api import fly
 from footprint.contracts import parse
+from footprint.contracts.guidance import GUIDANCE_LIMITS
 from footprint.core import guidance as gd
 from footprint.core.errors import Stopped
 from footprint.core.heating import CorrelationHeating, ReferenceHeating
@@ -27,9 +28,18 @@ def target(downrange_nmi, crossrange_nmi):
     return {"latitude_deg": float(lat), "longitude_deg": float(lon)}
 
 
-def guided(downrange_nmi, crossrange_nmi, base=LOD189, **settings):
+# The guidance holds the vehicle's limits unless the case lifts them (issue 50); the lod-1.89 glider at (L/D)max
+# cannot reach most of these targets within its 375 psf (wings level at low speed it glides at q = (W/S)/C_L, about
+# 390 psf; the example's 5,000/600 nmi then lands 385 nmi long), so the accuracy tests fly the guidance with every
+# limit lifted, as it flew before issue 50, and give a limit where they test one; the default limits are tested in
+# test_guidance_limits.py.
+LIFTED = {name: None for name in GUIDANCE_LIMITS}
+
+
+def guided(downrange_nmi, crossrange_nmi, base=LOD189, lifted=LIFTED, **settings):
+    """The base case flying the guided law to the target, the limits lifted (lifted={}: the vehicle's held)."""
     case = copy.deepcopy(base)
-    case["bank"] = {"law": "guided", "target": target(downrange_nmi, crossrange_nmi), **settings}
+    case["bank"] = {"law": "guided", "target": target(downrange_nmi, crossrange_nmi), **lifted, **settings}
     return case
 
 

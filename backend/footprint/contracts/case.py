@@ -26,7 +26,9 @@ from footprint.core import constants as c
 from footprint.core.aero import ALPHA_LIMIT_DEG
 from footprint.core.controls import pack_controls
 from footprint.core.dynamics import energy_height_ft
+from footprint.core.guidance import Guidance
 from footprint.core.heating import EMISSIVITY_DEFAULT, REFERENCE_RADIUS_FT, CorrelationHeating, ReferenceHeating
+from footprint.core.limits import Limits
 from footprint.core.trajectory import Entry, FlightSpec, Planet, Stop, Trajectory
 
 
@@ -479,8 +481,9 @@ class Case(Strict):
         return self._spec
 
     def _build_spec(self) -> FlightSpec:
+        vehicle = self.vehicle.to_vehicle()
         return FlightSpec(
-            vehicle=self.vehicle.to_vehicle(),
+            vehicle=vehicle,
             planet=self.planet.to_planet(),
             entry=self.entry.to_entry(),
             ctrl=self.controls(),
@@ -489,8 +492,14 @@ class Case(Strict):
             max_step_s=self.integrator.max_step_s,
             integrator_method=self.integrator.method,
             heating=None if self.heating is None else self.heating.to_model(),
-            guidance=self.bank.to_guidance() if isinstance(self.bank, BankGuided) else None,
+            guidance=self._guidance(self.bank, vehicle.limits) if isinstance(self.bank, BankGuided) else None,
         )
+
+    def _guidance(self, bank: BankGuided, vehicle: Limits) -> Guidance:
+        """The guided law's settings, holding the vehicle's limits unless the bank changes or lifts them."""
+        heat = self.heating
+        emissive = heat is not None and not (isinstance(heat, HeatingCorrelation) and heat.emissivity is None)
+        return bank.to_guidance(bank.path_limits(vehicle, heat_rate=heat is not None, temperature=emissive))
 
     def _stop(self) -> Stop:
         s = self.stop

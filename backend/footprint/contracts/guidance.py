@@ -13,6 +13,7 @@ from pydantic import ValidationInfo, model_validator
 from footprint.contracts.doors import synchronous
 from footprint.contracts.fields import Range, Strict
 from footprint.core.guidance import Guidance
+from footprint.core.limits import Limits
 
 
 def _default(name: str) -> Any:
@@ -49,9 +50,18 @@ RTOL_WORK_EXPONENT = 0.18
 SYNC_WORK = 25.0  # the most a synchronous request may ask, in the defaults' work: ~1.6 s of flight on this machine
 
 
+GUIDANCE_LIMITS = {  # a guided case's path limit -> the vehicle's (core.limits)
+    "max_load_factor": "load_factor_g",
+    "max_dynamic_pressure_psf": "dynamic_pressure_psf",
+    "max_heat_rate_btu_ft2_s": "heat_rate_btu_ft2_s",
+    "max_temperature_R": "temperature_R",
+}
+
+
 class BankGuided(Strict):
     """Entry guidance in the loop: bank magnitude linear in energy, corrected each cycle on the predicted range;
-    bank reversals in a heading-error corridor; path limits as a bank bound (core/guidance.py)."""
+    bank reversals in a heading-error corridor; path limits as a bank bound (core/guidance.py): the vehicle's unless
+    given here (a number changes one, null lifts it)."""
 
     law: Literal["guided"]
     target: GuidedTarget
@@ -77,6 +87,7 @@ class BankGuided(Strict):
     )
     predictor_rtol: Annotated[float, Range(MIN_PREDICTOR_RTOL, MAX_PREDICTOR_RTOL)] = _default("predictor_rtol")
     filter_gain: Annotated[float, Range(0, 1)] = _default("filter_gain")
+    # path limits: unset, the vehicle's (path_limits); a number changes it, null lifts it
     max_heat_rate_btu_ft2_s: Annotated[float, Range(0.1, 10_000, "Btu/(ft^2 s)")] | None = None
     max_temperature_R: Annotated[float, Range(100, 10_000, "degR")] | None = None
     max_load_factor: Annotated[float, Range(0.1, 100, "g")] | None = None
@@ -93,13 +104,22 @@ class BankGuided(Strict):
     def controls(self) -> dict[str, Any]:
         return {"bank_law": "zero"}  # the guidance flies the bank (core.guidance.guided_controls)
 
-    def limits(self) -> list[str]:
-        """The path limits given."""
-        names = ("max_heat_rate_btu_ft2_s", "max_temperature_R", "max_load_factor", "max_dynamic_pressure_psf")
-        return [n for n in names if getattr(self, n) is not None]
+    def path_limits(self, vehicle: Limits, heat_rate: bool, temperature: bool) -> dict[str, float | None]:
+        """The limits the guidance holds (issue 50): each as given (null: lifted), unset the vehicle's; an unset heat
+        rate or temperature only where the case evaluates it (heat_rate, temperature: a heating model, with the
+        emissivity of eq. 7 for the temperature), else none (the summary lists the vehicle's as unchecked)."""
+        evaluated = {"heat_rate_btu_ft2_s": heat_rate, "temperature_R": temperature}
+        out = {}
+        for setting, name in GUIDANCE_LIMITS.items():
+            if setting in self.model_fields_set:
+                out[setting] = getattr(self, setting)
+            else:
+                out[setting] = vehicle.value(name) if evaluated.get(name, True) else None
+        return out
 
-    def to_guidance(self) -> Guidance:
-        settings = self.model_dump(exclude={"law", "target", "terminal"})
+    def to_guidance(self, limits: dict[str, float | None] | None = None) -> Guidance:
+        """The core's settings, with the path limits held (path_limits; None: only those given)."""
+        settings = self.model_dump(exclude={"law", "target", "terminal"}) | (limits or {})
         for name in ("bank_rate_deg_s", "bank_acceleration_deg_s2"):
             settings[name] = math.inf if settings[name] is None else settings[name]
         return Guidance(

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from footprint.core import constants as c
 from footprint.core._jit import asking, asks_stop, njit
-from footprint.core.atmosphere import atmosphere
+from footprint.core.atmosphere import atmosphere, density_factor
 from footprint.core.controls import C_BANK_TABLE, replace_controls
 from footprint.core.dynamics import (
     EV_ALPHA_DEG,
@@ -51,6 +51,7 @@ from footprint.core.dynamics import (
     P_CD_MULTIPLIER,
     P_CL_MULTIPLIER,
     P_DENSITY_DISPERSED,
+    P_DENSITY_PROFILE,
     P_G0,
     P_H,
     P_J,
@@ -95,7 +96,8 @@ MIN_CYCLE_S = 0.5
 NO_LIMIT_RHO = 1e9  # slug/ft^3: no path limit binds
 BOUNDARY_DV_FPS = 10.0  # ft/s: the finite difference of the limit's density in speed
 PREDICTOR_MAX_STEP_S = 200.0  # s: the predictor's steps are bounded by its tolerance only
-LIMIT_LOOKAHEAD_S = 60.0  # s of flight whose alpha law the path limits' bound anticipates (the law's step: ~10 s)
+LIMIT_LOOKAHEAD_S = 90.0  # s of flight whose alpha law the path limits' bound anticipates (the law's step: ~10 s;
+# 60 s with the critical damping below let 2.18 g through a 2.0 g limit across it, 90 s 1.95 g)
 LOOKAHEAD_SAMPLES = 8  # speeds sampled over it
 FINAL_TOLERANCE_NMI = 0.02  # nmi: the corrector's tolerance with the bank's sign held to the end
 FINAL_ITERATIONS = 4  # ... and its predictions after the first
@@ -137,7 +139,9 @@ class Guidance:
     max_temperature_R: float | None = None
     max_load_factor: float | None = None
     max_dynamic_pressure_psf: float | None = None
-    limit_damping: float = 0.75  # zeta of the bound's approach to a limit (bank_bound_deg)
+    # zeta of the bound's approach to a limit (bank_bound_deg): critical, as the vehicle's q-bar limit held by default
+    # showed (issue 50: 3,000 nmi ahead, 375 psf: 0.75 overshot to 385 psf, +2.7 %; 1.0 peaked at 373)
+    limit_damping: float = 1.0
     reach_nmi: float = 5.0  # a landing within this of the target reached it
 
     @property
@@ -191,6 +195,13 @@ N_CYCLE_COLS = 12
 F_CONVERGED, F_SATURATED, F_BOUND, F_REVERSAL, F_UNCONVERGED, F_HELD = 1, 2, 4, 8, 16, 32
 F_ASKED_TO_STOP = 64  # the corrector's question was answered "stop": the flight ends there
 F_UNPREDICTED = 2048  # no prediction this cycle (_prediction_interval): the profile flown on
+F_BOUND_LOAD, F_BOUND_QBAR, F_BOUND_HEAT_RATE, F_BOUND_TEMPERATURE = 128, 256, 512, 1024  # the limit that bound
+BOUND_LIMITS = (  # its flag, its setting in G, its name in core.limits
+    (F_BOUND_LOAD, G_MAX_LOAD, "load_factor_g"),
+    (F_BOUND_QBAR, G_MAX_QBAR, "dynamic_pressure_psf"),
+    (F_BOUND_HEAT_RATE, G_MAX_HEAT_RATE, "heat_rate_btu_ft2_s"),
+    (F_BOUND_TEMPERATURE, G_MAX_TEMPERATURE, "temperature_R"),
+)
 # --- per row records ---
 A_COMMAND, A_MISS = 0, 1
 N_AUX = 2
@@ -371,6 +382,29 @@ def density_limit(
 
 
 @njit
+def binding_flags(
+    g: NDArray[np.float64],
+    heat: NDArray[np.float64],
+    v: float,
+    ahead: tuple[float, float, float],
+    t_inf: float,
+    ws: float,
+) -> int:
+    """The F_BOUND_* flags of the limits whose own density is density_limit's, the lowest: the ones that bound."""
+    alpha, cl, cd = ahead
+    lowest = density_limit(g, heat, v, alpha, t_inf, cl, cd, ws)
+    flags = 0
+    for flag, index, _ in BOUND_LIMITS:
+        if math.isnan(g[index]):
+            continue
+        one = np.full_like(g, math.nan)
+        one[index] = g[index]
+        if density_limit(one, heat, v, alpha, t_inf, cl, cd, ws) <= lowest * (1.0 + 1e-9):
+            flags |= flag
+    return flags
+
+
+@njit
 def _vertical_excess(s: NDArray[np.float64], p: NDArray[np.float64], r: float) -> float:
     """G (ft/s^2): the downward acceleration lift must balance for level flight, gravity (A10) with the earth's
     Coriolis and centrifugal terms (eqs. 1-2) less the centrifugal term of flight over the curved earth."""
@@ -438,6 +472,9 @@ def bank_bound_deg(
     alt, v, rho = res[EV_ALTITUDE_FT], res[EV_SPEED_FPS], res[EV_RHO_SLUG_FT3]
     rho_here, _, t_inf, _ = atmosphere(int(p[P_ATM]), alt, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
     rho_up, _, _, _ = atmosphere(int(p[P_ATM]), alt + 1000.0, p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
+    if p[P_DENSITY_DISPERSED] != 0.0:  # the scale height of the air flown, as its density (rho) is
+        rho_here *= density_factor(p, P_DENSITY_PROFILE, alt)
+        rho_up *= density_factor(p, P_DENSITY_PROFILE, alt + 1000.0)
     lift_per_cl = res[EV_Q_PSF] * p[P_G0] / p[P_WS]
     alpha_a, cl_a, cd_a = ahead
     rho_lim = density_limit(g, heat, v, alpha_a, t_inf, cl_a, cd_a, p[P_WS])
@@ -625,10 +662,12 @@ def _bound(
     t: float,
     s: NDArray[np.float64],
     res: tuple[float, ...],
-) -> float:
-    """The path limits' bank bound now (bank_bound_deg with the alpha law ahead)."""
+) -> tuple[float, tuple[float, float, float], float]:
+    """The path limits' bank bound now (bank_bound_deg with the alpha law ahead), the alpha, C_L and C_D ahead and
+    the air's temperature (binding_flags')."""
     _, _, t_inf, _ = atmosphere(int(p[P_ATM]), res[EV_ALTITUDE_FT], p[P_RHO0], p[P_SCALE_H], p[P_ATM_T])
-    return bank_bound_deg(g, heat, p, s, res, _aero_ahead(g, heat, p, aero, ctrl, mode, t, s, res, t_inf))
+    ahead = _aero_ahead(g, heat, p, aero, ctrl, mode, t, s, res, t_inf)
+    return bank_bound_deg(g, heat, p, s, res, ahead), ahead, t_inf
 
 
 @njit
@@ -873,7 +912,7 @@ def _fly_guided(
         if reversed_now:
             reversed_at = t
         sign = new_sign
-        bound = _bound(g, heat, p, aero, ctrl_fly, mode, t, s, res)
+        bound, ahead, t_inf = _bound(g, heat, p, aero, ctrl_fly, mode, t, s, res)
         end_phase = to_go * c.FT_PER_NMI / v / FINAL_CYCLES < g[G_CYCLE]
         # predicted every cycle: the first, a reversal's, the final reversal's window and after it (its cross-track
         # converged to FINAL_TOLERANCE_NMI), the end, and near a limit
@@ -914,7 +953,7 @@ def _fly_guided(
         if reversed_now:
             flags |= F_REVERSAL
         if bound < sigma0:
-            flags |= F_BOUND
+            flags |= F_BOUND | binding_flags(g, heat, v, ahead, t_inf, p[P_WS])
         command = sign * min(sigma0, bound)
         # shorter cycles near the target, where a cycle's turn would leave the corridor
         cycle = min(g[G_CYCLE], max(MIN_CYCLE_S, min(to_go * c.FT_PER_NMI / v / FINAL_CYCLES, lateral_cycle)))
@@ -998,12 +1037,17 @@ class GuidedRecord:
         )
         miss = float(_range_nmi(lat[0], lon[0], lat[1], lon[1]))
         bound = self.count(F_BOUND)
+        binding = [name for flag, _, name in BOUND_LIMITS if self.count(flag)]
+        reached = miss <= g.reach_nmi
         return {
             "target_latitude_deg": g.target_latitude_deg,
             "target_longitude_deg": g.target_longitude_deg,
             "miss_nmi": miss,
-            "reached": miss <= g.reach_nmi,
-            "status": "reached" if miss <= g.reach_nmi else "not reachable",
+            "reached": reached,
+            "status": "reached" if reached else "not reachable",
+            # why not: the best miss that holds the limits, when one bound the bank (issue 50)
+            "status_reason": None if reached or not binding else "within the limits: " + ", ".join(binding),
+            "binding_limits": binding,  # the limits (core.limits names) that bound the bank in some cycle
             "cycles": int(self.cycles.shape[0]),
             "predictions": int(np.sum(self.cycles[:, K_PREDICTIONS])),
             "reversals": self.count(F_REVERSAL),
