@@ -233,6 +233,59 @@ export class GuidedPanel {
     await this.submit("guided_dispersion", study, `guided dispersion to ${this.targetWords(target)}`.slice(0, 200), "g-disperse");
   }
 
+  // ------------------------------------------------------------------------- an opportunity, flown guided
+  /** An opportunities job's footprint case entering where the opportunity's coast reaches the interface, with the
+   * guided law to its site (as the opportunities job flies it: contracts/opportunities.py guided_specs). */
+  opportunityCase(study, o, site) {
+    const c = structuredClone(study.footprint.case);
+    c.entry = { ...c.entry, ...o.entry, velocity_frame: "relative" };
+    c.bank = { law: "guided", target: { latitude_deg: site.latitude_deg, longitude_deg: wrapLongitude(site.longitude_deg) } };
+    return c;
+  }
+
+  /** The site made the target (its name kept for the summary). */
+  targetSite(site) {
+    $("g-latitude").value = String(site.latitude_deg);
+    $("g-longitude").value = String(wrapLongitude(site.longitude_deg));
+    $("g-site").value = "";
+    this.siteName = site.name;
+    this.drawTarget();
+    $("guided-panel").open = true;
+  }
+
+  /** The opportunity's guided flight from its own entry to its site, shown as the panel's flight. */
+  async flyOpportunity(study, o, site, buttonId) {
+    this.clearErrors();
+    this.targetSite(site);
+    const words = `${site.name} from revolution ${o.revolution_number ?? o.revolution}'s entry`;
+    $(buttonId).disabled = true;
+    $("guided-summary").replaceChildren(el("span", { class: "muted" }, `Flying guided to ${words}…`));
+    try {
+      const answer = await api("/api/trajectories", { method: "POST", body: this.opportunityCase(study, o, site) });
+      this.showFlight(answer, words, site.name);
+    } catch (err) {
+      $("guided-summary").replaceChildren();
+      this.showError(err);
+    } finally {
+      $(buttonId).disabled = false;
+    }
+  }
+
+  /** The opportunity's guided dispersion: each sample entering where its executed burn's coast does (the burn's
+   * errors: contracts/guided_dispersion.py's burn), the vehicle and the air dispersed as the panel's. */
+  async disperseOpportunity(study, o, site, buttonId) {
+    this.clearErrors();
+    this.targetSite(site);
+    const orbit = study.tle != null ? { tle: study.tle } : { state: study.state };
+    const burn = { ...orbit, burn_utc: o.burn_utc, delta_v_fps: o.delta_v_fps,
+                   interface_altitude_ft: study.deorbit.interface_altitude_ft ?? 400000 };
+    const { entry: _, ...spreads } = structuredClone(SPREADS); // the entries are the executed burns'
+    const guided = { case: this.opportunityCase(study, o, site), samples: numberOrText("g-samples"), seed: 1,
+                     radius_nmi: [numberOrText("g-radius")], ...spreads, burn };
+    const name = `guided dispersion: ${site.name}, revolution ${o.revolution_number ?? o.revolution}`;
+    await this.submit("guided_dispersion", guided, name.slice(0, 200), buttonId);
+  }
+
   /** A job of this kind submitted (its button off meanwhile) and followed in the list; a refusal by its field. */
   async submit(kind, study, name, buttonId) {
     $(buttonId).disabled = true;

@@ -48,6 +48,8 @@ const guided = new GuidedPanel({ mapView, toast, onPick: () => sites.setAdding(f
                                  onGlobe: (g) => globe.setGuided(g),
                                  onFlight: () => { $("plot-guided").disabled = false; setPlot("guided"); } });
 const opportunities = new OpportunitiesPanel({
+  onGuided: (what, study, o, site, buttonId) => (what === "fly" ? guided.flyOpportunity(study, o, site, buttonId)
+    : guided.disperseOpportunity(study, o, site, buttonId)),
   mapView, onGlobe: (o) => globe.setOpportunity(o),
   onResult: () => { $("plot-opportunities").disabled = false; setPlot("opportunities"); },
   onSelect: () => { if (state.plot === "opportunities") drawPlot(); centerGlobeOnOpportunity(); },

@@ -55,13 +55,29 @@ const hoursMinutes = (h) => {
 const signed = (v, digits) => (v < 0 ? `−${fmt(-v, digits)}` : fmt(v, digits));
 const asGiven = (v) => String(v).replace("-", "−"); // a rule's number as the planner gave it
 
+/** The opportunity's guided flight to its site (the answer's `guided`) in a line: its miss, peaks and limits. */
+export function guidedWords(g) {
+  const gd = g.guidance, broken = g.limits_broken ?? [];
+  const limits = broken.length ? `broke ${broken.map((n) => n.replaceAll("_", " ")).join(", ")}` : "within the vehicle's limits";
+  return `Flown guided to the site from this entry: ${gd.status}, ${fmt(gd.miss_nmi, 2)} nmi from it after `
+    + `${fmt(g.flight_time_s)} s; peaks ${fmt(g.max_load_factor, 2)} g, ${fmt(g.max_dynamic_pressure_psf)} psf; ${limits}.`;
+}
+
 export class OpportunitiesPanel {
-  constructor({ mapView, onResult, onSelect, onGlobe }) {
+  constructor({ mapView, onResult, onSelect, onGlobe, onGuided }) {
     this.mapView = mapView;
     this.map = mapView.map;
     this.onResult = onResult; // an answer to plot
     this.onSelect = onSelect; // another opportunity chosen (the plot redraws)
     this.onGlobe = onGlobe; // the chosen one's lines and points for the globe, [lon, lat]
+    this.onGuided = onGuided; // (what: "fly" | "disperse", study, opportunity, site, button id): the guided panel's
+    this.study = null; // the study of the shown answer's job (its orbit and footprint case), null without one
+    for (const [id, what] of [["op-fly-guided", "fly"], ["op-disperse-guided", "disperse"]]) {
+      $(id).addEventListener("click", () => {
+        const o = this.answer?.opportunities[this.selected];
+        if (o && this.study) this.onGuided?.(what, this.study, o, this.answer.sites[o.site], id);
+      });
+    }
     this.form = $("opportunities-form");
     this.sites = [];
     this.answer = null; // result.opportunities of the job shown
@@ -159,7 +175,7 @@ export class OpportunitiesPanel {
       const met = a.opportunities.filter((o) => o.meets_rules).length;
       li.append(el("div", { class: "succeeded" }, `${fmt(a.opportunities.length)} opportunities over ${fmt(a.run.tasks)} `
         + `revolution${a.run.tasks === 1 ? "" : "s"}, ${fmt(met)} meet the rules`));
-      this.show(a, job.id);
+      this.show(a, job.id, job.study);
     } else if (job.error) {
       li.append(el("div", { class: "failed" }, job.error));
     }
@@ -168,9 +184,10 @@ export class OpportunitiesPanel {
   // ------------------------------------------------------------------------------------------- the answer
   /** An answer in the panel and the plot, the first to land chosen (the first row of its site's table); the
    * calendar's download its job's. */
-  show(answer, jobId = null) {
+  show(answer, jobId = null, study = null) {
     this.answer = answer;
     this.jobId = jobId;
+    this.study = study;
     const e = answer.elements, rules = answer.rules;
     const sun = rules.sun_elevation_min_deg;
     const ruleWords = `${sun == null ? "the sun anywhere" : `the sun at least ${asGiven(sun)}°`} and a margin of at least `
@@ -205,6 +222,7 @@ export class OpportunitiesPanel {
     this.renderTable();
     this.renderDetail(o);
     this.setDownloads();
+    $("op-guided").hidden = !this.study;
     this.draw(o);
     this.onSelect?.(k);
     if (fromTimeline) document.querySelector(`#plot .op-mark[data-index="${k}"]`)?.focus();
@@ -264,7 +282,8 @@ export class OpportunitiesPanel {
       el("p", {}, `Flight ${fmt(o.flight_time_s)} s: ${fmt(o.downrange_nmi)} nmi down-range, ${fmt(o.crossrange_nmi)} nmi `
          + `cross-range, ${fmt(o.margin_nmi)} nmi inside the footprint (${fmt(o.downrange_margin_nmi)} along its down-range, `
          + `${fmt(o.crossrange_margin_nmi)} across); sun ${signed(o.sun_elevation_deg, 1)}°, local solar time `
-         + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"}.`));
+         + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"}.`),
+      ...(o.guided ? [el("p", {}, guidedWords(o.guided))] : []));
   }
 
   /** The chosen opportunity in words, for a PNG's caption (exporting.js), or null. */

@@ -486,3 +486,52 @@ def test_the_landing_window_timeline_grows_with_its_sites_too(open_page, service
     assert all(b[1] <= c[0] for b, c in zip(got["boxes"], got["boxes"][1:])), got["boxes"]
     assert got["scrolls"] > got["pane"] and got["width"] <= got["paneWidth"]
     assert not run.errors and run.violations() == []
+
+
+def _haversine_nmi(lat1, lon1, lat2, lon2, radius_nmi=3443.918):  # the mean earth's radius in nmi (6,378 km / 1.852)
+    import math
+
+    p1, p2, dl = math.radians(lat1), math.radians(lat2), math.radians(lon2 - lon1)
+    a = math.sin((p2 - p1) / 2) ** 2 + math.cos(p1) * math.cos(p2) * math.sin(dl / 2) ** 2
+    return 2 * radius_nmi * math.asin(math.sqrt(a))
+
+
+def test_an_opportunity_is_flown_guided_and_dispersed_from_its_own_entry(open_page, service, stored_sites):
+    """Issue 52 item 5 on the page: "Fly it guided" flies the chosen opportunity's entry to its site (before, the guided
+    panel flew the job form's abstract entry, 0 deg, 0 deg, east, and said "miss 5,249 nmi" for Kennedy), and "Its
+    guided dispersion" submits the burn itself, whose executed errors give the samples' entries."""
+    run = open_page(1280, 800)
+    page = run.page
+    fill(page)
+    find(page)
+    item = page.locator("#op-jobs li").first
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    job_id = item.get_attribute("data-job-id") or page.evaluate("window.footprintApp.opportunities.jobId")
+    answer = service.call(f"/api/jobs/{job_id}")["result"]["opportunities"]
+    k = page.evaluate("window.footprintApp.opportunities.selected")
+    o = answer["opportunities"][k]
+    site = answer["sites"][o["site"]]
+    assert page.locator("#op-detail").inner_text().count("Flown guided to the site from this entry") == 1
+    with page.expect_response(lambda r: r.url.endswith("/api/trajectories"), timeout=WAIT_MS * 20) as flown:
+        page.click("#op-fly-guided")
+    sent, answered = flown.value.request.post_data_json, flown.value.json()
+    assert (
+        sent["entry"]["latitude_deg"] == o["entry"]["latitude_deg"]
+        and sent["entry"]["gamma_deg"] == o["entry"]["gamma_deg"]
+    )
+    assert sent["bank"]["target"]["latitude_deg"] == site["latitude_deg"]
+    end, job_end = answered["summary"], o["guided"]
+    apart = _haversine_nmi(end["final_latitude_deg"], end["final_longitude_deg"], job_end["final_latitude_deg"],
+                           job_end["final_longitude_deg"])  # fmt: skip
+    assert apart < 0.05  # the page's flight is the job's own guided flight of this opportunity
+    page.locator("#guided-summary", has_text=site["name"][:12]).wait_for(timeout=WAIT_MS)
+    page.fill("#g-samples", "8")
+    with page.expect_request(lambda r: r.url.endswith("/api/jobs") and r.method == "POST", timeout=WAIT_MS) as req:
+        page.click("#op-disperse-guided")
+    body = req.value.post_data_json
+    assert body["kind"] == "guided_dispersion"
+    burn = body["study"]["burn"]
+    assert burn["tle"] == TLE and burn["burn_utc"] == o["burn_utc"] and burn["delta_v_fps"] == o["delta_v_fps"]
+    assert "entry" not in body["study"]  # the executed burns give the entries
+    done = page.locator("#guided-jobs li").first
+    done.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
