@@ -448,8 +448,8 @@ export class GuidedPanel {
 
   addLegend() {
     const key = (cls, text) => el("div", {}, el("span", { class: cls }), text);
-    this.legendDispersion = el("div", { hidden: "" }, key("dot guided-dot", "guided landings"),
-      key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "miss radius R about the target"));
+    this.legendDispersion = el("div", { hidden: "" }, key("dot guided-dot", "guided ends (interface)"),
+      key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "within R of the interface circle"));
     this.legendFootprint = el("div", { hidden: "" }, ...RINGS.map(([k, words]) =>
       el("div", { dataset: { ring: k } }, el("span", { class: `ring-key gf-key-${k.replace("_", "-")}` }), words)));
     this.legend = L.control({ position: "topright" });

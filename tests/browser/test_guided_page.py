@@ -130,7 +130,8 @@ def test_a_guided_flight_is_drawn_to_its_target_with_its_miss_and_bank_reversals
     g, h = answer["summary"]["guidance"], answer["history"]
     end = (h["latitude_deg"][-1], h["longitude_deg"][-1])
     # its miss is of the terminal-area interface: the circle of 50 nmi about the target (issue 50 item 3)
-    assert abs(distance_nmi(*end, *TARGET) - INTERFACE_NMI) == pytest.approx(g["miss_nmi"], abs=1e-6)
+    # (to 1e-4 nmi: R' rounded to 3440.07 nmi errs by ~1e-7 of the 50 nmi range)
+    assert abs(distance_nmi(*end, *TARGET) - INTERFACE_NMI) == pytest.approx(g["miss_nmi"], abs=1e-4)
     assert g["miss_nmi"] < 1.0
 
     line = page.inner_text("#guided-summary .guided-line")
@@ -227,7 +228,7 @@ def hostile_site(service):
     return service.call("/api/sites", {"name": HOSTILE_SITE, "latitude_deg": TARGET[0], "longitude_deg": TARGET[1]})
 
 
-def test_a_guided_dispersion_draws_its_clouds_about_the_miss_circle(open_page, service, hostile_site):
+def test_a_guided_dispersion_draws_its_clouds_about_the_interface_band(open_page, service, hostile_site):
     t0 = time.monotonic()
     run = open_page(1280, 800)
     page, dialogs = run.page, []
