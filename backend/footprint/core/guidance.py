@@ -129,7 +129,7 @@ class Guidance:
     tolerance_fraction: float = 1e-3  # ... and far from it: this fraction of the range to go, when larger
     corridor_entry_deg: float = 12.0  # heading-error corridor at the entry speed
     corridor_terminal_deg: float = 2.0  # ... and at the terminal speed, linear in velocity between
-    lateral_freeze_nmi: float = 5.0  # no reversal within this range to go
+    lateral_freeze_nmi: float = 5.0  # no reversal within this range of the site (the target itself)
     # the calm lateral logic (issue 50: 6 deg, 60 s, 300 s, 130 s) is asked for, not the default: under the example's
     # dispersions its landings spread to p99 6.3 nmi against 0.50 (docs/guidance.md)
     min_reversal_interval_s: float = 0.0  # s between two reversals at least
