@@ -399,7 +399,9 @@ def _guided_dispersion_lines(r: dict) -> list[str]:
     out = [
         f"{r['samples']:,} samples ({r['design']}, seed {r['seed']}) in {run['seconds']:.1f} s {where}; target "
         f"{t['latitude_deg']:.3f}, {t['longitude_deg']:.3f} ({t['downrange_nmi']:,.0f} nmi down-range, "
-        f"{t['crossrange_nmi']:,.0f} cross-range); nominal guided miss {r['nominal']['guidance']['miss_nmi']:.2f} nmi"
+        f"{t['crossrange_nmi']:,.0f} cross-range); misses of the terminal-area interface circle "
+        f"{t.get('interface_range_nmi', 0.0):g} nmi about it; nominal guided miss "
+        f"{r['nominal']['guidance']['miss_nmi']:.2f} nmi"
     ]
     radii = [w["radius_nmi"] for w in r["guided"]["within"]]
     out.append(

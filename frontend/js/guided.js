@@ -173,7 +173,7 @@ export class GuidedPanel {
     const lat = Number($("g-latitude").value), lon = this.placeNearAnchor(Number($("g-longitude").value));
     const radius = Number($("g-radius").value) > 0 ? Number($("g-radius").value) : 5;
     if (!Number.isFinite(lat) || !Number.isFinite(lon)) return;
-    const ring = smallCircle(lat, lon, radius);
+    const ring = smallCircle(lat, lon, radius + (this.interfaceNmi ?? 0)); // the interface's band, and the target
     const size = this.map.getSize(), pad = (px) => Math.max(0, (px - TARGET_BOX_PX) / 2);
     this.map.fitBounds(L.latLngBounds(ring), { maxZoom: this.map.getMaxZoom(), animate: false,
                                                padding: [pad(size.x), pad(size.y)] });
@@ -360,25 +360,34 @@ export class GuidedPanel {
   }
 
   // ------------------------------------------------------------------------------------------- results
-  /** One guided flight: its ground track to the target, its miss, status and reversals, its bank history. */
+  /** One guided flight: its ground track to the terminal-area interface before the target, its miss of the
+   * interface, status and reversals, the interface's state and the touchdown expected, its bank history. */
   showFlight({ summary, history: h }, words, name) {
-    const g = summary.guidance;
+    const g = summary.guidance, i = g.interface, td = g.touchdown_estimate;
+    this.interfaceNmi = g.interface_range_nmi;
     const lons = this.drawResult(h.latitude_deg, h.longitude_deg, null);
     const last = lons.length - 1;
+    const off = Object.entries(i.within).filter(([, ok]) => !ok).map(([k]) => k);
     $("guided-summary").replaceChildren(
       el("p", { class: `guided-line ${g.status === "reached" ? "reached" : "missed"}` },
          `Miss ${nmiWords(g.miss_nmi)} nmi · ${g.status} · ${fmt(g.reversals)} reversal${g.reversals === 1 ? "" : "s"}`),
-      el("p", { class: "muted" }, `To ${words}: landed at ${fmt(h.latitude_deg[last], 3)}°, `
-         + `${fmt(wrapLongitude(lons[last]), 3)}° after ${fmt(summary.flight_time_s)} s; ${fmt(g.cycles)} guidance cycles, `
+      el("p", { class: "muted interface-line" }, `Terminal-area interface (${fmt(g.interface_range_nmi)} nmi before ${words}): `
+         + `${fmt(i.altitude_ft)} ft, ${fmt(i.velocity_fps)} ft/s, ${nmiWords(i.range_to_site_nmi)} nmi from the site, `
+         + `heading ${fmt(i.heading_error_deg, 1)}° off it, at ${fmt(i.time_s)} s (${fmt(h.latitude_deg[last], 3)}°, `
+         + `${fmt(wrapLongitude(lons[last]), 3)}°); ${i.met ? "within every tolerance" : `outside the tolerance: ${off.join(", ")}`}. `
+         + `Touchdown expected at the site at ${fmt(td.time_s)} s (${fmt(td.terminal_area_s)} s of terminal area).`),
+      el("p", { class: "muted" }, `${fmt(g.cycles)} guidance cycles, `
          + `${fmt(g.saturated_cycles)} saturated${g.limit_bound ? ", bound by a path limit" : ""}.`));
     this.setFlight(h, `Guided bank${name ? ` to “${name}”` : ""}: miss ${nmiWords(g.miss_nmi)} nmi, ${g.status}, `
                       + `${fmt(g.reversals)} reversals`);
     this.fitTrack();
   }
 
-  /** A guided dispersion: both landing clouds, the miss circles about the target, the nominal guided track. */
+  /** A guided dispersion: both clouds of ends, the bands of the interface circle about the target that count as
+   * within each R, the nominal guided track. */
   showDispersion(r, label) {
     const f = r.nominal_flight;
+    this.interfaceNmi = r.target.interface_range_nmi;
     this.drawResult(f.latitude_deg, f.longitude_deg, r);
     const lines = r.radii_nmi.map((radius, i) => el("p", { class: "guided-line" }, withinWords(r, i)));
     const landed = ["guided", "open_loop"].filter((m) => r[m]).map((m) => `${fmt(r[m].landed)} ${m.replace("_", " ")}`);
@@ -459,11 +468,14 @@ export class GuidedPanel {
   drawClouds(r, svg) {
     const t = r.target, lon = this.placeNearAnchor(t.longitude_deg), radius = r.radii_nmi[0];
     for (const offset of copyOffsets(lon, lon)) {
-      for (const R of r.radii_nmi) {
-        L.polygon(smallCircle(t.latitude_deg, lon + offset, R),
-                  { ...svg, color: GUIDED_STYLE.circle, weight: 1.5, dashArray: "5 4", fillOpacity: 0.06,
-                    className: `guided-circle g-copy-${offset}` })
-          .addTo(this.resultLayer).getElement().dataset.radiusNmi = String(R);
+      for (const R of r.radii_nmi) { // within R of the interface circle: a band (a disc when the circle is smaller)
+        const outer = t.interface_range_nmi + R, inner = t.interface_range_nmi - R;
+        const rings = [smallCircle(t.latitude_deg, lon + offset, outer)];
+        if (inner > 0) rings.push(smallCircle(t.latitude_deg, lon + offset, inner));
+        const band = L.polygon(rings, { ...svg, color: GUIDED_STYLE.circle, weight: 1.5, dashArray: "5 4", fillOpacity: 0.06,
+                                        className: `guided-circle g-copy-${offset}` }).addTo(this.resultLayer);
+        Object.assign(band.getElement().dataset, { radiusNmi: String(R), outerNmi: String(outer),
+                                                   innerNmi: String(Math.max(inner, 0)) });
       }
       for (const mode of ["open_loop", "guided"]) { // the guided dots over the open loop's
         const c = r.clouds?.[mode];
@@ -491,8 +503,8 @@ export class GuidedPanel {
 
   addLegend() {
     const key = (cls, text) => el("div", {}, el("span", { class: cls }), text);
-    this.legendDispersion = el("div", { hidden: "" }, key("dot guided-dot", "guided landings"),
-      key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "miss radius R about the target"));
+    this.legendDispersion = el("div", { hidden: "" }, key("dot guided-dot", "guided ends (interface)"),
+      key("dot open-loop-dot", "open loop (nominal guided bank)"), key("ring", "within R of the interface circle"));
     this.legendFootprint = el("div", { hidden: "" }, ...RINGS.map(([k, words]) =>
       el("div", { dataset: { ring: k } }, el("span", { class: `ring-key gf-key-${k.replace("_", "-")}` }), words)));
     this.legend = L.control({ position: "topright" });

@@ -1,7 +1,8 @@
 """Event-triggered predictions (issue 51): the guidance predicts as often as the flight departs from its last
-prediction (a quiet prediction doubles the wait, up to max_prediction_interval_s) and lands where the every-cycle
-predictor lands: the misses within 0.5 nmi of each other, on the examples' targets and on dispersed samples. The
-misses are computed here (haversine on R'), not read from the guidance's summary."""
+prediction (a quiet prediction doubles the wait, up to max_prediction_interval_s) and ends where the every-cycle
+predictor ends: the misses of the terminal-area interface circle within 0.5 nmi of each other, on the examples'
+targets and on dispersed samples. The misses are computed here (haversine on R'), not read from the guidance's
+summary."""
 
 from dataclasses import replace
 
@@ -13,7 +14,7 @@ from footprint.core import dispersion as disp
 from footprint.core import guided_dispersion as gdisp
 from footprint.core.trajectory import simulate_summary
 from tests.authorities.report import guided_spreads
-from tests.core.test_guidance import distance_nmi, guided, target
+from tests.core.test_guidance import INTERFACE_NMI, distance_nmi, guided, target
 
 TARGETS = [(5000.0, 600.0), (4300.0, 0.0), (6000.0, -400.0), (8000.0, 500.0)]  # down-range, cross-range nmi
 AGREE_NMI = 0.5
@@ -30,7 +31,8 @@ def _aim(downrange_nmi, crossrange_nmi):
 
 
 def _miss_nmi(summary, aim):
-    return distance_nmi(summary["final_latitude_deg"], summary["final_longitude_deg"], *aim)
+    """The miss of the terminal-area interface circle about the target (issue 50 item 3)."""
+    return abs(distance_nmi(summary["final_latitude_deg"], summary["final_longitude_deg"], *aim) - INTERFACE_NMI)
 
 
 @pytest.mark.parametrize("downrange_nmi, crossrange_nmi", TARGETS)
@@ -52,7 +54,8 @@ def _dispersed_misses(samples):
     out = []
     for s in (spec, _every_cycle(spec)):
         v = gdisp.fly_samples(s, None, drawn).values[:, 0]
-        out.append(np.array([distance_nmi(a, b, *aim) for a, b in zip(v[:, gdisp.LAT], v[:, gdisp.LON])]))
+        ends = zip(v[:, gdisp.LAT], v[:, gdisp.LON])
+        out.append(np.array([abs(distance_nmi(a, b, *aim) - INTERFACE_NMI) for a, b in ends]))
     return out
 
 

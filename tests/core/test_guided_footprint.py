@@ -16,7 +16,7 @@ from footprint.core import dispersion as disp
 from footprint.core import guided_footprint as gfp
 from footprint.core.sphere import latlon_from_ranges
 from footprint.core.trajectory import simulate_summary
-from tests.core.test_guidance import distance_nmi, guided
+from tests.core.test_guidance import INTERFACE_NMI, distance_nmi, guided
 from tests.core.test_guided_dispersion import SPREADS
 
 RADIUS_NMI = 5.0
@@ -101,10 +101,11 @@ def test_a_study_whose_samples_cannot_show_p_is_refused_in_one_line():
 
 
 def lands_within(spec, down_nmi, cross_nmi, radius_nmi):
-    """Whether the flight aimed at (down, cross) lands within R of that point, by haversine on the sphere of R'."""
+    """Whether the flight aimed at (down, cross) ends within R of its interface circle about that point, by haversine
+    on the sphere of R'."""
     s = simulate_summary(gfp.targeted(spec, down_nmi, cross_nmi))
     lat, lon = latlon_from_ranges(down_nmi, cross_nmi, 0.0, 0.0, 90.0)
-    miss = distance_nmi(s["final_latitude_deg"], s["final_longitude_deg"], float(lat), float(lon))
+    miss = abs(distance_nmi(s["final_latitude_deg"], s["final_longitude_deg"], float(lat), float(lon)) - INTERFACE_NMI)
     return s["stop_reason"] == "energy" and miss <= radius_nmi
 
 
@@ -137,16 +138,23 @@ def test_each_boundary_point_is_reached_in_p_of_the_samples_flown_again(study):
         reached = 0
         for i in range(s.samples):
             f = simulate_summary(disp.sample_spec(point, samples, i))
-            miss = distance_nmi(f["final_latitude_deg"], f["final_longitude_deg"], t.target_latitude_deg,
-                                t.target_longitude_deg)  # fmt: skip
+            to_site = distance_nmi(f["final_latitude_deg"], f["final_longitude_deg"], t.target_latitude_deg,
+                                   t.target_longitude_deg)  # fmt: skip
+            miss = abs(to_site - INTERFACE_NMI)
             reached += f["stop_reason"] == "energy" and miss <= RADIUS_NMI
         assert reached >= s.samples - allowed, r
 
 
 def test_the_guided_footprint_lies_inside_the_nominal_and_the_reports(study):
     _, answer = study
+    f = answer["frame"]
     for r in answer["rays"]:
-        assert 0.0 < r["s_guided"] <= r["s_nominal"] < r["s_report"], r
+        # nmi along the ray per unit s; the guided rings are of targets, whose interface (where the flight ends) lies
+        # 50 nmi before them, the report's of ends: the ends' reach, the targets' less the interface range, is inside
+        a = math.radians(r["angle_deg"])
+        per_s = math.hypot(f["half_length_nmi"] * math.cos(a), f["half_width_nmi"] * math.sin(a))
+        assert 0.0 < r["s_guided"] <= r["s_nominal"], r
+        assert r["s_nominal"] * per_s - INTERFACE_NMI < r["s_report"] * per_s, r
     assert answer["margin_to_report"]["inside_at_every_ray"]
     assert answer["guided"]["area_nmi2"] < answer["nominal_guided"]["area_nmi2"] < answer["report"]["area_nmi2"]
     m = answer["margin_to_report"]
@@ -208,8 +216,11 @@ def test_a_bad_guided_footprint_study_names_its_field(change, field):
 def test_the_guided_footprint_lies_inside_the_true_optimal_one_at_every_ray():
     s = parse("guided_footprint", {**copy.deepcopy(STUDY), "rays": 8, "optimal": True})
     answer = parallel.run("guided_footprint", s)
-    for r in answer["rays"]:
-        assert r["s_guided"] <= r["s_nominal"] < r["s_optimal"], r
+    f = answer["frame"]
+    for r in answer["rays"]:  # the targets' reach less the interface range against the optimal ends' (above)
+        a = math.radians(r["angle_deg"])
+        per_s = math.hypot(f["half_length_nmi"] * math.cos(a), f["half_width_nmi"] * math.sin(a))
+        assert r["s_guided"] <= r["s_nominal"] and r["s_nominal"] * per_s - INTERFACE_NMI < r["s_optimal"] * per_s, r
     assert answer["margin_to_optimal"]["inside_at_every_ray"]
     assert answer["optimal"]["area_nmi2"] > answer["report"]["area_nmi2"] > answer["guided"]["area_nmi2"]
 

@@ -26,10 +26,16 @@ class GuidedTarget(Strict):
 
 
 class GuidedTerminal(Strict):
-    """Where guidance hands over (the Shuttle's TAEM interface by default): the flight ends at this energy."""
+    """Where guidance hands over, the terminal-area interface (the Shuttle's TAEM interface by default): the flight
+    ends at the energy of altitude_ft and velocity_fps, aimed at the circle of range_nmi about the site, headed at
+    it; each value has a tolerance (the range's is the bank law's reach_nmi). Sources, choices: core.guidance."""
 
     altitude_ft: Annotated[float, Range(0, 1_000_000, "ft")] = _default("terminal_altitude_ft")
     velocity_fps: Annotated[float, Range(100, 30_000, "ft/s")] = _default("terminal_velocity_fps")
+    range_nmi: Annotated[float, Range(0, 1_000, "nmi")] = _default("interface_range_nmi")
+    altitude_tolerance_ft: Annotated[float, Range(0, 1_000_000, "ft")] = _default("interface_altitude_tolerance_ft")
+    velocity_tolerance_fps: Annotated[float, Range(0, 30_000, "ft/s")] = _default("interface_velocity_tolerance_fps")
+    heading_tolerance_deg: Annotated[float, Range(0, 180, "deg")] = _default("interface_heading_tolerance_deg")
 
 
 Magnitude = Annotated[float, Range(0, 180, "deg")]
@@ -127,6 +133,10 @@ class BankGuided(Strict):
             target_longitude_deg=self.target.longitude_deg,
             terminal_altitude_ft=self.terminal.altitude_ft,
             terminal_velocity_fps=self.terminal.velocity_fps,
+            interface_range_nmi=self.terminal.range_nmi,
+            interface_altitude_tolerance_ft=self.terminal.altitude_tolerance_ft,
+            interface_velocity_tolerance_fps=self.terminal.velocity_tolerance_fps,
+            interface_heading_tolerance_deg=self.terminal.heading_tolerance_deg,
             **settings,
         )
 

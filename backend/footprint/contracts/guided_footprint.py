@@ -119,6 +119,8 @@ def combine(study: GuidedFootprintStudy, outputs: list[dict[str, Any]], info: Ru
     guided = gfp.boundary(spec, rays, "guided")
     answer: dict[str, Any] = {
         "frame": f._asdict(),
+        # the guided rings are of targets, each reached at its interface this far before it; the outer ones of ends
+        "interface_range_nmi": spec.guidance.interface_range_nmi if spec.guidance is not None else 0.0,
         "settings": study.settings().__dict__,
         "criterion": study.criterion(),
         "guided": guided,

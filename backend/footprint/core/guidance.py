@@ -85,7 +85,7 @@ from footprint.core.heating import (
     ReferenceHeating,
 )
 from footprint.core.integrate import N_COLS, R_T, R_X, STOP_ASKED, STOP_MAX_STEPS, STOP_NONE, STOP_TIME, integrate
-from footprint.core.sphere import MEAN_RADIUS_NMI
+from footprint.core.sphere import MEAN_RADIUS_NMI, unit_vectors
 
 ACTUATOR_STEP_S = 0.25  # s between the nodes of a cycle's bank table (the actuator's sub-step)
 PROBE_STEP_DEG = 5.0  # deg: the finite difference that starts the corrector's secant
@@ -102,6 +102,9 @@ LOOKAHEAD_SAMPLES = 8  # speeds sampled over it
 FINAL_TOLERANCE_NMI = 0.02  # nmi: the corrector's tolerance with the bank's sign held to the end
 FINAL_ITERATIONS = 4  # ... and its predictions after the first
 QUIET_BOUND_MARGIN_DEG = 15.0  # a prediction is skipped only with the limits' bound this far above the command
+# chosen: the terminal area's flight from the interface (2,500 ft/s, ~80 kft) to wheels stop, TAEM then approach and
+# landing, ~5-6 min for the Shuttle (issue 50's figure, not taken from a flight record): the touchdown estimate's time
+TERMINAL_AREA_S = 330.0
 
 
 @dataclass(frozen=True)
@@ -110,8 +113,15 @@ class Guidance:
 
     target_latitude_deg: float
     target_longitude_deg: float
-    terminal_altitude_ft: float = 80_000.0  # e_f = h_f + V_f^2/(2 g0): the flight ends at this energy
+    # the terminal-area interface (TAEM, Harpold & Graves 1979: ~80 kft, 2,500 ft/s, ~50-60 nmi from the runway,
+    # headed toward it): the flight ends at the energy e_f = h_f + V_f^2/(2 g0), aimed at the circle of
+    # interface_range_nmi about the site
+    terminal_altitude_ft: float = 80_000.0
     terminal_velocity_fps: float = 2_500.0
+    interface_range_nmi: float = 50.0  # Harpold & Graves 1979's ~50-60 nmi range to go at TAEM (0: end on the site)
+    interface_altitude_tolerance_ft: float = 5_000.0  # chosen: the Shuttle's ~80-83 kft spread, rounded up
+    interface_velocity_tolerance_fps: float = 100.0  # chosen: +-5,000 ft at e_f is +-65 ft/s, rounded up
+    interface_heading_tolerance_deg: float = 5.0  # chosen: "a few degrees" (issue 50) toward the site
     cycle_s: float = 5.0  # s of flight between guidance cycles
     # at most this long between predictions (issue 51): after a quiet prediction (its first miss within tolerance, or
     # the command pinned at a bank limit the target lies beyond) the next waits twice as long (cycle_s: every cycle)
@@ -125,7 +135,7 @@ class Guidance:
     tolerance_fraction: float = 1e-3  # ... and far from it: this fraction of the range to go, when larger
     corridor_entry_deg: float = 12.0  # heading-error corridor at the entry speed
     corridor_terminal_deg: float = 2.0  # ... and at the terminal speed, linear in velocity between
-    lateral_freeze_nmi: float = 5.0  # no reversal within this range to go
+    lateral_freeze_nmi: float = 5.0  # no reversal within this range of the site (the target itself)
     # the calm lateral logic (issue 50: 6 deg, 60 s, 300 s, 130 s) is asked for, not the default: under the example's
     # dispersions its landings spread to p99 6.3 nmi against 0.50 (docs/guidance.md)
     min_reversal_interval_s: float = 0.0  # s between two reversals at least
@@ -142,7 +152,7 @@ class Guidance:
     # zeta of the bound's approach to a limit (bank_bound_deg): critical, as the vehicle's q-bar limit held by default
     # showed (issue 50: 3,000 nmi ahead, 375 psf: 0.75 overshot to 385 psf, +2.7 %; 1.0 peaked at 373)
     limit_damping: float = 1.0
-    reach_nmi: float = 5.0  # a landing within this of the target reached it
+    reach_nmi: float = 5.0  # chosen: an end within this of the interface circle reached it (its range tolerance)
 
     @property
     def terminal_energy_ft(self) -> float:
@@ -183,7 +193,8 @@ G_MIN_REVERSAL_INTERVAL = 24  # s
 G_FINAL_REVERSAL_WINDOW = 25  # s
 G_REVERSAL_INHIBIT = 26  # s
 G_MAX_PREDICTION_INTERVAL = 27  # s
-G_SIZE = 28
+G_INTERFACE_RANGE = 28  # nmi
+G_SIZE = 29
 
 # --- the heating model array H (the path limits' density bound) ---
 H_NONE, H_REFERENCE, H_CORRELATION = 0, 1, 2
@@ -231,6 +242,7 @@ def pack_guidance(g: Guidance) -> NDArray[np.float64]:
     out[G_MIN_REVERSAL_INTERVAL] = g.min_reversal_interval_s
     out[G_FINAL_REVERSAL_WINDOW], out[G_REVERSAL_INHIBIT] = g.final_reversal_window_s, g.reversal_inhibit_s
     out[G_MAX_PREDICTION_INTERVAL] = max(g.max_prediction_interval_s, g.cycle_s)
+    out[G_INTERFACE_RANGE] = g.interface_range_nmi
     return out
 
 
@@ -850,7 +862,9 @@ def _fly_guided(
         if nc > 0 and last_energy > e_f and energy < last_energy:  # the profile's value here: its line flown on
             sigma0 += (g[G_FINAL_BANK] - sigma0) * (last_energy - energy) / (last_energy - e_f)
         lat, lon = _ground_point(s, p)
-        to_go = _range_nmi(lat, lon, lat_t, lon_t)
+        # the corrector's range to go is to the interface circle about the site (Lu's s_togo); the lateral logic
+        # still steers toward the site itself, so the flight arrives on the circle headed at it
+        to_go = _range_nmi(lat, lon, lat_t, lon_t) - g[G_INTERFACE_RANGE]
         _, _, heading = flight_angles(s[0], s[1], s[2], s[3], s[4], s[5])
         heading_error = math.degrees(heading - _azimuth(lat, lon, lat_t, lon_t))
         heading_error -= 360.0 * math.floor((heading_error + 180.0) / 360.0)
@@ -858,7 +872,7 @@ def _fly_guided(
         # the last reversal timed by the predictor is this project's (the corrector's question asked of the sign)
         to_go_s -= t - last_t
         last_t = t
-        free = _may_reverse(g, to_go, to_go_s, final_reversed, mode[M_BANK_ACTIVE] != 0.0)
+        free = _may_reverse(g, to_go + g[G_INTERFACE_RANGE], to_go_s, final_reversed, mode[M_BANK_ACTIVE] != 0.0)
         in_window = g[G_FINAL_REVERSAL_WINDOW] > 0.0 and to_go_s <= g[G_FINAL_REVERSAL_WINDOW]
         new_sign = sign
         if sign == 0.0:  # the first cycle: toward the target
@@ -956,7 +970,7 @@ def _fly_guided(
             flags |= F_BOUND | binding_flags(g, heat, v, ahead, t_inf, p[P_WS])
         command = sign * min(sigma0, bound)
         # shorter cycles near the target, where a cycle's turn would leave the corridor
-        cycle = min(g[G_CYCLE], max(MIN_CYCLE_S, min(to_go * c.FT_PER_NMI / v / FINAL_CYCLES, lateral_cycle)))
+        cycle = min(g[G_CYCLE], max(MIN_CYCLE_S, min(max(to_go, 0.0) * c.FT_PER_NMI / v / FINAL_CYCLES, lateral_cycle)))
         # the command over the cycle follows the profile down to the energy expected at its end (e' = -D V / g0)
         cycle_end_energy = max(energy - cycle * res[EV_CD] * res[EV_Q_PSF] * v / p[P_WS], e_f)
         end_magnitude = sigma0 + (g[G_FINAL_BANK] - sigma0) * (energy - cycle_end_energy) / max(energy - e_f, 1.0)
@@ -1028,20 +1042,52 @@ class GuidedRecord:
     def count(self, flag: int) -> int:
         return int(np.sum((self.cycles[:, K_FLAGS].astype(np.int64) & flag) != 0))
 
-    def summary(self, latitude_deg: float, longitude_deg: float) -> dict[str, Any]:
-        """The guidance's part of the flight's summary, from where it ended (geodetic degrees)."""
+    def summary(self, flight: dict[str, Any]) -> dict[str, Any]:
+        """The guidance's part of the flight's summary, from where it ended (the flight summary's final_* values):
+        the interface state, each value within its tolerance, the miss of the interface circle, the touchdown
+        estimate."""
         g = self.guidance
-        lat, lon = (
-            np.radians([latitude_deg, g.target_latitude_deg]),
-            np.radians([longitude_deg, g.target_longitude_deg]),
-        )
-        miss = float(_range_nmi(lat[0], lon[0], lat[1], lon[1]))
+        lat, lon = flight["final_latitude_deg"], flight["final_longitude_deg"]
+        to_site = float(site_range_nmi(lat, lon, g))
+        miss = abs(to_site - g.interface_range_nmi)
+        heading_error = flight["final_heading_deg"] - math.degrees(
+            _azimuth(math.radians(lat), math.radians(lon), math.radians(g.target_latitude_deg),
+                     math.radians(g.target_longitude_deg))
+        )  # fmt: skip
+        heading_error -= 360.0 * math.floor((heading_error + 180.0) / 360.0)
+        within = {
+            "altitude": abs(flight["final_altitude_ft"] - g.terminal_altitude_ft) <= g.interface_altitude_tolerance_ft,
+            "velocity": abs(flight["final_velocity_fps"] - g.terminal_velocity_fps)
+            <= g.interface_velocity_tolerance_fps,
+            "range": miss <= g.reach_nmi,
+            "heading": abs(heading_error) <= g.interface_heading_tolerance_deg,
+        }
+        interface = {
+            "altitude_ft": flight["final_altitude_ft"],
+            "velocity_fps": flight["final_velocity_fps"],
+            "range_to_site_nmi": to_site,
+            "heading_error_deg": heading_error,
+            "time_s": flight["flight_time_s"],
+            "latitude_deg": lat,
+            "longitude_deg": lon,
+            "within": within,
+            "met": all(within.values()),
+        }
         bound = self.count(F_BOUND)
         binding = [name for flag, _, name in BOUND_LIMITS if self.count(flag)]
         reached = miss <= g.reach_nmi
         return {
             "target_latitude_deg": g.target_latitude_deg,
             "target_longitude_deg": g.target_longitude_deg,
+            "point": "interface",  # the miss and status are of the terminal-area interface, not of a landing
+            "interface_range_nmi": g.interface_range_nmi,
+            "interface": interface,
+            "touchdown_estimate": {  # at the site, the terminal area's allowance after the interface
+                "latitude_deg": g.target_latitude_deg,
+                "longitude_deg": g.target_longitude_deg,
+                "time_s": flight["flight_time_s"] + TERMINAL_AREA_S,
+                "terminal_area_s": TERMINAL_AREA_S,
+            },
             "miss_nmi": miss,
             "reached": reached,
             "status": "reached" if reached else "not reachable",
@@ -1060,6 +1106,19 @@ class GuidedRecord:
             "lift_ratio": float(self.cycles[-1, K_LIFT_RATIO]) if len(self.cycles) else 1.0,
             "drag_ratio": float(self.cycles[-1, K_DRAG_RATIO]) if len(self.cycles) else 1.0,
         }
+
+
+def site_range_nmi(latitude_deg: Any, longitude_deg: Any, guidance: Guidance) -> NDArray[np.float64]:
+    """Great-circle range (nmi, on R') of each point (deg) from the guidance's site (its target)."""
+    a = unit_vectors(latitude_deg, longitude_deg)
+    b = unit_vectors(guidance.target_latitude_deg, guidance.target_longitude_deg)
+    cross = np.linalg.norm(np.cross(a, b), axis=-1)
+    return np.asarray(np.arctan2(cross, np.sum(a * b, axis=-1)) * MEAN_RADIUS_NMI)
+
+
+def interface_miss_nmi(latitude_deg: Any, longitude_deg: Any, guidance: Guidance) -> NDArray[np.float64]:
+    """How far each end (deg) lies from the terminal-area interface circle (nmi): |range to the site - its range|."""
+    return np.abs(site_range_nmi(latitude_deg, longitude_deg, guidance) - guidance.interface_range_nmi)
 
 
 def fly_guided(

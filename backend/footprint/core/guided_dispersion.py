@@ -23,11 +23,11 @@ from footprint.core.controls import replace_bank_table
 from footprint.core.dispersion import Samples, sample_spec
 from footprint.core.dynamics import energy_height_ft
 from footprint.core.errors import Stopped
-from footprint.core.guidance import Guidance
+from footprint.core.guidance import interface_miss_nmi
 from footprint.core.integrate import STOP_REASONS
 from footprint.core.limits import tally_columns
 from footprint.core.monte_carlo import CONFIDENCE_INTERVAL, Landings, clopper_pearson, ellipse, spread
-from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges, unit_vectors
+from footprint.core.sphere import MEAN_RADIUS_NMI, downrange_crossrange_nmi, latlon_from_ranges
 from footprint.core.trajectory import FlightSpec, Trajectory, simulate, simulate_summary
 
 KEPT = (  # what a sample keeps of each flight: its columns in Landings.values
@@ -146,15 +146,6 @@ class GuidedDispersion:
         }
 
 
-def miss_nmi(lat_deg: NDArray[np.float64], lon_deg: NDArray[np.float64], target: Guidance) -> NDArray[np.float64]:
-    """Great-circle distance (nmi, on R') of each landing from the target."""
-    a = unit_vectors(lat_deg, lon_deg)
-    b = unit_vectors(np.array(target.target_latitude_deg), np.array(target.target_longitude_deg))
-    cross = np.linalg.norm(np.cross(a, b), axis=-1)
-    distance: NDArray[np.float64] = np.arctan2(cross, np.sum(a * b, axis=-1)) * MEAN_RADIUS_NMI
-    return distance
-
-
 def statistics(
     spec: FlightSpec,
     landings: Landings,
@@ -176,6 +167,7 @@ def statistics(
         "longitude_deg": g.target_longitude_deg,
         "downrange_nmi": float(t_down),
         "crossrange_nmi": float(t_cross),
+        "interface_range_nmi": g.interface_range_nmi,  # the misses are of the circle of this radius about the target
     }
     ns = nominal.summary
     nominal_info = {
@@ -216,7 +208,7 @@ def _mode(
     n = values.shape[0]
     landed = (stops == STOP_REASONS.index("energy")) & np.isfinite(values[:, LAT])
     lat, lon = np.where(landed, values[:, LAT], np.nan), np.where(landed, values[:, LON], np.nan)
-    miss = np.where(landed, miss_nmi(np.nan_to_num(lat), np.nan_to_num(lon), g), np.inf)
+    miss = np.where(landed, interface_miss_nmi(np.nan_to_num(lat), np.nan_to_num(lon), g), np.inf)
     down, cross = downrange_crossrange_nmi(lat, lon, e.latitude_deg, e.longitude_deg, e.heading_deg)
     turn = 2.0 * np.pi * MEAN_RADIUS_NMI
     down = down + turn * np.round((values[:, OWN_DOWN] - down) / turn)  # past half a circumference

@@ -1,6 +1,7 @@
 """The guided reach of landing sites: each site made the target of a guided case (core.guidance) and flown in the
-dispersed samples; the probability that the guided vehicle lands within R of it, with its Clopper-Pearson interval
-(Clopper & Pearson, Biometrika 26, 1934), the CEP of its landings and the undispersed flight's miss."""
+dispersed samples; the probability that the guided vehicle ends within R of its terminal-area interface circle, with
+its Clopper-Pearson interval (Clopper & Pearson, Biometrika 26, 1934), the CEP of its misses and the undispersed
+flight's miss and interface state."""
 
 from __future__ import annotations
 
@@ -26,8 +27,9 @@ def aimed_at(spec: FlightSpec, latitude_deg: float, longitude_deg: float) -> Fli
 
 
 def landed_miss_nmi(summary: dict[str, Any]) -> float:
-    """A guided flight's miss of its target (nmi); infinite when it did not end at its terminal energy (it skipped
-    out, ran out of time or hit the ground first)."""
+    """A guided flight's miss of its terminal-area interface circle about the target (nmi: core.guidance's
+    interface_miss_nmi); infinite when it did not end at its terminal energy (it skipped out, ran out of time or hit
+    the ground first)."""
     return float(summary["guidance"]["miss_nmi"]) if summary["stop_reason"] == "energy" else math.inf
 
 
@@ -65,8 +67,10 @@ def site_reach(
         "level": CONFIDENCE_INTERVAL,
         "cep_nmi": float(np.median(landed)) if landed.size else None,
         "landed": int(landed.size),
-        "nominal_miss_nmi": float(nominal["guidance"]["miss_nmi"]),
+        "nominal_miss_nmi": float(nominal["guidance"]["miss_nmi"]),  # of the terminal-area interface circle
         "nominal_status": nominal["guidance"]["status"],
+        "nominal_interface": nominal["guidance"]["interface"],  # where and how the undispersed flight hands over
+        "nominal_touchdown_estimate": nominal["guidance"]["touchdown_estimate"],
         "nominal_limits_broken": nominal["limits_broken"],
         "limits": tally(broken),  # the samples' flights that broke a vehicle limit
     }

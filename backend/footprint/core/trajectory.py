@@ -627,5 +627,5 @@ def _summary(
     }
     summary |= flight_limits(summary, spec.vehicle.limits)  # each limit, its margin, and whether it held
     if f.guided is not None:
-        summary["guidance"] = f.guided.summary(float(track.latitude_deg[-1]), float(track.longitude_deg[-1]))
+        summary["guidance"] = f.guided.summary(summary)
     return summary

@@ -174,8 +174,9 @@ def dispersion_figure(result, title=None, ax=None) -> Figure:
 
 def guided_dispersion_figure(result: dict, title=None) -> Figure:
     """A guided dispersion (contracts.guided_dispersion.to_dict): left, both landing clouds about the entry with the
-    target; right, the guided landings about the target (down-range and cross-range offsets) with the miss circles
-    of the radii asked and the 3-sigma ellipse, titled with P(within R) and its interval."""
+    target; right, the guided ends about the target (down-range and cross-range offsets) with the circles bounding
+    each band within R of the terminal-area interface circle and the 3-sigma ellipse, titled with P(within R) and
+    its interval."""
     from footprint.core.monte_carlo import ellipse
 
     fig = Figure(figsize=(12.0, 5.5), layout="constrained")
@@ -192,13 +193,16 @@ def guided_dispersion_figure(result: dict, title=None) -> Figure:
                       gid=f"cloud_{mode}", rasterized=True)  # fmt: skip
             if mode == "guided":
                 near.plot(d - t["downrange_nmi"], x - t["crossrange_nmi"], ".", color=color, ms=3.0, ls="none",
-                          label="guided landings", gid="cloud_near", rasterized=True)  # fmt: skip
+                          label="guided ends (interface)", gid="cloud_near", rasterized=True)  # fmt: skip
     wide.plot(t["downrange_nmi"], t["crossrange_nmi"], "r*", ms=12, label="target", gid="target", zorder=5)
     wide.legend(fontsize="small", loc="best")
     _range_axes(wide, "Landings about the entry")
     a = np.linspace(0.0, 2.0 * np.pi, 181)
+    interface = t.get("interface_range_nmi", 0.0)  # the misses are of the interface circle: the band +- R about it
     for r, ls in zip(result["radii_nmi"], cycle(["-", "--", ":", "-."])):
-        near.plot(r * np.cos(a), r * np.sin(a), ls=ls, color="k", lw=0.9, label=f"{r:g} nmi", gid="miss_circle")
+        for k, about in enumerate(x for x in (interface + r, interface - r) if x > 0.0):
+            label = f"{r:g} nmi of the {interface:g} nmi interface" if k == 0 else None
+            near.plot(about * np.cos(a), about * np.sin(a), ls=ls, color="k", lw=0.9, label=label, gid="miss_circle")
     landing = result["guided"].get("landing")
     if landing is not None:
         mean = np.array([landing["mean_downrange_nmi"] - t["downrange_nmi"],
@@ -207,7 +211,7 @@ def guided_dispersion_figure(result: dict, title=None) -> Figure:
         near.plot(ex, ey, "-", color="tab:orange", lw=1.2, label=r"3$\sigma$ ellipse", gid="ellipse")
     near.plot(0.0, 0.0, "r+", ms=14, mew=1.5, gid="target_near", zorder=5)
     miss = result["guided"]["miss_nmi"] or {}
-    half = max(1.5 * miss.get("max", 0.0), 1.2 * min(result["radii_nmi"]))  # the landings, and the nearest circle
+    half = max(1.5 * (interface + miss.get("max", 0.0)), 1.2 * (interface + min(result["radii_nmi"])))
     near.set_xlim(-half, half)
     near.set_ylim(-half, half)
     near.set_aspect("equal")
@@ -220,7 +224,8 @@ def guided_dispersion_figure(result: dict, title=None) -> Figure:
         for w in result["guided"]["within"]
         for lo, hi in [w["interval"]]
     )
-    near.set_title(fill(f"Guided: CEP {miss.get('cep', float('nan')):.2f} nmi, p99 {miss.get('p99', float('nan')):.2f}"
+    near.set_title(fill(f"Guided, miss of the interface: CEP {miss.get('cep', float('nan')):.2f} nmi, "
+                        f"p99 {miss.get('p99', float('nan')):.2f}"
                         f" nmi; {words}", 70), fontsize="small")  # fmt: skip
     if title:
         fig.suptitle(title)

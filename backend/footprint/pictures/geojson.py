@@ -153,7 +153,8 @@ def dispersion_collection(result: dict) -> dict:
 
 def guided_dispersion_collection(result: dict) -> dict:
     """A guided dispersion's result (contracts.guided_dispersion.to_dict) as GeoJSON features: the target with each
-    mode's probability of landing within each radius, the radii's circles about it, the nominal guided track, and
+    mode's probability of ending within each radius of the interface circle, the circles bounding each band about it
+    (interface range +- R), the nominal guided track, and
     each mode's 3-sigma landing ellipse. The landing clouds stay in the JSON."""
     t, entry = result["target"], result["entry"]
     within = {mode: result[mode]["within"] for mode in ("guided", "open_loop") if mode in result}
@@ -166,11 +167,14 @@ def guided_dispersion_collection(result: dict) -> dict:
             "properties": {"kind": "nominal_guided_track", "miss_nmi": result["nominal"]["guidance"]["miss_nmi"]},
         },
     ]
+    interface = t.get("interface_range_nmi", 0.0)  # within R of the interface circle: between its two circles
     for radius in result["radii_nmi"]:
-        lat, lon = circle(t["latitude_deg"], t["longitude_deg"], radius)
-        features.append(
-            {"type": "Feature", "geometry": line(lat, lon), "properties": {"kind": "miss_circle", "radius_nmi": radius}}
-        )
+        for side, about in (("outer", interface + radius), ("inner", interface - radius)):
+            if about <= 0.0:
+                continue
+            lat, lon = circle(t["latitude_deg"], t["longitude_deg"], about)
+            props = {"kind": "miss_circle", "radius_nmi": radius, "interface_range_nmi": interface, "side": side}
+            features.append({"type": "Feature", "geometry": line(lat, lon), "properties": props})
     for mode in within:
         e = result[mode].get("landing", {}).get("ellipse_3sigma")
         if e is not None:
