@@ -22,7 +22,7 @@ from tests.core.test_guidance import distance_nmi
 EXAMPLE = json.loads(open("examples/opportunities_iss_20_sites.json").read())
 BURN_UTC = datetime(2008, 9, 21, 0, 0, 0, tzinfo=UTC)
 DELTA_V_FPS = 400.0
-DOWNRANGE_NMI = 4_000.0
+DOWNRANGE_NMI = 6_000.0  # within the vehicle's limits (its 375 psf: shorter targets are not reachable)
 BURN = {"tle": EXAMPLE["tle"], "burn_utc": "2008-09-21T00:00:00Z", "delta_v_fps": DELTA_V_FPS}
 
 
