@@ -121,8 +121,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, change, words):
 
 def test_the_chosen_opportunitys_oem_and_czml(tmp_path):
     """Issue 52: --oem and --czml write the opportunity at --opportunity (its index in landing order), read back by
-    ccsds-ndm and as JSON; an index the answer does not hold is one line naming the option."""
-    from ccsds_ndm.ndm_io import NdmIo
+    the oem package and as JSON; an index the answer does not hold is one line naming the option."""
+    from oem import OrbitEphemerisMessage
 
     path = tmp_path / "study.json"
     path.write_text(json.dumps(small_study()))
@@ -130,9 +130,9 @@ def test_the_chosen_opportunitys_oem_and_czml(tmp_path):
     r = run("opportunities", path, "--workers", 0, "--opportunity", 1, "--oem", oem, "--czml", czml, "--json")
     assert r.returncode == 0, r.stderr
     chosen = json.loads(r.stdout)["opportunities"][1]
-    segments = NdmIo().from_string(oem.read_text()).body.segment
-    assert [s.metadata.ref_frame for s in segments] == ["TEME", "GRC"]
-    assert segments[0].data.state_vector[0].epoch + "Z" == chosen["burn_utc"]
+    segments = list(OrbitEphemerisMessage.open(oem))
+    assert [s.metadata["REF_FRAME"] for s in segments] == ["TEME", "GRC"]
+    assert next(segments[0].states).epoch.isot[:23] + "Z" == chosen["burn_utc"]
     vehicle = json.loads(czml.read_text())[1]
     assert vehicle["availability"].startswith(chosen["burn_utc"] + "/")
     r = run("opportunities", path, "--workers", 0, "--opportunity", 99, "--oem", oem)

@@ -8,6 +8,7 @@ a bad TLE named next to its field; a job cancelled."""
 import copy
 import json
 import re
+import tempfile
 import time
 from datetime import datetime
 from pathlib import Path
@@ -156,10 +157,10 @@ def downloaded(page, selector):
 
 def assert_downloads(page, job_id, answer, k):
     """The panel's files, as a planner saves them: the job's calendar read back by icalendar (an event per
-    opportunity that meets the rules, the answer's UIDs and burn seconds), the chosen one's OEM by ccsds-ndm and its
+    opportunity that meets the rules, the answer's UIDs and burn seconds), the chosen one's OEM by the oem package and its
     CZML as JSON, each starting at its burn."""
-    from ccsds_ndm.ndm_io import NdmIo
     from icalendar import Calendar
+    from oem import OrbitEphemerisMessage
 
     from footprint.contracts.opportunities import event_uid
 
@@ -176,8 +177,10 @@ def assert_downloads(page, job_id, answer, k):
     burn = answer["opportunities"][k]["burn_utc"]
     name, oem = downloaded(page, "#op-oem")
     assert name == f"opportunity-{job_id}-{k}.oem"
-    coast, entry = NdmIo().from_string(oem.decode()).body.segment
-    assert coast.data.state_vector[0].epoch + "Z" == burn and entry.metadata.ref_frame == "GRC"
+    with tempfile.TemporaryDirectory() as folder:  # the oem package opens files
+        (Path(folder) / name).write_bytes(oem)
+        coast, entry = OrbitEphemerisMessage.open(Path(folder) / name)
+    assert next(coast.states).epoch.isot[:23] + "Z" == burn and entry.metadata["REF_FRAME"] == "GRC"
     name, czml = downloaded(page, "#op-czml")
     assert name == f"opportunity-{job_id}-{k}.czml" and json.loads(czml)[1]["availability"].startswith(burn + "/")
 

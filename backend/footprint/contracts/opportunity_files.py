@@ -1,23 +1,27 @@
 """The files a planner hands on of one opportunity (issue 52): its coast and entry (core.opportunity_path) as a CCSDS
-Orbit Ephemeris Message (CCSDS 502.0-B-2, written and read by the ccsds-ndm package, KVN or XML) and as CZML for
-Cesium (written by the czml3 package). The opportunity is named by its index in the answer's `opportunities` (landing
-order, as the page's table and the CSV list them).
+Orbit Ephemeris Message (CCSDS 502.0-B-2, written and read by the oem package, KVN or XML) and as CZML for Cesium
+(written by the czml3 package). The entry is the flight guided to the opportunity's site (the answer's `guided`),
+or, when the study asks for no guided flights, the footprint study's case on its own controls. The opportunity is
+named by its index in the answer's `opportunities` (landing order, as the page's table and the CSV list them).
 """
 
 from __future__ import annotations
 
+import tempfile
 from datetime import UTC, datetime
+from pathlib import Path
 from typing import Any, Literal
+from xml.etree import ElementTree
 
 import numpy as np
 from numpy.typing import NDArray
 
 from footprint.contracts.opportunities import OpportunitiesStudy
+from footprint.core import deorbit as dorb
 from footprint.core import opportunity_path as path
 from footprint.core.constants import FT_PER_M
 from footprint.core.elements import FT_PER_KM, earth_fixed_to_teme
 from footprint.core.errors import InputError
-from footprint.core.opportunities import Flier
 from footprint.core.utc import after_s, iso, isos, parse_iso
 
 OemFormat = Literal["kvn", "xml"]
@@ -34,10 +38,11 @@ def opportunity_at(answer: dict[str, Any], index: int) -> dict[str, Any]:
 
 
 def phases(study: OpportunitiesStudy, o: dict[str, Any]) -> tuple[path.Phase, path.Phase]:
-    """The opportunity's coast (its burn and Δv on the study's orbit) and its entry (the study's case from there)."""
+    """The opportunity's coast (its burn and Δv on the study's orbit) and its entry from there: the case guided to the
+    site (the spec the answer's `guided` flew, Flier.guided_flight), or the case's own flight without guided ones."""
     coast, entry_row = path.coast_phase(study.orbit, study.coast, parse_iso(o["burn_utc"]), o["delta_v_fps"])
-    spec = Flier(study.spec, study.footprint.to_settings()).at_entry(entry_row)
-    return coast, path.entry_phase(spec, float(entry_row[0]))
+    case = study.guided_specs()[o["site"]] if study.guided else study.spec
+    return coast, path.entry_phase(dorb.entered(case, entry_row), float(entry_row[0]))
 
 
 def _epochs(burn: datetime, seconds: NDArray[np.float64]) -> list[str]:
@@ -45,34 +50,68 @@ def _epochs(burn: datetime, seconds: NDArray[np.float64]) -> list[str]:
     return [t.removesuffix("Z") for t in isos(after_s(burn, seconds))]
 
 
-def _oem_segment(
-    name: str, frame: str, about: str, epochs: list[str], r_km: Any, v_km_s: Any, meta: dict[str, str]
-) -> Any:
-    from ccsds_ndm.models.ndmxml2 import OemData, OemMetadata, OemSegment, StateVectorAccType
-    from ccsds_ndm.models.ndmxml2.ndmxml_2_0_0_common_2_0 import (
-        PositionType,
-        PositionUnits,
-        VelocityType,
-        VelocityUnits,
-    )
+def _oem_segment(frame: str, epochs: list[str], r_km: Any, v_km_s: Any, meta: dict[str, str]) -> Any:
+    """One OEM segment (the oem package's): UTC epochs written back as given (astropy's strftime with a precision of
+    3 writes the millisecond, and second 60 in a leap second), km and km/s."""
+    from astropy.time import Time
+    from oem.components import EphemerisSegment, MetaDataSection
 
-    def km(x: float) -> PositionType:
-        return PositionType(value=float(x), units=PositionUnits.KM)
-
-    def km_s(x: float) -> VelocityType:
-        return VelocityType(value=float(x), units=VelocityUnits.KM_S)
-
-    states = [
-        StateVectorAccType(
-            epoch=e, x=km(r[0]), y=km(r[1]), z=km(r[2]), x_dot=km_s(v[0]), y_dot=km_s(v[1]), z_dot=km_s(v[2])
-        )
-        for e, r, v in zip(epochs, r_km, v_km_s)
-    ]
-    metadata = OemMetadata(
-        comment=[f"{name}: {about}"], center_name="EARTH", ref_frame=frame, time_system="UTC",
-        start_time=epochs[0], stop_time=epochs[-1], **meta,
+    metadata = MetaDataSection(
+        {"OBJECT_NAME": meta["object_name"], "OBJECT_ID": meta["object_id"], "CENTER_NAME": "EARTH",
+         "REF_FRAME": frame, "TIME_SYSTEM": "UTC", "START_TIME": epochs[0], "STOP_TIME": epochs[-1]}
     )  # fmt: skip
-    return OemSegment(metadata=metadata, data=OemData(state_vector=states))
+    utc = Time(epochs, format="isot", scale="utc", precision=3)
+    columns = np.column_stack([np.asarray(r_km, dtype=float), np.asarray(v_km_s, dtype=float)]).T
+    return EphemerisSegment(metadata, (tuple(utc), *(tuple(c) for c in columns.tolist())))
+
+
+def _written(segments: list[Any], made: str, data_format: OemFormat) -> str:
+    """The message as the oem package writes it (its save_as, the one public writer, takes a path)."""
+    from oem import CURRENT_VERSION, OrbitEphemerisMessage
+    from oem.components import HeaderSection
+
+    header = HeaderSection({"CCSDS_OEM_VERS": CURRENT_VERSION, "CREATION_DATE": made, "ORIGINATOR": "Footprint"})
+    with tempfile.TemporaryDirectory() as folder:
+        where = Path(folder) / f"opportunity.{data_format}"
+        OrbitEphemerisMessage(header, segments).save_as(where, file_format=data_format)
+        return where.read_text()
+
+
+def _one_line(text: str) -> str:
+    """A COMMENT's text on one line of printable characters (a site's name may hold line breaks or control
+    characters: a KVN line would end there, and XML 1.0 allows none of them)."""
+    return " ".join("".join(c if c.isprintable() else " " for c in text).split())
+
+
+def _commented(text: str, data_format: OemFormat, header: str, segments: list[str]) -> str:
+    """The message with its COMMENTs (which the oem package reads past but does not write), where CCSDS 502.0-B-2
+    puts them: first in the header and first in each segment's metadata."""
+    header, segments = _one_line(header), [_one_line(c) for c in segments]
+    if data_format == "kvn":
+        first, rest = text.split("\n", 1)
+        parts = rest.split("META_START\n")
+        out = f"{first}\nCOMMENT {header}\n{parts[0]}"
+        return out + "".join(f"META_START\nCOMMENT {c}\n{p}" for c, p in zip(segments, parts[1:]))
+    root = ElementTree.fromstring(text)
+    for parent, comment in zip([root.find("header"), *root.iter("metadata")], [header, *segments]):
+        assert parent is not None  # the oem package writes a header and a metadata per segment
+        element = ElementTree.Element("COMMENT")
+        element.text = comment
+        parent.insert(0, element)
+    ElementTree.indent(root)
+    return ElementTree.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+
+
+def _entry_about(study: OpportunitiesStudy, o: dict[str, Any]) -> str:
+    """What the entry segment is: the flight guided to the site (the answer's `guided`), or the case's own."""
+    if study.guided:
+        g = o["guided"]
+        held = "the vehicle's limits held" if g["limits_held"] else f"broke {', '.join(g['limits_broken'])}"
+        return (f"the footprint study's case flown from the entry state guided to {o['site_name']} (the guided bank "
+                f"law: the answer's guided flight, miss {g['guidance']['miss_nmi']:.2f} nmi, {held}) to the "
+                "guidance's hand-over at its terminal energy")  # fmt: skip
+    return (f"the footprint study's case flown from the entry state to its stop on its own controls (the study "
+            f"asks for no guided flights: not guided to {o['site_name']})")  # fmt: skip
 
 
 def opportunity_oem(
@@ -82,12 +121,8 @@ def opportunity_oem(
     data_format: OemFormat = "kvn",
     made_utc: datetime | None = None,
 ) -> str:
-    """The opportunity's OEM: a segment for the coast in TEME (the orbit's own frame, SGP4's: a planner compares it
-    with the elements' ephemeris) and one for the entry in GRC (Greenwich rotating, polar motion neglected: the
-    rotating earth the flight is flown on, its velocity relative to the earth); km and km/s, epochs in UTC."""
-    from ccsds_ndm.models.ndmxml2 import NdmHeader, Oem, OemBody
-    from ccsds_ndm.ndm_io import NDMFileFormats, NdmIo
-
+    """The opportunity's OEM (2.0): a segment for the coast in TEME (the orbit's own frame, SGP4's: a planner compares
+    it with the elements' ephemeris) and one for the entry in GRC; km and km/s, epochs in UTC."""
     o = opportunity_at(answer, index)
     coast, entry = phases(study, o)
     burn, elements = parse_iso(o["burn_utc"]), answer["elements"]
@@ -99,30 +134,25 @@ def opportunity_oem(
     coast_utc = after_s(burn, coast.seconds)
     r_teme, v_teme = earth_fixed_to_teme(coast.r_ft, coast.v_rel_fps, coast_utc, study.coast.omega_rad_s)
     segments = [
-        _oem_segment(  # TEME: the coast is an orbit, in its elements' own frame (SGP4's), its velocity inertial
-            "coast", "TEME", f"deorbit burn {o['delta_v_fps']:.3f} ft/s retrograde at {o['burn_utc']} to the entry "
-            f"interface at {study.deorbit.interface_altitude_ft:,.0f} ft (vacuum, the orbit's earth's gravity)",
-            _epochs(burn, coast.seconds), r_teme, v_teme, meta,
-        ),
-        _oem_segment(  # GRC: the entry is flown on the rotating earth (TEME turned by GMST, no polar motion)
-            "entry", "GRC", f"the footprint study's case flown from the entry state to its stop, for {o['site_name']} "
-            "(its own controls, not guided to the site); earth-fixed, the velocity relative to the earth",
-            _epochs(burn, entry.seconds), entry.r_ft / FT_PER_KM, entry.v_rel_fps / FT_PER_KM, meta,
-        ),
-    ]  # fmt: skip
-    header = NdmHeader(
-        comment=[f"Footprint landing opportunity {index}: {o['site_name']}, revolution {o['revolution_number']}"],
-        creation_date=iso(made_utc or datetime.now(UTC)).removesuffix("Z"),
-        originator="Footprint",
-    )
-    oem = Oem(header=header, body=OemBody(segment=segments))
-    fmt = NDMFileFormats.KVN if data_format == "kvn" else NDMFileFormats.XML
-    text: str = NdmIo().to_string(oem, fmt)
-    return text
+        # TEME: the coast is an orbit, in its elements' own frame (SGP4's), its velocity inertial
+        _oem_segment("TEME", _epochs(burn, coast.seconds), r_teme, v_teme, meta),
+        # GRC, not ITRF: the integrator's earth is TEME turned by GMST about the pole, no polar motion (CCSDS's
+        # Greenwich rotating frame); ITRF would claim the polar motion (under 20 m) applied
+        _oem_segment("GRC", _epochs(burn, entry.seconds), entry.r_ft / FT_PER_KM, entry.v_rel_fps / FT_PER_KM, meta),
+    ]
+    comments = [
+        f"coast: deorbit burn {o['delta_v_fps']:.3f} ft/s retrograde at {o['burn_utc']} to the entry interface at "
+        f"{study.deorbit.interface_altitude_ft:,.0f} ft (vacuum, the orbit's earth's gravity)",
+        f"entry: {_entry_about(study, o)}; earth-fixed, the velocity relative to the earth",
+    ]
+    made = iso(made_utc or datetime.now(UTC)).removesuffix("Z")
+    text = _written(segments, made, data_format)
+    title = f"Footprint landing opportunity {index}: {o['site_name']}, revolution {o['revolution_number']}"
+    return _commented(text, data_format, title, comments)
 
 
 def opportunity_czml(study: OpportunitiesStudy, answer: dict[str, Any], index: int) -> str:
-    """The opportunity's CZML: a clock over the burn to the stop, and the vehicle's packet with its availability,
+    """The opportunity's CZML: a clock over the burn to the entry's end, and the vehicle's packet with its availability,
     its earth-fixed positions (m, Cesium's FIXED frame: the GRC states, polar motion under 20 m neglected) sampled
     in seconds from the burn, a path and a label; the site a point with its name."""
     from czml3 import CZML_VERSION, Clock, Document, Packet
@@ -148,7 +178,7 @@ def opportunity_czml(study: OpportunitiesStudy, answer: dict[str, Any], index: i
         Packet(
             id=f"opportunity-{index}", name=name, availability=TimeInterval(start=start, end=end),
             description=f"burn {o['burn_utc']}, entry {o['entry_utc']}, landing {o['landing_utc']}; after the entry, "
-            "the footprint study's case flown to its stop (its own controls, not guided to the site)",
+            f"{_entry_about(study, o)}",
             position=Position(epoch=start, referenceFrame="FIXED", cartesian=samples,
                               interpolationAlgorithm=InterpolationAlgorithms.LAGRANGE, interpolationDegree=5),
             path=Path(show=True, width=2, leadTime=0, trailTime=float(seconds[-1]) + 1.0, resolution=10,

@@ -4,9 +4,8 @@ the earth, in the frame the integrator flies: TEME turned by GMST about the pole
 CCSDS's GRC) on whole milliseconds of UTC from the burn, as every time of the opportunities is written.
 
 The coast is flown again from the orbit's state at the burn with the opportunity's Δv (core.deorbit: the same
-integrator, the same Δv, so the same coast); the entry is the footprint study's case (its vehicle, controls,
-planet and stop) flown from the coast's entry state: where the case's own controls take it, not a flight guided to
-the site.
+integrator, the same Δv, so the same coast); the entry is a flight spec (the caller's: the case guided to the site,
+or the case's own controls) flown from the coast's entry state, by the trajectory module as every flight is.
 """
 
 from __future__ import annotations
@@ -22,7 +21,7 @@ from footprint.core.dynamics import M_SIZE
 from footprint.core.elements import Orbit
 from footprint.core.integrate import R_T, R_VX, R_VZ, R_X, R_Z, integrate
 from footprint.core.opportunities import states_at
-from footprint.core.trajectory import FlightSpec, flight_inputs
+from footprint.core.trajectory import FlightSpec, flown_rows
 
 TIME_STEP_S = 1e-3  # each state is moved to the whole millisecond its epoch is written with (isos)
 
@@ -66,7 +65,6 @@ def coast_phase(
 
 
 def entry_phase(spec: FlightSpec, coast_s: float) -> Phase:
-    """The case `spec` (its entry the coast's) flown from the interface, `coast_s` after the burn."""
-    p, s0, mode = flight_inputs(spec)
-    rows, _, _ = integrate(s0, p, spec.vehicle.blob, spec.ctrl, mode, spec.max_steps)
-    return on_milliseconds("entry", coast_s, rows)
+    """The flight `spec` (its entry the coast's; guided or not) from the interface, `coast_s` after the burn, to
+    where it ends (a guided flight: its guidance's hand-over at the terminal energy)."""
+    return on_milliseconds("entry", coast_s, flown_rows(spec))

@@ -333,6 +333,11 @@ def _fly(spec: FlightSpec) -> _Flight:
     return _Flight(p, rows, int(stop_code), int(n_rhs), mode)
 
 
+def flown_rows(spec: FlightSpec) -> NDArray[np.float64]:
+    """One flight's integrator rows (integrate.R_* columns), guided or not, as simulate flies it."""
+    return _fly(spec).rows
+
+
 def simulate(spec: FlightSpec) -> Trajectory:
     """Fly one trajectory (AFWAL-TR-82-3036 Sections II.2-II.3): its summary, and its time histories made when first
     read (the same summary, to the bit, either way: simulate_summary)."""
