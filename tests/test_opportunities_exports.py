@@ -155,7 +155,10 @@ def test_the_oem_read_back_by_the_oem_package_holds_the_burn_the_interface_and_t
     g = o["guided"]
     lat, lon, alt = _end(flight, o, g["flight_time_s"])
     site = answer["sites"][o["site"]]
-    assert distance_nmi(lat, lon, site["latitude_deg"], site["longitude_deg"]) <= 5.0
+    on_circle = (
+        distance_nmi(lat, lon, site["latitude_deg"], site["longitude_deg"]) - g["guidance"]["interface_range_nmi"]
+    )
+    assert abs(on_circle) <= 5.0  # the terminal-area interface, 50 nmi before the site (issue 50 item 3)
     assert distance_nmi(lat, lon, g["final_latitude_deg"], g["final_longitude_deg"]) <= 0.01
     assert alt == pytest.approx(g["final_altitude_ft"], abs=1.0)
     assert f"guided to {o['site_name']}" in text and "hand-over" in text  # its COMMENT says which flight it is
@@ -208,10 +211,10 @@ def test_the_czml_fits_czml3s_model_and_starts_at_the_burn_and_ends_at_the_guide
     assert np.linalg.norm(samples[-1, 1:] / 0.3048 - end_ft) < moved_ft + 1.0
     lat, _ = geodetic_ft(*(samples[-1, 1:] / 0.3048))
     lon = math.degrees(math.atan2(samples[-1, 2], samples[-1, 1]))
-    assert (
-        distance_nmi(lat, lon, site["position"]["cartographicDegrees"][1], site["position"]["cartographicDegrees"][0])
-        <= 5.0
+    to_site = distance_nmi(
+        lat, lon, site["position"]["cartographicDegrees"][1], site["position"]["cartographicDegrees"][0]
     )
+    assert abs(to_site - g["guidance"]["interface_range_nmi"]) <= 5.0  # on the terminal-area interface circle
     assert o["site_name"] in vehicle["label"]["text"] and vehicle["path"]["show"]
     assert f"guided to {o['site_name']}" in vehicle["description"]
     assert site["name"] == o["site_name"]

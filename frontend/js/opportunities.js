@@ -272,7 +272,10 @@ export class OpportunitiesPanel {
   renderDetail(o) {
     const e = o.entry;
     $("op-detail").replaceChildren(
-      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: land at ${utcWords(o.landing_utc)} UTC`),
+      el("p", { class: "guided-line" }, `Revolution ${o.revolution_number ?? o.revolution}: `
+         + (o.touchdown_utc ? `touchdown ≈ ${utcWords(o.touchdown_utc)} UTC (guided to the terminal-area interface at `
+            + `${utcWords(o.interface_utc)}), over the site at 50,000 ft ${utcWords(o.landing_utc)}`
+           : `over the site at 50,000 ft ${utcWords(o.landing_utc)} UTC (the guided flight did not reach the interface)`)),
       el("p", {}, `Burn ${utcWords(o.burn_utc)} UTC, the middle of its window ${utcWords(o.burn_window_start_utc)}–`
          + `${utcWords(o.burn_window_end_utc)}${o.burn_window_clipped ? " (cut by the search's edge: no optimum)" : ""}, `
          + `at ${fmt(o.burn_altitude_ft)} ft over ${fmt(o.burn_latitude_deg, 2)}°, ${fmt(o.burn_longitude_deg, 2)}°; `
@@ -282,7 +285,7 @@ export class OpportunitiesPanel {
       el("p", {}, `Flight ${fmt(o.flight_time_s)} s: ${fmt(o.downrange_nmi)} nmi down-range, ${fmt(o.crossrange_nmi)} nmi `
          + `cross-range, ${fmt(o.margin_nmi)} nmi inside the footprint (${fmt(o.downrange_margin_nmi)} along its down-range, `
          + `${fmt(o.crossrange_margin_nmi)} across); sun ${signed(o.sun_elevation_deg, 1)}°, local solar time `
-         + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"}.`),
+         + `${hoursMinutes(o.local_solar_time_h)}${o.daylight ? " (day)" : " (night)"} at the ${o.sun_at ?? "arrival"}.`),
       ...(o.guided ? [el("p", {}, guidedWords(o.guided))] : []));
   }
 

@@ -100,7 +100,8 @@ def test_the_calendar_of_a_job_is_its_opportunities_that_meet_the_rules(api, fin
         assert str(event["UID"]) == event_uid(answer["elements"]["satellite_number"], o)
         assert f"-rev{o['revolution_number']}-" in str(event["UID"])
         assert event.decoded("DTSTART") == nearest(o["burn_utc"])
-        assert event.decoded("DTEND") == nearest(o["landing_utc"])
+        # the touchdown estimated after the guided flight's interface, else the arrival over the site (issue 52)
+        assert event.decoded("DTEND") == nearest(o.get("touchdown_utc") or o["landing_utc"])
     csv_rows = api.get(f"/api/jobs/{finished['id']}/opportunities?format=csv").text.splitlines()
     assert len(csv_rows) == 1 + len(answer["opportunities"])
 

@@ -354,7 +354,7 @@ CSV_COLUMNS = (
     "burn_longitude_deg", "delta_v_fps", "entry_utc", "landing_utc", "flight_time_s", "downrange_nmi",
     "crossrange_nmi", "margin_nmi", "downrange_margin_nmi", "crossrange_margin_nmi", "sun_elevation_deg",
     "local_solar_time_h", "daylight", "meets_rules", "burn_window_start_utc", "burn_window_end_utc",
-    "burn_window_clipped", "revolution",
+    "burn_window_clipped", "revolution", "interface_utc", "touchdown_utc", "sun_at",
 )  # fmt: skip
 
 
@@ -414,8 +414,9 @@ def _axis_words(o: dict[str, Any]) -> str:
 
 def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) -> str:
     """An iCalendar (RFC 5545, written by the icalendar package: its escaping and folding) of the opportunities that
-    meet the rules: one event per opportunity from the burn to the landing (to the nearest second), its summary the
-    site and revolution, its description the times to the millisecond, the Δv, margins and sun; its UID and
+    meet the rules: one event per opportunity from the burn to the touchdown estimated after the guided flight's
+    terminal-area interface (without one, the arrival over the site; to the nearest second), its summary the site and
+    revolution, its description the times to the millisecond, the Δv, margins and sun; its UID and
     SEQUENCE stable across re-plans (event_uid, event_sequence)."""
     from icalendar import Calendar, Event
 
@@ -431,11 +432,17 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
         uids[uid] += 1  # two passes whose burns fall in one revolution (each seconds from its nodes): the later's -2
         if uids[uid] > 1:
             uid = uid.replace("@", f"-{uids[uid]}@")
+        touchdown = o.get("touchdown_utc")  # the guided flight's estimate (issue 52 item 3), else the arrival
+        arrival = f"arrival over the site at the footprint's stop altitude {o['landing_utc']}"
+        landed = (
+            f"interface {o['interface_utc']}; touchdown (estimated) {touchdown}; {arrival}" if touchdown else arrival
+        )
         about = (
-            f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; landing "
-            f"{o['landing_utc']}; down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
-            f"margin {o['margin_nmi']:.0f} nmi{_axis_words(o)}; sun {o['sun_elevation_deg']:.1f} deg, local solar "
-            f"time {o['local_solar_time_h']:.2f} h; revolution {o['revolution_number']}"
+            f"deorbit burn {o['delta_v_fps']:.1f} ft/s at {o['burn_utc']}; entry {o['entry_utc']}; {landed}; "
+            f"down-range {o['downrange_nmi']:.0f} nmi, cross-range {o['crossrange_nmi']:.0f} nmi, "
+            f"margin {o['margin_nmi']:.0f} nmi{_axis_words(o)}; sun at the {o.get('sun_at', 'arrival')} "
+            f"{o['sun_elevation_deg']:.1f} deg, local solar time {o['local_solar_time_h']:.2f} h; "
+            f"revolution {o['revolution_number']}"
             + ("; the burn window is cut by the search's edge" if o.get("burn_window_clipped") else "")
         )
         event = Event()
@@ -443,7 +450,7 @@ def opportunities_ics(answer: dict[str, Any], made_utc: datetime | None = None) 
         event.add("sequence", event_sequence(elements))
         event.add("dtstamp", stamp)
         event.add("dtstart", _calendar_time(o["burn_utc"]))
-        event.add("dtend", _calendar_time(o["landing_utc"]))
+        event.add("dtend", _calendar_time(touchdown or o["landing_utc"]))
         event.add("summary", _calendar_text(f"Landing at {o['site_name']}, revolution {o['revolution_number']}"))
         event.add("description", _calendar_text(about))
         calendar.add_component(event)

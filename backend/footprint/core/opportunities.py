@@ -131,16 +131,21 @@ class Opportunity:
     entry_utc: datetime
     entry: dict[str, float]  # altitude_ft, velocity_fps, gamma_deg, heading_deg, latitude_deg, longitude_deg
     flight_time_s: float
-    landing_utc: datetime
+    landing_utc: datetime  # the arrival over the site at the footprint's stop altitude (50,000 ft by default)
     downrange_nmi: float
     crossrange_nmi: float
     margin_nmi: float  # to the footprint's boundary, the nearest way (positive inside)
     downrange_margin_nmi: float | None  # along the chart's down-range, the cross-range held (axis_margins)
     crossrange_margin_nmi: float | None  # along its cross-range, the down-range held
-    sun_elevation_deg: float
+    sun_elevation_deg: float  # at sun_at's time
     local_solar_time_h: float
     daylight: bool
     meets_rules: bool
+    # the guided flight's terminal-area interface and the touchdown estimated after it (its guidance's allowance),
+    # when it reached the interface; the sun is taken at the touchdown then, else at the arrival (landing_utc)
+    interface_utc: datetime | None
+    touchdown_utc: datetime | None
+    sun_at: Literal["touchdown", "arrival"]
     burn_window_start_utc: datetime
     burn_window_end_utc: datetime
     burn_window_clipped: bool  # the site still held at the search's first or last burn: not an optimum
@@ -656,6 +661,15 @@ def needed_change(
     return {key: change}
 
 
+def _guided_times(entry_utc: datetime, guided: dict[str, Any] | None) -> tuple[datetime | None, datetime | None]:
+    """(interface, touchdown) UTC of a guided flight that reached its interface, from its entry; else (None, None)."""
+    if guided is None or not guided["guidance"]["reached"]:
+        return None, None
+    g = guided["guidance"]
+    interface, touchdown = after_s(entry_utc, [g["interface"]["time_s"], g["touchdown_estimate"]["time_s"]])
+    return interface, touchdown
+
+
 def _opportunity(
     p: Plan,
     coast: dorb.Coast,
@@ -690,7 +704,10 @@ def _opportunity(
     needed = None if margin >= 0.0 else needed_change(coast, r, v, deorbit, row, _shortfall_nmi(ring, down, cross))
     flight_s = flight_time_at(ring, down, cross)
     entry_utc, landing_utc = after_s(burn_utc, [row[dorb.E_COAST_S], row[dorb.E_COAST_S] + flight_s])
-    elevation = float(sun.elevation_deg([landing_utc], lat, lon)[0])
+    guided = flier.guided_flight(row, s)
+    interface_utc, touchdown_utc = _guided_times(entry_utc, guided)
+    sun_at = landing_utc if touchdown_utc is None else touchdown_utc  # the daylight rule's time (issue 52 item 3)
+    elevation = float(sun.elevation_deg([sun_at], lat, lon)[0])
     sunlit = settings.sun_elevation_min_deg is None or elevation >= settings.sun_elevation_min_deg
     burn_lat, burn_lon, burn_alt = subsatellite_points(p.orbit, [burn_utc])
     return Opportunity(
@@ -721,7 +738,10 @@ def _opportunity(
         downrange_margin_nmi=down_margin,
         crossrange_margin_nmi=cross_margin,
         sun_elevation_deg=elevation,
-        local_solar_time_h=float(sun.local_solar_time_h([landing_utc], lon)[0]),
+        local_solar_time_h=float(sun.local_solar_time_h([sun_at], lon)[0]),
+        interface_utc=interface_utc,
+        touchdown_utc=touchdown_utc,
+        sun_at="arrival" if touchdown_utc is None else "touchdown",
         daylight=elevation >= sun.DAYLIGHT_ELEVATION_DEG,
         meets_rules=sunlit and margin >= settings.min_margin_nmi,
         burn_window_start_utc=p.utc([found.window[0]])[0],
@@ -732,5 +752,5 @@ def _opportunity(
         coast_track=np.column_stack([track_lat, track_lon]).tolist(),
         footprint_ring=placed(ring, row),
         limits=tally(ring.limits_broken),
-        guided=flier.guided_flight(row, s),
+        guided=guided,
     )
