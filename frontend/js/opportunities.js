@@ -71,11 +71,11 @@ export class OpportunitiesPanel {
     this.onSelect = onSelect; // another opportunity chosen (the plot redraws)
     this.onGlobe = onGlobe; // the chosen one's lines and points for the globe, [lon, lat]
     this.onGuided = onGuided; // (what: "fly" | "disperse", study, opportunity, site, button id): the guided panel's
-    this.study = null; // the study of the shown answer's job (its orbit and footprint case), null without one
+    this.jobStudy = null; // the study of the shown answer's job (its orbit and footprint case), null without one
     for (const [id, what] of [["op-fly-guided", "fly"], ["op-disperse-guided", "disperse"]]) {
       $(id).addEventListener("click", () => {
         const o = this.answer?.opportunities[this.selected];
-        if (o && this.study) this.onGuided?.(what, this.study, o, this.answer.sites[o.site], id);
+        if (o && this.jobStudy) this.onGuided?.(what, this.jobStudy, o, this.answer.sites[o.site], id);
       });
     }
     this.form = $("opportunities-form");
@@ -187,7 +187,7 @@ export class OpportunitiesPanel {
   show(answer, jobId = null, study = null) {
     this.answer = answer;
     this.jobId = jobId;
-    this.study = study;
+    this.jobStudy = study;
     const e = answer.elements, rules = answer.rules;
     const sun = rules.sun_elevation_min_deg;
     const ruleWords = `${sun == null ? "the sun anywhere" : `the sun at least ${asGiven(sun)}°`} and a margin of at least `
@@ -222,7 +222,7 @@ export class OpportunitiesPanel {
     this.renderTable();
     this.renderDetail(o);
     this.setDownloads();
-    $("op-guided").hidden = !this.study;
+    $("op-guided").hidden = !this.jobStudy;
     this.draw(o);
     this.onSelect?.(k);
     if (fromTimeline) document.querySelector(`#plot .op-mark[data-index="${k}"]`)?.focus();
