@@ -59,7 +59,8 @@ const asGiven = (v) => String(v).replace("-", "−"); // a rule's number as the 
 export function guidedWords(g) {
   const gd = g.guidance, broken = g.limits_broken ?? [];
   const limits = broken.length ? `broke ${broken.map((n) => n.replaceAll("_", " ")).join(", ")}` : "within the vehicle's limits";
-  return `Flown guided to the site from this entry: ${gd.status}, ${fmt(gd.miss_nmi, 2)} nmi from it after `
+  const aim = gd.interface_range_nmi ? `its terminal-area interface (${fmt(gd.interface_range_nmi)} nmi out)` : "it";
+  return `Flown guided to the site from this entry: ${gd.status}, ${fmt(gd.miss_nmi, 2)} nmi from ${aim} after `
     + `${fmt(g.flight_time_s)} s; peaks ${fmt(g.max_load_factor, 2)} g, ${fmt(g.max_dynamic_pressure_psf)} psf; ${limits}.`;
 }
 

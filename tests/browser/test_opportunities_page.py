@@ -528,6 +528,8 @@ def test_an_opportunity_is_flown_guided_and_dispersed_from_its_own_entry(open_pa
                            job_end["final_longitude_deg"])  # fmt: skip
     assert apart < 0.05  # the page's flight is the job's own guided flight of this opportunity
     page.locator("#guided-summary", has_text=site["name"][:12]).wait_for(timeout=WAIT_MS)
+    page.wait_for_timeout(400)
+    page.screenshot(path=str(FIGURES_DIR / "page_opportunity_guided.png"))
     page.fill("#g-samples", "8")
     with page.expect_request(lambda r: r.url.endswith("/api/jobs") and r.method == "POST", timeout=WAIT_MS) as req:
         page.click("#op-disperse-guided")
