@@ -31,7 +31,9 @@ def cases():
 
     case = copy.deepcopy(example("footprint_lod189")["case"])
     lat, lon = latlon_from_ranges(5000.0, 600.0, 0.0, 0.0, 90.0)
-    guided = case | {"bank": {"law": "guided", "target": {"latitude_deg": float(lat), "longitude_deg": float(lon)}}}
+    # the shipped example's bank (examples/fly_guided_lod189.json): its 375 psf lifted, its target being beyond it
+    target = {"latitude_deg": float(lat), "longitude_deg": float(lon)}
+    guided = case | {"bank": {"law": "guided", "target": target, "max_dynamic_pressure_psf": None}}
     open_loop = case | {"bank": {"law": "single_parameter", "bank_gain": 0.8}}
     return guided, open_loop
 
