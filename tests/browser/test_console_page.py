@@ -1,0 +1,98 @@
+"""Issue 53: the page as a planner's console, in Debian's chromium against the real service. Each test reproduces
+one of the issue's items as a first-time user met it."""
+
+import json
+from pathlib import Path
+
+from .conftest import FIGURES_DIR, WAIT_MS, refusal
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = json.loads((ROOT / "examples" / "opportunities_iss_20_sites.json").read_text())
+PYDANTIC_WORDS = ("Input should", "List should", "after validation", "(got None)", "e+0")
+
+
+def script_errors(run):
+    """The page's script errors (a refusal's 422 in the console is the service answering, not the page failing)."""
+    return [e for e in run.errors if "status of 422" not in e]
+
+
+def note_of(page, input_id):
+    note = page.locator(f"#{input_id} + .field-error")
+    note.wait_for(timeout=WAIT_MS)
+    return note.inner_text()
+
+
+def test_a_negative_target_downrange_is_refused_beside_its_field_and_not_queued(open_page, service):
+    """Item 6: a down-range constraint of -4,000 nmi was queued and "succeeded" with a 139 g flight; a down-range is
+    measured forward from the entry, so nothing at or below 0 nmi can be met."""
+    run = open_page()
+    page = run.page
+    jobs = service.call("/api/jobs")["total"]
+    page.check("#optimize-toggle")
+    page.fill("#o-downrange", "-4000")
+    page.click("#job-submit")
+    text = note_of(page, "o-downrange")
+    assert text.startswith("Down-range = (nmi): -4,000 ") and "more than 0" in text, text
+    assert "e.g. 4000" in text, text  # the form's own default as the example
+    assert page.locator("#job-list li").count() == 0
+    assert service.call("/api/jobs")["total"] == jobs  # nothing queued
+    page.screenshot(path=str(FIGURES_DIR / "issue53_negative_downrange.png"))
+    assert not script_errors(run), run.errors
+
+
+def test_the_pages_messages_are_in_the_forms_words_with_an_example(open_page, service):
+    """Item 6: an empty number, an empty list and a time that is not one were answered in pydantic's words; each is
+    said in the form's words, with the field's default or placeholder as an example."""
+    run = open_page()
+    page = run.page
+    page.fill("#entry-velocity", "")
+    page.click("#job-submit")
+    text = note_of(page, "entry-velocity")
+    assert text == "Velocity, earth-relative (ft/s): a number is needed; e.g. 24480", text
+    page.fill("#entry-velocity", "24480")
+    page.fill("#p-bank0", "")
+    page.click("#job-submit")
+    text = note_of(page, "p-bank0")
+    assert text == "Initial banks φ0 (deg, list): give at least 1 value; e.g. 0, 15, 30, …", text
+    page.fill("#p-bank0", "0, 45")
+    page.fill("#entry-altitude", "5")
+    page.click("#job-submit")
+    text = note_of(page, "entry-altitude")
+    assert "e+0" not in text and ",000" in text, text  # "1,000 to 3,000,000 ft", not "1000 to 3e+06 ft"
+    page.fill("#entry-altitude", "364800")
+    service.call("/api/sites", {"name": "Edwards", "latitude_deg": 34.9, "longitude_deg": -117.9})
+    page.reload()
+    page.wait_for_selector("body[data-ready=true]")
+    page.fill("#op-tle", EXAMPLE["tle"])
+    page.fill("#op-start", "yesterday")
+    page.click("#op-find")
+    text = note_of(page, "op-start")
+    assert text == "Window start (UTC): 'yesterday' is not a date and time (UTC); e.g. 2008-09-21T00:00:00Z", text
+    page.screenshot(path=str(FIGURES_DIR / "issue53_form_words.png"), full_page=True)
+    for said in PYDANTIC_WORDS:
+        assert said not in page.inner_text("body"), said
+    assert not script_errors(run), run.errors
+
+
+def test_the_service_refuses_a_constraint_no_flight_can_meet(service):
+    """Item 6 at the contract: the 422 names the constraint and the quantity's range, in thousands."""
+    study = {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "entry": {
+                "velocity_fps": 24480,
+                "gamma_deg": -2,
+                "heading_deg": 90,
+                "altitude_ft": 364800,
+                "latitude_deg": 0,
+                "longitude_deg": 0,
+            },
+        },
+        "payoff": {"quantity": "crossrange_nmi"},
+        "constraints": [{"quantity": "downrange_nmi", "equals": -4000}],
+    }
+    body = refusal(service, "/api/jobs", {"kind": "optimize", "study": study})
+    assert body["field"] == "study.constraints.0.equals", body
+    assert body["detail"] == (
+        "study.constraints.0.equals: -4,000 is outside the allowed range for downrange_nmi (more than 0)"
+    ), body
