@@ -96,3 +96,39 @@ def test_the_service_refuses_a_constraint_no_flight_can_meet(service):
     assert body["detail"] == (
         "study.constraints.0.equals: -4,000 is outside the allowed range for downrange_nmi (more than 0)"
     ), body
+
+
+def test_no_guidance_target_is_drawn_before_its_panel_is_used(open_page):
+    """Item 9: the guided panel's default target (a crosshair over India, on Sriharikota) was drawn on every view
+    before anyone used that panel; it appears once the panel's target is touched."""
+    run = open_page()
+    page = run.page
+    page.wait_for_timeout(500)  # the page's first draw is done (body[data-ready]); give the layers a moment
+    assert page.locator("#map .guided-target").count() == 0
+    page.screenshot(path=str(FIGURES_DIR / "issue53_no_default_target.png"))
+    page.fill("#g-latitude", "20")
+    page.locator("#map .guided-target").first.wait_for(state="attached")
+    assert not script_errors(run), run.errors
+
+
+OVERLAPS_JS = """(selectors) => {
+  const boxes = (s) => [...document.querySelectorAll(s)].map((e) => e.getBoundingClientRect())
+    .filter((r) => r.width > 0 && r.height > 0);
+  const hit = (a, b) => a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+  const labels = boxes('#map .grid-label'), controls = boxes(selectors);
+  const hidden = [...document.querySelectorAll('#map .grid-label')]
+    .filter((e) => controls.some((c) => hit(e.getBoundingClientRect(), c))).map((e) => e.textContent);
+  return { labels: labels.length, hidden }; }"""
+
+
+def test_graticule_labels_stay_clear_of_the_scale_bar_and_the_zoom_buttons(open_page):
+    """Item 9: the longitudes along the bottom sat under the scale bar and the attribution."""
+    run = open_page()
+    page = run.page
+    for zoom in (None, "in"):
+        if zoom:
+            page.click(".leaflet-control-zoom-in")
+            page.wait_for_timeout(800)
+        seen = page.evaluate(OVERLAPS_JS, ".map-scale, .leaflet-control-attribution, .leaflet-control-zoom")
+        assert seen["labels"] >= 6 and seen["hidden"] == [], seen
+    page.screenshot(path=str(FIGURES_DIR / "issue53_graticule_labels.png"))
