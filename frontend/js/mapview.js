@@ -190,13 +190,13 @@ export class MapView {
     const at = (y) => this.map.containerPointToLatLng([0, y]).lat, y = (lat) => this.map.latLngToContainerPoint([lat, 0]).y;
     const pane = this.map.getContainer().getBoundingClientRect(), bar = this._scaleDiv?.getBoundingClientRect();
     const lowest = Math.min(this.map.getSize().y - GRID_LABEL_CLEAR_BOTTOM_PX, bar?.height ? bar.top - pane.top - 2 : Infinity);
-    const bottom = at(Math.min(lowest - GRID_LABEL_HEIGHT_PX, y(-90))), top = at(Math.max(GRID_LABEL_CLEAR_TOP_PX, y(90)));
+    const row = Math.min(lowest - GRID_LABEL_HEIGHT_PX, y(-90)), bottom = at(row), top = at(Math.max(GRID_LABEL_CLEAR_TOP_PX, y(90)));
     for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
       L.marker([bottom, lon], { icon: icon(lonWords(lon), "lon"), interactive: false, keyboard: false })
         .addTo(this.gridLabels);
     }
     for (let lat = Math.ceil(bottom / step) * step; lat <= top; lat += step) {
-      if (lat <= bottom) continue; // beside the longitudes' row
+      if (y(lat) > row - GRID_LABEL_HEIGHT_PX) continue; // on the longitudes' row
       L.marker([lat, b.getWest()], { icon: icon(latWords(lat), "lat"), interactive: false, keyboard: false })
         .addTo(this.gridLabels);
     }

@@ -121,14 +121,56 @@ OVERLAPS_JS = """(selectors) => {
   return { labels: labels.length, hidden }; }"""
 
 
+LABELS_APART_JS = """() => { const r = [...document.querySelectorAll('#map .grid-label')]
+  .map((e) => [e.textContent, e.getBoundingClientRect()]);
+  const hit = (a, b) => a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom;
+  return r.flatMap(([t, a], i) => r.slice(i + 1).filter(([, b]) => hit(a, b)).map(([u]) => `${t} over ${u}`)); }"""
+
+
 def test_graticule_labels_stay_clear_of_the_scale_bar_and_the_zoom_buttons(open_page):
     """Item 9: the longitudes along the bottom sat under the scale bar and the attribution."""
     run = open_page()
     page = run.page
-    for zoom in (None, "in"):
-        if zoom:
+    for zoom in (None, "in", "world"):
+        if zoom == "in":
             page.click(".leaflet-control-zoom-in")
-            page.wait_for_timeout(800)
+        elif zoom == "world":
+            page.evaluate("() => window.footprintApp.mapView.map.fitBounds([[-90, -180], [90, 180]], {animate: false})")
+        page.wait_for_timeout(800)
         seen = page.evaluate(OVERLAPS_JS, ".map-scale, .leaflet-control-attribution, .leaflet-control-zoom")
         assert seen["labels"] >= 6 and seen["hidden"] == [], seen
+        assert page.evaluate(LABELS_APART_JS) == [], zoom
     page.screenshot(path=str(FIGURES_DIR / "issue53_graticule_labels.png"))
+
+
+def submit_footprint(page, name, longitude_deg, banks="0, 45, 90"):
+    page.fill("#job-name", name)
+    page.fill("#entry-longitude", str(longitude_deg))
+    page.fill("#p-bank0", banks)
+    page.click("#job-submit")
+    return page.locator("#job-list li", has_text=name).first
+
+
+def test_a_finished_footprint_is_drawn_and_selected_when_it_finishes(open_page, service):
+    """Item 4: first-time users saw no footprint from a finished job until they ticked it and clicked it. Two jobs
+    in a row, as a user queues them: each is drawn, and the last to finish is the selected one, in the list and the
+    range plot, when it finishes."""
+    run = open_page()
+    page = run.page
+    first = submit_footprint(page, "first of two", -40)
+    second = submit_footprint(page, "second of two", 20)
+    ids = []
+    for item in (first, second):
+        item.locator(".job-status", has_text="succeeded").wait_for(timeout=WAIT_MS * 5)
+        job = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")
+        ids.append(job["result"]["footprints"][0].rsplit("/", 1)[1])
+    for fid in ids:
+        page.locator(f"path.fp-polygon.fp-{fid}.fp-copy-0").wait_for(state="attached")
+        assert page.locator(f"#footprint-list li[data-id='{fid}'] input.fp-visible").is_checked()
+    last = page.locator("#footprint-list li.selected")
+    last.wait_for()
+    assert last.get_attribute("data-id") == ids[-1]
+    assert page.get_attribute(f"#footprint-list li[data-id='{ids[-1]}'] .fp-select", "aria-pressed") == "true"
+    assert page.locator("#plot .plot-title").first.text_content() == "second of two"
+    page.screenshot(path=str(FIGURES_DIR / "issue53_finished_drawn.png"))
+    assert not script_errors(run), run.errors
