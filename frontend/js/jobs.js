@@ -175,7 +175,7 @@ export class JobsPanel {
     $("job-submit").disabled = true;
     try {
       const job = await api("/api/jobs", { method: "POST", body });
-      this.follow(job.id, body.name || `${body.kind} ${job.id.slice(0, 8)}`);
+      this.follow(job.id, body.name || job.name || `${body.kind} ${job.id.slice(0, 8)}`); // the service names it for what it is
     } catch (err) {
       showFieldError(this.form, body.kind === "dispersion" ? asFootprintField(err) : err, $("job-form-error"));
     } finally {

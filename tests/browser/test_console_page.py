@@ -2,6 +2,7 @@
 one of the issue's items as a first-time user met it."""
 
 import json
+import re
 from pathlib import Path
 
 from .conftest import FIGURES_DIR, WAIT_MS, refusal
@@ -174,3 +175,47 @@ def test_a_finished_footprint_is_drawn_and_selected_when_it_finishes(open_page, 
     assert page.locator("#plot .plot-title").first.text_content() == "second of two"
     page.screenshot(path=str(FIGURES_DIR / "issue53_finished_drawn.png"))
     assert not script_errors(run), run.errors
+
+
+HEX_ID = re.compile(r"\b[0-9a-f]{8}\b")
+
+
+def test_results_are_named_for_what_they_are(open_page, service):
+    """Item 3: a result without a name was "footprint a5dde2ec" in the list, the plot's title and the legend, and an
+    optimization "optimize fae955f1"; the Name field promises "vehicle, method, entry". Both are named so, the
+    method in words, the entry as the form has it (364,800 ft, 24,480 ft/s, -2 deg)."""
+    run = open_page()
+    page = run.page
+    page.fill("#p-bank0", "0, 45, 90")
+    page.click("#job-submit")
+    name = "lod-1.89 · single parameter · 364.8 kft 24,480 ft/s -2°"
+    item = page.locator("#job-list li").first
+    assert item.locator(".job-label").inner_text() == name
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=WAIT_MS * 5)
+    fid = service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["result"]["footprints"][0].rsplit("/", 1)[1]
+    page.locator(f"#footprint-list li[data-id='{fid}'].selected").wait_for()
+    assert page.locator(f"#footprint-list li[data-id='{fid}'] .fp-select").inner_text().startswith(name)
+    assert page.locator("#plot .plot-title").first.text_content() == name
+    assert name in page.inner_text("#map .footprint-legend")
+    page.check("#optimize-toggle")
+    page.click("#job-submit")
+    item = page.locator("#job-list li").first
+    optimum = "lod-1.89 · creep+pattern · 364.8 kft 24,480 ft/s -2°"
+    assert item.locator(".job-label").inner_text() == optimum
+    item.locator(".job-status", has_text="succeeded").wait_for(timeout=WAIT_MS * 5)
+    page.locator("#plot .plot-title", has_text=optimum).first.wait_for()
+    page.screenshot(path=str(FIGURES_DIR / "issue53_named_results.png"))
+    for where in ("#job-list", "#footprint-list", "#map .map-legend"):
+        assert not HEX_ID.search(page.inner_text(where)), page.inner_text(where)
+    assert "single_parameter" not in page.inner_text("body") and "creep_pattern" not in page.inner_text("body")
+    assert not script_errors(run), run.errors
+
+
+def test_a_moves_earth_rotation_is_said_in_words(open_page, service):
+    """Item 3: the move's status said "(none earth rotation)"."""
+    run = open_page()
+    page = run.page
+    node0 = float(page.input_value("#node-longitude"))
+    page.fill("#node-longitude", f"{node0 + 20:.2f}")
+    page.locator("#live-status", has_text="no earth rotation").wait_for()
+    assert "none earth rotation" not in page.inner_text("#live-status")

@@ -524,4 +524,11 @@ def store(study: OptimizationStudy, result: opt.Result | col.Result, name: str |
     )
 
 
-WORK = Work(run_part=optimum, store=store, part_unit="optimization")
+def default_name(study: OptimizationStudy) -> str:
+    """An optimization's name unless one is given: vehicle, optimizer in words and entry (Case.named)."""
+    return study.case.named(
+        {"creep_pattern": "creep+pattern", "collocation": "collocation optimum"}.get(study.method, study.method)
+    )
+
+
+WORK = Work(run_part=optimum, store=store, default_name=default_name, part_unit="optimization")

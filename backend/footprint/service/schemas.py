@@ -76,6 +76,7 @@ class FootprintRename(_Strict):
 
 class JobCreated(BaseModel):
     id: str
+    name: str | None  # given, or made from what the study is (vehicle, method, entry): the page's label for it
     status: JobStatus
     url: str  # the job (GET to poll, DELETE to cancel); also the response's Location header
     events: str  # its server-sent progress events

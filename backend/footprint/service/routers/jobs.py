@@ -55,7 +55,7 @@ def submit_router() -> APIRouter:
             job_id = job.id
         deps.engine(request).submit(job_id=job_id, request=body.study)
         response.headers["Location"] = url = f"/api/jobs/{job_id}"
-        return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
+        return {"id": job_id, "name": name, "status": "queued", "url": url, "events": f"{url}/events"}
 
     submit = APIRouter(tags=["jobs"], route_class=ApiRoute)
     submit.add_api_route(
