@@ -179,7 +179,7 @@ def test_sites_crud_and_csv_upload(api):
     )
     csv_text = "name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\nEdwards,34.9,-117.9\n"
     r = api.post("/api/sites/csv", content=csv_text, headers={"content-type": "text/csv"})
-    assert r.status_code == 201 and r.json() == {"created": 2}
+    assert r.status_code == 201 and r.json() == {"created": 2, "updated": 0}
     bad = api.post("/api/sites/csv", content=csv_text + "Pole,95,0\n", headers={"content-type": "text/csv"})
     assert bad.status_code == 422 and bad.json()["detail"].startswith("line 4: latitude_deg: 95 is outside")
     assert bad.json()["field"] == "line 4"

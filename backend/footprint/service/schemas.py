@@ -142,7 +142,12 @@ class SiteRead(Site):
 
 
 class SitesCreated(BaseModel):
-    created: int
+    created: int  # new names
+    updated: int  # names already stored: moved to the upload's place
+
+
+class SitesDeleted(BaseModel):
+    deleted: int
 
 
 class Entry(BaseModel):

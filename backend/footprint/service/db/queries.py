@@ -320,6 +320,27 @@ def create_sites(session: Session, *, sites: list[dict]) -> list[Site]:
     return rows
 
 
+def upsert_sites(session: Session, *, sites: list[dict]) -> tuple[int, int]:
+    """Store landing sites by name: a stored site of the same name takes the new place (and loses its verdict if it
+    moved), another is added; a name given twice keeps its last place. (created, updated): the same CSV uploaded
+    again duplicated every site (issue 53 item 5)."""
+    given = {s["name"]: s for s in sites}
+    stored = {r.name: r for r in session.scalars(select(Site).where(Site.name.in_(list(given))).order_by(Site.id))}
+    updated = 0
+    for name, site in given.items():
+        row = stored.get(name)
+        if row is not None:
+            update_site(session, site_id=row.id, site=site)
+            updated += 1
+    create_sites(session, sites=[s for name, s in given.items() if name not in stored])
+    return len(given) - updated, updated
+
+
+def delete_sites(session: Session) -> int:
+    """Delete every landing site: how many."""
+    return session.execute(delete(Site)).rowcount
+
+
 def store_verdicts(session: Session, *, verdicts: dict[int, dict]) -> None:
     """Each site's last reach verdict, by site id (sites deleted meanwhile are skipped)."""
     for site_id, verdict in verdicts.items():
