@@ -746,25 +746,31 @@ def serve(
     except ValidationError as exc:
         _fail(error_line(exc))
     base = f"http://{settings.host}:{settings.port}"
-    _say_service_progress()
-    typer.echo(
-        f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
-        f"{base}/redoc (database {settings.database_url.split('://')[0]})",
-        err=True,
+    _say_service_progress().info(
+        "the map page at %s/, the API under %s/api, its docs at %s/docs and %s/redoc (database %s); until it is "
+        "ready, %s/api/health says 'starting' and the step under way",
+        *[base] * 4,
+        settings.database_url.split("://")[0],
+        base,
     )
     run_service(settings)
 
 
-def _say_service_progress() -> None:
-    """The service's start-up steps and its jobs' ends on stderr, "footprint: ..." (uvicorn configures only its own
-    loggers: without a handler these INFO lines were dropped, and a first start compiling for a minute said nothing)."""
+def _say_service_progress():
+    """The service's start-up steps and its jobs' ends on stderr, "12:04:31Z footprint: ..." (uvicorn configures only
+    its own loggers: without a handler these INFO lines were dropped, and a first start compiling for a minute said
+    nothing; without the time a slow start could not be told from a stuck one). The logger."""
     import logging
+    import time
 
     handler = logging.StreamHandler(sys.stderr)
-    handler.setFormatter(logging.Formatter("footprint: %(message)s"))
+    stamped = logging.Formatter("%(asctime)s footprint: %(message)s", datefmt="%H:%M:%SZ")
+    stamped.converter = time.gmtime  # UTC, as the "Z" says
+    handler.setFormatter(stamped)
     logger = logging.getLogger("footprint")
     logger.addHandler(handler)
     logger.setLevel(logging.INFO)
+    return logger
 
 
 @app.command()

@@ -279,8 +279,9 @@ class ReachRead(BaseModel):
 
 
 class Health(BaseModel):
-    status: Literal["ok", "degraded"]
+    status: Literal["ok", "degraded", "starting"]
     version: str
+    starting: str | None = None  # while starting: the step under way
     database: dict[str, Any]
     cluster: dict[str, Any]
 
