@@ -5,7 +5,11 @@ import json
 import re
 from pathlib import Path
 
-from .conftest import FIGURES_DIR, WAIT_MS, refusal
+import pytest
+
+from tests.authorities.report import table2_entry, table2_stop
+
+from .conftest import FIGURES_DIR, WAIT_MS, png_export, refusal
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = json.loads((ROOT / "examples" / "opportunities_iss_20_sites.json").read_text())
@@ -253,4 +257,47 @@ def test_twenty_sites_list_whole_upload_again_without_duplicates_and_go_at_once(
     page.click("#sites-remove-all")
     page.wait_for_function("() => document.querySelectorAll('#site-list li').length === 0")
     assert service.call("/api/sites") == []
+    assert not script_errors(run), run.errors
+
+
+POLAR_JOB = {
+    "kind": "footprint",
+    "study": {
+        "case": {
+            "vehicle": {"builtin": "lod-1.89"},
+            "entry": table2_entry(heading_deg=0.0, latitude_deg=40.0, longitude_deg=10.0),
+            "alpha": {"law": "max_ld"},
+            "bank_start": "pullout",
+            "stop": table2_stop(),
+        },
+        "method": "single_parameter",
+        "bank0_deg": [0, 45, 90, 135],
+    },
+}
+
+
+@pytest.mark.parametrize("count", [3, 20])
+def test_the_changed_views_with_3_and_20_sites_over_a_pole_and_across_180(open_page, service, count):
+    """The views issue 53 changed, looked at: no guidance target before its panel is used, graticule labels clear of
+    the scale bar, results named for what they are, the sites list whole; the seeded footprint crosses 180 deg, the
+    polar one holds the north pole. On the map, the globe and the PNG export."""
+    service.call("/api/sites", method="DELETE")
+    for site in EXAMPLE["sites"][:count]:
+        service.call("/api/sites", site)
+    polar = service.run_job(POLAR_JOB)["result"]["footprints"][0].rsplit("/", 1)[1]
+    run = open_page(1280, 800)
+    page = run.page
+    for where, show in (("across_180", service.footprint["id"]), ("over_the_pole", polar)):
+        page.evaluate("(id) => window.footprintApp.select(id, {fit: true})", show)
+        page.wait_for_timeout(800)
+        assert page.locator("#map .guided-target").count() == 0
+        seen = page.evaluate(OVERLAPS_JS, ".map-scale, .leaflet-control-attribution, .leaflet-control-zoom")
+        assert seen["hidden"] == [], (where, seen)
+        page.screenshot(path=str(FIGURES_DIR / f"issue53_map_{count}_sites_{where}.png"))
+        png_export(page).save(FIGURES_DIR / f"issue53_png_{count}_sites_{where}.png")
+        page.evaluate("() => window.footprintApp.setView('globe')")
+        page.locator("path.globe-footprint").first.wait_for()
+        page.screenshot(path=str(FIGURES_DIR / f"issue53_globe_{count}_sites_{where}.png"))
+        page.evaluate("() => window.footprintApp.setView('map')")
+    assert page.locator("#site-list li").count() == count
     assert not script_errors(run), run.errors
