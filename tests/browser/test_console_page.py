@@ -301,3 +301,27 @@ def test_the_changed_views_with_3_and_20_sites_over_a_pole_and_across_180(open_p
         page.evaluate("() => window.footprintApp.setView('map')")
     assert page.locator("#site-list li").count() == count
     assert not script_errors(run), run.errors
+
+
+def test_a_waiting_job_says_what_runs_ahead_and_when_it_should_end_and_is_cancelled(open_page, service):
+    """Item 2: a long job kept the rest at "queued · 0 %" for many minutes with no position, estimate, or sign of
+    what ran ahead. Behind minutes of IPOPT (Betts' collocation), a footprint job's row names the job ahead, says
+    when it should end (or why it cannot say yet) and is cancelled from its row."""
+    run = open_page()
+    page = run.page
+    betts = json.loads((ROOT / "examples" / "optimize_betts_collocation.json").read_text())
+    long_id = service.call("/api/jobs", {"kind": "optimize", "study": betts, "name": "Betts ahead"})["id"]
+    try:
+        item = submit_footprint(page, "waiting behind Betts", 10)
+        note = item.locator(".job-queue")
+        note.filter(has_text="Betts ahead").wait_for()
+        text = note.inner_text()
+        assert text.startswith("1 ahead: Betts ahead (") and ("ends in about" in text or "no estimate yet" in text)
+        page.screenshot(path=str(FIGURES_DIR / "issue53_queue.png"))
+        item.locator(".job-cancel").click()
+        item.locator(".job-status", has_text="cancelled").wait_for()
+        assert note.inner_text() == ""
+        assert service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["status"] == "cancelled"
+    finally:
+        service.call(f"/api/jobs/{long_id}", method="DELETE")
+    assert not script_errors(run), run.errors

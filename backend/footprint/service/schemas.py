@@ -95,6 +95,17 @@ class JobSummary(BaseModel):
     finished_at: str | None
 
 
+class QueuedJob(JobSummary):
+    ahead: int  # jobs not yet finished that came before it
+    ends_in_s: float | None  # about when it ends: the measured work to it over the workers; None: a kind unmeasured
+
+
+class Queue(BaseModel):
+    workers: int
+    jobs: list[QueuedJob]  # queued and running, oldest first
+    costs: dict[str, dict[str, float]]  # kind -> {median_s, jobs}: its last succeeded jobs' median run time
+
+
 class JobRead(JobSummary):
     study: dict[str, Any]
     result: dict[str, Any] | None

@@ -83,6 +83,28 @@ def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: 
     return list(rows), int(total)
 
 
+def pending_jobs(session: Session) -> list[Job]:
+    """Queued and running jobs, oldest first (without their studies): the queue as the engine takes it."""
+    query = select(Job).options(defer(Job.study, raiseload=True)).where(Job.status.in_(PENDING))
+    return list(session.scalars(query.order_by(Job.created_at, Job.id)))
+
+
+def measured_costs_s(session: Session, *, kinds: set[str], last: int) -> dict[str, tuple[float, int]]:
+    """Each kind's median run time (started to finished) over its last `last` succeeded jobs, and how many."""
+    costs = {}
+    for kind in sorted(kinds):
+        rows = session.execute(
+            select(Job.started_at, Job.finished_at)
+            .where(Job.kind == kind, Job.status == "succeeded", Job.started_at.is_not(None))
+            .order_by(Job.finished_at.desc())
+            .limit(last)
+        ).all()
+        times = sorted((f - s).total_seconds() for s, f in rows if f is not None)
+        if times:
+            costs[kind] = (times[len(times) // 2], len(times))
+    return costs
+
+
 def pending_job_ids(session: Session) -> list[str]:
     """Queued and running jobs, oldest first: what a restarted service submits again."""
     return list(session.scalars(select(Job.id).where(Job.status.in_(PENDING)).order_by(Job.created_at)))
