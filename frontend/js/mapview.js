@@ -145,7 +145,13 @@ export class MapView {
     this.map.attributionControl.setPrefix(false);
     this.map.attributionControl.addAttribution("Natural Earth (public domain), via world-atlas");
     this.legend = L.control({ position: "bottomright" });
-    this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend footprint-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
+    this.legend.onAdd = () => {
+      this.legendDiv = L.DomUtil.create("div", "map-legend footprint-legend");
+      this.legendDiv.hidden = true;
+      L.DomEvent.disableClickPropagation(this.legendDiv); // a click on it is not a new site
+      return this.legendDiv;
+    };
+    this.legendFolded = false; // folded to one button: the sites and labels under the box seen (issue 53 item 9)
     this.legend.addTo(this.map);
     this.map.on("click", (e) => onClick?.(e.latlng));
     this.gridLabels = L.layerGroup().addTo(this.map);
@@ -438,6 +444,7 @@ export class MapView {
         + sites
       : sites;
     this.legendDiv.hidden = !(footprints.length || optimum || sites);
+    this._addLegendFold();
     if (this.dispersion) {
       const key = (cls, style, text) => el("div", {}, el("span", { class: cls, style }), text);
       const levels = this.dispersion.placed.confidence.map((c) => levelWords(c.level)).join(", ");
@@ -450,6 +457,22 @@ export class MapView {
             "P of reaching a site with the dispersions (grey 0 to blue 1), in its label")));
       this.legendDiv.hidden = false;
     }
+  }
+
+  /** The legend's fold button, first in it: folded, the legend is that button alone. */
+  _addLegendFold() {
+    // its glyph drawn by CSS, so that the legend's text stays the keys' (an export, a test read it)
+    const words = this.legendFolded ? "Show the legend" : "Fold the legend away: what it covers shows";
+    const fold = el("button", { type: "button", class: "legend-fold", "aria-expanded": String(!this.legendFolded),
+                                "aria-label": words, title: words });
+    fold.addEventListener("click", () => {
+      this.legendFolded = !this.legendFolded;
+      fold.remove();
+      this._addLegendFold().focus();
+    });
+    this.legendDiv.classList.toggle("folded", this.legendFolded);
+    this.legendDiv.prepend(fold);
+    return fold;
   }
 
   /** Landing sites as diamonds; green when the last reach analysis reached them, red when it did not. */

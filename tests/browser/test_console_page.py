@@ -191,7 +191,9 @@ def test_results_are_named_for_what_they_are(open_page, service):
     run = open_page()
     page = run.page
     page.fill("#p-bank0", "0, 45, 90")
+    rows = page.locator("#job-list li").count()
     page.click("#job-submit")
+    page.wait_for_function("(n) => document.querySelectorAll('#job-list li').length === n", arg=rows + 1)
     name = "lod-1.89 · single parameter · 364.8 kft 24,480 ft/s -2°"
     item = page.locator("#job-list li").first
     assert item.locator(".job-label").inner_text() == name
@@ -202,7 +204,9 @@ def test_results_are_named_for_what_they_are(open_page, service):
     assert page.locator("#plot .plot-title").first.text_content() == name
     assert name in page.inner_text("#map .footprint-legend")
     page.check("#optimize-toggle")
+    rows = page.locator("#job-list li").count()
     page.click("#job-submit")
+    page.wait_for_function("(n) => document.querySelectorAll('#job-list li').length === n", arg=rows + 1)
     item = page.locator("#job-list li").first
     optimum = "lod-1.89 · creep+pattern · 364.8 kft 24,480 ft/s -2°"
     assert item.locator(".job-label").inner_text() == optimum
@@ -324,4 +328,34 @@ def test_a_waiting_job_says_what_runs_ahead_and_when_it_should_end_and_is_cancel
         assert service.call(f"/api/jobs/{item.get_attribute('data-job-id')}")["status"] == "cancelled"
     finally:
         service.call(f"/api/jobs/{long_id}", method="DELETE")
+    assert not script_errors(run), run.errors
+
+
+COVERED_JS = """() => { const box = document.querySelector('#map .footprint-legend').getBoundingClientRect();
+  return [...document.querySelectorAll('#map .site-marker')].filter((m) => { const r = m.getBoundingClientRect();
+    return r.left < box.right && box.left < r.right && r.top < box.bottom && box.top < r.bottom; }).length; }"""
+
+
+def test_the_legend_folds_away_from_the_sites_it_covers(open_page, service):
+    """Item 9: the legend box covered sites (bottom right) with no way to see them but to pan."""
+    service.call("/api/sites", method="DELETE")
+    for site in EXAMPLE["sites"]:
+        service.call("/api/sites", site)
+    run = open_page()
+    page = run.page
+    # a site put under the middle of the legend, as a planner's pan would
+    page.evaluate("""() => { const m = window.footprintApp.mapView.map, box = document.querySelector(
+        '#map .footprint-legend').getBoundingClientRect(), r = document.querySelector('#map .site-marker')
+        .getBoundingClientRect(); m.panBy([r.x + r.width / 2 - (box.x + box.width / 2),
+        r.y + r.height / 2 - (box.y + box.height / 2)], { animate: false }); }""")
+    page.wait_for_timeout(800)
+    covered = page.evaluate(COVERED_JS)
+    assert covered >= 1  # this view puts sites under the open legend
+    page.click("#map .footprint-legend .legend-fold")
+    assert page.evaluate(COVERED_JS) < covered
+    assert page.get_attribute("#map .footprint-legend .legend-fold", "aria-expanded") == "false"
+    page.screenshot(path=str(FIGURES_DIR / "issue53_legend_folded.png"))
+    assert page.locator("#site-list li").count() == len(EXAMPLE["sites"])  # the click added no site
+    page.click("#map .footprint-legend .legend-fold")
+    assert page.evaluate(COVERED_JS) == covered
     assert not script_errors(run), run.errors
