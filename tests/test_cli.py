@@ -70,8 +70,8 @@ def test_fly_prints_the_summary_and_writes_the_history(tmp_path):
     [
         (with_("vehicle", builtin="lod-9.9"), "vehicle", "lod-1.89"),
         (with_("entry", gamma_deg=2.0), "gamma_deg", "climbs"),
-        (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1000 to 40000"),
-        (with_("entry", velocity_fps=500), "entry.velocity_fps", "1000 to 40000"),
+        (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1,000 to 40,000"),
+        (with_("entry", velocity_fps=500), "entry.velocity_fps", "1,000 to 40,000"),
         (with_("entry", latitude_deg=95), "entry.latitude_deg", "-90 to 90"),
         (with_("bank", k="fast"), "bank.k", ""),
         (with_("stop", altitude_ft=-5), "stop.altitude_ft", "allowed range"),

@@ -117,7 +117,7 @@ def test_a_bad_custom_vehicle_names_its_field(api):
     assert r.status_code == 422 and r.json()["field"] == "vehicle.aero.constant.cd"
     r = api.post("/api/vehicles", json={"id": "bad", "vehicle": {**GLIDER, "wing_loading_psf": 5_000}})
     assert r.status_code == 422 and r.json()["field"] == "vehicle.wing_loading_psf"
-    assert "1 to 2000" in r.json()["detail"]
+    assert "1 to 2,000" in r.json()["detail"]
     r = api.post("/api/vehicles", json={"id": "no spaces", "vehicle": GLIDER})
     assert r.status_code == 422 and r.json()["field"] == "id"
 
