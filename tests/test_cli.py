@@ -70,8 +70,8 @@ def test_fly_prints_the_summary_and_writes_the_history(tmp_path):
     [
         (with_("vehicle", builtin="lod-9.9"), "vehicle", "lod-1.89"),
         (with_("entry", gamma_deg=2.0), "gamma_deg", "climbs"),
-        (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1000 to 40000"),
-        (with_("entry", velocity_fps=500), "entry.velocity_fps", "1000 to 40000"),
+        (with_("entry", velocity_fps=45_000), "entry.velocity_fps", "1,000 to 40,000"),
+        (with_("entry", velocity_fps=500), "entry.velocity_fps", "1,000 to 40,000"),
         (with_("entry", latitude_deg=95), "entry.latitude_deg", "-90 to 90"),
         (with_("bank", k="fast"), "bank.k", ""),
         (with_("stop", altitude_ft=-5), "stop.altitude_ft", "allowed range"),
@@ -347,3 +347,22 @@ def test_disperse_prints_a_summary_on_a_terminal_and_the_job_result_when_piped(t
     assert f"24 samples (sobol, seed 3): {24 * flights:,} trajectories in " in text and " s in this process; " in text
     assert "\n  the flights of sample(s) 7 with their histories: in the JSON\n" in text
     assert [h["sample"] for h in got["histories"]] == [7] * flights
+
+
+def test_run_prints_a_summary_on_a_terminal_and_json_when_piped_with_a_bar_that_starts_in_words():
+    """Issue 53 item 12: `run reach` printed 3.1 MB of JSON on a terminal as when piped, and its bar began
+    "0analysis [00:00, ?analysis/s]"."""
+    request = EXAMPLES / "reach_20_sites.json"
+    piped = run("run", "reach", request)
+    assert piped.returncode == 0, piped.stderr
+    result = json.loads(piped.stdout)["result"]["reach"]
+    assert "0analysis" not in piped.stderr and "?analysis/s" not in piped.stderr, piped.stderr
+    code, text = run_on_terminal("run", "reach", request)
+    assert code == 0 and text.startswith("orbit: inclination 28.5 deg, node -170 deg"), text[:300]
+    assert f"{sum(s['reachable'] for s in result['sites'])} of {len(result['sites'])} sites reached" in text
+    assert len(text.splitlines()) <= len(result["sites"]) + 4 and "(the full result: --json)" in text
+    code, text = run_on_terminal("run", "reach", request, "--json")
+    again = json.loads(text)["result"]["reach"]
+    for r in (again, result):
+        r["analysis"].pop("seconds")  # the run's own time
+    assert again == result

@@ -70,7 +70,7 @@ def test_a_union_names_its_field_not_pydantics_members():
     assert error_line(err.value).startswith("bank_start: ")
     with pytest.raises(ValidationError) as err:
         contracts.parse("case", case | {"bank_start": {"altitude_ft": 5}})
-    assert error_line(err.value) == "bank_start.altitude_ft: 5 is outside the allowed range 1000 to 3e+06 ft"
+    assert error_line(err.value) == "bank_start.altitude_ft: 5 is outside the allowed range 1,000 to 3,000,000 ft"
 
 
 class Computed(BaseModel):
@@ -191,3 +191,38 @@ def test_a_request_near_its_numbers_limits_is_refused_in_the_houses_words(reques
     except (ValidationError, InputError) as exc:
         line = error_line(exc)  # the guard's "cannot be computed (Python's ...)" too: a check is missing then
         assert "\n" not in line and "Python's" not in line and not any(w in line for w in PYTHONS_WORDS), line
+
+
+@pytest.mark.parametrize(
+    "constraint, said",
+    [
+        ({"quantity": "downrange_nmi", "equals": -4000}, "-4,000 is outside the allowed range for downrange_nmi"),
+        ({"quantity": "downrange_nmi", "at_least": 0}, "0 is outside the allowed range for downrange_nmi (more than"),
+        ({"quantity": "final_latitude_deg", "equals": 95}, "95 is outside the allowed range for final_latitude_deg"),
+        ({"quantity": "max_temperature_R", "at_most": -10}, "-10 is outside the allowed range for max_temperature_R"),
+        ({"quantity": "max_load_factor", "at_most": -2.5}, "-2.5 is outside the allowed range for max_load_factor"),
+    ],
+)
+def test_a_constraint_no_flight_can_meet_is_refused(constraint, said):
+    """Issue 53 item 6: a down-range of -4,000 nmi was queued and flown to a 139 g dive marked "constraints not met".
+    A down-range is measured forward from the entry, a latitude lies within +-90 deg, an absolute temperature and a
+    load factor are positive: a constraint outside them is named with the quantity's range."""
+    study = example("optimize_lod189_4000nmi") | {"constraints": [constraint]}
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("optimize", study)
+    line = error_line(err.value)
+    kind = next(k for k in ("equals", "at_most", "at_least") if k in constraint)
+    assert line.startswith(f"constraints.0.{kind}: {said}"), line
+
+
+def test_a_constraint_a_flight_can_meet_is_taken():
+    study = example("optimize_lod189_4000nmi") | {"constraints": [{"quantity": "downrange_nmi", "equals": 4000}]}
+    assert contracts.parse("optimize", study).constraints[0].equals == 4000
+
+
+def test_ranges_are_written_in_thousands_not_exponents():
+    """Issue 53 item 6: "1000 to 3e+06 ft" read as a planner writes it."""
+    with pytest.raises(ValidationError) as err:
+        contracts.parse("case", example("table2_lod22") | {"bank_start": {"altitude_ft": 4e6}})
+    said = "bank_start.altitude_ft: 4,000,000 is outside the allowed range 1,000 to 3,000,000 ft"
+    assert error_line(err.value) == said

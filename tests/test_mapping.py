@@ -89,7 +89,7 @@ def test_cli_re_nodes_a_footprint_and_writes_csv(tmp_path):
     "data, field, words",
     [
         (request(points=[{"latitude_deg": 95, "longitude_deg": 0}]), "points.0.latitude_deg", "-90 to 90 deg"),
-        (request(step_downrange_nmi=1e6), "step_downrange_nmi", "-250000 to 250000 nmi"),
+        (request(step_downrange_nmi=1e6), "step_downrange_nmi", "-250,000 to 250,000 nmi"),
         (
             request(points=[{"latitude_deg": 1, "longitude_deg": 2}], earth_rotation="approximate"),
             "points.0.flight_time_s",
@@ -98,7 +98,7 @@ def test_cli_re_nodes_a_footprint_and_writes_csv(tmp_path):
         (
             request(points=[{"latitude_deg": 1, "longitude_deg": 2, "flight_time_s": -5}]),
             "points.0.flight_time_s",
-            "0 to 100000 s",
+            "0 to 100,000 s",
         ),
         (request(earth_rotation="exact"), "study", "required with earth_rotation 'exact'"),
         (request(earth_rotation="full"), "earth_rotation", "'none', 'approximate' or 'exact'"),

@@ -178,14 +178,14 @@ NARROW_ALPHA = {
             "bank_table.zeta_deg.0: -200 is outside the allowed range -180 to 180",
         ),
         ({"bank_table": {"heading_deg": [0, 270]}}, "bank_table.heading_deg.1: 270 is outside the allowed range"),
-        ({"bank_table": {"time_s": [-5, 100]}}, "bank_table.time_s.0: -5 is outside the allowed range 0 to 100000 s"),
+        ({"bank_table": {"time_s": [-5, 100]}}, "bank_table.time_s.0: -5 is outside the allowed range 0 to 100,000 s"),
         (
             {"bank_table": {"velocity_fps": [0, 50_000]}},
-            "bank_table.velocity_fps.1: 50000 is outside the allowed range",
+            "bank_table.velocity_fps.1: 50,000 is outside the allowed range",
         ),
         (
             {"bank_table": {"energy_ft": [0, 2e8]}},
-            "bank_table.energy_ft.1: 2e+08 is outside the allowed range 0 to 1e+08",
+            "bank_table.energy_ft.1: 200,000,000 is outside the allowed range 0 to 100,000,000",
         ),
         (
             {"bank_table": {"energy_ft": ENERGY_FT, "count": 1}},
@@ -197,7 +197,7 @@ NARROW_ALPHA = {
         ({"bank_table": {"initial_deg": [10, 20, 30]}}, "initial_deg has 3 values for 8 nodes"),
         ({"bank_table": {"bounds_deg": [-1, 89], "initial_deg": 95}}, "initial_deg 95 is outside bounds_deg -1 to 89"),
         ({"alpha_table": {"heading_deg": [0, 10]}}, "alpha_table.heading_deg: Extra inputs"),
-        ({"alpha_table": {"time_s": [0, 1e6]}}, "alpha_table.time_s.1: 1e+06 is outside the allowed range"),
+        ({"alpha_table": {"time_s": [0, 1e6]}}, "alpha_table.time_s.1: 1,000,000 is outside the allowed range"),
         ({"alpha_table": {"velocity_fps": [3_000, 2_000]}}, "alpha_table: velocity_fps must be strictly increasing"),
         ({"alpha_table": {"energy_ft": ENERGY_FT, "count": 65}}, "alpha_table.count: 65 is outside the allowed range"),
         (

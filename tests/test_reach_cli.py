@@ -213,14 +213,14 @@ def test_the_example_reaches_every_site_in_a_day(tmp_path):
     "data, field, words",
     [
         (edited("orbit.inclination_deg", 200), "orbit.inclination_deg", "0 to 180 deg"),
-        (edited("orbit.altitude_nmi", 5), "orbit.altitude_nmi", "16 to 16000 nmi"),
+        (edited("orbit.altitude_nmi", 5), "orbit.altitude_nmi", "16 to 16,000 nmi"),
         (edited("orbit.altitude_ft", 600_000), "orbit", "exactly one of altitude_ft or altitude_nmi"),
         (edited("orbit.right_ascension_deg", 10.0), "orbit", "greenwich_sidereal_deg"),
         (edited("sites.1.latitude_deg", 95), "sites.1.latitude_deg", "-90 to 90 deg"),
         (edited("sites", []), "sites", "at least 1"),
         (edited("u_step_deg", 0), "u_step_deg", "0.01 to 30 deg"),
         (edited("earth_rotation", "exact"), "earth_rotation", "approximate"),
-        (edited("footprint.points.0.crossrange_nmi", 6000), "footprint.points.0.crossrange_nmi", "-5400 to 5400"),
+        (edited("footprint.points.0.crossrange_nmi", 6000), "footprint.points.0.crossrange_nmi", "-5,400 to 5,400"),
         (edited("footprint.points", DIAMOND[:2]), "footprint.points", "at least 3"),
         (
             edited("footprint.study", json.loads(EXAMPLE.read_text())["footprint"]["study"]),

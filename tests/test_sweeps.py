@@ -229,7 +229,7 @@ def run_cli(*args, cwd=None):
     [
         (
             {"entry_velocity_fps": [20_000, 45_000]},
-            "entry_velocity_fps.1: 45000 is outside the allowed range 1000 to 40000",
+            "entry_velocity_fps.1: 45,000 is outside the allowed range 1,000 to 40,000",
         ),
         ({"entry_gamma_deg": [-2, 5]}, "entry_gamma_deg 5: entry: gamma_deg 5 > 0 above 295,000 ft climbs away"),
         ({"bank0_deg": [0, 200]}, "bank0_deg.1: 200 is outside the allowed range 0 to 180 deg"),

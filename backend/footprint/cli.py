@@ -80,10 +80,13 @@ def _parts_bar(unit: str):
     """A progress bar on stderr over a run's parts, moved by the runner's progress(done, total)."""
     from tqdm import tqdm
 
-    with tqdm(unit=unit, file=sys.stderr, mininterval=0.5) as bar:
+    # until the runner says how many parts there are, no count: tqdm's "0analysis [00:00, ?analysis/s]" read as
+    # a fault (issue 53 item 12)
+    with tqdm(unit=unit, file=sys.stderr, mininterval=0.5, bar_format=f"starting: {unit} [{{elapsed}}]") as bar:
 
         def progress(done: int, total: int) -> None:
-            bar.total = total
+            if bar.total != total:
+                bar.total, bar.bar_format = total, None  # tqdm's own bar, with its count, from now on
             bar.update(done - bar.n)
 
         yield progress
@@ -680,9 +683,11 @@ def run_(
     scheduler: str | None = typer.Option(
         None, "--scheduler", metavar="tcp://HOST:PORT", help="a running Dask scheduler instead of a local cluster"
     ),
+    as_json: bool = typer.Option(False, "--json", help="print the full JSON (the default when piped)"),
 ):
     """Run any kind of job with the one runner, as the service's job engine does, and print what its job stores:
-    {"result": ..., "footprints": [...]} as JSON. A progress bar over its parts on stderr."""
+    {"result": ..., "footprints": [...]} as JSON when piped or with --json, a short summary on a terminal. A
+    progress bar over its parts on stderr."""
 
     kinds = contracts.job_kinds()
     if kind not in kinds:
@@ -700,7 +705,27 @@ def run_(
     except NoOptimum as exc:  # what fails the job fails the command
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(1) from None
-    typer.echo(strict_json({"result": stored.result, "footprints": stored.footprints}, indent=2))
+    _answer({"result": stored.result, "footprints": stored.footprints}, as_json, functools.partial(_stored_lines, kind))
+
+
+def _stored_lines(kind: str, stored: dict) -> list[str]:
+    """What a job stored, in a few lines: the kind's own summary where the CLI has one, else what the result holds."""
+    result, footprints = stored["result"], stored["footprints"]
+    said = {"reach": _reach_lines, "optimization": _optimum_lines, "dispersion": _dispersion_lines}
+    out: list[str] = []
+    for key, value in result.items():
+        if key in said and isinstance(value, dict):
+            out += said[key](value)
+        elif isinstance(value, (list, dict)):
+            out.append(f"{key}: {len(value):,} {'items' if isinstance(value, list) else 'entries'}")
+        else:
+            out.append(f"{key}: {value}")
+    for fp in footprints:
+        out.append(
+            f"footprint {fp['name']}: max cross-range {fp['max_crossrange_nmi']:,.0f} nmi, down-range "
+            f"{fp['min_downrange_nmi']:,.0f}-{fp['max_downrange_nmi']:,.0f} nmi, {fp['trajectories']:,} trajectories"
+        )
+    return out or [f"{kind}: done"]
 
 
 @app.command("map")
@@ -754,25 +779,31 @@ def serve(
     except ValidationError as exc:
         _fail(error_line(exc))
     base = f"http://{settings.host}:{settings.port}"
-    _say_service_progress()
-    typer.echo(
-        f"footprint: the map page at {base}/, the API under {base}/api, its docs at {base}/docs and "
-        f"{base}/redoc (database {settings.database_url.split('://')[0]})",
-        err=True,
+    _say_service_progress().info(
+        "the map page at %s/, the API under %s/api, its docs at %s/docs and %s/redoc (database %s); until it is "
+        "ready, %s/api/health says 'starting' and the step under way",
+        *[base] * 4,
+        settings.database_url.split("://")[0],
+        base,
     )
     run_service(settings)
 
 
-def _say_service_progress() -> None:
-    """The service's start-up steps and its jobs' ends on stderr, "footprint: ..." (uvicorn configures only its own
-    loggers: without a handler these INFO lines were dropped, and a first start compiling for a minute said nothing)."""
+def _say_service_progress():
+    """The service's start-up steps and its jobs' ends on stderr, "12:04:31Z footprint: ..." (uvicorn configures only
+    its own loggers: without a handler these INFO lines were dropped, and a first start compiling for a minute said
+    nothing; without the time a slow start could not be told from a stuck one). The logger."""
     import logging
+    import time
 
     handler = logging.StreamHandler(sys.stderr)
-    handler.setFormatter(logging.Formatter("footprint: %(message)s"))
+    stamped = logging.Formatter("%(asctime)s footprint: %(message)s", datefmt="%H:%M:%SZ")
+    stamped.converter = time.gmtime  # UTC, as the "Z" says
+    handler.setFormatter(stamped)
     logger = logging.getLogger("footprint")
     logger.addHandler(handler)
     logger.setLevel(logging.INFO)
+    return logger
 
 
 @app.command()

@@ -29,15 +29,51 @@ function labelText(input) {
 }
 
 /** The service's message with its field path ("case.entry.velocity_fps: 50 is outside ...") worded by the
- * label a planner sees ("Velocity, earth-relative (ft/s): 50 is outside ..."). */
+ * label a planner sees ("Velocity, earth-relative (ft/s): 50 is outside ..."), pydantic's phrases in the form's
+ * words, and an example of what the field takes (its default or its placeholder). */
 export function wordedMessage(message, field, input) {
   const label = input && labelText(input);
-  if (!label || !field) return message;
+  let text = formWords(message);
+  const example = input && exampleOf(input);
+  if (example && (text !== message || /outside the allowed range/.test(text))) text += `; e.g. ${example}`;
+  if (!label || !field) return text;
   const name = field.replace(/^(body\.)?/, "");
   for (const path of [name, name.replace(/^study\./, "")]) {
-    if (message.startsWith(`${path}: `)) return `${label}: ${message.slice(path.length + 2)}`;
+    if (text.startsWith(`${path}: `)) return `${label}: ${text.slice(path.length + 2)}`;
   }
-  return message;
+  return text;
+}
+
+// pydantic's phrases (its validation errors, "... (got <the input's repr>)") as a planner says them
+const got = (g) => (g === "None" || g === undefined ? null : g);
+const PHRASES = [
+  [/Input should be a valid (number|integer)(?:, ([^(]*?))? \(got (.*?)\)/g, (_, kind, why, g) =>
+    got(g) === null ? `a ${kind === "integer" ? "whole " : ""}number is needed`
+      : `${g} is not a ${kind === "integer" ? "whole " : ""}number`],
+  [/Input should be a finite number \(got (.*?)\)/g, (_, g) => `${g} is not a finite number`],
+  [/List should have at least (\d+) items? after validation, not \d+(?: \(got .*?\))?/g, (_, n) =>
+    `give at least ${n} value${n === "1" ? "" : "s"}`],
+  [/List should have at most (\d+) items? after validation, not (\d+)(?: \(got .*?\))?/g, (_, n, m) =>
+    `give at most ${n} values, not ${m}`],
+  [/Input should be a valid (?:datetime|date)(?: or date)?[^(]*\(got (.*?)\)/g, (_, g) =>
+    got(g) === null ? "a date and time (UTC) is needed" : `${g} is not a date and time (UTC)`],
+  [/Input should be (greater|less) than( or equal to)? (\S+?)(?: \(got (.*?)\))?(?=;|$)/g, (_, side, eq, x, g) =>
+    `${got(g) ?? "the value"} is not ${eq ? (side === "greater" ? "at least" : "at most") : `${side === "greater" ? "more" : "less"} than`} ${x}`],
+  [/Input should be a valid (string|list|boolean)(?: \(got (.*?)\))?/g, (_, kind) =>
+    ({ string: "text is needed", list: "a list of values is needed", boolean: "yes or no is needed" })[kind]],
+  [/Field required/g, () => "missing"],
+];
+
+export function formWords(message) {
+  return PHRASES.reduce((text, [pattern, words]) => text.replace(pattern, words), message);
+}
+
+/** What the input takes, as its default or its placeholder shows it (a long list cut to its first three). */
+function exampleOf(input) {
+  const given = (input.defaultValue || input.getAttribute("placeholder") || "").replace(/^e\.g\.\s*/, "").trim();
+  if (!given || input.tagName === "SELECT" || ["checkbox", "radio", "file"].includes(input.type) || given.includes("\n")) return null;
+  const items = given.split(/\s*,\s*/);
+  return items.length > 3 ? `${items.slice(0, 3).join(", ")}, …` : given;
 }
 
 /** Show the message next to the field's input (or in `fallback` when no input holds that field). */

@@ -77,6 +77,9 @@ export class GuidedPanel {
     this.sites = [];
     this.anchorLon = null; // the shown track's end: the target and clouds go on its copy of the map
     this.picking = false;
+    // the target is drawn once the panel is used (a target typed, picked, chosen or flown): its default alone is
+    // no one's target, and it sat over India on every view (issue 53 item 9)
+    this.used = false;
     this.resultLayer = L.layerGroup().addTo(this.map);
     this.targetLayer = L.layerGroup().addTo(this.map);
     this.footprintLayer = L.layerGroup().addTo(this.map);
@@ -94,11 +97,19 @@ export class GuidedPanel {
       const id = e.target.closest("button[data-cancel]")?.dataset.cancel;
       if (id) api(`/api/jobs/${id}`, { method: "DELETE" }).catch((err) => this.toast(err.message, true));
     });
-    this.drawTarget();
+    this.form.addEventListener("focusin", (e) => { if (e.target.closest("#g-latitude, #g-longitude, #g-site")) this.use(); });
   }
 
   // ------------------------------------------------------------------------------------------- the target
+  /** The panel is in use: its target shown from now on. */
+  use() {
+    if (this.used) return;
+    this.used = true;
+    this.drawTarget();
+  }
+
   setPicking(on) {
+    if (on) this.use();
     this.picking = on;
     $("g-pick").setAttribute("aria-pressed", String(on));
     this.map.getContainer().classList.toggle("picking-target", on);
@@ -115,6 +126,7 @@ export class GuidedPanel {
   }
 
   typed() {
+    this.used = true;
     this.siteName = null; // a target moved by hand is no longer the site's
     $("g-site").value = "";
     this.drawTarget();
@@ -136,6 +148,7 @@ export class GuidedPanel {
     $("g-latitude").value = String(s.latitude_deg);
     $("g-longitude").value = String(s.longitude_deg);
     this.siteName = s.name;
+    this.used = true;
     this.drawTarget();
   }
 
@@ -143,6 +156,7 @@ export class GuidedPanel {
   readTarget() {
     const lat = checkedNumber("g-latitude", -90, 90, "deg"), lon = checkedNumber("g-longitude", -180, 180, "deg");
     for (const { error } of [lat, lon]) if (error) showFieldError(this.form, error, $("guided-error"));
+    this.use();
     return lat.error || lon.error ? null : { latitude_deg: lat.value, longitude_deg: lon.value };
   }
 
@@ -154,6 +168,7 @@ export class GuidedPanel {
   /** The target of the inputs on the map (when they hold one), on the copy of the shown track's end. */
   drawTarget() {
     this.targetLayer.clearLayers();
+    if (!this.used) return;
     const lat = Number($("g-latitude").value), lon = Number($("g-longitude").value);
     if ($("g-latitude").value.trim() === "" || !(Math.abs(lat) <= 90 && Math.abs(lon) <= 180)) return;
     const placed = this.placeNearAnchor(lon);
@@ -170,6 +185,7 @@ export class GuidedPanel {
   }
 
   zoomToTarget() {
+    this.use();
     const lat = Number($("g-latitude").value), lon = this.placeNearAnchor(Number($("g-longitude").value));
     const radius = Number($("g-radius").value) > 0 ? Number($("g-radius").value) : 5;
     if (!Number.isFinite(lat) || !Number.isFinite(lon)) return;
@@ -459,6 +475,7 @@ export class GuidedPanel {
         .addTo(this.resultLayer);
     }
     if (dispersion) this.drawClouds(dispersion, svg);
+    this.used = true; // a guided result shown: its target with it
     this.drawTarget();
     this.legend.getContainer().hidden = false;
     this.legendDispersion.hidden = !dispersion;

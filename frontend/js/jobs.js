@@ -175,7 +175,7 @@ export class JobsPanel {
     $("job-submit").disabled = true;
     try {
       const job = await api("/api/jobs", { method: "POST", body });
-      this.follow(job.id, body.name || `${body.kind} ${job.id.slice(0, 8)}`);
+      this.follow(job.id, body.name || job.name || `${body.kind} ${job.id.slice(0, 8)}`); // the service names it for what it is
     } catch (err) {
       showFieldError(this.form, body.kind === "dispersion" ? asFootprintField(err) : err, $("job-form-error"));
     } finally {
@@ -201,7 +201,7 @@ export class JobsPanel {
 
   /** A row in the job list, its result handed to the page when the job succeeds. */
   follow(id, label) {
-    followJob($("job-list"), id, label, { onDone: (job, li) => this.finished(job, li, label) });
+    followJob($("job-list"), id, label, { onDone: (job, li) => this.finished(job, li, label), cancel: true });
   }
 
   async finished(job, li, label) {
@@ -227,6 +227,49 @@ export class JobsPanel {
 }
 
 const TERMINAL = ["succeeded", "failed", "cancelled"];
+const QUEUE_POLL_MS = 2000; // how often the rows of unfinished jobs say where they stand in the queue
+
+/** "1 min 20 s", "40 s", "2 h 05 min": a wait as a planner reads it. */
+export function durationWords(s) {
+  if (s < 60) return `${Math.max(1, Math.round(s))} s`;
+  if (s < 3600) return `${Math.floor(s / 60)} min${Math.round(s % 60) ? ` ${Math.round(s % 60)} s` : ""}`;
+  return `${Math.floor(s / 3600)} h ${String(Math.round((s % 3600) / 60)).padStart(2, "0")} min`;
+}
+
+/** Where a job stands in GET /api/queue's answer: what runs or waits ahead of it and when it should end, from each
+ * kind's measured cost ("2 ahead: a (running 40 %), b (queued) · ends in about 3 min"). */
+export function queueWords(job, queue) {
+  const ahead = queue.jobs.slice(0, job.ahead);
+  const named = ahead.slice(0, 3).map((j) => `${j.name || j.kind} (${j.status === "running" ? `running ${Math.round(100 * j.progress)} %` : "queued"})`);
+  const more = ahead.length > 3 ? ` and ${ahead.length - 3} more` : "";
+  const where = ahead.length ? `${ahead.length} ahead: ${named.join(", ")}${more}` : job.status === "queued" ? "next in line" : "running";
+  const unmeasured = [...new Set([...ahead, job].map((j) => j.kind).filter((k) => !queue.costs[k]))];
+  const when = job.ends_in_s == null ? `no estimate yet (no ${unmeasured.join(", ")} job finished here)`
+    : `ends in about ${durationWords(job.ends_in_s)}`;
+  const cost = queue.costs[job.kind];
+  const measured = cost ? ` (a ${job.kind} job took ${durationWords(cost.median_s)} here, the median of ${cost.jobs})` : "";
+  return `${where} · ${when}${measured}`;
+}
+
+let queueTimer = null;
+
+/** While any job row on the page is unfinished, GET /api/queue every 2 s and say in each row where it stands. */
+function watchQueue() {
+  if (queueTimer) return;
+  const look = async () => {
+    const rows = [...document.querySelectorAll("li[data-job-id]")]
+      .filter((li) => !TERMINAL.includes(li.querySelector(".job-status")?.textContent));
+    if (!rows.length) { queueTimer = null; return; }
+    const queue = await api("/api/queue").catch(() => null);
+    for (const li of rows) {
+      const job = queue?.jobs.find((j) => j.id === li.dataset.jobId);
+      const note = li.querySelector(".job-queue");
+      if (note) note.textContent = job ? queueWords(job, queue) : "";
+    }
+    queueTimer = setTimeout(look, QUEUE_POLL_MS);
+  };
+  queueTimer = setTimeout(look, 0);
+}
 
 /** A job's row at the top of `list` (its label, status, progress bar, percent and what it is doing, the service's
  * progress_note), fed by GET /api/jobs/{id}/events, polling once a second if the stream breaks. With `cancel`, a
@@ -237,8 +280,9 @@ export function followJob(list, id, label, { onDone, cancel = false } = {}) {
     el("progress", { max: "100", value: "0", "aria-label": `Progress of ${label}` }), " ",
     el("span", { class: "job-percent" }, "0 %"),
     cancel ? el("button", { type: "button", class: "job-cancel", "aria-label": `Cancel ${label}` }, "Cancel") : null,
-    el("div", { class: "job-note" }));
+    el("div", { class: "job-note" }), el("div", { class: "job-queue" }));
   list.prepend(li);
+  watchQueue();
   const update = (status, progress, note) => {
     const pct = Math.round(100 * (status === "succeeded" ? 1 : progress ?? 0));
     li.querySelector("progress").value = pct;
@@ -248,6 +292,7 @@ export function followJob(list, id, label, { onDone, cancel = false } = {}) {
     s.textContent = status;
     s.className = `job-status ${status}`;
     if (cancel) li.querySelector(".job-cancel").hidden = TERMINAL.includes(status);
+    if (TERMINAL.includes(status)) li.querySelector(".job-queue").textContent = "";
   };
   li.querySelector(".job-cancel")?.addEventListener("click", () => {
     api(`/api/jobs/${id}`, { method: "DELETE" }).catch((err) => li.append(el("div", { class: "failed" }, err.message)));

@@ -336,7 +336,7 @@ async function moveFootprint(fp) {
     const r = fp.shown.reference;
     const e = fp.shown.approximateError;
     $("live-status").textContent = `Entry at ${fmt(r.latitude_deg, 2)}°, ${fmt(r.longitude_deg, 2)}°, heading ${fmt(r.heading_deg, 1)}°`
-      + ` (${result.earth_rotation} earth rotation).`
+      + ` (${ROTATION_WORDS[result.earth_rotation] ?? result.earth_rotation}).`
       + (e?.points ? ` The approximate shift (IV.3) lies up to ${fmt(e.max)} nmi from the exact points, ${fmt(e.mean)} nmi `
                      + `on average over ${e.points}.` : "");
     redraw(fp);
@@ -351,6 +351,10 @@ async function moveFootprint(fp) {
 
 /** The transform's moved points, with each stored point's control parameter kept (the moved points come back in
  * the same order; an "exact" transform flies again and names its own parameters). */
+// a move's earth rotation as the controls say it ("(none earth rotation)" read as code)
+const ROTATION_WORDS = { none: "no earth rotation", approximate: "earth rotation approximated, IV.3",
+                         exact: "flown again on the rotating earth" };
+
 function shownFromTransform(fp, result) {
   let points = result.points;
   if (result.earth_rotation === "exact") points = points.filter((p) => p.on_boundary !== false);

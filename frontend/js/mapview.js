@@ -16,6 +16,11 @@ const WORLD_COPIES_DEG = [-360, 0, 360]; // the map may be panned one world eith
 export const LABEL_FONT = "11px 'DejaVu Sans', Arial, sans-serif"; // a site label's, on the map and in the PNG
 const LABEL_BOX_PX = { padX: 4, h: 15 }; // a label's box round its text
 const SITE_MARKER_PX = 8; // half a site marker (the dispersion's ring round a stored site: 11 px; its diamond: 7)
+// the graticule's labels keep clear of the zoom buttons (top left) and the scale bar and attribution (bottom), px
+const GRID_LABEL_CLEAR_TOP_PX = 84;
+const GRID_LABEL_CLEAR_BOTTOM_PX = 20;
+const GRID_LABEL_HEIGHT_PX = 14; // a label hangs below its point (Leaflet's own transform places the icon)
+
 /** The graticule's spacing at a zoom, and its labels' words: "30°E", "180°", "0°"; "60°N". */
 export const graticuleStepDeg = (zoom) => (zoom >= 3.5 ? 10 : GRATICULE_DEG);
 export function lonWords(lon) {
@@ -140,7 +145,13 @@ export class MapView {
     this.map.attributionControl.setPrefix(false);
     this.map.attributionControl.addAttribution("Natural Earth (public domain), via world-atlas");
     this.legend = L.control({ position: "bottomright" });
-    this.legend.onAdd = () => { this.legendDiv = L.DomUtil.create("div", "map-legend footprint-legend"); this.legendDiv.hidden = true; return this.legendDiv; };
+    this.legend.onAdd = () => {
+      this.legendDiv = L.DomUtil.create("div", "map-legend footprint-legend");
+      this.legendDiv.hidden = true;
+      L.DomEvent.disableClickPropagation(this.legendDiv); // a click on it is not a new site
+      return this.legendDiv;
+    };
+    this.legendFolded = false; // folded to one button: the sites and labels under the box seen (issue 53 item 9)
     this.legend.addTo(this.map);
     this.map.on("click", (e) => onClick?.(e.latlng));
     this.gridLabels = L.layerGroup().addTo(this.map);
@@ -180,12 +191,18 @@ export class MapView {
     this.gridLabels.clearLayers();
     const b = this.map.getBounds(), step = graticuleStepDeg(this.map.getZoom());
     const icon = (text, cls) => L.divIcon({ className: `grid-label ${cls}`, html: text, iconSize: null });
-    const pad = (b.getNorth() - b.getSouth()) * 0.01;
+    // the longitudes above the scale bar and the attribution, the latitudes below the zoom buttons and above the
+    // scale bar: under them the labels were hidden (issue 53 item 9)
+    const at = (y) => this.map.containerPointToLatLng([0, y]).lat, y = (lat) => this.map.latLngToContainerPoint([lat, 0]).y;
+    const pane = this.map.getContainer().getBoundingClientRect(), bar = this._scaleDiv?.getBoundingClientRect();
+    const lowest = Math.min(this.map.getSize().y - GRID_LABEL_CLEAR_BOTTOM_PX, bar?.height ? bar.top - pane.top - 2 : Infinity);
+    const row = Math.min(lowest - GRID_LABEL_HEIGHT_PX, y(-90)), bottom = at(row), top = at(Math.max(GRID_LABEL_CLEAR_TOP_PX, y(90)));
     for (let lon = Math.ceil(b.getWest() / step) * step; lon <= b.getEast(); lon += step) {
-      L.marker([Math.max(b.getSouth(), -90) + pad, lon], { icon: icon(lonWords(lon), "lon"), interactive: false,
-                                                           keyboard: false }).addTo(this.gridLabels);
+      L.marker([bottom, lon], { icon: icon(lonWords(lon), "lon"), interactive: false, keyboard: false })
+        .addTo(this.gridLabels);
     }
-    for (let lat = Math.ceil(Math.max(b.getSouth(), -90) / step) * step; lat <= Math.min(b.getNorth(), 90); lat += step) {
+    for (let lat = Math.ceil(bottom / step) * step; lat <= top; lat += step) {
+      if (y(lat) > row - GRID_LABEL_HEIGHT_PX) continue; // on the longitudes' row
       L.marker([lat, b.getWest()], { icon: icon(latWords(lat), "lat"), interactive: false, keyboard: false })
         .addTo(this.gridLabels);
     }
@@ -197,6 +214,7 @@ export class MapView {
     const control = L.control({ position: "bottomleft" });
     control.onAdd = () => {
       const div = L.DomUtil.create("div", "map-scale");
+      this._scaleDiv = div;
       const update = () => {
         const { nmi, px } = scaleBar(this.map);
         div.innerHTML = `<span class="bar" style="width:${Math.round(px)}px"></span>${fmt(nmi)} nmi along a meridian`;
@@ -426,6 +444,7 @@ export class MapView {
         + sites
       : sites;
     this.legendDiv.hidden = !(footprints.length || optimum || sites);
+    this._addLegendFold();
     if (this.dispersion) {
       const key = (cls, style, text) => el("div", {}, el("span", { class: cls, style }), text);
       const levels = this.dispersion.placed.confidence.map((c) => levelWords(c.level)).join(", ");
@@ -438,6 +457,22 @@ export class MapView {
             "P of reaching a site with the dispersions (grey 0 to blue 1), in its label")));
       this.legendDiv.hidden = false;
     }
+  }
+
+  /** The legend's fold button, first in it: folded, the legend is that button alone. */
+  _addLegendFold() {
+    // its glyph drawn by CSS, so that the legend's text stays the keys' (an export, a test read it)
+    const words = this.legendFolded ? "Show the legend" : "Fold the legend away: what it covers shows";
+    const fold = el("button", { type: "button", class: "legend-fold", "aria-expanded": String(!this.legendFolded),
+                                "aria-label": words, title: words });
+    fold.addEventListener("click", () => {
+      this.legendFolded = !this.legendFolded;
+      fold.remove();
+      this._addLegendFold().focus();
+    });
+    this.legendDiv.classList.toggle("folded", this.legendFolded);
+    this.legendDiv.prepend(fold);
+    return fold;
   }
 
   /** Landing sites as diamonds; green when the last reach analysis reached them, red when it did not. */

@@ -47,6 +47,7 @@ export class SitesPanel {
     this.adding = false;
     $("site-click-toggle").addEventListener("click", () => this.setAdding(!this.adding));
     $("site-csv").addEventListener("change", (e) => this.uploadCsv(e.target.files[0]));
+    $("sites-remove-all").addEventListener("click", () => this.removeAll());
     $("reach-form").addEventListener("submit", (e) => { e.preventDefault(); this.computeReach(); });
     $("site-list").addEventListener("click", (e) => {
       const id = e.target.closest("button[data-delete]")?.dataset.delete;
@@ -72,6 +73,7 @@ export class SitesPanel {
   }
 
   render() {
+    $("sites-remove-all").hidden = this.sites.length < 2;
     $("site-list").replaceChildren(...this.shown().map((s) => el("li", {},
       el("span", {}, `${s.name} `, el("span", { class: "muted" }, `${fmt(s.latitude_deg, 2)}°, ${fmt(s.longitude_deg, 2)}°`),
          verdict(s), dispersionVerdict(s, this.dispersion), guidedVerdict(s, this.guided)),
@@ -108,13 +110,23 @@ export class SitesPanel {
     $("sites-error").hidden = true;
     try {
       const res = await api("/api/sites/csv", { method: "POST", body: await file.text(), contentType: "text/csv" });
-      this.toast(`${res.created} sites added`);
+      this.toast(`${res.created} sites added, ${res.updated} already stored (kept by name)`);
       await this.load();
     } catch (err) {
       $("sites-error").textContent = err.message;
       $("sites-error").hidden = false;
     }
     $("site-csv").value = "";
+  }
+
+  /** Every stored site removed at once, once the planner says so (17 sites took 17 clicks). */
+  async removeAll() {
+    if (!this.sites.length || !window.confirm(`Remove all ${this.sites.length} landing sites?`)) return;
+    try {
+      const { deleted } = await api("/api/sites", { method: "DELETE" });
+      this.toast(`${deleted} sites removed`);
+      await this.load();
+    } catch (err) { this.toast(err.message, true); }
   }
 
   async remove(id) {

@@ -211,7 +211,9 @@ def test_a_bad_target_is_named_next_to_its_field_and_never_sent(open_page, servi
     # the service's own words for the same case, with the field's label for its path
     refused = refusal(service, "/api/trajectories", guided_case(95, TARGET[1]))
     assert refused["field"] == "bank.target.latitude_deg"
-    assert note.inner_text() == "Target latitude (deg): " + refused["detail"].split(": ", 1)[1], note.inner_text()
+    said = refused["detail"].split(": ", 1)[1]
+    example = page.get_attribute("#g-latitude", "value")  # the field's default, as an example (issue 53 item 6)
+    assert note.inner_text() == f"Target latitude (deg): {said}; e.g. {example}", note.inner_text()
     assert page.locator(".field-error:visible").count() == 1
     assert page.get_attribute("#g-latitude", "aria-invalid") == "true"
     assert not any(u.endswith(("/api/trajectories", "/api/jobs")) for u in run.requests)

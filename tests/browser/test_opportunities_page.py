@@ -362,7 +362,8 @@ def test_a_bad_tle_is_named_next_to_its_field(open_page, service, stored_sites):
     assert refused["field"] == "study.footprint.case.entry.velocity_fps"
     velocity = page.locator("#entry-velocity + .field-error")
     velocity.wait_for(timeout=WAIT_MS)
-    words = "Velocity, earth-relative (ft/s): " + refused["detail"].split(": ", 1)[1]
+    example = page.get_attribute("#entry-velocity", "value")  # the field's default (issue 53 item 6)
+    words = "Velocity, earth-relative (ft/s): " + refused["detail"].split(": ", 1)[1] + f"; e.g. {example}"
     assert velocity.inner_text() == words and page.inner_text("#op-error") == words + " (in the job form above)"
     assert page.locator("#op-tle + .field-error").count() == 0 and page.locator("#op-jobs li").count() == 0
     refused_logged = "Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)"

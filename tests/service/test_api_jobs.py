@@ -37,8 +37,9 @@ def submit(api, kind, study, **extra):
     assert r.status_code == 202, r.text
     job_id = r.json()["id"]
     # issue 13 item 9: the job's URL in the Location header and the body
-    assert r.json() | {"id": None} == {
+    assert r.json() | {"id": None, "name": None} == {
         "id": None,
+        "name": None,  # the job's name, given or made (issue 53 item 3), asserted where the name is the point
         "status": "queued",
         "url": f"/api/jobs/{job_id}",
         "events": f"/api/jobs/{job_id}/events",
@@ -475,9 +476,13 @@ def test_footprints_get_unique_names_and_can_be_renamed(api):
 
 def test_a_footprint_jobs_default_name_is_set_when_it_is_created(api):
     """Issue 14 item 2 (part): the name was computed by the engine, parsing the study again, when the job ran."""
-    job_id = submit(api, "footprint", FOOTPRINT)
+    r = api.post("/api/jobs", json={"kind": "footprint", "study": FOOTPRINT})
+    job_id = r.json()["id"]
     queued = api.get(f"/api/jobs/{job_id}").json()
-    assert queued["name"] == "lod-1.89 single_parameter 22000 fps -3 deg"  # the study's vehicle, method and entry
+    # the study's vehicle, method in words and entry (issue 53 item 3: not "single_parameter", not a job id)
+    altitude_kft = FOOTPRINT["case"]["entry"]["altitude_ft"] / 1000
+    assert queued["name"] == f"lod-1.89 · single parameter · {altitude_kft:g} kft 22,000 ft/s -3°", queued["name"]
+    assert r.json()["name"] == queued["name"]  # said when it is queued, for the page's job list
     done = wait_for_job(api, job_id)
     stored = api.get(done["result"]["footprints"][0]).json()
     assert stored["name"].startswith(queued["name"])  # numbered when another footprint has it

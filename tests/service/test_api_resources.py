@@ -117,7 +117,7 @@ def test_a_bad_custom_vehicle_names_its_field(api):
     assert r.status_code == 422 and r.json()["field"] == "vehicle.aero.constant.cd"
     r = api.post("/api/vehicles", json={"id": "bad", "vehicle": {**GLIDER, "wing_loading_psf": 5_000}})
     assert r.status_code == 422 and r.json()["field"] == "vehicle.wing_loading_psf"
-    assert "1 to 2000" in r.json()["detail"]
+    assert "1 to 2,000" in r.json()["detail"]
     r = api.post("/api/vehicles", json={"id": "no spaces", "vehicle": GLIDER})
     assert r.status_code == 422 and r.json()["field"] == "id"
 
@@ -179,7 +179,7 @@ def test_sites_crud_and_csv_upload(api):
     )
     csv_text = "name,latitude_deg,longitude_deg\nKSC,28.6,-80.6\nEdwards,34.9,-117.9\n"
     r = api.post("/api/sites/csv", content=csv_text, headers={"content-type": "text/csv"})
-    assert r.status_code == 201 and r.json() == {"created": 2}
+    assert r.status_code == 201 and r.json() == {"created": 2, "updated": 0}
     bad = api.post("/api/sites/csv", content=csv_text + "Pole,95,0\n", headers={"content-type": "text/csv"})
     assert bad.status_code == 422 and bad.json()["detail"].startswith("line 4: latitude_deg: 95 is outside")
     assert bad.json()["field"] == "line 4"

@@ -27,8 +27,8 @@ def with_changes(study: dict, path: str, value) -> dict:
 @pytest.mark.parametrize(
     "path, value, field, allowed",
     [
-        ("case.entry.velocity_fps", 50, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
-        ("case.entry.velocity_fps", 45_000, "study.case.entry.velocity_fps", "1000 to 40000 ft/s"),
+        ("case.entry.velocity_fps", 50, "study.case.entry.velocity_fps", "1,000 to 40,000 ft/s"),
+        ("case.entry.velocity_fps", 45_000, "study.case.entry.velocity_fps", "1,000 to 40,000 ft/s"),
         ("case.entry.gamma_deg", 20, "study.case.entry.gamma_deg", "-90 to 10 deg"),
         ("case.entry.latitude_deg", -91, "study.case.entry.latitude_deg", "-90 to 90 deg"),
         ("bank0_deg", [float(b) for b in range(101)], "study.bank0_deg", "1 to 200"),  # 101 x 2 sides

@@ -17,6 +17,7 @@ from pydantic import (
     model_validator,
 )
 
+from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
 from footprint.contracts.doors import validated
 from footprint.contracts.fields import Range, Settled, Strict, by_shape, shape_tag
 from footprint.contracts.guidance import BankGuided
@@ -439,6 +440,14 @@ class Case(Strict):
     stop: StopCase = StopCase()
     integrator: IntegratorCase = IntegratorCase()
     heating: HeatingCase | None = None
+
+    def named(self, method_words: str) -> str:
+        """A result of this case named for what it is, in a job name's bound: vehicle, method in words and entry, as
+        "lod-1.89 · single parameter · 364.8 kft 24,480 ft/s -2°" (issue 53 item 3: "footprint a5dde2ec" said
+        nothing); a long vehicle name is cut, the rest kept whole."""
+        e = self.entry
+        entry = f"{e.altitude_ft / 1000:g} kft {e.velocity_fps:,.0f} ft/s {e.gamma_deg:g}°"
+        return fitted(self.vehicle.label(), f"· {method_words} · {entry}", JOB_NAME_CHARS)
 
     @model_validator(mode="after")
     def _consistent(self) -> "Case":

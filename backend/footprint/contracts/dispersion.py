@@ -27,7 +27,7 @@ from pydantic import AfterValidator, Field, TypeAdapter, ValidationInfo, model_v
 
 from footprint.contracts.doors import door_limit, synchronous, validated
 from footprint.contracts.fields import Range, Strict, by_shape, shape_tag
-from footprint.contracts.footprint import FootprintStudy
+from footprint.contracts.footprint import METHOD_WORDS, FootprintStudy
 from footprint.contracts.reach import Site
 from footprint.contracts.records import FLIGHT_KEYS, csv_cell, flown, plain
 from footprint.contracts.work import OnProgress, PerStudy, RunInfo, Stored, Work
@@ -364,4 +364,17 @@ def sites_csv(result: dict[str, Any]) -> str:
 _plan = PerStudy(Plan)  # this process's plan of the study it flies (a study's parts share one draw)
 
 
-WORK = Work(split=DispersionStudy.chunks, run_part=fly_chunk, combine=combine, store=store, part_unit="chunk")
+def default_name(study: DispersionStudy) -> str:
+    """A dispersion's name unless one is given: its footprint's vehicle, method and entry, and its samples."""
+    fp = study.footprint
+    return fp.case.named(f"{METHOD_WORDS[fp.method]} in {study.samples:,} samples")
+
+
+WORK = Work(
+    split=DispersionStudy.chunks,
+    run_part=fly_chunk,
+    combine=combine,
+    store=store,
+    default_name=default_name,
+    part_unit="chunk",
+)

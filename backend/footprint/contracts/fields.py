@@ -22,13 +22,21 @@ class Range(GroupedMetadata):
     def check(self, v: float) -> float:
         if not self.lo <= v <= self.hi:
             unit = f" {self.unit}" if self.unit else ""
-            raise ValueError(f"{v:g} is outside the allowed range {self.lo:g} to {self.hi:g}{unit}")
+            raise ValueError(f"{number(v)} is outside the allowed range {number(self.lo)} to {number(self.hi)}{unit}")
         return v
 
     def __iter__(self) -> Iterator[object]:  # the metadata pydantic applies, in order
         yield BeforeValidator(_not_bool)
         yield AfterValidator(self.check)
         yield Field(json_schema_extra={"minimum": self.lo, "maximum": self.hi})
+
+
+def number(x: float) -> str:
+    """A number as a planner writes it in a message: whole ones with thousands separators ("3,000,000", not
+    "3e+06"), others in six significant digits ("0.05", "1.5e+20")."""
+    if float(x).is_integer() and abs(x) < 1e15:
+        return f"{int(x):,}"
+    return f"{x:.6g}"
 
 
 def _not_bool(v: Any) -> Any:

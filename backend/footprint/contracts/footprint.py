@@ -12,7 +12,6 @@ from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 from pydantic import Field, TypeAdapter, ValidationInfo, model_validator
 
 from footprint.contracts import stored_form
-from footprint.contracts.bounds import JOB_NAME_CHARS, fitted
 from footprint.contracts.case import MAX_STEP_RANGE_S, AlphaBound, Case, check_bounds
 from footprint.contracts.doors import IN_A_SYNCHRONOUS_REQUEST, door_limit, synchronous, validated
 from footprint.contracts.fields import Range, Strict
@@ -42,6 +41,18 @@ MAX_POINTS_SYNC = 100  # flown in the API process itself (a reach or an exact tr
 # study took 0.9 s at the default 50 s, 1.2 s at 2 s, 1.7 s at 1 s, 2.8 s at 0.5 s, 12 s at 0.1 s (~100 s at 0.01 s:
 # each flight the integrator's 200,000 steps; 2 shared cores, load 14)
 MIN_STEP_SYNC_S = 1.0
+
+
+# each method as a name says it (a result's default name; the page's job form says the same)
+METHOD_WORDS = {
+    "single_parameter": "single parameter",
+    "constant_bank": "constant bank",
+    "staged": "staged bank",
+    "two_parameter": "two parameter",
+    "constant_altitude": "constant altitude",
+    "temperature_limited": "temperature limited",
+    "collocation": "true optimal (collocation)",
+}
 
 
 class _Study(Strict):
@@ -94,12 +105,8 @@ class _Study(Strict):
         return self
 
     def default_name(self) -> str:
-        """The footprint's name unless one is given: vehicle, method, entry speed and flight-path angle, in a job
-        name's bound (a long vehicle name is cut)."""
-        e = self.case.entry
-        return fitted(
-            self.case.vehicle.label(), f"{self.method} {e.velocity_fps:g} fps {e.gamma_deg:g} deg", JOB_NAME_CHARS
-        )
+        """The footprint's name unless one is given: vehicle, method in words and entry (Case.named)."""
+        return self.case.named(METHOD_WORDS[self.method])
 
 
 class SingleParameterStudy(_Study):

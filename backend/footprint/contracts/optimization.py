@@ -22,6 +22,7 @@ constraint's excess by its tolerance (or its own `scale`) so that unit weights b
 units (core.optimize: a departure from eq. (4)); it is the default when a table block is given, else "none".
 """
 
+import math
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal, get_args
 
@@ -43,7 +44,7 @@ from footprint.contracts.case import (
     table_abscissa,
 )
 from footprint.contracts.doors import validated
-from footprint.contracts.fields import Range, Strict
+from footprint.contracts.fields import Range, Strict, number
 from footprint.contracts.records import FLIGHT_KEYS, flown, plain
 from footprint.contracts.work import OnProgress, Stored, Work
 from footprint.core import collocation as col
@@ -79,6 +80,20 @@ DEFAULT_TOLERANCE = {"downrange_nmi": opt.TTOL_DOWNRANGE_NMI, "max_temperature_R
 Scaling = Literal["tolerance", "none"]
 SCALINGS: tuple[str, ...] = get_args(Scaling)
 SEARCH_MAX_NODES = 64  # nodes (search parameters) per table
+# what a quantity can be at all, (lowest, highest, the lowest itself allowed): a constraint outside it can never be
+# met (issue 53 item 6: a down-range of -4,000 nmi was flown to a 139 g dive marked "constraints not met")
+QUANTITY_DOMAIN: dict[str, tuple[float, float, bool]] = {
+    "downrange_nmi": (0.0, math.inf, False),  # measured forward from the entry along its heading
+    "final_latitude_deg": (-90.0, 90.0, True),
+    "final_gamma_deg": (-90.0, 90.0, True),
+    "final_velocity_fps": (0.0, math.inf, True),
+    "flight_time_s": (0.0, math.inf, False),
+    "max_temperature_R": (0.0, math.inf, False),  # absolute
+    "max_heat_rate_btu_ft2_s": (0.0, math.inf, True),
+    "max_dynamic_pressure_psf": (0.0, math.inf, True),
+    "heat_load_btu_ft2": (0.0, math.inf, True),
+    "max_load_factor": (0.0, math.inf, True),
+}
 
 
 class Term(Strict):
@@ -142,6 +157,16 @@ class ConstraintCase(Strict):
         given = [k for k in ("equals", "at_most", "at_least") if getattr(self, k) is not None]
         if len(given) != 1:
             raise ValueError("give exactly one of equals, at_most, at_least")
+        lo, hi, lo_allowed = QUANTITY_DOMAIN.get(self.quantity, (-math.inf, math.inf, True))
+        value = getattr(self, given[0])
+        if not (lo <= value if lo_allowed else lo < value) or value > hi:
+            allowed = (
+                f"{'at least' if lo_allowed else 'more than'} {number(lo)}"
+                if hi == math.inf
+                else f"{number(lo)} to {number(hi)}"
+            )
+            said = f"{given[0]}: {number(value)} is outside the allowed range"
+            raise ValueError(f"{said} for {self.quantity} ({allowed})")
         return self
 
     def band(self) -> float:
@@ -499,4 +524,11 @@ def store(study: OptimizationStudy, result: opt.Result | col.Result, name: str |
     )
 
 
-WORK = Work(run_part=optimum, store=store, part_unit="optimization")
+def default_name(study: OptimizationStudy) -> str:
+    """An optimization's name unless one is given: vehicle, optimizer in words and entry (Case.named)."""
+    return study.case.named(
+        {"creep_pattern": "creep+pattern", "collocation": "collocation optimum"}.get(study.method, study.method)
+    )
+
+
+WORK = Work(run_part=optimum, store=store, default_name=default_name, part_unit="optimization")

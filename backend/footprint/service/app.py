@@ -2,16 +2,19 @@
 resubmitted, the built-in vehicle summaries computed; the API under /api, the docs at /docs, the map page
 (frontend/) at /."""
 
+import asyncio
 import gc
 import logging
+import os
 import re
+import signal
 import time
-from contextlib import asynccontextmanager
+from contextlib import asynccontextmanager, suppress
 from urllib.parse import parse_qs
 
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
-from fastapi.responses import HTMLResponse
+from fastapi.responses import HTMLResponse, JSONResponse
 from pydantic import TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import MutableHeaders
@@ -45,10 +48,14 @@ log = logging.getLogger("footprint.service")
 _BOOL = TypeAdapter(bool)  # FastAPI's own parse of a bool query parameter
 
 
-def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool = False) -> FastAPI:
+def create_app(
+    settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool = False, starts_behind: bool = False
+) -> FastAPI:
     """The service for these settings (nothing starts until the app's lifespan begins); without `runs_jobs`, an API
     process whose jobs an engine in another process runs (service.processes); with `freezes_heap`, the app is its
-    process's only one (footprint serve), whose start-up objects are frozen out of the garbage collector's way."""
+    process's only one (footprint serve), whose start-up objects are frozen out of the garbage collector's way. With
+    `starts_behind` (footprint serve), the lifespan returns at once and the start runs behind the open socket, health
+    saying "starting" (a failed start ends the process); else the lifespan waits for it (a TestClient's start)."""
     db = make_engine(settings.database_url)
     # the job engine's threads connect through a pool of their own: no number of requests can leave a job waiting for
     # a connection (issue 49: two dispersions failed after 30 s of "QueuePool limit ... reached" under 200 readers)
@@ -58,32 +65,60 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
         else None
     )
 
+    async def start_up(app: FastAPI) -> None:
+        """The slow part of a start (minutes on a loaded machine), after the socket is open: /api/health says
+        "starting" and which step meanwhile, and every other /api request is a 503 (StartingGate)."""
+
+        def step(words: str) -> None:
+            app.state.starting = words
+            log.info(words)
+
+        try:
+            step("migrating the database")
+            await run_in_threadpool(migrate, db, settings.migrations_dir)
+            step(
+                "starting the job engine ("
+                + (
+                    f"the Dask scheduler {settings.dask_scheduler}"
+                    if settings.dask_scheduler
+                    else f"a local cluster of {settings.dask_workers} workers"
+                )
+                + ")"
+            )
+            await run_in_threadpool(app.state.jobs.start)
+            step(
+                "loading the flight kernels (numba): a first start compiles them, about a minute; later ones "
+                "load them from its cache in seconds"
+            )
+            t0 = time.perf_counter()
+            # before ready: a synchronous request is timed on its flight, not on compiling (a first guided one was
+            # stopped by the 10 s limit while its kernels compiled), and the first /api/vehicles answers at once
+            await run_in_threadpool(parallel.warm_numba)
+            await run_in_threadpool(vehicles.warm_builtins)
+            if freezes_heap:
+                freeze_heap()
+            app.state.starting = None
+            log.info("ready (the flight kernels took %.0f s)", time.perf_counter() - t0)
+        except Exception:
+            if not starts_behind:
+                raise  # the lifespan's own failure
+            log.exception("the start failed while %s", app.state.starting)
+            app.state.start_failed = True
+            os.kill(os.getpid(), signal.SIGTERM)  # a start that cannot finish ends the process, as a failed lifespan
+
     @asynccontextmanager
     async def lifespan(app: FastAPI):
-        log.info("migrating the database")
-        await run_in_threadpool(migrate, db, settings.migrations_dir)
-        log.info(
-            "starting the job engine (%s)",
-            f"the Dask scheduler {settings.dask_scheduler}"
-            if settings.dask_scheduler
-            else f"a local cluster of {settings.dask_workers} workers",
-        )
-        await run_in_threadpool(app.state.jobs.start)
-        log.info(
-            "loading the flight kernels (numba): a first start compiles them, about a minute; later ones "
-            "load them from its cache in seconds"
-        )
-        t0 = time.perf_counter()
-        # before ready: a synchronous request is timed on its flight, not on compiling (a first guided one was
-        # stopped by the 10 s limit while its kernels compiled), and the first /api/vehicles answers at once
-        await run_in_threadpool(parallel.warm_numba)
-        await run_in_threadpool(vehicles.warm_builtins)
-        log.info("ready (the flight kernels took %.0f s)", time.perf_counter() - t0)
-        if freezes_heap:
-            freeze_heap()
+        app.state.starting = "starting"
+        starting = asyncio.create_task(start_up(app))
+        if not starts_behind:
+            await starting
         try:
             yield
         finally:
+            if not starting.done():
+                starting.cancel()
+                with suppress(asyncio.CancelledError):
+                    await starting
             await run_in_threadpool(app.state.jobs.close)
             db.dispose()
             if jobs_db is not None:
@@ -99,6 +134,8 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
         "footprints, trajectories, geometry, landing sites. See docs/api.md.",
     )
     app.state.settings, app.state.dialect = settings, db.dialect.name
+    app.state.starting = None  # the start-up step under way while the lifespan's start runs; None once ready
+    app.state.start_failed = False
     app.state.sessions = make_sessions(db)
     app.state.read_sessions = make_sessions(db, reads_only=True)
     app.state.read_limiter = deps.read_limiter()
@@ -123,6 +160,7 @@ def create_app(settings: Settings, *, runs_jobs: bool = True, freezes_heap: bool
         + [("/api" + r.path, r.methods) for router in routers for r in router.routes]
     )
     app.add_middleware(read_cache.CachedGets, state=app.state)  # inside the guard: its checks come first
+    app.add_middleware(StartingGate, state=app.state)  # outside the cache: nothing cached while starting
     app.add_middleware(
         GuardMiddleware,
         paths=app.state.api_paths,
@@ -187,6 +225,24 @@ def _api_docs(app: FastAPI, tile_url: str) -> None:
             redoc_favicon_url="data:,",
             with_google_fonts=False,
         )
+
+
+class StartingGate:
+    """Until the start-up is done, every /api request but /api/health is a 503 saying so (issue 53 item 11: the
+    socket opens at once, and health answers "starting" from the first second)."""
+
+    def __init__(self, app: ASGIApp, *, state) -> None:
+        self.app, self.state = app, state
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        step = self.state.starting
+        if step is None or scope["type"] != "http" or not scope["path"].startswith("/api/") or scope["path"] == HEALTH:
+            return await self.app(scope, receive, send)
+        body = {"detail": f"the service is starting ({step}); ask again once GET {HEALTH} says ok"}
+        await JSONResponse(body, status_code=503, headers={"Retry-After": "5"})(scope, receive, send)
+
+
+HEALTH = "/api/health"
 
 
 class SecurityHeadersMiddleware:

@@ -19,7 +19,10 @@ def serve(settings: Settings) -> None:
     processes answering HTTP (reads side by side, past one process's GIL) and this one running the cluster and the
     job engine, which polls the database for the jobs they queue."""
     if settings.api_processes == 1:
-        uvicorn.Server(server.config(settings, create_app(settings, freezes_heap=True))).run()
+        app = create_app(settings, freezes_heap=True, starts_behind=True)  # health says "starting" at once
+        uvicorn.Server(server.config(settings, app)).run()
+        if app.state.start_failed:
+            raise SystemExit(3)  # as uvicorn ends on a failed lifespan
         return
     db = make_engine(settings.database_url)
     migrate(db, settings.migrations_dir)  # once, before the API processes start
@@ -38,4 +41,4 @@ def serve(settings: Settings) -> None:
 
 def api_process() -> FastAPI:
     """One of serve()'s API processes (uvicorn's factory), its settings from the environment serve() set."""
-    return create_app(load_settings(), runs_jobs=False, freezes_heap=True)
+    return create_app(load_settings(), runs_jobs=False, freezes_heap=True)  # started by serve(): its start is short

@@ -76,6 +76,7 @@ class FootprintRename(_Strict):
 
 class JobCreated(BaseModel):
     id: str
+    name: str | None  # given, or made from what the study is (vehicle, method, entry): the page's label for it
     status: JobStatus
     url: str  # the job (GET to poll, DELETE to cancel); also the response's Location header
     events: str  # its server-sent progress events
@@ -92,6 +93,17 @@ class JobSummary(BaseModel):
     created_at: str
     started_at: str | None
     finished_at: str | None
+
+
+class QueuedJob(JobSummary):
+    ahead: int  # jobs not yet finished that came before it
+    ends_in_s: float | None  # about when it ends: the measured work to it over the workers; None: a kind unmeasured
+
+
+class Queue(BaseModel):
+    workers: int
+    jobs: list[QueuedJob]  # queued and running, oldest first
+    costs: dict[str, dict[str, float]]  # kind -> {median_s, jobs}: its last succeeded jobs' median run time
 
 
 class JobRead(JobSummary):
@@ -141,7 +153,12 @@ class SiteRead(Site):
 
 
 class SitesCreated(BaseModel):
-    created: int
+    created: int  # new names
+    updated: int  # names already stored: moved to the upload's place
+
+
+class SitesDeleted(BaseModel):
+    deleted: int
 
 
 class Entry(BaseModel):
@@ -273,8 +290,9 @@ class ReachRead(BaseModel):
 
 
 class Health(BaseModel):
-    status: Literal["ok", "degraded"]
+    status: Literal["ok", "degraded", "starting"]
     version: str
+    starting: str | None = None  # while starting: the step under way
     database: dict[str, Any]
     cluster: dict[str, Any]
 

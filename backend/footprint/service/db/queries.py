@@ -83,6 +83,28 @@ def list_jobs(session: Session, *, status: str | None, kind: str | None, limit: 
     return list(rows), int(total)
 
 
+def pending_jobs(session: Session) -> list[Job]:
+    """Queued and running jobs, oldest first (without their studies): the queue as the engine takes it."""
+    query = select(Job).options(defer(Job.study, raiseload=True)).where(Job.status.in_(PENDING))
+    return list(session.scalars(query.order_by(Job.created_at, Job.id)))
+
+
+def measured_costs_s(session: Session, *, kinds: set[str], last: int) -> dict[str, tuple[float, int]]:
+    """Each kind's median run time (started to finished) over its last `last` succeeded jobs, and how many."""
+    costs = {}
+    for kind in sorted(kinds):
+        rows = session.execute(
+            select(Job.started_at, Job.finished_at)
+            .where(Job.kind == kind, Job.status == "succeeded", Job.started_at.is_not(None))
+            .order_by(Job.finished_at.desc())
+            .limit(last)
+        ).all()
+        times = sorted((f - s).total_seconds() for s, f in rows if f is not None)
+        if times:
+            costs[kind] = (times[len(times) // 2], len(times))
+    return costs
+
+
 def pending_job_ids(session: Session) -> list[str]:
     """Queued and running jobs, oldest first: what a restarted service submits again."""
     return list(session.scalars(select(Job.id).where(Job.status.in_(PENDING)).order_by(Job.created_at)))
@@ -318,6 +340,27 @@ def create_sites(session: Session, *, sites: list[dict]) -> list[Site]:
     session.add_all(rows)
     session.flush()
     return rows
+
+
+def upsert_sites(session: Session, *, sites: list[dict]) -> tuple[int, int]:
+    """Store landing sites by name: a stored site of the same name takes the new place (and loses its verdict if it
+    moved), another is added; a name given twice keeps its last place. (created, updated): the same CSV uploaded
+    again duplicated every site (issue 53 item 5)."""
+    given = {s["name"]: s for s in sites}
+    stored = {r.name: r for r in session.scalars(select(Site).where(Site.name.in_(list(given))).order_by(Site.id))}
+    updated = 0
+    for name, site in given.items():
+        row = stored.get(name)
+        if row is not None:
+            update_site(session, site_id=row.id, site=site)
+            updated += 1
+    create_sites(session, sites=[s for name, s in given.items() if name not in stored])
+    return len(given) - updated, updated
+
+
+def delete_sites(session: Session) -> int:
+    """Delete every landing site: how many."""
+    return session.execute(delete(Site)).rowcount
 
 
 def store_verdicts(session: Session, *, verdicts: dict[int, dict]) -> None:

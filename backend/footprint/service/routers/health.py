@@ -12,14 +12,18 @@ from footprint.service.schemas import Health, PageConfig
 router = APIRouter(tags=["health"], route_class=ApiRoute)
 
 
-@router.get("/health", response_model=Health, responses={503: {"model": Health, "description": "degraded"}})
+@router.get("/health", response_model=Health, responses={503: {"model": Health, "description": "degraded or starting"}})
 async def health(request: Request) -> JSONResponse:
     """The service's state: "ok" (200) when the database answers, the Dask scheduler answers and no worker is missing;
     else "degraded" (503, so that a deployment's health check sees it) with what is wrong. The scheduler's address
     only to a caller with the bearer token (so never when FOOTPRINT_API_TOKEN is unset). Nothing read on the event
     loop: the database answered when the cached reads' shared revision read, begun after this request came, did
     (read_cache.SharedRead); the cluster's state is the job engine's last look (ClusterLink.recent_status), at most
-    half a second old while the scheduler answers."""
+    half a second old while the scheduler answers. While the service starts: "starting" (503) at once, with the
+    step under way (`starting`), before the database and the cluster are looked at."""
+    if (step := request.app.state.starting) is not None:
+        body = {"status": "starting", "version": footprint.__version__, "starting": step, "database": {}, "cluster": {}}
+        return JSONResponse(body, status_code=503)
     try:
         await request.app.state.revisions.current()
         database = {"ok": True, "dialect": request.app.state.dialect}

@@ -12,7 +12,7 @@ from footprint.service import deps, read_cache
 from footprint.service.db import queries as q
 from footprint.service.db.models import JOB_STATUSES, MAX_INTEGER, PENDING
 from footprint.service.errors import ApiRoute, NotFound
-from footprint.service.schemas import JobCreated, JobKind, JobList, JobRead, StoredId, job_create
+from footprint.service.schemas import JobCreated, JobKind, JobList, JobRead, Queue, StoredId, job_create
 
 router = APIRouter(tags=["jobs"], route_class=ApiRoute)
 EVENT_POLL_S = 0.25  # how often the event stream looks at the job's row
@@ -55,7 +55,7 @@ def submit_router() -> APIRouter:
             job_id = job.id
         deps.engine(request).submit(job_id=job_id, request=body.study)
         response.headers["Location"] = url = f"/api/jobs/{job_id}"
-        return {"id": job_id, "status": "queued", "url": url, "events": f"{url}/events"}
+        return {"id": job_id, "name": name, "status": "queued", "url": url, "events": f"{url}/events"}
 
     submit = APIRouter(tags=["jobs"], route_class=ApiRoute)
     submit.add_api_route(
@@ -85,6 +85,37 @@ async def list_jobs(
         return read_cache.as_json(JobList, {"items": [summary(j) for j in jobs], "total": total})
 
     return read_cache.plain(await deps.shared(request, ("jobs", status, kind, limit, offset), build))
+
+
+QUEUE_COST_JOBS = 20  # a kind's cost: the median of its last 20 succeeded jobs' run times
+
+
+@router.get("/queue", response_model=Queue)
+async def queue(request: Request) -> dict:
+    """The jobs not yet finished, oldest first as the engine takes them: each with the jobs ahead of it and an
+    estimate of when it ends, from each kind's measured cost (the median run time of its last 20 succeeded jobs)
+    shared over the cluster's workers; no estimate while a kind ahead has no measured cost (issue 53 item 2)."""
+    status = deps.engine(request).recent_status()
+    workers = max(int(status.get("workers") or 0), 1)
+
+    def read(session) -> tuple[list[dict], dict]:
+        pending = [summary(j) for j in q.pending_jobs(session)]
+        return pending, q.measured_costs_s(session, kinds={j["kind"] for j in pending}, last=QUEUE_COST_JOBS)
+
+    pending, costs = await deps.read(request, read)
+    items, work_s = [], 0.0  # the work of the jobs so far, in worker-seconds
+    for ahead, job in enumerate(pending):
+        cost = costs.get(job["kind"])
+        if work_s is not None and cost is not None:
+            work_s += cost[0] * (1.0 - job["progress"])
+        else:
+            work_s = None  # unknown from here on
+        items.append(job | {"ahead": ahead, "ends_in_s": None if work_s is None else work_s / workers})
+    return {
+        "workers": workers,
+        "jobs": items,
+        "costs": {k: {"median_s": c, "jobs": n} for k, (c, n) in costs.items()},
+    }
 
 
 @router.get("/jobs/{job_id}", response_model=JobRead, responses=read_cache.NOT_MODIFIED)

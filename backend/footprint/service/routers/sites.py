@@ -17,7 +17,7 @@ from footprint.service import deps
 from footprint.service.db import queries as q
 from footprint.service.db.models import MAX_INTEGER
 from footprint.service.errors import ApiRoute, NotFound, RequestInvalid, UnsupportedMediaType
-from footprint.service.schemas import ReachRead, SiteRead, SitesCreated
+from footprint.service.schemas import ReachRead, SiteRead, SitesCreated, SitesDeleted
 
 router = APIRouter(tags=["sites"], route_class=ApiRoute)
 CSV_COLUMNS = ("name", "latitude_deg", "longitude_deg")
@@ -60,15 +60,16 @@ def create_site(site: Site, session: deps.Transaction) -> dict:
     openapi_extra={"requestBody": {"content": {"text/csv": {"schema": {"type": "string"}}}}},
 )
 async def upload_sites(request: Request) -> dict:
-    """Store the sites of a text/csv body with the header name,latitude_deg,longitude_deg (all or none). Other
-    types are refused (415): a text/plain POST is a "simple" request another site's page may send."""
+    """Store the sites of a text/csv body with the header name,latitude_deg,longitude_deg (all or none), by name: a
+    stored site of the same name is moved to the row's place, not stored twice. Other types are refused (415): a
+    text/plain POST is a "simple" request another site's page may send."""
     kind = request.headers.get("content-type", "").split(";")[0].strip().lower()
     if kind != "text/csv":
         raise UnsupportedMediaType(f"body: the sites are a text/csv body (got {kind[:80] or 'none'!r})")
     sites = _parse_csv(await request.body())
     with deps.sessions(request).begin() as session:
-        q.create_sites(session, sites=sites)
-    return {"created": len(sites)}
+        created, updated = q.upsert_sites(session, sites=sites)
+    return {"created": created, "updated": updated}
 
 
 def _parse_csv(body: bytes) -> list[dict]:
@@ -96,6 +97,12 @@ def _parse_csv(body: bytes) -> list[dict]:
     if not sites:
         raise RequestInvalid("line 2: no sites below the header", "line 2")
     return sites
+
+
+@router.delete("/sites", response_model=SitesDeleted)
+def delete_sites(session: deps.Transaction) -> dict:
+    """Delete every landing site (the page's "remove all")."""
+    return {"deleted": q.delete_sites(session)}
 
 
 @router.get("/sites/{site_id:int}", response_model=SiteRead)
