@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from tests.core.test_guidance import distance_nmi, guided, target
+from tests.core.test_guidance import INTERFACE_NMI, distance_nmi, guided, target
 from tests.service.conftest import wait_for_job
 
 STUDY = {
@@ -45,7 +45,8 @@ def test_a_guided_case_flies_to_its_target(api):
     assert r.status_code == 200, r.text
     s, h = r.json()["summary"], r.json()["history"]
     t = target(5000.0, 600.0)
-    miss = distance_nmi(h["latitude_deg"][-1], h["longitude_deg"][-1], t["latitude_deg"], t["longitude_deg"])
+    to_site = distance_nmi(h["latitude_deg"][-1], h["longitude_deg"][-1], t["latitude_deg"], t["longitude_deg"])
+    miss = abs(to_site - INTERFACE_NMI)  # of the terminal-area interface circle (issue 50 item 3)
     assert miss == pytest.approx(s["guidance"]["miss_nmi"], abs=1e-6) and miss <= 1.0
     assert len(h["bank_command_deg"]) == len(h["time_s"]) == len(h["predicted_miss_nmi"])
 
@@ -59,7 +60,8 @@ def test_a_guided_dispersion_job_runs_chunk_by_chunk_and_stores_the_result(api):
     for mode in ("guided", "open_loop"):
         cloud = got["clouds"][mode]
         within = sum(
-            lat is not None and distance_nmi(lat, lon, t["latitude_deg"], t["longitude_deg"]) <= 5.0
+            lat is not None
+            and abs(distance_nmi(lat, lon, t["latitude_deg"], t["longitude_deg"]) - INTERFACE_NMI) <= 5.0
             for lat, lon in zip(cloud["latitude_deg"], cloud["longitude_deg"])
         )
         assert got[mode]["within"][0]["samples_within"] == within
