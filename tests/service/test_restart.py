@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 from contextlib import closing
+from pathlib import Path
 
 import httpx
 
@@ -31,9 +32,9 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start(tmp_path, port: int, **env_extra: str) -> subprocess.Popen:
+def launch(tmp_path, port: int, workers: int = 2, **env_extra: str) -> tuple[subprocess.Popen, Path]:
     """`footprint serve` in its own process group (so SIGKILL reaches its Dask workers too, as a crash would), with
-    no FOOTPRINT_ setting of the test's environment but `env_extra`."""
+    no FOOTPRINT_ setting of the test's environment but `env_extra`; not waited for. (The process, its log.)"""
     log_path = tmp_path / f"serve-{time.monotonic_ns()}.log"
     log = open(log_path, "w")
     env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")} | env_extra
@@ -45,9 +46,15 @@ def start(tmp_path, port: int, **env_extra: str) -> subprocess.Popen:
         "--port",
         str(port),
         "--workers",
-        "2",
+        str(workers),
     ]  # the database: the default, footprint.db in the working directory
     proc = subprocess.Popen(cmd, cwd=tmp_path, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    return proc, log_path
+
+
+def start(tmp_path, port: int, **env_extra: str) -> subprocess.Popen:
+    """launch() and wait until health says ok."""
+    proc, log_path = launch(tmp_path, port, **env_extra)
     deadline = time.monotonic() + START_TIMEOUT_S
     while time.monotonic() < deadline:
         assert proc.poll() is None, f"serve exited ({proc.returncode}):\n{log_path.read_text()[-3000:]}"

@@ -41,30 +41,13 @@ def test_health_says_starting_from_the_first_second_and_each_step_is_timed(tmp_p
     times. Its socket opens at once now: health answers 503 "starting" with the step under way, any other API
     request 503 saying so, until it is ready and health says ok; every console line begins with its UTC time."""
     import re
-    import subprocess
-    import sys
 
     import httpx
 
-    from tests.service.test_restart import START_TIMEOUT_S
+    from tests.service.test_restart import START_TIMEOUT_S, launch
 
     port = free_port()
-    log_path = tmp_path / "serve.log"
-    env = {k: v for k, v in os.environ.items() if not k.startswith("FOOTPRINT_")}
-    cmd = [
-        sys.executable,
-        "-c",
-        "from footprint.cli import main; main()",
-        "serve",
-        "--port",
-        str(port),
-        "--workers",
-        "1",
-    ]
-    with open(log_path, "w") as log:
-        proc = subprocess.Popen(
-            cmd, cwd=tmp_path, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True
-        )
+    proc, log_path = launch(tmp_path, port, workers=1)
     try:
         answers, refused = [], None
         deadline = time.monotonic() + START_TIMEOUT_S
