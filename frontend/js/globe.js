@@ -158,6 +158,11 @@ export class GlobeView {
     const parts = this.guided.rings.map((r) => `<path class="globe-guided-ring gr-${r.key}" style="stroke:${r.color}`
       + `${r.dash ? `;stroke-dasharray:${r.dash}` : ""}" d="${line(r.coordinates)}"/>`);
     if (this.guided.track) parts.push(`<path class="globe-guided-track" d="${line(this.guided.track)}"/>`);
+    for (const [mode, points] of Object.entries(this.guided.clouds ?? {})) { // a dispersion's ends, guided on top
+      const d = path.pointRadius(mode === "guided" ? 2 : 1.6)({ type: "MultiPoint", coordinates: points });
+      if (d) parts.push(`<path class="globe-guided-cloud gc-${mode.replace("_", "-")}" d="${d}"/>`);
+    }
+    path.pointRadius(4); // as render() set it
     return parts;
   }
 

@@ -61,6 +61,17 @@ function checkedNumber(id, lo, hi, unit) {
 /** A number, or the text as it is for the service to name (as the job form sends it). */
 const numberOrText = (id) => { const v = $(id).value.trim(); return v !== "" && Number.isFinite(+v) ? +v : v; };
 
+/** A guided dispersion's clouds for the globe: {guided, open_loop} lists of [lon, lat], the samples that landed. */
+function cloudPoints(r) {
+  const out = {};
+  for (const mode of ["open_loop", "guided"]) {
+    const c = r.clouds?.[mode];
+    if (c) out[mode] = c.latitude_deg.flatMap((lat, i) => (lat == null || c.longitude_deg[i] == null ? []
+      : [[c.longitude_deg[i], lat]]));
+  }
+  return out;
+}
+
 export class GuidedPanel {
   constructor({ mapView, onFlight, onPick, onReach, onGlobe, toast }) {
     this.mapView = mapView;
@@ -69,7 +80,7 @@ export class GuidedPanel {
     this.onPick = onPick; // picking on the map: the sites panel stops adding sites
     this.onReach = onReach; // a guided reach's result: each stored site's guided probability
     this.onGlobe = onGlobe; // the track and rings for the globe: {track, rings} ([lon, lat] lines)
-    this.globeLayers = { track: null, rings: [] };
+    this.globeLayers = { track: null, rings: [], clouds: null };
     this.toast = toast;
     this.form = $("guided-form");
     this.flight = null; // {time_s, bank_deg, bank_command_deg, predicted_miss_nmi?, title}: the bank plot's
@@ -467,6 +478,7 @@ export class GuidedPanel {
     const lons = unwrapLongitudes(lonsIn, lonsIn[0]);
     this.anchorLon = lons[lons.length - 1];
     this.globeLayers.track = lats.map((lat, i) => [lons[i], lat]);
+    this.globeLayers.clouds = dispersion ? cloudPoints(dispersion) : null;
     this.onGlobe?.(this.globeLayers);
     const svg = { renderer: this.mapView.svgRenderer, smoothFactor: 0, noClip: true, interactive: false };
     for (const offset of copyOffsets(Math.min(...lons), Math.max(...lons))) {

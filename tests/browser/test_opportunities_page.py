@@ -541,3 +541,10 @@ def test_an_opportunity_is_flown_guided_and_dispersed_from_its_own_entry(open_pa
     assert "entry" not in body["study"]  # the executed burns give the entries
     done = page.locator("#guided-jobs li").first
     done.locator(".job-status", has_text="succeeded").wait_for(timeout=JOB_TIMEOUT_S * 1000)
+    # its ends on the globe too, over the site (before, the globe drew a guided track and rings, no clouds)
+    page.click("#view-globe")
+    page.evaluate(f"() => window.footprintApp.globe.center({site['longitude_deg']}, {site['latitude_deg']})")
+    moves = page.evaluate("""() => Object.fromEntries([...document.querySelectorAll('#globe path.globe-guided-cloud')]
+      .map((p) => [p.getAttribute('class'), (p.getAttribute('d').match(/M/g) || []).length]))""")
+    assert moves.get("globe-guided-cloud gc-guided") == 8, moves  # one circle a landed sample, all on this side
+    page.screenshot(path=str(FIGURES_DIR / "page_opportunity_dispersion_globe.png"))
