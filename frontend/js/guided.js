@@ -632,7 +632,7 @@ export function drawBankPlot(container, flight) {
   const parts = [...bank.parts, legendKeys(bank.right, M.top - 10)];
   if (miss) {
     parts.push(...seriesPanel({ x: bankWidth, w: width - bankWidth, h: height, time: flight.time_s, zeroClass: "miss-zero",
-                                label: "Predicted miss (nmi)", series: [{ values: flight.predicted_miss_nmi, cls: "predicted-miss" }] }).parts);
+                                label: "Predicted miss (nmi; + long, − short)", series: [{ values: flight.predicted_miss_nmi, cls: "predicted-miss" }] }).parts);
   }
   container.innerHTML = `<svg xmlns="${SVG_NS}" class="range-plot bank-plot" viewBox="0 0 ${width} ${height}" width="${width}" `
     + `height="${height}" role="img"><text class="plot-title" x="6" y="15"></text>${parts.join("")}</svg>`;

@@ -530,6 +530,7 @@ def test_an_opportunity_is_flown_guided_and_dispersed_from_its_own_entry(open_pa
     assert apart < 0.05  # the page's flight is the job's own guided flight of this opportunity
     page.locator("#guided-summary", has_text=site["name"][:12]).wait_for(timeout=WAIT_MS)
     page.wait_for_timeout(400)
+    assert "Predicted miss (nmi; + long, − short)" in page.inner_text("#plot")  # issue 53 item 9: the sign in words
     page.screenshot(path=str(FIGURES_DIR / "page_opportunity_guided.png"))
     page.fill("#g-samples", "8")
     with page.expect_request(lambda r: r.url.endswith("/api/jobs") and r.method == "POST", timeout=WAIT_MS) as req:
