@@ -21,8 +21,11 @@ the down-range and cross-range the site needs, the margin to the footprint's bou
    its two crossings). A burn that, flown again, leaves the site outside is a near miss, given with the change of
    the deorbit that would take the site in (needed_change). Revolutions are the elements' (revolution_number_at:
    NORAD's count from their epoch).
-4. The sun at the site at landing (core.sun): its elevation and the local apparent solar time; `daylight` when the
-   sun is up (above -0.833 deg), `meets_rules` when it is at least the rule's elevation and the margin the rule's.
+4. Each burn's entry flown guided to the site (Flier.guided_flight: the guided law's spec per site, the vehicle's
+   limits held): its terminal-area interface and the touchdown estimated after it (interface_utc, touchdown_utc).
+5. The sun at the site at the touchdown (at the arrival over the site, landing_utc, when the guided flight does not
+   reach its interface) (core.sun): its elevation and the local apparent solar time; `daylight` when the sun is up
+   (above -0.833 deg), `meets_rules` when it is at least the rule's elevation and the margin the rule's.
 
 Times (core.utc): the burn grid and every elapsed time are SI seconds from the window's start, labelled in UTC across
 leap seconds; a candidate's burn is taken on the whole millisecond it is written with, so the time written is the
@@ -706,8 +709,8 @@ def _opportunity(
     entry_utc, landing_utc = after_s(burn_utc, [row[dorb.E_COAST_S], row[dorb.E_COAST_S] + flight_s])
     guided = flier.guided_flight(row, s)
     interface_utc, touchdown_utc = _guided_times(entry_utc, guided)
-    sun_at = landing_utc if touchdown_utc is None else touchdown_utc  # the daylight rule's time (issue 52 item 3)
-    elevation = float(sun.elevation_deg([sun_at], lat, lon)[0])
+    sun_utc = landing_utc if touchdown_utc is None else touchdown_utc  # the daylight rule's time (issue 52 item 3)
+    elevation = float(sun.elevation_deg([sun_utc], lat, lon)[0])
     sunlit = settings.sun_elevation_min_deg is None or elevation >= settings.sun_elevation_min_deg
     burn_lat, burn_lon, burn_alt = subsatellite_points(p.orbit, [burn_utc])
     return Opportunity(
@@ -738,7 +741,7 @@ def _opportunity(
         downrange_margin_nmi=down_margin,
         crossrange_margin_nmi=cross_margin,
         sun_elevation_deg=elevation,
-        local_solar_time_h=float(sun.local_solar_time_h([sun_at], lon)[0]),
+        local_solar_time_h=float(sun.local_solar_time_h([sun_utc], lon)[0]),
         interface_utc=interface_utc,
         touchdown_utc=touchdown_utc,
         sun_at="arrival" if touchdown_utc is None else "touchdown",
