@@ -30,7 +30,8 @@ function labelText(input) {
 
 /** The service's message with its field path ("case.entry.velocity_fps: 50 is outside ...") worded by the
  * label a planner sees ("Velocity, earth-relative (ft/s): 50 is outside ..."), pydantic's phrases in the form's
- * words, and an example of what the field takes (its default or its placeholder). */
+ * words, and an example of what the field takes (its default value, or the hint its HTML placeholder attribute
+ * shows in the empty field). */
 export function wordedMessage(message, field, input) {
   const label = input && labelText(input);
   let text = formWords(message);
@@ -68,7 +69,8 @@ export function formWords(message) {
   return PHRASES.reduce((text, [pattern, words]) => text.replace(pattern, words), message);
 }
 
-/** What the input takes, as its default or its placeholder shows it (a long list cut to its first three). */
+/** What the input takes, as its default value or its HTML placeholder attribute (the hint shown in the empty field)
+ * shows it; a long list cut to its first three. */
 function exampleOf(input) {
   const given = (input.defaultValue || input.getAttribute("placeholder") || "").replace(/^e\.g\.\s*/, "").trim();
   if (!given || input.tagName === "SELECT" || ["checkbox", "radio", "file"].includes(input.type) || given.includes("\n")) return null;

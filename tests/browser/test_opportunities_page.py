@@ -492,7 +492,7 @@ def test_the_landing_window_timeline_grows_with_its_sites_too(open_page, service
     assert not run.errors and run.violations() == []
 
 
-def _haversine_nmi(lat1, lon1, lat2, lon2, radius_nmi=3443.918):  # the mean earth's radius in nmi (6,378 km / 1.852)
+def _haversine_nmi(lat1, lon1, lat2, lon2, radius_nmi=3440.07):  # IUGG mean earth radius 6,371.0088 km / 1.852
     import math
 
     p1, p2, dl = math.radians(lat1), math.radians(lat2), math.radians(lon2 - lon1)

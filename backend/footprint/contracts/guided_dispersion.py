@@ -144,18 +144,22 @@ class Plan:
     def __init__(self, study: GuidedDispersionStudy) -> None:
         self.study = study
         spec = study.case.to_spec()
-        self.spec = spec if study.burn is None else dorb.entered(spec, study.burn.entries(spec, np.zeros((1, 4)))[0])
+        # with a burn: the planned burn's entry (no error) first, then each sample's executed burn's, coasted at once
+        self.burn_rows = None
+        if study.burn is not None:
+            z = np.vstack([np.zeros((1, 4)), be.normals(study.samples, study.seed)])
+            self.burn_rows = study.burn.entries(spec, z)
+            spec = dorb.entered(spec, self.burn_rows[0])
+        self.spec = spec
         self.nominal = gdisp.nominal_flight(self.spec)
         self.open_spec = gdisp.open_loop(self.spec, self.nominal) if study.open_loop else None
 
     @functools.cached_property
     def samples(self) -> disp.Samples:
         drawn = self.study.draw(self.spec)
-        burn = self.study.burn
-        if burn is None:
+        if self.burn_rows is None:
             return drawn
-        rows = burn.entries(self.spec, be.normals(self.study.samples, self.study.seed))
-        entries = {name: rows[:, col] for name, col in dorb.ENTRY_INPUT_COLUMNS.items()}
+        entries = {name: self.burn_rows[1:, col] for name, col in dorb.ENTRY_INPUT_COLUMNS.items()}
         return disp.Samples(drawn.n, drawn.values | entries, drawn.density_delta)
 
 

@@ -685,7 +685,8 @@ def _bound(
 def _prediction_interval(
     g: NDArray[np.float64], interval: float, first_miss: float, z_rate: float, to_go: float, flags: int
 ) -> float:
-    """The time to the next prediction (an event-triggered predictor-corrector, issue 51): after a quiet one twice
+    """The time to the next prediction (an event-triggered predictor-corrector: this project's rule, issue 51; FNPEG,
+    Lu 2014, predicts every cycle): after a quiet one twice
     the last, up to G_MAX_PREDICTION_INTERVAL, else every cycle (G_CYCLE). Quiet: its first miss, before any
     correction, within the corrector's tolerance (the flight follows the last prediction), or the command pinned at a
     bank limit that the target lies beyond, the next prediction then before half the time the miss takes to turn at
